@@ -1,0 +1,59 @@
+"""gridlib: reservoir grids in one unstructured model, in the spirit of MRST.
+
+Every grid type (Cartesian, rectilinear, triangular, tetrahedral, Voronoi/PEBI,
+layered 2.5D) is a :class:`Grid` of cells, faces and nodes; see
+:mod:`gridlib.grid` for the conventions (0-based indices, -1 = outside,
+z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
+
+>>> import gridlib as gl
+>>> g = gl.cart_grid([10, 10, 5], [100.0, 100.0, 10.0])
+>>> geo = gl.compute_geometry(g)
+>>> float(geo.cell_volumes.sum())
+100000.0
+>>> gl.check_grid(g, geo)
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from .checks import check_grid
+from .errors import GridError, InputError
+from .geometry import Geometry, compute_geometry
+from .glue import glue_2d
+from .grid import Cells, Faces, Grid, Layering, Nodes
+from .layered import make_layered_grid
+from .pebi import pebi
+from .structured import cart_grid, tensor_grid, translate_grid, twister
+from .subgrid import Subgrid, extract_subgrid, remove_cells
+from .unstructured import tessellation_grid, tetrahedral_grid, triangle_grid
+
+try:
+    __version__ = version("gridlib")
+except PackageNotFoundError:  # running from a source tree without installation
+    __version__ = "0.0.0+unknown"
+
+__all__ = [
+    "Cells",
+    "Faces",
+    "Geometry",
+    "Grid",
+    "GridError",
+    "InputError",
+    "Layering",
+    "Nodes",
+    "Subgrid",
+    "__version__",
+    "cart_grid",
+    "check_grid",
+    "compute_geometry",
+    "extract_subgrid",
+    "glue_2d",
+    "make_layered_grid",
+    "pebi",
+    "remove_cells",
+    "tensor_grid",
+    "tessellation_grid",
+    "tetrahedral_grid",
+    "translate_grid",
+    "triangle_grid",
+    "twister",
+]

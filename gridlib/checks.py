@@ -1,0 +1,179 @@
+"""``check_grid``: the invariants every valid grid satisfies (ALGORITHMS.md §7).
+
+Topology (any grid):
+  * indices in range: cell faces in [0, nf), face nodes in [0, nn), neighbours
+    in [-1, nc); no face with two outside neighbours or the same cell twice;
+  * ``cells.faces`` is the transpose of ``faces.neighbors``: every interior
+    face appears once in each of its two cells, a boundary face once;
+  * faces have exactly 2 nodes (2-D) or at least 3 distinct nodes (3-D);
+  * no two faces with the same set of nodes; no node used by no face;
+  * cells have at least 3 (2-D) or 4 (3-D) faces.
+Geometry:
+  * all coordinates finite; face areas and cell volumes positive;
+  * closure: for every cell, ``|sum_f s_f N_f| <= tol * sum_f A_f`` with the
+    outward signs s_f. This catches flipped faces, wrong node order and
+    missing half-faces (hanging nodes on straight edges are fine).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .connectivity import half_face_cells, half_face_signs, repeat_ids
+from .errors import GridError
+from .geometry import Geometry, compute_geometry
+from .grid import Grid
+
+_MAX_LISTED = 5
+
+
+def _ids(mask: np.ndarray) -> str:
+    idx = np.flatnonzero(mask)
+    more = f" and {idx.size - _MAX_LISTED} more" if idx.size > _MAX_LISTED else ""
+    return f"{idx[:_MAX_LISTED].tolist()}{more}"
+
+
+def topology_violations(grid: Grid) -> list[str]:
+    """Human-readable list of violated topological invariants (empty if valid)."""
+    nc, nf, nn = grid.num_cells, grid.num_faces, grid.num_nodes
+    out: list[str] = []
+    cf, nb, fn = grid.cells.faces, grid.faces.neighbors, grid.faces.nodes
+    bad = (cf < 0) | (cf >= nf)
+    if bad.any():
+        out.append(f"cells.faces refers to faces outside [0, {nf}) at half-faces {_ids(bad)}")
+    bad = (fn < 0) | (fn >= nn)
+    if bad.any():
+        out.append(f"faces.nodes refers to nodes outside [0, {nn}) at entries {_ids(bad)}")
+    bad = ((nb < -1) | (nb >= nc)).any(axis=1)
+    if bad.any():
+        out.append(f"faces.neighbors outside [-1, {nc}) at faces {_ids(bad)}")
+    if out:
+        return out  # the remaining checks index with these arrays
+    bad = (nb < 0).all(axis=1)
+    if bad.any():
+        out.append(f"faces with no cell on either side: {_ids(bad)}")
+    bad = (nb[:, 0] == nb[:, 1]) & (nb[:, 0] >= 0)
+    if bad.any():
+        out.append(f"faces with the same cell on both sides: {_ids(bad)}")
+
+    # cells.faces must be exactly the transpose of faces.neighbors.
+    hc = half_face_cells(grid)
+    from_cells = np.sort(cf * (nc + 1) + hc)
+    inside = nb >= 0
+    from_faces = np.sort((np.repeat(np.arange(nf), 2) * (nc + 1) + nb.ravel())[inside.ravel()])
+    if from_cells.size != from_faces.size or np.any(from_cells != from_faces):
+        c_keys, c_counts = np.unique(from_cells, return_counts=True)
+        missing = np.setdiff1d(from_faces, c_keys)
+        extra = np.setdiff1d(c_keys, from_faces)
+        dup = c_keys[c_counts > 1]
+        if missing.size:
+            pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in missing[:_MAX_LISTED]]
+            out.append(f"half-faces missing from cells.faces (face, cell): {pairs}")
+        if extra.size:
+            pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in extra[:_MAX_LISTED]]
+            out.append(f"cells list faces they are not a neighbour of (face, cell): {pairs}")
+        if dup.size:
+            pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in dup[:_MAX_LISTED]]
+            out.append(f"cells list the same face twice (face, cell): {pairs}")
+
+    counts = grid.faces.num_nodes
+    if grid.griddim == 2:
+        bad = counts != 2
+        if bad.any():
+            out.append(f"2-D faces must have 2 nodes; faces {_ids(bad)} do not")
+    else:
+        bad = counts < 3
+        if bad.any():
+            out.append(f"3-D faces need at least 3 nodes; faces {_ids(bad)} have fewer")
+    owner = repeat_ids(grid.faces.node_pos)
+    order = np.lexsort((fn, owner))
+    sorted_nodes, sorted_owner = fn[order], owner[order]
+    rep = (sorted_nodes[1:] == sorted_nodes[:-1]) & (sorted_owner[1:] == sorted_owner[:-1])
+    if rep.any():
+        faces = np.unique(sorted_owner[1:][rep])
+        out.append(f"faces repeating a node: {faces[:_MAX_LISTED].tolist()}")
+
+    dups = _duplicate_faces(counts, sorted_nodes, grid.faces.node_pos)
+    if dups.size:
+        out.append(f"faces with the same nodes as another face: {dups[:_MAX_LISTED].tolist()}")
+
+    used = np.zeros(nn, dtype=bool)
+    used[fn] = True
+    if not used.all():
+        out.append(f"nodes used by no face: {_ids(~used)}")
+    need = 3 if grid.griddim == 2 else 4
+    bad = grid.cells.num_faces < need
+    if bad.any():
+        out.append(f"cells with fewer than {need} faces: {_ids(bad)}")
+    return out
+
+
+def _duplicate_faces(counts: np.ndarray, sorted_nodes: np.ndarray, pos: np.ndarray) -> np.ndarray:
+    """Faces whose sorted node list equals that of an earlier face."""
+    if counts.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    m = int(counts.max())
+    table = np.full((counts.size, m + 1), -1, dtype=np.int64)
+    table[:, 0] = counts
+    owner = repeat_ids(pos)
+    local = np.arange(sorted_nodes.size) - pos[owner]
+    table[owner, 1 + local] = sorted_nodes
+    _, first, inverse = np.unique(table, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    return np.flatnonzero(first[inverse] != np.arange(counts.size))
+
+
+def geometry_violations(grid: Grid, geometry: Geometry, tol: float) -> list[str]:
+    """Violated geometric invariants (assumes a valid topology)."""
+    out: list[str] = []
+    bad = geometry.face_areas <= 0
+    if bad.any():
+        out.append(f"faces with non-positive area: {_ids(bad)}")
+    vol = geometry.cell_volumes
+    bad = ~(vol > 0)
+    if bad.any():
+        what = "area" if grid.griddim == 2 else "volume"
+        out.append(f"cells with non-positive {what}: {_ids(bad)} (first {what}s {vol[bad][:3].tolist()})")
+    if grid.is_surface:
+        return out  # edge normals of a curved surface need not close
+    hc = half_face_cells(grid)
+    s = half_face_signs(grid).astype(np.float64)
+    cf = grid.cells.faces
+    d = grid.dim
+    net = np.stack([np.bincount(hc, s * geometry.face_normals[cf, i], grid.num_cells) for i in range(d)])
+    surface = np.bincount(hc, geometry.face_areas[cf], grid.num_cells)
+    defect = np.sqrt((net**2).sum(axis=0))
+    bad = defect > tol * surface
+    if bad.any():
+        worst = float((defect / surface)[bad].max())
+        out.append(
+            f"cells not closed (sum of outward normals / surface area up to {worst:.2e} > {tol:g}): "
+            f"{_ids(bad)}; a face is flipped, misordered or missing"
+        )
+    return out
+
+
+def check_grid(grid: Grid, geometry: Geometry | None = None, *, tol: float = 1e-10) -> None:
+    """Raise one :class:`GridError` listing every violated invariant, or return None.
+
+    ``geometry`` is computed if not given. ``tol`` is the closure tolerance
+    relative to each cell's surface area.
+    """
+    problems = topology_violations(grid)
+    if not problems:
+        coords = grid.nodes.coords
+        if not np.all(np.isfinite(coords)):
+            problems.append(
+                f"nodes with NaN or infinite coordinates: {_ids(~np.isfinite(coords).all(axis=1))}"
+            )
+        else:
+            if geometry is None:
+                try:
+                    geometry = compute_geometry(grid)
+                except GridError as exc:
+                    problems.append(str(exc))
+            if geometry is not None:
+                problems += geometry_violations(grid, geometry, tol)
+    if problems:
+        summary = "; ".join(problems)
+        raise GridError(f"check_grid: {len(problems)} problem(s) in {grid!r}: {summary}")

@@ -1,0 +1,321 @@
+"""netCDF-4 files of grids, geometry and cell/face data (xarray + netCDF4).
+
+Layout
+------
+The full topology is stored as ragged offset arrays, so any grid round-trips
+bit for bit:
+
+* ``face_nodes`` + ``face_node_pos``, ``cell_faces`` + ``cell_face_pos``,
+  ``face_neighbors`` (face, 2) with -1 for outside, ``face_tag``, optional
+  ``cell_face_tag`` (W, E, S, N, T, B = 0..5) and ``cell_index_map``;
+* node coordinates ``node_x``, ``node_y`` (and ``node_z``, depth, ``positive = "down"``);
+* geometry (optional): ``cell_volume``, ``cell_centroid``, ``face_area``,
+  ``face_normal``, ``face_centroid`` (vectors on a ``xyz`` dimension);
+* any number of cell variables (dimension of the cells) and face variables;
+* global attributes ``gridlib_griddim``, ``gridlib_cart_dims``,
+  ``gridlib_history`` (JSON) and any user attributes (provenance).
+
+For UGRID-1.0 tools (xugrid, QGIS, ParaView's UGRID reader) a 2-D mesh
+``mesh2d`` is added: the grid itself for planar 2-D grids (our cells are its
+faces, our faces its edges, sharing the dimensions), and for layered grids the
+areal footprint with ``cell_column``/``cell_layer`` and, for every float cell
+variable, a ``(layer, mesh2d_nFaces)`` view named ``<name>_layered`` (NaN where
+a cell is missing). ``Conventions = "CF-1.11 UGRID-1.0"`` is set then.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..connectivity import cell_node_cycles_2d
+from ..errors import GridError, InputError
+from ..geometry import Geometry
+from ..grid import Cells, Faces, Grid, Layering, Nodes
+from ._atomic import atomic_path
+
+_AXES = ("x", "y", "z")
+
+
+@dataclass(frozen=True, eq=False)
+class GridDataset:
+    """Everything a gridlib netCDF file holds."""
+
+    grid: Grid
+    geometry: Geometry | None = None
+    cell_data: dict[str, np.ndarray] = field(default_factory=dict)
+    face_data: dict[str, np.ndarray] = field(default_factory=dict)
+    attrs: dict[str, object] = field(default_factory=dict)
+
+
+def _dims(grid: Grid) -> dict[str, str]:
+    if grid.griddim == 2 and grid.dim == 2:
+        return {"cell": "mesh2d_nFaces", "face": "mesh2d_nEdges", "node": "mesh2d_nNodes"}
+    return {"cell": "cell", "face": "face", "node": "node"}
+
+
+def _topology_vars(grid: Grid, prefix: str, dims: dict[str, str]) -> dict[str, xr.Variable]:
+    p = prefix
+    out = {
+        f"{p}cell_face_pos": xr.Variable(f"{p}cell_face_pos_dim", grid.cells.face_pos),
+        f"{p}cell_faces": xr.Variable(f"{p}half_face", grid.cells.faces),
+        f"{p}face_node_pos": xr.Variable(f"{p}face_node_pos_dim", grid.faces.node_pos),
+        f"{p}face_nodes": xr.Variable(f"{p}face_node", grid.faces.nodes),
+        f"{p}face_neighbors": xr.Variable(
+            (dims["face"], "two"),
+            grid.faces.neighbors,
+            {"long_name": "cells on either side of each face, -1 = outside", "start_index": 0},
+        ),
+        f"{p}face_tag": xr.Variable(
+            dims["face"], grid.faces.tag, {"long_name": "0 = ordinary, >0 = fault id"}
+        ),
+    }
+    if grid.cells.face_tag is not None:
+        out[f"{p}cell_face_tag"] = xr.Variable(
+            f"{p}half_face",
+            grid.cells.face_tag,
+            {"flag_meanings": "W E S N T B", "flag_values": np.arange(6)},
+        )
+    if grid.cells.index_map is not None:
+        out[f"{p}cell_index_map"] = xr.Variable(dims["cell"], grid.cells.index_map)
+    for i in range(grid.dim):
+        attrs = {"units": "m", "standard_name": f"projection_{_AXES[i]}_coordinate"}
+        if i == 2:
+            attrs = {"units": "m", "positive": "down", "long_name": "depth"}
+        out[f"{p}node_{_AXES[i]}"] = xr.Variable(dims["node"], grid.nodes.coords[:, i], attrs)
+    return out
+
+
+def _grid_attrs(grid: Grid, prefix: str) -> dict[str, object]:
+    attrs: dict[str, object] = {
+        f"{prefix}gridlib_griddim": np.int32(grid.griddim),
+        f"{prefix}gridlib_history": json.dumps(list(grid.history)),
+    }
+    if grid.cart_dims is not None:
+        attrs[f"{prefix}gridlib_cart_dims"] = np.asarray(grid.cart_dims, dtype=np.int64)
+    return attrs
+
+
+def _ugrid_mesh(areal: Grid, dims: dict[str, str]) -> dict[str, xr.Variable]:
+    """UGRID-1.0 2-D mesh topology of a planar grid (our cells = its faces)."""
+    pos, cyc = cell_node_cycles_2d(areal)
+    counts = np.diff(pos)
+    width = int(counts.max())
+    table = np.full((areal.num_cells, width), -1, dtype=np.int64)
+    owner = np.repeat(np.arange(areal.num_cells), counts)
+    table[owner, np.arange(cyc.size) - pos[owner]] = cyc
+    mesh_attrs = {
+        "cf_role": "mesh_topology",
+        "long_name": "areal footprint (UGRID-1.0 2-D mesh)",
+        "topology_dimension": np.int32(2),
+        "node_coordinates": "mesh2d_node_x mesh2d_node_y",
+        "face_node_connectivity": "mesh2d_face_nodes",
+        "edge_node_connectivity": "mesh2d_edge_nodes",
+        "face_dimension": dims["cell"],
+        "edge_dimension": dims["face"],
+        "max_face_nodes_dimension": "mesh2d_nMax_face_nodes",
+    }
+    conn = {"start_index": np.int64(0), "cf_role": "face_node_connectivity"}
+    return {
+        "mesh2d": xr.Variable((), np.int32(0), mesh_attrs),
+        "mesh2d_node_x": xr.Variable(
+            dims["node"], areal.nodes.coords[:, 0], {"units": "m", "standard_name": "projection_x_coordinate"}
+        ),
+        "mesh2d_node_y": xr.Variable(
+            dims["node"], areal.nodes.coords[:, 1], {"units": "m", "standard_name": "projection_y_coordinate"}
+        ),
+        "mesh2d_face_nodes": xr.Variable((dims["cell"], "mesh2d_nMax_face_nodes"), table, conn),
+        "mesh2d_edge_nodes": xr.Variable(
+            (dims["face"], "two"),
+            areal.faces.nodes.reshape(-1, 2),
+            {"start_index": np.int64(0), "cf_role": "edge_node_connectivity"},
+        ),
+    }
+
+
+def _geometry_vars(geo: Geometry, dims: dict[str, str], d: int) -> dict[str, xr.Variable]:
+    c, f = dims["cell"], dims["face"]
+    out = {
+        "cell_volume": xr.Variable(c, geo.cell_volumes, {"units": "m3" if d == 3 else "m2"}),
+        "cell_centroid": xr.Variable((c, "xyz"), geo.cell_centroids, {"units": "m"}),
+        "face_area": xr.Variable(f, geo.face_areas, {"units": "m2" if d == 3 else "m"}),
+        "face_normal": xr.Variable(
+            (f, "xyz"),
+            geo.face_normals,
+            {"units": "m2" if d == 3 else "m", "long_name": "area-weighted normal"},
+        ),
+        "face_centroid": xr.Variable((f, "xyz"), geo.face_centroids, {"units": "m"}),
+    }
+    if geo.cell_normals is not None:
+        out["cell_normal"] = xr.Variable((c, "xyz3"), geo.cell_normals, {"units": "m2"})
+    return out
+
+
+def _data_vars(data: dict[str, np.ndarray], n: int, dim: str, what: str) -> dict[str, xr.Variable]:
+    out = {}
+    for name, values in data.items():
+        arr = np.asarray(values)
+        if arr.shape[:1] != (n,):
+            raise GridError(f"write_netcdf: {what} data '{name}' has shape {arr.shape}, expected ({n}, ...)")
+        extra = tuple(f"{name}_dim{i}" for i in range(1, arr.ndim))
+        out[name] = xr.Variable((dim, *extra), arr)
+    return out
+
+
+def grid_to_dataset(
+    grid: Grid,
+    geometry: Geometry | None = None,
+    cell_data: dict[str, np.ndarray] | None = None,
+    face_data: dict[str, np.ndarray] | None = None,
+    attrs: dict[str, object] | None = None,
+) -> xr.Dataset:
+    """The xarray Dataset that :func:`write_netcdf` writes."""
+    dims = _dims(grid)
+    variables = _topology_vars(grid, "", dims)
+    ds_attrs: dict[str, object] = {"Conventions": "CF-1.11", "title": "gridlib grid"}
+    ds_attrs.update(_grid_attrs(grid, ""))
+    if geometry is not None:
+        if geometry.cell_volumes.shape != (grid.num_cells,) or geometry.face_areas.shape != (grid.num_faces,):
+            raise GridError("write_netcdf: the geometry does not belong to this grid (sizes differ)")
+        variables.update(_geometry_vars(geometry, dims, grid.griddim))
+    variables.update(_data_vars(cell_data or {}, grid.num_cells, dims["cell"], "cell"))
+    variables.update(_data_vars(face_data or {}, grid.num_faces, dims["face"], "face"))
+
+    if grid.griddim == 2 and grid.dim == 2:
+        variables.update(_ugrid_mesh(grid, dims))
+        ds_attrs["Conventions"] = "CF-1.11 UGRID-1.0"
+    elif grid.layering is not None and grid.layering.areal.dim == 2:
+        lay = grid.layering
+        areal_dims = {"cell": "mesh2d_nFaces", "face": "mesh2d_nEdges", "node": "mesh2d_nNodes"}
+        variables.update(_ugrid_mesh(lay.areal, areal_dims))
+        variables.update(_topology_vars(lay.areal, "areal_", areal_dims))
+        ds_attrs.update(_grid_attrs(lay.areal, "areal_"))
+        ds_attrs["gridlib_num_layers"] = np.int64(lay.num_layers)
+        variables["cell_column"] = xr.Variable(
+            dims["cell"], lay.column, {"long_name": "areal cell (mesh2d face)"}
+        )
+        variables["cell_layer"] = xr.Variable(dims["cell"], lay.layer, {"long_name": "layer, 0 = top"})
+        for name, values in (cell_data or {}).items():
+            arr = np.asarray(values)
+            if arr.ndim == 1 and np.issubdtype(arr.dtype, np.floating):
+                view = np.full((lay.num_layers, lay.areal.num_cells), np.nan)
+                view[lay.layer, lay.column] = arr
+                variables[f"{name}_layered"] = xr.Variable(
+                    ("layer", "mesh2d_nFaces"), view, {"mesh": "mesh2d", "location": "face"}
+                )
+        ds_attrs["Conventions"] = "CF-1.11 UGRID-1.0"
+    for key, value in (attrs or {}).items():
+        ds_attrs[key] = value if not isinstance(value, dict | list | tuple) else json.dumps(value)
+    return xr.Dataset(variables, attrs=ds_attrs)
+
+
+def write_netcdf(
+    path: str | os.PathLike,
+    grid: Grid,
+    geometry: Geometry | None = None,
+    cell_data: dict[str, np.ndarray] | None = None,
+    face_data: dict[str, np.ndarray] | None = None,
+    attrs: dict[str, object] | None = None,
+) -> Path:
+    """Write a grid (and optionally geometry, cell/face data, attributes) to netCDF-4.
+
+    The write is atomic: on any error no file is left at ``path``.
+    """
+    ds = grid_to_dataset(grid, geometry, cell_data, face_data, attrs)
+    encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iu"}
+    if "mesh2d_face_nodes" in ds:
+        encoding["mesh2d_face_nodes"] = {"_FillValue": np.int64(-1)}
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
+    return Path(path)
+
+
+def _read_grid(ds: xr.Dataset, prefix: str, path: str) -> Grid:
+    p = prefix
+
+    def var(name: str) -> np.ndarray:
+        if name not in ds.variables:
+            raise InputError(f"{path}: not a gridlib netCDF file (variable '{name}' is missing)")
+        return ds[name].values
+
+    griddim = int(ds.attrs.get(f"{p}gridlib_griddim", 0))
+    if griddim not in (2, 3):
+        raise InputError(f"{path}: attribute '{p}gridlib_griddim' missing or not 2/3")
+    coords = np.column_stack([var(f"{p}node_{a}") for a in _AXES if f"{p}node_{a}" in ds.variables])
+    cart = ds.attrs.get(f"{p}gridlib_cart_dims")
+    history = tuple(json.loads(ds.attrs.get(f"{p}gridlib_history", "[]")))
+    return Grid(
+        cells=Cells(
+            var(f"{p}cell_face_pos"),
+            var(f"{p}cell_faces"),
+            ds[f"{p}cell_face_tag"].values if f"{p}cell_face_tag" in ds else None,
+            ds[f"{p}cell_index_map"].values if f"{p}cell_index_map" in ds else None,
+        ),
+        faces=Faces(
+            var(f"{p}face_node_pos"), var(f"{p}face_nodes"), var(f"{p}face_neighbors"), var(f"{p}face_tag")
+        ),
+        nodes=Nodes(coords),
+        griddim=griddim,
+        cart_dims=None if cart is None else tuple(int(v) for v in np.atleast_1d(cart)),
+        history=history,
+    )
+
+
+_RESERVED = {
+    "cell_face_pos", "cell_faces", "face_node_pos", "face_nodes", "face_neighbors", "face_tag",
+    "cell_face_tag", "cell_index_map", "node_x", "node_y", "node_z", "cell_volume", "cell_centroid",
+    "face_area", "face_normal", "face_centroid", "cell_normal", "cell_column", "cell_layer", "mesh2d",
+    "mesh2d_node_x", "mesh2d_node_y", "mesh2d_face_nodes", "mesh2d_edge_nodes",
+}  # fmt: skip
+
+
+def read_netcdf(path: str | os.PathLike) -> GridDataset:
+    """Read a file written by :func:`write_netcdf` back into grid, geometry and data."""
+    p = str(path)
+    if not Path(p).is_file():
+        raise InputError(f"{p}: no such file")
+    try:
+        with xr.open_dataset(p, engine="netcdf4") as handle:
+            ds = handle.load()
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{p}: cannot read as netCDF ({exc})") from exc
+    grid = _read_grid(ds, "", p)
+    if "cell_column" in ds and "areal_cell_faces" in ds:
+        areal = _read_grid(ds, "areal_", p)
+        n_layers = int(ds.attrs["gridlib_num_layers"])
+        grid = Grid(
+            grid.cells,
+            grid.faces,
+            grid.nodes,
+            grid.griddim,
+            grid.cart_dims,
+            grid.history,
+            Layering(areal, ds["cell_column"].values, ds["cell_layer"].values, n_layers),
+        )
+    geometry = None
+    if "cell_volume" in ds:
+        geometry = Geometry(
+            ds["cell_volume"].values,
+            ds["cell_centroid"].values,
+            ds["face_area"].values,
+            ds["face_normal"].values,
+            ds["face_centroid"].values,
+            ds["cell_normal"].values if "cell_normal" in ds else None,
+        )
+    dims = _dims(grid)
+    cell_data, face_data = {}, {}
+    for name, v in ds.data_vars.items():
+        if name in _RESERVED or name.startswith("areal_") or name.endswith("_layered"):
+            continue
+        if v.dims and v.dims[0] == dims["cell"]:
+            cell_data[name] = v.values
+        elif v.dims and v.dims[0] == dims["face"]:
+            face_data[name] = v.values
+    skip = ("gridlib_", "areal_gridlib_")
+    attrs = {k: v for k, v in ds.attrs.items() if not k.startswith(skip)}
+    return GridDataset(grid, geometry, cell_data, face_data, attrs)

@@ -1,0 +1,382 @@
+"""Unstructured builders: ``triangle_grid``, ``tessellation_grid``, ``tetrahedral_grid``.
+
+2-D cells are polygons given by their node cycles. Each cell is oriented
+counter-clockwise in (x, y) (planar grids) or consistently across the surface
+(3-D surface grids, solved as a parity problem on the cell graph). Faces are
+the unique node pairs, stored as the sorted pair ``(lo, hi)``, numbered in
+lexicographic order; the cell that traverses a face from lo to hi is
+``neighbors[f, 0]`` (as MRST's ``triangleGrid``).
+
+Tetrahedra are oriented to positive volume; faces are the unique node triples,
+stored sorted, and the cell whose outward orientation is the even permutation
+of the sorted triple is ``neighbors[f, 0]``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy import sparse
+from scipy.sparse import csgraph
+from scipy.spatial import Delaunay, QhullError
+
+from .connectivity import offsets, repeat_ids
+from .errors import GridError
+from .grid import Cells, Faces, Grid, IntArray, Nodes
+
+
+def _points(points: ArrayLike, dims: tuple[int, ...], what: str, min_count: int) -> np.ndarray:
+    try:
+        p = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise GridError(f"{what}: points must be a numeric (n, d) array") from exc
+    if p.ndim != 2 or p.shape[1] not in dims:
+        raise GridError(f"{what}: points must have shape (n, {' or '.join(map(str, dims))}), got {p.shape}")
+    if p.shape[0] < min_count:
+        raise GridError(f"{what}: need at least {min_count} points, got {p.shape[0]}")
+    if not np.all(np.isfinite(p)):
+        bad = int(np.flatnonzero(~np.isfinite(p).all(axis=1))[0])
+        raise GridError(f"{what}: point {bad} is NaN or infinite")
+    return p
+
+
+def _reject_duplicates(p: np.ndarray, what: str) -> None:
+    _, first, counts = np.unique(p, axis=0, return_index=True, return_counts=True)
+    if np.any(counts > 1):
+        dup = p[first[counts > 1][0]]
+        idx = np.flatnonzero((p == dup).all(axis=1))
+        raise GridError(f"{what}: duplicate points {idx.tolist()} at {dup.tolist()}")
+
+
+def _delaunay(p: np.ndarray, what: str) -> np.ndarray:
+    """Delaunay simplices of points, in a local frame (Qhull loses precision far from 0)."""
+    local = p - p.mean(axis=0)
+    scale = np.abs(local).max()
+    if scale == 0:
+        raise GridError(f"{what}: all points coincide")
+    try:
+        tri = Delaunay(local / scale)
+    except QhullError as exc:
+        raise GridError(f"{what}: cannot triangulate the points (all collinear or coplanar?)") from exc
+    if tri.coplanar.size:
+        raise GridError(f"{what}: points {tri.coplanar[:, 0].tolist()} were left out by Qhull")
+    return tri.simplices.astype(np.int64)
+
+
+def _index_table(cells: ArrayLike | Sequence[Sequence[int]], n_points: int, what: str):
+    """(pos, nodes) of a ragged cell list given as an (n, m) array (-1 padded) or lists."""
+    if isinstance(cells, np.ndarray) or (
+        isinstance(cells, Sequence) and cells and all(len(c) == len(cells[0]) for c in cells)
+    ):
+        arr = np.asarray(cells)
+        if arr.ndim != 2:
+            raise GridError(f"{what}: cells must be an (n, m) array or a list of node lists")
+        if np.issubdtype(arr.dtype, np.floating):
+            arr = np.where(np.isnan(arr), -1, arr)
+            if np.any(arr != np.round(arr)):
+                raise GridError(f"{what}: cell node indices must be integers")
+        arr = arr.astype(np.int64)
+        valid = arr >= 0
+        counts = valid.sum(axis=1)
+        nodes = arr[valid]
+    else:
+        try:
+            lists = [np.asarray(c, dtype=np.int64).ravel() for c in cells]
+        except (TypeError, ValueError) as exc:
+            raise GridError(f"{what}: cells must be lists of integer node indices") from exc
+        counts = np.array([c.size for c in lists], dtype=np.int64)
+        nodes = np.concatenate(lists) if lists else np.zeros(0, np.int64)
+    if counts.size == 0:
+        raise GridError(f"{what}: no cells given")
+    if np.any(nodes >= n_points) or np.any(nodes < 0):
+        bad = nodes[(nodes >= n_points) | (nodes < 0)][0]
+        raise GridError(f"{what}: node index {bad} out of range (there are {n_points} points)")
+    return offsets(counts), nodes
+
+
+def _require_all_used(nodes: IntArray, n_points: int, what: str) -> None:
+    used = np.zeros(n_points, dtype=bool)
+    used[nodes] = True
+    if not used.all():
+        unused = np.flatnonzero(~used)
+        raise GridError(
+            f"{what}: points {unused[:10].tolist()} are used by no cell; pass only the points the cells use"
+        )
+
+
+def _reverse_segments(pos: IntArray, nodes: IntArray, flip: np.ndarray) -> IntArray:
+    """Reverse the node order of the flagged segments of a ragged list."""
+    owner = repeat_ids(pos)
+    local = np.arange(nodes.size) - pos[owner]
+    length = np.diff(pos)[owner]
+    src = np.where(flip[owner], pos[owner] + length - 1 - local, np.arange(nodes.size))
+    return nodes[src]
+
+
+def _directed_edges(pos: IntArray, nodes: IntArray) -> tuple[IntArray, IntArray]:
+    idx = np.arange(nodes.size)
+    nxt = idx + 1
+    nxt[pos[1:] - 1] = pos[:-1]
+    return nodes, nodes[nxt]
+
+
+def _unique_keys(lo: IntArray, hi: IntArray, n_points: int) -> tuple[IntArray, IntArray]:
+    """Unique (lo, hi) pairs in lexicographic order and the inverse map."""
+    key = lo * n_points + hi
+    uniq, inverse = np.unique(key, return_inverse=True)
+    return uniq, inverse.reshape(-1)
+
+
+def polygon_grid(coords: np.ndarray, pos: IntArray, nodes: IntArray, history: str, what: str) -> Grid:
+    """A 2-D grid from polygons (node cycles); orients them and builds faces."""
+    n_points = coords.shape[0]
+    counts = np.diff(pos)
+    if np.any(counts < 3):
+        c = int(np.flatnonzero(counts < 3)[0])
+        raise GridError(f"{what}: cell {c} has {counts[c]} nodes (a polygon needs >= 3)")
+    a, b = _directed_edges(pos, nodes)
+    if np.any(a == b):
+        c = int(repeat_ids(pos)[np.flatnonzero(a == b)[0]])
+        raise GridError(f"{what}: cell {c} repeats a node")
+    if coords.shape[1] == 2:
+        local = coords - coords.mean(axis=0)  # shoelace products lose digits at UTM sizes
+        area2 = np.bincount(repeat_ids(pos), local[a, 0] * local[b, 1] - local[b, 0] * local[a, 1])
+        scale = np.ptp(coords, axis=0).max() ** 2
+        flat = np.abs(area2) <= 1e-14 * scale
+        if np.any(flat):
+            c = int(np.flatnonzero(flat)[0])
+            raise GridError(f"{what}: cell {c} has zero area (its nodes are collinear)")
+        flip = area2 < 0
+    else:
+        flip = _surface_orientation(pos, nodes, n_points, what)
+    if np.any(flip):
+        nodes = _reverse_segments(pos, nodes, flip)
+        a, b = _directed_edges(pos, nodes)
+
+    forward = a < b
+    lo, hi = np.where(forward, a, b), np.where(forward, b, a)
+    uniq, face_of = _unique_keys(lo, hi, n_points)
+    nf = uniq.size
+    owner = repeat_ids(pos)
+    col = np.where(forward, 0, 1)
+    slot_count = np.bincount(face_of * 2 + col, minlength=2 * nf)
+    if np.any(slot_count > 1):
+        f = int(np.flatnonzero(slot_count > 1)[0] // 2)
+        raise GridError(
+            f"{what}: edge ({uniq[f] // n_points}, {uniq[f] % n_points}) is shared by more than two "
+            "cells or by two cells with the same orientation (overlapping or folded cells?)"
+        )
+    neighbors = np.full((nf, 2), -1, dtype=np.int64)
+    neighbors[face_of, col] = owner
+    face_nodes = np.column_stack([uniq // n_points, uniq % n_points]).ravel()
+    return Grid(
+        cells=Cells(pos, face_of),
+        faces=Faces(np.arange(0, 2 * nf + 1, 2), face_nodes, neighbors),
+        nodes=Nodes(coords),
+        griddim=2,
+        history=(history,),
+    )
+
+
+def _surface_orientation(pos: IntArray, nodes: IntArray, n_points: int, what: str) -> np.ndarray:
+    """Flip flags making the polygons of a surface consistently oriented.
+
+    Two cells sharing an edge are consistent when they traverse it in opposite
+    directions. The flags solve flip[u] xor flip[v] = inconsistent(u, v) on a
+    spanning forest of the cell graph (pointer jumping along the BFS tree); the
+    first cell of every connected piece keeps its given orientation.
+    """
+    a, b = _directed_edges(pos, nodes)
+    owner = repeat_ids(pos)
+    forward = a < b
+    lo, hi = np.where(forward, a, b), np.where(forward, b, a)
+    _, face_of = _unique_keys(lo, hi, n_points)
+    order = np.argsort(face_of, kind="stable")
+    fsorted = face_of[order]
+    pair = np.flatnonzero(fsorted[1:] == fsorted[:-1])
+    u, v = owner[order[pair]], owner[order[pair + 1]]
+    inconsistent = forward[order[pair]] == forward[order[pair + 1]]
+    nc = pos.size - 1
+    weight = sparse.coo_matrix(
+        (
+            np.concatenate([inconsistent, inconsistent]).astype(np.int64) + 1,
+            (np.concatenate([u, v]), np.concatenate([v, u])),
+        ),
+        shape=(nc, nc),
+    ).tocsr()
+    _, comp = csgraph.connected_components(weight, directed=False)
+    pred = np.full(nc, -9999, dtype=np.int64)
+    roots = np.unique(comp, return_index=True)[1]
+    for r in roots:  # one BFS per connected piece of the surface, not per cell
+        _, p = csgraph.breadth_first_order(weight, r, directed=False, return_predecessors=True)
+        reached = p != -9999
+        pred[reached] = p[reached]
+    pred[roots] = roots
+    rel = np.zeros(nc, dtype=np.int64)
+    child = np.flatnonzero(pred != np.arange(nc))
+    rel[child] = np.asarray(weight[child, pred[child]]).ravel() - 1
+    up = pred.copy()
+    for _ in range(int(np.ceil(np.log2(max(nc, 2)))) + 1):
+        rel = rel ^ rel[up]
+        up = up[up]
+    flip = rel.astype(bool)
+    if np.any((flip[u] ^ flip[v]) != inconsistent):
+        raise GridError(f"{what}: the surface cannot be oriented consistently (non-orientable?)")
+    return flip
+
+
+def triangle_grid(points: ArrayLike, triangles: ArrayLike | None = None) -> Grid:
+    """2-D grid of triangles: planar ((n, 2) points) or a surface in 3-D ((n, 3) points).
+
+    Without ``triangles`` the Delaunay triangulation of the points (of their
+    (x, y) projection for 3-D points) is used. Faces are the sorted node pairs
+    in lexicographic order, as MRST's ``triangleGrid``.
+
+    >>> g = triangle_grid([[0, 0], [1, 0], [0, 1], [1, 1]])
+    >>> g.num_cells, g.num_faces, g.num_nodes
+    (2, 5, 4)
+    """
+    p = _points(points, (2, 3), "triangle_grid", 3)
+    if triangles is None:
+        _reject_duplicates(p[:, :2], "triangle_grid")
+        tri = _delaunay(p[:, :2], "triangle_grid")
+    else:
+        tri = np.asarray(triangles)
+        if tri.ndim != 2 or tri.shape[1] != 3:
+            raise GridError(f"triangle_grid: triangles must have shape (n, 3), got {tri.shape}")
+    pos, nodes = _index_table(tri, p.shape[0], "triangle_grid")
+    _require_all_used(nodes, p.shape[0], "triangle_grid")
+    if p.shape[1] == 3:
+        _reject_degenerate_triangles(p, nodes.reshape(-1, 3))
+    return polygon_grid(p, pos, nodes, "triangle_grid", "triangle_grid")
+
+
+def _reject_degenerate_triangles(p: np.ndarray, tri: np.ndarray) -> None:
+    e1 = p[tri[:, 1]] - p[tri[:, 0]]
+    e2 = p[tri[:, 2]] - p[tri[:, 0]]
+    area = np.linalg.norm(np.cross(e1, e2), axis=1)
+    scale = np.ptp(p, axis=0).max() ** 2
+    flat = area <= 1e-14 * scale
+    if np.any(flat):
+        raise GridError(f"triangle_grid: triangle {int(np.flatnonzero(flat)[0])} has zero area")
+
+
+def tessellation_grid(points: ArrayLike, cells: ArrayLike | Sequence[Sequence[int]]) -> Grid:
+    """2-D grid from polygons given by node cycles (MRST's ``tessellationGrid``).
+
+    ``cells`` is an (n, m) integer array (rows padded with -1 or NaN for
+    polygons with fewer than m nodes) or a list of node lists. Polygons may be
+    listed clockwise or counter-clockwise; they are oriented for you.
+    """
+    p = _points(points, (2, 3), "tessellation_grid", 3)
+    pos, nodes = _index_table(cells, p.shape[0], "tessellation_grid")
+    _require_all_used(nodes, p.shape[0], "tessellation_grid")
+    return polygon_grid(p, pos, nodes, "tessellation_grid", "tessellation_grid")
+
+
+def _signed_volume6(p: np.ndarray, tet: np.ndarray) -> np.ndarray:
+    d1, d2, d3 = (p[tet[:, i]] - p[tet[:, 0]] for i in (1, 2, 3))
+    return np.einsum("ij,ij->i", np.cross(d1, d2), d3)
+
+
+def _delaunay_tetrahedra(p: np.ndarray, scale: float) -> np.ndarray:
+    """Delaunay tetrahedra without Qhull's zero-volume slivers on the hull.
+
+    Co-spherical points (lattices) make Qhull triangulate merged cells with
+    flat "glue" tetrahedra. Those lying in a hull plane (reachable from the hull
+    through other flat ones) have no volume and no interior neighbour pair to
+    reconnect, so they are dropped. Flat tetrahedra inside the domain cannot be
+    dropped without breaking connectivity: they raise an error.
+    """
+    local = (p - p.mean(axis=0)) / np.abs(p - p.mean(axis=0)).max()
+    try:
+        dl = Delaunay(local)
+    except QhullError as exc:
+        raise GridError("tetrahedral_grid: cannot tetrahedralise the points (all coplanar?)") from exc
+    tet = dl.simplices.astype(np.int64)
+    flat = np.abs(_signed_volume6(p, tet)) <= 1e-13 * scale
+    gone = np.zeros(tet.shape[0], dtype=bool)
+    nb = dl.neighbors
+    while True:
+        touch = ((nb < 0) | (gone[np.maximum(nb, 0)] & (nb >= 0))).any(axis=1)
+        new = flat & ~gone & touch
+        if not new.any():
+            break
+        gone |= new
+    if np.any(flat & ~gone):
+        raise GridError(
+            f"tetrahedral_grid: the points are degenerate (co-spherical, e.g. a lattice): Delaunay "
+            f"gives {int((flat & ~gone).sum())} zero-volume tetrahedra inside the domain; "
+            "perturb the points or pass the tetrahedra"
+        )
+    return tet[~gone]
+
+
+_TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+
+
+def tetrahedral_grid(points: ArrayLike, tetrahedra: ArrayLike | None = None) -> Grid:
+    """3-D grid of tetrahedra; Delaunay tetrahedralisation of ``points`` if none given.
+
+    >>> g = tetrahedral_grid([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    >>> g.num_cells, g.num_faces, g.num_nodes
+    (1, 4, 4)
+    """
+    p = _points(points, (3,), "tetrahedral_grid", 4)
+    scale = np.ptp(p, axis=0).max() ** 3
+    if tetrahedra is None:
+        _reject_duplicates(p, "tetrahedral_grid")
+        tet = _delaunay_tetrahedra(p, scale)
+    else:
+        tet = np.asarray(tetrahedra)
+        if tet.ndim != 2 or tet.shape[1] != 4:
+            raise GridError(f"tetrahedral_grid: tetrahedra must have shape (n, 4), got {tet.shape}")
+        if not np.issubdtype(tet.dtype, np.integer):
+            raise GridError("tetrahedral_grid: tetrahedra must hold integer node indices")
+        tet = tet.astype(np.int64)
+        if tet.min() < 0 or tet.max() >= p.shape[0]:
+            raise GridError(f"tetrahedral_grid: node index out of range (there are {p.shape[0]} points)")
+        _require_all_used(tet.ravel(), p.shape[0], "tetrahedral_grid")
+    vol6 = _signed_volume6(p, tet)
+    flat = np.abs(vol6) <= 1e-13 * scale
+    if np.any(flat):
+        raise GridError(
+            f"tetrahedral_grid: {int(flat.sum())} tetrahedra have zero volume "
+            f"(first: {int(np.flatnonzero(flat)[0])})"
+        )
+    tet = np.where((vol6 < 0)[:, None], tet[:, [0, 2, 1, 3]], tet)
+
+    nt = tet.shape[0]
+    tri = tet[:, _TET_FACES].reshape(-1, 3)  # outward triangles, 4 per tetrahedron
+    srt = np.sort(tri, axis=1)
+    # Even permutation of the sorted triple <=> the outward normal is the sorted one's.
+    rot = np.argmin(tri, axis=1)
+    second = tri[np.arange(tri.shape[0]), (rot + 1) % 3]
+    even = second == srt[:, 1]
+    n = p.shape[0]
+    if n**3 < 2**62:
+        key = (srt[:, 0] * n + srt[:, 1]) * n + srt[:, 2]
+        uniq, face_of = np.unique(key, return_inverse=True)
+        face_nodes = np.column_stack([uniq // (n * n), (uniq // n) % n, uniq % n])
+    else:
+        face_nodes, face_of = np.unique(srt, axis=0, return_inverse=True)
+    face_of = face_of.reshape(-1)
+    nf = face_nodes.shape[0]
+    col = np.where(even, 0, 1)
+    slot = np.bincount(face_of * 2 + col, minlength=2 * nf)
+    if np.any(slot > 1):
+        f = int(np.flatnonzero(slot > 1)[0] // 2)
+        raise GridError(
+            f"tetrahedral_grid: face {face_nodes[f].tolist()} is shared by overlapping tetrahedra"
+        )
+    neighbors = np.full((nf, 2), -1, dtype=np.int64)
+    neighbors[face_of, col] = np.repeat(np.arange(nt), 4)
+    return Grid(
+        cells=Cells(np.arange(0, 4 * nt + 1, 4), face_of),
+        faces=Faces(np.arange(0, 3 * nf + 1, 3), face_nodes.ravel(), neighbors),
+        nodes=Nodes(p),
+        griddim=3,
+        history=("tetrahedral_grid",),
+    )
