@@ -36,7 +36,7 @@ from .connectivity import half_face_cells
 from .errors import GridError
 from .grid import FloatArray, Grid
 
-_CHUNK = 1 << 16  # faces per vectorised block: keeps temporaries in cache
+_CHUNK = 1 << 14  # faces per vectorised block: temporaries stay in cache and are reused
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,7 +91,7 @@ def compute_geometry(grid: Grid) -> Geometry:
 def _cell_apex(grid: Grid, coords_t: np.ndarray) -> np.ndarray:
     """(3|2, nc) apex per cell: the first node of the cell's first face."""
     first_face = grid.cells.faces[grid.cells.face_pos[:-1]]
-    return coords_t[:, grid.faces.nodes[grid.faces.node_pos[first_face]]]
+    return np.take(coords_t, grid.faces.nodes[grid.faces.node_pos[first_face]], axis=1)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -100,26 +100,26 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _face_blocks(grid: Grid):
-    """Yield (face ids, (k, m) node ids) blocks of faces with equal node counts."""
+    """Yield (face ids, (m, k) node ids) blocks of k faces with m nodes each."""
     pos = grid.faces.node_pos
     counts = np.diff(pos)
     nodes = grid.faces.nodes
-    uniform = counts.size > 0 and np.all(counts == counts[0])
-    if uniform:
+    if counts.size > 0 and np.all(counts == counts[0]):
         m = int(counts[0])
         table = nodes.reshape(-1, m)
         for start in range(0, counts.size, _CHUNK):
             stop = min(start + _CHUNK, counts.size)
-            yield np.arange(start, stop), table[start:stop]
+            yield slice(start, stop), np.ascontiguousarray(table[start:stop].T)
         return
     for m in np.unique(counts):
         faces_m = np.flatnonzero(counts == m)
         for start in range(0, faces_m.size, _CHUNK):
             f = faces_m[start : start + _CHUNK]
-            yield f, nodes[pos[f][:, None] + np.arange(m)]
+            yield f, nodes[pos[f][None, :] + np.arange(m)[:, None]]
 
 
 def _geometry_3d(grid: Grid) -> Geometry:
+    """Hinge tessellation of 3-D faces; arrays are (3, m, k) blocks: component, node, face."""
     nf, nc = grid.num_faces, grid.num_cells
     ct = np.ascontiguousarray(grid.nodes.coords.T)
     x0 = _cell_apex(grid, ct)
@@ -127,34 +127,46 @@ def _geometry_3d(grid: Grid) -> Geometry:
     areas = np.empty(nf)
     normals = np.empty((3, nf))
     centroids = np.empty((3, nf))
-    # Per face and side: volume and first-moment contributions to the cell.
-    vol_side = np.zeros((2, nf))
-    mom_side = np.zeros((2, 3, nf))
+    vol = np.zeros(nc)
+    mom = np.zeros((3, nc))  # first moment about the apex, times 4/3
 
     for f, ids in _face_blocks(grid):
-        P = ct[:, ids]  # (3, k, m)
-        h = P.mean(axis=2)  # hinge (3, k)
-        v = P - h[:, :, None]  # node offsets from the hinge
-        vn = np.roll(v, -1, axis=2)
-        n = 0.5 * _cross(v, vn)  # triangle vector areas (3, k, m)
-        a = np.sqrt(np.einsum("ikm,ikm->km", n, n))
-        d = (v + vn) / 3.0  # triangle centroid minus hinge
-        A = a.sum(axis=1)
-        Nf = n.sum(axis=2)
+        m = ids.shape[0]
+        v = np.take(ct, ids, axis=1)  # (3, m, k) node coordinates ...
+        h = v.sum(axis=1)
+        h *= 1.0 / m  # ... hinge (3, k) ...
+        v -= h[:, None, :]  # ... and node offsets from the hinge
+        vn = np.empty_like(v)
+        vn[:, :-1] = v[:, 1:]
+        vn[:, -1] = v[:, 0]
+        n = _cross(v, vn)  # twice the triangle vector areas (3, m, k)
+        a = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])  # twice the areas (m, k)
+        v += vn  # 3 x (triangle centroid - hinge)
+        A2 = a.sum(axis=0)
+        N2 = n.sum(axis=1)
+        areas[f] = 0.5 * A2
+        normals[:, f] = 0.5 * N2
         with np.errstate(invalid="ignore", divide="ignore"):
-            C = h + np.einsum("km,ikm->ik", a, d) / A
-        areas[f] = A
-        normals[:, f] = Nf
-        centroids[:, f] = C
+            centroids[:, f] = h + (a * v).sum(axis=1) / (3.0 * A2)
         for side, sign in ((0, 1.0), (1, -1.0)):
             cell = nb[f, side]
             inside = cell >= 0
-            delta = h - x0[:, np.where(inside, cell, 0)]  # (3, k)
-            dn = np.einsum("ik,ik->k", delta, Nf)
-            w = np.einsum("ikm,ik->km", n, delta)
-            W = np.einsum("km,ikm->ik", w, d)
-            vol_side[side, f] = np.where(inside, sign * dn / 3.0, 0.0)
-            mom_side[side][:, f] = np.where(inside, sign * (W + dn * delta) / 3.0, 0.0)
+            if not inside.any():
+                continue
+            lo, hi = int(cell[inside].min()), int(cell.max()) + 1
+            cell = np.where(inside, cell, lo)  # outside sides get zero weight below
+            delta = h - np.take(x0, cell, axis=1)  # (3, k)
+            dn = (delta * N2).sum(axis=0)  # 2 (delta . N)
+            w = n[0] * delta[0] + n[1] * delta[1] + n[2] * delta[2]  # 2 (delta . n_k)
+            W = (w * v).sum(axis=1)  # 6 sum_k (delta . n_k) d_k
+            weight = np.where(inside, sign / 6.0, 0.0)
+            dn *= weight
+            # Accumulate over the chunk's cell range only (compact for structured numberings).
+            local = cell - lo
+            vol[lo:hi] += np.bincount(local, dn, hi - lo)
+            mom_w = W * (0.5 * weight) + dn * delta
+            for i in range(3):
+                mom[i, lo:hi] += np.bincount(local, mom_w[i], hi - lo)
 
     zero_area = areas <= 0.0
     if np.any(zero_area):
@@ -163,15 +175,11 @@ def _geometry_3d(grid: Grid) -> Geometry:
             f"compute_geometry: {int(zero_area.sum())} face(s) have zero area "
             f"(first: face {fz}); remove degenerate faces before computing geometry"
         )
-    c0 = np.where(nb[:, 0] >= 0, nb[:, 0], 0)
-    c1 = np.where(nb[:, 1] >= 0, nb[:, 1], 0)
-    vol = np.bincount(c0, vol_side[0], nc) + np.bincount(c1, vol_side[1], nc)
-    mom = np.stack(
-        [np.bincount(c0, mom_side[0, i], nc) + np.bincount(c1, mom_side[1, i], nc) for i in range(3)]
-    )
     with np.errstate(invalid="ignore", divide="ignore"):
-        cent = x0 + 0.75 * mom / vol
-    return Geometry(vol, cent.T.copy(), areas, normals.T.copy(), centroids.T.copy())
+        mom *= 0.75 / vol
+    mom += x0
+    # Vectors are stored component-major; the (n, 3) arrays are transposed views.
+    return Geometry(vol, mom.T, areas, normals.T, centroids.T)
 
 
 def _edge_data(grid: Grid, ct: np.ndarray):
