@@ -8,7 +8,7 @@ z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
 >>> import gridlib as gl
 >>> g = gl.cart_grid([10, 10, 5], [100.0, 100.0, 10.0])
 >>> geo = gl.compute_geometry(g)
->>> float(geo.cell_volumes.sum())
+>>> round(float(geo.cell_volumes.sum()), 6)
 100000.0
 >>> gl.check_grid(g, geo)
 """

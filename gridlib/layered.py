@@ -46,7 +46,7 @@ def make_layered_grid(
     >>> from gridlib import cart_grid
     >>> g = make_layered_grid(cart_grid([2, 2]), 3)
     >>> g.num_cells, g.num_faces, g.num_nodes, g.cart_dims
-    (12, 48, 36, (2, 2, 3))
+    (12, 52, 36, (2, 2, 3))
     """
     if grid.griddim != 2:
         raise GridError("make_layered_grid: the areal grid must be 2-D (griddim 2)")

@@ -136,6 +136,7 @@ def polygon_grid(coords: np.ndarray, pos: IntArray, nodes: IntArray, history: st
     if np.any(counts < 3):
         c = int(np.flatnonzero(counts < 3)[0])
         raise GridError(f"{what}: cell {c} has {counts[c]} nodes (a polygon needs >= 3)")
+    _reject_duplicate_cells(pos, nodes, what)
     a, b = _directed_edges(pos, nodes)
     if np.any(a == b):
         c = int(repeat_ids(pos)[np.flatnonzero(a == b)[0]])
@@ -178,6 +179,21 @@ def polygon_grid(coords: np.ndarray, pos: IntArray, nodes: IntArray, history: st
         griddim=2,
         history=(history,),
     )
+
+
+def _reject_duplicate_cells(pos: IntArray, nodes: IntArray, what: str) -> None:
+    """Two cells with the same node set would overlap: reject them."""
+    counts = np.diff(pos)
+    owner = repeat_ids(pos)
+    order = np.lexsort((nodes, owner))
+    table = np.full((counts.size, int(counts.max()) + 1), -1, dtype=np.int64)
+    table[:, 0] = counts
+    table[owner[order], 1 + np.arange(nodes.size) - pos[owner[order]]] = nodes[order]
+    _, first, inverse = np.unique(table, axis=0, return_index=True, return_inverse=True)
+    dup = np.flatnonzero(first[inverse.reshape(-1)] != np.arange(counts.size))
+    if dup.size:
+        c = int(dup[0])
+        raise GridError(f"{what}: cells {int(first[inverse.reshape(-1)[c]])} and {c} have the same nodes")
 
 
 def _surface_orientation(pos: IntArray, nodes: IntArray, n_points: int, what: str) -> np.ndarray:

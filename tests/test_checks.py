@@ -1,0 +1,91 @@
+"""check_grid passes on every builder and names the broken invariant otherwise."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from seed_points import honeycomb_points, seven_points
+
+import gridlib as gl
+from gridlib.grid import Cells, Faces, Nodes
+
+BUILDERS = {
+    "cart_2d": lambda: gl.cart_grid([3, 2]),
+    "cart_3d": lambda: gl.cart_grid([4, 3, 2], [4, 3, 2]),
+    "tensor": lambda: gl.tensor_grid([0, 1, 3, 6], [0, 2, 5], [0, 0.5, 1.5, 3]),
+    "twister": lambda: gl.twister(gl.cart_grid([5, 4, 3])),
+    "remove_cells": lambda: gl.remove_cells(gl.cart_grid([3, 2]), [1]),
+    "extract_subgrid": lambda: gl.extract_subgrid(gl.cart_grid([4, 4, 4]), np.arange(0, 64, 3)).grid,
+    "translate": lambda: gl.translate_grid(gl.cart_grid([2, 2, 2]), [1e5, 2e6, 3e3]),
+    "triangle": lambda: gl.triangle_grid(seven_points()),
+    "surface": lambda: gl.triangle_grid(np.column_stack([seven_points(), [1, 2, 3, 1, 2, 3, 1.5]])),
+    "tessellation": lambda: gl.tessellation_grid([[0, 0], [1, 0], [2, 0], [0, 1], [1, 1], [2, 1]],
+                                                 [[0, 1, 4, 3], [1, 2, 5, 4]]),
+    "tetrahedral": lambda: gl.tetrahedral_grid(np.random.default_rng(0).uniform(size=(80, 3))),
+    "pebi": lambda: gl.pebi(gl.triangle_grid(honeycomb_points())),
+    "layered": lambda: gl.make_layered_grid(gl.pebi(gl.triangle_grid(honeycomb_points())), 3),
+    "glue": lambda: gl.glue_2d(gl.cart_grid([2, 2]), gl.translate_grid(gl.cart_grid([3, 3], [1, 2]), [2, 0])),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(BUILDERS))
+def test_every_builder_passes_check_grid(name):
+    gl.check_grid(BUILDERS[name]())
+
+
+def _flip_face(g: gl.Grid, f: int) -> gl.Grid:
+    nodes = np.array(g.faces.nodes)
+    a, b = g.faces.node_pos[f], g.faces.node_pos[f + 1]
+    nodes[a:b] = nodes[a:b][::-1]
+    return dataclasses.replace(g, faces=dataclasses.replace(g.faces, nodes=nodes))
+
+
+def test_flipped_face_is_caught_by_closure():
+    g = gl.cart_grid([3, 3, 3])
+    with pytest.raises(gl.GridError, match=r"cells not closed .* \[0, 1\]"):
+        gl.check_grid(_flip_face(g, 1))  # x-face between cells 0 and 1
+
+
+def test_missing_half_face_is_caught():
+    g = gl.cart_grid([3, 3, 3])
+    cells = Cells(np.concatenate([[0], g.cells.face_pos[1:] - 1]), g.cells.faces[1:])
+    with pytest.raises(
+        gl.GridError, match=r"half-faces missing from cells.faces \(face, cell\): \[\(0, 0\)\]"
+    ):
+        gl.check_grid(dataclasses.replace(g, cells=cells))
+
+
+def test_duplicated_face_is_caught():
+    g = gl.cart_grid([2, 2, 2])
+    f = g.faces
+    faces = Faces(
+        np.concatenate([f.node_pos, [f.node_pos[-1] + 4]]),
+        np.concatenate([f.nodes, f.nodes[:4]]),
+        np.concatenate([f.neighbors, [[-1, 0]]]),
+    )
+    cells = Cells(
+        np.concatenate([[0], g.cells.face_pos[1:] + 1]),
+        np.concatenate([g.cells.faces[:6], [g.num_faces], g.cells.faces[6:]]),
+    )
+    with pytest.raises(gl.GridError, match=rf"same nodes as another face: \[{g.num_faces}\]"):
+        gl.check_grid(dataclasses.replace(g, faces=faces, cells=cells))
+
+
+def test_index_errors_and_orphans_are_caught():
+    g = gl.cart_grid([2, 2])
+    nb = np.array(g.faces.neighbors)
+    nb[0] = [-1, 9]
+    with pytest.raises(gl.GridError, match=r"neighbors outside \[-1, 4\) at faces \[0\]"):
+        gl.check_grid(dataclasses.replace(g, faces=dataclasses.replace(g.faces, neighbors=nb)))
+    extra = Nodes(np.vstack([g.nodes.coords, [[5.0, 5.0]]]))
+    with pytest.raises(gl.GridError, match=r"nodes used by no face: \[9\]"):
+        gl.check_grid(dataclasses.replace(g, nodes=extra))
+
+
+def test_inverted_cell_is_caught():
+    g = gl.cart_grid([2, 1])
+    mirrored = Nodes(g.nodes.coords * [-1.0, 1.0])
+    with pytest.raises(gl.GridError, match="cells with non-positive area: \\[0, 1\\]"):
+        gl.check_grid(dataclasses.replace(g, nodes=mirrored))

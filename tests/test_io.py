@@ -1,0 +1,123 @@
+"""netCDF round trips (lossless), UGRID for xugrid, VTU for pyvista/VTK."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import pyvista as pv
+import xarray as xr
+from seed_points import honeycomb_points
+
+import gridlib as gl
+from gridlib.io import read, read_netcdf, write, write_netcdf, write_vtu
+
+
+def _grids():
+    areal = gl.pebi(gl.triangle_grid(honeycomb_points()))
+    layered = gl.make_layered_grid(areal, 3)
+    return {
+        "cart": gl.cart_grid([3, 2, 2]),
+        "areal_pebi": areal,
+        "layered": layered,
+        "layered_removed": gl.remove_cells(layered, [0, 5, 77]),
+        "twisted": gl.twister(gl.cart_grid([4, 3, 2])),
+        "surface": gl.triangle_grid(np.column_stack([honeycomb_points(), np.arange(40.0)])),
+    }
+
+
+def _same_grid(a: gl.Grid, b: gl.Grid) -> None:
+    for part, fields in (("cells", ("face_pos", "faces", "face_tag", "index_map")),
+                         ("faces", ("node_pos", "nodes", "neighbors", "tag")), ("nodes", ("coords",))):  # fmt: skip
+        for name in fields:
+            x, y = getattr(getattr(a, part), name), getattr(getattr(b, part), name)
+            assert (x is None) == (y is None), (part, name)
+            if x is not None:
+                assert x.dtype == y.dtype and np.array_equal(x, y), (part, name)
+    assert (a.griddim, a.cart_dims, a.history) == (b.griddim, b.cart_dims, b.history)
+
+
+@pytest.mark.parametrize("name", ["cart", "areal_pebi", "layered", "layered_removed", "twisted", "surface"])
+def test_netcdf_round_trip_is_lossless(tmp_path, name):
+    g = _grids()[name]
+    geo = gl.compute_geometry(g)
+    rng = np.random.default_rng(0)
+    cell = {
+        "poro": rng.uniform(0.1, 0.3, g.num_cells),
+        "facies": rng.integers(0, 4, g.num_cells).astype(np.int32),
+    }
+    face = {"trans": rng.uniform(size=g.num_faces)}
+    path = write_netcdf(tmp_path / f"{name}.nc", g, geo, cell, face, attrs={"case": name, "seed": 7})
+    back = read_netcdf(path)
+    _same_grid(g, back.grid)
+    for field in ("cell_volumes", "cell_centroids", "face_areas", "face_normals", "face_centroids"):
+        assert np.array_equal(getattr(geo, field), getattr(back.geometry, field)), field
+    for key, values in cell.items():
+        assert back.cell_data[key].dtype == values.dtype and np.array_equal(back.cell_data[key], values)
+    assert np.array_equal(back.face_data["trans"], face["trans"])
+    assert back.attrs["case"] == name and back.attrs["seed"] == 7
+    if g.layering is not None:
+        assert back.grid.layering.num_layers == g.layering.num_layers
+        assert np.array_equal(back.grid.layering.column, g.layering.column)
+        _same_grid(g.layering.areal, back.grid.layering.areal)
+
+
+def test_ugrid_footprint_opens_in_xugrid(tmp_path):
+    xu = pytest.importorskip("xugrid")  # installed by the test extras
+    g = gl.remove_cells(_grids()["layered"], [3])
+    poro = np.linspace(0.1, 0.3, g.num_cells)
+    write_netcdf(tmp_path / "lay.nc", g, cell_data={"poro": poro})
+    ds = xu.open_dataset(tmp_path / "lay.nc")
+    assert ds.ugrid.grid.n_face == 40 and ds.ugrid.grid.n_node == 84
+    view = ds["poro_layered"].values
+    assert view.shape == (3, 40) and np.isnan(view[0, 3])
+    np.testing.assert_array_equal(view[g.layering.layer, g.layering.column], poro)
+    with xr.open_dataset(tmp_path / "lay.nc") as plain:
+        assert plain.attrs["Conventions"] == "CF-1.11 UGRID-1.0"
+        assert plain["node_z"].attrs["positive"] == "down"
+    areal = _grids()["areal_pebi"]
+    write_netcdf(tmp_path / "areal.nc", areal, cell_data={"area": gl.compute_geometry(areal).cell_volumes})
+    ds2 = xu.open_dataset(tmp_path / "areal.nc")
+    np.testing.assert_allclose(ds2.ugrid.grid.area, ds2["area"].values, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["cart", "layered", "layered_removed", "areal_pebi", "surface"])
+def test_vtu_read_by_pyvista_has_our_volumes(tmp_path, name):
+    g = _grids()[name]
+    geo = gl.compute_geometry(g)
+    poro = np.linspace(0.1, 0.3, g.num_cells)
+    write_vtu(tmp_path / "g.vtu", g, {"poro": poro, "centroid": geo.cell_centroids})
+    mesh = pv.read(tmp_path / "g.vtu")
+    assert mesh.n_cells == g.num_cells and mesh.n_points == g.num_nodes
+    np.testing.assert_array_equal(mesh.cell_data["poro"], poro)
+    assert mesh.cell_data["centroid"].shape == (g.num_cells, g.dim)
+    sizes = mesh.compute_cell_sizes(length=False, area=g.griddim == 2, volume=g.griddim == 3)
+    vtk_measure = sizes.cell_data["Volume" if g.griddim == 3 else "Area"]
+    np.testing.assert_allclose(vtk_measure, geo.cell_volumes, rtol=1e-9)
+
+
+def test_registry_dispatches_on_suffix(tmp_path):
+    g = gl.cart_grid([2, 2])
+    write(tmp_path / "a.nc", g)
+    assert read(tmp_path / "a.nc").grid.num_cells == 4
+    with pytest.raises(gl.InputError, match="cannot write '.xyz'"):
+        write(tmp_path / "a.xyz", g)
+
+
+def test_failed_write_leaves_no_file(tmp_path):
+    g = gl.cart_grid([2, 2])
+    with pytest.raises(gl.GridError, match="cell data 'poro' has shape"):
+        write_netcdf(tmp_path / "bad.nc", g, cell_data={"poro": np.ones(3)})
+    with pytest.raises(gl.GridError, match="cell data 'poro' must have shape"):
+        write_vtu(tmp_path / "bad.vtu", g, {"poro": np.ones(3)})
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_reading_bad_files_names_the_file(tmp_path):
+    with pytest.raises(gl.InputError, match="missing.nc: no such file"):
+        read_netcdf(tmp_path / "missing.nc")
+    (tmp_path / "junk.nc").write_text("not netcdf")
+    with pytest.raises(gl.InputError, match="junk.nc: cannot read as netCDF"):
+        read_netcdf(tmp_path / "junk.nc")
+    xr.Dataset({"x": ("n", np.arange(3))}).to_netcdf(tmp_path / "other.nc")
+    with pytest.raises(gl.InputError, match="other.nc: .*gridlib_griddim"):
+        read_netcdf(tmp_path / "other.nc")

@@ -1,0 +1,143 @@
+"""triangle_grid, tessellation_grid, tetrahedral_grid."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from seed_points import seven_points
+from scipy.spatial import ConvexHull
+
+import gridlib as gl
+
+SEED_TRIANGLES = [[0, 2, 1], [0, 3, 2], [0, 6, 3], [1, 2, 5], [2, 3, 4], [2, 4, 5], [3, 6, 4], [4, 6, 5]]
+
+
+def test_triangle_grid_reproduces_mrst_example_2():
+    """Seed §3.4 Example 2: 8 cells, 14 faces, 7 nodes, faces = sorted node pairs."""
+    g = gl.triangle_grid(seven_points(), SEED_TRIANGLES)
+    assert (g.num_cells, g.num_faces, g.num_nodes) == (8, 14, 7)
+    pairs = ["".join(map(str, f)) for f in g.faces.nodes.reshape(-1, 2)]
+    assert pairs == "01 02 03 06 12 15 23 24 25 34 36 45 46 56".split()
+    geo = gl.compute_geometry(g)
+    assert geo.cell_volumes.sum() == pytest.approx(0.765, rel=1e-14)
+    assert np.all(geo.cell_volumes > 0)  # clockwise input triangles were oriented
+    gl.check_grid(g, geo)
+
+
+def test_triangle_grid_delaunay_covers_the_hull():
+    rng = np.random.default_rng(3)
+    p = rng.uniform(size=(200, 2)) * [1000.0, 300.0] + [5.3e5, 6.7e6]
+    g = gl.triangle_grid(p)
+    geo = gl.compute_geometry(g)
+    assert geo.cell_volumes.sum() == pytest.approx(ConvexHull(p - p.mean(0)).volume, rel=1e-10)
+    # Euler characteristic of a disc: V - E + F = 1.
+    assert g.num_nodes - g.num_faces + g.num_cells == 1
+    gl.check_grid(g, geo)
+
+
+def test_triangle_grid_on_a_3d_surface_is_consistently_oriented():
+    xy = seven_points()
+    z = 1000.0 + 0.3 * xy[:, 0] - 0.2 * xy[:, 1]  # a tilted plane, depth positive down
+    tris = np.array(SEED_TRIANGLES)
+    tris[1::2] = tris[1::2, ::-1]  # mixed orientation on input
+    g = gl.triangle_grid(np.column_stack([xy, z]), tris)
+    assert g.is_surface
+    geo = gl.compute_geometry(g)
+    unit = geo.cell_normals / np.linalg.norm(geo.cell_normals, axis=1, keepdims=True)
+    assert np.allclose(unit, unit[0], atol=1e-12)  # one orientation for all cells
+    # Area of the tilted plane over the seed's footprint: 0.765 * sqrt(1 + 0.3^2 + 0.2^2).
+    assert geo.cell_volumes.sum() == pytest.approx(0.765 * np.sqrt(1.13), rel=1e-12)
+    gl.check_grid(g, geo)
+
+
+def test_tessellation_grid_mixed_polygons_in_any_orientation():
+    pts = [[0, 0], [1, 0], [2, 0], [0, 1], [1, 1], [2, 1], [1.5, 2]]
+    cells = [[0, 1, 4, 3], [1, 2, 5, 4], [4, 5, 6]]  # CCW quads and a CCW triangle
+    g = gl.tessellation_grid(pts, [c[::-1] if i == 1 else c for i, c in enumerate(cells)])
+    geo = gl.compute_geometry(g)
+    np.testing.assert_allclose(geo.cell_volumes, [1.0, 1.0, 0.5], rtol=1e-15)
+    np.testing.assert_allclose(geo.cell_centroids[2], [1.5, 4.0 / 3.0], rtol=1e-15)
+    assert g.num_faces == 9
+    gl.check_grid(g, geo)
+    padded = np.array([[0, 1, 4, 3], [1, 2, 5, 4], [4, 5, 6, -1]])
+    assert gl.tessellation_grid(pts, padded).num_faces == 9
+
+
+def test_tessellation_grid_mrst_cartesian_example():
+    """Seed §3.2.3: an n x m Cartesian mesh from tessellationGrid equals cart_grid's geometry."""
+    n, m = 4, 3
+    x, y = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, m + 1))
+    idx = np.arange((n + 1) * (m + 1)).reshape(n + 1, m + 1).T  # numbered y first, like MATLAB
+    quads = np.column_stack(
+        [idx[:-1, :-1].ravel("F"), idx[:-1, 1:].ravel("F"), idx[1:, 1:].ravel("F"), idx[1:, :-1].ravel("F")]
+    )
+    g = gl.tessellation_grid(np.column_stack([x.ravel("F"), y.ravel("F")]), quads)
+    assert (g.num_cells, g.num_faces, g.num_nodes) == (12, 31, 20)
+    np.testing.assert_allclose(gl.compute_geometry(g).cell_volumes, 1 / 12, rtol=1e-14)
+
+
+def test_tetrahedral_grid_fills_the_hull():
+    rng = np.random.default_rng(1)
+    p = rng.uniform(size=(300, 3)) * [100.0, 50.0, 10.0]
+    g = gl.tetrahedral_grid(p)
+    geo = gl.compute_geometry(g)
+    assert geo.cell_volumes.sum() == pytest.approx(ConvexHull(p).volume, rel=1e-12)
+    assert np.all(g.cells.num_faces == 4)
+    gl.check_grid(g, geo)
+
+
+def test_tetrahedral_grid_single_tet_volume_and_centroid():
+    p = np.array([[0, 0, 0], [2, 0, 0], [0, 3, 0], [0, 0, 4.0]])
+    g = gl.tetrahedral_grid(p, [[0, 2, 1, 3]])  # negatively oriented on input
+    geo = gl.compute_geometry(g)
+    assert geo.cell_volumes[0] == pytest.approx(4.0, rel=1e-15)
+    np.testing.assert_allclose(geo.cell_centroids[0], p.mean(axis=0), rtol=1e-15)
+
+
+def test_tetrahedral_grid_drops_hull_slivers_of_lattices():
+    """Co-spherical lattice points: Qhull's flat tetrahedra on the hull are removed."""
+    rng = np.random.default_rng(0)
+    x, y, z = np.meshgrid(np.arange(8.0), np.arange(6.0), np.arange(4.0), indexing="ij")
+    inner = (slice(1, -1), slice(1, -1), slice(1, -1))
+    for a in (x, y, z):
+        a[inner] += 0.3 * rng.standard_normal(a[inner].shape)
+    p = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    try:
+        g = gl.tetrahedral_grid(p)
+    except gl.GridError as exc:  # interior degeneracies are reported, never returned
+        assert "zero-volume tetrahedra inside" in str(exc)
+    else:
+        assert gl.compute_geometry(g).cell_volumes.sum() == pytest.approx(7 * 5 * 3, rel=1e-12)
+        gl.check_grid(g)
+
+
+@pytest.mark.parametrize(
+    ("points", "triangles", "message"),
+    [
+        ([[0, 0], [1, 0]], None, "at least 3 points"),
+        ([[0, 0], [1, 1], [2, 2], [3, 3]], None, "collinear"),
+        ([[0, 0], [1, 0], [0, 1], [1, 0]], None, r"duplicate points \[1, 3\]"),
+        ([[0, 0], [1, 0], [np.nan, 1]], None, "point 2 is NaN"),
+        ([[0, 0], [1, 0], [0, 1]], [[0, 1, 5]], "node index 5 out of range"),
+        ([[0, 0], [1, 0], [2, 0]], [[0, 1, 2]], "zero area"),
+        ([[0, 0], [1, 0], [0, 1], [5, 5]], [[0, 1, 2]], r"points \[3\] are used by no cell"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2], [1, 2, 0]], "cells 0 and 1 have the same nodes"),
+        (
+            [[0, 0], [1, 0], [0, 1], [1, 1], [0.5, -1]],
+            [[0, 1, 2], [1, 3, 2], [0, 1, 4], [0, 1, 3]],
+            "shared by more than two",
+        ),
+    ],
+)
+def test_triangle_grid_rejects_bad_input(points, triangles, message):
+    with pytest.raises(gl.GridError, match=message):
+        gl.triangle_grid(points, triangles)
+
+
+def test_tetrahedral_grid_rejects_bad_input():
+    with pytest.raises(gl.GridError, match="at least 4 points"):
+        gl.tetrahedral_grid([[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    with pytest.raises(gl.GridError, match="coplanar"):
+        gl.tetrahedral_grid([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    with pytest.raises(gl.GridError, match="zero volume"):
+        gl.tetrahedral_grid([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], [[0, 1, 2, 3]])
