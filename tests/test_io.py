@@ -26,8 +26,12 @@ def _grids():
 
 
 def _same_grid(a: gl.Grid, b: gl.Grid) -> None:
-    for part, fields in (("cells", ("face_pos", "faces", "face_tag", "index_map")),
-                         ("faces", ("node_pos", "nodes", "neighbors", "tag")), ("nodes", ("coords",))):  # fmt: skip
+    parts = {
+        "cells": ("face_pos", "faces", "face_tag", "index_map"),
+        "faces": ("node_pos", "nodes", "neighbors", "tag"),
+        "nodes": ("coords",),
+    }
+    for part, fields in parts.items():
         for name in fields:
             x, y = getattr(getattr(a, part), name), getattr(getattr(b, part), name)
             assert (x is None) == (y is None), (part, name)
@@ -99,7 +103,7 @@ def test_registry_dispatches_on_suffix(tmp_path):
     g = gl.cart_grid([2, 2])
     write(tmp_path / "a.nc", g)
     assert read(tmp_path / "a.nc").grid.num_cells == 4
-    with pytest.raises(gl.InputError, match="cannot write '.xyz'"):
+    with pytest.raises(gl.InputError, match=r"cannot write '\.xyz'"):
         write(tmp_path / "a.xyz", g)
 
 
@@ -113,11 +117,11 @@ def test_failed_write_leaves_no_file(tmp_path):
 
 
 def test_reading_bad_files_names_the_file(tmp_path):
-    with pytest.raises(gl.InputError, match="missing.nc: no such file"):
+    with pytest.raises(gl.InputError, match=r"missing\.nc: no such file"):
         read_netcdf(tmp_path / "missing.nc")
     (tmp_path / "junk.nc").write_text("not netcdf")
-    with pytest.raises(gl.InputError, match="junk.nc: cannot read as netCDF"):
+    with pytest.raises(gl.InputError, match=r"junk\.nc: cannot read as netCDF"):
         read_netcdf(tmp_path / "junk.nc")
     xr.Dataset({"x": ("n", np.arange(3))}).to_netcdf(tmp_path / "other.nc")
-    with pytest.raises(gl.InputError, match="other.nc: .*gridlib_griddim"):
+    with pytest.raises(gl.InputError, match=r"other\.nc: .*gridlib_griddim"):
         read_netcdf(tmp_path / "other.nc")

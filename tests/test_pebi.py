@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from seed_points import radial_points, ring
 from scipy.spatial import ConvexHull
+from seed_points import radial_points, ring
 
 import gridlib as gl
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from seed_points import seven_points
 from scipy.spatial import ConvexHull
+from seed_points import seven_points
 
 import gridlib as gl
 
