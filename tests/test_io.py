@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import stat
+
 import numpy as np
 import pytest
 import pyvista as pv
@@ -125,3 +128,14 @@ def test_reading_bad_files_names_the_file(tmp_path):
     xr.Dataset({"x": ("n", np.arange(3))}).to_netcdf(tmp_path / "other.nc")
     with pytest.raises(gl.InputError, match=r"other\.nc: .*gridlib_griddim"):
         read_netcdf(tmp_path / "other.nc")
+
+
+def test_written_files_get_the_usual_permissions(tmp_path):
+    umask = os.umask(0o022)
+    try:
+        write_netcdf(tmp_path / "a.nc", gl.cart_grid([2, 2]))
+        write_vtu(tmp_path / "a.vtu", gl.cart_grid([2, 2]))
+    finally:
+        os.umask(umask)
+    for name in ("a.nc", "a.vtu"):
+        assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644

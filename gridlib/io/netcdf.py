@@ -316,6 +316,6 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
             cell_data[name] = v.values
         elif v.dims and v.dims[0] == dims["face"]:
             face_data[name] = v.values
-    skip = ("gridlib_", "areal_gridlib_")
-    attrs = {k: v for k, v in ds.attrs.items() if not k.startswith(skip)}
+    internal = {"gridlib_griddim", "gridlib_history", "gridlib_cart_dims", "gridlib_num_layers"}
+    attrs = {k: v for k, v in ds.attrs.items() if k not in internal and not k.startswith("areal_gridlib_")}
     return GridDataset(grid, geometry, cell_data, face_data, attrs)

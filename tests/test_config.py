@@ -1,0 +1,88 @@
+"""Case files: validation errors name the file and key; sample cases build the seed's grids."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import gridlib as gl
+from gridlib.build import build_grid
+from gridlib.config import load_case
+
+CASES = Path(__file__).resolve().parents[1] / "config" / "cases"
+
+
+def _write(tmp_path: Path, name: str, text: str) -> Path:
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("case", "cells", "volume"),
+    [("ellipsoid", 2128, 17.024), ("honeycomb", 120, 80.540362552), ("twisted", 600, 60000.0)],
+)
+def test_sample_cases_build_the_seed_grids(case, cells, volume):
+    grid = build_grid(load_case(CASES / f"{case}.yaml"))
+    geo = gl.compute_geometry(grid)
+    assert grid.num_cells == cells
+    assert geo.cell_volumes.sum() == pytest.approx(volume, rel=1e-10)
+    gl.check_grid(grid, geo)
+
+
+def test_radial_case_is_the_seed_radial_grid_in_layers():
+    case = load_case(CASES / "radial_well.yaml")
+    grid = build_grid(case)
+    assert grid.num_cells == 241 * 5
+    geo = gl.compute_geometry(grid)
+    assert geo.cell_volumes.sum() == pytest.approx(3.06146745892 * 10.0, rel=1e-10)
+    assert grid.nodes.coords[:, 2].min() == 1500.0
+    assert case.provenance()["case_sha256"] == case.sha256 and case.seed == 0
+
+
+def test_defaults_are_filled_in(tmp_path):
+    path = _write(tmp_path, "c", "name: c\ngrid: {type: cartesian, dims: [2, 2]}\n")
+    case = load_case(path)
+    assert case.data["seed"] == 0 and case.data["grid"]["twist"] == 0
+
+
+CARTESIAN = "name: c\ngrid: {type: cartesian, dims: [2, 2]}\n"
+BAD_CASES = [
+    (
+        CARTESIAN + "colour: red\n",
+        r"\(top level\): Additional properties are not allowed \('colour' was unexpected",
+    ),
+    (CARTESIAN.replace("[2, 2]", "[2, 0]"), r"grid\.dims\[1\]: 0 is less than the minimum of 1"),
+    (CARTESIAN.replace("}", ", lenghts: [1, 1]}"), r"grid: .*'lenghts' was unexpected"),
+    ("name: c\ngrid: {type: hexagonal}\n", r"grid\.type: 'hexagonal' is not one of"),
+    ("name: c\ngrid: {type: tensor, x: [0, 1], y: {start: 0, stop: 1}}\n", r"grid\.y: 'num' is a required"),
+    (CARTESIAN.replace("name: c", "name: other"), r"name: 'other' must equal the file name 'c'"),
+    ("name: c\ngrid: [1, 2\n", r"c\.yaml: line \d+: not valid YAML"),
+    ("- 1\n- 2\n", r"a case must be a mapping"),
+    (
+        "name: c\ngrid:\n  type: layered\n  areal: {sites: {pattern: radial, sectors: 8}}\n"
+        "  layers: {num_layers: 1}\n",
+        r"grid\.areal\.sites: 'radii' is a required property",
+    ),
+]
+
+
+@pytest.mark.parametrize(("text", "message"), BAD_CASES)
+def test_bad_case_files_name_the_file_and_key(tmp_path, text, message):
+    path = _write(tmp_path, "c", text)
+    with pytest.raises(gl.InputError, match=message) as info:
+        load_case(path)
+    assert str(path) in str(info.value)
+
+
+def test_grid_errors_name_the_case_file(tmp_path):
+    path = _write(
+        tmp_path,
+        "c",
+        CARTESIAN + "domain: {ellipsoid: {center: [9, 9], semi_axes: [1, 1]}}\n",
+    )
+    with pytest.raises(gl.InputError, match=r"c\.yaml: grid: domain: no cell centroid lies inside"):
+        build_grid(load_case(path))
+    with pytest.raises(gl.InputError, match=r"nope\.yaml: case file not found"):
+        load_case(tmp_path / "nope.yaml")

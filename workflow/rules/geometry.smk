@@ -1,0 +1,18 @@
+rule geometry:
+    """Cell volumes and centroids, face areas, normals and centroids."""
+    input:
+        case=case_file,
+        grid=f"{RESULTS}/{{case}}/grid.nc",
+    output:
+        geometry=f"{RESULTS}/{{case}}/geometry.nc",
+    log:
+        f"{RESULTS}/logs/{{case}}/geometry.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/{{case}}/geometry.tsv"
+    conda:
+        "../envs/gridlib.yaml"
+    threads: 1
+    resources:
+        mem_mb=4000,
+    script:
+        "../scripts/geometry.py"

@@ -1,0 +1,5 @@
+"""Snakemake script for rule grid (a thin wrapper around gridlib.stages)."""
+
+from gridlib.stages import run_logged, stage_grid
+
+run_logged(snakemake.log[0], stage_grid, snakemake.input.case, snakemake.output.grid)
