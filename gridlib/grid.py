@@ -1,7 +1,9 @@
 """The one grid model shared by every grid type in gridlib.
 
 A grid is an immutable value: a :class:`Grid` holding :class:`Cells`, :class:`Faces`
-and :class:`Nodes`, each a frozen dataclass of numpy arrays (made read-only).
+and :class:`Nodes`, each a frozen dataclass of numpy arrays. Arrays passed in are
+adopted without a copy when their dtype and layout already fit, and made read-only:
+the grid owns them from then on.
 Every builder and operation is a function returning a new grid. The layout is
 MRST's unstructured grid (MRST book, ch. 3.4), translated to 0-based indices.
 
@@ -62,7 +64,8 @@ FloatArray = NDArray[np.float64]
 
 
 def _frozen(a: ArrayLike, dtype: type, name: str, ndim: int) -> NDArray:
-    arr = np.array(a, dtype=dtype, copy=True, order="C")
+    """Adopt ``a`` (copied only if its dtype or layout differ) and make it read-only."""
+    arr = np.asarray(a, dtype=dtype, order="C")
     if arr.ndim != ndim:
         raise GridError(f"{name}: expected a {ndim}-D array, got shape {arr.shape}")
     arr.flags.writeable = False
