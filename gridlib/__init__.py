@@ -21,10 +21,10 @@ from .geometry import Geometry, compute_geometry
 from .glue import glue_2d
 from .grid import Cells, Faces, Grid, Layering, Nodes
 from .layered import make_layered_grid
-from .pebi import pebi
 from .structured import cart_grid, tensor_grid, translate_grid, twister
 from .subgrid import Subgrid, extract_subgrid, remove_cells
 from .unstructured import tessellation_grid, tetrahedral_grid, triangle_grid
+from .voronoi import pebi
 
 try:
     __version__ = version("gridlib")

@@ -11,10 +11,10 @@ from .errors import GridError, InputError
 from .geometry import compute_geometry
 from .grid import Grid
 from .layered import make_layered_grid
-from .pebi import pebi
 from .structured import cart_grid, tensor_grid, translate_grid, twister
 from .subgrid import remove_cells
 from .unstructured import triangle_grid
+from .voronoi import pebi
 
 
 def _axis(spec: Any) -> np.ndarray:

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .connectivity import half_face_cells, half_face_signs, repeat_ids
+from .connectivity import cell_node_cycles_2d, half_face_cells, half_face_signs, repeat_ids
 from .errors import GridError
 from .geometry import Geometry, compute_geometry
 from .grid import Grid
@@ -105,6 +105,11 @@ def topology_violations(grid: Grid) -> list[str]:
     bad = grid.cells.num_faces < need
     if bad.any():
         out.append(f"cells with fewer than {need} faces: {_ids(bad)}")
+    if grid.griddim == 2 and not out:
+        try:  # every 2-D cell (planar or on a surface) is one closed, consistently oriented cycle
+            cell_node_cycles_2d(grid)
+        except GridError as exc:
+            out.append(f"2-D cell boundaries are not oriented cycles ({exc})")
     return out
 
 
@@ -126,6 +131,11 @@ def _duplicate_faces(counts: np.ndarray, sorted_nodes: np.ndarray, pos: np.ndarr
 def geometry_violations(grid: Grid, geometry: Geometry, tol: float) -> list[str]:
     """Violated geometric invariants (assumes a valid topology)."""
     out: list[str] = []
+    if geometry.cell_volumes.shape != (grid.num_cells,) or geometry.face_areas.shape != (grid.num_faces,):
+        return [
+            f"the geometry has {geometry.cell_volumes.size} cells and {geometry.face_areas.size} faces, "
+            f"the grid {grid.num_cells} and {grid.num_faces}"
+        ]
     bad = geometry.face_areas <= 0
     if bad.any():
         out.append(f"faces with non-positive area: {_ids(bad)}")

@@ -118,6 +118,10 @@ def _successors_in_cycles(
         bad = owner[order[1:][sorted_keys[1:] == sorted_keys[:-1]][0]]
         raise GridError(f"{what} {bad}: a node starts two edges (boundary is not a simple cycle)")
     key_end = owner * num_nodes + end
+    ends = np.sort(key_end)
+    if ends.size > 1 and np.any(ends[1:] == ends[:-1]):
+        bad = int(ends[1:][ends[1:] == ends[:-1]][0] // num_nodes)
+        raise GridError(f"{what} {bad}: a node ends two edges (boundary is not a simple cycle)")
     loc = np.searchsorted(sorted_keys, key_end)
     loc = np.minimum(loc, sorted_keys.size - 1)
     found = sorted_keys[loc] == key_end

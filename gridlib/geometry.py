@@ -1,10 +1,13 @@
 """Cell volumes and centroids, face areas, normals and centroids (MRST book §3.4).
 
 Faces of 3-D grids are tessellated about their hinge point h (the mean of the
-face's nodes) into triangles (p_k, p_k+1, h). A face's area is the sum of the
-triangle areas, its normal the sum of the triangle vector areas (so
-``|normal| <= area``, with equality for planar faces) and its centroid the
-area-weighted mean of the triangle centroids. Each cell is then split into
+face's nodes) into triangles (p_k, p_k+1, h). A face's normal is the sum of the
+triangle vector areas n_k, its area the sum of the triangle areas |n_k| (the
+book's formula; ``|normal| <= area``, with equality for planar faces) and its
+centroid the area-weighted mean of the triangle centroids. A triangle whose
+n_k points against the face normal (the hinge lies outside a non-convex face)
+counts with a negative area, so areas and centroids are exact for every planar
+polygon, convex or not. Each cell is then split into
 tetrahedra joining an apex x0 (the first node of its first face) to every face
 triangle. Volumes are *signed* tetrahedron volumes with outward orientation, so
 the cell volume is exactly the divergence-theorem volume of the hinge-tessellated
@@ -19,7 +22,7 @@ sum, computed face by face in chunks. Nothing loops over cells.
 2-D planar grids: faces are edges with normal (dy, -dx), length and midpoint;
 cell areas and centroids come from signed triangles (x0, p_a, p_b), exact for
 any simple polygon. 2-D surface grids in 3-D: cells use the hinge tessellation
-of 3-D faces (area = sum of triangle areas), ``cell_normals`` holds their
+of 3-D faces (same signed triangle areas), ``cell_normals`` holds their
 vector areas, and a face (edge) normal is the in-surface vector ``e x n``
 (n the mean unit normal of its cells), scaled to the edge length.
 
@@ -140,10 +143,13 @@ def _geometry_3d(grid: Grid) -> Geometry:
         vn[:, :-1] = v[:, 1:]
         vn[:, -1] = v[:, 0]
         n = _cross(v, vn)  # twice the triangle vector areas (3, m, k)
+        N2 = n.sum(axis=1)
         a = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])  # twice the areas (m, k)
+        # A triangle facing against the face normal (hinge outside a non-convex face)
+        # counts negatively: exact area and centroid for any planar polygon.
+        np.copysign(a, n[0] * N2[0] + n[1] * N2[1] + n[2] * N2[2], out=a)
         v += vn  # 3 x (triangle centroid - hinge)
         A2 = a.sum(axis=0)
-        N2 = n.sum(axis=1)
         areas[f] = 0.5 * A2
         normals[:, f] = 0.5 * N2
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -164,7 +170,8 @@ def _geometry_3d(grid: Grid) -> Geometry:
             # Accumulate over the chunk's cell range only (compact for structured numberings).
             local = cell - lo
             vol[lo:hi] += np.bincount(local, dn, hi - lo)
-            mom_w = W * (0.5 * weight) + dn * delta
+            # sum_k V_k (c_k - x0) = s/3 [sum_k (delta . n_k) d_k + (delta . N) delta]
+            mom_w = W * (weight / 3.0) + dn * delta
             for i in range(3):
                 mom[i, lo:hi] += np.bincount(local, mom_w[i], hi - lo)
 
@@ -227,9 +234,10 @@ def _geometry_surface(grid: Grid) -> Geometry:
     va = ct[:, a] - hinge[:, hc]
     vb = ct[:, b] - hinge[:, hc]
     n = 0.5 * _cross(va, vb)
-    tri_a = np.sqrt(np.einsum("ih,ih->h", n, n))
-    area = np.bincount(hc, tri_a, nc)
     vec_area = np.stack([np.bincount(hc, n[i], nc) for i in range(3)])
+    tri_a = np.sqrt(np.einsum("ih,ih->h", n, n))
+    np.copysign(tri_a, np.einsum("ih,ih->h", n, vec_area[:, hc]), out=tri_a)
+    area = np.bincount(hc, tri_a, nc)
     d = (va + vb) / 3.0
     with np.errstate(invalid="ignore", divide="ignore"):
         cent = hinge + np.stack([np.bincount(hc, tri_a * d[i], nc) for i in range(3)]) / area

@@ -25,7 +25,8 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
 
     ``tol`` (m) is the distance under which nodes coincide or a node lies on an
     edge; default 1e-9 times the size of the union's bounding box. The grids
-    must not overlap.
+    must not overlap; grids sharing no boundary give one grid of two
+    disconnected pieces (as MRST's ``glue2DGrid``).
 
     >>> from gridlib import cart_grid, translate_grid
     >>> g = glue_2d(cart_grid([2, 2]), translate_grid(cart_grid([3, 3], [1, 2]), [2, 0]))
@@ -38,6 +39,10 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
     coords = np.concatenate([g1.nodes.coords, g2.nodes.coords])
     if tol is None:
         tol = 1e-9 * float(np.ptp(coords, axis=0).max())
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError) as exc:
+        raise GridError(f"glue_2d: tol must be a number, got {tol!r}") from exc
     if not tol > 0:
         raise GridError(f"glue_2d: tol must be positive, got {tol}")
     nn1, nf1, nc1 = g1.num_nodes, g1.num_faces, g1.num_cells
@@ -123,7 +128,10 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
         griddim=2,
         history=("glue_2d",),
     )
-    return order_cell_faces_2d(grid)
+    try:
+        return order_cell_faces_2d(grid)
+    except GridError as exc:
+        raise GridError(f"glue_2d: the grids overlap or do not fit together ({exc})") from exc
 
 
 def _split_edges(e, nb, ftag, cpos, cfaces, ctag, edge, node, t):

@@ -82,6 +82,12 @@ def _check_offsets(pos: NDArray, n_data: int, name: str) -> None:
         raise GridError(f"{name}: offsets must be non-decreasing")
 
 
+def _check_range(arr: NDArray, lo: int, hi: int, name: str, what: str) -> None:
+    if arr.size and (arr.min() < lo or arr.max() >= hi):
+        bad = arr[(arr < lo) | (arr >= hi)][0]
+        raise GridError(f"{name}: index {bad} outside [{lo}, {hi}) (there are {hi} {what})")
+
+
 @dataclass(frozen=True, eq=False)
 class Cells:
     """Cells as ragged lists of faces (half-faces)."""
@@ -157,6 +163,9 @@ class Nodes:
         object.__setattr__(self, "coords", _frozen(self.coords, np.float64, "nodes.coords", 2))
         if self.coords.shape[1] not in (2, 3):
             raise GridError(f"nodes.coords must have 2 or 3 columns, got {self.coords.shape[1]}")
+        finite = np.isfinite(self.coords).all(axis=1)
+        if not finite.all():
+            raise GridError(f"nodes.coords: node {int(np.flatnonzero(~finite)[0])} is NaN or infinite")
 
     @property
     def num(self) -> int:
@@ -205,10 +214,16 @@ class Grid:
         if self.griddim > self.nodes.coords.shape[1]:
             raise GridError("griddim 3 needs 3-D node coordinates")
         if self.cart_dims is not None:
-            object.__setattr__(self, "cart_dims", tuple(int(d) for d in self.cart_dims))
+            try:
+                object.__setattr__(self, "cart_dims", tuple(int(d) for d in self.cart_dims))
+            except (TypeError, ValueError) as exc:
+                raise GridError(f"cart_dims must be integers, got {self.cart_dims!r}") from exc
         object.__setattr__(self, "history", tuple(self.history))
         if self.layering is not None and self.layering.column.size != self.cells.num:
             raise GridError("layering must have one column/layer entry per cell")
+        _check_range(self.cells.faces, 0, self.faces.num, "cells.faces", "faces")
+        _check_range(self.faces.nodes, 0, self.nodes.num, "faces.nodes", "nodes")
+        _check_range(self.faces.neighbors, -1, self.cells.num, "faces.neighbors", "cells")
 
     @property
     def num_cells(self) -> int:

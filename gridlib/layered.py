@@ -153,11 +153,17 @@ def _interface_depths(num_layers, thickness, depths, top, nn2) -> np.ndarray:
             raise GridError(f"make_layered_grid: num_layers must be a positive integer, got {num_layers!r}")
         thickness = np.ones(int(num_layers))
     if thickness is not None:
-        t = np.asarray(thickness, dtype=np.float64).ravel()
+        try:
+            t = np.asarray(thickness, dtype=np.float64).ravel()
+        except (TypeError, ValueError) as exc:
+            raise GridError(f"make_layered_grid: thickness must be numbers, got {thickness!r}") from exc
         if t.size == 0 or not np.all(np.isfinite(t)) or np.any(t <= 0):
             raise GridError(f"make_layered_grid: thickness must be positive numbers, got {t.tolist()}")
         return top[None, :] + np.concatenate([[0.0], np.cumsum(t)])[:, None]
-    z = np.asarray(depths, dtype=np.float64)
+    try:
+        z = np.asarray(depths, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise GridError("make_layered_grid: depths must be an array of numbers") from exc
     if z.ndim == 1:
         z = np.repeat(z[:, None], nn2, axis=1)
     if z.ndim != 2 or z.shape[1] != nn2 or z.shape[0] < 2:

@@ -15,6 +15,7 @@ same indices (0-based here):
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -63,7 +64,12 @@ def tensor_grid(
     zs = _axis(z, "z")
     dz = None
     if depth_z is not None:
-        dz = np.asarray(depth_z, dtype=np.float64)
+        try:
+            dz = np.asarray(depth_z, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise GridError("tensor_grid: depth_z must be an array of numbers") from exc
+        if dz.shape == (xs.size, ys.size) and not np.all(np.isfinite(dz)):
+            raise GridError("tensor_grid: depth_z contains NaN or infinite values")
         if dz.shape != (xs.size, ys.size):
             raise GridError(f"tensor_grid: depth_z must have shape ({xs.size}, {ys.size}), got {dz.shape}")
     return _tensor_3d(xs, ys, zs, dz).with_history("tensor_grid")
@@ -87,10 +93,17 @@ def cart_grid(dims: Sequence[int], lengths: Sequence[float] | None = None) -> Gr
     if not np.issubdtype(d.dtype, np.number) or np.any(d != np.round(d)) or np.any(d < 1):
         raise GridError(f"cart_grid: dims must be positive integers, got {dims!r}")
     d = d.astype(np.int64)
+    if np.prod(d.astype(np.float64)) > 2e8:
+        raise GridError(
+            f"cart_grid: {np.prod(d.astype(np.float64)):.3g} cells is more than gridlib supports (2e8)"
+        )
     if lengths is None:
         L = d.astype(np.float64)
     else:
-        L = np.asarray(lengths, dtype=np.float64).ravel()
+        try:
+            L = np.asarray(lengths, dtype=np.float64).ravel()
+        except (TypeError, ValueError) as exc:
+            raise GridError(f"cart_grid: lengths must be numbers, got {lengths!r}") from exc
         if L.size != d.size:
             raise GridError(f"cart_grid: {d.size} dims but {L.size} lengths")
         if not np.all(np.isfinite(L)) or np.any(L <= 0):
@@ -197,14 +210,21 @@ def twister(grid_or_coords: Grid | ArrayLike, amplitude: float = 0.03) -> Grid |
     MRST (which maps back to [0, L]), the box's minimum corner is restored too.
     Accepts a grid (returns a grid) or an (n, 2|3) coordinate array.
     """
+    try:
+        a = float(amplitude)
+    except (TypeError, ValueError) as exc:
+        raise GridError(f"twister: amplitude must be a number, got {amplitude!r}") from exc
     if isinstance(grid_or_coords, Grid):
         g = grid_or_coords
-        new = Nodes(_twist(g.nodes.coords, amplitude))
-        return g.with_history("twister", nodes=new)
-    pts = np.asarray(grid_or_coords, dtype=np.float64)
+        # The perturbation bends pillars, so a layered grid is no longer an extrusion.
+        return g.with_history("twister", nodes=Nodes(_twist(g.nodes.coords, a)), layering=None)
+    try:
+        pts = np.asarray(grid_or_coords, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise GridError("twister: expected a grid or an (n, 2|3) array of numbers") from exc
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
         raise GridError(f"twister: expected an (n, 2) or (n, 3) array, got shape {pts.shape}")
-    return _twist(pts, amplitude)
+    return _twist(pts, a)
 
 
 def _twist(pts: np.ndarray, a: float) -> np.ndarray:
@@ -228,7 +248,15 @@ def _twist(pts: np.ndarray, a: float) -> np.ndarray:
 
 def translate_grid(grid: Grid, shift: ArrayLike) -> Grid:
     """Shift every node by ``shift`` (length = number of coordinate components)."""
-    s = np.asarray(shift, dtype=np.float64).ravel()
+    try:
+        s = np.asarray(shift, dtype=np.float64).ravel()
+    except (TypeError, ValueError) as exc:
+        raise GridError(f"translate_grid: shift must be {grid.dim} numbers, got {shift!r}") from exc
     if s.size != grid.dim or not np.all(np.isfinite(s)):
         raise GridError(f"translate_grid: shift must be {grid.dim} finite numbers, got {shift!r}")
-    return grid.with_history("translate_grid", nodes=Nodes(grid.nodes.coords + s))
+    layering = grid.layering
+    if layering is not None:  # move the footprint with the grid
+        areal = layering.areal
+        moved = translate_grid(areal, np.concatenate([s[:2], s[2:]])[: areal.dim])
+        layering = replace(layering, areal=moved)
+    return grid.with_history("translate_grid", nodes=Nodes(grid.nodes.coords + s), layering=layering)

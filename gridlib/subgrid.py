@@ -30,8 +30,13 @@ class Subgrid:
 
 def cell_mask(grid: Grid, cells: ArrayLike, what: str) -> np.ndarray:
     """Boolean mask from a mask or a list of cell indices; errors name bad entries."""
-    arr = np.asarray(cells)
+    try:
+        arr = np.asarray(cells)
+    except ValueError as exc:
+        raise GridError(f"{what}: cells must be a flat list of indices or a boolean mask") from exc
     nc = grid.num_cells
+    if arr.dtype == object:
+        raise GridError(f"{what}: cells must be a flat list of indices or a boolean mask")
     if arr.dtype == bool:
         if arr.shape != (nc,):
             raise GridError(f"{what}: boolean mask must have shape ({nc},), got {arr.shape}")
@@ -39,7 +44,11 @@ def cell_mask(grid: Grid, cells: ArrayLike, what: str) -> np.ndarray:
     if arr.size == 0:
         return np.zeros(nc, dtype=bool)
     if not np.issubdtype(arr.dtype, np.integer):
-        if np.issubdtype(arr.dtype, np.floating) and np.all(arr == np.round(arr)):
+        if (
+            np.issubdtype(arr.dtype, np.floating)
+            and np.all(np.isfinite(arr))
+            and np.all(arr == np.round(arr))
+        ):
             arr = arr.astype(np.int64)
         else:
             raise GridError(f"{what}: cells must be integer indices or a boolean mask")

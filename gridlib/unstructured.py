@@ -28,8 +28,8 @@ from .grid import Cells, Faces, Grid, IntArray, Nodes
 
 
 def _points(points: ArrayLike, dims: tuple[int, ...], what: str, min_count: int) -> np.ndarray:
-    try:
-        p = np.asarray(points, dtype=np.float64)
+    try:  # a private copy: the grid owns its coordinates (made read-only)
+        p = np.array(points, dtype=np.float64, copy=True)
     except (TypeError, ValueError) as exc:
         raise GridError(f"{what}: points must be a numeric (n, d) array") from exc
     if p.ndim != 2 or p.shape[1] not in dims:
@@ -51,18 +51,41 @@ def _reject_duplicates(p: np.ndarray, what: str) -> None:
 
 
 def _delaunay(p: np.ndarray, what: str) -> np.ndarray:
-    """Delaunay simplices of points, in a local frame (Qhull loses precision far from 0)."""
+    """Delaunay triangles of planar points, without Qhull's slivers along the hull.
+
+    Points that should be collinear on the hull (a rotated lattice at UTM
+    coordinates, say) are off the line by round-off, and Qhull joins them with
+    triangles of height ~1e-9 m whose circumcentres lie far away. Triangles
+    thinner than 1e-8 of their longest edge that are reachable from the hull
+    through such triangles are removed (they enclose no area); truly degenerate
+    triangles elsewhere are caught by the zero-area check of ``polygon_grid``.
+    """
     local = p - p.mean(axis=0)
     scale = np.abs(local).max()
     if scale == 0:
         raise GridError(f"{what}: all points coincide")
     try:
-        tri = Delaunay(local / scale)
+        dl = Delaunay(local / scale)
     except QhullError as exc:
-        raise GridError(f"{what}: cannot triangulate the points (all collinear or coplanar?)") from exc
-    if tri.coplanar.size:
-        raise GridError(f"{what}: points {tri.coplanar[:, 0].tolist()} were left out by Qhull")
-    return tri.simplices.astype(np.int64)
+        raise GridError(f"{what}: cannot triangulate the points (all collinear?)") from exc
+    if dl.coplanar.size:
+        raise GridError(f"{what}: points {dl.coplanar[:, 0].tolist()} were left out by Qhull")
+    tri = dl.simplices.astype(np.int64)
+    a, b, c = local[tri[:, 0]], local[tri[:, 1]], local[tri[:, 2]]
+    area2 = np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+    edges2 = np.stack([((b - a) ** 2).sum(1), ((c - b) ** 2).sum(1), ((a - c) ** 2).sum(1)])
+    thin = area2 <= 1e-8 * edges2.max(axis=0)  # height <= 2e-8 x the longest edge
+    if not thin.any():
+        return tri
+    gone = np.zeros(tri.shape[0], dtype=bool)
+    nb = dl.neighbors
+    while True:
+        touch = ((nb < 0) | (gone[np.maximum(nb, 0)] & (nb >= 0))).any(axis=1)
+        new = thin & ~gone & touch
+        if not new.any():
+            break
+        gone |= new
+    return tri[~gone]
 
 
 def _index_table(cells: ArrayLike | Sequence[Sequence[int]], n_points: int, what: str):
@@ -77,13 +100,20 @@ def _index_table(cells: ArrayLike | Sequence[Sequence[int]], n_points: int, what
             arr = np.where(np.isnan(arr), -1, arr)
             if np.any(arr != np.round(arr)):
                 raise GridError(f"{what}: cell node indices must be integers")
+        elif not np.issubdtype(arr.dtype, np.integer):
+            raise GridError(f"{what}: cell node indices must be integers, got {arr.dtype} values")
         arr = arr.astype(np.int64)
+        if np.any(arr < -1):
+            raise GridError(f"{what}: node index {int(arr[arr < -1][0])} out of range (-1 pads short rows)")
         valid = arr >= 0
         counts = valid.sum(axis=1)
         nodes = arr[valid]
     else:
         try:
-            lists = [np.asarray(c, dtype=np.int64).ravel() for c in cells]
+            lists = [np.asarray(c).ravel() for c in cells]
+            if any(c.size and not np.issubdtype(c.dtype, np.integer) for c in lists):
+                raise TypeError("non-integer node index")
+            lists = [c.astype(np.int64) for c in lists]
         except (TypeError, ValueError) as exc:
             raise GridError(f"{what}: cells must be lists of integer node indices") from exc
         counts = np.array([c.size for c in lists], dtype=np.int64)
@@ -200,9 +230,11 @@ def _surface_orientation(pos: IntArray, nodes: IntArray, n_points: int, what: st
     """Flip flags making the polygons of a surface consistently oriented.
 
     Two cells sharing an edge are consistent when they traverse it in opposite
-    directions. The flags solve flip[u] xor flip[v] = inconsistent(u, v) on a
-    spanning forest of the cell graph (pointer jumping along the BFS tree); the
-    first cell of every connected piece keeps its given orientation.
+    directions. On a doubled graph, vertex c means "cell c as given" and c + nc
+    "cell c flipped"; a consistent pair links (u, v) and (u+nc, v+nc), an
+    inconsistent one (u, v+nc) and (u+nc, v). The surface is orientable iff no
+    cell is linked to its own flip; in every connected piece the component
+    holding its first cell as given keeps its orientation.
     """
     a, b = _directed_edges(pos, nodes)
     owner = repeat_ids(pos)
@@ -213,34 +245,21 @@ def _surface_orientation(pos: IntArray, nodes: IntArray, n_points: int, what: st
     fsorted = face_of[order]
     pair = np.flatnonzero(fsorted[1:] == fsorted[:-1])
     u, v = owner[order[pair]], owner[order[pair + 1]]
-    inconsistent = forward[order[pair]] == forward[order[pair + 1]]
+    flip_link = (forward[order[pair]] == forward[order[pair + 1]]).astype(np.int64)
     nc = pos.size - 1
-    weight = sparse.coo_matrix(
-        (
-            np.concatenate([inconsistent, inconsistent]).astype(np.int64) + 1,
-            (np.concatenate([u, v]), np.concatenate([v, u])),
-        ),
-        shape=(nc, nc),
-    ).tocsr()
-    _, comp = csgraph.connected_components(weight, directed=False)
-    pred = np.full(nc, -9999, dtype=np.int64)
-    roots = np.unique(comp, return_index=True)[1]
-    for r in roots:  # one BFS per connected piece of the surface, not per cell
-        _, p = csgraph.breadth_first_order(weight, r, directed=False, return_predecessors=True)
-        reached = p != -9999
-        pred[reached] = p[reached]
-    pred[roots] = roots
-    rel = np.zeros(nc, dtype=np.int64)
-    child = np.flatnonzero(pred != np.arange(nc))
-    rel[child] = np.asarray(weight[child, pred[child]]).ravel() - 1
-    up = pred.copy()
-    for _ in range(int(np.ceil(np.log2(max(nc, 2)))) + 1):
-        rel = rel ^ rel[up]
-        up = up[up]
-    flip = rel.astype(bool)
-    if np.any((flip[u] ^ flip[v]) != inconsistent):
-        raise GridError(f"{what}: the surface cannot be oriented consistently (non-orientable?)")
-    return flip
+    rows = np.concatenate([u, u + nc])
+    cols = np.concatenate([v + flip_link * nc, v + (1 - flip_link) * nc])
+    graph = sparse.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(2 * nc, 2 * nc))
+    _, label = csgraph.connected_components(graph, directed=False)
+    as_given, flipped = label[:nc], label[nc:]
+    if np.any(as_given == flipped):
+        c = int(np.flatnonzero(as_given == flipped)[0])
+        raise GridError(f"{what}: the surface cannot be oriented consistently (non-orientable near cell {c})")
+    piece = np.minimum(as_given, flipped)  # the same for both orientations of a piece
+    _, first = np.unique(piece, return_index=True)
+    keep_label = np.empty(label.max() + 1, dtype=np.int64)
+    keep_label[piece[first]] = as_given[first]
+    return as_given != keep_label[piece]
 
 
 def triangle_grid(points: ArrayLike, triangles: ArrayLike | None = None) -> Grid:
@@ -347,6 +366,8 @@ def tetrahedral_grid(points: ArrayLike, tetrahedra: ArrayLike | None = None) -> 
         tet = _delaunay_tetrahedra(p, scale)
     else:
         tet = np.asarray(tetrahedra)
+        if tet.size == 0:
+            raise GridError("tetrahedral_grid: no tetrahedra given")
         if tet.ndim != 2 or tet.shape[1] != 4:
             raise GridError(f"tetrahedral_grid: tetrahedra must have shape (n, 4), got {tet.shape}")
         if not np.issubdtype(tet.dtype, np.integer):

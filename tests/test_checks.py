@@ -77,7 +77,9 @@ def test_index_errors_and_orphans_are_caught():
     g = gl.cart_grid([2, 2])
     nb = np.array(g.faces.neighbors)
     nb[0] = [-1, 9]
-    with pytest.raises(gl.GridError, match=r"neighbors outside \[-1, 4\) at faces \[0\]"):
+    with pytest.raises(
+        gl.GridError, match=r"faces.neighbors: index 9 outside \[-1, 4\) \(there are 4 cells\)"
+    ):
         gl.check_grid(dataclasses.replace(g, faces=dataclasses.replace(g.faces, neighbors=nb)))
     extra = Nodes(np.vstack([g.nodes.coords, [[5.0, 5.0]]]))
     with pytest.raises(gl.GridError, match=r"nodes used by no face: \[9\]"):
@@ -89,3 +91,35 @@ def test_inverted_cell_is_caught():
     mirrored = Nodes(g.nodes.coords * [-1.0, 1.0])
     with pytest.raises(gl.GridError, match="cells with non-positive area: \\[0, 1\\]"):
         gl.check_grid(dataclasses.replace(g, nodes=mirrored))
+
+
+def test_swapped_neighbours_on_a_surface_are_caught():
+    pts = np.random.default_rng(1).uniform(size=(20, 2))
+    g = gl.triangle_grid(np.column_stack([pts, pts[:, 0] ** 2]))
+    nb = np.array(g.faces.neighbors)
+    inner = int(np.flatnonzero((nb >= 0).all(axis=1))[0])
+    nb[inner] = nb[inner, ::-1]
+    bad = dataclasses.replace(g, faces=dataclasses.replace(g.faces, neighbors=nb))
+    with pytest.raises(gl.GridError, match="2-D cell boundaries are not oriented cycles"):
+        gl.check_grid(bad)
+
+
+def test_geometry_of_another_grid_is_caught():
+    with pytest.raises(gl.GridError, match="the geometry has 9 cells and 24 faces, the grid 4 and 12"):
+        gl.check_grid(gl.cart_grid([2, 2]), gl.compute_geometry(gl.cart_grid([3, 3])))
+
+
+def test_dangling_edge_in_a_cell_is_caught():
+    from gridlib.connectivity import cell_node_cycles_2d
+
+    tri = gl.triangle_grid([[0, 0], [1, 0], [0, 1]])
+    extra = Nodes(np.vstack([tri.nodes.coords, [[2.0, 2.0]]]))
+    faces = Faces(
+        np.arange(0, 9, 2),
+        np.concatenate([tri.faces.nodes, [3, 1]]),
+        np.vstack([tri.faces.neighbors, [[0, -1]]]),
+    )
+    cells = Cells([0, 4], [0, 1, 2, 3])
+    g = gl.Grid(cells, faces, extra, 2)
+    with pytest.raises(gl.GridError, match=r"cell 0: a node (starts|ends) two edges"):
+        cell_node_cycles_2d(g)

@@ -139,3 +139,39 @@ def test_written_files_get_the_usual_permissions(tmp_path):
         os.umask(umask)
     for name in ("a.nc", "a.vtu"):
         assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644
+
+
+def test_layering_of_a_grid_extruded_from_a_surface_round_trips(tmp_path):
+    p = np.random.default_rng(0).uniform(size=(20, 2)) * 100
+    surface = gl.triangle_grid(np.column_stack([p, 1000 + 0.1 * p[:, 0]]))
+    g = gl.make_layered_grid(surface, 2)
+    write_netcdf(tmp_path / "s.nc", g, cell_data={"poro": np.full(g.num_cells, 0.2)})
+    back = read_netcdf(tmp_path / "s.nc")
+    assert back.grid.layering is not None and back.grid.layering.num_layers == 2
+    _same_grid(g.layering.areal, back.grid.layering.areal)
+    assert sorted(back.cell_data) == ["poro"]
+
+
+def test_netcdf_refuses_names_and_attributes_it_cannot_keep(tmp_path):
+    g = gl.cart_grid([3, 2, 2])
+    for kwargs, message in [
+        ({"cell_data": {"cell_volume": np.ones(12)}}, r"data names \['cell_volume'\] are used by gridlib"),
+        ({"face_data": {"face_tag": np.ones(g.num_faces)}}, r"data names \['face_tag'\]"),
+        ({"cell_data": {"node_x": np.ones(12)}}, r"data names \['node_x'\]"),
+        ({"attrs": {"flag": True}}, "attribute 'flag' is True"),
+        ({"attrs": {"seed": None}}, "attribute 'seed' is None"),
+        ({"attrs": {"gridlib_history": "x"}}, "attribute name 'gridlib_history' is reserved"),
+    ]:
+        with pytest.raises(gl.GridError, match=message):
+            write_netcdf(tmp_path / "x.nc", g, **kwargs)
+    assert not (tmp_path / "x.nc").exists()
+    # Names that merely look like ours are user data and come back.
+    write_netcdf(tmp_path / "ok.nc", g, cell_data={"poro_layered": np.ones(12), "areal_poro": np.ones(12)})
+    assert sorted(read_netcdf(tmp_path / "ok.nc").cell_data) == ["areal_poro", "poro_layered"]
+
+
+def test_vtu_escapes_data_names(tmp_path):
+    g = gl.cart_grid([2, 2, 2])
+    write_vtu(tmp_path / "e.vtu", g, {'perm x&y <"k">': np.arange(8.0)})
+    mesh = pv.read(tmp_path / "e.vtu")
+    np.testing.assert_array_equal(mesh.cell_data['perm x&y <"k">'], np.arange(8.0))

@@ -104,3 +104,12 @@ def test_glue_multiblock_of_the_seed():
 def test_glue_rejects_non_planar():
     with pytest.raises(gl.GridError, match="g2 must be a planar 2-D grid"):
         gl.glue_2d(gl.cart_grid([2, 2]), gl.cart_grid([2, 2, 2]))
+
+
+def test_translate_moves_the_footprint_and_twister_drops_it():
+    g = gl.make_layered_grid(gl.cart_grid([2, 2], [100.0, 100.0]), 2)
+    moved = gl.translate_grid(g, [5.3e5, 6.7e6, 1000.0])
+    np.testing.assert_allclose(
+        moved.layering.areal.nodes.coords, g.layering.areal.nodes.coords + [5.3e5, 6.7e6]
+    )
+    assert gl.twister(g).layering is None

@@ -99,3 +99,43 @@ def test_pebi_rejects_non_triangles():
         gl.pebi(gl.cart_grid([2, 2]))
     with pytest.raises(gl.GridError, match="planar 2-D"):
         gl.pebi(gl.cart_grid([2, 2, 2]))
+
+
+@pytest.mark.parametrize("angle", [0, 20, 45, 60, 77])
+def test_pebi_of_rotated_lattice_at_utm(angle):
+    a = np.radians(angle)
+    rot = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    x, y = np.meshgrid(np.arange(20) * 25.0, np.arange(15) * 25.0)
+    p = np.column_stack([x.ravel(), y.ravel()]) @ rot.T + [5.3e5, 6.7e6]
+    g = gl.pebi(gl.triangle_grid(p))
+    assert g.num_cells == 300
+    geo = gl.compute_geometry(g)
+    assert geo.cell_volumes.sum() == pytest.approx(19 * 14 * 625.0, rel=1e-9)
+    inner = np.isclose(geo.cell_volumes, 625.0, rtol=1e-6)
+    assert inner.sum() == 18 * 13  # every interior site owns a 25 m square
+    gl.check_grid(g, geo)
+
+
+@pytest.mark.parametrize("noise", [1e-12, 1e-10, 1e-8, 1e-7])
+def test_pebi_of_nearly_cocircular_lattices(noise):
+    x, y = np.meshgrid(np.arange(10.0), np.arange(8.0))
+    lattice = np.column_stack([x.ravel(), y.ravel()])
+    for seed in range(5):
+        p = lattice + noise * np.random.default_rng(seed).standard_normal(lattice.shape)
+        g = gl.pebi(gl.triangle_grid(p))
+        assert g.num_cells == 80
+        geo = gl.compute_geometry(g)
+        assert geo.cell_volumes.sum() == pytest.approx(ConvexHull(p).volume, rel=1e-9)
+        gl.check_grid(g, geo)
+
+
+def test_pebi_refuses_folded_duals_of_non_convex_triangulations():
+    """Random points in an L: circumcentres leave the domain; MRST folds, we say so."""
+    rng = np.random.default_rng(54)
+    p = rng.uniform(0, 2, (60, 2))
+    p = p[(p[:, 0] < 1) | (p[:, 1] < 1)]
+    tri = gl.triangle_grid(p)
+    c = gl.compute_geometry(tri).cell_centroids
+    lshape = gl.remove_cells(tri, (c[:, 0] > 1) & (c[:, 1] > 1))
+    with pytest.raises(gl.GridError, match=r"pebi: .*refine the triangulation"):
+        gl.pebi(lshape)

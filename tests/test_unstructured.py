@@ -94,21 +94,81 @@ def test_tetrahedral_grid_single_tet_volume_and_centroid():
     np.testing.assert_allclose(geo.cell_centroids[0], p.mean(axis=0), rtol=1e-15)
 
 
-def test_tetrahedral_grid_drops_hull_slivers_of_lattices():
-    """Co-spherical lattice points: Qhull's flat tetrahedra on the hull are removed."""
-    rng = np.random.default_rng(0)
-    x, y, z = np.meshgrid(np.arange(8.0), np.arange(6.0), np.arange(4.0), indexing="ij")
-    inner = (slice(1, -1), slice(1, -1), slice(1, -1))
-    for a in (x, y, z):
-        a[inner] += 0.3 * rng.standard_normal(a[inner].shape)
-    p = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
-    try:
-        g = gl.tetrahedral_grid(p)
-    except gl.GridError as exc:  # interior degeneracies are reported, never returned
-        assert "zero-volume tetrahedra inside" in str(exc)
-    else:
-        assert gl.compute_geometry(g).cell_volumes.sum() == pytest.approx(7 * 5 * 3, rel=1e-12)
-        gl.check_grid(g)
+@pytest.mark.parametrize("seed", range(3))
+def test_tetrahedral_grid_drops_hull_slivers_of_lattice_faces(seed):
+    """Lattice points on the cube's faces are co-circular: Qhull glues them with flat
+    tetrahedra on the hull, which must be removed (not returned, not an error)."""
+    from scipy.spatial import Delaunay
+
+    rng = np.random.default_rng(seed)
+    s = np.linspace(0, 1, 4)
+    a, b = (m.ravel() for m in np.meshgrid(s, s))
+    faces = []
+    for axis in range(3):
+        for value in (0.0, 1.0):
+            q = np.empty((16, 3))
+            q[:, [i for i in range(3) if i != axis]] = np.column_stack([a, b])
+            q[:, axis] = value
+            faces.append(q)
+    p = np.unique(np.concatenate([rng.uniform(0.05, 0.95, (80, 3)), *faces]), axis=0)
+    t = Delaunay(p - 0.5).simplices
+    d1, d2, d3 = (p[t[:, i]] - p[t[:, 0]] for i in (1, 2, 3))
+    qhull_flat = int((np.abs(np.einsum("ij,ij->i", np.cross(d1, d2), d3)) < 1e-13).sum())
+    assert qhull_flat > 0  # the situation under test really occurs
+    g = gl.tetrahedral_grid(p)
+    assert g.num_cells == t.shape[0] - qhull_flat
+    geo = gl.compute_geometry(g)
+    assert geo.cell_volumes.sum() == pytest.approx(1.0, rel=1e-13)
+    assert geo.cell_volumes.min() > 0
+    gl.check_grid(g, geo)
+
+
+def test_tetrahedral_grid_reports_interior_degeneracy():
+    x, y, z = np.meshgrid(np.arange(4.0), np.arange(4.0), np.arange(4.0), indexing="ij")
+    with pytest.raises(gl.GridError, match="zero-volume tetrahedra inside the domain"):
+        gl.tetrahedral_grid(np.column_stack([x.ravel(), y.ravel(), z.ravel()]))
+
+
+@pytest.mark.parametrize("angle", [0, 10, 30, 45, 60, 77])
+def test_triangle_grid_of_rotated_lattice_at_utm(angle):
+    """Round-off makes hull points of a rotated lattice not quite collinear: no slivers remain."""
+    a = np.radians(angle)
+    rot = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    x, y = np.meshgrid(np.arange(20) * 25.0, np.arange(15) * 25.0)
+    p = np.column_stack([x.ravel(), y.ravel()]) @ rot.T + [5.3e5, 6.7e6]
+    g = gl.triangle_grid(p)
+    geo = gl.compute_geometry(g)
+    assert geo.cell_volumes.sum() == pytest.approx(19 * 14 * 625.0, rel=1e-9)
+    assert geo.cell_volumes.min() > 1.0  # no sliver survives
+    gl.check_grid(g, geo)
+
+
+def test_surface_orientation_special_cases():
+    single = gl.triangle_grid([[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    assert single.num_cells == 1
+    # Two pentagons sharing two edges (a node of degree 2 on their interface).
+    pts = [[0, 0], [1, 0], [2, 0], [2, 1], [1, 2], [0, 1], [1, 1]]
+    cells = [[0, 1, 6, 4, 5], [1, 2, 3, 4, 6]]
+    flat = gl.tessellation_grid(pts, cells)
+    lifted = gl.tessellation_grid(np.column_stack([pts, np.full(7, 1000.0)]), [cells[0], cells[1][::-1]])
+    a, b = gl.compute_geometry(flat), gl.compute_geometry(lifted)
+    np.testing.assert_allclose(b.cell_volumes, a.cell_volumes, rtol=1e-14)
+    gl.check_grid(lifted, b)
+    # Many disconnected pieces are oriented piece by piece.
+    tri = np.array([[0, 1, 2], [2, 1, 3]])
+    quads = np.array([[0, 0], [1, 0], [0, 1], [1, 1.0]])
+    pts3 = np.concatenate([np.column_stack([quads + 3 * k, np.zeros(4)]) for k in range(50)])
+    tris = np.concatenate([tri[:, ::-1] + 4 * k if k % 3 else tri + 4 * k for k in range(50)])
+    many = gl.triangle_grid(pts3, tris)
+    gl.check_grid(many)
+
+
+def test_builders_do_not_touch_or_alias_the_callers_arrays():
+    base = np.random.default_rng(0).uniform(size=(40, 2))
+    g = gl.triangle_grid(base[:20])
+    assert base.flags.writeable
+    base[0] += 100.0
+    assert g.nodes.coords.max() < 1.5
 
 
 @pytest.mark.parametrize(
@@ -119,6 +179,8 @@ def test_tetrahedral_grid_drops_hull_slivers_of_lattices():
         ([[0, 0], [1, 0], [0, 1], [1, 0]], None, r"duplicate points \[1, 3\]"),
         ([[0, 0], [1, 0], [np.nan, 1]], None, "point 2 is NaN"),
         ([[0, 0], [1, 0], [0, 1]], [[0, 1, 5]], "node index 5 out of range"),
+        ([[0, 0], [1, 0], [0, 1]], [["a", "b", "c"]], "must be integers"),
+        ([[0, 0], [1, 0], [0, 1]], [[0, 1, -3]], r"node index -3 out of range \(-1 pads"),
         ([[0, 0], [1, 0], [2, 0]], [[0, 1, 2]], "zero area"),
         ([[0, 0], [1, 0], [0, 1], [5, 5]], [[0, 1, 2]], r"points \[3\] are used by no cell"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2], [1, 2, 0]], "cells 0 and 1 have the same nodes"),

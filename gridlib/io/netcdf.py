@@ -167,6 +167,24 @@ def _data_vars(data: dict[str, np.ndarray], n: int, dim: str, what: str) -> dict
     return out
 
 
+def _attr_value(key: str, value: object) -> object:
+    """A value netCDF can store as an attribute, or a GridError naming the key."""
+    if isinstance(value, bool | np.bool_) or value is None:
+        raise GridError(
+            f"write_netcdf: attribute '{key}' is {value!r}; netCDF attributes hold str or numbers"
+        )
+    if isinstance(value, str | int | float | np.integer | np.floating):
+        return value
+    if isinstance(value, np.ndarray) and value.dtype.kind in "iuf":
+        return value
+    try:
+        return json.dumps(value)
+    except TypeError as exc:
+        raise GridError(
+            f"write_netcdf: attribute '{key}' of type {type(value).__name__} cannot be stored"
+        ) from exc
+
+
 def grid_to_dataset(
     grid: Grid,
     geometry: Geometry | None = None,
@@ -183,16 +201,14 @@ def grid_to_dataset(
         if geometry.cell_volumes.shape != (grid.num_cells,) or geometry.face_areas.shape != (grid.num_faces,):
             raise GridError("write_netcdf: the geometry does not belong to this grid (sizes differ)")
         variables.update(_geometry_vars(geometry, dims, grid.griddim))
-    variables.update(_data_vars(cell_data or {}, grid.num_cells, dims["cell"], "cell"))
-    variables.update(_data_vars(face_data or {}, grid.num_faces, dims["face"], "face"))
-
+    derived: dict[str, xr.Variable] = {}
     if grid.griddim == 2 and grid.dim == 2:
-        variables.update(_ugrid_mesh(grid, dims))
+        derived.update(_ugrid_mesh(grid, dims))
         ds_attrs["Conventions"] = "CF-1.11 UGRID-1.0"
-    elif grid.layering is not None and grid.layering.areal.dim == 2:
+    elif grid.layering is not None:
         lay = grid.layering
         areal_dims = {"cell": "mesh2d_nFaces", "face": "mesh2d_nEdges", "node": "mesh2d_nNodes"}
-        variables.update(_ugrid_mesh(lay.areal, areal_dims))
+        derived.update(_ugrid_mesh(lay.areal, areal_dims))
         variables.update(_topology_vars(lay.areal, "areal_", areal_dims))
         ds_attrs.update(_grid_attrs(lay.areal, "areal_"))
         ds_attrs["gridlib_num_layers"] = np.int64(lay.num_layers)
@@ -202,16 +218,28 @@ def grid_to_dataset(
         variables["cell_layer"] = xr.Variable(dims["cell"], lay.layer, {"long_name": "layer, 0 = top"})
         for name, values in (cell_data or {}).items():
             arr = np.asarray(values)
-            if arr.ndim == 1 and np.issubdtype(arr.dtype, np.floating):
+            if arr.shape == (grid.num_cells,) and np.issubdtype(arr.dtype, np.floating):
                 view = np.full((lay.num_layers, lay.areal.num_cells), np.nan)
                 view[lay.layer, lay.column] = arr
-                variables[f"{name}_layered"] = xr.Variable(
+                derived[f"{name}_layered"] = xr.Variable(
                     ("layer", "mesh2d_nFaces"), view, {"mesh": "mesh2d", "location": "face"}
                 )
         ds_attrs["Conventions"] = "CF-1.11 UGRID-1.0"
+    user = {
+        **_data_vars(cell_data or {}, grid.num_cells, dims["cell"], "cell"),
+        **_data_vars(face_data or {}, grid.num_faces, dims["face"], "face"),
+    }
+    clash = sorted(set(user) & (set(variables) | set(derived) | _RESERVED))
+    if clash:
+        raise GridError(f"write_netcdf: data names {clash} are used by gridlib's own variables; rename them")
+    if len(user) != len(cell_data or {}) + len(face_data or {}):
+        raise GridError("write_netcdf: the same name is used for cell data and face data")
+    ds_attrs["gridlib_variables"] = json.dumps(sorted(set(variables) | set(derived)))
     for key, value in (attrs or {}).items():
-        ds_attrs[key] = value if not isinstance(value, dict | list | tuple) else json.dumps(value)
-    return xr.Dataset(variables, attrs=ds_attrs)
+        if key.startswith(("gridlib_", "areal_gridlib_")) and key != "gridlib_version":
+            raise GridError(f"write_netcdf: attribute name '{key}' is reserved")
+        ds_attrs[key] = _attr_value(key, value)
+    return xr.Dataset({**variables, **derived, **user}, attrs=ds_attrs)
 
 
 def write_netcdf(
@@ -309,13 +337,20 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
         )
     dims = _dims(grid)
     cell_data, face_data = {}, {}
+    own = _RESERVED | set(json.loads(ds.attrs.get("gridlib_variables", "[]")))
     for name, v in ds.data_vars.items():
-        if name in _RESERVED or name.startswith("areal_") or name.endswith("_layered"):
+        if name in own:
             continue
         if v.dims and v.dims[0] == dims["cell"]:
             cell_data[name] = v.values
         elif v.dims and v.dims[0] == dims["face"]:
             face_data[name] = v.values
-    internal = {"gridlib_griddim", "gridlib_history", "gridlib_cart_dims", "gridlib_num_layers"}
+    internal = {
+        "gridlib_griddim",
+        "gridlib_history",
+        "gridlib_cart_dims",
+        "gridlib_num_layers",
+        "gridlib_variables",
+    }
     attrs = {k: v for k, v in ds.attrs.items() if k not in internal and not k.startswith("areal_gridlib_")}
     return GridDataset(grid, geometry, cell_data, face_data, attrs)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -114,7 +115,8 @@ def write_vtu(path: str | os.PathLike, grid: Grid, cell_data: dict[str, np.ndarr
 
     def tags(section: str) -> str:
         return "\n".join(
-            f'<DataArray type="{t}" Name="{n}" NumberOfComponents="{c}" format="appended" offset="{o}"/>'
+            f'<DataArray type="{t}" Name={quoteattr(n)} NumberOfComponents="{c}" '
+            f'format="appended" offset="{o}"/>'
             for s, n, t, c, o in header
             if s == section
         )

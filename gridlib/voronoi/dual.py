@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 from scipy.sparse import csgraph
-from scipy.spatial import cKDTree
+from scipy.spatial import ConvexHull, cKDTree
 
 from ..connectivity import cell_faces_from_neighbors, cell_node_cycles_2d, order_cell_faces_2d
 from ..errors import GridError
@@ -50,6 +50,10 @@ def pebi(tri_grid: Grid, tol: float = 1e-9) -> Grid:
     """
     if tri_grid.griddim != 2 or tri_grid.dim != 2:
         raise GridError("pebi: needs a planar 2-D triangle grid (e.g. from triangle_grid)")
+    if not (isinstance(tol, int | float) and 0 < tol < 1e-2):
+        raise GridError(
+            f"pebi: tol must be a small positive number (relative to the edge length), got {tol!r}"
+        )
     if np.any(tri_grid.cells.num_faces != 3):
         c = int(np.flatnonzero(tri_grid.cells.num_faces != 3)[0])
         raise GridError(f"pebi: cell {c} of the input is not a triangle")
@@ -64,14 +68,63 @@ def pebi(tri_grid: Grid, tol: float = 1e-9) -> Grid:
     fa, fb = _merge_close_vertices(coords, fa, fb, tol * t.h)
     keep = fa != fb
     fa, fb, ca, cb = fa[keep], fb[keep], ca[keep], cb[keep]
-    grid = _assemble(coords + origin, fa, fb, ca, cb, t.xy.shape[0], tri_grid.history)
+    n_sites = t.xy.shape[0]
+    faces_per_site = np.bincount(ca, minlength=n_sites) + np.bincount(cb[cb >= 0], minlength=n_sites)
+    if np.any(faces_per_site < 3):
+        lost = np.flatnonzero(faces_per_site < 3)
+        raise GridError(
+            f"pebi: the cells of nodes {lost[:5].tolist()} vanish (nodes closer than {tol:g} x the "
+            "typical edge length to others?)"
+        )
+    advice = (
+        "the triangulation is not Delaunay, or circumcentres of triangles near its (non-convex) "
+        "boundary fall outside it: refine the triangulation there"
+    )
+    try:
+        grid = _assemble(coords + origin, fa, fb, ca, cb, n_sites, tri_grid.history)
+    except GridError as exc:
+        raise GridError(f"pebi: the dual is not a valid grid ({exc}); {advice}") from exc
+    problems = _dual_violations(grid, t, origin, check_inside=corners is None)
+    if problems:
+        raise GridError(f"pebi: {problems}; {advice}")
+    return grid
+
+
+def _dual_violations(grid: Grid, t: _Triangulation, origin: np.ndarray, check_inside: bool) -> str:
+    """What makes the dual invalid: inverted cells, reversed bisectors, vertices outside."""
     areas = _cell_areas(grid)
     if np.any(areas <= 0):
-        raise GridError(
-            f"pebi: cells {np.flatnonzero(areas <= 0)[:5].tolist()} come out inverted: the "
-            "triangulation is not Delaunay or has circumcentres outside its non-convex boundary"
-        )
-    return grid
+        return f"cells {np.flatnonzero(areas <= 0)[:5].tolist()} come out inverted"
+    nb = grid.faces.neighbors
+    inner = np.flatnonzero((nb >= 0).all(axis=1))
+    e = grid.faces.nodes.reshape(-1, 2)[inner]
+    p0, p1 = grid.nodes.coords[e[:, 0]] - origin, grid.nodes.coords[e[:, 1]] - origin
+    normal = np.column_stack([p1[:, 1] - p0[:, 1], p0[:, 0] - p1[:, 0]])
+    towards = ((t.xy[nb[inner, 1]] - t.xy[nb[inner, 0]]) * normal).sum(axis=1)
+    if np.any(towards < 0):
+        return f"faces {inner[towards < 0][:5].tolist()} point from their second cell to their first"
+    if not check_inside:
+        return ""
+    b = np.flatnonzero(t.on_boundary.ravel())
+    qa, qb = t.xy[t.ea.ravel()[b]], t.xy[t.eb.ravel()[b]]
+    pts = grid.nodes.coords - origin
+    eps = 1e-9 * t.h
+    outside = np.zeros(pts.shape[0], dtype=bool)
+    chunk = max(1, 2_000_000 // max(1, b.size))
+    for start in range(0, pts.shape[0], chunk):
+        p = pts[start : start + chunk, None, :]
+        d = qb - qa
+        rel = p - qa
+        along = np.clip((rel * d).sum(axis=2) / (d * d).sum(axis=1), 0.0, 1.0)
+        dist = np.sqrt(((rel - along[..., None] * d) ** 2).sum(axis=2)).min(axis=1)
+        up = (qa[:, 1] > p[..., 1]) != (qb[:, 1] > p[..., 1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x_cross = qa[:, 0] + (p[..., 1] - qa[:, 1]) * d[:, 0] / d[:, 1]
+        inside = ((up & (p[..., 0] < x_cross)).sum(axis=1) % 2) == 1
+        outside[start : start + chunk] = ~inside & (dist > eps)
+    if outside.any():
+        return f"vertices {np.flatnonzero(outside)[:5].tolist()} lie outside the domain"
+    return ""
 
 
 class _Triangulation:
@@ -99,7 +152,15 @@ class _Triangulation:
         self.hf_left, self.hf_right = order[pair], order[pair + 1]
 
     def convex_corners(self, tol: float) -> np.ndarray | None:
-        """Corners of the boundary in counter-clockwise order if it is one convex loop, else None."""
+        """Corners of the convex hull (counter-clockwise) if the boundary is one convex loop.
+
+        The boundary counts as convex when no turn is reflex by more than a sine
+        of 1e-6: a Delaunay triangulation of points is convex up to round-off
+        (and up to the hull slivers ``triangle_grid`` removes). The corners are
+        then those of the exact convex hull of the boundary nodes, turning by
+        more than ``tol``. Returns None for non-convex or multiply connected
+        triangulations.
+        """
         b = np.flatnonzero(self.on_boundary.ravel())
         start, end = self.ea.ravel()[b], self.eb.ravel()[b]
         nn = self.xy.shape[0]
@@ -111,17 +172,18 @@ class _Triangulation:
             return None  # several boundary loops (holes)
         prev = np.full(nn, -1, dtype=np.int64)
         prev[end] = start
-        p = self.xy[start]
-        d_in = p - self.xy[prev[start]]
-        d_out = self.xy[end] - p
+        d_in = self.xy[start] - self.xy[prev[start]]
+        d_out = self.xy[end] - self.xy[start]
         turn = _cross2(d_in, d_out)
         scale = np.linalg.norm(d_in, axis=1) * np.linalg.norm(d_out, axis=1)
-        if np.any(turn < -tol * scale):
+        if np.any(turn < -1e-6 * scale):
             return None
-        corners = p[turn > tol * scale]
-        centre = corners.mean(axis=0)
-        angle = np.arctan2(corners[:, 1] - centre[1], corners[:, 0] - centre[0])
-        return corners[np.argsort(angle)]
+        hull = self.xy[start][ConvexHull(self.xy[start]).vertices]  # counter-clockwise
+        d_in = hull - np.roll(hull, 1, axis=0)
+        d_out = np.roll(hull, -1, axis=0) - hull
+        turn = _cross2(d_in, d_out)
+        scale = np.linalg.norm(d_in, axis=1) * np.linalg.norm(d_out, axis=1)
+        return hull[turn > tol * scale]
 
 
 def _clipped_voronoi(t: _Triangulation, corners: np.ndarray, tol: float):
@@ -156,6 +218,7 @@ def _clipped_voronoi(t: _Triangulation, corners: np.ndarray, tol: float):
 
     A = np.concatenate([seg_a, ray_a])
     D = np.concatenate([seg_d, ray_d])
+    B = np.concatenate([t.centre[tri_of[left]], ray_a + ray_d])
     # A segment runs to the left of v -> w, so its normal points from v to w; a
     # ray runs to the right (outwards), so its normal points from w to v.
     cells_a = np.concatenate([ea[left], eb[bnd]])
@@ -163,15 +226,26 @@ def _clipped_voronoi(t: _Triangulation, corners: np.ndarray, tol: float):
     s_lo, s_hi, side_lo, side_hi = _clip_to_convex(A, D, corners, inward)
     length = np.linalg.norm(D, axis=1)
     keep = (s_hi - s_lo) * length > eps
-    A, D, s_lo, s_hi = A[keep], D[keep], s_lo[keep], s_hi[keep]
+    A, B, D, s_lo, s_hi = A[keep], B[keep], D[keep], s_lo[keep], s_hi[keep]
     side_lo, side_hi = side_lo[keep], side_hi[keep]
     cells_a, cells_b = cells_a[keep], cells_b[keep]
     n_seg = A.shape[0]
 
-    # Vertices: corners, then the two ends of every kept segment.
+    # Vertices: corners, then the two ends of every kept segment. A clipped end is
+    # recomputed as the crossing of the two sites' bisector with the hull side:
+    # A + s D loses digits when A is the far circumcentre of a thin triangle.
     ncorner = corners.shape[0]
-    start = A + s_lo[:, None] * D
-    end = A + s_hi[:, None] * D
+    start = A.copy()  # unclipped ends stay the exact circumcentres
+    end = B.copy()
+    mid = 0.5 * (xy[cells_a] + xy[cells_b])
+    along = xy[cells_b] - xy[cells_a]
+    bisector = np.column_stack([-along[:, 1], along[:, 0]])
+    for point, side, clipped in ((start, side_lo, s_lo > 0), (end, side_hi, s_hi < 1)):
+        k = side[clipped]
+        num = ((corners[k] - mid[clipped]) * inward[k]).sum(axis=1)
+        point[clipped] = (
+            mid[clipped] + (num / (bisector[clipped] * inward[k]).sum(axis=1))[:, None] * bisector[clipped]
+        )
     coords = np.concatenate([corners, start, end])
     start_id = ncorner + np.arange(n_seg)
     end_id = start_id + n_seg
