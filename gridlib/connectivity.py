@@ -91,8 +91,16 @@ def cell_node_cycles_2d(grid: Grid) -> tuple[IntArray, IntArray]:
     grid. The cycle starts at the first node of the cell's first half-face.
     Raises GridError if a cell's edges do not form one closed cycle.
     """
+    start, slot = _half_face_cycle_slots(grid)
+    nodes = np.empty_like(start)
+    nodes[slot] = start
+    return grid.cells.face_pos.copy(), nodes
+
+
+def _half_face_cycle_slots(grid: Grid) -> tuple[IntArray, IntArray]:
+    """Start node of every half-face (cell on its left) and its slot along the cell's cycle."""
     if grid.griddim != 2:
-        raise GridError("cell_node_cycles_2d needs a 2-D grid (faces are edges)")
+        raise GridError("2-D cell cycles need a 2-D grid (faces are edges)")
     fnodes = face_node_matrix(grid)
     cf = grid.cells.faces
     hc = half_face_cells(grid)
@@ -101,10 +109,7 @@ def cell_node_cycles_2d(grid: Grid) -> tuple[IntArray, IntArray]:
     b = np.where(forward, fnodes[cf, 1], fnodes[cf, 0])
     succ = _successors_in_cycles(hc, a, b, grid.num_nodes, "cell")
     rank = _cycle_rank(succ, grid.cells.face_pos, hc)
-    pos = grid.cells.face_pos
-    nodes = np.empty_like(a)
-    nodes[pos[hc] + rank] = a
-    return pos.copy(), nodes
+    return a, grid.cells.face_pos[hc] + rank
 
 
 def _successors_in_cycles(
@@ -171,15 +176,8 @@ def order_cell_faces_2d(grid: Grid) -> Grid:
 
     from .grid import Cells
 
-    fnodes = face_node_matrix(grid)
+    _, slot = _half_face_cycle_slots(grid)
     cf = grid.cells.faces
-    hc = half_face_cells(grid)
-    forward = grid.faces.neighbors[cf, 0] == hc
-    a = np.where(forward, fnodes[cf, 0], fnodes[cf, 1])
-    b = np.where(forward, fnodes[cf, 1], fnodes[cf, 0])
-    succ = _successors_in_cycles(hc, a, b, grid.num_nodes, "cell")
-    rank = _cycle_rank(succ, grid.cells.face_pos, hc)
-    slot = grid.cells.face_pos[hc] + rank
     faces = np.empty_like(cf)
     faces[slot] = cf
     tag = None

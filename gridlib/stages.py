@@ -17,15 +17,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
 from .build import build_grid
 from .checks import check_grid
 from .config import load_case
 from .errors import InputError
-from .geometry import Geometry, compute_geometry
-from .io._atomic import atomic_path
-from .io.netcdf import read_netcdf, write_netcdf
+from .geometry import compute_geometry
+from .io.netcdf import read_geometry_netcdf, read_netcdf, write_geometry_netcdf, write_netcdf
 from .io.vtu import write_vtu
 
 log = logging.getLogger("gridlib.stages")
@@ -52,7 +50,7 @@ def stage_geometry(
     geo = compute_geometry(grid)
     log.info("geometry of %d cells in %.2f s", grid.num_cells, time.perf_counter() - t0)
     check_grid(grid, geo)
-    write_geometry(geometry_out, geo, grid.griddim, case.provenance())
+    write_geometry_netcdf(geometry_out, geo, grid.griddim, case.provenance())
     log.info("wrote %s (total volume %.6g)", geometry_out, geo.cell_volumes.sum())
 
 
@@ -65,7 +63,7 @@ def stage_export(
     """Write the case's grid with its geometry as cell data to ``{case}.vtu``."""
     load_case(case_file)
     grid = read_netcdf(grid_nc).grid
-    geo = read_geometry(geometry_nc)
+    geo = read_geometry_netcdf(geometry_nc)
     if geo.cell_volumes.size != grid.num_cells:
         raise InputError(f"{geometry_nc}: {geo.cell_volumes.size} cells, but {grid_nc} has {grid.num_cells}")
     cell_data: dict[str, np.ndarray] = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids}
@@ -76,55 +74,6 @@ def stage_export(
         cell_data["column"] = grid.layering.column
     write_vtu(vtu_out, grid, cell_data)
     log.info("wrote %s", vtu_out)
-
-
-def write_geometry(path: str | os.PathLike, geo: Geometry, griddim: int, attrs: dict[str, Any]) -> None:
-    """Geometry only (cells and faces dimensions), atomically, with units."""
-    area_unit, vol_unit = ("m2", "m3") if griddim == 3 else ("m", "m2")
-    ds = xr.Dataset(
-        {
-            "cell_volume": ("cell", geo.cell_volumes, {"units": vol_unit}),
-            "cell_centroid": (("cell", "xyz"), geo.cell_centroids, {"units": "m"}),
-            "face_area": ("face", geo.face_areas, {"units": area_unit}),
-            "face_normal": (("face", "xyz"), geo.face_normals, {"units": area_unit}),
-            "face_centroid": (("face", "xyz"), geo.face_centroids, {"units": "m"}),
-        },
-        attrs={
-            **attrs,
-            "gridlib_griddim": np.int32(griddim),
-            "total_volume": float(geo.cell_volumes.sum()),
-            "min_cell_volume": float(geo.cell_volumes.min()),
-            "max_cell_volume": float(geo.cell_volumes.max()),
-            "min_face_area": float(geo.face_areas.min()),
-        },
-    )
-    if geo.cell_normals is not None:
-        ds["cell_normal"] = (("cell", "xyz3"), geo.cell_normals, {"units": area_unit})
-    with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
-
-
-def read_geometry(path: str | os.PathLike) -> Geometry:
-    """Read a file written by :func:`write_geometry`."""
-    if not Path(path).is_file():
-        raise InputError(f"{path}: no such file")
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        ds = ds.load()
-    missing = [
-        v
-        for v in ("cell_volume", "cell_centroid", "face_area", "face_normal", "face_centroid")
-        if v not in ds
-    ]
-    if missing:
-        raise InputError(f"{path}: not a gridlib geometry file (missing {', '.join(missing)})")
-    return Geometry(
-        ds["cell_volume"].values,
-        ds["cell_centroid"].values,
-        ds["face_area"].values,
-        ds["face_normal"].values,
-        ds["face_centroid"].values,
-        ds["cell_normal"].values if "cell_normal" in ds else None,
-    )
 
 
 def run_logged(log_file: str | os.PathLike, stage: Callable[..., None], *args: Any) -> None:

@@ -77,15 +77,18 @@ def _delaunay(p: np.ndarray, what: str) -> np.ndarray:
     thin = area2 <= 1e-8 * edges2.max(axis=0)  # height <= 2e-8 x the longest edge
     if not thin.any():
         return tri
-    gone = np.zeros(tri.shape[0], dtype=bool)
-    nb = dl.neighbors
-    while True:
-        touch = ((nb < 0) | (gone[np.maximum(nb, 0)] & (nb >= 0))).any(axis=1)
-        new = thin & ~gone & touch
+    return tri[~_peel_from_hull(thin, dl.neighbors)]
+
+
+def _peel_from_hull(degenerate: np.ndarray, neighbors: np.ndarray) -> np.ndarray:
+    """Degenerate simplices reachable from the hull through degenerate ones (Qhull neighbours)."""
+    gone = np.zeros(degenerate.size, dtype=bool)
+    while True:  # one pass per layer of slivers: a handful, each vectorised
+        touch = ((neighbors < 0) | (gone[np.maximum(neighbors, 0)] & (neighbors >= 0))).any(axis=1)
+        new = degenerate & ~gone & touch
         if not new.any():
-            break
+            return gone
         gone |= new
-    return tri[~gone]
 
 
 def _index_table(cells: ArrayLike | Sequence[Sequence[int]], n_points: int, what: str):
@@ -159,6 +162,16 @@ def _unique_keys(lo: IntArray, hi: IntArray, n_points: int) -> tuple[IntArray, I
     return uniq, inverse.reshape(-1)
 
 
+def _neighbors_of_faces(face_of: IntArray, column: IntArray, cell: IntArray, nf: int) -> tuple[IntArray, int]:
+    """(nf, 2) neighbours from half-faces that know their column; also the first face
+    claimed twice for one column (overlapping or folded cells), or -1."""
+    claims = np.bincount(face_of * 2 + column, minlength=2 * nf)
+    twice = np.flatnonzero(claims > 1)
+    neighbors = np.full((nf, 2), -1, dtype=np.int64)
+    neighbors[face_of, column] = cell
+    return neighbors, int(twice[0] // 2) if twice.size else -1
+
+
 def polygon_grid(coords: np.ndarray, pos: IntArray, nodes: IntArray, history: str, what: str) -> Grid:
     """A 2-D grid from polygons (node cycles); orients them and builds faces."""
     n_points = coords.shape[0]
@@ -191,16 +204,12 @@ def polygon_grid(coords: np.ndarray, pos: IntArray, nodes: IntArray, history: st
     uniq, face_of = _unique_keys(lo, hi, n_points)
     nf = uniq.size
     owner = repeat_ids(pos)
-    col = np.where(forward, 0, 1)
-    slot_count = np.bincount(face_of * 2 + col, minlength=2 * nf)
-    if np.any(slot_count > 1):
-        f = int(np.flatnonzero(slot_count > 1)[0] // 2)
+    neighbors, f = _neighbors_of_faces(face_of, np.where(forward, 0, 1), owner, nf)
+    if f >= 0:
         raise GridError(
             f"{what}: edge ({uniq[f] // n_points}, {uniq[f] % n_points}) is shared by more than two "
             "cells or by two cells with the same orientation (overlapping or folded cells?)"
         )
-    neighbors = np.full((nf, 2), -1, dtype=np.int64)
-    neighbors[face_of, col] = owner
     face_nodes = np.column_stack([uniq // n_points, uniq % n_points]).ravel()
     return Grid(
         cells=Cells(pos, face_of),
@@ -332,14 +341,7 @@ def _delaunay_tetrahedra(p: np.ndarray, scale: float) -> np.ndarray:
         raise GridError("tetrahedral_grid: cannot tetrahedralise the points (all coplanar?)") from exc
     tet = dl.simplices.astype(np.int64)
     flat = np.abs(_signed_volume6(p, tet)) <= 1e-13 * scale
-    gone = np.zeros(tet.shape[0], dtype=bool)
-    nb = dl.neighbors
-    while True:
-        touch = ((nb < 0) | (gone[np.maximum(nb, 0)] & (nb >= 0))).any(axis=1)
-        new = flat & ~gone & touch
-        if not new.any():
-            break
-        gone |= new
+    gone = _peel_from_hull(flat, dl.neighbors)
     if np.any(flat & ~gone):
         raise GridError(
             f"tetrahedral_grid: the points are degenerate (co-spherical, e.g. a lattice): Delaunay "
@@ -401,15 +403,11 @@ def tetrahedral_grid(points: ArrayLike, tetrahedra: ArrayLike | None = None) -> 
         face_nodes, face_of = np.unique(srt, axis=0, return_inverse=True)
     face_of = face_of.reshape(-1)
     nf = face_nodes.shape[0]
-    col = np.where(even, 0, 1)
-    slot = np.bincount(face_of * 2 + col, minlength=2 * nf)
-    if np.any(slot > 1):
-        f = int(np.flatnonzero(slot > 1)[0] // 2)
+    neighbors, f = _neighbors_of_faces(face_of, np.where(even, 0, 1), np.repeat(np.arange(nt), 4), nf)
+    if f >= 0:
         raise GridError(
             f"tetrahedral_grid: face {face_nodes[f].tolist()} is shared by overlapping tetrahedra"
         )
-    neighbors = np.full((nf, 2), -1, dtype=np.int64)
-    neighbors[face_of, col] = np.repeat(np.arange(nt), 4)
     return Grid(
         cells=Cells(np.arange(0, 4 * nt + 1, 4), face_of),
         faces=Faces(np.arange(0, 3 * nf + 1, 3), face_nodes.ravel(), neighbors),

@@ -14,8 +14,8 @@ import pytest
 import pyvista as pv
 
 import gridlib as gl
+from gridlib.io import read_geometry_netcdf as read_geometry
 from gridlib.io import read_netcdf
-from gridlib.stages import read_geometry
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]

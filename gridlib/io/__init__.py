@@ -11,7 +11,14 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
-from .netcdf import GridDataset, grid_to_dataset, read_netcdf, write_netcdf
+from .netcdf import (
+    GridDataset,
+    grid_to_dataset,
+    read_geometry_netcdf,
+    read_netcdf,
+    write_geometry_netcdf,
+    write_netcdf,
+)
 from .vtu import write_vtu
 
 WRITERS: dict[str, Callable[..., Path]] = {".nc": write_netcdf, ".vtu": write_vtu}
@@ -41,8 +48,10 @@ __all__ = [
     "GridDataset",
     "grid_to_dataset",
     "read",
+    "read_geometry_netcdf",
     "read_netcdf",
     "write",
+    "write_geometry_netcdf",
     "write_netcdf",
     "write_vtu",
 ]

@@ -325,16 +325,7 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
             grid.history,
             Layering(areal, ds["cell_column"].values, ds["cell_layer"].values, n_layers),
         )
-    geometry = None
-    if "cell_volume" in ds:
-        geometry = Geometry(
-            ds["cell_volume"].values,
-            ds["cell_centroid"].values,
-            ds["face_area"].values,
-            ds["face_normal"].values,
-            ds["face_centroid"].values,
-            ds["cell_normal"].values if "cell_normal" in ds else None,
-        )
+    geometry = _geometry_from(ds) if "cell_volume" in ds else None
     dims = _dims(grid)
     cell_data, face_data = {}, {}
     own = _RESERVED | set(json.loads(ds.attrs.get("gridlib_variables", "[]")))
@@ -354,3 +345,49 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
     }
     attrs = {k: v for k, v in ds.attrs.items() if k not in internal and not k.startswith("areal_gridlib_")}
     return GridDataset(grid, geometry, cell_data, face_data, attrs)
+
+
+def _geometry_from(ds: xr.Dataset) -> Geometry:
+    return Geometry(
+        ds["cell_volume"].values,
+        ds["cell_centroid"].values,
+        ds["face_area"].values,
+        ds["face_normal"].values,
+        ds["face_centroid"].values,
+        ds["cell_normal"].values if "cell_normal" in ds else None,
+    )
+
+
+def write_geometry_netcdf(
+    path: str | os.PathLike, geometry: Geometry, griddim: int, attrs: dict[str, object] | None = None
+) -> Path:
+    """Geometry only (``cell`` and ``face`` dimensions), with units and a summary, atomically."""
+    geo = geometry
+    variables = _geometry_vars(geo, {"cell": "cell", "face": "face"}, griddim)
+    summary = {
+        "gridlib_griddim": np.int32(griddim),
+        "total_volume": float(geo.cell_volumes.sum()),
+        "min_cell_volume": float(geo.cell_volumes.min()),
+        "max_cell_volume": float(geo.cell_volumes.max()),
+        "min_face_area": float(geo.face_areas.min()),
+    }
+    user = {k: _attr_value(k, v) for k, v in (attrs or {}).items()}
+    with atomic_path(path) as tmp:
+        xr.Dataset(variables, attrs={**user, **summary}).to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
+    return Path(path)
+
+
+def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:
+    """Read a file written by :func:`write_geometry_netcdf`."""
+    if not Path(path).is_file():
+        raise InputError(f"{path}: no such file")
+    with xr.open_dataset(path, engine="netcdf4") as handle:
+        ds = handle.load()
+    missing = [
+        v
+        for v in ("cell_volume", "cell_centroid", "face_area", "face_normal", "face_centroid")
+        if v not in ds
+    ]
+    if missing:
+        raise InputError(f"{path}: not a gridlib geometry file (missing {', '.join(missing)})")
+    return _geometry_from(ds)
