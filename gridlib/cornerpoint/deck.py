@@ -1,0 +1,136 @@
+"""The corner-point deck: what the GRID section of an ECLIPSE deck describes.
+
+Layout (ECLIPSE's, kept as in the file so that a written deck round-trips):
+
+* ``coord``: 6 numbers per pillar, ``(nx+1) * (ny+1)`` pillars with i fastest:
+  the pillar's top point (x, y, z) then its bottom point (x, y, z);
+* ``zcorn``: ``8 * nx * ny * nz`` corner depths, the array of shape
+  ``(2nz, 2ny, 2nx)`` in C order (i fastest): cell (i, j, k) owns the entries
+  ``[2k:2k+2, 2j:2j+2, 2i:2i+2]``, and the corner in column ``2i + a``, row
+  ``2j + b`` lies on pillar ``(i + a, j + b)``;
+* ``actnum``: 1 for active cells, 0 for inactive ones (None = all active);
+* ``cell_data``: every other numeric cell keyword (PORO, NTG, PERMX, ...), one
+  float64 value per cell, i fastest.
+
+Depths are z values along the pillars; in most decks z is depth (positive
+down), but z-up and left-handed decks exist and are normalised by
+``process_grdecl``. Units are those of the deck (``units``: METRIC, FIELD,
+LAB or PVT-M; lengths in m, ft, cm, m).
+
+Fault segments are stored 0-based and inclusive (i1 <= i <= i2), with the face
+as in the FAULTS keyword: X, Y, Z (the +i, +j, +k face of the cells in the box)
+or X-, Y-, Z- (the -i, -j, -k face); I/J/K are read as X/Y/Z.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError
+
+FAULT_FACES = ("X", "X-", "Y", "Y-", "Z", "Z-")
+
+
+@dataclass(frozen=True)
+class FaultSegment:
+    """One line of the FAULTS keyword: a box of cells and the face they fault."""
+
+    name: str
+    i1: int
+    i2: int
+    j1: int
+    j2: int
+    k1: int
+    k2: int
+    face: str  # one of FAULT_FACES
+
+    def __post_init__(self) -> None:
+        if self.face not in FAULT_FACES:
+            raise InputError(
+                f"fault '{self.name}': face '{self.face}' is not one of {', '.join(FAULT_FACES)}"
+            )
+
+
+@dataclass(frozen=True, eq=False)
+class Deck:
+    """A corner-point grid deck (GRID section), arrays read-only, ECLIPSE layout."""
+
+    cart_dims: tuple[int, int, int]
+    coord: NDArray[np.float64]
+    zcorn: NDArray[np.float64]
+    actnum: NDArray[np.int32] | None = None
+    cell_data: dict[str, NDArray[np.float64]] = field(default_factory=dict)
+    faults: tuple[FaultSegment, ...] = ()
+    multflt: dict[str, float] = field(default_factory=dict)
+    mapaxes: NDArray[np.float64] | None = None
+    mapunits: str | None = None
+    gridunit: str | None = None
+    units: str | None = None
+    pinch: tuple[float, ...] | None = None  # PINCH threshold thickness and options, if given
+    minpv: float | None = None
+    source: str = "<memory>"
+    notes: tuple[str, ...] = ()  # what the reader skipped or assumed
+
+    def __post_init__(self) -> None:
+        nx, ny, nz = (int(d) for d in self.cart_dims)
+        if min(nx, ny, nz) < 1:
+            raise InputError(f"{self.source}: grid dimensions must be positive, got {self.cart_dims}")
+        object.__setattr__(self, "cart_dims", (nx, ny, nz))
+        nc = nx * ny * nz
+        checks = (
+            ("COORD", "coord", 6 * (nx + 1) * (ny + 1), np.float64),
+            ("ZCORN", "zcorn", 8 * nc, np.float64),
+        )
+        for keyword, attr, n, dtype in checks:
+            arr = np.asarray(getattr(self, attr), dtype=dtype).ravel()
+            if arr.size != n:
+                raise InputError(
+                    f"{self.source}: {keyword} has {arr.size} values, expected {n} for a {nx}x{ny}x{nz} grid"
+                )
+            arr.flags.writeable = False
+            object.__setattr__(self, attr, arr)
+        if self.actnum is not None:
+            act = np.asarray(self.actnum).ravel()
+            if act.size != nc:
+                raise InputError(f"{self.source}: ACTNUM has {act.size} values, expected {nc}")
+            act = (act != 0).astype(np.int32)
+            act.flags.writeable = False
+            object.__setattr__(self, "actnum", act)
+        data = {}
+        for name, values in self.cell_data.items():
+            arr = np.asarray(values, dtype=np.float64).ravel()
+            if arr.size != nc:
+                raise InputError(f"{self.source}: {name} has {arr.size} values, expected {nc}")
+            arr.flags.writeable = False
+            data[name.upper()] = arr
+        object.__setattr__(self, "cell_data", data)
+        if self.mapaxes is not None:
+            m = np.asarray(self.mapaxes, dtype=np.float64).ravel()
+            if m.size != 6:
+                raise InputError(f"{self.source}: MAPAXES has {m.size} values, expected 6")
+            object.__setattr__(self, "mapaxes", m)
+
+    @property
+    def num_cells(self) -> int:
+        nx, ny, nz = self.cart_dims
+        return nx * ny * nz
+
+    @property
+    def active(self) -> NDArray[np.bool_]:
+        """Boolean active mask per cell (all True without ACTNUM)."""
+        if self.actnum is None:
+            return np.ones(self.num_cells, dtype=bool)
+        return self.actnum.astype(bool)
+
+    def pillars(self) -> NDArray[np.float64]:
+        """COORD as a (ny+1, nx+1, 2, 3) view: [j, i, top/bottom, xyz]."""
+        nx, ny, _ = self.cart_dims
+        return self.coord.reshape(ny + 1, nx + 1, 2, 3)
+
+    def zcorn_array(self) -> NDArray[np.float64]:
+        """ZCORN as a (2nz, 2ny, 2nx) view."""
+        nx, ny, nz = self.cart_dims
+        return self.zcorn.reshape(2 * nz, 2 * ny, 2 * nx)
