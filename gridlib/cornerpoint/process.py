@@ -34,13 +34,12 @@ from scipy import sparse
 from scipy.sparse import csgraph
 
 from ..connectivity import cell_faces_from_neighbors, offsets, ragged_arange, renumbering
-from ..errors import InputError
 from ..grid import B, Cells, E, Faces, Grid, IntArray, N, Nodes, S, T, W
 from ..stratigraphic.conformal import insert_edge_nodes
-from ..stratigraphic.lateral import SideCells, lateral_faces
-from ..stratigraphic.points import points_on_pillars, unique_points
-from ..stratigraphic.vertical import vertical_faces
+from ..stratigraphic.lateral import LateralFaces, SideCells, concat_lateral, general_pieces
+from .corners import corner_nodes
 from .deck import Deck
+from .faces import structured_lateral, structured_vertical
 
 FAULT, PINCH = 0, 1
 
@@ -74,10 +73,6 @@ class CornerPointGrid:
     notes: tuple[str, ...]
 
 
-# Corner offsets (a, b) of a cell's four pillars in the order of a top face cycle.
-_CYCLE = np.array([[0, 0], [1, 0], [1, 1], [0, 1]])
-
-
 def process_grdecl(
     deck: Deck, tolerance: float = 0.0, pinch: bool = False, pinch_threshold: float | None = None
 ) -> CornerPointGrid:
@@ -88,147 +83,154 @@ def process_grdecl(
     ``pinch``: connect cells across removed layers whose gap is at most
     ``pinch_threshold`` (default: the deck's PINCH threshold, else 0.001) as
     non-neighbour connections.
+
+    >>> from gridlib.cornerpoint.generators import simple_grdecl
+    >>> r = process_grdecl(simple_grdecl([4, 2, 3], 0.12, flat=True))
+    >>> r.grid.num_cells, r.grid.num_faces, int((r.grid.faces.tag > 0).sum())
+    (24, 106, 14)
     """
     src = deck.source
     nx, ny, nz = deck.cart_dims
-    notes: list[str] = []
-    active = deck.active
-    act = np.flatnonzero(active)
-    if act.size == 0:
-        raise InputError(f"{src}: no active cells (ACTNUM is all 0)")
-    i = act % nx
-    j = (act // nx) % ny
-    k = act // (nx * ny)
+    cn = corner_nodes(deck, tolerance)
+    notes = list(cn.notes)
+    kept = cn.kept
+    n_keep = int(kept.sum())
+    cell_id = np.full(kept.shape, -1, dtype=np.int64)
+    cell_id[kept] = np.arange(n_keep)  # kept cells keep the deck's (k, j, i) order
+    cell_global = np.flatnonzero(kept.ravel())
 
-    zc = deck.zcorn_array()
-    a = np.array([0, 1, 0, 1, 0, 1, 0, 1])
-    b = np.array([0, 0, 1, 1, 0, 0, 1, 1])
-    c = np.array([0, 0, 0, 0, 1, 1, 1, 1])
-    # corner z (n_act, 8): index (2k + c, 2j + b, 2i + a)
-    z = zc[2 * k[:, None] + c, 2 * j[:, None] + b, 2 * i[:, None] + a]
-    bad = ~np.isfinite(z).all(axis=1)
-    if bad.any():
-        raise InputError(
-            f"{src}: ZCORN: active cell {_ijk(act[bad][0], nx, ny)} has a non-finite corner depth "
-            f"({int(bad.sum())} active cells have NaN or infinite corners)"
-        )
-    lines = deck.pillars().reshape(-1, 2, 3).copy()
-    if not np.isfinite(lines[_pillar_ids(i, j, nx)]).all():
-        raise InputError(f"{src}: COORD: a pillar of an active cell is NaN or infinite")
-
-    dz = z[:, 4:] - z[:, :4]  # bottom minus top on each pillar
-    if (dz < 0).sum() > (dz > 0).sum():  # z grows upwards: make it depth
-        z, lines[:, :, 2] = -z, -lines[:, :, 2]
-        dz = -dz
-        notes.append("z decreases with depth in this deck (z up): z was negated to depth")
-    if (dz < 0).any():
-        cell = act[np.flatnonzero((dz < 0).any(axis=1))[0]]
-        raise InputError(f"{src}: ZCORN: cell {_ijk(cell, nx, ny)} has a top corner below its bottom corner")
-
-    pillar = _pillar_ids(i[:, None] + a, j[:, None] + b, nx)
-    if tolerance < 0:
-        raise InputError(f"process_grdecl: tolerance must be >= 0, got {tolerance}")
-    pts = unique_points(pillar.ravel(), z.ravel(), (nx + 1) * (ny + 1), tolerance)
-    node = pts.node_of_corner.reshape(-1, 8)
-    rank = node - pts.offset[pillar]
-    xyz = points_on_pillars(lines, pts.pillar, pts.z)
-
-    left_handed = _left_handed(lines, i, j, nx)
-    if left_handed:
-        notes.append("the deck is left-handed in plan view: every face was reversed")
-
-    # Cells collapsed on all four pillars disappear; cells must not overlap in a column.
-    keep = ~(node[:, :4] == node[:, 4:]).all(axis=1)
-    _check_column_order(rank, keep, i, j, k, nx, ny, act, src)
-    n_keep = int(keep.sum())
-    kept = np.flatnonzero(keep)
-    new_id = np.full(act.size, -1)
-    new_id[kept] = np.arange(n_keep)
-
-    side = _side_cells(i[kept], j[kept], k[kept], rank[kept], new_id[kept], nx, ny)
     n_ipairs = (nx + 1) * ny
     pi, pj = np.meshgrid(np.arange(nx + 1), np.arange(ny), indexing="xy")
-    ip1, ip2 = _pillar_ids(pi.ravel(), pj.ravel(), nx), _pillar_ids(pi.ravel(), pj.ravel() + 1, nx)
     qi, qj = np.meshgrid(np.arange(nx), np.arange(ny + 1), indexing="xy")
-    jp1, jp2 = _pillar_ids(qi.ravel(), qj.ravel(), nx), _pillar_ids(qi.ravel() + 1, qj.ravel(), nx)
-    pair_p1, pair_p2 = np.concatenate([ip1, jp1]), np.concatenate([ip2, jp2])
     pair_i = np.concatenate([pi.ravel(), qi.ravel()])
     pair_j = np.concatenate([pj.ravel(), qj.ravel()])
-    is_j_pair = np.arange(pair_p1.size) >= n_ipairs
-    lat = lateral_faces(side, pair_p1, pair_p2, is_j_pair, pts, xyz)
+    is_j_pair = np.arange(pair_i.size) >= n_ipairs
+    pair_p1 = _pillar_ids(pair_i, pair_j, nx)
+    pair_p2 = np.where(is_j_pair, _pillar_ids(pair_i + 1, pair_j, nx), _pillar_ids(pair_i, pair_j + 1, nx))
 
-    ver = vertical_faces(
-        np.arange(n_keep),
-        i[kept] + nx * j[kept],
-        k[kept],
-        node[kept][:, :4][:, [0, 1, 3, 2]],
-        node[kept][:, 4:][:, [0, 1, 3, 2]],
-        pts.z,
-        _pinch_threshold(deck, pinch, pinch_threshold),
-    )
-
-    # --- assemble: lateral (i, then j) and vertical faces, cart_grid-like order ---
-    lat_kind = is_j_pair[lat.pair].astype(np.int64)
-    k_ref = np.where(lat.cell_a >= 0, lat.k_a, lat.k_b)
-    n_ver = ver.upper.size
-    kind = np.concatenate([lat_kind, np.full(n_ver, 2)])
-    order = np.lexsort(
-        (
-            np.concatenate([lat.k_b, np.zeros(n_ver, np.int64)]),
-            np.concatenate([pair_i[lat.pair], ver.column % nx]),
-            np.concatenate([pair_j[lat.pair], ver.column // nx]),
-            np.concatenate([k_ref, ver.level]),
-            kind,
+    lat_i = structured_lateral(cn.nodes, kept, cell_id, False, 0)
+    lat_j = structured_lateral(cn.nodes, kept, cell_id, True, n_ipairs)
+    side = SideCells(
+        *(
+            np.concatenate([getattr(lat_i.side_cells, f), getattr(lat_j.side_cells, f)])
+            for f in SideCells.__dataclass_fields__
         )
     )
-    coords = np.concatenate([xyz, lat.crossing_coords])
-    crossing_ids = pts.num_nodes + np.arange(lat.crossing_coords.shape[0])
-    ver_pos, ver_nodes = insert_edge_nodes(ver.nodes, lat.crossing_lines, crossing_ids, coords)
-    counts = np.concatenate([np.diff(lat.node_pos), np.diff(ver_pos)])
-    all_pos = offsets(counts)
-    all_nodes = np.concatenate([lat.nodes, ver_nodes])
-    neighbors = np.column_stack(
-        [np.concatenate([lat.cell_a, ver.upper]), np.concatenate([lat.cell_b, ver.lower])]
+    # The engine works on ranks along each pillar (node id minus the pillar's first id).
+    o1, o2 = cn.points.offset[pair_p1[side.pair]], cn.points.offset[pair_p2[side.pair]]
+    side = SideCells(
+        side.pair, side.side, side.cell, side.k, side.t1 - o1, side.b1 - o1, side.t2 - o2, side.b2 - o2
     )
-    tag_pair = np.where(lat_kind[:, None] == 0, np.array([E, W])[None, :], np.array([N, S])[None, :]).astype(
-        np.int8
+    general = general_pieces(side, pair_i.size, pair_p1, pair_p2, is_j_pair, cn.points, cn.xyz)
+    quads = np.concatenate([lat_i.quads, lat_j.quads])
+    q_a = np.concatenate([lat_i.cell_a, lat_j.cell_a])
+    q_b = np.concatenate([lat_i.cell_b, lat_j.cell_b])
+    q_k = np.concatenate([lat_i.k, lat_j.k])
+    fast = LateralFaces(
+        np.arange(0, 4 * q_a.size + 1, 4),
+        quads.ravel(),
+        q_a,
+        q_b,
+        np.concatenate([lat_i.pair, lat_j.pair]),
+        np.where(q_a >= 0, q_k, -1),
+        np.where(q_b >= 0, q_k, -1),
+        np.zeros(q_a.size, dtype=bool),
+        np.zeros((0, 3)),
+        np.zeros((0, 2, 2), np.int64),
     )
-    face_tags = np.concatenate([tag_pair, np.tile(np.array([B, T], np.int8), (n_ver, 1))])
-    faulted_pair = _faulted_pairs(side, pair_p1.size, nz)
-    fault, names = _fault_tags(
-        deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_pair, act, kept, n_ver
+    lat = concat_lateral(fast, general)
+    faulted_pair = np.concatenate([lat_i.faulted, lat_j.faulted])
+    ver = structured_vertical(
+        cn.nodes, kept, cell_id, cn.points.z, _pinch_threshold(deck, pinch, pinch_threshold), src
     )
 
-    # reorder
-    counts = counts[order]
-    nodes = all_nodes[ragged_arange(all_pos[:-1][order], counts)]
-    neighbors, face_tags, fault, kind = neighbors[order], face_tags[order], fault[order], kind[order]
+    # --- assemble: i-faces, j-faces, k-faces; each by layer, then j, then i (cart_grid's order) ---
+    # Fast quads are already in that order; only the few general pieces and the
+    # top/bottom faces are sorted, and crossing nodes go only into the top/bottom
+    # faces of cells next to a general pair.
+    def key(kind, k, j, i, tie):
+        return (((kind * (nz + 1) + k) * (ny + 1) + j) * (nx + 1) + i) * (nz + 2) + tie
+
+    n_if, n_jf = lat_i.quads.shape[0], lat_j.quads.shape[0]
+    g_kind = is_j_pair[general.pair].astype(np.int64)
+    g_kref = np.where(general.cell_a >= 0, general.k_a, general.k_b)
+    g_order = np.argsort(
+        key(g_kind, g_kref, pair_j[general.pair], pair_i[general.pair], general.k_b + 1), kind="stable"
+    )
+    g_i, g_j = g_order[g_kind[g_order] == 0], g_order[g_kind[g_order] == 1]
+    lat_order = np.concatenate(
+        [np.arange(n_if), n_if + n_jf + g_i, n_if + np.arange(n_jf), n_if + n_jf + g_j]
+    )
+    g_counts = np.diff(general.node_pos)
+    lat_nodes = np.concatenate(
+        [
+            lat_i.quads.ravel(),
+            general.nodes[ragged_arange(general.node_pos[:-1][g_i], g_counts[g_i])],
+            lat_j.quads.ravel(),
+            general.nodes[ragged_arange(general.node_pos[:-1][g_j], g_counts[g_j])],
+        ]
+    )
+    lat_counts = np.concatenate([np.full(n_if, 4), g_counts[g_i], np.full(n_jf, 4), g_counts[g_j]])
+
+    v_order = np.argsort(key(2, ver.level, ver.j, ver.i, ver.sub), kind="stable")
+    v_nodes, v_upper, v_lower = ver.nodes[v_order], ver.upper[v_order], ver.lower[v_order]
+    coords = np.concatenate([cn.xyz, lat.crossing_coords])
+    near_fault = np.zeros(n_keep + 1, dtype=bool)  # index -1 (outside) maps to the extra False
+    near_fault[side.cell] = True
+    touched = np.flatnonzero(near_fault[v_upper] | near_fault[v_lower])
+    crossing_ids = cn.points.num_nodes + np.arange(lat.crossing_coords.shape[0])
+    t_pos, t_nodes = insert_edge_nodes(v_nodes[touched], lat.crossing_lines, crossing_ids, coords)
+    v_counts = np.full(v_order.size, 4)
+    v_counts[touched] = np.diff(t_pos)
+    v_pos = offsets(v_counts)
+    v_flat = np.empty(int(v_pos[-1]), dtype=np.int64)
+    plain = np.flatnonzero(v_counts == 4)
+    plain = np.setdiff1d(plain, touched, assume_unique=True)
+    v_flat[v_pos[plain][:, None] + np.arange(4)] = v_nodes[plain]
+    v_flat[ragged_arange(v_pos[touched], v_counts[touched])] = t_nodes
+
+    counts = np.concatenate([lat_counts, v_counts])
+    nodes = np.concatenate([lat_nodes, v_flat])
     pos = offsets(counts)
+    l_a, l_b, l_pair = lat.cell_a[lat_order], lat.cell_b[lat_order], lat.pair[lat_order]
+    l_ka, l_kb = lat.k_a[lat_order], lat.k_b[lat_order]
+    neighbors = np.column_stack([np.concatenate([l_a, v_upper]), np.concatenate([l_b, v_lower])])
+    tag_pair = np.where(is_j_pair[l_pair][:, None], np.array([N, S])[None, :], np.array([E, W])[None, :])
+    n_lat, n_ver = lat_order.size, v_order.size
+    face_tags = np.concatenate([tag_pair.astype(np.int8), np.tile(np.array([B, T], np.int8), (n_ver, 1))])
+    fault, names = _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_pair, 0)
+    fault = np.concatenate([fault[lat_order], np.zeros(n_ver, np.int32)])
+    nnc_kind = np.concatenate(
+        [
+            np.where((l_a >= 0) & (l_b >= 0) & (l_ka != l_kb), FAULT, -1),
+            np.where(ver.skips_layers[v_order], PINCH, -1),
+        ]
+    ).astype(np.int8)
+    lat_pair = np.concatenate([l_pair, np.full(n_ver, -1)])
+    ver_column = np.concatenate([np.full(n_lat, -1), (ver.i + nx * ver.j)[v_order]])
 
     # Zero-area faces can only come from coincident pillars: all pieces on a pair of
     # identical pillars, and top/bottom faces whose column has such a pair. They are
     # dropped; their cells keep the rest.
-    same_pillars = (lines[pair_p1] == lines[pair_p2]).all(axis=(1, 2))
-    suspect = np.zeros(counts.size, dtype=bool)
-    face_pair = np.concatenate([lat.pair, np.full(n_ver, -1)])[order]
-    suspect[face_pair >= 0] = same_pillars[face_pair[face_pair >= 0]]
+    same_pillars = (cn.lines[pair_p1] == cn.lines[pair_p2]).all(axis=(1, 2))
+    zero = np.zeros(counts.size, dtype=bool)
+    on_pair = lat_pair >= 0
+    zero[on_pair] = same_pillars[lat_pair[on_pair]]
     degenerate_column = _degenerate_columns(same_pillars, nx, ny)
-    face_column = np.concatenate([np.full(lat.pair.size, -1), ver.column])[order]
-    check = np.flatnonzero((face_column >= 0) & degenerate_column[np.maximum(face_column, 0)])
+    check = np.flatnonzero((ver_column >= 0) & degenerate_column[np.maximum(ver_column, 0)])
     if check.size:
         sub_counts = counts[check]
-        sub_pos = offsets(sub_counts)
         sub_nodes = nodes[ragged_arange(pos[:-1][check], sub_counts)]
-        area = _vector_area_norm(coords, sub_pos, sub_nodes)
-        suspect[check] = area <= 1e-14 * np.abs(coords).max() ** 2
-    good = ~suspect
-    if not good.all():
-        notes.append(f"{int((~good).sum())} faces of zero area were removed")
+        area = _vector_area_norm(coords, offsets(sub_counts), sub_nodes)
+        zero[check] = area <= 1e-14 * np.abs(coords).max() ** 2
+    if zero.any():
+        notes.append(f"{int(zero.sum())} faces of zero area were removed")
+        good = ~zero
         counts = counts[good]
         nodes = nodes[ragged_arange(pos[:-1][good], counts)]
         pos = offsets(counts)
-        neighbors, face_tags, fault, kind = neighbors[good], face_tags[good], fault[good], kind[good]
-    if left_handed:
+        neighbors, face_tags, fault, nnc_kind = neighbors[good], face_tags[good], fault[good], nnc_kind[good]
+    if cn.left_handed:
         owner = np.repeat(np.arange(counts.size), counts)
         local = np.arange(nodes.size) - pos[owner]
         nodes = nodes[pos[owner] + counts[owner] - 1 - local]
@@ -244,87 +246,41 @@ def process_grdecl(
         counts = counts[has]
         nodes = nodes[ragged_arange(pos[:-1][has], counts)]
         pos = offsets(counts)
-        neighbors, face_tags, fault, kind = neighbors[has], face_tags[has], fault[has], kind[has]
-    cell_global = act[kept][alive]
+        neighbors, face_tags, fault, nnc_kind = neighbors[has], face_tags[has], fault[has], nnc_kind[has]
+        cell_global = cell_global[alive]
+        pinch_pairs = remap[ver.pinch_pairs]
+        pinch_pairs = pinch_pairs[(pinch_pairs >= 0).all(axis=1)]
+    else:
+        pinch_pairs = ver.pinch_pairs
 
     used = np.zeros(coords.shape[0], dtype=bool)
     used[nodes] = True
     node_map = renumbering(used)
-    nc = int(alive.sum())
+    nc = cell_global.size
     face_pos, cell_faces = cell_faces_from_neighbors(neighbors, nc)
-    half_tag = _half_face_tags(neighbors, face_tags, face_pos, cell_faces)
     grid = Grid(
-        cells=Cells(face_pos, cell_faces, half_tag, cell_global),
+        cells=Cells(
+            face_pos, cell_faces, _half_face_tags(neighbors, face_tags, face_pos, cell_faces), cell_global
+        ),
         faces=Faces(pos, node_map[nodes], neighbors, fault),
         nodes=Nodes(coords[used]),
         griddim=3,
         cart_dims=(nx, ny, nz),
         history=("process_grdecl",),
     )
-    nnc = _nnc(grid, kind == 2, ver.pinch_pairs, alive, nx, ny)
+    face_nnc = np.flatnonzero((nnc_kind >= 0) & (neighbors >= 0).all(axis=1))
+    nnc_cells = np.concatenate([neighbors[face_nnc], pinch_pairs]).astype(np.int64)
+    nnc = NNC(
+        nnc_cells,
+        cell_global[nnc_cells],
+        np.concatenate([nnc_kind[face_nnc], np.full(pinch_pairs.shape[0], PINCH, np.int8)]),
+        np.concatenate([face_nnc, np.full(pinch_pairs.shape[0], -1)]),
+    )
     return CornerPointGrid(grid, nnc, names, tuple(notes))
-
-
-def _ijk(cell: int, nx: int, ny: int) -> str:
-    """1-based (i, j, k) of a linear cell index, as users of decks count."""
-    return f"({cell % nx + 1}, {cell // nx % ny + 1}, {cell // (nx * ny) + 1})"
 
 
 def _pillar_ids(i: IntArray, j: IntArray, nx: int) -> IntArray:
     return i + (nx + 1) * j
-
-
-def _left_handed(lines: np.ndarray, i: IntArray, j: IntArray, nx: int) -> bool:
-    """Majority vote over active cells: does (i, j) turn clockwise in plan view?"""
-    mid = lines.mean(axis=1)[:, :2]
-    p00 = mid[_pillar_ids(i, j, nx)]
-    ei = mid[_pillar_ids(i + 1, j, nx)] - p00
-    ej = mid[_pillar_ids(i, j + 1, nx)] - p00
-    cross = ei[:, 0] * ej[:, 1] - ei[:, 1] * ej[:, 0]
-    return bool((cross < 0).sum() > (cross > 0).sum())
-
-
-def _check_column_order(rank, keep, i, j, k, nx, ny, act, src) -> None:
-    """Kept cells of a column may touch but not overlap (ZCORN must not decrease with k)."""
-    idx = np.flatnonzero(keep)
-    col = i[idx] + nx * j[idx]
-    order = np.lexsort((k[idx], col))
-    s = idx[order]
-    same = col[order][1:] == col[order][:-1]
-    overlap = same & (rank[s[1:], :4] < rank[s[:-1], 4:]).any(axis=1)
-    if overlap.any():
-        upper, lower = act[s[:-1][overlap][0]], act[s[1:][overlap][0]]
-        raise InputError(
-            f"{src}: ZCORN: cell {_ijk(upper, nx, ny)} reaches below the top of cell "
-            f"{_ijk(lower, nx, ny)} in the same column (overlapping layers)"
-        )
-
-
-def _side_cells(i, j, k, rank, cell, nx, ny) -> SideCells:
-    """Each kept cell on its four lateral pillar pairs (ranks of its corners there)."""
-    n_ipairs = (nx + 1) * ny
-    # corner order in rank: (a, b, c) = (0,0,0) (1,0,0) (0,1,0) (1,1,0) then c = 1
-    t = rank[:, :4]
-    b = rank[:, 4:]
-    # i-pairs: A side uses a = 1 (corners 1, 3), B side a = 0 (corners 0, 2); p1 = b 0, p2 = b 1.
-    # j-pairs: A side uses b = 1 (corners 2, 3), B side b = 0 (corners 0, 1); p1 = a 0, p2 = a 1.
-    specs = (
-        (i + 1 + (nx + 1) * j, 0, 1, 3),
-        (i + (nx + 1) * j, 1, 0, 2),
-        (n_ipairs + i + nx * (j + 1), 0, 2, 3),
-        (n_ipairs + i + nx * j, 1, 0, 1),
-    )
-    cat = np.concatenate
-    return SideCells(
-        pair=cat([s[0] for s in specs]),
-        side=cat([np.full(i.size, s[1]) for s in specs]),
-        cell=np.tile(cell, 4),
-        k=np.tile(k, 4),
-        t1=cat([t[:, s[2]] for s in specs]),
-        b1=cat([b[:, s[2]] for s in specs]),
-        t2=cat([t[:, s[3]] for s in specs]),
-        b2=cat([b[:, s[3]] for s in specs]),
-    )
 
 
 def _pinch_threshold(deck: Deck, pinch: bool, threshold: float | None) -> float | None:
@@ -337,29 +293,7 @@ def _pinch_threshold(deck: Deck, pinch: bool, threshold: float | None) -> float 
     return 0.001
 
 
-def _faulted_pairs(side: SideCells, n_pairs: int, nz: int) -> np.ndarray:
-    """Pairs where some layer has kept cells on both sides with different corner nodes."""
-    key = side.pair * nz + side.k
-    a, b = side.side == 0, side.side == 1
-    ka, kb = key[a], key[b]
-    order = np.argsort(kb)
-    loc = np.minimum(np.searchsorted(kb[order], ka), max(kb.size - 1, 0))
-    if kb.size == 0:
-        return np.zeros(n_pairs, dtype=bool)
-    jb = order[loc]
-    match = kb[jb] == ka
-    ia = np.flatnonzero(a)[match]
-    ib = np.flatnonzero(b)[jb[match]]
-    differ = (
-        (side.t1[ia] != side.t1[ib])
-        | (side.b1[ia] != side.b1[ib])
-        | (side.t2[ia] != side.t2[ib])
-        | (side.b2[ia] != side.b2[ib])
-    )
-    return np.bincount(side.pair[ia][differ], minlength=n_pairs) > 0
-
-
-def _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_pair, act, kept, n_ver):
+def _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_pair, n_ver):
     """Per face fault tag (lateral pieces then vertical faces) and the tag names.
 
     On a faulted pair, a piece is on the fault if it joins cells whose lines
@@ -386,7 +320,7 @@ def _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_
         if seg.name not in seen:
             seen[seg.name] = len(seen) + 1
             names.append(seg.name)
-    named = _named_fault_tags(deck, lat, pair_i, pair_j, is_j_pair, act, kept, seen) if seen else None
+    named = _named_fault_tags(deck, lat, pair_i, pair_j, is_j_pair, seen) if seen else None
     offset = len(names)
     id_of_pair = np.zeros(n_pairs, dtype=np.int32)
     id_of_pair[fp] = offset + 1 + trace_id
@@ -397,7 +331,7 @@ def _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_
     return np.concatenate([lat_tag, np.zeros(n_ver, np.int32)]), tuple(names)
 
 
-def _named_fault_tags(deck, lat, pair_i, pair_j, is_j_pair, act, kept, seen) -> np.ndarray:
+def _named_fault_tags(deck, lat, pair_i, pair_j, is_j_pair, seen) -> np.ndarray:
     """Tag the lateral pieces on the pillar pairs a FAULTS line names.
 
     A line (box, face X) names the +i faces of its cells: the pairs at i + 1 for
@@ -449,29 +383,3 @@ def _half_face_tags(neighbors, face_tags, face_pos, cell_faces) -> np.ndarray:
     hc = np.repeat(np.arange(face_pos.size - 1), np.diff(face_pos))
     col = np.where(neighbors[cell_faces, 0] == hc, 0, 1)
     return face_tags[cell_faces, col]
-
-
-def _nnc(grid: Grid, vertical: np.ndarray, pinch_pairs, alive, nx, ny) -> NNC:
-    """Connections between cells that are not logical ijk neighbours.
-
-    A lateral face between cells of different layers or non-adjacent columns is a
-    FAULT connection; a top/bottom face joining cells across collapsed layers,
-    or a pinch pair (no face), is a PINCH connection.
-    """
-    nb = grid.faces.neighbors
-    inner = np.flatnonzero((nb >= 0).all(axis=1))
-    g = grid.cells.index_map[nb[inner]]
-    gi, gj, gk = g % nx, (g // nx) % ny, g // (nx * ny)
-    steps = np.abs(np.diff(gi, axis=1)) + np.abs(np.diff(gj, axis=1)) + np.abs(np.diff(gk, axis=1))
-    nonlogical = steps[:, 0] != 1
-    faces = inner[nonlogical]
-    face_kind = np.where(vertical[faces], PINCH, FAULT).astype(np.int8)
-    remap = np.full(alive.size, -1)
-    remap[alive] = np.arange(int(alive.sum()))
-    pp = remap[pinch_pairs] if pinch_pairs.size else np.zeros((0, 2), np.int64)
-    if pp.size:
-        pp = pp[(pp >= 0).all(axis=1)]
-    all_cells = np.concatenate([nb[faces], pp]).astype(np.int64)
-    kinds = np.concatenate([face_kind, np.full(pp.shape[0], PINCH, np.int8)])
-    face_of = np.concatenate([faces, np.full(pp.shape[0], -1)])
-    return NNC(all_cells, grid.cells.index_map[all_cells], kinds, face_of)

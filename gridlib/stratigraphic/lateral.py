@@ -139,11 +139,12 @@ def lateral_faces(
     simple, fast = _simple_pairs(cells, n_pairs, pair_p1, pair_p2, reverse, points)
     rest = ~simple[cells.pair]
     cells = SideCells(*(getattr(cells, f)[rest] for f in SideCells.__dataclass_fields__))
-    general = _general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz)
-    return _concat(fast, general)
+    general = general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz)
+    return concat_lateral(fast, general)
 
 
-def _concat(a: LateralFaces, b: LateralFaces) -> LateralFaces:
+def concat_lateral(a: LateralFaces, b: LateralFaces) -> LateralFaces:
+    """Pieces of ``a`` then ``b`` (crossings come from ``b``)."""
     return LateralFaces(
         offsets(np.concatenate([np.diff(a.node_pos), np.diff(b.node_pos)])),
         np.concatenate([a.nodes, b.nodes]),
@@ -205,7 +206,7 @@ def _simple_pairs(cells, n_pairs, pair_p1, pair_p2, reverse, points):
     return simple, fast
 
 
-def _general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz) -> LateralFaces:
+def general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz) -> LateralFaces:
     """Pieces of the pairs that need the full partition-and-overlap treatment."""
     max_rank = int(np.diff(points.offset).max(initial=1))
     big = max_rank + 1

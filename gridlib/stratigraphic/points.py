@@ -69,3 +69,28 @@ def points_on_pillars(lines: FloatArray, pillar: IntArray, z: FloatArray) -> Flo
     t = np.where(vertical, 0.0, (z - top[:, 2]) / np.where(vertical, 1.0, dz))
     xy = top[:, :2] + t[:, None] * (bot[:, :2] - top[:, :2])
     return np.column_stack([xy, z])
+
+
+def unique_points_rows(rows: FloatArray, tol: float = 0.0) -> tuple[IntArray, PillarPoints]:
+    """Node ids of a (n_pillars, m) table of depths per pillar (NaN = no point), and the points.
+
+    The structured twin of :func:`unique_points` for when every pillar's
+    candidate depths fit in one row (corner-point decks): each row is sorted on
+    its own (mostly presorted runs), which is much faster than one global sort.
+    Returns ids of the same shape as ``rows`` (-1 where NaN).
+    """
+    if tol > 0:
+        rows = np.round(rows / tol) * tol
+    n_pillars, m = rows.shape
+    order = np.argsort(rows, axis=1, kind="stable")  # NaN sorts last
+    srt = np.take_along_axis(rows, order, axis=1)
+    valid = ~np.isnan(srt)
+    new = valid.copy()
+    new[:, 1:] &= srt[:, 1:] != srt[:, :-1]
+    ids_sorted = np.cumsum(new, axis=None).reshape(n_pillars, m) - 1
+    ids_sorted[~valid] = -1
+    ids = np.empty_like(ids_sorted)
+    np.put_along_axis(ids, order, ids_sorted, axis=1)
+    pillar, _ = np.nonzero(new)
+    offset = np.searchsorted(pillar, np.arange(n_pillars + 1)).astype(np.int64)
+    return ids, PillarPoints(np.zeros(0, np.int64), offset, pillar.astype(np.int64), srt[new])
