@@ -186,3 +186,16 @@ def order_cell_faces_2d(grid: Grid) -> Grid:
         tag[slot] = grid.cells.face_tag
     cells = Cells(grid.cells.face_pos, faces, tag, grid.cells.index_map)
     return replace(grid, cells=cells)
+
+
+def drop_repeated_nodes(pos: IntArray, nodes: IntArray) -> tuple[IntArray, IntArray]:
+    """Ragged node cycles with cyclically consecutive repeats removed (a quad with a collapsed
+    edge becomes a triangle). Faces must not be empty."""
+    owner = repeat_ids(pos)
+    nxt = np.arange(1, nodes.size + 1, dtype=np.int64)
+    nxt[pos[1:] - 1] = pos[:-1]
+    keep = nodes != nodes[nxt]
+    if keep.all():
+        return pos, nodes
+    counts = np.bincount(owner[keep], minlength=pos.size - 1)
+    return offsets(counts), nodes[keep]

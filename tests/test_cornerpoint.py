@@ -224,3 +224,17 @@ def test_no_active_cell_is_an_error():
     deck = simple_grdecl([2, 2, 2])
     with pytest.raises(gl.InputError, match="no active cells"):
         process_grdecl(dataclasses.replace(deck, actnum=np.zeros(8, np.int32)))
+
+
+def test_cell_collapsed_on_one_pillar_has_triangular_side_faces():
+    """A layer pinched to zero on one pillar: its lateral faces there are triangles, not quads
+    with a repeated node (Reek has such cells)."""
+    deck = simple_grdecl([2, 1, 2], 0.0, flat=True)
+    z = np.array(deck.zcorn).reshape(4, 2, 4)
+    z[1, :, 0] = z[0, :, 0]  # bottom of layer 0 = its top on the pillars at i = 0
+    z[2, :, 0] = z[0, :, 0]
+    g = process_grdecl(dataclasses.replace(deck, zcorn=z.ravel())).grid
+    geo = gl.compute_geometry(g)
+    gl.check_grid(g, geo)
+    assert g.num_cells == 4
+    assert int((g.faces.num_nodes == 3).sum()) == 2  # S and N faces of cell (0, 0, 0); its W face vanishes

@@ -33,7 +33,13 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import csgraph
 
-from ..connectivity import cell_faces_from_neighbors, offsets, ragged_arange, renumbering
+from ..connectivity import (
+    cell_faces_from_neighbors,
+    drop_repeated_nodes,
+    offsets,
+    ragged_arange,
+    renumbering,
+)
 from ..grid import B, Cells, E, Faces, Grid, IntArray, N, Nodes, S, T, W
 from ..stratigraphic.conformal import insert_edge_nodes
 from ..stratigraphic.lateral import LateralFaces, SideCells, concat_lateral, general_pieces
@@ -171,6 +177,9 @@ def process_grdecl(
         ]
     )
     lat_counts = np.concatenate([np.full(n_if, 4), g_counts[g_i], np.full(n_jf, 4), g_counts[g_j]])
+    # A quad collapsed on one pillar (top = bottom there) is a triangle.
+    lat_pos, lat_nodes = drop_repeated_nodes(offsets(lat_counts), lat_nodes)
+    lat_counts = np.diff(lat_pos)
 
     v_order = np.argsort(key(2, ver.level, ver.j, ver.i, ver.sub), kind="stable")
     v_nodes, v_upper, v_lower = ver.nodes[v_order], ver.upper[v_order], ver.lower[v_order]
