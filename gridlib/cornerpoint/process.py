@@ -40,12 +40,13 @@ from ..connectivity import (
     ragged_arange,
     renumbering,
 )
-from ..grid import B, Cells, E, Faces, Grid, IntArray, N, Nodes, S, T, W
+from ..grid import B, Cells, E, Faces, FloatArray, Grid, IntArray, N, Nodes, S, T, W
 from ..stratigraphic.conformal import insert_edge_nodes
 from ..stratigraphic.lateral import LateralFaces, SideCells, concat_lateral, general_pieces
 from .corners import corner_nodes
 from .deck import Deck
 from .faces import structured_lateral, structured_vertical
+from .volumes import hexahedron_volumes
 
 FAULT, PINCH = 0, 1
 
@@ -77,6 +78,7 @@ class CornerPointGrid:
     nnc: NNC
     fault_names: tuple[str, ...]  # faces.tag t > 0 belongs to fault_names[t - 1]
     notes: tuple[str, ...]
+    bulk_volumes: FloatArray  # per grid cell, ECLIPSE/OPM's convention (see cornerpoint.volumes)
 
 
 def process_grdecl(
@@ -104,6 +106,9 @@ def process_grdecl(
     cell_id = np.full(kept.shape, -1, dtype=np.int64)
     cell_id[kept] = np.arange(n_keep)  # kept cells keep the deck's (k, j, i) order
     cell_global = np.flatnonzero(kept.ravel())
+    bulk = hexahedron_volumes(cn.xyz, cn.nodes[kept])
+    if cn.left_handed:
+        bulk = -bulk
 
     n_ipairs = (nx + 1) * ny
     pi, pj = np.meshgrid(np.arange(nx + 1), np.arange(ny), indexing="xy")
@@ -257,6 +262,7 @@ def process_grdecl(
         pos = offsets(counts)
         neighbors, face_tags, fault, nnc_kind = neighbors[has], face_tags[has], fault[has], nnc_kind[has]
         cell_global = cell_global[alive]
+        bulk = bulk[alive]
         pinch_pairs = remap[ver.pinch_pairs]
         pinch_pairs = pinch_pairs[(pinch_pairs >= 0).all(axis=1)]
     else:
@@ -285,7 +291,8 @@ def process_grdecl(
         np.concatenate([nnc_kind[face_nnc], np.full(pinch_pairs.shape[0], PINCH, np.int8)]),
         np.concatenate([face_nnc, np.full(pinch_pairs.shape[0], -1)]),
     )
-    return CornerPointGrid(grid, nnc, names, tuple(notes))
+    bulk.flags.writeable = False
+    return CornerPointGrid(grid, nnc, names, tuple(notes), bulk)
 
 
 def _pillar_ids(i: IntArray, j: IntArray, nx: int) -> IntArray:
