@@ -73,6 +73,7 @@ class Deck:
     minpv: float | None = None
     source: str = "<memory>"
     notes: tuple[str, ...] = ()  # what the reader skipped or assumed
+    nnc: NDArray[np.int64] | None = None  # (n, 2) explicit NNC pairs, 0-based linear cell indices
 
     def __post_init__(self) -> None:
         nx, ny, nz = (int(d) for d in self.cart_dims)
@@ -107,6 +108,12 @@ class Deck:
             arr.flags.writeable = False
             data[name.upper()] = arr
         object.__setattr__(self, "cell_data", data)
+        if self.nnc is not None:
+            pairs = np.asarray(self.nnc, dtype=np.int64).reshape(-1, 2)
+            if pairs.size and (pairs.min() < 0 or pairs.max() >= nc):
+                raise InputError(f"{self.source}: NNC cell indices must lie in [0, {nc})")
+            pairs.flags.writeable = False
+            object.__setattr__(self, "nnc", pairs)
         if self.mapaxes is not None:
             m = np.asarray(self.mapaxes, dtype=np.float64).ravel()
             if m.size != 6:

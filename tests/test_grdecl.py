@@ -1,0 +1,301 @@
+"""read_grdecl / write_grdecl / read_egrid: syntax, semantics, exact round trips, clear errors."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import gridlib as gl
+from gridlib.cornerpoint.deck import Deck, FaultSegment
+from gridlib.cornerpoint.generators import make_model3, simple_grdecl
+from gridlib.cornerpoint.process import process_grdecl
+from gridlib.io.egrid import read_egrid
+from gridlib.io.grdecl import DeckError, read_grdecl, write_grdecl
+
+CUBE = """\
+SPECGRID
+ 2 2 1 1 F /
+COORD
+ 0 0 0  0 0 1   1 0 0  1 0 1   2 0 0  2 0 1
+ 0 1 0  0 1 1   1 1 0  1 1 1   2 1 0  2 1 1
+ 0 2 0  0 2 1   1 2 0  1 2 1   2 2 0  2 2 1 /
+ZCORN
+ 16*0 16*1 /
+"""
+
+
+def write(path: Path, text: str) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    return path
+
+
+def test_repeat_counts_comments_and_terminators(tmp_path):
+    p = write(
+        tmp_path / "a.grdecl",
+        CUBE
+        + """-- a comment with a / slash
+PORO -- porosity, fraction (not m/s)
+ 2*0.25 -- inline comment / with slash
+ 0.1
+ 3.0E-1/
+NTG
+\t1\t1 2*0.5 /
+""",
+    )
+    deck = read_grdecl(p)
+    assert deck.cart_dims == (2, 2, 1)
+    np.testing.assert_array_equal(deck.cell_data["PORO"], [0.25, 0.25, 0.1, 0.3])
+    np.testing.assert_array_equal(deck.cell_data["NTG"], [1, 1, 0.5, 0.5])
+    r = process_grdecl(deck)
+    assert r.grid.num_cells == 4
+    assert gl.compute_geometry(r.grid).cell_volumes.sum() == pytest.approx(4.0, abs=1e-14)
+
+
+def test_crlf_fortran_exponents_and_lowercase(tmp_path):
+    text = CUBE.replace("\n", "\r\n") + "poro\r\n 1.0D-1 2.5d-1 2*1D0 /\r\n"
+    deck = read_grdecl(write(tmp_path / "b.grdecl", text))
+    np.testing.assert_array_equal(deck.cell_data["PORO"], [0.1, 0.25, 1.0, 1.0])
+
+
+def test_include_relative_to_the_including_file_and_paths(tmp_path):
+    write(tmp_path / "grid" / "geom.inc", CUBE + "INCLUDE\n 'props/poro.inc' /\n")
+    write(tmp_path / "grid" / "props" / "poro.inc", "PORO\n 4*0.2 /\n")
+    write(tmp_path / "perm" / "k.inc", "PERMX\n 4*100 /\n")
+    main = write(
+        tmp_path / "CASE.DATA",
+        "RUNSPEC\nTITLE\n  A TEST / WITH SLASH\nDIMENS\n 2 2 1 /\nMETRIC\nTABDIMS\n/\nGRID\n"
+        "PATHS\n 'PERM' 'perm' /\n/\nINCLUDE\n 'grid/geom.inc' /\nINCLUDE\n '$PERM/k.inc' /\n"
+        "PROPS\nPVTW\n garbage that is never read /\n",
+    )
+    deck = read_grdecl(main)
+    assert deck.units == "METRIC"
+    np.testing.assert_array_equal(deck.cell_data["PORO"], 0.2)
+    np.testing.assert_array_equal(deck.cell_data["PERMX"], 100.0)
+    assert any("stopped at PROPS" in n for n in deck.notes)
+    assert any("TABDIMS" in n for n in deck.notes)
+
+
+def test_equals_copy_multiply_add_with_box(tmp_path):
+    p = write(
+        tmp_path / "ops.grdecl",
+        CUBE.replace(" 2 2 1 1 F", " 2 2 1 1 F").replace("16*0 16*1", "16*0 16*1")
+        + """PERMX
+ 10 20 30 40 /
+BOX
+ 1 1 1 2 1 1 /
+PORO
+ 0.1 0.3 /
+ENDBOX
+EQUALS
+ 'PORO' 0.2 2 2 1* 1* /  -- the other column; the box defaults to the whole grid
+ NTG 0.9 /
+/
+COPY
+ PERMX PERMY /
+ 'PERMX' 'PERMZ' 1 2 1 1 1 1 /
+/
+MULTIPLY
+ 'PERMZ' 0.1 /
+/
+ADD
+ PERMY 5 1 1 1 1 1 1 /
+/
+MAXVALUE
+ PERMY 35 /
+/
+""",
+    )
+    deck = read_grdecl(p)
+    d = deck.cell_data
+    np.testing.assert_array_equal(d["PORO"], [0.1, 0.2, 0.3, 0.2])
+    np.testing.assert_array_equal(d["NTG"], 0.9)
+    np.testing.assert_array_equal(d["PERMY"], [15, 20, 30, 35])
+    np.testing.assert_allclose(d["PERMZ"][:2], [1.0, 2.0], rtol=1e-15)
+    assert np.isnan(d["PERMZ"][2:]).all()  # COPY only filled the box
+    assert any("PERMZ is undefined in 2 of 4 cells" in n for n in deck.notes)
+
+
+def test_defaulted_values_keep_what_was_there(tmp_path):
+    p = write(tmp_path / "d.grdecl", CUBE + "PORO\n 4*0.2 /\nPORO\n 0.1 2* 0.4 /\n")
+    np.testing.assert_array_equal(read_grdecl(p).cell_data["PORO"], [0.1, 0.2, 0.2, 0.4])
+
+
+def test_cartesian_keywords_become_corner_point(tmp_path):
+    """SPE1-like: DX/DY/DZ/TOPS, TOPS for the top layer only; volumes are boxes."""
+    p = write(
+        tmp_path / "cart.DATA",
+        "RUNSPEC\nDIMENS\n 3 2 2 /\nFIELD\nGRID\nDX\n 12*100 /\nDY\n 6*50 6*50 /\n"
+        "DZ\n 6*10 6*20 /\nTOPS\n 6*8000 /\nACTNUM\n 11*1 0 /\n",
+    )
+    deck = read_grdecl(p)
+    assert deck.units == "FIELD"
+    r = process_grdecl(deck)
+    assert r.grid.num_cells == 11
+    np.testing.assert_allclose(np.sort(r.bulk_volumes), [50000.0] * 6 + [100000.0] * 5, rtol=1e-15)
+    z = deck.zcorn_array()
+    assert z.min() == 8000 and z.max() == 8030
+
+
+def test_dxv_dyv_dzv_depthz(tmp_path):
+    p = write(
+        tmp_path / "v.grdecl",
+        "DIMENS\n 2 1 1 /\nDXV\n 1 3 /\nDYV\n 2 /\nDZV\n 4 /\nDEPTHZ\n 100 101 102 100 101 102 /\n",
+    )
+    r = process_grdecl(read_grdecl(p))
+    np.testing.assert_allclose(r.bulk_volumes, [8.0, 24.0], rtol=1e-14)
+
+
+def test_unknown_keywords_are_skipped_or_kept_as_cell_data(tmp_path):
+    p = write(
+        tmp_path / "u.grdecl",
+        "NOECHO\nRPTGRID\n ALLNNC /\nFOOBAR\n 1 2 3 /\n  4 5 /\n/\n"
+        + CUBE
+        + "SOMEPROP\n 1 2 3 4 /\nNEWKW\nECHO\n",
+    )
+    deck = read_grdecl(p)
+    np.testing.assert_array_equal(deck.cell_data["SOMEPROP"], [1, 2, 3, 4])
+    note = next(n for n in deck.notes if n.startswith("skipped"))
+    assert "RPTGRID (u.grdecl:2)" in note and "FOOBAR (u.grdecl:4)" in note and "NEWKW" in note
+
+
+def test_faults_multflt_pinch_minpv_mapaxes(tmp_path):
+    p = write(
+        tmp_path / "f.grdecl",
+        CUBE
+        + """MAPUNITS
+ 'METRES  ' /
+MAPAXES
+ 0.0 100.0 0.0 0.0 100.0 0.0 /
+GRIDUNIT
+ 'METRES ' ' ' /
+FAULTS
+-- name  i1 i2 j1 j2 k1 k2 face
+ 'F1'   1  1  1  2  1  1  X /
+ F2     1  2  2  2  1  1  J- /
+/
+MULTFLT
+ 'F1' 0.1 /
+/
+PINCH
+ 0.5 NOGAP 1* TOPBOT /
+MINPV
+ 1e-3 /
+""",
+    )
+    deck = read_grdecl(p)
+    assert deck.faults == (
+        FaultSegment("F1", 0, 0, 0, 1, 0, 0, "X"),
+        FaultSegment("F2", 0, 1, 1, 1, 0, 0, "Y-"),
+    )
+    assert deck.multflt == {"F1": 0.1}
+    assert deck.pinch == (0.5, 1e20) and deck.minpv == 1e-3
+    assert deck.mapunits == "METRES" and deck.gridunit == "METRES"
+    np.testing.assert_array_equal(deck.mapaxes, [0, 100, 0, 0, 100, 0])
+
+
+def _assert_same_deck(a: Deck, b: Deck) -> None:
+    assert a.cart_dims == b.cart_dims
+    for name in ("coord", "zcorn"):
+        np.testing.assert_array_equal(getattr(a, name).view(np.int64), getattr(b, name).view(np.int64))
+    np.testing.assert_array_equal(a.active, b.active)
+    assert sorted(a.cell_data) == sorted(b.cell_data)
+    for k in a.cell_data:
+        np.testing.assert_array_equal(a.cell_data[k].view(np.int64), b.cell_data[k].view(np.int64))
+    assert a.faults == b.faults and a.multflt == b.multflt
+
+
+def test_write_then_read_is_bit_identical(tmp_path):
+    rng = np.random.default_rng(7)
+    deck = make_model3([12, 9, 4])
+    nc = deck.num_cells
+    poro = rng.random(nc) * 0.3  # full 17-digit values
+    poro[::5] = 0.2
+    deck = dataclasses.replace(
+        deck,
+        zcorn=deck.zcorn + rng.standard_normal(deck.zcorn.size) * 1e-9,
+        cell_data={"PORO": poro, "PERMX": np.exp(rng.standard_normal(nc) * 3), "SATNUM": np.ones(nc)},
+        faults=(FaultSegment("A", 1, 3, 0, 8, 0, 3, "X"),),
+        multflt={"A": 0.25},
+    )
+    back = read_grdecl(write_grdecl(tmp_path / "out.grdecl", deck))
+    _assert_same_deck(deck, back)
+    text = (tmp_path / "out.grdecl").read_text()
+    assert max(len(line) for line in text.splitlines()) <= 132  # ECLIPSE's line length
+    assert "2*" in text  # runs are compressed
+
+
+def test_write_refuses_undefined_values_and_leaves_no_file(tmp_path):
+    deck = simple_grdecl([2, 2, 1])
+    bad = dataclasses.replace(deck, cell_data={"PORO": np.array([0.1, np.nan, 0.2, 0.2])})
+    with pytest.raises(DeckError, match="PORO has undefined"):
+        write_grdecl(tmp_path / "x.grdecl", bad)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
+    """REEK.EGRID (float32, written by ECLIPSE) and reek_sim_grid.grdecl (text) are one grid."""
+    eg = read_egrid(reek_dir / "REEK.EGRID")
+    txt = read_grdecl(reek_dir / "reek_sim_grid.grdecl")
+    assert eg.cart_dims == txt.cart_dims == (40, 64, 14)
+    np.testing.assert_array_equal(eg.active, txt.active)
+    np.testing.assert_allclose(eg.zcorn, txt.zcorn, rtol=1e-7)
+    assert eg.nnc.shape == (2874, 2)
+    assert eg.mapunits == "METRES"
+
+
+# --- errors ----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (CUBE + "PORO\n 0.1 0.2 0.3 /\n", r"x.grdecl:9: PORO: has 3 values, expected 4"),
+        (CUBE + "PORO\n 0.1 0.2 abc 0.3 /\n", r"x.grdecl:10: PORO: 'abc' is not a number"),
+        (
+            CUBE + "PORO\n 0.1 0.2 0.3 0.4\nNTG\n 4*1 /\n",
+            r"x.grdecl:11: PORO: 'NTG' is not a number \(is the '/'",
+        ),
+        (CUBE + "PORO\n 4*0.1\n", r"x.grdecl:9: PORO: the data has no terminating '/'"),
+        (CUBE + "PORO\n 99999999999999*0.1 /\n", r"x.grdecl:9: PORO: has 99999999999999 values, expected 4"),
+        (CUBE + "PORO\n 4*0.1 / 0.3\n", r"x.grdecl:10: expected a keyword, found '0.3'"),
+        (CUBE + "INCLUDE\n 'nothere.inc' /\n", r"x.grdecl:10: INCLUDE: file 'nothere.inc' not found"),
+        ("PORO\n 1 /\n", r"x.grdecl:1: PORO: the grid dimensions are not known yet"),
+        ("SPECGRID\n 2 0 1 1 F /\n", r"x.grdecl:2: SPECGRID: needs three positive integers"),
+        ("SPECGRID\n 2 2 1 1 T /\n", r"SPECGRID: radial .* not supported"),
+        ("DIMENS\n 2 2 1 /\n", r"x.grdecl: no grid geometry"),
+        (CUBE + "FAULTS\n 'F' 1 1 1 3 1 1 X /\n/\n", r"x.grdecl:10: FAULTS: box 1 1 1 3 1 1 is not inside"),
+        (CUBE + "FAULTS\n 'F' 1 1 1 1 1 1 W /\n/\n", r"x.grdecl:10: FAULTS: face 'W' of fault 'F'"),
+        (CUBE + "MULTIPLY\n 'PERMX' 2 /\n/\n", r"x.grdecl:10: MULTIPLY: PERMX is not defined"),
+        (CUBE + "EQUALS\n 'PORO' x /\n/\n", r"x.grdecl:10: EQUALS: PORO: 'x' is not a number"),
+        (CUBE + "ACTNUM\n 1 0 -1 1 /\n", r"x.grdecl: ACTNUM values must be non-negative"),
+        (CUBE.replace("16*0 16*1", "16*0 15*1"), r"x.grdecl:7: ZCORN: has 31 values, expected 32"),
+        (CUBE + "MAPUNITS\n 'METRES /\n", r"x.grdecl:10: MAPUNITS: a quoted string is not closed"),
+    ],
+)
+def test_bad_decks_name_file_line_and_keyword(tmp_path, text, message):
+    p = write(tmp_path / "x.grdecl", text)
+    with pytest.raises(DeckError, match=message):
+        read_grdecl(p)
+
+
+def test_missing_file_and_binary_junk(tmp_path):
+    with pytest.raises(DeckError, match="no such file"):
+        read_grdecl(tmp_path / "none.grdecl")
+    p = tmp_path / "junk.grdecl"
+    p.write_bytes(b"\x00\x01\xff\xfe garbage")
+    with pytest.raises(DeckError, match=r"junk.grdecl:1: expected a keyword, found '\\x00\\x01"):
+        read_grdecl(p)
+    with pytest.raises(DeckError, match="not a readable EGRID"):
+        read_egrid(p)
+
+
+def test_include_cycle_is_an_error(tmp_path):
+    write(tmp_path / "a.inc", "INCLUDE\n 'b.inc' /\n")
+    write(tmp_path / "b.inc", "INCLUDE\n 'a.inc' /\n")
+    with pytest.raises(DeckError, match=re.escape("INCLUDE: includes nested more than 32 deep")):
+        read_grdecl(tmp_path / "a.inc")
