@@ -299,3 +299,23 @@ def test_include_cycle_is_an_error(tmp_path):
     write(tmp_path / "b.inc", "INCLUDE\n 'a.inc' /\n")
     with pytest.raises(DeckError, match=re.escape("INCLUDE: includes nested more than 32 deep")):
         read_grdecl(tmp_path / "a.inc")
+
+
+def test_undefined_corners_of_inactive_cells_are_written_finite(tmp_path):
+    """horizons_to_grdecl leaves NaN in inactive cells; ECLIPSE cannot read NaN."""
+    deck = make_model3([10, 8, 4])
+    nx, ny, nz = deck.cart_dims
+    z = deck.zcorn_array().copy()
+    inactive = ~deck.active.reshape(nz, ny, nx)
+    mask = np.repeat(np.repeat(np.repeat(inactive, 2, 0), 2, 1), 2, 2)
+    z[mask] = np.nan
+    holey = dataclasses.replace(deck, zcorn=z.ravel())
+    back = read_grdecl(write_grdecl(tmp_path / "h.grdecl", holey))
+    assert np.isfinite(back.zcorn).all()
+    np.testing.assert_array_equal(back.zcorn[~mask.ravel()], deck.zcorn[~mask.ravel()])
+    assert np.all(np.diff(back.zcorn_array(), axis=0) >= 0)  # order along every pillar kept
+    a, b = process_grdecl(holey), process_grdecl(back)
+    np.testing.assert_array_equal(a.bulk_volumes, b.bulk_volumes)
+    bad = dataclasses.replace(deck, zcorn=np.where(mask.ravel(), deck.zcorn, np.nan))
+    with pytest.raises(DeckError, match="active cells have undefined"):
+        write_grdecl(tmp_path / "bad.grdecl", bad)

@@ -716,6 +716,33 @@ def _format_values(values: np.ndarray, integer: bool = False) -> str:
     return "\n".join(lines)
 
 
+def _finite_zcorn(deck: Deck) -> np.ndarray:
+    """ZCORN with the undefined (NaN) corners of inactive cells filled, for simulators.
+
+    Each undefined corner takes the depth of the nearest defined corner above
+    it on its pillar (below it at the top), so the filled cells are collapsed
+    and the order along the pillar is kept; a corner column with no defined
+    depth takes the deck's shallowest depth.
+    """
+    z = deck.zcorn_array()
+    undefined = np.isnan(z)
+    if not undefined.any():
+        return deck.zcorn
+    nx, ny, nz = deck.cart_dims
+    active = np.repeat(np.repeat(np.repeat(deck.active.reshape(nz, ny, nx), 2, 0), 2, 1), 2, 2)
+    if np.any(undefined & active):
+        raise DeckError(f"write_grdecl: {deck.source}: active cells have undefined (NaN) corner depths")
+    if undefined.all():
+        raise DeckError(f"write_grdecl: {deck.source}: ZCORN is undefined everywhere")
+    rows = np.arange(z.shape[0])[:, None, None]
+    above = np.maximum.accumulate(np.where(undefined, -1, rows), axis=0)
+    below = np.minimum.accumulate(np.where(undefined, z.shape[0], rows)[::-1], axis=0)[::-1]
+    source = np.where(above >= 0, above, below)
+    filled = np.take_along_axis(z, np.minimum(source, z.shape[0] - 1), axis=0)
+    filled = np.where(source < z.shape[0], filled, np.nanmin(z))
+    return np.where(undefined, filled, z).ravel()
+
+
 def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = None) -> Path:
     """Write ``deck`` (and extra per-cell ``cell_data``) as a GRDECL file, atomically.
 
@@ -738,7 +765,8 @@ def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = N
         parts += ["MAPAXES", " " + " ".join(repr(float(v)) for v in deck.mapaxes) + " /", ""]
     if deck.gridunit:
         parts += ["GRIDUNIT", f" '{deck.gridunit}' /", ""]
-    parts += ["COORD", _format_values(deck.coord), "/", "", "ZCORN", _format_values(deck.zcorn), "/", ""]
+    parts += ["COORD", _format_values(deck.coord), "/", ""]
+    parts += ["ZCORN", _format_values(_finite_zcorn(deck)), "/", ""]
     if deck.actnum is not None:
         parts += ["ACTNUM", _format_values(deck.actnum, integer=True), "/", ""]
     for name, values in data.items():
