@@ -47,14 +47,19 @@ def renumbering(keep: np.ndarray) -> IntArray:
 
 def cell_faces_from_neighbors(neighbors: IntArray, num_cells: int) -> tuple[IntArray, IntArray]:
     """Transpose ``neighbors`` into (face_pos, faces): each cell's faces in face order."""
-    nf = neighbors.shape[0]
+    pos, half = cell_half_faces(neighbors, num_cells)
+    return pos, np.right_shift(half, 1, out=half)
+
+
+def cell_half_faces(neighbors: IntArray, num_cells: int) -> tuple[IntArray, IntArray]:
+    """Each cell's half-faces in face order, as (pos, h) with h = 2 f + s the side s of face f.
+
+    ``h`` indexes ``neighbors.ravel()``: cell ``neighbors[f, s]`` owns half-face h.
+    """
     cells = neighbors.ravel()  # face f contributes (f, 0) then (f, 1)
-    faces = np.repeat(np.arange(nf, dtype=np.int64), 2)
-    inside = cells >= 0
-    cells, faces = cells[inside], faces[inside]
-    order = np.argsort(cells, kind="stable")
-    pos = offsets(np.bincount(cells, minlength=num_cells))
-    return pos, faces[order]
+    order = np.argsort(cells, kind="stable")  # outside (-1) first, then cell by cell
+    pos = offsets(np.bincount(cells + 1, minlength=num_cells + 1)[1:])
+    return pos, order[order.size - int(pos[-1]) :]
 
 
 def half_face_cells(grid: Grid) -> IntArray:

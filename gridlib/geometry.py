@@ -114,11 +114,16 @@ def _face_blocks(grid: Grid):
             stop = min(start + _CHUNK, counts.size)
             yield slice(start, stop), np.ascontiguousarray(table[start:stop].T)
         return
-    for m in np.unique(counts):
+    for m in np.flatnonzero(np.bincount(counts)):  # the face sizes present, ascending
         faces_m = np.flatnonzero(counts == m)
         for start in range(0, faces_m.size, _CHUNK):
             f = faces_m[start : start + _CHUNK]
-            yield f, nodes[pos[f][None, :] + np.arange(m)[:, None]]
+            if f[-1] - f[0] == f.size - 1:  # a run of consecutive faces: slices beat index arrays
+                first = pos[f[0]]
+                block = nodes[first : first + m * f.size].reshape(f.size, m)
+                yield slice(int(f[0]), int(f[-1]) + 1), np.ascontiguousarray(block.T)
+            else:
+                yield f, nodes[pos[f][None, :] + np.arange(m)[:, None]]
 
 
 def _geometry_3d(grid: Grid) -> Geometry:

@@ -3,7 +3,8 @@
 Inactive cells are masked before anything else (their corners, often junk, are
 never read). Active corners must be finite. z-up decks are negated to depth.
 Every corner gets the id of its distinct depth on its pillar (ids grow with
-depth along a pillar), computed one pillar row at a time.
+depth along a pillar), computed a few pillar rows at a time so that the
+temporaries stay small.
 """
 
 from __future__ import annotations
@@ -12,24 +13,31 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..connectivity import offsets
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
 from ..stratigraphic.points import PillarPoints, points_on_pillars, unique_points_rows
 from .deck import Deck
+
+_BLOCK = 1 << 18  # candidate depths numbered per block of pillar rows
 
 
 @dataclass(frozen=True, eq=False)
 class CornerNodes:
     """Node ids of every cell corner and the nodes' coordinates.
 
-    ``nodes[k, j, i, a + 2b + 4c]`` is the node of corner (a, b, c) of cell
-    (i, j, k): a, b select the pillar (i + a, j + b), c the top (0) or bottom
-    (1); -1 for inactive cells. ``kept`` marks active cells that are not
-    collapsed on all four pillars.
+    ``table[a + 2b + 4c, k, j + 1, i + 1]`` is the node of corner (a, b, c) of
+    cell (i, j, k): a, b select the pillar (i + a, j + b), c the top (0) or
+    bottom (1). It is -1 for cells that are not kept and on a ring of padding
+    cells around the model, so that the pillar pairs on the model's edge slice
+    like interior ones. ``kept`` marks active cells that are not collapsed on
+    all four pillars; ``cells`` numbers them in (k, j, i) order on the padded
+    (k, j + 1, i + 1) layout (-1 elsewhere).
     """
 
-    nodes: IntArray  # (nz, ny, nx, 8)
+    table: IntArray  # (8, nz, ny + 2, nx + 2)
     kept: np.ndarray  # (nz, ny, nx)
+    cells: IntArray  # (nz, ny + 2, nx + 2)
     points: PillarPoints
     xyz: FloatArray  # (n_nodes, 3), z is depth
     lines: FloatArray  # (n_pillars, 2, 3) pillars with z as depth
@@ -51,17 +59,8 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     active = deck.active.reshape(nz, ny, nx)
     if not active.any():
         raise InputError(f"{src}: no active cells (ACTNUM is all 0)")
-    act2 = np.repeat(np.repeat(np.repeat(active, 2, axis=0), 2, axis=1), 2, axis=2)
     zc = deck.zcorn_array()
-    with np.errstate(invalid="ignore"):
-        bad = act2 & ~np.isfinite(zc)
-    if bad.any():
-        n_bad = len(np.unique(np.flatnonzero(bad.reshape(nz, 2, ny, 2, nx, 2).any(axis=(1, 3, 5)))))
-        raise InputError(
-            f"{src}: ZCORN: active cell {_cell(nx, ny, int(np.flatnonzero(bad)[0]))} has a non-finite "
-            f"corner depth ({n_bad} active cells have NaN or infinite corners)"
-        )
-    z = np.where(act2, zc, np.nan)
+    _check_finite(zc, active, src)
     lines = deck.pillars().reshape(-1, 2, 3).copy()
     col_active = active.any(axis=0)
     pil_used = np.zeros((ny + 1, nx + 1), dtype=bool)
@@ -71,38 +70,135 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     if not np.isfinite(lines[pil_used.ravel()]).all():
         raise InputError(f"{src}: COORD: a pillar of an active cell is NaN or infinite")
 
-    dz = z[1::2] - z[0::2]  # bottom minus top, per corner of every cell
-    with np.errstate(invalid="ignore"):
-        pos, neg = int((dz > 0).sum()), int((dz < 0).sum())
-    if neg > pos:  # z grows upwards: make it depth
-        z, dz = -z, -dz
+    sign = _depth_sign(zc, active, src)
+    if sign < 0:
         lines[:, :, 2] = -lines[:, :, 2]
         notes.append("z decreases with depth in this deck (z up): z was negated to depth")
-    with np.errstate(invalid="ignore"):
-        inverted = dz < 0
-    if inverted.any():
-        kc, jc, ic = np.unravel_index(int(np.flatnonzero(inverted)[0]), inverted.shape)
-        raise InputError(
-            f"{src}: ZCORN: cell ({ic // 2 + 1}, {jc // 2 + 1}, {kc + 1}) has a top corner "
-            "below its bottom corner"
-        )
     if tolerance < 0:
         raise InputError(f"process_grdecl: tolerance must be >= 0, got {tolerance}")
 
-    # One row of candidate depths per pillar: the 2 x 2 corner columns around it.
-    zp = np.full((2 * nz, 2 * ny + 2, 2 * nx + 2), np.nan)
-    zp[:, 1:-1, 1:-1] = z
-    rows = zp.reshape(2 * nz, ny + 1, 2, nx + 1, 2).transpose(1, 3, 0, 2, 4).reshape((ny + 1) * (nx + 1), -1)
-    ids_rows, points = unique_points_rows(rows, tolerance)
-    ids = ids_rows.reshape(ny + 1, nx + 1, 2 * nz, 2, 2).transpose(2, 0, 3, 1, 4).reshape(zp.shape)
-    nodes = ids[:, 1:-1, 1:-1].reshape(nz, 2, ny, 2, nx, 2).transpose(0, 2, 4, 1, 3, 5).reshape(nz, ny, nx, 8)
-    kept = active & ~(nodes[..., :4] == nodes[..., 4:]).all(axis=-1)
+    table, points = _number_corners(zc, active, sign, tolerance)
+    inner = table[:, :, 1:-1, 1:-1]
+    kept = active & ~(inner[:4] == inner[4:]).all(axis=0)
+    inner[:, ~kept] = -1
+    cells = np.full(table.shape[1:], -1, dtype=np.int64)
+    cells[:, 1:-1, 1:-1][kept] = np.arange(int(np.count_nonzero(kept)))  # (k, j, i) order
     xyz = points_on_pillars(lines, points.pillar, points.z)
 
     left = _left_handed(lines, active, nx, ny)
     if left:
         notes.append("the deck is left-handed in plan view: every face was reversed")
-    return CornerNodes(np.ascontiguousarray(nodes), kept, points, xyz, lines, left, tuple(notes))
+    return CornerNodes(table, kept, cells, points, xyz, lines, left, tuple(notes))
+
+
+def _check_finite(zc: FloatArray, active: np.ndarray, src: str) -> None:
+    """Active cells must have finite corner depths (inactive ones may hold junk)."""
+    finite = np.isfinite(zc)
+    if finite.all():
+        return
+    nz, ny, nx = active.shape
+    act2 = np.repeat(np.repeat(np.repeat(active, 2, axis=0), 2, axis=1), 2, axis=2)
+    bad = act2 & ~finite
+    if bad.any():
+        n_bad = len(np.unique(np.flatnonzero(bad.reshape(nz, 2, ny, 2, nx, 2).any(axis=(1, 3, 5)))))
+        raise InputError(
+            f"{src}: ZCORN: active cell {_cell(nx, ny, int(np.flatnonzero(bad)[0]))} has a non-finite "
+            f"corner depth ({n_bad} active cells have NaN or infinite corners)"
+        )
+
+
+def _depth_sign(zc: FloatArray, active: np.ndarray, src: str) -> int:
+    """-1 if z grows upwards (most active cells have bottom above top), else 1.
+
+    Raises if an active cell still has a top corner below its bottom corner.
+    """
+    nz, ny, nx = active.shape
+    act = np.repeat(active, 2, axis=2)[:, :, None, :]  # (k, j, 1, ic)
+    with np.errstate(invalid="ignore", over="ignore"):  # inactive corners may be junk
+        dz = (zc[1::2] - zc[0::2]).reshape(nz, ny, 2, 2 * nx)  # bottom minus top, per corner
+        down, up = dz > 0, dz < 0
+    down &= act
+    up &= act
+    sign = -1 if np.count_nonzero(up) > np.count_nonzero(down) else 1
+    inverted = down if sign < 0 else up
+    if inverted.any():
+        kc, jc, ic = np.unravel_index(int(np.flatnonzero(inverted)[0]), (nz, 2 * ny, 2 * nx))
+        raise InputError(
+            f"{src}: ZCORN: cell ({ic // 2 + 1}, {jc // 2 + 1}, {kc + 1}) has a top corner "
+            "below its bottom corner"
+        )
+    return sign
+
+
+def _number_corners(
+    zc: FloatArray, active: np.ndarray, sign: int, tolerance: float
+) -> tuple[IntArray, PillarPoints]:
+    """Node ids of all corners (the padded table of :class:`CornerNodes`) and the points.
+
+    Each pillar's candidate depths form one row of four runs, one per adjacent
+    column, each in layer order (so already sorted in a valid deck); rows are
+    numbered a block of pillar rows at a time.
+    """
+    nz, ny, nx = active.shape
+    table = np.full((8, nz, ny + 2, nx + 2), -1, dtype=np.int64)
+    per_row = 8 * nz
+    step = max(1, _BLOCK // ((nx + 1) * per_row))
+    counts, depths = [], []
+    next_id = 0
+    for j0 in range(0, ny + 1, step):
+        j1 = min(j0 + step, ny + 1)
+        rows = _pillar_rows(zc, active, sign, j0, j1)
+        ids, count, z = unique_points_rows(rows.reshape(-1, per_row), tolerance, next_id)
+        _scatter_ids(table, ids.reshape(rows.shape), j0, j1)
+        counts.append(count)
+        depths.append(z)
+        next_id += z.size
+    count = np.concatenate(counts)
+    pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
+    return table, PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, np.concatenate(depths))
+
+
+def _row_range(j0: int, j1: int, b: int, ny: int) -> tuple[int, int]:
+    """Pillar rows in [j0, j1) that have a cell at row j - b."""
+    return max(j0, b), min(j1, ny + b)
+
+
+def _pillar_rows(zc: FloatArray, active: np.ndarray, sign: int, j0: int, j1: int) -> FloatArray:
+    """Candidate depths on pillar rows j0..j1-1, shape (j1 - j0, nx + 1, 2, 2, nz, 2).
+
+    ``[j - j0, i, b, a, k, c]`` is corner (a, b, c) of cell (i - a, j - b, k),
+    which lies on pillar (i, j); NaN where that cell is inactive or missing.
+    """
+    nz, ny, nx = active.shape
+    # The ZCORN rows 2j - 1 and 2j lie on pillar row j: transpose those rows once so
+    # that every corner column (all its layers) is contiguous, and mask inactive cells.
+    jc0, jc1 = max(2 * j0 - 1, 0), min(2 * j1 - 1, 2 * ny)
+    columns = np.ascontiguousarray(zc[:, jc0:jc1].transpose(1, 2, 0))  # (jc, ic, kc)
+    act = active[:, np.arange(jc0, jc1) // 2].transpose(1, 2, 0)  # (jc, i, k)
+    if not act.all():
+        np.copyto(columns.reshape(jc1 - jc0, nx, 2, nz, 2), np.nan, where=~act[:, :, None, :, None])
+    if sign < 0:
+        np.negative(columns, out=columns)
+    rows = np.full((j1 - j0, nx + 1, 2, 2, 2 * nz), np.nan)
+    for b in (0, 1):
+        lo, hi = _row_range(j0, j1, b, ny)
+        for a in (0, 1):
+            rows[lo - j0 : hi - j0, a : a + nx, b, a] = columns[2 * lo - b - jc0 : 2 * hi - b - jc0 : 2, a::2]
+    return rows.reshape(j1 - j0, nx + 1, 2, 2, nz, 2)
+
+
+def _scatter_ids(table: IntArray, ids: IntArray, j0: int, j1: int) -> None:
+    """Write the ids of pillar rows j0..j1-1 (laid out as :func:`_pillar_rows`) into the table."""
+    _, _, nyp, nxp = table.shape
+    ny, nx = nyp - 2, nxp - 2
+    for b in (0, 1):
+        lo, hi = _row_range(j0, j1, b, ny)
+        if lo >= hi:
+            continue
+        for a in (0, 1):
+            for c in (0, 1):
+                dst = table[a + 2 * b + 4 * c, :, lo - b + 1 : hi - b + 1, 1 : nx + 1]
+                dst[...] = ids[lo - j0 : hi - j0, a : a + nx, b, a, :, c].transpose(2, 0, 1)
 
 
 def _left_handed(lines: FloatArray, active: np.ndarray, nx: int, ny: int) -> bool:

@@ -10,7 +10,13 @@ pinch-outs) goes to the general pillar-pair engine. Quadrilaterals come out in
 
 Top and bottom faces: walk every column through its kept cells (array
 accumulations along k); consecutive kept cells whose shared corners coincide
-get one face, others a boundary face each.
+get one face, others a boundary face each. They come out ordered by layer
+interface, then j, then i, the bottom face of an upper cell before the top face
+of a lower one.
+
+Both kinds are described by the padded table position of the cell whose corners
+they use (see :class:`~gridlib.cornerpoint.corners.CornerNodes`); their node ids
+are read from the table when the grid's arrays are filled, a block at a time.
 """
 
 from __future__ import annotations
@@ -26,37 +32,77 @@ from ..stratigraphic.lateral import SideCells
 # Corner slots (a + 2b + 4c) of the A and B side of an i-pair and a j-pair: (t1, t2, b1, b2).
 _I_PAIR = ((1, 3, 5, 7), (0, 2, 4, 6))
 _J_PAIR = ((2, 3, 6, 7), (0, 1, 4, 5))
+# Node cycles of the quads with their normal from A to B: (t1, t2, b2, b1) for i-pairs,
+# the same walked backwards, (t1, b1, b2, t2), for j-pairs; as slots of side A and side B.
+_I_QUAD = (np.array([1, 3, 7, 5]), np.array([0, 2, 6, 4]))
+_J_QUAD = (np.array([2, 6, 7, 3]), np.array([0, 4, 5, 1]))
+# Top and bottom cycles (i, j), (i+1, j), (i+1, j+1), (i, j+1): normal +z, downwards.
+_TOP = np.array([0, 1, 3, 2])
+_BOTTOM = _TOP + 4
+
+
+@dataclass(frozen=True, eq=False)
+class LateralQuads:
+    """Quadrilaterals of the simple pairs of one orientation, in (k, j, i) order."""
+
+    source: IntArray  # table position of the cell whose corners the quad uses
+    use_a: np.ndarray  # that cell is on side A (else on side B)
+    cycle: tuple[np.ndarray, np.ndarray]  # the quad's corner slots on side A, on side B
+    cell_a: IntArray
+    cell_b: IntArray
+    where: IntArray  # flat index into the (k, pair row, pair column) grid of this orientation
+    pairs_per_layer: int
+    pair_base: int  # id of this orientation's first pair
+
+    @property
+    def num(self) -> int:
+        return self.source.size
+
+    @property
+    def k(self) -> IntArray:
+        return self.where // self.pairs_per_layer
+
+    @property
+    def pair(self) -> IntArray:
+        return self.pair_base + self.where % self.pairs_per_layer
+
+    def nodes(self, table: IntArray, rows: slice | IntArray) -> IntArray:
+        """(m, 4) node cycles of the quads ``rows``."""
+        slots = np.where(self.use_a[rows, None], self.cycle[0], self.cycle[1])
+        return table.reshape(-1)[slots * table[0].size + self.source[rows, None]]
 
 
 @dataclass(frozen=True, eq=False)
 class StructuredLateral:
     """Quadrilaterals of simple pairs and the cells of the other pairs."""
 
-    quads: IntArray  # (n, 4) node cycles, normal from A to B
-    cell_a: IntArray
-    cell_b: IntArray
-    pair: IntArray
-    k: IntArray  # layer of the quad's cell(s)
+    quads: LateralQuads
     side_cells: SideCells  # for the general engine
     faulted: np.ndarray  # per pair: a layer where both sides differ
 
 
-def structured_lateral(nodes: IntArray, kept: np.ndarray, cell_id: IntArray, along_j: bool, pair_base: int):
-    """One orientation of lateral faces: i-pairs (``along_j`` False) or j-pairs."""
-    axis = 1 if along_j else 2
-    pad = [(0, 0)] * 4
-    pad[axis] = (1, 1)
-    nd = np.pad(np.where(kept[..., None], nodes, -1), pad, constant_values=-1)
-    cid = np.pad(np.where(kept, cell_id, -1), pad[:3], constant_values=-1)
-    sl_a = [slice(None)] * 3
-    sl_b = [slice(None)] * 3
-    sl_a[axis] = slice(None, -1)
-    sl_b[axis] = slice(1, None)
+def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_base: int) -> StructuredLateral:
+    """One orientation of lateral faces: i-pairs (``along_j`` False) or j-pairs.
+
+    ``table`` and ``cells`` are :class:`~gridlib.cornerpoint.corners.CornerNodes`'s
+    padded node table and cell numbering.
+    """
+    nxp = table.shape[3]
+    if along_j:  # pair (i, j) lies between cells (i, j - 1) and (i, j)
+        side_a, side_b, step = (
+            (slice(None), slice(None, -1), slice(1, -1)),
+            (slice(None), slice(1, None), slice(1, -1)),
+            nxp,
+        )
+    else:  # pair (i, j) lies between cells (i - 1, j) and (i, j)
+        side_a, side_b, step = (
+            (slice(None), slice(1, -1), slice(None, -1)),
+            (slice(None), slice(1, -1), slice(1, None)),
+            1,
+        )
     sa, sb = _J_PAIR if along_j else _I_PAIR
-    A = nd[tuple(sl_a)]
-    Bn = nd[tuple(sl_b)]
-    at1, at2, ab1, ab2 = (A[..., s] for s in sa)
-    bt1, bt2, bb1, bb2 = (Bn[..., s] for s in sb)
+    at1, at2, ab1, ab2 = (table[s][side_a] for s in sa)
+    bt1, bt2, bb1, bb2 = (table[s][side_b] for s in sb)
     ex_a = (at1 >= 0) & ((at1 < ab1) | (at2 < ab2))  # kept and not pinched on this pair
     ex_b = (bt1 >= 0) & ((bt1 < bb1) | (bt2 < bb2))
     same_corners = (at1 == bt1) & (at2 == bt2) & (ab1 == bb1) & (ab2 == bb2)
@@ -64,116 +110,142 @@ def structured_lateral(nodes: IntArray, kept: np.ndarray, cell_id: IntArray, alo
     one_side = ~ex_a.any(axis=0) | ~ex_b.any(axis=0)
     simple = regular | one_side
     faulted = (ex_a & ex_b & ~same_corners).any(axis=0)
+    pairs_per_layer = ex_a[0].size
+    position_a = np.arange(cells.size).reshape(cells.shape)[side_a]  # table position of the A cell
 
-    k, j, i = np.nonzero(simple[None] & (ex_a | ex_b))
-    use_a = ex_a[k, j, i]
-    t1 = np.where(use_a, at1[k, j, i], bt1[k, j, i])
-    t2 = np.where(use_a, at2[k, j, i], bt2[k, j, i])
-    b1 = np.where(use_a, ab1[k, j, i], bb1[k, j, i])
-    b2 = np.where(use_a, ab2[k, j, i], bb2[k, j, i])
-    # Template (t1, t2, b2, b1) has its normal along +i for i-pairs; j-pairs walk it backwards.
-    quads = np.column_stack([t1, b1, b2, t2]) if along_j else np.column_stack([t1, t2, b2, b1])
-    ca = cid[tuple(sl_a)][k, j, i]
-    cb = cid[tuple(sl_b)][k, j, i]
-    width = simple.shape[1]
-    pair = pair_base + i + width * j
+    selected = simple[None] & (ex_a | ex_b)
+    where = np.flatnonzero(selected)
+    use_a = ex_a.reshape(-1)[where]
+    pos_a = position_a[selected]
+    cells_flat = cells.reshape(-1)
+    quads = LateralQuads(
+        np.where(use_a, pos_a, pos_a + step),
+        use_a,
+        _J_QUAD if along_j else _I_QUAD,
+        cells_flat[pos_a],
+        cells_flat[pos_a + step],
+        where,
+        pairs_per_layer,
+        pair_base,
+    )
 
     # Cells on both sides of the other pairs, for the general engine.
     general = ~simple
-    cells = []
-    for side, ex, (t1s, t2s, b1s, b2s), cells_id in (
-        (0, ex_a, (at1, at2, ab1, ab2), cid[tuple(sl_a)]),
-        (1, ex_b, (bt1, bt2, bb1, bb2), cid[tuple(sl_b)]),
-    ):
-        kk, jj, ii = np.nonzero(general[None] & ex)
-        cells.append(
+    by_slot = table.reshape(8, -1)
+    fields = []
+    for side, ex, slots, shift in ((0, ex_a, sa, 0), (1, ex_b, sb, step)):
+        on_side = general[None] & ex
+        at = np.flatnonzero(on_side)
+        pos = position_a[on_side] + shift
+        t1, t2, b1, b2 = (by_slot[s][pos] for s in slots)
+        fields.append(
             (
-                pair_base + ii + width * jj,
-                np.full(kk.size, side),
-                cells_id[kk, jj, ii],
-                kk,
-                t1s[kk, jj, ii],
-                b1s[kk, jj, ii],
-                t2s[kk, jj, ii],
-                b2s[kk, jj, ii],
+                pair_base + at % pairs_per_layer,
+                np.full(at.size, side),
+                cells_flat[pos],
+                at // pairs_per_layer,
+                t1,
+                b1,
+                t2,
+                b2,
             )
         )
-    side_cells = SideCells(*(np.concatenate([c[f] for c in cells]).astype(np.int64) for f in range(8)))
-    return StructuredLateral(quads, ca, cb, pair, k, side_cells, faulted.ravel())
+    side_cells = SideCells(*(np.concatenate([f[n] for f in fields]).astype(np.int64) for n in range(8)))
+    return StructuredLateral(quads, side_cells, faulted.ravel())
 
 
 @dataclass(frozen=True, eq=False)
 class StructuredVertical:
-    nodes: IntArray  # (n, 4) node cycles, normal +z (from the upper cell to the lower one)
-    upper: IntArray
+    """Top and bottom faces, ordered by layer interface, then j, then i, then ``bottom`` first."""
+
+    source: IntArray  # table position of the cell whose top (or bottom) the face is
+    bottom: np.ndarray  # the face is the bottom of its source cell (else its top)
+    upper: IntArray  # cell above the face (-1 = outside); the normal points from it downwards
     lower: IntArray
-    level: IntArray  # interface index (k of the lower cell; k + 1 under the last cell)
-    j: IntArray
-    i: IntArray
-    sub: IntArray  # 0 for the bottom of an upper cell, 1 otherwise (orders faces at one level)
     skips_layers: np.ndarray  # an interior face joining cells more than one layer apart
     pinch_pairs: IntArray  # (n, 2) cell ids joined across a thin gap (no face)
+    padded_dims: tuple[int, int]  # (ny + 2, nx + 2) of the table layout
+
+    @property
+    def num(self) -> int:
+        return self.source.size
+
+    def nodes(self, table: IntArray, rows: slice | IntArray) -> IntArray:
+        """(m, 4) node cycles of the faces ``rows`` (normal +z)."""
+        slots = np.where(self.bottom[rows, None], _BOTTOM, _TOP)
+        return table.reshape(-1)[slots * table[0].size + self.source[rows, None]]
+
+    def columns(self) -> IntArray:
+        """Column (i + nx j) of every face."""
+        nyp, nxp = self.padded_dims
+        row, col = np.divmod(self.source % (nyp * nxp), nxp)
+        return (row - 1) * (nxp - 2) + col - 1
 
 
 def structured_vertical(
-    nodes: IntArray,
-    kept: np.ndarray,
-    cell_id: IntArray,
+    table: IntArray,
+    cells: IntArray,
     node_z: np.ndarray,
     pinch_threshold: float | None,
     source: str,
 ) -> StructuredVertical:
-    nz, ny, nx, _ = nodes.shape
-    top = nodes[..., [0, 1, 3, 2]]  # cycle (i, j), (i+1, j), (i+1, j+1), (i, j+1)
-    bot = nodes[..., [4, 5, 7, 6]]
-    karr = np.arange(nz)[:, None, None]
-    last_kept = np.maximum.accumulate(np.where(kept, karr, -1), axis=0)
-    prev = np.full((nz, ny, nx), -1)
-    prev[1:] = last_kept[:-1]
-    has_prev = kept & (prev >= 0)
-    kk, jj, ii = np.nonzero(has_prev)
-    pk = prev[kk, jj, ii]
-    above = bot[pk, jj, ii]
-    below = top[kk, jj, ii]
-    if np.any(below < above):  # node ids grow with depth along a pillar
-        bad = np.flatnonzero((below < above).any(axis=1))[0]
-        raise InputError(
-            f"{source}: ZCORN: cell ({ii[bad] + 1}, {jj[bad] + 1}, {pk[bad] + 1}) reaches below "
-            "the top of cell "
-            f"({ii[bad] + 1}, {jj[bad] + 1}, {kk[bad] + 1}) in the same column (overlapping layers)"
-        )
-    touch = (above == below).all(axis=1)
-    touched = np.zeros((nz, ny, nx), dtype=bool)  # cell touches the kept cell above it
-    touched[kk, jj, ii] = touch
-    touched_below = np.zeros((nz, ny, nx), dtype=bool)  # cell touches the kept cell below it
-    touched_below[pk[touch], jj[touch], ii[touch]] = True
+    """Top and bottom faces of the kept cells (``table``, ``cells`` as :func:`structured_lateral`)."""
+    _, nz, nyp, nxp = table.shape
+    ny, nx = nyp - 2, nxp - 2
+    layer = ny * nx
+    kept = cells[:, 1:-1, 1:-1] >= 0
+    index = np.arange(nz * layer).reshape(nz, ny, nx)  # (k, j, i) index of every cell
+    position = np.arange(cells.size).reshape(cells.shape)[:, 1:-1, 1:-1].ravel()  # its table position
+    # The last kept cell above each cell of a column (indices grow with k along a column).
+    last_kept = np.maximum.accumulate(np.where(kept, index, -1), axis=0)
+    prev = np.full(nz * layer, -1)
+    prev[layer:] = last_kept[:-1].ravel()
 
-    ki, ji, iint = kk[touch], jj[touch], ii[touch]
-    kt, jt, it = np.nonzero(kept & ~touched)
-    kb, jb, ib = np.nonzero(kept & ~touched_below)
-    faces = np.concatenate([top[ki, ji, iint], top[kt, jt, it], bot[kb, jb, ib]])
-    upper = np.concatenate([cell_id[pk[touch], ji, iint], np.full(kt.size, -1), cell_id[kb, jb, ib]])
-    lower = np.concatenate([cell_id[ki, ji, iint], cell_id[kt, jt, it], np.full(kb.size, -1)])
-    level = np.concatenate([ki, kt, kb + 1])
-    sub = np.concatenate([np.ones(ki.size + kt.size, np.int64), np.zeros(kb.size, np.int64)])
-    skips = np.concatenate([ki - pk[touch] > 1, np.zeros(kt.size + kb.size, bool)])
+    # Consecutive kept cells of every column: ``rows`` and the cell above it, ``up``.
+    rows = np.flatnonzero(kept.ravel() & (prev >= 0))
+    up = prev[rows]
+    pos_k, pos_pk = position[rows], position[up]
+    by_slot = table.reshape(8, -1)
+    above = [by_slot[s][pos_pk] for s in _BOTTOM]
+    below = [by_slot[s][pos_k] for s in _TOP]
+    overlap = np.logical_or.reduce([b < a for a, b in zip(above, below, strict=True)])
+    if overlap.any():  # node ids grow with depth along a pillar
+        bad = np.flatnonzero(overlap)[0]
+        (kb, jb, ib), kt = np.unravel_index(up[bad], (nz, ny, nx)), rows[bad] // layer
+        raise InputError(
+            f"{source}: ZCORN: cell ({ib + 1}, {jb + 1}, {kb + 1}) reaches below "
+            "the top of cell "
+            f"({ib + 1}, {jb + 1}, {kt + 1}) in the same column (overlapping layers)"
+        )
+    touch = np.logical_and.reduce([a == b for a, b in zip(above, below, strict=True)])
+    cells_flat = cells.reshape(-1)
+    joined_to = np.full(nz * layer, -1)  # the kept cell above that a cell touches
+    joined_to[rows[touch]] = cells_flat[pos_pk[touch]]
+    far_above = np.zeros(nz * layer, dtype=bool)  # ... and lies more than one layer up
+    far_above[rows[touch]] = rows[touch] - up[touch] > layer
+    touched_below = np.zeros(nz * layer, dtype=bool)  # cell touches the kept cell below it
+    touched_below[up[touch]] = True
+
+    # Faces at (interface L, j, i, 0): bottom of cell L - 1 unless it touches the cell
+    # below; (L, j, i, 1): top of cell L, shared with the cell above if they touch.
+    present = np.zeros((nz + 1, layer, 2), dtype=bool)
+    present[1:, :, 0] = kept.reshape(nz, layer) & ~touched_below.reshape(nz, layer)
+    present[:-1, :, 1] = kept.reshape(nz, layer)
+    at = np.flatnonzero(present)
+    bottom = (at & 1) == 0
+    cell = (at >> 1) - np.where(bottom, layer, 0)  # index of the face's own cell
+    own = position[cell]
+    ids = cells_flat[own]
+    upper = np.where(bottom, ids, joined_to[cell])
+    lower = np.where(bottom, -1, ids)
+    skips = ~bottom & far_above[cell]
 
     pinch_pairs = np.zeros((0, 2), dtype=np.int64)
     if pinch_threshold is not None:
         gap_rows = np.flatnonzero(~touch)
-        gap = (node_z[below[gap_rows]] - node_z[above[gap_rows]]).max(axis=1)
+        gap = np.maximum.reduce(
+            [node_z[b[gap_rows]] - node_z[a[gap_rows]] for a, b in zip(above, below, strict=True)]
+        )
         ok = gap_rows[(gap >= 0) & (gap <= pinch_threshold)]
-        pinch_pairs = np.column_stack(
-            [cell_id[pk[ok], jj[ok], ii[ok]], cell_id[kk[ok], jj[ok], ii[ok]]]
-        ).astype(np.int64)
-    return StructuredVertical(
-        faces,
-        upper,
-        lower,
-        level,
-        np.concatenate([ji, jt, jb]),
-        np.concatenate([iint, it, ib]),
-        sub,
-        skips,
-        pinch_pairs,
-    )
+        pinch_pairs = np.column_stack([cells_flat[pos_pk[ok]], cells_flat[pos_k[ok]]]).astype(np.int64)
+    return StructuredVertical(own, bottom, upper, lower, skips, pinch_pairs, (nyp, nxp))

@@ -20,7 +20,9 @@ Steps, all vectorised over cells, corners and pillar pairs:
 
 Faces are numbered like ``cart_grid``'s: all i-faces, then j-faces, then
 k-faces, each ordered by layer, then j, then i, so an unfaulted deck gives
-exactly ``cart_grid``'s numbering. Fault faces carry a positive tag: the
+exactly ``cart_grid``'s numbering; the lateral pieces of faulted (and other
+irregular) pillar pairs follow the other faces of their orientation, in the
+same order among themselves. Fault faces carry a positive tag: the
 FAULTS name's position + 1 where the deck names it, otherwise an id per
 connected fault trace (``fault_names`` maps tags to names).
 """
@@ -33,16 +35,10 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import csgraph
 
-from ..connectivity import (
-    cell_faces_from_neighbors,
-    drop_repeated_nodes,
-    offsets,
-    ragged_arange,
-    renumbering,
-)
+from ..connectivity import cell_half_faces, drop_repeated_nodes, offsets, ragged_arange, renumbering
 from ..grid import B, Cells, E, Faces, FloatArray, Grid, IntArray, N, Nodes, S, T, W
 from ..stratigraphic.conformal import insert_edge_nodes
-from ..stratigraphic.lateral import LateralFaces, SideCells, concat_lateral, general_pieces
+from ..stratigraphic.lateral import SideCells, general_pieces
 from .corners import corner_nodes
 from .deck import Deck
 from .faces import structured_lateral, structured_vertical
@@ -97,202 +93,324 @@ def process_grdecl(
     >>> r.grid.num_cells, r.grid.num_faces, int((r.grid.faces.tag > 0).sum())
     (24, 106, 14)
     """
-    src = deck.source
-    nx, ny, nz = deck.cart_dims
     cn = corner_nodes(deck, tolerance)
     notes = list(cn.notes)
-    kept = cn.kept
-    n_keep = int(kept.sum())
-    cell_id = np.full(kept.shape, -1, dtype=np.int64)
-    cell_id[kept] = np.arange(n_keep)  # kept cells keep the deck's (k, j, i) order
-    cell_global = np.flatnonzero(kept.ravel())
-    bulk = hexahedron_volumes(cn.xyz, cn.nodes[kept])
+    cell_global = np.flatnonzero(cn.kept.ravel())  # kept cells keep the deck's (k, j, i) order
+    bulk = hexahedron_volumes(cn.xyz, cn.table.reshape(8, -1), np.flatnonzero(cn.cells >= 0))
     if cn.left_handed:
         bulk = -bulk
-
-    n_ipairs = (nx + 1) * ny
-    pi, pj = np.meshgrid(np.arange(nx + 1), np.arange(ny), indexing="xy")
-    qi, qj = np.meshgrid(np.arange(nx), np.arange(ny + 1), indexing="xy")
-    pair_i = np.concatenate([pi.ravel(), qi.ravel()])
-    pair_j = np.concatenate([pj.ravel(), qj.ravel()])
-    is_j_pair = np.arange(pair_i.size) >= n_ipairs
-    pair_p1 = _pillar_ids(pair_i, pair_j, nx)
-    pair_p2 = np.where(is_j_pair, _pillar_ids(pair_i + 1, pair_j, nx), _pillar_ids(pair_i, pair_j + 1, nx))
-
-    lat_i = structured_lateral(cn.nodes, kept, cell_id, False, 0)
-    lat_j = structured_lateral(cn.nodes, kept, cell_id, True, n_ipairs)
-    side = SideCells(
-        *(
-            np.concatenate([getattr(lat_i.side_cells, f), getattr(lat_j.side_cells, f)])
-            for f in SideCells.__dataclass_fields__
-        )
+    faces, coords, names, pinch_pairs = _faces(
+        deck, cn, _pinch_threshold(deck, pinch, pinch_threshold), notes
     )
-    # The engine works on ranks along each pillar (node id minus the pillar's first id).
-    o1, o2 = cn.points.offset[pair_p1[side.pair]], cn.points.offset[pair_p2[side.pair]]
-    side = SideCells(
-        side.pair, side.side, side.cell, side.k, side.t1 - o1, side.b1 - o1, side.t2 - o2, side.b2 - o2
-    )
-    general = general_pieces(side, pair_i.size, pair_p1, pair_p2, is_j_pair, cn.points, cn.xyz)
-    quads = np.concatenate([lat_i.quads, lat_j.quads])
-    q_a = np.concatenate([lat_i.cell_a, lat_j.cell_a])
-    q_b = np.concatenate([lat_i.cell_b, lat_j.cell_b])
-    q_k = np.concatenate([lat_i.k, lat_j.k])
-    fast = LateralFaces(
-        np.arange(0, 4 * q_a.size + 1, 4),
-        quads.ravel(),
-        q_a,
-        q_b,
-        np.concatenate([lat_i.pair, lat_j.pair]),
-        np.where(q_a >= 0, q_k, -1),
-        np.where(q_b >= 0, q_k, -1),
-        np.zeros(q_a.size, dtype=bool),
-        np.zeros((0, 3)),
-        np.zeros((0, 2, 2), np.int64),
-    )
-    lat = concat_lateral(fast, general)
-    faulted_pair = np.concatenate([lat_i.faulted, lat_j.faulted])
-    ver = structured_vertical(
-        cn.nodes, kept, cell_id, cn.points.z, _pinch_threshold(deck, pinch, pinch_threshold), src
-    )
-
-    # --- assemble: i-faces, j-faces, k-faces; each by layer, then j, then i (cart_grid's order) ---
-    # Fast quads are already in that order; only the few general pieces and the
-    # top/bottom faces are sorted, and crossing nodes go only into the top/bottom
-    # faces of cells next to a general pair.
-    def key(kind, k, j, i, tie):
-        return (((kind * (nz + 1) + k) * (ny + 1) + j) * (nx + 1) + i) * (nz + 2) + tie
-
-    n_if, n_jf = lat_i.quads.shape[0], lat_j.quads.shape[0]
-    g_kind = is_j_pair[general.pair].astype(np.int64)
-    g_kref = np.where(general.cell_a >= 0, general.k_a, general.k_b)
-    g_order = np.argsort(
-        key(g_kind, g_kref, pair_j[general.pair], pair_i[general.pair], general.k_b + 1), kind="stable"
-    )
-    g_i, g_j = g_order[g_kind[g_order] == 0], g_order[g_kind[g_order] == 1]
-    lat_order = np.concatenate(
-        [np.arange(n_if), n_if + n_jf + g_i, n_if + np.arange(n_jf), n_if + n_jf + g_j]
-    )
-    g_counts = np.diff(general.node_pos)
-    lat_nodes = np.concatenate(
-        [
-            lat_i.quads.ravel(),
-            general.nodes[ragged_arange(general.node_pos[:-1][g_i], g_counts[g_i])],
-            lat_j.quads.ravel(),
-            general.nodes[ragged_arange(general.node_pos[:-1][g_j], g_counts[g_j])],
-        ]
-    )
-    lat_counts = np.concatenate([np.full(n_if, 4), g_counts[g_i], np.full(n_jf, 4), g_counts[g_j]])
-    # A quad collapsed on one pillar (top = bottom there) is a triangle.
-    lat_pos, lat_nodes = drop_repeated_nodes(offsets(lat_counts), lat_nodes)
-    lat_counts = np.diff(lat_pos)
-
-    v_order = np.argsort(key(2, ver.level, ver.j, ver.i, ver.sub), kind="stable")
-    v_nodes, v_upper, v_lower = ver.nodes[v_order], ver.upper[v_order], ver.lower[v_order]
-    coords = np.concatenate([cn.xyz, lat.crossing_coords])
-    near_fault = np.zeros(n_keep + 1, dtype=bool)  # index -1 (outside) maps to the extra False
-    near_fault[side.cell] = True
-    touched = np.flatnonzero(near_fault[v_upper] | near_fault[v_lower])
-    crossing_ids = cn.points.num_nodes + np.arange(lat.crossing_coords.shape[0])
-    t_pos, t_nodes = insert_edge_nodes(v_nodes[touched], lat.crossing_lines, crossing_ids, coords)
-    v_counts = np.full(v_order.size, 4)
-    v_counts[touched] = np.diff(t_pos)
-    v_pos = offsets(v_counts)
-    v_flat = np.empty(int(v_pos[-1]), dtype=np.int64)
-    plain = np.flatnonzero(v_counts == 4)
-    plain = np.setdiff1d(plain, touched, assume_unique=True)
-    v_flat[v_pos[plain][:, None] + np.arange(4)] = v_nodes[plain]
-    v_flat[ragged_arange(v_pos[touched], v_counts[touched])] = t_nodes
-
-    counts = np.concatenate([lat_counts, v_counts])
-    nodes = np.concatenate([lat_nodes, v_flat])
-    pos = offsets(counts)
-    l_a, l_b, l_pair = lat.cell_a[lat_order], lat.cell_b[lat_order], lat.pair[lat_order]
-    l_ka, l_kb = lat.k_a[lat_order], lat.k_b[lat_order]
-    neighbors = np.column_stack([np.concatenate([l_a, v_upper]), np.concatenate([l_b, v_lower])])
-    tag_pair = np.where(is_j_pair[l_pair][:, None], np.array([N, S])[None, :], np.array([E, W])[None, :])
-    n_lat, n_ver = lat_order.size, v_order.size
-    face_tags = np.concatenate([tag_pair.astype(np.int8), np.tile(np.array([B, T], np.int8), (n_ver, 1))])
-    fault, names = _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_pair, 0)
-    fault = np.concatenate([fault[lat_order], np.zeros(n_ver, np.int32)])
-    nnc_kind = np.concatenate(
-        [
-            np.where((l_a >= 0) & (l_b >= 0) & (l_ka != l_kb), FAULT, -1),
-            np.where(ver.skips_layers[v_order], PINCH, -1),
-        ]
-    ).astype(np.int8)
-    lat_pair = np.concatenate([l_pair, np.full(n_ver, -1)])
-    ver_column = np.concatenate([np.full(n_lat, -1), (ver.i + nx * ver.j)[v_order]])
-
-    # Zero-area faces can only come from coincident pillars: all pieces on a pair of
-    # identical pillars, and top/bottom faces whose column has such a pair. They are
-    # dropped; their cells keep the rest.
-    same_pillars = (cn.lines[pair_p1] == cn.lines[pair_p2]).all(axis=(1, 2))
-    zero = np.zeros(counts.size, dtype=bool)
-    on_pair = lat_pair >= 0
-    zero[on_pair] = same_pillars[lat_pair[on_pair]]
-    degenerate_column = _degenerate_columns(same_pillars, nx, ny)
-    check = np.flatnonzero((ver_column >= 0) & degenerate_column[np.maximum(ver_column, 0)])
-    if check.size:
-        sub_counts = counts[check]
-        sub_nodes = nodes[ragged_arange(pos[:-1][check], sub_counts)]
-        area = _vector_area_norm(coords, offsets(sub_counts), sub_nodes)
-        zero[check] = area <= 1e-14 * np.abs(coords).max() ** 2
-    if zero.any():
-        notes.append(f"{int(zero.sum())} faces of zero area were removed")
-        good = ~zero
-        counts = counts[good]
-        nodes = nodes[ragged_arange(pos[:-1][good], counts)]
-        pos = offsets(counts)
-        neighbors, face_tags, fault, nnc_kind = neighbors[good], face_tags[good], fault[good], nnc_kind[good]
     if cn.left_handed:
-        owner = np.repeat(np.arange(counts.size), counts)
-        local = np.arange(nodes.size) - pos[owner]
-        nodes = nodes[pos[owner] + counts[owner] - 1 - local]
+        faces.reverse_cycles()
 
     # Cells with fewer than four faces are dropped (MRST); faces left without cells too.
-    per_cell = np.bincount(neighbors[neighbors >= 0], minlength=n_keep)
-    alive = per_cell >= 4
+    face_pos, half_faces = cell_half_faces(faces.neighbors, cell_global.size)
+    alive = np.diff(face_pos) >= 4
     if not alive.all():
         notes.append(f"{int((~alive).sum())} cells with fewer than four faces were removed")
         remap = renumbering(alive)
-        neighbors = np.where(neighbors >= 0, remap[np.maximum(neighbors, 0)], -1)
-        has = (neighbors >= 0).any(axis=1)
-        counts = counts[has]
-        nodes = nodes[ragged_arange(pos[:-1][has], counts)]
-        pos = offsets(counts)
-        neighbors, face_tags, fault, nnc_kind = neighbors[has], face_tags[has], fault[has], nnc_kind[has]
-        cell_global = cell_global[alive]
-        bulk = bulk[alive]
-        pinch_pairs = remap[ver.pinch_pairs]
+        faces.neighbors = np.where(faces.neighbors >= 0, remap[np.maximum(faces.neighbors, 0)], -1)
+        faces.keep((faces.neighbors >= 0).any(axis=1))
+        cell_global, bulk = cell_global[alive], bulk[alive]
+        pinch_pairs = remap[pinch_pairs]
         pinch_pairs = pinch_pairs[(pinch_pairs >= 0).all(axis=1)]
-    else:
-        pinch_pairs = ver.pinch_pairs
+        face_pos, half_faces = cell_half_faces(faces.neighbors, cell_global.size)
 
     used = np.zeros(coords.shape[0], dtype=bool)
-    used[nodes] = True
-    node_map = renumbering(used)
-    nc = cell_global.size
-    face_pos, cell_faces = cell_faces_from_neighbors(neighbors, nc)
+    used[faces.nodes] = True
+    if not used.all():
+        faces.renumber_nodes(renumbering(used))
+        coords = coords[used]
+    half_face_tags = faces.tags.reshape(-1)[half_faces]
+    cell_faces = np.right_shift(half_faces, 1, out=half_faces)  # half-face 2 f + side -> face f
     grid = Grid(
-        cells=Cells(
-            face_pos, cell_faces, _half_face_tags(neighbors, face_tags, face_pos, cell_faces), cell_global
-        ),
-        faces=Faces(pos, node_map[nodes], neighbors, fault),
-        nodes=Nodes(coords[used]),
+        cells=Cells(face_pos, cell_faces, half_face_tags, cell_global),
+        faces=Faces(offsets(faces.counts), faces.nodes, faces.neighbors, faces.fault),
+        nodes=Nodes(coords),
         griddim=3,
-        cart_dims=(nx, ny, nz),
+        cart_dims=deck.cart_dims,
         history=("process_grdecl",),
     )
-    face_nnc = np.flatnonzero((nnc_kind >= 0) & (neighbors >= 0).all(axis=1))
-    nnc_cells = np.concatenate([neighbors[face_nnc], pinch_pairs]).astype(np.int64)
-    nnc = NNC(
+    bulk.flags.writeable = False
+    return CornerPointGrid(grid, _nnc(faces, pinch_pairs, cell_global), names, tuple(notes), bulk)
+
+
+@dataclass(frozen=True, eq=False)
+class _PillarPairs:
+    """All pillar pairs: the i-pairs (p1 = (i, j), p2 = (i, j + 1)), then the j-pairs
+    (p1 = (i, j), p2 = (i + 1, j)), each with i fastest."""
+
+    i: IntArray
+    j: IntArray
+    is_j: np.ndarray
+    p1: IntArray
+    p2: IntArray
+
+    @classmethod
+    def of(cls, nx: int, ny: int) -> _PillarPairs:
+        pi, pj = np.meshgrid(np.arange(nx + 1), np.arange(ny), indexing="xy")
+        qi, qj = np.meshgrid(np.arange(nx), np.arange(ny + 1), indexing="xy")
+        i = np.concatenate([pi.ravel(), qi.ravel()])
+        j = np.concatenate([pj.ravel(), qj.ravel()])
+        is_j = np.arange(i.size) >= pi.size
+        p1 = _pillar_ids(i, j, nx)
+        p2 = np.where(is_j, _pillar_ids(i + 1, j, nx), _pillar_ids(i, j + 1, nx))
+        return cls(i, j, is_j, p1, p2)
+
+    @property
+    def num(self) -> int:
+        return self.i.size
+
+
+def _faces(deck: Deck, cn, pinch_threshold: float | None, notes: list[str]):
+    """All faces of the kept cells in the grid's face order, with zero-area faces removed.
+
+    Order: i-faces, j-faces, k-faces (cart_grid's numbering on unfaulted decks).
+    Lateral faces of one orientation: the quads of simple pairs in (k, j, i)
+    order, then the pieces of the general pairs sorted by (layer, j, i); top and
+    bottom faces by (interface, j, i). Crossing nodes go only into the
+    top/bottom faces of cells next to a general pair. Returns the face arrays,
+    the node coordinates (crossing nodes after the pillar nodes), the fault
+    names and the pinch connections.
+    """
+    nx, ny, _ = deck.cart_dims
+    pairs = _PillarPairs.of(nx, ny)
+    lat_i = structured_lateral(cn.table, cn.cells, False, 0)
+    lat_j = structured_lateral(cn.table, cn.cells, True, (nx + 1) * ny)
+    side = _ranked_side_cells(lat_i.side_cells, lat_j.side_cells, cn.points.offset, pairs)
+    general = general_pieces(side, pairs.num, pairs.p1, pairs.p2, pairs.is_j, cn.points, cn.xyz)
+    faulted_pair = np.concatenate([lat_i.faulted, lat_j.faulted])
+    g_fault, names, seen = _fault_tags(deck, general, faulted_pair, pairs.p1, pairs.p2)
+    g_i, g_j = _general_order(general, pairs, deck.cart_dims)
+    ver = structured_vertical(cn.table, cn.cells, cn.points.z, pinch_threshold, deck.source)
+
+    coords = np.concatenate([cn.xyz, general.crossing_coords])
+    near_fault = np.zeros(int(np.count_nonzero(cn.kept)) + 1, dtype=bool)  # -1 (outside): the extra False
+    near_fault[side.cell] = True
+    touched = np.flatnonzero(near_fault[ver.upper] | near_fault[ver.lower])
+    crossing_ids = cn.points.num_nodes + np.arange(general.crossing_coords.shape[0])
+    t_pos, t_nodes = insert_edge_nodes(
+        ver.nodes(cn.table, touched), general.crossing_lines, crossing_ids, coords
+    )
+
+    n_quads = lat_i.quads.num + lat_j.quads.num
+    n_lat = n_quads + general.pair.size
+    faces = _FaceArrays(n_lat + ver.num, 4 * (n_quads + ver.num) + general.nodes.size + t_nodes.size)
+    named = (lambda pair, k_a, k_b: _named_fault_tags(deck, pair, k_a, k_b, pairs, seen)) if seen else None
+    for lat, pieces, tags in ((lat_i, g_i, (E, W)), (lat_j, g_j, (N, S))):
+        _add_quads(faces, lat.quads, cn.table, tags, named)
+        _add_pieces(faces, general, pieces, g_fault, tags, named)
+    _add_vertical(faces, ver, cn.table, touched, t_pos, t_nodes)
+
+    same_pillars = (cn.lines[pairs.p1] == cn.lines[pairs.p2]).all(axis=(1, 2))
+    if same_pillars.any():
+        lat_pair = np.concatenate([lat_i.quads.pair, general.pair[g_i], lat_j.quads.pair, general.pair[g_j]])
+        zero = _zero_area_faces(faces, coords, same_pillars, lat_pair, ver.columns(), nx, ny)
+        if zero.any():
+            notes.append(f"{int(zero.sum())} faces of zero area were removed")
+            faces.keep(~zero)
+    return faces, coords, names, ver.pinch_pairs
+
+
+def _ranked_side_cells(
+    side_i: SideCells, side_j: SideCells, offset: IntArray, pairs: _PillarPairs
+) -> SideCells:
+    """The cells of the general pairs of both orientations, with ranks along each pillar.
+
+    The engine works on ranks (node id minus the pillar's first id).
+    """
+    side = SideCells(
+        *(np.concatenate([getattr(side_i, f), getattr(side_j, f)]) for f in SideCells.__dataclass_fields__)
+    )
+    o1, o2 = offset[pairs.p1[side.pair]], offset[pairs.p2[side.pair]]
+    return SideCells(
+        side.pair, side.side, side.cell, side.k, side.t1 - o1, side.b1 - o1, side.t2 - o2, side.b2 - o2
+    )
+
+
+def _general_order(general, pairs: _PillarPairs, dims: tuple[int, int, int]) -> tuple[IntArray, IntArray]:
+    """The general pieces on i-pairs and on j-pairs, each sorted by (layer, j, i)."""
+    nx, ny, nz = dims
+    kind = pairs.is_j[general.pair].astype(np.int64)
+    k_ref = np.where(general.cell_a >= 0, general.k_a, general.k_b)
+    i, j = pairs.i[general.pair], pairs.j[general.pair]
+    key = (((kind * (nz + 1) + k_ref) * (ny + 1) + j) * (nx + 1) + i) * (nz + 2) + general.k_b + 1
+    order = np.argsort(key, kind="stable")
+    return order[kind[order] == 0], order[kind[order] == 1]
+
+
+def _add_quads(faces: _FaceArrays, quads, table: IntArray, tags: tuple[int, int], named) -> None:
+    """The quads of the simple pairs of one orientation (never on a faulted pair, never an NNC)."""
+    added = faces.add_quads(quads, table)
+    faces.neighbors[added, 0], faces.neighbors[added, 1] = quads.cell_a, quads.cell_b
+    faces.tags[added] = tags
+    if named is not None:
+        k = quads.k
+        faces.fault[added] = named(
+            quads.pair, np.where(quads.cell_a >= 0, k, -1), np.where(quads.cell_b >= 0, k, -1)
+        )
+
+
+def _add_pieces(
+    faces: _FaceArrays, general, pieces: IntArray, g_fault: IntArray, tags: tuple[int, int], named
+) -> None:
+    """The general pieces ``pieces`` (of one orientation), in that order."""
+    counts = np.diff(general.node_pos)[pieces]
+    pos, nodes = drop_repeated_nodes(
+        offsets(counts), general.nodes[ragged_arange(general.node_pos[:-1][pieces], counts)]
+    )
+    added = faces.add(np.diff(pos), nodes)
+    cell_a, cell_b = general.cell_a[pieces], general.cell_b[pieces]
+    k_a, k_b = general.k_a[pieces], general.k_b[pieces]
+    faces.neighbors[added, 0], faces.neighbors[added, 1] = cell_a, cell_b
+    faces.tags[added] = tags
+    faces.fault[added] = g_fault[pieces]
+    if named is not None:
+        by_name = named(general.pair[pieces], k_a, k_b)
+        faces.fault[added] = np.where(by_name > 0, by_name, g_fault[pieces])
+    faces.nnc_kind[added] = np.where((cell_a >= 0) & (cell_b >= 0) & (k_a != k_b), FAULT, -1)
+
+
+def _add_vertical(
+    faces: _FaceArrays, ver, table: IntArray, touched: IntArray, t_pos: IntArray, t_nodes: IntArray
+):
+    """The top and bottom faces; faces ``touched`` take the cycles (t_pos, t_nodes)."""
+    added = faces.add_vertical(ver, table, touched, t_pos, t_nodes)
+    faces.neighbors[added, 0], faces.neighbors[added, 1] = ver.upper, ver.lower
+    faces.tags[added] = (B, T)
+    faces.nnc_kind[added] = np.where(ver.skips_layers, PINCH, -1)
+
+
+def _zero_area_faces(faces, coords, same_pillars, lat_pair, ver_column, nx: int, ny: int) -> np.ndarray:
+    """Faces of zero area, which only coincident pillars make.
+
+    They are all pieces on a pair of identical pillars, and those top/bottom
+    faces of columns with such a pair whose area vanishes. They are dropped;
+    their cells keep the rest.
+    """
+    n_lat = lat_pair.size
+    zero = np.zeros(faces.num, dtype=bool)
+    zero[:n_lat] = same_pillars[lat_pair]
+    check = n_lat + np.flatnonzero(_degenerate_columns(same_pillars, nx, ny)[ver_column])
+    if check.size:
+        counts = faces.counts[check]
+        nodes = faces.nodes[ragged_arange(faces.pos[:-1][check], counts)]
+        area = _vector_area_norm(coords, offsets(counts), nodes)
+        zero[check] = area <= 1e-14 * np.abs(coords).max() ** 2
+    return zero
+
+
+def _nnc(faces, pinch_pairs: IntArray, cell_global: IntArray) -> NNC:
+    """Fault NNCs (faces between cells of different layers), then pinch connections."""
+    candidates = np.flatnonzero(faces.nnc_kind >= 0)
+    face_nnc = candidates[(faces.neighbors[candidates] >= 0).all(axis=1)]
+    nnc_cells = np.concatenate([faces.neighbors[face_nnc], pinch_pairs]).astype(np.int64)
+    return NNC(
         nnc_cells,
         cell_global[nnc_cells],
-        np.concatenate([nnc_kind[face_nnc], np.full(pinch_pairs.shape[0], PINCH, np.int8)]),
+        np.concatenate([faces.nnc_kind[face_nnc], np.full(pinch_pairs.shape[0], PINCH, np.int8)]),
         np.concatenate([face_nnc, np.full(pinch_pairs.shape[0], -1)]),
     )
-    bulk.flags.writeable = False
-    return CornerPointGrid(grid, nnc, names, tuple(notes), bulk)
+
+
+_CHUNK = 1 << 16  # faces handled per block when the face arrays are filled
+
+
+class _FaceArrays:
+    """The face arrays of the grid, allocated once and filled block by block in face order."""
+
+    def __init__(self, num_faces: int, max_nodes: int) -> None:
+        self.counts = np.empty(num_faces, dtype=np.int64)
+        self._buffer = np.empty(max_nodes, dtype=np.int64)
+        self.neighbors = np.empty((num_faces, 2), dtype=np.int64)
+        self.tags = np.empty((num_faces, 2), dtype=np.int8)  # half-face tags of both sides
+        self.fault = np.zeros(num_faces, dtype=np.int32)
+        self.nnc_kind = np.full(num_faces, -1, dtype=np.int8)
+        self.num = 0
+        self.num_nodes = 0
+
+    @property
+    def nodes(self) -> IntArray:
+        return self._buffer[: self.num_nodes]
+
+    @property
+    def pos(self) -> IntArray:
+        return offsets(self.counts[: self.num])
+
+    def add(self, counts: IntArray, nodes: IntArray) -> slice:
+        """Append faces (ragged: node counts and flat node cycles); returns their slice."""
+        added = slice(self.num, self.num + counts.size)
+        self.counts[added] = counts
+        self._buffer[self.num_nodes : self.num_nodes + nodes.size] = nodes
+        self.num += counts.size
+        self.num_nodes += nodes.size
+        return added
+
+    def add_quads(self, quads, table: IntArray) -> slice:
+        """Append lateral quads; one collapsed on a pillar (top = bottom there) is a triangle."""
+        first = self.num
+        for start in range(0, quads.num, _CHUNK):
+            q = quads.nodes(table, slice(start, start + _CHUNK))
+            keep = q != q[:, [1, 2, 3, 0]]
+            if keep.all():
+                self.add(np.full(q.shape[0], 4), q.reshape(-1))
+            else:
+                self.add(keep.sum(axis=1), q[keep])
+        return slice(first, self.num)
+
+    def add_vertical(
+        self, ver, table: IntArray, touched: IntArray, t_pos: IntArray, t_nodes: IntArray
+    ) -> slice:
+        """Append top/bottom faces; faces ``touched`` take the cycles (t_pos, t_nodes) instead."""
+        first = self.num
+        for start in range(0, ver.num, _CHUNK):
+            stop = min(start + _CHUNK, ver.num)
+            q = ver.nodes(table, slice(start, stop))
+            lo, hi = np.searchsorted(touched, [start, stop])
+            if lo == hi:
+                self.add(np.full(q.shape[0], 4), q.reshape(-1))
+                continue
+            rows = touched[lo:hi] - start
+            counts = np.full(q.shape[0], 4)
+            counts[rows] = np.diff(t_pos[lo : hi + 1])
+            pos = offsets(counts)
+            nodes = np.empty(int(pos[-1]), dtype=np.int64)
+            plain = np.ones(q.shape[0], dtype=bool)
+            plain[rows] = False
+            nodes[pos[:-1][plain][:, None] + np.arange(4)] = q[plain]
+            nodes[ragged_arange(pos[:-1][rows], counts[rows])] = t_nodes[t_pos[lo] : t_pos[hi]]
+            self.add(counts, nodes)
+        return slice(first, self.num)
+
+    def keep(self, keep: np.ndarray) -> None:
+        """Keep only the faces where ``keep`` is True."""
+        counts = self.counts[keep]
+        self._buffer = self.nodes[ragged_arange(self.pos[:-1][keep], counts)]
+        self.num_nodes = self._buffer.size
+        self.counts, self.num = counts, counts.size
+        self.neighbors, self.tags = self.neighbors[keep], self.tags[keep]
+        self.fault, self.nnc_kind = self.fault[keep], self.nnc_kind[keep]
+
+    def reverse_cycles(self) -> None:
+        """Reverse the node cycle of every face in place (a block of faces at a time)."""
+        pos, nodes = self.pos, self.nodes
+        for start in range(0, self.num, _CHUNK):
+            stop = min(start + _CHUNK, self.num)
+            local = pos[start : stop + 1] - pos[start]
+            counts = np.diff(local)
+            owner = np.repeat(np.arange(stop - start), counts)
+            within = np.arange(local[-1]) - local[owner]
+            block = nodes[pos[start] : pos[stop]]
+            block[:] = block[local[owner] + counts[owner] - 1 - within]
+
+    def renumber_nodes(self, node_map: IntArray) -> None:
+        """Replace every node id n by ``node_map[n]``, in place."""
+        nodes = self.nodes
+        for start in range(0, nodes.size, 1 << 20):
+            block = nodes[start : start + (1 << 20)]
+            block[:] = node_map[block]
 
 
 def _pillar_ids(i: IntArray, j: IntArray, nx: int) -> IntArray:
@@ -309,17 +427,16 @@ def _pinch_threshold(deck: Deck, pinch: bool, threshold: float | None) -> float 
     return 0.001
 
 
-def _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_pair, n_ver):
-    """Per face fault tag (lateral pieces then vertical faces) and the tag names.
+def _fault_tags(deck, general, faulted_pair, pair_p1, pair_p2):
+    """Fault tags of the general pieces, the tag names, and the FAULTS names' tags.
 
     On a faulted pair, a piece is on the fault if it joins cells whose lines
     differ, or a cell to a void (the fault exposes it); matched pieces (beyond a
-    fault tip, say) are not.
+    fault tip, say) are not. Quads of simple pairs are never on a faulted pair.
     """
-    n_lat = lat.pair.size
     n_pairs = pair_p1.size
-    cell_void = (lat.cell_a < 0) | (lat.cell_b < 0)
-    on_fault = faulted_pair[lat.pair] & (lat.mismatch | cell_void)
+    cell_void = (general.cell_a < 0) | (general.cell_b < 0)
+    on_fault = faulted_pair[general.pair] & (general.mismatch | cell_void)
     # One id per connected fault trace: faulted pairs linked by shared pillars.
     fp = np.flatnonzero(faulted_pair)
     n_pil = int(max(pair_p1.max(), pair_p2.max())) + 1
@@ -328,7 +445,6 @@ def _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_
     trace_of_pair = np.full(n_pairs, -1)
     trace_of_pair[fp] = label[pair_p1[fp]]
     traces, trace_id = np.unique(trace_of_pair[fp], return_inverse=True)
-    lat_tag = np.zeros(n_lat, dtype=np.int32)
 
     names: list[str] = []
     seen: dict[str, int] = {}
@@ -336,28 +452,25 @@ def _fault_tags(deck, lat, faulted_pair, pair_p1, pair_p2, pair_i, pair_j, is_j_
         if seg.name not in seen:
             seen[seg.name] = len(seen) + 1
             names.append(seg.name)
-    named = _named_fault_tags(deck, lat, pair_i, pair_j, is_j_pair, seen) if seen else None
     offset = len(names)
     id_of_pair = np.zeros(n_pairs, dtype=np.int32)
     id_of_pair[fp] = offset + 1 + trace_id
-    lat_tag[on_fault] = id_of_pair[lat.pair[on_fault]]
+    tags = np.zeros(general.pair.size, dtype=np.int32)
+    tags[on_fault] = id_of_pair[general.pair[on_fault]]
     names += [f"fault_{t + 1}" for t in range(traces.size)]
-    if named is not None:
-        lat_tag = np.where(named > 0, named, lat_tag)
-    return np.concatenate([lat_tag, np.zeros(n_ver, np.int32)]), tuple(names)
+    return tags, tuple(names), seen
 
 
-def _named_fault_tags(deck, lat, pair_i, pair_j, is_j_pair, seen) -> np.ndarray:
-    """Tag the lateral pieces on the pillar pairs a FAULTS line names.
+def _named_fault_tags(deck, pair, k_a, k_b, pairs, seen) -> np.ndarray:
+    """Tag the lateral faces (on pairs ``pair``, layers k_a, k_b) on the pillar pairs a FAULTS line names.
 
     A line (box, face X) names the +i faces of its cells: the pairs at i + 1 for
-    the box's rows j, and there the pieces whose box-side layer (the A cell's k,
+    the box's rows j, and there the faces whose box-side layer (the A cell's k,
     or the B cell's where A is a void) lies in the box's layers. X- names the -i
     faces (pairs at i, box side B); Y and Y- the same along j.
     """
-    n_lat = lat.pair.size
-    tags = np.zeros(n_lat, dtype=np.int32)
-    pi, pj, jp = pair_i[lat.pair], pair_j[lat.pair], is_j_pair[lat.pair]
+    tags = np.zeros(pair.size, dtype=np.int32)
+    pi, pj, jp = pairs.i[pair], pairs.j[pair], pairs.is_j[pair]
     for seg in deck.faults:  # FAULTS lines: a few hundred at most, each vectorised
         if seg.face in ("Z", "Z-"):
             continue  # horizontal faults are rare; not tagged here
@@ -368,7 +481,7 @@ def _named_fault_tags(deck, lat, pair_i, pair_j, is_j_pair, seen) -> np.ndarray:
             covered = jp & (pi >= seg.i1) & (pi <= seg.i2) & (pj >= seg.j1 + shift) & (pj <= seg.j2 + shift)
         else:
             covered = ~jp & (pi >= seg.i1 + shift) & (pi <= seg.i2 + shift) & (pj >= seg.j1) & (pj <= seg.j2)
-        own, other = (lat.k_a, lat.k_b) if plus else (lat.k_b, lat.k_a)
+        own, other = (k_a, k_b) if plus else (k_b, k_a)
         k = np.where(own >= 0, own, other)
         tags[covered & (k >= seg.k1) & (k <= seg.k2)] = seen[seg.name]
     return tags
@@ -393,9 +506,3 @@ def _vector_area_norm(coords: np.ndarray, pos: IntArray, nodes: IntArray) -> np.
     cr = np.cross(p, q)
     area = np.stack([np.bincount(owner, cr[:, d], pos.size - 1) for d in range(3)], axis=1)
     return 0.5 * np.linalg.norm(area, axis=1)
-
-
-def _half_face_tags(neighbors, face_tags, face_pos, cell_faces) -> np.ndarray:
-    hc = np.repeat(np.arange(face_pos.size - 1), np.diff(face_pos))
-    col = np.where(neighbors[cell_faces, 0] == hc, 0, 1)
-    return face_tags[cell_faces, col]

@@ -33,25 +33,35 @@ _FACES = np.array(
 )
 
 
-def hexahedron_volumes(xyz: FloatArray, corners: IntArray, chunk: int = 131072) -> FloatArray:
-    """Signed 24-tetrahedron volume of hexahedra given by ``corners`` (n, 8) into ``xyz``.
+def hexahedron_volumes(
+    xyz: FloatArray, corners: IntArray, cells: IntArray | None = None, chunk: int = 16384
+) -> FloatArray:
+    """Signed 24-tetrahedron volume of the hexahedra ``corners[:, cells]`` (all columns if None).
 
-    Positive for cells whose (i, j, k) corner order is right-handed. Each
-    face contributes ``h . N / 3`` with ``h`` the mean of its corners and ``N``
-    its vector area (half the cross product of its diagonals); coordinates are
-    taken relative to each cell's first corner, so UTM-size offsets cost no
-    precision.
+    ``corners`` (8, n) holds node ids into ``xyz``, one row per corner slot
+    a + 2b + 4c. Positive for cells whose (i, j, k) corner order is
+    right-handed. Each face contributes ``h . N / 3`` with ``h`` the mean of its
+    corners and ``N`` its vector area (half the cross product of its
+    diagonals); coordinates are taken relative to each cell's first corner, so
+    UTM-size offsets cost no precision.
     """
-    n = corners.shape[0]
+    coords = np.ascontiguousarray(xyz.T)  # component-major: gathers of one component are fast
+    n = corners.shape[1] if cells is None else cells.size
     out = np.empty(n)
-    for start in range(0, n, chunk):  # bounded memory: about 400 bytes per cell in flight
-        c = corners[start : start + chunk]
-        origin = xyz[c[:, 0]]
-        vol = np.zeros(c.shape[0])
+    for start in range(0, n, chunk):  # blocks of cells small enough to stay in cache
+        part = slice(start, start + chunk)
+        p = np.take(coords, corners[:, part if cells is None else cells[part]], axis=1)  # (3, 8, m)
+        p -= p[:, :1].copy()
+        vol = np.zeros(p.shape[2])
         for face in _FACES:
-            p = [xyz[c[:, s]] - origin for s in face]
-            normal = 0.5 * np.cross(p[2] - p[0], p[3] - p[1])
-            hinge = 0.25 * (p[0] + p[1] + p[2] + p[3])
-            vol += np.einsum("ij,ij->i", hinge, normal)
-        out[start : start + chunk] = vol / 3.0
+            p0, p1, p2, p3 = (p[:, s] for s in face)
+            d, e = p2 - p0, p3 - p1
+            nx = 0.5 * (d[1] * e[2] - d[2] * e[1])
+            ny = 0.5 * (d[2] * e[0] - d[0] * e[2])
+            nz = 0.5 * (d[0] * e[1] - d[1] * e[0])
+            h = 0.25 * (p0 + p1 + p2 + p3)
+            # Summed in the order numpy's einsum("ij,ij->i") uses for three terms, so
+            # that volumes stay bit-identical to those computed with it.
+            vol += (h[0] * nx + h[2] * nz) + h[1] * ny
+        out[part] = vol / 3.0
     return out

@@ -62,35 +62,43 @@ def points_on_pillars(lines: FloatArray, pillar: IntArray, z: FloatArray) -> Flo
     A pillar whose top and bottom depths differ by less than 1e-6 (OPM's rule)
     has no usable direction and is treated as vertical through its top point.
     """
-    top = lines[pillar, 0]
-    bot = lines[pillar, 1]
-    dz = bot[:, 2] - top[:, 2]
+    top = lines[:, 0]
+    dz = lines[:, 1, 2] - top[:, 2]
     vertical = np.abs(dz) < 1e-6
-    t = np.where(vertical, 0.0, (z - top[:, 2]) / np.where(vertical, 1.0, dz))
-    xy = top[:, :2] + t[:, None] * (bot[:, :2] - top[:, :2])
-    return np.column_stack([xy, z])
+    t = (z - top[pillar, 2]) / np.where(vertical, 1.0, dz)[pillar]
+    t[vertical[pillar]] = 0.0
+    xyz = np.empty((z.size, 3))
+    for d in (0, 1):
+        xyz[:, d] = top[pillar, d] + t * (lines[:, 1, d] - top[:, d])[pillar]
+    xyz[:, 2] = z
+    return xyz
 
 
-def unique_points_rows(rows: FloatArray, tol: float = 0.0) -> tuple[IntArray, PillarPoints]:
-    """Node ids of a (n_pillars, m) table of depths per pillar (NaN = no point), and the points.
+def unique_points_rows(
+    rows: FloatArray, tol: float = 0.0, first_id: int = 0
+) -> tuple[IntArray, IntArray, FloatArray]:
+    """Node ids of a (n_rows, m) table of depths, one row per pillar (NaN = no point).
 
     The structured twin of :func:`unique_points` for when every pillar's
     candidate depths fit in one row (corner-point decks): each row is sorted on
-    its own (mostly presorted runs), which is much faster than one global sort.
-    Returns ids of the same shape as ``rows`` (-1 where NaN).
+    its own, which is much faster than one global sort when rows are made of a
+    few presorted runs. Points are numbered from ``first_id``, row by row and by
+    depth within a row, so a table can be numbered in blocks of rows. Returns
+    the ids (the shape of ``rows``, -1 where NaN), the number of points of each
+    row and their depths (row by row, increasing).
     """
     if tol > 0:
         rows = np.round(rows / tol) * tol
-    n_pillars, m = rows.shape
+    n_rows, m = rows.shape
     order = np.argsort(rows, axis=1, kind="stable")  # NaN sorts last
-    srt = np.take_along_axis(rows, order, axis=1)
+    order += (np.arange(n_rows) * m)[:, None]  # positions in the flattened table
+    srt = np.ravel(rows)[order]
     valid = ~np.isnan(srt)
     new = valid.copy()
     new[:, 1:] &= srt[:, 1:] != srt[:, :-1]
-    ids_sorted = np.cumsum(new, axis=None).reshape(n_pillars, m) - 1
-    ids_sorted[~valid] = -1
-    ids = np.empty_like(ids_sorted)
-    np.put_along_axis(ids, order, ids_sorted, axis=1)
-    pillar, _ = np.nonzero(new)
-    offset = np.searchsorted(pillar, np.arange(n_pillars + 1)).astype(np.int64)
-    return ids, PillarPoints(np.zeros(0, np.int64), offset, pillar.astype(np.int64), srt[new])
+    ids_sorted = np.cumsum(new, dtype=np.int64)
+    ids_sorted += first_id - 1
+    ids_sorted[~valid.ravel()] = -1
+    ids = np.empty(n_rows * m, dtype=np.int64)
+    ids[order.ravel()] = ids_sorted
+    return ids.reshape(n_rows, m), new.sum(axis=1), srt[new]
