@@ -39,6 +39,7 @@ lint: $(VENV)/.installed-test
 
 bench: $(VENV)/.installed-run
 	$(BIN)/python bench/geometry.py
+	$(BIN)/python bench/cornerpoint.py
 
 clean:
 	rm -rf results/*/ .snakemake

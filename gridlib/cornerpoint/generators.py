@@ -56,9 +56,10 @@ def simple_grdecl(
     """MRST's ``simpleGrdecl``: a two-block model with one fault near x = 0.5.
 
     The box [0, 1] x [0, 1] x [0, 0.5] (``phys_dims``, m) gets skewed pillars
-    (unless ``undisturbed``) and sine-perturbed layers (unless ``flat``). The
-    corners with x index in the second half are displaced downwards by
-    ``drop`` (m), a number or a function of y along the fault.
+    (unless ``undisturbed``) and sine-perturbed layers (unless ``flat``), both
+    scaled with the box. The corners with x index in the second half are
+    displaced downwards by ``drop`` (m), a number or a function of y (m) along
+    the fault.
 
     >>> deck = simple_grdecl([4, 2, 3], 0.12, flat=True)
     >>> deck.cart_dims, deck.zcorn.size
@@ -67,13 +68,16 @@ def simple_grdecl(
     dims = _dims(dims, "simple_grdecl")
     nx, ny, nz = dims
     phys = np.asarray(phys_dims, dtype=np.float64)
-    X, Y, Z = _lattice(dims, phys)
+    # MRST's deformations, applied in the units of its default box [0,1] x [0,1] x [0,0.5]
+    # and scaled back, so that other physical dimensions give the same shapes.
+    scale = phys / np.array([1.0, 1.0, 0.5])
+    X, Y, Z = (c / s for c, s in zip(_lattice(dims, phys), scale, strict=True))
     if not undisturbed:
         X = X + 0.2 * (0.5 - np.abs(X - 0.5)) * (Z - 0.5)
     if not flat and not undisturbed:
-        xi, eta = X / phys[0], Y / phys[1]
-        Z = Z - 0.05 * np.sin(np.pi * (xi - 0.5)) - 0.075 * np.sin(np.pi * (eta + 2 * xi))
+        Z = Z - 0.05 * np.sin(np.pi * (X - 0.5)) - 0.075 * np.sin(np.pi * (Y + 2 * X))
         Z = np.sort(Z, axis=2)
+    X, Y, Z = X * scale[0], Y * scale[1], Z * scale[2]
     coord = _coord(X, Y, Z)
     z = Z[np.ix_(_corner_index(nx), _corner_index(ny), _corner_index(nz))].copy()
     half = nx  # corner columns 2nx/2 .. 2nx - 1 are the downthrown block

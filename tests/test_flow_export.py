@@ -1,0 +1,155 @@
+"""Decks we write are read by OPM Flow, and Flow computes our pore volumes and connections.
+
+Runs when ``flow`` (Debian ``libopm-simulators-bin``) is on the PATH; with
+``GRIDLIB_REQUIRE_FLOW=1`` (set by ``.ci/run``, which installs OPM) a missing
+``flow`` is a failure, so CI never skips this silently.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from gridlib import check_grid, compute_geometry
+from gridlib.cornerpoint.generators import make_model3, simple_grdecl
+from gridlib.cornerpoint.horizons import FaultTrace, horizons_to_grdecl
+from gridlib.cornerpoint.process import process_grdecl
+from gridlib.io.egrid import read_egrid
+from gridlib.io.grdecl import write_grdecl
+
+WRAPPER = """\
+-- minimal oil-water deck around {grid} (grid and initialisation tests only)
+RUNSPEC
+DIMENS
+ {nx} {ny} {nz} /
+OIL
+WATER
+METRIC
+TABDIMS
+ 1 1 20 20 /
+EQLDIMS
+ 1 /
+START
+ 1 'JAN' 2020 /
+UNIFOUT
+GRID
+INIT
+INCLUDE
+ '{grid}' /
+EQUALS
+ 'PERMX' 100.0 /
+ 'PERMY' 100.0 /
+ 'PERMZ' 10.0 /
+/
+PROPS
+SWOF
+ 0.0 0.0 1.0 0.0
+ 1.0 1.0 0.0 0.0 /
+PVTW
+ 200.0 1.0 3.0e-6 0.5 0.0 /
+PVDO
+ 100.0 1.01 1.0
+ 400.0 1.00 1.0 /
+DENSITY
+ 800 1000 1 /
+ROCK
+ 200.0 1.0e-6 /
+SOLUTION
+EQUIL
+ {datum} 200.0 {owc} 0 {datum} 0 /
+SCHEDULE
+TSTEP
+ 1 /
+END
+"""
+
+
+@pytest.fixture(scope="module")
+def flow() -> str:
+    exe = shutil.which("flow")
+    if exe is None:
+        if os.environ.get("GRIDLIB_REQUIRE_FLOW") == "1":
+            pytest.fail("GRIDLIB_REQUIRE_FLOW=1 but OPM Flow ('flow') is not on the PATH")
+        pytest.skip("OPM Flow ('flow') is not installed")
+    return exe
+
+
+def run_flow(flow: str, deck, cell_data: dict, tmp_path) -> dict[str, np.ndarray]:
+    """Write ``deck`` + properties, let Flow initialise it, return its EGRID and INIT arrays."""
+    import resfo
+
+    write_grdecl(tmp_path / "grid.grdecl", deck, cell_data)
+    nx, ny, nz = deck.cart_dims
+    finite = deck.zcorn[np.isfinite(deck.zcorn)]
+    (tmp_path / "CASE.DATA").write_text(
+        WRAPPER.format(grid="grid.grdecl", nx=nx, ny=ny, nz=nz, datum=finite.min(), owc=finite.max() + 1)
+    )
+    out = tmp_path / "out"
+    done = subprocess.run(
+        [flow, "--enable-dry-run=true", "--threads-per-process=1", f"--output-dir={out}", "CASE.DATA"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    arrays: dict[str, np.ndarray] = {}
+    for name in ("CASE.EGRID", "CASE.INIT"):
+        for kw, arr in resfo.read(out / name):
+            arrays.setdefault(kw.strip(), np.asarray(arr))
+    return arrays
+
+
+def _fault_model():
+    x, y = np.linspace(0.0, 2000.0, 21), np.linspace(0.0, 1500.0, 16)
+    X, Y = np.meshgrid(x, y)
+    top = 2000.0 + 0.02 * X + 30.0 * np.sin(Y / 400.0)
+    faults = [
+        FaultTrace([(950.0, -10.0), (1100.0, 1510.0)], throw=12.0, name="EAST"),
+        FaultTrace([(-10.0, 700.0), (1300.0, 900.0)], throw=lambda s: 8.0 * (1.0 - s), name="TAPER"),
+    ]
+    horizons = [{"x": x, "y": y, "z": top}, {"x": x, "y": y, "z": top + 40.0 + 0.005 * X}]
+    return horizons_to_grdecl(horizons, layers=5, faults=faults)
+
+
+MODELS = {
+    "make_model3": lambda: make_model3([20, 15, 6]),
+    "simple_grdecl_sine": lambda: simple_grdecl(
+        [12, 8, 4], lambda y: 4.0 * (np.sin(2 * np.pi * y / 800.0) - 0.5), phys_dims=(1000.0, 800.0, 40.0)
+    ),
+    "horizons_with_faults": _fault_model,
+}
+
+
+@pytest.mark.parametrize("model", list(MODELS))
+def test_flow_reads_our_deck_and_agrees_on_pore_volumes_and_nncs(flow, tmp_path, model):
+    deck = MODELS[model]()
+    rng = np.random.default_rng(1)
+    poro = 0.1 + 0.25 * rng.random(deck.num_cells)
+    ntg = 0.6 + 0.4 * rng.random(deck.num_cells)
+    ref = run_flow(flow, deck, {"PORO": poro, "NTG": ntg}, tmp_path)
+
+    ours = process_grdecl(deck)
+    g = ours.grid
+    check_grid(g, compute_geometry(g))
+    flow_active = np.flatnonzero(ref["ACTNUM"] > 0)
+    np.testing.assert_array_equal(g.cells.index_map, flow_active)
+    porv = ref["PORV"].astype(np.float64)[flow_active]
+    cells = g.cells.index_map
+    np.testing.assert_allclose(ours.bulk_volumes * poro[cells] * ntg[cells], porv, rtol=1e-6)
+
+    flow_nnc = set()
+    if "NNC1" in ref:
+        a, b = ref["NNC1"].astype(np.int64) - 1, ref["NNC2"].astype(np.int64) - 1
+        flow_nnc = set(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
+    gc = np.sort(ours.nnc.global_cells, axis=1)
+    assert set(map(tuple, gc.tolist())) == flow_nnc
+
+    # And Flow's own EGRID, read back through read_egrid, processes to the same cells.
+    (tmp_path / "out" / "CASE.EGRID").replace(tmp_path / "flow.EGRID")
+    again = process_grdecl(read_egrid(tmp_path / "flow.EGRID"))
+    np.testing.assert_array_equal(again.grid.cells.index_map, g.cells.index_map)
