@@ -241,3 +241,34 @@ def test_cell_collapsed_on_one_pillar_has_triangular_side_faces():
     gl.check_grid(g, geo)
     assert g.num_cells == 4
     assert int((g.faces.num_nodes == 3).sum()) == 2  # S and N faces of cell (0, 0, 0); its W face vanishes
+
+
+def test_cell_pinched_on_a_whole_pair_is_no_neighbour_there():
+    """Cell 0 has zero thickness on both pillars it shares with cell 1: it is a wedge whose
+    edge touches cell 1 along a line, so cell 1's face there is on the boundary."""
+    deck = simple_grdecl([2, 1, 1], 0.0, flat=True, undisturbed=True)
+    z = np.array(deck.zcorn).reshape(2, 2, 4)
+    z[1, :, 1] = z[0, :, 1]  # cell 0's east corners (on the shared pillars) collapse
+    r = process_grdecl(dataclasses.replace(deck, zcorn=z.ravel()))
+    geo = gl.compute_geometry(r.grid)
+    gl.check_grid(r.grid, geo)
+    np.testing.assert_allclose(geo.cell_volumes, r.bulk_volumes, rtol=1e-12)
+    assert not np.any((r.grid.faces.neighbors >= 0).all(axis=1))  # no interior face
+
+
+def test_faults_named_by_the_deck_leave_no_automatic_names():
+    deck = simple_grdecl([4, 2, 3], 0.12, flat=True)
+    r = process_grdecl(dataclasses.replace(deck, faults=(FaultSegment("MIDDLE", 1, 1, 0, 1, 0, 2, "X"),)))
+    assert r.fault_names == ("MIDDLE",)
+    partial = dataclasses.replace(deck, faults=(FaultSegment("TOP", 1, 1, 0, 1, 0, 0, "X"),))
+    r = process_grdecl(partial)  # the lower layers' fault faces keep an automatic id
+    assert r.fault_names == ("TOP", "fault_1")
+    assert set(np.unique(r.grid.faces.tag)) == {0, 1, 2}
+
+
+def test_deck_of_collapsed_cells_only_is_a_clear_error():
+    deck = simple_grdecl([2, 2, 1], 0.0, flat=True)
+    z = np.array(deck.zcorn).reshape(2, 4, 4)
+    z[1] = z[0]
+    with pytest.raises(gl.InputError, match="every active cell has zero thickness"):
+        process_grdecl(dataclasses.replace(deck, zcorn=z.ravel()))

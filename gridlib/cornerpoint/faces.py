@@ -116,14 +116,16 @@ def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_bas
     selected = simple[None] & (ex_a | ex_b)
     where = np.flatnonzero(selected)
     use_a = ex_a.reshape(-1)[where]
+    use_b = ex_b.reshape(-1)[where]
     pos_a = position_a[selected]
     cells_flat = cells.reshape(-1)
     quads = LateralQuads(
         np.where(use_a, pos_a, pos_a + step),
         use_a,
         _J_QUAD if along_j else _I_QUAD,
-        cells_flat[pos_a],
-        cells_flat[pos_a + step],
+        # A cell pinched on this pair (no thickness on either pillar) is not a neighbour here.
+        np.where(use_a, cells_flat[pos_a], -1),
+        np.where(use_b, cells_flat[pos_a + step], -1),
         where,
         pairs_per_layer,
         pair_base,

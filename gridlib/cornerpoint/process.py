@@ -36,6 +36,7 @@ from scipy import sparse
 from scipy.sparse import csgraph
 
 from ..connectivity import cell_half_faces, drop_repeated_nodes, offsets, ragged_arange, renumbering
+from ..errors import InputError
 from ..grid import B, Cells, E, Faces, FloatArray, Grid, IntArray, N, Nodes, S, T, W
 from ..stratigraphic.conformal import insert_edge_nodes
 from ..stratigraphic.lateral import SideCells, general_pieces
@@ -96,6 +97,8 @@ def process_grdecl(
     cn = corner_nodes(deck, tolerance)
     notes = list(cn.notes)
     cell_global = np.flatnonzero(cn.kept.ravel())  # kept cells keep the deck's (k, j, i) order
+    if cell_global.size == 0:
+        raise InputError(f"{deck.source}: every active cell has zero thickness (collapsed on all pillars)")
     bulk = hexahedron_volumes(cn.xyz, cn.table.reshape(8, -1), np.flatnonzero(cn.cells >= 0))
     if cn.left_handed:
         bulk = -bulk
@@ -118,6 +121,7 @@ def process_grdecl(
         pinch_pairs = pinch_pairs[(pinch_pairs >= 0).all(axis=1)]
         face_pos, half_faces = cell_half_faces(faces.neighbors, cell_global.size)
 
+    names = _compact_fault_tags(faces.fault, names, len({seg.name for seg in deck.faults}))
     used = np.zeros(coords.shape[0], dtype=bool)
     used[faces.nodes] = True
     if not used.all():
@@ -198,7 +202,7 @@ def _faces(deck: Deck, cn, pinch_threshold: float | None, notes: list[str]):
     n_quads = lat_i.quads.num + lat_j.quads.num
     n_lat = n_quads + general.pair.size
     faces = _FaceArrays(n_lat + ver.num, 4 * (n_quads + ver.num) + general.nodes.size + t_nodes.size)
-    named = (lambda pair, k_a, k_b: _named_fault_tags(deck, pair, k_a, k_b, pairs, seen)) if seen else None
+    named = _NamedFaults(deck, pairs, seen).tags if seen else None
     for lat, pieces, tags in ((lat_i, g_i, (E, W)), (lat_j, g_j, (N, S))):
         _add_quads(faces, lat.quads, cn.table, tags, named)
         _add_pieces(faces, general, pieces, g_fault, tags, named)
@@ -461,30 +465,54 @@ def _fault_tags(deck, general, faulted_pair, pair_p1, pair_p2):
     return tags, tuple(names), seen
 
 
-def _named_fault_tags(deck, pair, k_a, k_b, pairs, seen) -> np.ndarray:
-    """Tag the lateral faces (on pairs ``pair``, layers k_a, k_b) on the pillar pairs a FAULTS line names.
+class _NamedFaults:
+    """The FAULTS lines of a deck as lookup tables over (layer, pillar pair), for either side.
 
     A line (box, face X) names the +i faces of its cells: the pairs at i + 1 for
     the box's rows j, and there the faces whose box-side layer (the A cell's k,
     or the B cell's where A is a void) lies in the box's layers. X- names the -i
-    faces (pairs at i, box side B); Y and Y- the same along j.
+    faces (pairs at i, box side B); Y and Y- the same along j. Where lines
+    overlap, the later one wins (as if applied in order). Z faces are not
+    tagged (horizontal faults are rare).
     """
-    tags = np.zeros(pair.size, dtype=np.int32)
-    pi, pj, jp = pairs.i[pair], pairs.j[pair], pairs.is_j[pair]
-    for seg in deck.faults:  # FAULTS lines: a few hundred at most, each vectorised
-        if seg.face in ("Z", "Z-"):
-            continue  # horizontal faults are rare; not tagged here
-        plus = not seg.face.endswith("-")
-        along_j = seg.face.startswith("Y")
-        shift = 1 if plus else 0
-        if along_j:
-            covered = jp & (pi >= seg.i1) & (pi <= seg.i2) & (pj >= seg.j1 + shift) & (pj <= seg.j2 + shift)
-        else:
-            covered = ~jp & (pi >= seg.i1 + shift) & (pi <= seg.i2 + shift) & (pj >= seg.j1) & (pj <= seg.j2)
-        own, other = (k_a, k_b) if plus else (k_b, k_a)
-        k = np.where(own >= 0, own, other)
-        tags[covered & (k >= seg.k1) & (k <= seg.k2)] = seen[seg.name]
-    return tags
+
+    def __init__(self, deck: Deck, pairs: _PillarPairs, seen: dict[str, int]) -> None:
+        nx, ny, nz = deck.cart_dims
+        n_ipairs = (nx + 1) * ny
+        # line number + 1 per (side, layer, pair), 0 = none; a loop over FAULTS lines, each a slice
+        self.line = np.zeros((2, nz, pairs.num), dtype=np.int32)
+        i_view = self.line[:, :, :n_ipairs].reshape(2, nz, ny, nx + 1)
+        j_view = self.line[:, :, n_ipairs:].reshape(2, nz, ny + 1, nx)
+        for n, seg in enumerate(deck.faults):
+            if seg.face in ("Z", "Z-"):
+                continue
+            plus = not seg.face.endswith("-")
+            shift = 1 if plus else 0
+            ks = slice(max(seg.k1, 0), seg.k2 + 1)
+            if seg.face.startswith("Y"):
+                j_view[0 if plus else 1, ks, seg.j1 + shift : seg.j2 + shift + 1, seg.i1 : seg.i2 + 1] = n + 1
+            else:
+                i_view[0 if plus else 1, ks, seg.j1 : seg.j2 + 1, seg.i1 + shift : seg.i2 + shift + 1] = n + 1
+        self.tag_of_line = np.array([0] + [seen[seg.name] for seg in deck.faults], dtype=np.int32)
+
+    def tags(self, pair: IntArray, k_a: IntArray, k_b: IntArray) -> IntArray:
+        """Name tags (0 = none) of the lateral faces on ``pair`` between layers k_a and k_b (-1 = void)."""
+        line_a = self.line[0, np.where(k_a >= 0, k_a, k_b), pair]
+        line_b = self.line[1, np.where(k_b >= 0, k_b, k_a), pair]
+        return self.tag_of_line[np.maximum(line_a, line_b)]
+
+
+def _compact_fault_tags(fault: IntArray, names: tuple[str, ...], n_named: int) -> tuple[str, ...]:
+    """Drop the automatic fault names no face carries (FAULTS names took their faces) and
+    renumber the automatic tags after the named ones; ``fault`` is changed in place."""
+    used = np.zeros(len(names) + 1, dtype=bool)
+    used[fault] = True
+    used[: n_named + 1] = True
+    if used.all():
+        return names
+    new_tag = (np.cumsum(used) - 1).astype(np.int32)
+    fault[:] = new_tag[fault]
+    return tuple(name for name, u in zip(names, used[1:], strict=True) if u)
 
 
 def _degenerate_columns(same_pillars: np.ndarray, nx: int, ny: int) -> np.ndarray:
