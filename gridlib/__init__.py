@@ -16,10 +16,24 @@ z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
 from importlib.metadata import PackageNotFoundError, version
 
 from .checks import check_grid
+from .cornerpoint import (
+    CornerPointGrid,
+    Deck,
+    FaultSegment,
+    FaultTrace,
+    Horizon,
+    cut_grdecl,
+    horizons_to_grdecl,
+    make_model3,
+    process_grdecl,
+    simple_grdecl,
+)
 from .errors import GridError, InputError
 from .geometry import Geometry, compute_geometry
 from .glue import glue_2d
 from .grid import Cells, Faces, Grid, Layering, Nodes
+from .io.egrid import read_egrid
+from .io.grdecl import DeckError, read_grdecl, write_grdecl
 from .layered import make_layered_grid
 from .structured import cart_grid, tensor_grid, translate_grid, twister
 from .subgrid import Subgrid, extract_subgrid, remove_cells
@@ -33,10 +47,16 @@ except PackageNotFoundError:  # running from a source tree without installation
 
 __all__ = [
     "Cells",
+    "CornerPointGrid",
+    "Deck",
+    "DeckError",
     "Faces",
+    "FaultSegment",
+    "FaultTrace",
     "Geometry",
     "Grid",
     "GridError",
+    "Horizon",
     "InputError",
     "Layering",
     "Nodes",
@@ -45,15 +65,23 @@ __all__ = [
     "cart_grid",
     "check_grid",
     "compute_geometry",
+    "cut_grdecl",
     "extract_subgrid",
     "glue_2d",
+    "horizons_to_grdecl",
     "make_layered_grid",
+    "make_model3",
     "pebi",
+    "process_grdecl",
+    "read_egrid",
+    "read_grdecl",
     "remove_cells",
+    "simple_grdecl",
     "tensor_grid",
     "tessellation_grid",
     "tetrahedral_grid",
     "translate_grid",
     "triangle_grid",
     "twister",
+    "write_grdecl",
 ]

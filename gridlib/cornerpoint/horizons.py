@@ -32,7 +32,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import RegularGridInterpolator
 
 from ..errors import InputError
 from .deck import Deck, FaultSegment
@@ -434,6 +433,8 @@ def _check_horizons(horizons: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndar
 def _interpolate(xa: np.ndarray, ya: np.ndarray, z: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
     """Bilinear depths at the pillar nodes (ny + 1, nx + 1); NaN outside the horizon's box and
     wherever one of its NaN nodes has a non-zero weight (not just next to one)."""
+    from scipy.interpolate import RegularGridInterpolator  # slow to import (0.5 s): only when used
+
     undefined = np.isnan(z)
     values = np.stack([np.where(undefined, 0.0, z), undefined.astype(np.float64)], axis=-1)
     interp = RegularGridInterpolator((ya, xa), values, method="linear", bounds_error=False, fill_value=np.nan)
