@@ -240,35 +240,8 @@ def _fast_numbers(text: bytes, expected: int | None, at_most: int | None) -> Num
         if ch in text:
             text = text.replace(ch, b" ")
     text = text.replace(b" ", b"\n")
-    stars = b"*" in text
-    if stars:
-        # "n*v" -> "n,1,v" (count, flag, value); "n*" -> "n,1," (defaulted); "v" -> "v".
-        text = text.replace(b"*", b",1,")
-        table = pd.read_csv(
-            io.BytesIO(text),
-            header=None,
-            names=["a", "flag", "b"],
-            dtype=np.float64,
-            engine="c",
-            keep_default_na=False,
-            na_values=[""],
-            quoting=csv.QUOTE_NONE,
-        ).to_numpy()
-        a, flag, b = table[:, 0], table[:, 1], table[:, 2]
-        rep = flag == 1
-        if np.isnan(a).any() or np.any(np.isnan(flag) != ~rep):
-            return None  # an empty value or a stray ',' somewhere
-        counts = np.where(rep, a, 1.0)
-        if np.any(counts < 1) or np.any(counts != np.floor(counts)):
-            return None
-        total = float(counts.sum())
-        if (expected is not None and total != expected) or (at_most is not None and total > at_most):
-            raise _CountMismatch(total)  # before np.repeat: "1e12*0" must not allocate
-        counts = counts.astype(np.int64)
-        values = np.where(rep, b, a)
-        defaulted = rep & np.isnan(b)
-        out = np.repeat(values, counts)
-        return Numbers(out, np.repeat(defaulted, counts) if defaulted.any() else None)
+    if b"*" in text:
+        return _repeated_numbers(text, expected, at_most)
     if not text.strip():
         return Numbers(np.zeros(0), None)
     values = pd.read_csv(
@@ -279,8 +252,44 @@ def _fast_numbers(text: bytes, expected: int | None, at_most: int | None) -> Num
         engine="c",
         na_filter=False,
         quoting=csv.QUOTE_NONE,
-    ).to_numpy()[:, 0]
+    )["a"].to_numpy()
     return Numbers(np.ascontiguousarray(values), None)
+
+
+def _repeated_numbers(text: bytes, expected: int | None, at_most: int | None) -> Numbers | None:
+    """Tokens one per line, some of them ``n*v`` (or ``n*``, n defaulted values)."""
+    csv_options = dict(
+        header=None,
+        dtype=np.float64,
+        engine="c",
+        keep_default_na=False,
+        na_values=[""],
+        quoting=csv.QUOTE_NONE,
+    )
+    if b"*\n" in text or text.endswith(b"*"):
+        # Defaulted values: "n*v" -> "n,1,v" (count, flag, value); "n*" -> "n,1,"; "v" -> "v".
+        table = pd.read_csv(io.BytesIO(text.replace(b"*", b",1,")), names=["a", "flag", "b"], **csv_options)
+        a, flag, b = (table[c].to_numpy() for c in ("a", "flag", "b"))
+        rep = flag == 1
+        if np.any(np.isnan(flag) != ~rep):
+            return None  # a stray ',' somewhere
+    else:  # "n*v" -> (n, v); "v" -> (v, NaN)
+        table = pd.read_csv(io.BytesIO(text), names=["a", "b"], sep="*", **csv_options)
+        a, b = table["a"].to_numpy(), table["b"].to_numpy()
+        rep = ~np.isnan(b)
+    if np.isnan(a).any():
+        return None  # an empty count or value ("*5", ",")
+    counts = np.where(rep, a, 1.0)
+    if np.any(counts < 1) or np.any(counts != np.floor(counts)):
+        return None
+    total = float(counts.sum())
+    if (expected is not None and total != expected) or (at_most is not None and total > at_most):
+        raise _CountMismatch(total)  # before np.repeat: "1e12*0" must not allocate
+    counts = counts.astype(np.int64)
+    values = np.where(rep, b, a)
+    defaulted = rep & np.isnan(b)
+    out = np.repeat(values, counts)
+    return Numbers(out, np.repeat(defaulted, counts) if defaulted.any() else None)
 
 
 def _slow_numbers(src: Source, pos: int, end: int, keyword: str, limit: int | None) -> Numbers:
