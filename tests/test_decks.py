@@ -26,6 +26,16 @@ DECKS = [
     ("2_WLIFT_MODEL5_NOINC", "model5/2_WLIFT_MODEL5_NOINC.DATA", "METRIC"),
     ("REEK_GRDECL", "reek/REEK_GRDECL.DATA", "METRIC"),  # the text files
     ("REEK_FLOWWRAP", "reek/REEK_FLOWWRAP.DATA", "METRIC"),  # GDFILE: ECLIPSE's REEK.EGRID
+] + [  # OPM's PINCH/MINPV decks: five stacked cells, some thin, MINPV 0.5 makes them inactive
+    (name, f"pinch/{name}.DATA", None)
+    for name in (
+        "FIVE",
+        "FIVE_ACTNUM",
+        "FIVE_PINCH",
+        "FIVE_PINCH_NOGAP",
+        "FIVE_PINCH_NOGAP2",
+        "FIVE_PINCH_NOGAP3",
+    )
 ]
 
 
@@ -55,6 +65,16 @@ def test_active_cells_and_bulk_volumes_match_flow(processed, flow_reference, nam
     # The watertight polyhedra hold the same total volume (cells differ only where warped
     # faces are shared across faults: see gridlib.cornerpoint.volumes).
     assert geo.cell_volumes.sum() == pytest.approx(bulk.sum(), rel=1e-5)
+
+
+def test_minpv_can_be_turned_off(decks_dir):
+    deck = read_grdecl(decks_dir / "pinch" / "FIVE_PINCH_NOGAP3.DATA")
+    assert deck.minpv == 0.5
+    r = process_grdecl(deck)
+    assert r.grid.cells.index_map.tolist() == [0, 4]  # thicknesses 1, 0.1, 0.3, 0.4, 2.2 m; PORO 1
+    assert "3 cells with a pore volume below MINPV 0.5 were made inactive" in r.notes
+    assert process_grdecl(deck, minpv=0).grid.num_cells == 5
+    assert process_grdecl(deck, minpv=0.35).grid.cells.index_map.tolist() == [0, 3, 4]
 
 
 def test_reference_totals_are_the_readme_figures(flow_reference):

@@ -9,7 +9,7 @@ temporaries stay small.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -43,6 +43,17 @@ class CornerNodes:
     lines: FloatArray  # (n_pillars, 2, 3) pillars with z as depth
     left_handed: bool
     notes: tuple[str, ...]
+
+    def without(self, drop: np.ndarray) -> CornerNodes:
+        """The same nodes with the kept cells ``drop`` (a mask in kept-cell order) removed."""
+        kept = self.kept.copy()
+        kept[kept] = ~drop
+        table = self.table.copy()
+        inner = table[:, :, 1:-1, 1:-1]
+        inner[:, ~kept] = -1
+        cells = np.full_like(self.cells, -1)
+        cells[:, 1:-1, 1:-1][kept] = np.arange(int(np.count_nonzero(kept)))
+        return replace(self, table=table, kept=kept, cells=cells)
 
 
 def _cell(nx: int, ny: int, flat_corner: int) -> str:

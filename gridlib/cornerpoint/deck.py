@@ -15,7 +15,8 @@ Layout (ECLIPSE's, kept as in the file so that a written deck round-trips):
 Depths are z values along the pillars; in most decks z is depth (positive
 down), but z-up and left-handed decks exist and are normalised by
 ``process_grdecl``. Units are those of the deck (``units``: METRIC, FIELD,
-LAB or PVT-M; lengths in m, ft, cm, m).
+LAB or PVT-M; lengths in m, ft, cm, m; None where the file does not say, as
+in a GRDECL include file; ECLIPSE's default is METRIC).
 
 Fault segments are stored 0-based and inclusive (i1 <= i <= i2), with the face
 as in the FAULTS keyword: X, Y, Z (the +i, +j, +k face of the cells in the box)

@@ -79,7 +79,11 @@ class CornerPointGrid:
 
 
 def process_grdecl(
-    deck: Deck, tolerance: float = 0.0, pinch: bool = False, pinch_threshold: float | None = None
+    deck: Deck,
+    tolerance: float = 0.0,
+    pinch: bool = False,
+    pinch_threshold: float | None = None,
+    minpv: float | None = None,
 ) -> CornerPointGrid:
     """Process a corner-point deck into a grid, its NNCs and fault names.
 
@@ -88,6 +92,9 @@ def process_grdecl(
     ``pinch``: connect cells across removed layers whose gap is at most
     ``pinch_threshold`` (default: the deck's PINCH threshold, else 0.001) as
     non-neighbour connections.
+    ``minpv`` (deck volume unit): cells whose pore volume (bulk volume x PORO x
+    NTG x MULTPV, as ECLIPSE's MINPV) is below it become inactive; default:
+    the deck's MINPV, if any; 0 turns it off.
 
     >>> from gridlib.cornerpoint.generators import simple_grdecl
     >>> r = process_grdecl(simple_grdecl([4, 2, 3], 0.12, flat=True))
@@ -96,12 +103,15 @@ def process_grdecl(
     """
     cn = corner_nodes(deck, tolerance)
     notes = list(cn.notes)
-    cell_global = np.flatnonzero(cn.kept.ravel())  # kept cells keep the deck's (k, j, i) order
-    if cell_global.size == 0:
+    if not cn.kept.any():
         raise InputError(f"{deck.source}: every active cell has zero thickness (collapsed on all pillars)")
     bulk = hexahedron_volumes(cn.xyz, cn.table.reshape(8, -1), np.flatnonzero(cn.cells >= 0))
     if cn.left_handed:
         bulk = -bulk
+    small = _below_minimum_pore_volume(deck, cn, bulk, deck.minpv if minpv is None else minpv, notes)
+    if small is not None:
+        cn, bulk = cn.without(small), bulk[~small]
+    cell_global = np.flatnonzero(cn.kept.ravel())  # kept cells keep the deck's (k, j, i) order
     faces, coords, names, pinch_pairs = _faces(
         deck, cn, _pinch_threshold(deck, pinch, pinch_threshold), notes
     )
@@ -415,6 +425,30 @@ class _FaceArrays:
         for start in range(0, nodes.size, 1 << 20):
             block = nodes[start : start + (1 << 20)]
             block[:] = node_map[block]
+
+
+def _below_minimum_pore_volume(deck: Deck, cn, bulk, minpv: float | None, notes: list[str]):
+    """Kept cells whose pore volume PORO * NTG * MULTPV * bulk volume is below ``minpv``
+    (ECLIPSE's MINPV: they become inactive), or None when nothing is removed."""
+    if not minpv:
+        return None
+    if minpv < 0:
+        raise InputError(f"process_grdecl: minpv must be >= 0, got {minpv}")
+    if "PORO" not in deck.cell_data:
+        notes.append(f"MINPV {minpv:g} not applied: the deck has no PORO")
+        return None
+    kept = np.flatnonzero(cn.kept.ravel())
+    pore = np.abs(bulk) * deck.cell_data["PORO"][kept]
+    for name in ("NTG", "MULTPV"):
+        if name in deck.cell_data:
+            pore = pore * deck.cell_data[name][kept]
+    small = ~(pore >= minpv)  # undefined (NaN) porosity counts as no pore volume
+    if not small.any():
+        return None
+    if small.all():
+        raise InputError(f"{deck.source}: every cell has a pore volume below MINPV {minpv:g}")
+    notes.append(f"{int(small.sum())} cells with a pore volume below MINPV {minpv:g} were made inactive")
+    return small
 
 
 def _pillar_ids(i: IntArray, j: IntArray, nx: int) -> IntArray:

@@ -11,8 +11,9 @@ NNCs, then stop) writes EGRID + INIT; we keep, per deck:
   9702/1728 ft3); INIT stores float32, so these carry ~6e-8 relative rounding;
 * ``<deck>_nnc``: Flow's NNC pairs (0-based linear indices, smaller first, sorted).
 
-Decks without the INIT keyword get it added in a temporary copy. The file also
-records Flow's version. Nothing here is used when the tests run; they read the
+Decks without the INIT keyword get it added in a temporary copy, and the
+grid-only PINCH decks the rest of a deck (phases, tables, equilibration). The
+file also records Flow's version. Nothing here is used when the tests run; they read the
 npz.
 """
 
@@ -36,7 +37,46 @@ DECKS = {
     "2_WLIFT_MODEL5_NOINC": "model5/2_WLIFT_MODEL5_NOINC.DATA",
     "REEK_FLOWWRAP": "reek/REEK_FLOWWRAP.DATA",
     "REEK_GRDECL": "reek/REEK_GRDECL.DATA",
+} | {
+    name: f"pinch/{name}.DATA"
+    for name in (
+        "FIVE",
+        "FIVE_ACTNUM",
+        "FIVE_PINCH",
+        "FIVE_PINCH_NOGAP",
+        "FIVE_PINCH_NOGAP2",
+        "FIVE_PINCH_NOGAP3",
+    )
 }
+# OPM's PINCH/MINPV test decks have only RUNSPEC and GRID; Flow needs the rest of a deck.
+RUNSPEC_EXTRA = "OIL\nWATER\nMETRIC\nTABDIMS\n 1 1 20 20 /\nEQLDIMS\n 1 /\nSTART\n 1 'JAN' 2020 /\n"
+REST_OF_DECK = """
+EQUALS
+ 'PERMX' 100 /
+ 'PERMY' 100 /
+ 'PERMZ' 100 /
+/
+PROPS
+SWOF
+ 0.0 0.0 1.0 0.0
+ 1.0 1.0 0.0 0.0 /
+PVTW
+ 200.0 1.0 3.0e-6 0.5 0.0 /
+PVDO
+ 100.0 1.01 1.0
+ 400.0 1.00 1.0 /
+DENSITY
+ 800 1000 1 /
+ROCK
+ 200.0 1.0e-6 /
+SOLUTION
+EQUIL
+ 0.5 200.0 10 0 0.5 0 /
+SCHEDULE
+TSTEP
+ 1 /
+END
+"""
 RB_IN_FT3 = 9702 / 1728  # 1 reservoir barrel = 5.6145833... ft3
 
 
@@ -59,7 +99,10 @@ def reference(name: str, relpath: str, work: Path) -> dict[str, np.ndarray]:
     deck = copy_dir / src.name
     text = deck.read_text(errors="replace")
     if "\nINIT" not in text:
-        deck.write_text(text.replace("\nGRID\n", "\nGRID\nINIT\n", 1))
+        text = text.replace("\nGRID\n", "\nGRID\nINIT\n", 1)
+    if "\nPROPS" not in text:
+        text = text.replace("RUNSPEC\n", "RUNSPEC\n" + RUNSPEC_EXTRA, 1) + REST_OF_DECK
+    deck.write_text(text)
     out = work / f"{name}_out"
     run_flow(deck, out)
     egrid = first_arrays(out / f"{src.stem}.EGRID")
