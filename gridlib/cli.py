@@ -1,0 +1,171 @@
+"""The ``gridlib`` command: build a case without Snakemake, describe or check a grid file.
+
+    gridlib build CASE.yaml OUTDIR   # grid.nc, geometry.nc and CASE.vtu in OUTDIR
+    gridlib info FILE                # a deck (GRDECL/DATA), an EGRID or a gridlib netCDF file
+    gridlib check FILE               # process (decks), compute the geometry, check every invariant
+
+Errors in the input end with one message naming the file (and key, keyword or
+line) and exit status 2; a grid that fails ``check`` exits with status 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+DECK_SUFFIXES = {".grdecl", ".data", ".inc", ".grd"}
+EGRID_SUFFIXES = {".egrid", ".fegrid"}
+
+
+def _kind(path: Path) -> str:
+    suffix = path.suffix.lower()
+    if suffix in DECK_SUFFIXES:
+        return "deck"
+    if suffix in EGRID_SUFFIXES:
+        return "egrid"
+    if suffix == ".nc":
+        return "netcdf"
+    from .errors import InputError
+
+    raise InputError(f"{path}: unknown file type '{path.suffix}' (expected .grdecl/.DATA, .EGRID or .nc)")
+
+
+def _read_deck(path: Path):
+    from .io.egrid import read_egrid
+    from .io.grdecl import read_grdecl
+
+    return read_egrid(path) if _kind(path) == "egrid" else read_grdecl(path)
+
+
+def _describe_grid(grid, out: list[str]) -> None:
+    sizes = f"{grid.num_cells:,d} cells, {grid.num_faces:,d} faces, {grid.num_nodes:,d} nodes"
+    out.append(f"grid: {grid.griddim}-D, {sizes}")
+    if grid.cart_dims is not None:
+        out.append(f"logical dimensions: {' x '.join(str(d) for d in grid.cart_dims)}")
+    n_fault = int((grid.faces.tag > 0).sum())
+    if n_fault:
+        out.append(f"fault faces: {n_fault:,d}")
+    out.append(f"history: {', '.join(grid.history)}")
+
+
+def info(path: Path) -> str:
+    """A human-readable summary of a deck, EGRID or netCDF file."""
+    out = [f"{path}"]
+    kind = _kind(path)
+    if kind in ("deck", "egrid"):
+        deck = _read_deck(path)
+        nx, ny, nz = deck.cart_dims
+        active = int(deck.active.sum())
+        out.append(f"corner-point deck: {nx} x {ny} x {nz} = {deck.num_cells:,d} cells, {active:,d} active")
+        out.append(f"units: {deck.units or 'not given (ECLIPSE default METRIC)'}")
+        if deck.cell_data:
+            out.append(f"cell keywords: {', '.join(sorted(deck.cell_data))}")
+        if deck.faults:
+            names = sorted({f.name for f in deck.faults})
+            out.append(f"faults: {len(names)} ({len(deck.faults)} FAULTS lines): {', '.join(names[:20])}")
+        if deck.nnc is not None:
+            out.append(f"NNCs in the file: {deck.nnc.shape[0]:,d}")
+        z = deck.zcorn[np.isfinite(deck.zcorn)]
+        if z.size:
+            out.append(f"depth range: {z.min():.6g} to {z.max():.6g}")
+        out += [f"note: {n}" for n in deck.notes]
+    else:
+        from .io.netcdf import read_netcdf
+
+        data = read_netcdf(path)
+        _describe_grid(data.grid, out)
+        for key in ("case_name", "gridlib_version", "case_sha256", "seed"):
+            if key in data.attrs:
+                out.append(f"{key}: {data.attrs[key]}")
+        if data.cell_data:
+            out.append(f"cell data: {', '.join(sorted(data.cell_data))}")
+    return "\n".join(out)
+
+
+def check(path: Path) -> str:
+    """Process (for decks), compute the geometry and check every invariant; raises GridError."""
+    from .checks import check_grid
+    from .geometry import compute_geometry
+
+    out = [f"{path}"]
+    if _kind(path) in ("deck", "egrid"):
+        from .cornerpoint import process_grdecl
+
+        result = process_grdecl(_read_deck(path))
+        grid = result.grid
+        _describe_grid(grid, out)
+        out.append(f"non-neighbour connections: {result.nnc.num:,d}")
+        out.append(f"bulk volume (ECLIPSE convention): {result.bulk_volumes.sum():.9g}")
+        out += [f"note: {n}" for n in result.notes]
+    else:
+        from .io.netcdf import read_netcdf
+
+        grid = read_netcdf(path).grid
+        _describe_grid(grid, out)
+    geo = compute_geometry(grid)
+    check_grid(grid, geo)
+    out.append(
+        f"total volume: {geo.cell_volumes.sum():.9g}"
+        if grid.griddim == 3
+        else f"total area: {geo.cell_volumes.sum():.9g}"
+    )
+    out.append("OK: every invariant holds")
+    return "\n".join(out)
+
+
+def build(case_file: Path, outdir: Path) -> str:
+    """Run the case's stages (grid, geometry, export) into ``outdir``."""
+    from .config import load_case
+    from .stages import stage_export, stage_geometry, stage_grid
+
+    case = load_case(case_file)
+    outdir.mkdir(parents=True, exist_ok=True)
+    grid, geometry, vtu = outdir / "grid.nc", outdir / "geometry.nc", outdir / f"{case.name}.vtu"
+    stage_grid(case_file, grid)
+    stage_geometry(case_file, grid, geometry)
+    stage_export(case_file, grid, geometry, vtu)
+    return "\n".join(str(p) for p in (grid, geometry, vtu))
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="gridlib", description=__doc__, formatter_class=argparse.RawTextHelpFormatter
+    )
+    sub = parser.add_subparsers(dest="command", required=True)
+    b = sub.add_parser("build", help="build a case's artifacts without Snakemake")
+    b.add_argument("case", type=Path)
+    b.add_argument("outdir", type=Path)
+    i = sub.add_parser("info", help="summarise a deck, EGRID or netCDF grid file")
+    i.add_argument("file", type=Path)
+    c = sub.add_parser("check", help="process and check a deck or netCDF grid file")
+    c.add_argument("file", type=Path)
+    args = parser.parse_args(argv)
+
+    from .errors import GridError, InputError
+
+    try:
+        if args.command == "build":
+            text = build(args.case, args.outdir)
+        elif args.command == "info":
+            text = info(args.file)
+        else:
+            text = check(args.file)
+    except InputError as exc:
+        print(f"gridlib: {exc}", file=sys.stderr)
+        return 2
+    except GridError as exc:
+        print(f"gridlib: {args.command}: {exc}", file=sys.stderr)
+        return 1
+    except OSError as exc:
+        print(f"gridlib: {exc}", file=sys.stderr)
+        return 2
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

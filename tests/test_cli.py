@@ -1,0 +1,57 @@
+"""The gridlib command: build, info, check; errors are one line and a status."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gridlib.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_info_of_a_deck(decks_dir, capsys):
+    assert main(["info", str(decks_dir / "reek" / "REEK_GRDECL.DATA")]) == 0
+    out = capsys.readouterr().out
+    assert "40 x 64 x 14 = 35,840 cells, 35,838 active" in out
+    assert "faults: 6 (136 FAULTS lines)" in out and "units: METRIC" in out
+
+
+def test_check_of_a_deck_and_an_egrid(decks_dir, capsys):
+    assert main(["check", str(decks_dir / "spe9" / "SPE9_CP.DATA")]) == 0
+    out = capsys.readouterr().out
+    assert "9,000 cells, 28,335 faces" in out and out.rstrip().endswith("OK: every invariant holds")
+    assert main(["check", str(decks_dir / "reek" / "REEK.EGRID")]) == 0
+    assert "non-neighbour connections: 2,944" in capsys.readouterr().out
+
+
+def test_build_then_info_and_check_of_the_netcdf(tmp_path, capsys):
+    assert main(["build", str(ROOT / "config" / "cases" / "honeycomb.yaml"), str(tmp_path)]) == 0
+    assert (tmp_path / "honeycomb.vtu").is_file()
+    assert main(["info", str(tmp_path / "grid.nc")]) == 0
+    assert "case_name: honeycomb" in capsys.readouterr().out
+    assert main(["check", str(tmp_path / "grid.nc")]) == 0
+    assert "total volume: 80.5403626" in capsys.readouterr().out
+
+
+def test_errors_are_one_message_and_a_status(tmp_path, capsys):
+    assert main(["info", str(tmp_path / "none.DATA")]) == 2
+    assert capsys.readouterr().err.strip() == f"gridlib: {tmp_path / 'none.DATA'}: no such file"
+    bad = tmp_path / "bad.grdecl"
+    bad.write_text("SPECGRID\n 2 2 1 1 F /\nCOORD\n 1 2 3 /\n")
+    assert main(["check", str(bad)]) == 2
+    assert "bad.grdecl:3: COORD: has 3 values, expected 54" in capsys.readouterr().err
+    assert main(["info", str(tmp_path / "x.txt")]) == 2
+    assert "unknown file type" in capsys.readouterr().err
+
+
+def test_the_console_script_is_installed():
+    exe = shutil.which("gridlib", path=str(Path(sys.executable).parent))
+    if exe is None:
+        pytest.fail("the 'gridlib' command is not installed beside this Python (pip install -e .)")
+    done = subprocess.run([exe, "--help"], capture_output=True, text=True, check=True)
+    assert "gridlib build CASE.yaml OUTDIR" in done.stdout
