@@ -1,0 +1,412 @@
+"""Horizons (gridlib.surfaces, gridlib.io.irap): interpolation, fault blocks, ordering, files."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gridlib import InputError, compute_geometry, horizons_to_grdecl, process_grdecl
+from gridlib.cornerpoint import FaultTrace, Horizon
+from gridlib.io.irap import IRAP_UNDEFINED, read_irap, write_irap
+from gridlib.surfaces import (
+    HorizonCrossingError,
+    Surface,
+    build_horizons,
+    fault_blocks,
+    find_crossings,
+    horizon_dataset,
+    interpolate_points,
+    interpolate_points_at,
+    order_horizons,
+    peaks,
+    plane,
+    read_horizons,
+    read_points,
+    read_surface_netcdf,
+    to_horizons,
+    write_horizons,
+)
+
+X_AXIS = np.linspace(0.0, 1000.0, 51)  # 20 m spacing
+Y_AXIS = np.linspace(0.0, 800.0, 41)
+
+
+def dipping(x, y):
+    return plane(x, y, depth=1500.0, dip=3.0, azimuth=120.0, x0=500.0, y0=400.0)
+
+
+def scattered(n=300, seed=1, lo=(0.0, 0.0), hi=(1000.0, 800.0)):
+    xy = np.random.default_rng(seed).uniform(lo, hi, (n, 2))
+    return np.column_stack([xy, dipping(xy[:, 0], xy[:, 1])])
+
+
+# --------------------------------------------------------------------------- interpolation
+
+
+@pytest.mark.parametrize("method", ["linear", "rbf"])
+def test_plane_recovered_exactly_from_scattered_points(method):
+    pts = scattered()
+    X, Y = np.meshgrid(X_AXIS, Y_AXIS)
+    z = interpolate_points(pts, X_AXIS, Y_AXIS, method=method)  # NaN outside the hull
+    inside = np.isfinite(z)
+    assert 0 < (~inside).sum() < 0.2 * z.size  # the hull of 300 random points misses the corners
+    assert np.abs(z - dipping(X, Y))[inside].max() < 1e-9
+    z = interpolate_points(pts, X_AXIS, Y_AXIS, method=method, extrapolation="trend")
+    assert np.isfinite(z).all()
+    assert np.abs(z - dipping(X, Y)).max() < 1e-9  # everywhere: the trend continues the plane
+
+
+def test_local_rbf_and_utm_offsets_keep_planes_exact():
+    pts = scattered(n=3000, seed=2)
+    shift = np.array([456_789.0, 6_789_012.0, 0.0])  # UTM-sized coordinates
+    X, Y = np.meshgrid(X_AXIS + shift[0], Y_AXIS + shift[1])
+    z = interpolate_points(pts + shift, X_AXIS + shift[0], Y_AXIS + shift[1], method="rbf", neighbors=30)
+    ok = np.isfinite(z)
+    assert ok.sum() > 0.9 * z.size
+    assert np.abs(z - dipping(X - shift[0], Y - shift[1]))[ok].max() < 1e-9
+
+
+def test_interpolation_reproduces_the_data_points():
+    rng = np.random.default_rng(3)
+    xy = rng.uniform(-3.0, 3.0, (200, 2))
+    z = peaks(xy[:, 0], xy[:, 1], depth=1000.0, amplitude=10.0)
+    pts = np.column_stack([xy, z])
+    for method in ("linear", "cubic", "rbf", "nearest"):
+        got = interpolate_points_at(pts, xy[:, 0], xy[:, 1], method=method)
+        assert np.abs(got - z).max() < 1e-8, method
+    smooth = interpolate_points_at(pts, xy[:, 0], xy[:, 1], method="rbf", smoothing=1.0)
+    assert np.abs(smooth - z).max() > 1e-3  # smoothing > 0 no longer interpolates
+
+
+def test_extrapolation_nearest_is_continuous_at_the_hull():
+    pts = np.array([[0.0, 0.0, 100.0], [10.0, 0.0, 110.0], [0.0, 10.0, 100.0], [10.0, 10.0, 110.0]])
+    x, y = np.array([20.0, 30.0, -5.0]), np.array([5.0, 5.0, 5.0])
+    assert interpolate_points_at(pts, x, y, extrapolation="nearest").tolist() == [110.0, 110.0, 100.0]
+    trend = interpolate_points_at(pts, x, y, extrapolation="trend")
+    assert np.allclose(trend, [120.0, 130.0, 95.0], rtol=0, atol=1e-9)
+    with pytest.raises(InputError, match="undefined"):  # default: undefined outside the hull, here everywhere
+        interpolate_points_at(pts, x, y)
+    assert np.isnan(interpolate_points_at(pts, [5.0, 20.0], [5.0, 5.0])).tolist() == [False, True]
+
+
+# --------------------------------------------------------------------------- faults
+
+
+TRACE = np.array([(300.0, -50.0), (700.0, 850.0)])  # oblique, crossing the lattice from edge to edge
+THROW = 25.0
+
+
+def left_of_trace(x, y):
+    d = TRACE[1] - TRACE[0]
+    return d[0] * (y - TRACE[0, 1]) - d[1] * (x - TRACE[0, 0]) > 0
+
+
+def faulted_points(n=800, seed=4):
+    xy = np.random.default_rng(seed).uniform((0.0, 0.0), (1000.0, 800.0), (n, 2))
+    z = dipping(xy[:, 0], xy[:, 1]) + np.where(left_of_trace(xy[:, 0], xy[:, 1]), 0.0, THROW)
+    return np.column_stack([xy, z])
+
+
+@pytest.mark.parametrize("method", ["linear", "rbf"])
+def test_interpolation_per_fault_block_keeps_the_throw(method):
+    pts = faulted_points()
+    X, Y = np.meshgrid(X_AXIS, Y_AXIS)
+    left = left_of_trace(X, Y)
+    expected = dipping(X, Y) + np.where(left, 0.0, THROW)
+    notes: list[str] = []
+    z = interpolate_points(
+        pts, X_AXIS, Y_AXIS, method=method, extrapolation="trend", faults=[TRACE], notes=notes
+    )
+    assert notes == []
+    d = TRACE[1] - TRACE[0]
+    dist = np.abs(d[0] * (Y - TRACE[0, 1]) - d[1] * (X - TRACE[0, 0])) / np.hypot(*d)  # m from the trace
+    off = dist > 1e-6
+    assert np.abs(z - expected)[off].max() < 1e-9  # every node off the trace: exactly its block's plane
+    near = off & (dist < 20.0)  # the nodes next to the trace, on both sides
+    assert near[left].sum() > 30 and near[~left].sum() > 30
+    assert np.abs(z - expected)[near].max() < 1e-9
+    assert np.abs(z[near & ~left] - dipping(X, Y)[near & ~left] - THROW).max() < 1e-9  # the full throw
+
+    smeared = interpolate_points(pts, X_AXIS, Y_AXIS, method=method, extrapolation="trend")
+    assert np.abs(smeared - expected)[near].max() > 5.0  # without the trace the throw is smeared
+
+
+def test_fault_blocks_classify_and_report_dangling_traces():
+    blocks = fault_blocks(
+        [[(500.0, -1.0), (500.0, 101.0)], [(500.0, 50.0), (1001.0, 50.0)]], (0, 1000, 0, 100)
+    )
+    assert blocks.num == 3 and blocks.notes == ()
+    ids = blocks.classify([100.0, 800.0, 800.0, 500.0, 500.0], [50.0, 20.0, 80.0, 20.0, 120.0])
+    assert ids.tolist() == [0, 1, 2, 0, 0]  # on the trace: the lowest id; outside the box: the nearest
+    assert blocks.classify([500.0], [20.0], on_trace="none").tolist() == [-1]
+
+    tip = fault_blocks([[(500.0, -1.0), (500.0, 60.0)]], (0, 1000, 0, 100))  # ends inside: splits nothing
+    assert tip.num == 1
+    assert "fault trace 0 separates no blocks along" in tip.notes[0]
+
+    with pytest.raises(InputError, match=r"faults\[0\]: a trace must be a finite"):
+        fault_blocks([[(0.0, 0.0)]], (0, 1, 0, 1))
+
+
+# --------------------------------------------------------------------------- ordering
+
+
+def crossing_stack():
+    x, y = np.linspace(0.0, 1000.0, 11), np.linspace(0.0, 500.0, 6)  # 100 m spacing
+    X, _ = np.meshgrid(x, y)
+    return x, y, np.stack([1000.0 + 0.02 * X, np.full_like(X, 1010.0)])  # cross where x > 500
+
+
+def test_crossing_horizons_are_reported_with_their_size():
+    x, y, H = crossing_stack()
+    (c,) = find_crossings(H, x, y, ["top", "base"])
+    # nodes x = 600..1000 in all 6 rows; tributary widths 4 x 100 + 50 m in x, 500 m in y
+    assert (c.upper, c.lower, c.nodes, c.area, c.x, c.y, c.max_overlap) == (
+        "top",
+        "base",
+        30,
+        225000.0,
+        600.0,
+        0.0,
+        pytest.approx(10.0, abs=1e-9),
+    )
+    with pytest.raises(HorizonCrossingError) as err:
+        horizon_dataset(H, x, y, names=["top", "base"])
+    msg = str(err.value)
+    assert "horizons 'top' and 'base' cross at 30 nodes (225000 m2), first at (x, y) = (600, 0)" in msg
+    assert "ordering to 'erode' or 'onlap'" in msg
+    assert isinstance(err.value, InputError) and err.value.crossings == (c,)
+
+
+def test_erode_and_onlap_repair_crossings():
+    x, y, H = crossing_stack()
+    cross = H[1] < H[0]
+    eroded, notes = order_horizons(H, x, y, ordering="erode", names=["top", "base"])
+    assert (np.diff(eroded, axis=0) >= 0).all()
+    assert np.array_equal(eroded[0], H[0])  # the younger horizon cuts: top unchanged
+    assert np.array_equal(eroded[1][cross], H[0][cross]) and np.array_equal(eroded[1][~cross], H[1][~cross])
+    assert notes == ("ordering 'erode': horizon 'base' moved down to a horizon above it at 30 nodes",)
+    onlapped, _ = order_horizons(H, x, y, ordering="onlap")
+    assert (np.diff(onlapped, axis=0) >= 0).all()
+    assert np.array_equal(onlapped[1], H[1])  # the older horizon wins: base unchanged
+    assert np.array_equal(onlapped[0][cross], H[1][cross])
+    ds = horizon_dataset(H, x, y, names=["top", "base"], ordering="erode")
+    assert float((ds.depth.sel(horizon="base") - ds.depth.sel(horizon="top")).min()) == 0.0
+    deck = horizons_to_grdecl(to_horizons(ds), layers=2)  # the corner-point builder takes it as it is
+    cp = process_grdecl(deck)
+    assert cp.grid.num_cells < 2 * 10 * 5  # the eroded half has zero thickness: collapsed cells removed
+    assert (compute_geometry(cp.grid).cell_volumes > 0).all()
+
+
+def test_undefined_nodes_are_skipped_by_the_ordering():
+    x, y = np.array([0.0, 1.0]), np.array([0.0, 1.0])
+    H = np.array([[[10.0, 10.0], [10.0, 10.0]], [[np.nan, 20.0], [20.0, 20.0]], [[5.0, 30.0], [30.0, 30.0]]])
+    (c,) = find_crossings(H, x, y)
+    assert (c.upper, c.lower, c.nodes) == ("horizon_0", "horizon_2", 1)  # against the nearest defined above
+    fixed, _ = order_horizons(H, x, y, ordering="erode")
+    assert np.isnan(fixed[1, 0, 0]) and fixed[2, 0, 0] == 10.0
+
+
+# --------------------------------------------------------------------------- files
+
+
+def irap_surface():
+    rng = np.random.default_rng(5)
+    z = 1500.0 + rng.standard_normal((7, 9)) * 13.7
+    z[0, 0] = z[3, 4] = z[6, 8] = np.nan
+    return Surface(z, 456_789.123, 6_789_012.0625, 12.5, 25.0 / 3.0, rotation=30.0, name="top")
+
+
+def test_irap_round_trip_is_exact(tmp_path):
+    s = irap_surface()
+    path = write_irap(tmp_path / "top.irap", s)
+    text = path.read_text()
+    assert text.startswith("-996 7 12.5 8.333333333333334\n456789.123 456889.123 6789012.0625 ")
+    assert text.count(repr(IRAP_UNDEFINED)) == 3
+    t = read_irap(path)
+    assert np.array_equal(t.z, s.z, equal_nan=True)  # bit-identical, undefined nodes included
+    assert (t.xori, t.yori, t.xinc, t.yinc, t.rotation, t.name) == (
+        s.xori,
+        s.yori,
+        s.xinc,
+        s.yinc,
+        30.0,
+        "top",
+    )
+    write_irap(tmp_path / "again.irap", t)
+    assert (tmp_path / "again.irap").read_bytes() == path.read_bytes()
+
+
+def test_irap_reads_other_writers_layout(tmp_path):
+    f = tmp_path / "rms.irap"
+    f.write_text(
+        "-996   2   50.000000   25.000000\n 0.000000   100.000000   0.000000   25.000000\n"
+        "3   0.000000   0.000000   0.000000\n0  0  0  0  0  0  0\n"
+        "1000.000000  9999900.000000  1002.5\n 1003.0 1004.0\n 1005.0\n"
+    )
+    s = read_irap(f)
+    assert s.z.tolist()[0][:1] == [1000.0] and np.isnan(s.z[0, 1])
+    assert s.z[1].tolist() == [1003.0, 1004.0, 1005.0]
+    assert s.sample(75.0, 25.0).item() == 1004.5
+    assert read_irap(f, elevation=True).z[1, 0] == -1003.0
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("-995 2 1 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2 3 4\n", r"bad\.irap:1: not an IRAP classic"),
+        (
+            "-996 2 1 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2 3\n",
+            r"2 x 2 nodes needs 4 values, the file has 3",
+        ),
+        ("-996 2 1 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2\n3 x\n", r"bad\.irap:6: 'x' is not a number"),
+        ("-996 2 0 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2 3 4\n", r"bad\.irap:1: IRAP header: xinc must be"),
+        ("-996 2 1 1\n0 1 0 1\n", r"the header needs 19 numbers"),
+    ],
+)
+def test_irap_bad_input_names_the_file_and_line(tmp_path, text, message):
+    f = tmp_path / "bad.irap"
+    f.write_text(text)
+    with pytest.raises(InputError, match=message):
+        read_irap(f)
+
+
+def test_surface_sampling_with_rotation():
+    s = Surface([[0.0, 10.0], [0.0, 10.0]], 100.0, 200.0, 10.0, 10.0, rotation=90.0)  # local x is world +y
+    X, Y = s.node_coordinates()
+    assert np.allclose(X, [[100.0, 100.0], [90.0, 90.0]]) and np.allclose(Y, [[200.0, 210.0], [200.0, 210.0]])
+    assert s.sample([100.0, 95.0, 110.0], [205.0, 202.0, 205.0]).round(12).tolist()[:2] == [5.0, 2.0]
+    assert np.isnan(s.sample(110.0, 205.0))  # outside the rotated lattice
+    with pytest.raises(InputError, match="rotated by 90 degrees"):
+        s.to_horizon()
+
+
+def test_points_files(tmp_path):
+    csv = tmp_path / "top.csv"
+    csv.write_text("# picks\nX,Y,Z,well\n0,0,1000,A\n100,0,1010,B\n0,100,1000,C\n")
+    pts = read_points(csv, columns=["x", "y", "z"])
+    assert pts.tolist() == [[0.0, 0.0, 1000.0], [100.0, 0.0, 1010.0], [0.0, 100.0, 1000.0]]
+    txt = tmp_path / "top.xyz"
+    txt.write_text("0 0 -1000\n100 0 -1010   # comment\n\n0 100 -999\n5 5 -999.25\n")
+    assert read_points(txt, elevation=True, null=-999.0)[:, 2].tolist() == [1000.0, 1010.0, 999.25]
+
+
+@pytest.mark.parametrize(
+    ("text", "kwargs", "message"),
+    [
+        ("0,0,1000\n1,2\n", {}, r"top\.csv:2: expected 3 columns \(x, y, z\), found 2"),
+        ("x,y,z,w\n0,0,1000,1\n", {}, r"top\.csv:1: expected 3 columns \(x, y, z\), found 4; pass columns="),
+        ("0,0,1000\n1,2,abc\n", {}, r"top\.csv:2: column 3 \(z\): 'abc' is not a number"),
+        ("1,2,abc\n0,0,1000\n", {}, r"top\.csv:1: column 3 \(z\): 'abc' is not a number"),  # no header
+        ("0,0,1000\n1,2,nan\n", {}, r"top\.csv:2: x, y and z must be finite"),
+        ("# nothing\n", {}, r"top\.csv: no data lines"),
+        ("x,y,z\n0,0,1\n", {"columns": ["x", "y", "depth"]}, r"top\.csv: no column 'depth' in the header"),
+    ],
+)
+def test_points_file_errors_name_the_file_and_line(tmp_path, text, kwargs, message):
+    f = tmp_path / "top.csv"
+    f.write_text(text)
+    with pytest.raises(InputError, match=message):
+        read_points(f, **kwargs)
+
+
+def test_bad_options_and_undefined_surfaces(tmp_path):
+    pts = scattered(n=50)
+    with pytest.raises(
+        InputError, match=r"top: method: unknown value 'spline'; expected one of linear, cubic"
+    ):
+        interpolate_points(pts, X_AXIS, Y_AXIS, method="spline", name="top")
+    with pytest.raises(InputError, match=r"extrapolation: unknown value 'linear'"):
+        interpolate_points(pts, X_AXIS, Y_AXIS, extrapolation="linear")
+    with pytest.raises(InputError, match=r"smoothing applies to method 'rbf' only"):
+        interpolate_points(pts, X_AXIS, Y_AXIS, smoothing=1.0)
+    with pytest.raises(InputError, match=r"horizons\[0\] \('top'\): method: unknown value 'kriging'"):
+        build_horizons([{"name": "top", "points": pts, "method": "kriging"}], X_AXIS, Y_AXIS)
+    with pytest.raises(InputError, match=r"horizons\[0\] \('top'\): unknown keys \['dip'\]"):
+        build_horizons([{"name": "top", "points": pts, "dip": 3}], X_AXIS, Y_AXIS)
+    with pytest.raises(InputError, match=r"horizon 'base': undefined \(NaN\) everywhere"):
+        horizon_dataset(
+            [np.zeros((41, 51)), np.full((41, 51), np.nan)], X_AXIS, Y_AXIS, names=["top", "base"]
+        )
+    far = pts + [5000.0, 0.0, 0.0]
+    with pytest.raises(InputError, match=r"top: the interpolated surface is undefined \(NaN\) everywhere"):
+        interpolate_points(far, X_AXIS, Y_AXIS, name="top")
+    undefined = Surface(np.full((3, 3), np.nan), 0.0, 0.0, 500.0, 400.0)
+    path = write_irap(tmp_path / "empty.irap", undefined)
+    with pytest.raises(
+        InputError, match=r"horizons\[0\] \('top'\): .*empty\.irap is undefined \(NaN\) everywhere"
+    ):
+        build_horizons([{"name": "top", "surface": str(path)}], X_AXIS, Y_AXIS)
+
+
+# --------------------------------------------------------------------------- the Dataset and the stage
+
+
+def test_build_horizons_from_files_and_formulas_round_trips(tmp_path):
+    pts = faulted_points()
+    np.savetxt(tmp_path / "top.xyz", pts)
+    X, Y = np.meshgrid(X_AXIS, Y_AXIS)
+    mid = Surface.from_axes(X_AXIS, Y_AXIS, dipping(X, Y) + 40.0, name="mid")
+    write_irap(tmp_path / "mid.irap", mid)
+    specs = [
+        {"name": "top", "points": "top.xyz", "method": "rbf", "extrapolation": "trend"},
+        {"name": "mid", "surface": "mid.irap"},
+        {"name": "base", "plane": {"depth": 1600.0, "dip": 1.0, "azimuth": 45.0}},
+    ]
+    ds = build_horizons(
+        specs, X_AXIS, Y_AXIS, ordering="error", faults=[TRACE], base_dir=tmp_path, attrs={"seed": 7}
+    )
+    assert ds.depth.dims == ("horizon", "y", "x") and ds.depth.shape == (3, 41, 51)
+    assert list(ds.horizon.values) == ["top", "mid", "base"]
+    assert list(ds.method.values) == ["rbf", "resampled (linear)", "plane"]
+    assert ds.source.values[0].endswith("top.xyz") and ds.attrs["seed"] == 7
+    assert ds.depth.attrs == {
+        "units": "m",
+        "positive": "down",
+        "long_name": "depth of the horizon (NaN = undefined)",
+    }
+    left = left_of_trace(X, Y)
+    d = TRACE[1] - TRACE[0]
+    off = np.abs(d[0] * (Y - TRACE[0, 1]) - d[1] * (X - TRACE[0, 0])) > 1e-6  # nodes not on the trace
+    assert np.array_equal(ds.block.values[off], np.where(left, 0, 1)[off])  # block 0 west of the trace
+    top = ds.depth.sel(horizon="top").values
+    expected = dipping(X, Y) + np.where(left, 0.0, THROW)
+    assert np.abs(top - expected)[off].max() < 1e-9
+    assert np.abs(ds.depth.sel(horizon="mid").values - (dipping(X, Y) + 40.0)).max() < 1e-9
+
+    path = write_horizons(tmp_path / "horizons.nc", ds)
+    back = read_horizons(path)
+    assert np.array_equal(back.depth.values, ds.depth.values, equal_nan=True)
+    assert np.array_equal(back.x.values, X_AXIS) and list(back.horizon.values) == ["top", "mid", "base"]
+    assert back.attrs["ordering"] == "error" and "gridlib_version" in back.attrs
+    hz = to_horizons(back)
+    assert isinstance(hz[0], Horizon) and hz[2].z.shape == (41, 51)
+    surf = read_surface_netcdf(path, horizon="base")
+    assert surf.name == "base" and np.abs(surf.z - back.depth.values[2]).max() == 0.0
+    with pytest.raises(
+        InputError, match=r"holds several horizons; pass horizon= one of \['top', 'mid', 'base'\]"
+    ):
+        read_surface_netcdf(path)
+
+
+def test_seed_peaks_example_through_horizons_to_grdecl():
+    # MRST book §3.3.1: [y,x,z] = peaks(15); z = z+8; horizons z and z+8; 4 layers
+    a = np.linspace(-3.0, 3.0, 15)
+    X, Y = np.meshgrid(a, a)
+    top = peaks(Y, X, depth=8.0)
+    ds = horizon_dataset([top, top + 8.0], a, a, names=["top", "base"])
+    cp = process_grdecl(horizons_to_grdecl(to_horizons(ds), layers=4))
+    assert cp.grid.num_cells == 14 * 14 * 4
+    vol = compute_geometry(cp.grid).cell_volumes.sum()
+    assert vol == pytest.approx(36.0 * 8.0, rel=1e-12)  # 8 m everywhere over the 6 x 6 square
+    assert float(peaks(1.5, -0.5)) == pytest.approx(
+        3 * 0.25 * np.exp(-2.25 - 0.25) - 10 * (0.3 - 3.375 + 0.03125) * np.exp(-2.5) - np.exp(-6.5) / 3
+    )
+
+
+def test_faults_accept_fault_traces():
+    pts = faulted_points()
+    trace = FaultTrace(TRACE, throw=THROW)
+    a = interpolate_points(pts, X_AXIS, Y_AXIS, faults=[trace])
+    b = interpolate_points(pts, X_AXIS, Y_AXIS, faults=[TRACE])
+    assert np.array_equal(a, b, equal_nan=True)
