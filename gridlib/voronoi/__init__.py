@@ -1,9 +1,25 @@
-"""Voronoi (PEBI) grids: the dual of a triangulation (``pebi``).
+"""Voronoi (PEBI) grids: the dual of a triangulation (``pebi``) and fault/well-conforming
+PEBI grids generated from sites (``pebi_grid``).
 
 The package is named ``voronoi`` so that ``gridlib.pebi`` stays the MRST-named
 function and ``import gridlib.voronoi.dual`` works.
 """
 
+from .domain import rectangle
 from .dual import pebi
+from .faults import Fault
+from .pebi_grid import PebiGrid, pebi_grid
+from .quality import PebiQuality, grid_quality
+from .wells import Rings, Well
 
-__all__ = ["pebi"]
+__all__ = [
+    "Fault",
+    "PebiGrid",
+    "PebiQuality",
+    "Rings",
+    "Well",
+    "grid_quality",
+    "pebi",
+    "pebi_grid",
+    "rectangle",
+]

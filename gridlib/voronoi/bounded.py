@@ -1,0 +1,439 @@
+"""The Voronoi diagram of a set of sites clipped to a polygon, as a gridlib :class:`Grid`.
+
+Method (ALGORITHMS.md §3.1), all in the domain's local frame:
+
+1. Ridges: every Delaunay edge between two sites is a ridge (a face) from the
+   circumcentre of the triangle on one side to that of the other. The
+   triangulation includes eight *frame* points ten diameters away, so that every
+   site's region is bounded and no frame point's region reaches the domain.
+   Where the sites form a regular lattice the ridges are known without Qhull
+   (:mod:`.lattice`); elsewhere they come from one Qhull triangulation.
+2. Ridges far from the boundary (both ends inside the domain shrunk by the 99th
+   percentile of the ridge lengths, and shorter than it) are kept whole. The
+   others are cut where they cross the domain's boundary (exact segment-edge
+   intersections, candidates from an R-tree), and the pieces whose midpoints
+   lie inside the domain are kept. A crossing within ``tol`` of a ridge's end
+   *is* that end (the vertex moves onto the boundary); a crossing within
+   ``tol`` of a polygon corner *is* that corner; other crossings are recomputed
+   from the two sites' bisector (exact to round-off, whatever the ridge's far end).
+3. The boundary is cut at its corners and at every crossing, and each piece goes
+   to the site nearest to its midpoint (whose Voronoi region contains it).
+4. Pieces shorter than ``tol`` (the tiny ridges of co-circular sites, crossings
+   a hair apart) are contracted: their end vertices become one, keeping the
+   polygon's corners, then boundary points, exactly where they are.
+
+Every crossing is one vertex shared by the ridge piece and the two boundary
+pieces it separates, so the topology is exact by construction: interior faces
+have two cells, boundary faces one, and each cell's faces close into a cycle
+(checked). A site whose clipped region falls into several pieces (a concave
+boundary cutting it) is reported back so that the caller can add a site in each
+extra piece (``ClippedVoronoi.extra_points``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy import sparse
+from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
+
+from ..connectivity import _cycle_rank, offsets
+from ..errors import GridError
+from ..grid import Cells, Faces, Grid, Nodes
+from .domain import Domain, _cross2
+from .lattice import Lattice, hybrid_ridges, plain_ridges
+
+
+@dataclass(frozen=True, eq=False)
+class ClippedVoronoi:
+    """The clipped Voronoi diagram of ``sites`` (local frame).
+
+    ``coords`` (nn, 2) nodes; ``face_nodes`` (nf, 2), oriented so that the
+    normal (dy, -dx) points from ``neighbors[:, 0]`` to ``neighbors[:, 1]``;
+    ``neighbors`` (nf, 2) sites, -1 outside; ``cell_pos``/``cell_faces`` each
+    cell's faces in counter-clockwise order; ``areas`` (nc,) m²;
+    ``extra_points`` (k, 2) one point inside every piece of a region that is
+    not the piece holding its site (empty when every cell is one piece).
+    """
+
+    coords: np.ndarray
+    face_nodes: np.ndarray
+    neighbors: np.ndarray
+    cell_pos: np.ndarray
+    cell_faces: np.ndarray
+    areas: np.ndarray
+    extra_points: np.ndarray
+
+    def to_grid(self, origin: np.ndarray, tags: np.ndarray | None, history: tuple[str, ...]) -> Grid:
+        nf = self.face_nodes.shape[0]
+        return Grid(
+            cells=Cells(self.cell_pos, self.cell_faces),
+            faces=Faces(np.arange(0, 2 * nf + 1, 2), self.face_nodes.ravel(), self.neighbors, tags),
+            nodes=Nodes(self.coords + origin),
+            griddim=2,
+            history=history,
+        )
+
+
+def clipped_voronoi(
+    sites: np.ndarray, domain: Domain, tol: float, lattice: Lattice | None = None
+) -> ClippedVoronoi:
+    """Voronoi regions of ``sites`` (local frame, all in the closed domain) clipped to ``domain``.
+
+    ``tol`` (m) is the length below which ridges are contracted to a point.
+    ``lattice`` describes the first sites if they form a regular lattice (see
+    :mod:`.lattice`): their cells are then computed without Qhull.
+
+    >>> from gridlib.voronoi.domain import rectangle
+    >>> d = Domain(rectangle(0, 0, 2, 1))
+    >>> v = clipped_voronoi(d.to_local([[0.5, 0.5], [1.5, 0.5]]), d, 1e-9)
+    >>> v.areas.tolist(), v.face_nodes.shape[0]
+    ([1.0, 1.0], 7)
+    """
+    if sites.shape[0] == 0:
+        raise GridError("pebi_grid: no sites left in the domain")
+    if lattice is not None and lattice.ij.shape[0] > 0:
+        centre, va, vb, cp, cq = hybrid_ridges(sites, domain, lattice)
+    else:
+        centre, va, vb, cp, cq = plain_ridges(sites, domain)
+    builder = _Builder(domain, centre, tol, sites)
+    builder.add_ridges(va, vb, cp, cq)
+    builder.close_boundary(sites)
+    return builder.finish(sites)
+
+
+class _Builder:
+    """Vertices, faces and contractions of the clipped diagram under construction."""
+
+    def __init__(self, domain: Domain, centre: np.ndarray, tol: float, sites: np.ndarray) -> None:
+        self.domain = domain
+        self.sites = sites
+        self.tol = tol
+        self.nt = centre.shape[0]
+        m = domain.num_vertices
+        # Vertex ids: circumcentres [0, nt), polygon corners [nt, nt + m), crossings after.
+        self.coords = [centre.copy(), domain.xy.copy()]
+        self.n_vert = self.nt + m
+        self.corner_id = self.nt + np.arange(m)
+        self.bnd_ids = [self.corner_id]
+        self.bnd_par = [domain.cum[:-1].copy()]
+        self.face_a: list[np.ndarray] = []
+        self.face_b: list[np.ndarray] = []
+        self.face_c0: list[np.ndarray] = []
+        self.face_c1: list[np.ndarray] = []
+        self.merge_a: list[np.ndarray] = []
+        self.merge_b: list[np.ndarray] = []
+
+    def add_ridges(self, va, vb, cp, cq) -> None:
+        d = self.domain
+        centre = self.coords[0]
+        a, b = centre[va], centre[vb]
+        length = np.linalg.norm(b - a, axis=1)
+        # Ridges between two sites both inside the domain are mostly inside too: a length scale.
+        both_in = d.inside(0.5 * (self.sites[cp] + self.sites[cq]))
+        g = float(np.quantile(length[both_in], 0.99)) if both_in.any() else 0.0
+        if g > 0:
+            inner = d.inner_buffer(g)  # inside the domain, at least g from its boundary
+            deep = shapely.contains_xy(inner, centre[:, 0], centre[:, 1])
+        else:
+            deep = np.zeros(centre.shape[0], dtype=bool)
+        safe = deep[va] & deep[vb] & (length < g)
+        tiny = safe & (length <= self.tol)
+        self._merge(va[tiny], vb[tiny])
+        whole = safe & ~tiny
+        self._faces(va[whole], vb[whole], cp[whole], cq[whole])
+        r = np.flatnonzero(~safe)
+        if r.size:
+            self._clip(va[r], vb[r], cp[r], cq[r])
+
+    def _clip(self, va, vb, cp, cq) -> None:
+        d = self.domain
+        tol = self.tol
+        centre = self.coords[0]
+        a, b = centre[va], centre[vb]
+        # Shorten ridges to the domain's bounding box first (they may reach the frame).
+        lo = d.xy.min(axis=0) - 1e-3 * d.diameter
+        hi = d.xy.max(axis=0) + 1e-3 * d.diameter
+        t_lo, t_hi = _clip_to_box(a, b - a, lo, hi)
+        ok = t_hi > t_lo
+        va, vb, cp, cq, a, b, t_lo, t_hi = (x[ok] for x in (va, vb, cp, cq, a, b, t_lo, t_hi))
+        dirn = b - a
+        sa = a + t_lo[:, None] * dirn
+        sb = a + t_hi[:, None] * dirn
+        seg, ts, edge, uu = d.crossings(sa, sb, tol)
+        span = t_hi - t_lo
+        t = t_lo[seg] + ts * span[seg]
+        # Vertex of every crossing: the ridge's end, a polygon corner, or a new vertex.
+        vid = np.full(seg.size, -1, dtype=np.int64)
+        at_a = (ts == 0) & (t_lo[seg] == 0)
+        at_b = (ts == 1) & (t_hi[seg] == 1)
+        vid[at_a] = va[seg[at_a]]
+        vid[at_b] = vb[seg[at_b]]
+        at_corner = (vid < 0) & (uu == 0)
+        vid[at_corner] = self.corner_id[edge[at_corner]]
+        new = vid < 0
+        n_new = int(new.sum())
+        # A new crossing is recomputed from the two sites' bisector, not from the ridge, whose
+        # far end may be a circumcentre of a thin triangle (few correct digits in its direction).
+        rs = seg[new]
+        w = self.sites[cq[rs]] - self.sites[cp[rs]]
+        m = 0.5 * (self.sites[cq[rs]] + self.sites[cp[rs]])
+        ev = d.edge_vec[edge[new]]
+        den = (ev * w).sum(axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ub = ((m - d.edge_a[edge[new]]) * w).sum(axis=1) / den
+        good = np.isfinite(ub) & (ub > 0) & (ub < 1) & (np.abs(ub - uu[new]) < 1e-6)
+        uu_new = uu[new]
+        uu_new[good] = ub[good]
+        uu[new] = uu_new
+        new_xy = d.edge_a[edge[new]] + uu[new, None] * d.edge_vec[edge[new]]
+        vid[new] = self.n_vert + np.arange(n_new)
+        self.coords.append(new_xy)
+        self.n_vert += n_new
+        # Ridge ends that sit on the boundary move onto it.
+        snapped = at_a | at_b
+        if snapped.any():
+            centre[vid[snapped]] = d.edge_a[edge[snapped]] + uu[snapped, None] * d.edge_vec[edge[snapped]]
+        on_bnd = ~at_corner
+        self.bnd_ids.append(vid[on_bnd])
+        self.bnd_par.append(d.perimeter_param(edge[on_bnd], uu[on_bnd]))
+
+        # Pieces between consecutive break points along each ridge.
+        k = va.size
+        ends_t = np.concatenate([t_lo, t_hi])
+        ends_v = np.concatenate([np.where(t_lo == 0, va, -1), np.where(t_hi == 1, vb, -1)])
+        ends_r = np.concatenate([np.arange(k), np.arange(k)])
+        all_r = np.concatenate([ends_r, seg])
+        all_t = np.concatenate([ends_t, t])
+        all_v = np.concatenate([ends_v, vid])
+        order = np.lexsort((all_t, all_r))
+        all_r, all_t, all_v = all_r[order], all_t[order], all_v[order]
+        same = all_r[1:] == all_r[:-1]
+        i0 = np.flatnonzero(same)
+        r_of = all_r[i0]
+        t0, t1 = all_t[i0], all_t[i0 + 1]
+        v0, v1 = all_v[i0], all_v[i0 + 1]
+        plen = (t1 - t0) * np.linalg.norm(dirn[r_of], axis=1)
+        short = plen <= tol
+        real_ends = (v0 >= 0) & (v1 >= 0)
+        self._merge(v0[short & real_ends], v1[short & real_ends])
+        cand = np.flatnonzero(~short)
+        mid = a[r_of[cand]] + (0.5 * (t0[cand] + t1[cand]))[:, None] * dirn[r_of[cand]]
+        inside = d.inside(mid)
+        cand, mid = cand[inside], mid[inside]
+        if cand.size:
+            along = d.boundary_distance(mid) > tol  # a ridge along the boundary gives no face
+            cand = cand[along]
+        if np.any((v0[cand] < 0) | (v1[cand] < 0)):  # pragma: no cover
+            raise GridError("pebi_grid: a clipped ridge piece inside the domain has no end vertex")
+        self._faces(v0[cand], v1[cand], cp[r_of[cand]], cq[r_of[cand]])
+
+    def close_boundary(self, sites: np.ndarray) -> None:
+        d = self.domain
+        ids = np.concatenate(self.bnd_ids)
+        par = np.concatenate(self.bnd_par)
+        ids, first = np.unique(ids, return_index=True)
+        par = par[first]
+        par = np.where(par >= d.perimeter, par - d.perimeter, par)
+        order = np.lexsort((ids >= self.nt + d.num_vertices, par))
+        ring = ids[order]
+        ring_par = par[order]
+        nxt = np.roll(ring, -1)
+        nxt_par = np.roll(ring_par, -1)
+        nxt_par[-1] += d.perimeter
+        short = (nxt_par - ring_par) <= self.tol
+        self._merge(ring[short], nxt[short])
+        a, b = ring[~short], nxt[~short]
+        mid = _perimeter_point(d, 0.5 * (ring_par[~short] + nxt_par[~short]))
+        owner = cKDTree(sites).query(mid)[1].astype(np.int64)  # the region holding the piece
+        self._faces(a, b, owner, np.full(owner.size, -1, dtype=np.int64))
+        self.is_boundary = np.zeros(self.n_vert, dtype=bool)
+        self.is_boundary[ids] = True
+
+    def _faces(self, a, b, c0, c1) -> None:
+        self.face_a.append(a)
+        self.face_b.append(b)
+        self.face_c0.append(c0)
+        self.face_c1.append(c1)
+
+    def _merge(self, a, b) -> None:
+        self.merge_a.append(a)
+        self.merge_b.append(b)
+
+    def finish(self, sites: np.ndarray) -> ClippedVoronoi:
+        n = sites.shape[0]
+        coords = np.concatenate(self.coords)
+        nv = coords.shape[0]
+        fa, fb = np.concatenate(self.face_a), np.concatenate(self.face_b)
+        c0, c1 = np.concatenate(self.face_c0), np.concatenate(self.face_c1)
+        ma, mb = np.concatenate(self.merge_a), np.concatenate(self.merge_b)
+        if ma.size:
+            graph = sparse.coo_matrix((np.ones(ma.size), (ma, mb)), shape=(nv, nv))
+            _, label = csgraph.connected_components(graph, directed=False)
+            priority = np.full(nv, 2, dtype=np.int64)
+            priority[self.is_boundary[:nv]] = 1
+            priority[self.corner_id] = 0
+            order = np.lexsort((np.arange(nv), priority, label))
+            lab_sorted = label[order]
+            first = np.concatenate([[True], lab_sorted[1:] != lab_sorted[:-1]])
+            rep_of_label = np.empty(label.max() + 1, dtype=np.int64)
+            rep_of_label[lab_sorted[first]] = order[first]
+            rep = rep_of_label[label]
+            fa, fb = rep[fa], rep[fb]
+        keep = fa != fb
+        fa, fb, c0, c1 = fa[keep], fb[keep], c0[keep], c1[keep]
+        used = np.zeros(nv, dtype=bool)
+        used[fa] = used[fb] = True
+        new_id = np.cumsum(used) - 1
+        coords = coords[used]
+        fa, fb = new_id[fa], new_id[fb]
+        # Orientation: the normal (dy, -dx) points from c0 to c1 (outwards on the boundary).
+        inner = c1 >= 0
+        e = coords[fb] - coords[fa]
+        towards = np.where(inner, 0.0, 1.0)
+        ii = np.flatnonzero(inner)
+        towards[ii] = (e[ii, 1] * (sites[c1[ii], 0] - sites[c0[ii], 0])) - (
+            e[ii, 0] * (sites[c1[ii], 1] - sites[c0[ii], 1])
+        )
+        swap = towards < 0
+        fa, fb = np.where(swap, fb, fa), np.where(swap, fa, fb)
+        faces = np.column_stack([fa, fb])
+        neighbors = np.column_stack([c0, c1])
+        pos, cell_faces, areas, extra = _cells(coords, faces, neighbors, n, sites, self.domain)
+        return ClippedVoronoi(coords, faces, neighbors, pos, cell_faces, areas, extra)
+
+
+def _perimeter_point(d: Domain, par: np.ndarray) -> np.ndarray:
+    par = np.mod(par, d.perimeter)
+    edge = np.clip(np.searchsorted(d.cum, par, side="right") - 1, 0, d.num_vertices - 1)
+    u = (par - d.cum[edge]) / d.edge_len[edge]
+    return d.edge_a[edge] + u[:, None] * d.edge_vec[edge]
+
+
+def _clip_to_box(a: np.ndarray, dirn: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+    """Liang-Barsky: parameter range of a + t dirn, t in [0, 1], inside the box [lo, hi]."""
+    t_lo = np.zeros(a.shape[0])
+    t_hi = np.ones(a.shape[0])
+    for k in range(2):
+        dk = dirn[:, k]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t1 = (lo[k] - a[:, k]) / dk
+            t2 = (hi[k] - a[:, k]) / dk
+        par = dk == 0
+        outside = par & ((a[:, k] < lo[k]) | (a[:, k] > hi[k]))
+        tmin = np.where(par, -np.inf, np.minimum(t1, t2))
+        tmax = np.where(par, np.inf, np.maximum(t1, t2))
+        t_lo = np.maximum(t_lo, tmin)
+        t_hi = np.minimum(t_hi, tmax)
+        t_hi = np.where(outside, -1.0, t_hi)
+    return t_lo, t_hi
+
+
+def _cells(coords, faces, neighbors, n, sites, domain: Domain):
+    """Each cell's faces in counter-clockwise cycle order, its area, and extra pieces."""
+    nf = faces.shape[0]
+    inner = neighbors[:, 1] >= 0
+    hc = np.concatenate([neighbors[:, 0], neighbors[inner, 1]])
+    hf = np.concatenate([np.arange(nf), np.flatnonzero(inner)])
+    ha = np.concatenate([faces[:, 0], faces[inner, 1]])
+    hb = np.concatenate([faces[:, 1], faces[inner, 0]])
+    order = np.argsort(hc, kind="stable")
+    hc, hf, ha, hb = hc[order], hf[order], ha[order], hb[order]
+    count = np.bincount(hc, minlength=n)
+    if np.any(count < 3):
+        c = int(np.flatnonzero(count < 3)[0])
+        raise GridError(
+            f"pebi_grid: the cell of site {c} at {domain.fmt(sites[c])} has {count[c]} faces "
+            "(sites closer than the merge tolerance?)"
+        )
+    pos = offsets(count)
+    nn = coords.shape[0]
+    succ = _successors(hc, ha, hb, nn, coords, sites, domain)
+    nh = hc.size
+    graph = sparse.coo_matrix((np.ones(nh), (np.arange(nh), succ)), shape=(nh, nh))
+    _, cyc = csgraph.connected_components(graph, directed=True, connection="weak")
+    pair = np.unique(hc.astype(np.int64) * (nh + 1) + cyc)
+    cycles_per_cell = np.bincount(pair // (nh + 1), minlength=n)
+    area_h = 0.5 * _cross2(coords[ha], coords[hb])
+    if np.any(cycles_per_cell > 1):
+        extra = _extra_pieces(np.flatnonzero(cycles_per_cell > 1), hc, ha, cyc, succ, coords, sites)
+        return pos, hf, np.bincount(hc, area_h, n), extra
+    rank = _cycle_rank(succ, pos, hc)
+    cell_faces = np.empty(nh, dtype=np.int64)
+    cell_faces[pos[hc] + rank] = hf
+    areas = np.bincount(hc, area_h, n)
+    if np.any(areas <= 0):
+        c = int(np.flatnonzero(areas <= 0)[0])
+        raise GridError(f"pebi_grid: the cell of site {c} at {domain.fmt(sites[c])} has area {areas[c]:.3g}")
+    return pos, cell_faces, areas, np.zeros((0, 2))
+
+
+def _successors(hc, ha, hb, nn, coords, sites, domain: Domain) -> np.ndarray:
+    """The half-edge of the same cell that starts where each half-edge ends.
+
+    Where a cell passes twice through a node (two pieces of a region touching),
+    the successor is the first of its outgoing half-edges clockwise from the
+    reversed incoming one: that keeps each piece on the left.
+    """
+    key_start = hc * nn + ha
+    order = np.argsort(key_start, kind="stable")
+    sorted_keys = key_start[order]
+    key_end = hc * nn + hb
+    lo = np.searchsorted(sorted_keys, key_end, side="left")
+    hi = np.searchsorted(sorted_keys, key_end, side="right")
+    cnt = hi - lo
+    if np.any(cnt == 0):
+        h = int(np.flatnonzero(cnt == 0)[0])
+        c = int(hc[h])
+        raise GridError(
+            f"pebi_grid: the faces of the cell of site {c} at {domain.fmt(sites[c])} do not close "
+            f"(open at {domain.fmt(coords[hb[h]])})"
+        )
+    succ = order[np.minimum(lo, sorted_keys.size - 1)]
+    amb = np.flatnonzero(cnt > 1)
+    if amb.size:
+        k = cnt[amb]
+        h_in = np.repeat(amb, k)
+        cand = order[np.repeat(lo[amb], k) + (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k))]
+        v = coords[hb[h_in]]
+        back = coords[ha[h_in]] - v
+        out = coords[hb[cand]] - v
+        ang_back = np.arctan2(back[:, 1], back[:, 0])
+        ang_out = np.arctan2(out[:, 1], out[:, 0])
+        cw = np.mod(ang_back - ang_out, 2 * np.pi)
+        cw = np.where(cw <= 0, 2 * np.pi, cw)
+        o = np.lexsort((cw, h_in))
+        first = np.concatenate([[True], h_in[o][1:] != h_in[o][:-1]])
+        succ[h_in[o][first]] = cand[o][first]
+    if np.bincount(succ, minlength=hc.size).max() > 1:
+        h = int(np.argmax(np.bincount(succ, minlength=hc.size)))
+        c = int(hc[h])
+        raise GridError(f"pebi_grid: the faces of the cell of site {c} at {domain.fmt(sites[c])} cross")
+    return succ
+
+
+def _extra_pieces(cells, hc, ha, cyc, succ, coords, sites) -> np.ndarray:
+    """A point inside every piece of a split region other than the one holding its site."""
+    out = []
+    for c in cells:  # a handful of cells cut in two by a concave boundary
+        hs = np.flatnonzero(hc == c)
+        polys = []
+        for label in np.unique(cyc[hs]):
+            start = hs[cyc[hs] == label][0]
+            ring = [start]
+            h = succ[start]
+            while h != start:
+                ring.append(h)
+                h = succ[h]
+            polys.append(shapely.Polygon(coords[ha[ring]]))
+        site = shapely.Point(sites[c])
+        dist = np.array([poly.distance(site) for poly in polys])
+        main = int(np.argmin(dist))
+        for i, poly in enumerate(polys):
+            if i != main:
+                rp = poly.point_on_surface()
+                out.append([rp.x, rp.y])
+    return np.asarray(out, dtype=np.float64).reshape(-1, 2)

@@ -1,0 +1,759 @@
+"""Fault-conforming sites: mirrored pairs from intersecting circles along fault traces.
+
+Construction (ALGORITHMS.md §3.2, in our own words), all in the domain's local frame:
+
+1. **Network.** Every fault polyline is clipped to the domain (pieces that leave
+   and re-enter a concave domain become separate pieces of the same fault), a
+   free end whose continuation meets the boundary or another fault within
+   0.75 fault spacings is extended to it (a note says so), and faults are split
+   where they cross (X) or touch (T, Y). The result is a planar graph whose
+   nodes are the polyline vertices, the intersections and the boundary points.
+2. **Circle centres.** Every polyline vertex, intersection and boundary point is
+   a centre, so faces follow the trace exactly, bends included. Each segment is
+   divided into steps whose length follows the fault spacing (``Fault.spacing``,
+   default the local cell size), graded with a growth of at most 30 % per unit
+   length away from short segments and from local refinements.
+3. **Radii and sites.** A centre's radius is ``ratio`` (0.6) times the mean of its
+   two steps. Consecutive circles intersect in two points mirrored across the
+   step: the left and right sites. Both centres are equidistant from both sites,
+   so the Voronoi edge between them is the step itself, *provided no site lies
+   strictly inside a circle* (the empty-circle condition).
+4. **Tips, junctions, boundary.** A free end gets a *tip site* on its circle,
+   straight ahead. At a constrained node (a junction of three or more arms, two
+   faults meeting end to end, a bend turning by more than 90°, a boundary point)
+   every arm starts with the same step, and the node's radius is the largest
+   (up to ``ratio`` times that step) at which the sites of neighbouring arms do
+   not cross: the angle alpha at which an arm's first sites sit, seen from the
+   node, grows with the radius, and neighbouring arms need alpha_j + alpha_k <=
+   the angle between them. The tightest pair gets equality: its two inner sites
+   coincide and become one site on three circles. Sites next to the boundary
+   keep alpha below half the angle to it, so they stay inside. Traces meeting at
+   less than 40° get smaller circles (ratio down to 0.52: sites closer to the
+   traces) within a few steps of the junction, because the traces are only
+   s sin(angle) apart at a distance s.
+5. **Check and refine.** After the background is added, every circle is checked
+   for sites strictly inside it (:func:`circle_violations`), and every fault site
+   for lying inside the domain. Where a check fails the fault spacing is halved
+   locally (around the circle and the offending site) and the sites rebuilt, up to
+   ``max_refinements`` times; if it still fails, the traces meet too sharply
+   (below about 12°) or run too close, and a :class:`GridError` names the faults,
+   the place and the angle.
+
+Fault ids are the 1-based positions in the ``faults`` sequence; face tags use them.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike
+from scipy import sparse
+from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
+
+from ..errors import GridError
+from .domain import Domain, _cross2
+
+GROWTH = 0.3  # at most 30 % longer steps per step length away from a short one
+KEY_ANGLE = np.radians(90.0)  # a bend sharper than this (inner angle) is handled as a junction
+ACUTE = np.radians(40.0)  # traces meeting at less than this get smaller circles near the junction
+RATIO_MIN = 0.52  # the smallest circle radius / step used there
+REACH = 0.75  # free ends this close (in fault spacings) to a fault or the boundary are extended
+
+
+@dataclass(frozen=True, eq=False)
+class Fault:
+    """A fault trace in plan view: a polyline of (x, y) points in metres.
+
+    ``name`` defaults to ``F<k>`` (k = 1-based position in the list of faults);
+    ``spacing`` (m) is the target distance between circle centres along the
+    trace, by default the grid's cell size where the fault runs.
+
+    >>> f = Fault([(0, 0), (10, 5)], name="main")
+    >>> f.points.shape, f.name
+    ((2, 2), 'main')
+    """
+
+    points: ArrayLike
+    name: str | None = None
+    spacing: float | None = None
+
+    def __post_init__(self) -> None:
+        try:
+            pts = np.array(self.points, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise GridError(
+                f"Fault {self.name!r}: points must be (x, y) pairs, got {self.points!r:.60}"
+            ) from exc
+        pts.flags.writeable = False
+        object.__setattr__(self, "points", pts)
+
+
+@dataclass
+class FaultSites:
+    """Sites, pairs and circles of all faults (local frame)."""
+
+    sites: np.ndarray  # (k, 2)
+    site_fault: np.ndarray  # (k,) fault id 1..n of each site
+    site_step: np.ndarray  # (k,) length (m) of the step a site belongs to
+    is_tip: np.ndarray  # (k,) bool
+    pairs: np.ndarray  # (p, 2) indices into sites: the two sites of a step
+    pair_fault: np.ndarray  # (p,)
+    centres: np.ndarray  # (c, 2) circle centres = Voronoi vertices on the traces
+    radii: np.ndarray  # (c,)
+    centre_fault: np.ndarray  # (c,)
+    centre_step: np.ndarray  # (c,) shortest step at each centre
+    trace_a: np.ndarray  # (s, 2) the steps, as segments of the traces
+    trace_b: np.ndarray
+    trace_fault: np.ndarray
+    problems: list[tuple[int, str]] = field(default_factory=list)  # (centre, why) found while building
+
+    @staticmethod
+    def empty() -> FaultSites:
+        z2, zi, zf = np.zeros((0, 2)), np.zeros(0, dtype=np.int64), np.zeros(0)
+        return FaultSites(
+            z2, zi, zf, np.zeros(0, bool), np.zeros((0, 2), np.int64), zi, z2, zf, zi, zf, z2, z2, zi
+        )
+
+
+@dataclass
+class _Network:
+    nodes: np.ndarray  # (nn, 2)
+    edge_a: np.ndarray  # (ne,)
+    edge_b: np.ndarray
+    edge_fault: np.ndarray  # (ne,) fault id
+    on_boundary: np.ndarray  # (nn,) bool
+    spacing: np.ndarray  # (n_faults,) given spacing or nan
+    labels: list[str]
+
+
+def fault_label(fault: Fault, i: int) -> str:
+    return f"fault {fault.name or f'F{i + 1}'!r} (faults[{i}])"
+
+
+def build_network(
+    faults: Sequence[Fault], domain: Domain, size: Callable, notes: list[str]
+) -> _Network | None:
+    """Clip, extend and split the fault traces into one planar graph."""
+    if not faults:
+        return None
+    tol = domain.tol
+    labels = []
+    spacing = np.full(len(faults), np.nan)
+    pieces: list[dict] = []
+    for i, fault in enumerate(faults):
+        if not isinstance(fault, Fault):
+            raise GridError(f"faults[{i}]: expected a Fault, got {type(fault).__name__}")
+        label = fault_label(fault, i)
+        labels.append(label)
+        pts = fault.points
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise GridError(f"{label}: points must have shape (n, 2), got {pts.shape}")
+        if pts.shape[0] < 2:
+            raise GridError(f"{label}: a trace needs at least 2 points, got {pts.shape[0]}")
+        if not np.isfinite(pts).all():
+            raise GridError(
+                f"{label}: point {int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])} is not finite"
+            )
+        if fault.spacing is not None:
+            if not (
+                isinstance(fault.spacing, int | float) and np.isfinite(fault.spacing) and fault.spacing > 0
+            ):
+                raise GridError(
+                    f"{label}: spacing must be a positive length in metres, got {fault.spacing!r}"
+                )
+            spacing[i] = float(fault.spacing)
+        local = domain.to_local(pts)
+        seg_len = np.linalg.norm(np.diff(local, axis=0), axis=1)
+        if np.any(seg_len <= tol):
+            k = int(np.flatnonzero(seg_len <= tol)[0])
+            raise GridError(f"{label}: points {k} and {k + 1} coincide")
+        if np.all(local[0] == local[-1]) or np.linalg.norm(local[0] - local[-1]) <= tol:
+            raise GridError(
+                f"{label}: the trace is closed (first point = last point); split it into two faults"
+            )
+        line = shapely.LineString(local)
+        if not line.is_simple:
+            raise GridError(f"{label}: the trace crosses itself")
+        got = _clip_polyline(local, domain, label)
+        if not got:
+            raise GridError(f"{label}: the trace lies outside the domain")
+        kept = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p, _, _ in got)
+        if kept < seg_len.sum() * (1 - 1e-12):
+            notes.append(f"{label}: clipped to the domain ({kept:.6g} of {seg_len.sum():.6g} m inside)")
+        for p, b0, b1 in got:
+            pieces.append({"xy": p, "fault": i + 1, "bnd": [b0, b1]})
+    _extend_free_ends(pieces, domain, size, spacing, labels, notes)
+    return _split_into_graph(pieces, domain, spacing, labels)
+
+
+def _clip_polyline(xy: np.ndarray, domain: Domain, label: str) -> list[tuple[np.ndarray, bool, bool]]:
+    """Pieces of a polyline inside the domain, split at every boundary point.
+
+    Each piece is (points, starts on the boundary, ends on the boundary).
+    """
+    tol = domain.tol
+    a, b = xy[:-1], xy[1:]
+    seg, t, _, _ = domain.crossings(a, b, tol)
+    ns = a.shape[0]
+    # Break points: segment ends and crossings, in order along the polyline.
+    br_seg = np.concatenate([np.arange(ns), np.arange(ns), seg])
+    br_t = np.concatenate([np.zeros(ns), np.ones(ns), t])
+    br_bnd = np.concatenate([np.zeros(2 * ns, dtype=bool), np.ones(seg.size, dtype=bool)])
+    order = np.lexsort((~br_bnd, br_t, br_seg))
+    br_seg, br_t, br_bnd = br_seg[order], br_t[order], br_bnd[order]
+    # Merge break points at the same place (segment end = crossing there).
+    key = br_seg + br_t
+    glob = np.where(br_t == 1.0, br_seg + 1.0, key)
+    uniq, inv = np.unique(glob, return_inverse=True)
+    bnd = np.zeros(uniq.size, dtype=bool)
+    np.logical_or.at(bnd, inv, br_bnd)
+    seg_of = np.minimum(np.floor(uniq).astype(np.int64), ns - 1)
+    t_of = uniq - seg_of
+    pts = a[seg_of] + t_of[:, None] * (b[seg_of] - a[seg_of])
+    exact = t_of == 0
+    pts[exact] = a[seg_of[exact]]
+    last = uniq == ns
+    pts[last] = b[-1]
+    mid_par = 0.5 * (uniq[:-1] + uniq[1:])
+    ms = np.minimum(np.floor(mid_par).astype(np.int64), ns - 1)
+    mid = a[ms] + (mid_par - ms)[:, None] * (b[ms] - a[ms])
+    inside = domain.inside(mid)
+    plen = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    along = (domain.boundary_distance(mid) <= tol) & (plen > tol)
+    if along.any():
+        k = int(np.flatnonzero(along)[0])
+        raise GridError(
+            f"{label}: the trace runs along the domain boundary near {domain.fmt(mid[k])} "
+            "(the boundary is not a fault; move the trace inside)"
+        )
+    out = []
+    k = 0
+    n_int = inside.size
+    while k < n_int:  # loop over polyline pieces (a few per fault)
+        if not inside[k]:
+            k += 1
+            continue
+        start = k
+        while k + 1 < n_int and inside[k + 1] and not bnd[k + 1]:
+            k += 1
+        piece = pts[start : k + 2]
+        if np.linalg.norm(np.diff(piece, axis=0), axis=1).sum() > tol:
+            out.append((piece.copy(), bool(bnd[start]), bool(bnd[k + 1])))
+        k += 1
+    return out
+
+
+def _ray_hits(origin: np.ndarray, d: np.ndarray, a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:
+    """Distances along the unit ray origin + s d (s > tol) to the segments a -> b (inf if missed)."""
+    s_vec = b - a
+    den = _cross2(d[None, :], s_vec)
+    q = a - origin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = _cross2(q, s_vec) / den
+        u = _cross2(q, d[None, :]) / den
+    ok = (den != 0) & (s > tol) & (u >= -1e-12) & (u <= 1 + 1e-12)
+    return np.where(ok, s, np.inf)
+
+
+def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes) -> None:
+    """Extend free ends that stop just short of the boundary or of another fault."""
+    tol = domain.tol
+    for pi, piece in enumerate(pieces):  # loop over fault pieces and their two ends
+        for end in (0, 1):
+            if piece["bnd"][end]:
+                continue
+            xy = piece["xy"]
+            tip, prev = (xy[0], xy[1]) if end == 0 else (xy[-1], xy[-2])
+            d = tip - prev
+            d = d / np.linalg.norm(d)
+            sp = spacing[piece["fault"] - 1]
+            ds = sp if np.isfinite(sp) else float(size(tip[None, :])[0])
+            reach = REACH * ds
+            best, what, onto_bnd = np.inf, "", False
+            hits = _ray_hits(tip, d, domain.edge_a, domain.edge_b, tol)
+            if hits.min() <= reach:
+                best, what, onto_bnd = float(hits.min()), "the domain boundary", True
+            for pj, other in enumerate(pieces):
+                oxy = other["xy"]
+                a, b = oxy[:-1], oxy[1:]
+                if pj == pi:  # not its own first/last segment
+                    a, b = (a[1:], b[1:]) if end == 0 else (a[:-1], b[:-1])
+                if a.shape[0] == 0:
+                    continue
+                h = _ray_hits(tip, d, a, b, tol)
+                # ...or the end already lies on the other trace (a T drawn exactly)
+                rel = tip - a
+                sv = b - a
+                w = np.clip((rel * sv).sum(axis=1) / (sv * sv).sum(axis=1), 0, 1)
+                off = np.linalg.norm(rel - w[:, None] * sv, axis=1)
+                if off.min() <= tol:
+                    best, what, onto_bnd = 0.0, labels[other["fault"] - 1], False
+                    break
+                if h.min() < best and h.min() <= reach:
+                    best, what, onto_bnd = float(h.min()), labels[other["fault"] - 1], False
+            if np.isfinite(best) and best > tol:
+                xy = xy.copy()
+                xy[0 if end == 0 else -1] = tip + best * d  # the end moves straight on
+                piece["xy"] = xy
+                label = labels[piece["fault"] - 1]
+                notes.append(
+                    f"{label}: its end at {domain.fmt(tip)} was extended by {best:.3g} m to meet {what}"
+                )
+            if onto_bnd and np.isfinite(best):
+                piece["bnd"][end] = True
+
+
+def _split_into_graph(pieces, domain: Domain, spacing, labels) -> _Network:
+    tol = domain.tol
+    seg_a = np.concatenate([p["xy"][:-1] for p in pieces])
+    seg_b = np.concatenate([p["xy"][1:] for p in pieces])
+    seg_piece = np.concatenate([np.full(p["xy"].shape[0] - 1, k) for k, p in enumerate(pieces)])
+    seg_k = np.concatenate([np.arange(p["xy"].shape[0] - 1) for p in pieces])
+    seg_fault = np.array([pieces[k]["fault"] for k in seg_piece], dtype=np.int64)
+    ns = seg_a.shape[0]
+    tree = shapely.STRtree(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
+    i, j = tree.query(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
+    sel = i < j
+    i, j = i[sel], j[sel]
+    adjacent = (seg_piece[i] == seg_piece[j]) & (np.abs(seg_k[i] - seg_k[j]) == 1)
+    i, j = i[~adjacent], j[~adjacent]
+    r = seg_b[i] - seg_a[i]
+    s = seg_b[j] - seg_a[j]
+    q = seg_a[j] - seg_a[i]
+    rl, sl = np.linalg.norm(r, axis=1), np.linalg.norm(s, axis=1)
+    den = _cross2(r, s)
+    par = np.abs(den) <= 1e-12 * rl * sl
+    # Collinear overlaps are errors; parallel segments sharing an end point are joined by the nodes.
+    if par.any():
+        pi_, pj_ = i[par], j[par]
+        off = np.abs(_cross2(q[par], r[par])) / rl[par]
+        coll = off <= tol
+        if coll.any():
+            ri = r[par][coll]
+            ui = ri / rl[par][coll][:, None]
+            p0 = ((seg_a[pj_[coll]] - seg_a[pi_[coll]]) * ui).sum(axis=1)
+            p1 = ((seg_b[pj_[coll]] - seg_a[pi_[coll]]) * ui).sum(axis=1)
+            lo_, hi_ = np.maximum(np.minimum(p0, p1), 0.0), np.minimum(np.maximum(p0, p1), rl[par][coll])
+            over = hi_ - lo_ > tol
+            if over.any():
+                k = int(np.flatnonzero(over)[0])
+                a_, b_ = pi_[coll][k], pj_[coll][k]
+                raise GridError(
+                    f"{labels[seg_fault[a_] - 1]} and {labels[seg_fault[b_] - 1]} overlap near "
+                    f"{domain.fmt(seg_a[b_])}: faults may cross or touch, not run along each other"
+                )
+    ok = ~par
+    i, j, r, s, q, rl, sl, den = i[ok], j[ok], r[ok], s[ok], q[ok], rl[ok], sl[ok], den[ok]
+    t = _cross2(q, s) / den
+    u = _cross2(q, r) / den
+    et, eu = tol / rl, tol / sl
+    hit = (t >= -et) & (t <= 1 + et) & (u >= -eu) & (u <= 1 + eu)
+    i, j, t, u, r, et, eu = i[hit], j[hit], t[hit], u[hit], r[hit], et[hit], eu[hit]
+    t = np.where(t <= et, 0.0, np.where(t >= 1 - et, 1.0, t))
+    u = np.where(u <= eu, 0.0, np.where(u >= 1 - eu, 1.0, u))
+    x = seg_a[i] + t[:, None] * r
+    x = np.where((t == 0)[:, None], seg_a[i], np.where((t == 1)[:, None], seg_b[i], x))
+    x = np.where((u == 0)[:, None], seg_a[j], np.where((u == 1)[:, None], seg_b[j], x))
+    # Same-fault self-contacts after clipping/extension are errors too.
+    same = (seg_fault[i] == seg_fault[j]) & (seg_piece[i] == seg_piece[j])
+    if same.any():
+        k = int(np.flatnonzero(same)[0])
+        raise GridError(f"{labels[seg_fault[i[k]] - 1]}: the trace touches itself near {domain.fmt(x[k])}")
+    ins_seg = np.concatenate([i, j])
+    ins_t = np.concatenate([t, u])
+    ins_x = np.concatenate([x, x])
+    inner = (ins_t > 0) & (ins_t < 1)
+    ins_seg, ins_t, ins_x = ins_seg[inner], ins_t[inner], ins_x[inner]
+    # Vertices of every segment: its start, inserted points; then the last end of each piece.
+    all_seg = np.concatenate([np.arange(ns), ins_seg])
+    all_t = np.concatenate([np.zeros(ns), ins_t])
+    all_x = np.concatenate([seg_a, ins_x])
+    order = np.lexsort((all_t, all_seg))
+    all_seg, all_t, all_x = all_seg[order], all_t[order], all_x[order]
+    # Edges: consecutive vertices along a piece (the next vertex may be the next segment's start).
+    nxt_x = np.empty_like(all_x)
+    nxt_x[:-1] = all_x[1:]
+    last_of_seg = np.ones(all_seg.size, dtype=bool)
+    last_of_seg[:-1] = all_seg[1:] != all_seg[:-1]
+    piece_end = np.ones(ns, dtype=bool)
+    piece_end[:-1] = seg_piece[1:] != seg_piece[:-1]
+    tail = last_of_seg & piece_end[all_seg]
+    nxt_x[tail] = seg_b[all_seg[tail]]
+    e_fault = seg_fault[all_seg]
+    pts = np.concatenate([all_x, nxt_x])
+    tree2 = cKDTree(pts)
+    pairs = tree2.query_pairs(tol, output_type="ndarray")
+    npt = pts.shape[0]
+    if pairs.size:
+        graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(npt, npt))
+        _, label = csgraph.connected_components(graph, directed=False)
+    else:
+        label = np.arange(npt)
+    _, first, node_of = np.unique(label, return_index=True, return_inverse=True)
+    nodes = pts[first]
+    ea, eb = node_of[: all_x.shape[0]], node_of[all_x.shape[0] :]
+    keep = ea != eb
+    ea, eb, e_fault = ea[keep], eb[keep], e_fault[keep]
+    key = np.minimum(ea, eb) * nodes.shape[0] + np.maximum(ea, eb)
+    _, cnt = np.unique(key, return_counts=True)
+    if np.any(cnt > 1):  # pragma: no cover - overlaps were rejected above
+        raise GridError("faults overlap")
+    on_bnd = np.zeros(nodes.shape[0], dtype=bool)
+    ends = []
+    for p in pieces:
+        for end, xy in ((0, p["xy"][0]), (1, p["xy"][-1])):
+            if p["bnd"][end]:
+                ends.append(xy)
+    if ends:
+        dist, idx = cKDTree(nodes).query(np.asarray(ends))
+        on_bnd[idx[dist <= tol]] = True
+    near = domain.boundary_distance(nodes) <= tol
+    on_bnd |= near
+    return _Network(nodes, ea, eb, e_fault, on_bnd, spacing, labels)
+
+
+@dataclass
+class _Chains:
+    """Which network nodes are constrained ("key": junctions, boundary points, fault changes,
+    sharp bends) and which are free ends (tips)."""
+
+    key: np.ndarray  # (nn,) bool
+    tip: np.ndarray  # (nn,) bool
+
+
+def _chains(net: _Network) -> _Chains:
+    nn = net.nodes.shape[0]
+    deg = np.bincount(net.edge_a, minlength=nn) + np.bincount(net.edge_b, minlength=nn)
+    fault_min = np.full(nn, np.iinfo(np.int64).max)
+    fault_max = np.zeros(nn, dtype=np.int64)
+    for end in (net.edge_a, net.edge_b):
+        np.minimum.at(fault_min, end, net.edge_fault)
+        np.maximum.at(fault_max, end, net.edge_fault)
+    key = (deg != 2) | net.on_boundary | (fault_min != fault_max)
+    # Sharp bends: the inner angle at a degree-2 node.
+    two = np.flatnonzero((deg == 2) & ~key)
+    if two.size:
+        order = np.argsort(np.concatenate([net.edge_a, net.edge_b]), kind="stable")
+        other = np.concatenate([net.edge_b, net.edge_a])[order]
+        start = np.searchsorted(np.concatenate([net.edge_a, net.edge_b])[order], np.arange(nn))
+        o1, o2 = other[start[two]], other[start[two] + 1]
+        d1, d2 = net.nodes[o1] - net.nodes[two], net.nodes[o2] - net.nodes[two]
+        cosang = (d1 * d2).sum(axis=1) / (np.linalg.norm(d1, axis=1) * np.linalg.norm(d2, axis=1))
+        key[two[cosang > np.cos(KEY_ANGLE)]] = True
+    # A closed loop of degree-2 nodes (not possible from simple open traces) gets one key node.
+    graph = sparse.coo_matrix((np.ones(net.edge_a.size), (net.edge_a, net.edge_b)), shape=(nn, nn))
+    _, comp = csgraph.connected_components(graph, directed=False)
+    has_key = np.zeros(comp.max() + 1, dtype=bool)
+    has_key[comp[key]] = True
+    _, first = np.unique(comp, return_index=True)
+    key[first[~has_key]] = True
+    return _Chains(key, (deg == 1) & ~net.on_boundary)
+
+
+@dataclass
+class FaultLayout:
+    """The network and its constrained nodes; sites are rebuilt from it for every refinement."""
+
+    net: _Network
+    ch: _Chains
+    size: Callable
+    ratio: float
+    domain: Domain
+    refine: list[tuple[float, float, float]] = field(default_factory=list)
+
+
+def layout(faults: Sequence[Fault], domain: Domain, size: Callable, ratio: float, notes: list[str]):
+    net = build_network(faults, domain, size, notes)
+    if net is None:
+        return None
+    return FaultLayout(net, _chains(net), size, ratio, domain)
+
+
+def _ds(lay: FaultLayout, xy: np.ndarray, fault: np.ndarray) -> np.ndarray:
+    """Target step length at points of the given faults (m)."""
+    sp = lay.net.spacing[fault - 1]
+    out = np.where(np.isfinite(sp), sp, 0.0)
+    need = ~np.isfinite(sp)
+    if need.any():
+        out[need] = lay.size(xy[need])
+    if lay.refine:
+        ref = np.asarray(lay.refine)
+        for start in range(0, xy.shape[0], 4096):
+            sl = slice(start, start + 4096)
+            dist = np.linalg.norm(xy[sl, None, :] - ref[None, :, :2], axis=2)
+            out[sl] = np.minimum(out[sl], (ref[None, :, 2] + GROWTH * dist).min(axis=1))
+    return out
+
+
+def build_sites(lay: FaultLayout) -> FaultSites:
+    """Centres, radii and mirrored sites for the current refinement."""
+    net, ch = lay.net, lay.ch
+    nodes = net.nodes
+    nn = nodes.shape[0]
+    ea, eb, ef = net.edge_a, net.edge_b, net.edge_fault
+    elen = np.linalg.norm(nodes[eb] - nodes[ea], axis=1)
+    # Size at nodes: the fault spacing, capped by adjacent segment lengths, then graded.
+    node_fault = np.zeros(nn, dtype=np.int64)
+    node_fault[ea] = ef
+    node_fault[eb] = ef
+    hv = _ds(lay, nodes, node_fault)
+    np.minimum.at(hv, ea, elen)
+    np.minimum.at(hv, eb, elen)
+    for _ in range(nn):  # Lipschitz grading along the network, vectorised over edges
+        before = hv.copy()
+        np.minimum.at(hv, ea, hv[eb] + GROWTH * elen)
+        np.minimum.at(hv, eb, hv[ea] + GROWTH * elen)
+        if np.array_equal(before, hv):
+            break
+    # Steps per edge.
+    ne = ea.size
+    n_steps = np.zeros(ne, dtype=np.int64)
+    params: list[np.ndarray] = [None] * ne  # type: ignore[list-item]
+    for e in range(ne):  # loop over polyline segments
+        m = 65
+        for _ in range(4):  # sample the size function finely enough (8 samples per step)
+            tt = np.linspace(0.0, 1.0, m)
+            xy = nodes[ea[e]] + tt[:, None] * (nodes[eb[e]] - nodes[ea[e]])
+            s = np.minimum.reduce(
+                [
+                    _ds(lay, xy, np.full(m, ef[e])),
+                    hv[ea[e]] + GROWTH * tt * elen[e],
+                    hv[eb[e]] + GROWTH * (1 - tt) * elen[e],
+                ]
+            )
+            need = int(np.ceil(8 * elen[e] / s.min())) + 1
+            if need <= m or m >= 20001:
+                break
+            m = min(need, 20001)
+        dens = elen[e] / s
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * (dens[1:] + dens[:-1]) * np.diff(tt))])
+        n_steps[e] = max(1, int(np.round(cum[-1])))
+        params[e] = (tt, cum)
+    # At a constrained node (junction, sharp bend, boundary point) every arm starts with the same
+    # step L0, and an edge needs a step of its own next to each constrained end.
+    constrained = ch.key & ~ch.tip
+    ends_c = constrained[ea].astype(np.int64) + constrained[eb]
+    l0 = hv.copy()
+    np.minimum.at(l0, ea, elen / np.maximum(ends_c + 1, 2))
+    np.minimum.at(l0, eb, elen / np.maximum(ends_c + 1, 2))
+    n_steps = np.maximum(n_steps, ends_c + 1)
+    # Centres: network nodes first, then the interior points of every edge.
+    cen = [nodes]
+    cen_fault = [node_fault]
+    step_a, step_b, step_f = [], [], []
+    n_cen = nn
+    for e in range(ne):  # loop over polyline segments
+        k = n_steps[e]
+        tt, cum = params[e]
+        t0 = l0[ea[e]] / elen[e] if constrained[ea[e]] else 0.0
+        t1 = 1.0 - l0[eb[e]] / elen[e] if constrained[eb[e]] else 1.0
+        m_free = k - int(constrained[ea[e]]) - int(constrained[eb[e]])  # steps between t0 and t1
+        c0, c1 = np.interp([t0, t1], tt, cum)
+        inner = np.interp(c0 + np.arange(1, m_free) * (c1 - c0) / m_free, cum, tt)
+        tk = np.concatenate([[t0] if constrained[ea[e]] else [], inner, [t1] if constrained[eb[e]] else []])
+        pts = nodes[ea[e]] + tk[:, None] * (nodes[eb[e]] - nodes[ea[e]])
+        ids = np.concatenate([[ea[e]], n_cen + np.arange(k - 1), [eb[e]]])
+        cen.append(pts)
+        cen_fault.append(np.full(k - 1, ef[e]))
+        n_cen += k - 1
+        step_a.append(ids[:-1])
+        step_b.append(ids[1:])
+        step_f.append(np.full(k, ef[e]))
+    centres = np.concatenate(cen)
+    centre_fault = np.concatenate(cen_fault)
+    sa, sb, sf = np.concatenate(step_a), np.concatenate(step_b), np.concatenate(step_f)
+    slen = np.linalg.norm(centres[sb] - centres[sa], axis=1)
+    nc = centres.shape[0]
+    cnt = np.bincount(sa, minlength=nc) + np.bincount(sb, minlength=nc)
+    tot = np.bincount(sa, slen, nc) + np.bincount(sb, slen, nc)
+    radii = _local_ratio(lay, centres, l0, constrained) * tot / np.maximum(cnt, 1)
+    cmin = np.full(nc, np.inf)
+    np.minimum.at(cmin, sa, slen)
+    np.minimum.at(cmin, sb, slen)
+    problems: list[tuple[int, str]] = []
+    _junction_radii(lay, centres, radii, sa, sb, slen, constrained, problems, tot / np.maximum(cnt, 1))
+    # Mirrored pairs.
+    ra, rb = radii[sa], radii[sb]
+    uvec = (centres[sb] - centres[sa]) / slen[:, None]
+    nvec = np.column_stack([-uvec[:, 1], uvec[:, 0]])
+    a_off = (slen**2 - rb**2 + ra**2) / (2 * slen)
+    h2 = ra**2 - a_off**2
+    bad = h2 <= (1e-6 * slen) ** 2
+    for k in np.flatnonzero(bad):  # pragma: no cover - radii are built to intersect
+        problems.append((int(sa[k]), "its circles do not intersect"))
+    hgt = np.sqrt(np.maximum(h2, 0.0))
+    foot = centres[sa] + a_off[:, None] * uvec
+    left = foot + hgt[:, None] * nvec
+    right = foot - hgt[:, None] * nvec
+    ns_ = sa.size
+    # Tips: one site straight ahead of every free end, on its circle.
+    tip_nodes = np.flatnonzero(ch.tip)
+    first_step = np.full(nc, -1, dtype=np.int64)
+    first_step[sb[::-1]] = np.arange(sb.size)[::-1]
+    first_step[sa[::-1]] = np.arange(sa.size)[::-1]
+    t_step = first_step[tip_nodes]
+    t_other = np.where(sa[t_step] == tip_nodes, sb[t_step], sa[t_step])
+    tdir = centres[tip_nodes] - centres[t_other]
+    tdir /= np.linalg.norm(tdir, axis=1, keepdims=True) if tdir.size else 1.0
+    tips = centres[tip_nodes] + radii[tip_nodes, None] * tdir
+    all_sites = np.concatenate([left, right, tips])
+    site_fault = np.concatenate([sf, sf, centre_fault[tip_nodes]])
+    site_step = np.concatenate([slen, slen, slen[t_step]])
+    is_tip = np.concatenate([np.zeros(2 * ns_, dtype=bool), np.ones(tip_nodes.size, dtype=bool)])
+    # Coinciding inner sites (merged at sharp junctions) become one.
+    tiny = 1e-7 * float(slen.min())
+    pairs = cKDTree(all_sites).query_pairs(tiny, output_type="ndarray")
+    ntot = all_sites.shape[0]
+    if pairs.size:
+        graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(ntot, ntot))
+        _, lab = csgraph.connected_components(graph, directed=False)
+    else:
+        lab = np.arange(ntot)
+    _, first, rep = np.unique(lab, return_index=True, return_inverse=True)
+    sites = all_sites[first]
+    pair_idx = np.column_stack([rep[:ns_], rep[ns_ : 2 * ns_]])
+    return FaultSites(
+        sites=sites,
+        site_fault=site_fault[first],
+        site_step=site_step[first],
+        is_tip=is_tip[first],
+        pairs=pair_idx,
+        pair_fault=sf,
+        centres=centres,
+        radii=radii,
+        centre_fault=centre_fault,
+        centre_step=cmin,
+        trace_a=centres[sa],
+        trace_b=centres[sb],
+        trace_fault=sf,
+        problems=problems,
+    )
+
+
+def _local_ratio(
+    lay: FaultLayout, centres: np.ndarray, l0: np.ndarray, constrained: np.ndarray
+) -> np.ndarray:
+    """Circle radius / step per centre: smaller near junctions whose traces meet at acute angles.
+
+    Two traces meeting at an angle phi are s sin(phi) apart at a distance s from the
+    junction, while circles and sites stand off the traces by fixed fractions of the
+    step: for phi below ACUTE the ratio drops towards 0.52 (sites closer to the
+    traces) within 4 steps / sin(phi) of the junction, tapering back over as much again.
+    """
+    ratio = np.full(centres.shape[0], lay.ratio)
+    net = lay.net
+    for v in np.flatnonzero(constrained):  # loop over fault junctions
+        arms = np.concatenate([net.edge_b[net.edge_a == v], net.edge_a[net.edge_b == v]])
+        if arms.size < 2:
+            continue
+        d = net.nodes[arms] - net.nodes[v]
+        ang = np.sort(np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * np.pi))
+        phi = float(np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi])).min())
+        if phi >= ACUTE:
+            continue
+        low = RATIO_MIN + (lay.ratio - RATIO_MIN) * np.clip(
+            (phi - np.radians(15)) / (ACUTE - np.radians(15)), 0, 1
+        )
+        reach = 4.0 * l0[v] / max(np.sin(phi), 0.1)
+        dist = np.linalg.norm(centres - net.nodes[v], axis=1)
+        w = np.clip((dist - reach) / reach, 0.0, 1.0)
+        ratio = np.minimum(ratio, low + (lay.ratio - low) * w)
+    return ratio
+
+
+def _junction_radii(lay: FaultLayout, centres, radii, sa, sb, slen, constrained, problems, mean_step) -> None:
+    """Radii at constrained nodes (junctions, sharp bends, boundary points).
+
+    The sites of the first step of arm j sit at an angle alpha_j from the arm, seen
+    from the node; alpha_j grows with the node's radius r_v (the next radius being
+    fixed). The largest r_v up to ``ratio`` times the first step is taken at which
+    the sites of neighbouring arms do not cross (alpha_j + alpha_k <= gap; at
+    equality they coincide and are merged into one site on three circles) and the
+    sites next to the boundary stay inside it (alpha_j <= gap / 2).
+    """
+    dom = lay.domain
+    ratio = lay.ratio
+    for v in np.flatnonzero(constrained):  # loop over fault junctions
+        steps = np.concatenate([np.flatnonzero(sa == v), np.flatnonzero(sb == v)])
+        if steps.size == 0:
+            continue
+        far = np.concatenate([sb[sa == v], sa[sb == v]])
+        d = centres[far] - centres[v]
+        ang = np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
+        lens = slen[steps]
+        rw = radii[far]
+        rays = [(a, k) for k, a in enumerate(ang)]
+        if lay.net.on_boundary[v]:
+            rays += [(float(np.mod(b, 2 * np.pi)), -1) for b in _boundary_rays(dom, centres[v])]
+        rays.sort()
+        nr = len(rays)
+        pairs, caps = [], []  # (arm, arm, gap) between arms; (arm, limit) next to the boundary
+        for g in range(nr):
+            (a0, k0), (a1, k1) = rays[g], rays[(g + 1) % nr]
+            gap = np.mod(a1 - a0, 2 * np.pi) if nr > 1 else 2 * np.pi
+            if k0 >= 0 and k1 >= 0:
+                if nr > 1:
+                    pairs.append((k0, k1, gap))
+            elif k0 >= 0 or k1 >= 0:
+                mid = a0 + 0.5 * gap
+                probe = centres[v] + 1e-6 * lens.min() * np.array([np.cos(mid), np.sin(mid)])
+                if dom.inside(probe[None, :])[0] or (k0 >= 0 and k1 >= 0):
+                    caps.append((k0 if k0 >= 0 else k1, 0.5 * gap))
+
+        def fits(rv: float, lens=lens, rw=rw, pairs=pairs, caps=caps) -> bool:
+            al = np.arccos(np.clip((rv**2 + lens**2 - rw**2) / (2 * rv * lens), -1.0, 1.0))
+            return all(al[j] + al[k] <= gap * (1 + 1e-12) for j, k, gap in pairs) and all(
+                al[k] <= lim for k, lim in caps
+            )
+
+        hi = min(ratio, radii[v] / mean_step[v]) * float(lens.min())
+        lo = float(np.max(lens - rw)) * (1 + 1e-9)
+        if fits(hi):
+            radii[v] = hi
+            continue
+        if lo >= hi or not fits(lo * (1 + 1e-6)):
+            problems.append((int(v), "the traces meet at too sharp an angle"))
+            radii[v] = hi
+            continue
+        a, b = lo * (1 + 1e-6), hi
+        for _ in range(60):  # bisection: the largest radius that fits
+            m = 0.5 * (a + b)
+            a, b = (m, b) if fits(m) else (a, m)
+        radii[v] = a
+
+
+def _boundary_rays(dom: Domain, p: np.ndarray) -> list[float]:
+    """Directions (angles) of the domain boundary leaving a boundary point."""
+    _, edge, u = dom.nearest_boundary(p[None, :])
+    e, uu = int(edge[0]), float(u[0])
+    m = dom.num_vertices
+    eps = dom.tol / dom.edge_len[e]
+    if uu <= eps:
+        d1, d2 = dom.edge_unit[e], -dom.edge_unit[(e - 1) % m]
+    elif uu >= 1 - eps:
+        d1, d2 = dom.edge_unit[(e + 1) % m], -dom.edge_unit[e]
+    else:
+        d1, d2 = dom.edge_unit[e], -dom.edge_unit[e]
+    return [float(np.arctan2(d1[1], d1[0])), float(np.arctan2(d2[1], d2[0]))]
+
+
+def circle_violations(
+    fs: FaultSites, sites: np.ndarray | None, tree: cKDTree | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """(centre, site) pairs where a site lies strictly inside a fault circle.
+
+    "Strictly" allows 1e-9 relative slack: the circle's own sites lie on it.
+    """
+    if fs.centres.shape[0] == 0 or (tree is None and sites.shape[0] == 0):
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    tree = tree or cKDTree(sites)
+    hits = tree.query_ball_point(fs.centres, fs.radii * (1 - 1e-9), return_sorted=False)
+    lens = tree.query_ball_point(fs.centres, fs.radii * (1 - 1e-9), return_length=True)
+    c = np.repeat(np.arange(fs.centres.shape[0]), lens)
+    s = np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64, count=int(lens.sum()))
+    return c, s

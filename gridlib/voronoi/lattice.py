@@ -1,0 +1,322 @@
+"""Voronoi ridges of a site set that is mostly a regular lattice, with Qhull only where it is not.
+
+Sites of an undisturbed hexagonal (triangular) or square lattice have known
+Voronoi cells. A lattice *cell* (a triangle of three neighbouring sites, or a
+square of four) is *clean* when all its corners are sites and no other site lies
+within its circumcircle (with a relative margin of 1e-6): it is then a Delaunay
+triangle (a Delaunay square of four co-circular sites) of the whole set, and its
+centre a Voronoi vertex. A lattice site all of whose cells are clean is
+*regular*: its Voronoi cell is the regular hexagon (square) around it, and its
+ridges join the centres of its cells.
+
+Everything else (sites of faults, wells, padding, finer levels, and lattice
+sites next to a gap) is *irregular*. Qhull triangulates the irregular sites plus
+the regular sites next to them; triangles with an irregular corner are checked
+against all other sites (no site strictly inside their circumcircle) and the
+offending sites are added until the check passes, so the ridges taken from that
+triangulation (those with an irregular end) are exact. Qhull triangles that are
+clean lattice cells are identified with them, so both kinds of ridges share
+their vertices. The result equals the Delaunay-based diagram of all sites
+(up to the choice of diagonal in co-circular quadruples, which only changes
+zero-length ridges); only about the irregular sites' share of the work is done
+by Qhull.
+
+>>> from gridlib.voronoi.domain import Domain, rectangle
+>>> d = Domain(rectangle(0, 0, 8, 8))
+>>> ij = np.array([(i, j) for j in range(8) for i in range(8)])
+>>> lat = Lattice("cartesian", d.to_local([0.5, 0.5]), 1.0, ij)
+>>> coords, va, vb, p, q = hybrid_ridges(d.to_local(0.5 + ij.astype(float)), d, lat)
+>>> real = np.linalg.norm(coords[va] - coords[vb], axis=1) > 1e-9  # co-circular diagonals have length 0
+>>> int(real.sum()), bool(np.all(np.abs(ij[p[real]] - ij[q[real]]).sum(axis=1) == 1))  # the 112 lattice edges
+(112, True)
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import Delaunay, QhullError, cKDTree
+
+from ..errors import GridError
+from .domain import Domain, _cross2
+
+SQRT3 = np.sqrt(3.0)
+
+
+@dataclass(frozen=True, eq=False)
+class Lattice:
+    """The lattice of the first ``ij.shape[0]`` sites: site k = origin + h (basis @ ij[k])."""
+
+    pattern: str  # "hexagonal" | "cartesian"
+    origin: np.ndarray
+    h: float
+    ij: np.ndarray  # (n_lattice, 2) int64
+
+
+def triangulate(pts: np.ndarray, domain: Domain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Counter-clockwise Delaunay triangles, their neighbours (opposite each corner) and circumcentres."""
+    try:
+        dl = Delaunay(pts)
+    except QhullError as exc:  # pragma: no cover - the frame makes this impossible
+        raise GridError(f"pebi_grid: Qhull failed on {pts.shape[0]} points ({exc})") from exc
+    if dl.coplanar.size:
+        i, j = int(dl.coplanar[0, 0]), int(dl.coplanar[0, 2])
+        raise GridError(
+            f"pebi_grid: two generating points coincide at {domain.fmt(pts[i])} (points {i} and {j})"
+        )
+    tri = dl.simplices.astype(np.int64)
+    nbr = dl.neighbors.astype(np.int64)
+    orient = _cross2(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    flip = orient < 0
+    if flip.any():
+        tri[flip] = tri[flip][:, [0, 2, 1]]
+        nbr[flip] = nbr[flip][:, [0, 2, 1]]
+    centre = circumcentres(pts, tri)
+    if not np.isfinite(centre).all():
+        t = int(np.flatnonzero(~np.isfinite(centre).all(axis=1))[0])
+        raise GridError(f"pebi_grid: points {tri[t].tolist()} are collinear in a Delaunay triangle")
+    return tri, nbr, centre
+
+
+def circumcentres(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    a = xy[tri[:, 0]]
+    b = xy[tri[:, 1]] - a
+    c = xy[tri[:, 2]] - a
+    d = 2.0 * _cross2(b, c)
+    b2, c2 = (b * b).sum(axis=1), (c * c).sum(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ux = (c[:, 1] * b2 - b[:, 1] * c2) / d
+        uy = (b[:, 0] * c2 - c[:, 0] * b2) / d
+    return a + np.column_stack([ux, uy])
+
+
+def edges_of(tri: np.ndarray, nbr: np.ndarray):
+    """Every interior edge once: (triangle on the left of p -> q, triangle on the right, p, q)."""
+    nt = tri.shape[0]
+    t_id = np.repeat(np.arange(nt), 3)
+    p = tri[:, [1, 2, 0]].ravel()
+    q = tri[:, [2, 0, 1]].ravel()
+    u = nbr.ravel()
+    keep = u > t_id
+    return t_id[keep], u[keep], p[keep], q[keep]
+
+
+def frame_points(domain: Domain) -> np.ndarray:
+    """Eight points ten diameters away: every site's region becomes bounded, none of theirs reaches in."""
+    theta = np.arange(8) * (np.pi / 4) + np.pi / 8
+    return 10.0 * domain.diameter * np.column_stack([np.cos(theta), np.sin(theta)])
+
+
+def plain_ridges(sites: np.ndarray, domain: Domain):
+    """(vertex coords, ridge start/end vertex, ridge sites p/q) from one Delaunay of all sites."""
+    n = sites.shape[0]
+    pts = np.concatenate([sites, frame_points(domain)])
+    tri, nbr, centre = triangulate(pts, domain)
+    t, u, p, q = edges_of(tri, nbr)
+    real = (p < n) & (q < n)
+    return centre, u[real], t[real], p[real], q[real]
+
+
+class _Cells:
+    """Lattice cells (triangles U, D or squares S) over the box of the lattice's indices."""
+
+    def __init__(self, lat: Lattice) -> None:
+        ij = lat.ij
+        self.lo = ij.min(axis=0) - 1
+        self.shape = ij.max(axis=0) - self.lo + 2
+        self.grid = np.full(tuple(self.shape), -1, dtype=np.int64)
+        self.grid[ij[:, 0] - self.lo[0], ij[:, 1] - self.lo[1]] = np.arange(ij.shape[0])
+        self.hex = lat.pattern == "hexagonal"
+        self.types = 2 if self.hex else 1
+        self.n = int(self.shape[0] * self.shape[1] * self.types)
+        self.lat = lat
+        # corners (in index offsets) of each cell type, anchored at (a, b)
+        if self.hex:
+            self.corners = [np.array([[0, 0], [1, 0], [0, 1]]), np.array([[1, 0], [1, 1], [0, 1]])]
+            self.offset = [np.array([0.5, SQRT3 / 6]), np.array([1.0, SQRT3 / 3])]
+            self.radius = lat.h / SQRT3
+            # cells around a site: (type, da, db) with anchor = site + (da, db)
+            self.around = [(0, 0, 0), (0, -1, 0), (0, 0, -1), (1, -1, 0), (1, -1, -1), (1, 0, -1)]
+            # lattice edges from a site: (offset of the other end, the two cells on either side)
+            self.edge_types = [
+                ((1, 0), (0, 0, 0), (1, 0, -1)),
+                ((0, 1), (0, 0, 0), (1, -1, 0)),
+                ((-1, 1), (0, -1, 0), (1, -1, 0)),
+            ]
+        else:
+            self.corners = [np.array([[0, 0], [1, 0], [1, 1], [0, 1]])]
+            self.offset = [np.array([0.5, 0.5])]
+            self.radius = lat.h / np.sqrt(2.0)
+            self.around = [(0, 0, 0), (0, -1, 0), (0, -1, -1), (0, 0, -1)]
+            self.edge_types = [((1, 0), (0, 0, 0), (0, 0, -1)), ((0, 1), (0, 0, 0), (0, -1, 0))]
+
+    def basis(self) -> np.ndarray:
+        return np.array([[1.0, 0.0], [0.5, SQRT3 / 2]]) if self.hex else np.eye(2)
+
+    def site_at(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        a, b = i - self.lo[0], j - self.lo[1]
+        ok = (a >= 0) & (a < self.shape[0]) & (b >= 0) & (b < self.shape[1])
+        out = np.full(a.shape, -1, dtype=np.int64)
+        out[ok] = self.grid[a[ok], b[ok]]
+        return out
+
+    def cell_id(self, typ: int | np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        aa, bb = a - self.lo[0], b - self.lo[1]
+        ok = (aa >= 0) & (aa < self.shape[0]) & (bb >= 0) & (bb < self.shape[1])
+        return np.where(ok, (aa * self.shape[1] + bb) * self.types + typ, -1)
+
+    def all_cells(self):
+        aa, bb = np.meshgrid(np.arange(self.shape[0]), np.arange(self.shape[1]), indexing="ij")
+        a = aa.ravel() + self.lo[0]
+        b = bb.ravel() + self.lo[1]
+        return a, b
+
+    def centres(self, cid: np.ndarray) -> np.ndarray:
+        typ = cid % self.types
+        rest = cid // self.types
+        a = rest // self.shape[1] + self.lo[0]
+        b = rest % self.shape[1] + self.lo[1]
+        off = np.asarray(self.offset)[typ]
+        return self.lat.origin + self.lat.h * (np.column_stack([a, b]) @ self.basis() + off)
+
+    def present(self) -> np.ndarray:
+        a, b = self.all_cells()
+        out = np.empty(self.n, dtype=bool)
+        for typ in range(self.types):
+            ok = np.ones(a.size, dtype=bool)
+            for da, db in self.corners[typ]:
+                ok &= self.site_at(a + da, b + db) >= 0
+            out[typ :: self.types] = ok
+        return out
+
+    def near(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(point, cell) pairs of the cells whose circumcircle may contain the point.
+
+        In index coordinates a cell's centre lies 1/3 or 2/3 (hexagonal) or 1/2 (square)
+        past its anchor and a point inside its circumcircle at most 2/3 (0.71) from the
+        centre, so the anchors lie within one step of the point's floored coordinates.
+        """
+        rel = (p - self.lat.origin) / self.lat.h
+        b_f = rel[:, 1] / (SQRT3 / 2) if self.hex else rel[:, 1]
+        a_f = rel[:, 0] - 0.5 * b_f if self.hex else rel[:, 0]
+        a0, b0 = np.floor(a_f).astype(np.int64), np.floor(b_f).astype(np.int64)
+        d = np.arange(-1, 2)
+        da, db = np.meshgrid(d, d, indexing="ij")
+        da, db = da.ravel(), db.ravel()
+        pts = np.repeat(np.arange(p.shape[0]), da.size * self.types)
+        a = (a0[:, None, None] + da[None, :, None]) + np.zeros((1, 1, self.types), dtype=np.int64)
+        b = (b0[:, None, None] + db[None, :, None]) + np.zeros((1, 1, self.types), dtype=np.int64)
+        typ = np.broadcast_to(np.arange(self.types)[None, None, :], a.shape)
+        cells = self.cell_id(typ.ravel(), a.ravel(), b.ravel())
+        ok = cells >= 0
+        return pts[ok], cells[ok]
+
+
+def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
+    """As :func:`plain_ridges`, with Qhull only around the irregular sites (see the module docstring)."""
+    n = sites.shape[0]
+    nl = lat.ij.shape[0]
+    cells = _Cells(lat)
+    clean = cells.present()
+    foreign = sites[nl:]
+    if foreign.shape[0]:
+        pt, cid = cells.near(foreign)
+        close = np.linalg.norm(cells.centres(cid) - foreign[pt], axis=1) < cells.radius * (1 + 1e-6)
+        clean[cid[close]] = False
+    i, j = lat.ij[:, 0], lat.ij[:, 1]
+    regular = np.ones(nl, dtype=bool)
+    for typ, da, db in cells.around:
+        cid = cells.cell_id(typ, i + da, j + db)
+        regular &= (cid >= 0) & clean[np.maximum(cid, 0)]
+    irregular = np.concatenate([~regular, np.ones(n - nl, dtype=bool)])
+    # Buffer: regular lattice sites next to irregular ones.
+    buffer = np.zeros(n, dtype=bool)
+    nb_offsets = (
+        [(1, 0), (-1, 0), (0, 1), (0, -1), (1, -1), (-1, 1)]
+        if cells.hex
+        else [(1, 0), (-1, 0), (0, 1), (0, -1)]
+    )
+    irr_l = np.flatnonzero(~regular)
+    for di, dj in nb_offsets:
+        k = cells.site_at(i[irr_l] + di, j[irr_l] + dj)
+        k = k[k >= 0]
+        buffer[k] = True
+    buffer &= ~irregular
+    if not irregular.any():
+        irregular[0] = True  # pragma: no cover - a domain without boundary sites does not exist
+    tree = None
+    frame = frame_points(domain)
+    for _ in range(20):  # grow the buffer until every triangle at an irregular site is Delaunay
+        sub = np.flatnonzero(irregular | buffer)
+        pts = np.concatenate([sites[sub], frame])
+        tri, nbr, centre = triangulate(pts, domain)
+        ns = sub.size
+        glob = np.concatenate([sub, np.full(frame.shape[0], -1)])
+        has_frame = (tri >= ns).any(axis=1)
+        has_irr = (irregular[np.maximum(glob[tri], 0)] & (glob[tri] >= 0)).any(axis=1)
+        check = np.flatnonzero(has_irr & ~has_frame)
+        others = np.flatnonzero(~(irregular | buffer))
+        if others.size == 0 or check.size == 0:
+            break
+        if tree is None or tree.n != others.size:
+            tree = cKDTree(sites[others])
+        rad = np.linalg.norm(centre[check] - pts[tri[check, 0]], axis=1) * (1 - 1e-9)
+        hits = tree.query_ball_point(centre[check], rad, return_sorted=False)
+        bad = np.unique(np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64))
+        if bad.size == 0:
+            break
+        buffer[others[bad]] = True
+    else:  # pragma: no cover
+        raise GridError("pebi_grid: the Delaunay buffer around irregular sites does not converge")
+
+    # Qhull triangles that are clean lattice cells get the cell's id.
+    nt = tri.shape[0]
+    vid = cells.n + np.arange(nt)
+    corner = glob[tri]
+    lat_tri = np.all((corner >= 0) & (corner < nl), axis=1)
+    lt = np.flatnonzero(lat_tri)
+    if lt.size:
+        ci = lat.ij[corner[lt]]  # (k, 3, 2)
+        for typ, da, db in cells.around:  # a cell around the first corner holding the other two
+            a = ci[:, 0, 0] + da
+            b = ci[:, 0, 1] + db
+            cid = cells.cell_id(typ, a, b)
+            ok = (cid >= 0) & clean[np.maximum(cid, 0)]
+            cand = np.zeros((lt.size, len(cells.corners[typ])), dtype=np.int64)
+            for m, (ca, cb) in enumerate(cells.corners[typ]):
+                cand[:, m] = cells.site_at(a + ca, b + cb)
+            inside1 = (cand == corner[lt, 1][:, None]).any(axis=1)
+            inside2 = (cand == corner[lt, 2][:, None]).any(axis=1)
+            hit = ok & inside1 & inside2 & (vid[lt] >= cells.n)
+            vid[lt[hit]] = cid[hit]
+    t, u, p, q = edges_of(tri, nbr)
+    gp, gq = glob[p], glob[q]
+    real = (gp >= 0) & (gq >= 0)
+    take = real & (irregular[np.maximum(gp, 0)] | irregular[np.maximum(gq, 0)])
+    va = [vid[u[take]]]
+    vb = [vid[t[take]]]
+    cp = [gp[take]]
+    cq = [gq[take]]
+    # Analytic ridges between regular sites.
+    reg = np.flatnonzero(regular)
+    ri, rj = i[reg], j[reg]
+    for (bi, bj), (t1, d1a, d1b), (t2, d2a, d2b) in cells.edge_types:
+        s1 = cells.site_at(ri + bi, rj + bj)
+        ok = s1 >= 0
+        ok[ok] &= ~irregular[s1[ok]]
+        c1 = cells.cell_id(t1, ri[ok] + d1a, rj[ok] + d1b)
+        c2 = cells.cell_id(t2, ri[ok] + d2a, rj[ok] + d2b)
+        va.append(c2)
+        vb.append(c1)
+        cp.append(reg[ok])
+        cq.append(s1[ok])
+    va, vb = np.concatenate(va), np.concatenate(vb)
+    used, inv = np.unique(np.concatenate([va, vb]), return_inverse=True)
+    in_cells = used < cells.n
+    coords = np.empty((used.size, 2))
+    coords[in_cells] = cells.centres(used[in_cells])
+    coords[~in_cells] = centre[used[~in_cells] - cells.n]
+    inv = inv.reshape(-1)
+    return coords, inv[: va.size], inv[va.size :], np.concatenate(cp), np.concatenate(cq)

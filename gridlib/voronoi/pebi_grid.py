@@ -1,0 +1,427 @@
+"""``pebi_grid``: PEBI (Voronoi) grids whose faces follow faults and whose cells refine around wells.
+
+The generating points ("sites") are, in this order of precedence:
+
+* **fault sites** (:mod:`.faults`): mirrored pairs along every fault trace, so
+  that Voronoi edges lie exactly on the trace, plus tip sites beyond free ends;
+* **well sites** (:mod:`.wells`): a centre and radial rings for vertical wells,
+  a row of sites along well paths;
+* **background sites** (:mod:`.sites`): a hexagonal or Cartesian lattice of
+  spacing ``cell_size`` (or graded by a size function), optionally with rows of
+  Cartesian cells along the boundary; lattice sites inside the fault circles,
+  near fault sites or inside a well's clearance zone are removed.
+
+The grid is the Voronoi diagram of the sites clipped to the domain
+(:mod:`.bounded`): cell c is the part of the domain closer to site c than to any
+other site, so interior faces are perpendicular bisectors of their two sites.
+
+Near the boundary: lattice sites outside the domain, or closer to its boundary
+than ``boundary_clearance`` (0.25) times their spacing, are dropped (no half-width
+sliver cells); fault and well sites must lie inside (faults are refined until
+their sites do, wells whose rings reach outside are errors). Where a concave
+boundary cuts a site's region in two, a site is added in the cut-off piece and
+the diagram recomputed (a note says how many). Ridges shorter than 1e-7 of the
+smallest spacing (co-circular sites) are contracted, and the vertices of fault
+faces are set to the exact circle centres on the traces.
+
+Fault faces carry ``faces.tag`` = fault id (1-based position in ``faults``),
+every other face 0; ``cell_well`` is the 1-based well id of the cells generated
+by a well's sites, else 0. Coordinates are metres in the
+caller's frame (UTM-sized coordinates are fine: everything is computed in a
+local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
+2-D faces are edges whose normal (dy, -dx) points from ``neighbors[:, 0]`` to
+``neighbors[:, 1]``, -1 = outside).
+
+>>> g = pebi_grid(((0, 0), (4, 3)), 1.0, pattern="cartesian")
+>>> g.grid.num_cells, g.grid.num_faces
+(12, 31)
+>>> f = pebi_grid(((0, 0), (10, 10)), 1.0, faults=[Fault([(2, 2), (8, 7)])])
+>>> lengths = np.linalg.norm(np.diff(f.grid.nodes.coords[f.grid.faces.nodes.reshape(-1, 2)], axis=1), axis=2)
+>>> round(float(lengths[f.grid.faces.tag == 1].sum()), 9), round(float(np.hypot(6, 5)), 9)
+(7.810249676, 7.810249676)
+"""
+
+from __future__ import annotations
+
+import itertools
+import numbers
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import GridError
+from ..grid import Grid
+from . import faults as _faults
+from .bounded import clipped_voronoi
+from .domain import Domain
+from .faults import Fault
+from .lattice import Lattice
+from .sites import PADDING, background_sites
+from .wells import Well, build_wells, check_clearances, removal_mask
+
+MAX_EXTRA_ROUNDS = 6
+BACKGROUND, PADDING_SITE, FAULT, FAULT_TIP, WELL, ADDED = range(6)  # PebiGrid.site_kind
+
+
+@dataclass(frozen=True, eq=False)
+class PebiGrid:
+    """A PEBI grid and what generated it.
+
+    ``grid``: the 2-D :class:`Grid` (``faces.tag`` = fault id on fault faces, 0
+    elsewhere). ``cell_well`` (nc,): 0, or the 1-based well id of the cell.
+    ``fault_names``, ``well_names``: names by id - 1. ``sites`` (nc, 2): the
+    generating point of every cell (m). ``notes``: what was adjusted (clipped
+    or extended faults, sites added). ``site_kind`` (nc,): what generated each
+    cell: ``BACKGROUND`` 0, ``PADDING_SITE`` 1, ``FAULT`` 2 (a mirrored pair),
+    ``FAULT_TIP`` 3, ``WELL`` 4, ``ADDED`` 5 (where a concave boundary cut a cell).
+    """
+
+    grid: Grid
+    cell_well: np.ndarray
+    fault_names: tuple[str, ...]
+    well_names: tuple[str, ...]
+    sites: np.ndarray
+    notes: tuple[str, ...]
+    site_kind: np.ndarray | None = None
+
+    def __repr__(self) -> str:
+        return (
+            f"PebiGrid(cells={self.grid.num_cells}, faces={self.grid.num_faces}, "
+            f"faults={list(self.fault_names)}, wells={list(self.well_names)})"
+        )
+
+
+def _size_function(cell_size: object, dom: Domain) -> tuple[Callable[[np.ndarray], np.ndarray], float | None]:
+    """A vectorised size function of local points (m), validated, and the constant size if any."""
+    if callable(cell_size):
+
+        def size(p: np.ndarray) -> np.ndarray:
+            p = np.asarray(p, dtype=np.float64).reshape(-1, 2)
+            g = p + dom.origin
+            try:
+                v = np.asarray(cell_size(g[:, 0], g[:, 1]), dtype=np.float64)
+                v = np.broadcast_to(v, (p.shape[0],)).copy()
+            except (TypeError, ValueError) as exc:
+                raise GridError(
+                    f"pebi_grid: cell_size(x, y) must return one size (m) per point for arrays x, y ({exc})"
+                ) from exc
+            bad = ~(np.isfinite(v) & (v > 0))
+            if bad.any():
+                k = int(np.flatnonzero(bad)[0])
+                raise GridError(
+                    f"pebi_grid: cell_size(x, y) must be a positive length, but it is {float(v[k])!r} at "
+                    f"({g[k, 0]:.6g}, {g[k, 1]:.6g})"
+                )
+            return v
+
+        return size, None
+    if (
+        isinstance(cell_size, bool)
+        or not isinstance(cell_size, numbers.Real)
+        or not np.isfinite(float(cell_size))
+        or float(cell_size) <= 0
+    ):
+        raise GridError(
+            "pebi_grid: cell_size must be a positive length in metres or a callable h(x, y), "
+            f"got {cell_size!r}"
+        )
+    h = float(cell_size)
+
+    def constant(p: np.ndarray) -> np.ndarray:
+        return np.full(np.asarray(p).reshape(-1, 2).shape[0], h)
+
+    return constant, h
+
+
+def pebi_grid(
+    domain: object,
+    cell_size: float | Callable,
+    faults: Sequence[Fault] = (),
+    wells: Sequence[Well] = (),
+    *,
+    pattern: str = "hexagonal",
+    padding: int | None = None,
+    fault_ratio: float = 0.6,
+    boundary_clearance: float = 0.25,
+    max_refinements: int = 6,
+) -> PebiGrid:
+    """A PEBI grid of ``domain`` conforming to ``faults`` and refined around ``wells``.
+
+    Parameters
+    ----------
+    domain
+        The polygon: a sequence of (x, y) vertices (m), either orientation, closed
+        implicitly; two points ``((xmin, ymin), (xmax, ymax))`` give a rectangle;
+        a shapely Polygon without holes works too.
+    cell_size
+        Background spacing (m): the distance between neighbouring lattice sites,
+        or a vectorised callable ``h(x, y) -> sizes`` for a graded lattice (see
+        :mod:`gridlib.voronoi.sites`).
+    faults
+        :class:`Fault` traces; clipped to the domain, split where they cross or touch.
+    wells
+        :class:`Well` points (with optional :class:`~gridlib.voronoi.wells.Rings`) and paths.
+    pattern
+        ``"hexagonal"`` or ``"cartesian"`` background lattice.
+    padding
+        Number of rows of Cartesian cells along the boundary (numeric ``cell_size`` only).
+    fault_ratio
+        Circle radius / step length along faults, in (0.5, 1); 0.6 as upr.
+    boundary_clearance
+        Lattice sites closer than this fraction of their spacing to the boundary are dropped.
+    max_refinements
+        How often the fault spacing is halved locally where the empty-circle condition fails.
+
+    Raises
+    ------
+    GridError
+        On invalid input, naming the object: ``fault 'F2' (faults[1]): ...``.
+    """
+    notes: list[str] = []
+    dom = Domain(domain)
+    size, constant = _size_function(cell_size, dom)
+    if pattern == "square":
+        pattern = "cartesian"
+    if pattern not in ("hexagonal", "cartesian"):
+        raise GridError(f"pebi_grid: pattern must be 'hexagonal' or 'cartesian', got {pattern!r}")
+    if padding is not None:
+        if isinstance(padding, bool) or not isinstance(padding, numbers.Integral) or padding < 0:
+            raise GridError(f"pebi_grid: padding must be a number of rows (an integer >= 0), got {padding!r}")
+        if padding and constant is None:
+            raise GridError("pebi_grid: padding needs a numeric cell_size (the rows have one width)")
+    if not (isinstance(fault_ratio, numbers.Real) and 0.5 < fault_ratio < 1):
+        raise GridError(f"pebi_grid: fault_ratio must lie in (0.5, 1), got {fault_ratio!r}")
+    if isinstance(max_refinements, bool) or not (
+        isinstance(max_refinements, numbers.Integral) and max_refinements >= 0
+    ):
+        raise GridError(f"pebi_grid: max_refinements must be an integer >= 0, got {max_refinements!r}")
+    if not (isinstance(boundary_clearance, numbers.Real) and 0 <= boundary_clearance < 0.5):
+        raise GridError(f"pebi_grid: boundary_clearance must lie in [0, 0.5), got {boundary_clearance!r}")
+    faults = list(faults)
+    wells = list(wells)
+
+    ws = build_wells(wells, dom, size)
+    lay = _faults.layout(faults, dom, size, float(fault_ratio), notes)
+    fault_labels = lay.net.labels if lay is not None else []
+    back = background_sites(dom, size, constant, pattern, padding, float(boundary_clearance))
+    order = np.argsort(~back.on_lattice, kind="stable")  # lattice sites first (see lattice.py)
+    bg, bg_spacing, bg_ij = back.xy[order], back.spacing[order], back.ij[order]
+    bg_lattice, bg_padding = back.on_lattice[order], back.kind[order] == PADDING
+    bg_tree = cKDTree(bg) if bg.shape[0] else None
+    bg_keep = np.ones(bg.shape[0], dtype=bool)
+    if bg_tree is not None:
+        bg_keep &= ~removal_mask(ws, bg, bg_tree)
+
+    fs = _faults.FaultSites.empty()
+    for attempt in range(max_refinements + 1):  # rebuild the fault sites where they conflict
+        fs = _faults.build_sites(lay) if lay is not None else _faults.FaultSites.empty()
+        check_clearances(ws, fs.centres, fs.radii, fs.centre_fault, fault_labels, dom)
+        keep = bg_keep.copy()
+        if bg_tree is not None and fs.centres.shape[0]:
+            hits = bg_tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
+            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+            near = 0.5 * np.maximum(fs.site_step, size(fs.sites))
+            hits = bg_tree.query_ball_point(fs.sites, near, return_sorted=False)
+            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+        sites = np.concatenate([bg[keep], fs.sites, ws.sites])
+        n_bg = int(keep.sum())
+        n_f = fs.sites.shape[0]
+        problems = _fault_problems(fs, sites, n_bg, n_f, dom, ws, fault_labels, bg_tree, keep)
+        if not problems:
+            break
+        if attempt == max_refinements:
+            _raise_fault_problem(problems, fs, dom, lay, max_refinements)
+        for where, step in problems:
+            lay.refine.append((float(where[0]), float(where[1]), 0.5 * step))
+    if attempt:
+        notes.append(f"fault spacing halved locally {attempt} time(s) to keep the empty-circle condition")
+    dropped = int(bg_keep.sum() - keep.sum())
+    if dropped:
+        notes.append(f"{dropped} background sites removed inside fault circles or next to fault sites")
+    if (~bg_keep).any():
+        notes.append(f"{int((~bg_keep).sum())} background sites removed around wells")
+
+    if sites.shape[0] == 0:  # a domain smaller than one cell: one cell
+        rp = dom.polygon.point_on_surface()
+        bg = np.array([[rp.x, rp.y]])
+        bg_spacing, bg_lattice, bg_padding = np.array([dom.diameter]), np.zeros(1, bool), np.zeros(1, bool)
+        bg_ij = np.zeros((1, 2), dtype=np.int64)
+        keep = np.ones(1, dtype=bool)
+        sites, n_bg = bg.copy(), 1
+        notes.append("the domain is smaller than one cell: one site at a point inside it")
+    tol = _merge_tolerance(dom, bg_spacing, fs, ws)
+    on_lat = keep & bg_lattice
+    lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat])
+    kind_extra = n_extra = 0
+    for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
+        vor = clipped_voronoi(sites, dom, tol, lattice)
+        if vor.extra_points.shape[0] == 0:
+            break
+        if kind_extra == MAX_EXTRA_ROUNDS:
+            raise GridError(
+                f"pebi_grid: the domain is too narrow for the cell size near {dom.fmt(vor.extra_points[0])}: "
+                "Voronoi regions keep falling apart there; use a smaller cell_size"
+            )
+        extra = vor.extra_points
+        if fs.centres.shape[0]:
+            c, _ = _faults.circle_violations(fs, extra)
+            if c.size:
+                raise GridError(
+                    f"{fault_labels[fs.centre_fault[c[0]] - 1]} runs through a part of the domain narrower "
+                    f"than the cell size near {dom.fmt(fs.centres[c[0]])}; use a smaller cell_size"
+                )
+        sites = np.concatenate([sites, extra])
+        kind_extra += 1
+        n_extra += extra.shape[0]
+    if n_extra:
+        notes.append(f"{n_extra} site(s) added where the concave boundary cut a cell in two")
+
+    n_sites = sites.shape[0]
+    nb = vor.neighbors
+    tags = np.zeros(nb.shape[0], dtype=np.int32)
+    if fs.pairs.shape[0]:
+        pr = np.sort(fs.pairs + n_bg, axis=1)
+        pkey = pr[:, 0] * n_sites + pr[:, 1]
+        order = np.argsort(pkey)
+        pkey = pkey[order]
+        inner = np.flatnonzero((nb >= 0).all(axis=1))
+        lo, hi = np.minimum(nb[inner, 0], nb[inner, 1]), np.maximum(nb[inner, 0], nb[inner, 1])
+        fkey = lo * n_sites + hi
+        loc = np.minimum(np.searchsorted(pkey, fkey), pkey.size - 1)
+        hit = pkey[loc] == fkey
+        tags[inner[hit]] = fs.pair_fault[order[loc[hit]]]
+        _snap_to_traces(vor.coords, vor.face_nodes[tags > 0], fs)
+    grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
+    cell_well = np.zeros(n_sites, dtype=np.int64)
+    cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.site_well
+    site_kind = np.full(n_sites, ADDED, dtype=np.int8)
+    site_kind[:n_bg] = np.where(bg_padding[keep], PADDING_SITE, BACKGROUND)
+    site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)
+    site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
+    _verify(vor, dom, tags, fs, fault_labels, ws, cell_well)
+    names_f = tuple((f.name or f"F{i + 1}") for i, f in enumerate(faults))
+    names_w = tuple((w.name or f"W{i + 1}") for i, w in enumerate(wells))
+    site_xy = sites + dom.origin
+    for a in (cell_well, site_xy, site_kind):
+        a.flags.writeable = False
+    return PebiGrid(grid, cell_well, names_f, names_w, site_xy, tuple(notes), site_kind)
+
+
+def _fault_problems(
+    fs, sites, n_bg, n_f, dom: Domain, ws, labels, bg_tree, keep
+) -> list[tuple[np.ndarray, float]]:
+    """Where fault sites break conformity: (location, local step) to refine.
+
+    Every site is checked against every fault circle: the kept background sites through
+    the tree of all background sites, the fault and well sites through a tree of their own.
+    """
+    out: list[tuple[np.ndarray, float]] = []
+    if fs.centres.shape[0] == 0:
+        return out
+    c, s = _faults.circle_violations(fs, sites[n_bg:])
+    s = s + n_bg
+    if bg_tree is not None:
+        cb, sb = _faults.circle_violations(fs, None, bg_tree)
+        kept = keep[sb]
+        position = np.cumsum(keep) - 1
+        c, s = np.concatenate([cb[kept], c]), np.concatenate([position[sb[kept]], s])
+    if c.size:
+        well_hit = s >= n_bg + n_f
+        if well_hit.any():  # pragma: no cover - check_clearances raises first
+            k = int(np.flatnonzero(well_hit)[0])
+            raise GridError(
+                f"{ws.labels[ws.site_well[s[k] - n_bg - n_f] - 1]} is too close to "
+                f"{labels[fs.centre_fault[c[k]] - 1]} near {dom.fmt(fs.centres[c[k]])}"
+            )
+        for ci, si in zip(c[:200], s[:200], strict=True):
+            out.append((fs.centres[ci], float(fs.centre_step[ci])))
+            if n_bg <= si < n_bg + n_f:
+                out.append((fs.sites[si - n_bg], float(fs.site_step[si - n_bg])))
+    outside = ~dom.inside(fs.sites)
+    if outside.any():
+        for k in np.flatnonzero(outside)[:200]:
+            out.append((fs.sites[k], float(fs.site_step[k])))
+    for ci, _why in fs.problems[:200]:
+        out.append((fs.centres[ci], float(fs.centre_step[ci])))
+    return out
+
+
+def _raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
+    labels = lay.net.labels
+    where = problems[0][0]
+    d = np.linalg.norm(fs.centres - where, axis=1)
+    near = np.flatnonzero(d <= 2.0 * d.min() + 2.0 * float(fs.centre_step.max()))
+    ids = sorted(set(fs.centre_fault[near].tolist()))
+    names = " and ".join(labels[i - 1] for i in ids[:2])
+    outside = ~dom.inside(where[None, :])[0]
+    if outside:
+        raise GridError(
+            f"{names}: its sites leave the domain near {dom.fmt(where)} even after halving the fault spacing "
+            f"{times} times; the fault runs too close to the boundary there"
+        )
+    # the sharpest angle between traces at the nearest junction or bend, if there is one close by
+    net = lay.net
+    node = int(np.argmin(np.linalg.norm(net.nodes - where, axis=1)))
+    arms = np.concatenate([net.edge_b[net.edge_a == node], net.edge_a[net.edge_b == node]])
+    angle = ""
+    if arms.size >= 2 and np.linalg.norm(net.nodes[node] - where) <= 2.0 * float(fs.centre_step.max()):
+        v = net.nodes[arms] - net.nodes[node]
+        ang = np.sort(np.mod(np.arctan2(v[:, 1], v[:, 0]), 2 * np.pi))
+        gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
+        angle = f" (they meet at {np.degrees(gaps.min()):.3g} degrees at {dom.fmt(net.nodes[node])})"
+    raise GridError(
+        f"{names}: no conforming PEBI sites near {dom.fmt(where)} even after halving the fault spacing "
+        f"{times} times: a site falls inside a fault circle (the empty-circle condition), because the traces "
+        f"meet at too sharp an angle or run too close to each other{angle}; widen the angle or the separation"
+    )
+
+
+def _merge_tolerance(dom: Domain, bg_spacing, fs, ws) -> float:
+    """Ridges shorter than this (m) are contracted: 1e-7 of the smallest spacing."""
+    smallest = [float(bg_spacing.min())] if bg_spacing.size else []
+    if fs.centres.shape[0]:
+        smallest.append(float(fs.centre_step.min()))
+    if ws.sites.shape[0] > 1:
+        d, _ = cKDTree(ws.sites).query(ws.sites, k=2)
+        smallest.append(float(d[:, 1].min()))
+    h = min(smallest) if smallest else dom.diameter
+    return max(1e-7 * h, 1e-12 * dom.diameter)
+
+
+def _snap_to_traces(coords: np.ndarray, fault_faces: np.ndarray, fs) -> None:
+    """Voronoi vertices of fault faces are circle centres: give them the exact trace points."""
+    nodes = np.unique(fault_faces)
+    if nodes.size == 0:
+        return
+    d, k = cKDTree(fs.centres).query(coords[nodes])
+    close = d <= 1e-6 * fs.centre_step[k]
+    coords[nodes[close]] = fs.centres[k[close]]
+
+
+def _verify(vor, dom: Domain, tags, fs, labels, ws, cell_well) -> None:
+    """Cheap end-to-end checks: areas add up, fault faces cover the traces, wells own cells."""
+    total = float(vor.areas.sum())
+    if not abs(total - dom.area) <= 1e-9 * dom.area:
+        raise GridError(
+            f"pebi_grid: internal error: cell areas sum to {total!r}, the domain's area is {dom.area!r}"
+        )
+    if fs.trace_a.shape[0]:
+        e = vor.face_nodes
+        length = np.linalg.norm(vor.coords[e[:, 1]] - vor.coords[e[:, 0]], axis=1)
+        got = np.bincount(tags, length, minlength=len(labels) + 1)[1:]
+        want = np.bincount(fs.trace_fault, np.linalg.norm(fs.trace_b - fs.trace_a, axis=1), len(labels) + 1)[
+            1:
+        ]
+        bad = np.abs(got - want) > 1e-9 * np.maximum(want, dom.tol)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise GridError(
+                f"pebi_grid: internal error: the faces of {labels[k]} cover {got[k]:.9g} m of its "
+                f"{want[k]:.9g} m trace"
+            )
+    counts = np.bincount(cell_well, minlength=ws.count + 1)[1:]
+    if np.any(counts == 0):  # pragma: no cover
+        k = int(np.flatnonzero(counts == 0)[0])
+        raise GridError(f"pebi_grid: internal error: {ws.labels[k]} has no cell")

@@ -1,0 +1,341 @@
+"""Well sites: radial rings around vertical wells, a row of sites along well paths.
+
+A vertical well (``Well(point, rings=Rings(...))``) gets its centre site plus
+rings of ``sectors`` sites at geometrically graded radii (MRST book §3.3.2 and
+§3.5.2, Figs. 3.25 and 3.37); background sites closer to the centre than the
+outer radius plus half a cell are removed. A well without rings is one site.
+A well path (``Well(path=polyline)``) gets sites along the polyline, at all its
+vertices and ``spacing`` apart in between; background sites closer than half
+the larger of the spacing and the cell size to the path are removed. The cells
+of a well's sites are that well's cells (``PebiGrid.cell_well``).
+
+Units are metres and radians; x, y in plan view.
+
+>>> Rings(inner=0.1, outer=10.0, growth=10 ** 0.5).radii(8).round(3).tolist()
+[0.1, 0.316, 1.0, 3.162, 10.0]
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike
+from scipy.spatial import cKDTree
+
+from ..errors import GridError
+from .domain import Domain
+
+
+def _positive(value: object, what: str) -> float:
+    if not (
+        isinstance(value, int | float) and not isinstance(value, bool) and np.isfinite(value) and value > 0
+    ):
+        raise GridError(f"{what} must be a positive number, got {value!r}")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class Rings:
+    """Radial rings of sites around a vertical well (lengths in metres).
+
+    ``inner`` is the radius of the first ring. Give two of ``outer`` (radius of
+    the last ring), ``growth`` (ratio of consecutive radii, > 1) and ``count``
+    (number of rings); with ``outer`` alone the growth is exp(2 pi / sectors),
+    which makes the ring cells about as long as they are wide. With ``outer``
+    and ``growth`` the number of rings is rounded and the growth adjusted so that
+    the last ring lies exactly at ``outer``. ``sectors`` (sites per ring)
+    defaults to 2 pi outer / cell size (at least 6); ``angle`` (radians) is the
+    direction of every ring's first site.
+
+    >>> r = Rings(inner=np.exp(-3.5), outer=1.0, growth=np.exp(0.25), sectors=16)
+    >>> r.radii(16).size, float(r.radii(16)[-1])
+    (15, 1.0)
+    """
+
+    inner: float
+    outer: float | None = None
+    growth: float | None = None
+    count: int | None = None
+    sectors: int | None = None
+    angle: float = 0.0
+
+    def radii(self, sectors: int, what: str = "Rings") -> np.ndarray:
+        inner = _positive(self.inner, f"{what}: inner")
+        outer = None if self.outer is None else _positive(self.outer, f"{what}: outer")
+        growth = None if self.growth is None else _positive(self.growth, f"{what}: growth")
+        count = self.count
+        if count is not None and not (isinstance(count, int | np.integer) and count >= 1):
+            raise GridError(f"{what}: count must be a positive integer, got {count!r}")
+        if growth is not None and growth <= 1:
+            raise GridError(f"{what}: growth must be larger than 1, got {growth!r}")
+        if outer is not None and outer < inner:
+            raise GridError(f"{what}: outer ({outer}) is smaller than inner ({inner})")
+        given = sum(x is not None for x in (outer, growth, count))
+        if given == 3:
+            raise GridError(f"{what}: give two of outer, growth and count, not all three")
+        if outer is not None and growth is not None:
+            count = int(np.round(np.log(outer / inner) / np.log(growth))) + 1
+            return np.geomspace(inner, outer, max(count, 1)) if count > 1 else np.array([inner])
+        if outer is not None and count is not None:
+            return np.geomspace(inner, outer, count) if count > 1 else np.array([inner])
+        if growth is not None and count is not None:
+            return inner * growth ** np.arange(count)
+        if outer is not None:
+            g = np.exp(2 * np.pi / sectors)
+            count = int(np.round(np.log(outer / inner) / np.log(g))) + 1
+            return np.geomspace(inner, outer, count) if count > 1 else np.array([inner])
+        if count is not None and count == 1:
+            return np.array([inner])
+        raise GridError(f"{what}: give the outer radius, or the growth and the number of rings (count)")
+
+
+@dataclass(frozen=True, eq=False)
+class Well:
+    """A vertical well at ``point`` (with optional ``rings``) or a well ``path``.
+
+    ``name`` defaults to ``W<k>`` (k = 1-based position). ``spacing`` (m) is the
+    distance between sites along a path (default: the cell size there).
+
+    >>> Well((100.0, 50.0), name="I1", rings=Rings(inner=1.0, outer=20.0)).name
+    'I1'
+    """
+
+    point: ArrayLike | None = None
+    name: str | None = None
+    rings: Rings | None = None
+    path: ArrayLike | None = None
+    spacing: float | None = None
+
+
+@dataclass
+class WellSites:
+    """Sites of all wells and the zones where background sites are removed (local frame)."""
+
+    sites: np.ndarray  # (k, 2)
+    site_well: np.ndarray  # (k,) well id 1..m
+    disc_centre: np.ndarray  # (w, 2) point wells: centre
+    disc_radius: np.ndarray  # (w,) outer ring radius (0 without rings)
+    disc_margin: np.ndarray  # (w,) background clearance beyond the outer ring
+    disc_well: np.ndarray  # (w,)
+    paths: list[tuple[int, np.ndarray, float]]  # (well id, polyline, half-width)
+    labels: list[str]
+
+    @property
+    def count(self) -> int:
+        return len(self.labels)
+
+
+def well_label(well: Well, i: int) -> str:
+    return f"well {well.name or f'W{i + 1}'!r} (wells[{i}])"
+
+
+def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSites:
+    sites, site_well = [np.zeros((0, 2))], [np.zeros(0, dtype=np.int64)]
+    dc, dr, dm, dw = [], [], [], []
+    paths: list[tuple[int, np.ndarray, float]] = []
+    labels = []
+    tol = domain.tol
+    for i, well in enumerate(wells):  # loop over wells
+        if not isinstance(well, Well):
+            raise GridError(f"wells[{i}]: expected a Well, got {type(well).__name__}")
+        label = well_label(well, i)
+        labels.append(label)
+        if (well.point is None) == (well.path is None):
+            raise GridError(f"{label}: give either a point or a path")
+        if well.point is not None:
+            p = _points(well.point, label, "point").reshape(-1)
+            if p.size != 2:
+                raise GridError(f"{label}: point must be one (x, y) pair, got {well.point!r}")
+            c = domain.to_local(p)
+            if not domain.inside(c[None, :])[0]:
+                raise GridError(f"{label}: its point ({p[0]:.6g}, {p[1]:.6g}) lies outside the domain")
+            if well.spacing is not None:
+                raise GridError(f"{label}: spacing applies to well paths; a point well has rings")
+            h = float(size(c[None, :])[0])
+            pts = [c[None, :]]
+            radius = 0.0
+            if well.rings is not None:
+                if not isinstance(well.rings, Rings):
+                    raise GridError(f"{label}: rings must be a Rings, got {type(well.rings).__name__}")
+                r0 = well.rings
+                outer_guess = r0.outer
+                if r0.sectors is not None:
+                    if not (isinstance(r0.sectors, int | np.integer) and r0.sectors >= 3):
+                        raise GridError(f"{label}: rings.sectors must be an integer >= 3, got {r0.sectors!r}")
+                    sectors = int(r0.sectors)
+                else:
+                    if outer_guess is None:
+                        probe = r0.radii(16, f"{label}: rings")
+                        outer_guess = float(probe[-1])
+                    sectors = max(6, int(np.round(2 * np.pi * outer_guess / h)))
+                radii = r0.radii(sectors, f"{label}: rings")
+                theta = float(r0.angle) + 2 * np.pi * np.arange(sectors) / sectors
+                ring = radii[:, None, None] * np.stack([np.cos(theta), np.sin(theta)], axis=-1)[None]
+                ring = ring.reshape(-1, 2) + c
+                inside = domain.covers(ring)
+                if not inside.all():
+                    raise GridError(
+                        f"{label}: its rings (outer radius {radii[-1]:.6g} m) reach outside the domain "
+                        f"near {domain.fmt(ring[np.flatnonzero(~inside)[0]])}; "
+                        "reduce rings.outer or move the well"
+                    )
+                pts.append(ring)
+                radius = float(radii[-1])
+            xy = np.concatenate(pts)
+            sites.append(xy)
+            site_well.append(np.full(xy.shape[0], i + 1))
+            dc.append(c)
+            dr.append(radius)
+            dm.append(0.5 * h)
+            dw.append(i + 1)
+        else:
+            if well.rings is not None:
+                raise GridError(f"{label}: rings apply to a vertical well (point), not to a path")
+            xy = domain.to_local(_points(well.path, label, "path"))
+            if xy.ndim != 2 or xy.shape[0] < 2:
+                raise GridError(f"{label}: a path needs at least 2 (x, y) points")
+            seg = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+            if np.any(seg <= tol):
+                raise GridError(
+                    f"{label}: path points {int(np.argmin(seg))} and {int(np.argmin(seg)) + 1} coincide"
+                )
+            if not shapely.LineString(xy).is_simple:
+                raise GridError(f"{label}: the path crosses itself")
+            out = ~domain.covers(xy)
+            if out.any() or not shapely.LineString(xy).within(domain.polygon.buffer(tol)):
+                k = int(np.flatnonzero(out)[0]) if out.any() else 0
+                raise GridError(f"{label}: the path leaves the domain (near {domain.fmt(xy[k])})")
+            if well.spacing is not None:
+                sp = np.full(seg.size, _positive(well.spacing, f"{label}: spacing"))
+            else:
+                sp = size(0.5 * (xy[1:] + xy[:-1]))
+            n = np.maximum(1, np.round(seg / sp).astype(np.int64))
+            pts = [xy[:1]]
+            for k in range(seg.size):  # loop over path segments
+                t = np.arange(1, n[k] + 1) / n[k]
+                pts.append(xy[k] + t[:, None] * (xy[k + 1] - xy[k]))
+            ps = np.concatenate(pts)
+            sites.append(ps)
+            site_well.append(np.full(ps.shape[0], i + 1))
+            h = float(np.max(size(xy)))
+            half = 0.5 * max(float(np.max(seg / n)), h)
+            paths.append((i + 1, xy, half))
+    empty = np.zeros((0, 2))
+    return WellSites(
+        sites=np.concatenate(sites),
+        site_well=np.concatenate(site_well),
+        disc_centre=np.asarray(dc).reshape(-1, 2) if dc else empty,
+        disc_radius=np.asarray(dr, dtype=np.float64),
+        disc_margin=np.asarray(dm, dtype=np.float64),
+        disc_well=np.asarray(dw, dtype=np.int64),
+        paths=paths,
+        labels=labels,
+    )
+
+
+def _points(value: object, label: str, what: str) -> np.ndarray:
+    try:
+        xy = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise GridError(f"{label}: {what} must be (x, y) coordinates, got {value!r:.60}") from exc
+    if not np.isfinite(xy).all():
+        raise GridError(f"{label}: {what} is not finite")
+    if xy.ndim == 2 and xy.shape[1] != 2:
+        raise GridError(f"{label}: {what} must have shape (n, 2), got {xy.shape}")
+    return xy
+
+
+def _dist_to_polyline(p: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    a, b = xy[:-1], xy[1:]
+    d = np.full(p.shape[0], np.inf)
+    for k in range(a.shape[0]):  # loop over path segments
+        s = b[k] - a[k]
+        rel = p - a[k]
+        t = np.clip(rel @ s / (s @ s), 0.0, 1.0)
+        d = np.minimum(d, np.linalg.norm(rel - t[:, None] * s, axis=1))
+    return d
+
+
+def removal_mask(ws: WellSites, pts: np.ndarray, tree: cKDTree) -> np.ndarray:
+    """Background points inside a well's clearance zone."""
+    gone = np.zeros(pts.shape[0], dtype=bool)
+    if ws.disc_centre.shape[0]:
+        hits = tree.query_ball_point(ws.disc_centre, ws.disc_radius + ws.disc_margin)
+        gone[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = True
+    for _, xy, half in ws.paths:
+        hits = tree.query_ball_point(xy, _max_seg(xy) / 2 + half)
+        cand = np.unique(np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64))
+        if cand.size:
+            near = _dist_to_polyline(pts[cand], xy) < half
+            gone[cand[near]] = True
+    return gone
+
+
+def _max_seg(xy: np.ndarray) -> float:
+    return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).max())
+
+
+def check_clearances(
+    ws: WellSites, fault_centres, fault_radii, fault_ids, fault_labels, domain: Domain
+) -> None:
+    """Wells must keep clear of each other and of the fault circles."""
+    nw = ws.disc_centre.shape[0]
+    # point wells vs point wells
+    if nw > 1:
+        c = ws.disc_centre
+        reach = ws.disc_radius + ws.disc_margin
+        d = np.linalg.norm(c[:, None, :] - c[None, :, :], axis=2)
+        need = np.maximum(ws.disc_radius[:, None] + reach[None, :], reach[:, None] + ws.disc_radius[None, :])
+        i, j = np.nonzero(np.triu(d < need, 1))
+        if i.size:
+            a, b = int(i[0]), int(j[0])
+            raise GridError(
+                f"{ws.labels[ws.disc_well[a] - 1]} and {ws.labels[ws.disc_well[b] - 1]} are too close: "
+                f"{d[a, b]:.4g} m apart, their rings and clearances need {need[a, b]:.4g} m"
+            )
+    # paths vs point wells and paths vs paths
+    for k, (wid, xy, half) in enumerate(ws.paths):
+        line = shapely.LineString(xy)
+        if nw:
+            dist = _dist_to_polyline(ws.disc_centre, xy)
+            bad = dist < ws.disc_radius + np.maximum(ws.disc_margin, half)
+            if bad.any():
+                a = int(np.flatnonzero(bad)[0])
+                raise GridError(
+                    f"{ws.labels[wid - 1]} and {ws.labels[ws.disc_well[a] - 1]} are too close: "
+                    f"{dist[a]:.4g} m apart"
+                )
+        for wid2, xy2, half2 in ws.paths[k + 1 :]:
+            dd = line.distance(shapely.LineString(xy2))
+            if dd < half + half2:
+                raise GridError(
+                    f"{ws.labels[wid - 1]} and {ws.labels[wid2 - 1]} are too close: {dd:.4g} m apart, "
+                    f"they need {half + half2:.4g} m"
+                )
+    if fault_centres is None or fault_centres.shape[0] == 0:
+        return
+    if nw:
+        d = np.linalg.norm(ws.disc_centre[:, None, :] - fault_centres[None, :, :], axis=2)
+        need = ws.disc_radius[:, None] + ws.disc_margin[:, None] + fault_radii[None, :]
+        i, j = np.nonzero(d < need)
+        if i.size:
+            a, b = int(i[0]), int(j[0])
+            raise GridError(
+                f"{ws.labels[ws.disc_well[a] - 1]} is too close to {fault_labels[fault_ids[b] - 1]}: "
+                "its rings "
+                f"and clearance (radius {ws.disc_radius[a] + ws.disc_margin[a]:.4g} m) overlap the fault's "
+                f"circles near {domain.fmt(fault_centres[b])}; move the well or shrink its rings"
+            )
+    for wid, xy, half in ws.paths:
+        dist = _dist_to_polyline(fault_centres, xy)
+        bad = dist < half + fault_radii
+        if bad.any():
+            b = int(np.flatnonzero(bad)[0])
+            raise GridError(
+                f"{ws.labels[wid - 1]} crosses or comes too close to {fault_labels[fault_ids[b] - 1]} near "
+                f"{domain.fmt(fault_centres[b])} (it needs {half + fault_radii[b]:.3g} m)"
+            )
