@@ -18,7 +18,8 @@ In the spirit of MRST's ``convertHorizonsToGrid`` (MRST book §3.5, Figs. 3.18 a
   displaced by its throw; the pillars on the trace then carry different depths
   on its two sides, which is what a fault is in a corner-point grid. The faults
   are recorded as FAULTS segments so that ``process_grdecl`` tags their faces by
-  name.
+  name. (The displacement rules live in ``gridlib.stratigraphic.faults``, shared
+  with the 2.5D front end ``gridlib.stratigraphic.extrude``.)
 
 Units are metres; z is depth, positive downwards.
 """
@@ -26,7 +27,7 @@ Units are metres; z is depth, positive downwards.
 from __future__ import annotations
 
 import numbers
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,6 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..stratigraphic.faults import FaultTrace, fault_displacement
 from .deck import Deck, FaultSegment
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
@@ -64,64 +66,6 @@ class Horizon:
                 raise InputError(f"Horizon: {name} is not an array of numbers ({exc})") from exc
             arr.flags.writeable = False
             object.__setattr__(self, name, arr)
-
-
-@dataclass(frozen=True, eq=False)
-class FaultTrace:
-    """A vertical fault given by its trace in plan view.
-
-    ``points``: the polyline, (n >= 2, 2) x, y in metres. ``throw`` (m): the
-    vertical displacement of the hanging wall, positive downwards (deeper); a
-    number, or a function of the normalised arc length ``s`` in [0, 1] along the
-    polyline (0 at its first point) returning an array like ``s``, e.g.
-    ``lambda s: 10 * (1 - s)`` for a fault dying out at its last point
-    (values below 1e-12 times the largest are taken as 0, so round-off such as
-    ``sin(pi)`` still gives an exact tip).
-    ``side``: which side of the polyline, walked from its first point to its
-    last, is the hanging wall, ``"left"`` or ``"right"`` as seen on a map with
-    x to the right and y up. ``name``: the FAULTS name (default ``F1``, ``F2``,
-    ... by position).
-
-    A trace should extend beyond the grid where the fault crosses it: an end
-    point strictly inside the grid's rectangle is a fault tip (see
-    :func:`horizons_to_grdecl`), an end point on or outside it is not.
-    """
-
-    points: NDArray[np.float64]
-    throw: float | Callable[[NDArray[np.float64]], ArrayLike]
-    name: str | None = None
-    side: str = "right"
-
-    def __post_init__(self) -> None:
-        label = "fault trace" if self.name is None else f"fault trace '{self.name}'"
-        if self.name is not None and (not isinstance(self.name, str) or not self.name.strip()):
-            raise InputError(f"{label}: name must be a non-empty string, got {self.name!r}")
-        try:
-            pts = np.array(self.points, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"{label}: points must be an (n, 2) array of x, y ({exc})") from exc
-        if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 2:
-            raise InputError(f"{label}: points must be an (n >= 2, 2) array of x, y, got shape {pts.shape}")
-        if not np.isfinite(pts).all():
-            raise InputError(f"{label}: points must be finite")
-        seg = np.hypot(*np.diff(pts, axis=0).T)
-        if np.any(seg == 0):
-            raise InputError(
-                f"{label}: points {int(np.flatnonzero(seg == 0)[0])} and "
-                f"{int(np.flatnonzero(seg == 0)[0]) + 1} coincide (zero-length segment)"
-            )
-        pts.flags.writeable = False
-        object.__setattr__(self, "points", pts)
-        if not callable(self.throw):
-            if isinstance(self.throw, bool) or not isinstance(self.throw, numbers.Real):
-                raise InputError(
-                    f"{label}: throw must be a number (m) or a function of s in [0, 1], got {self.throw!r}"
-                )
-            if not np.isfinite(float(self.throw)):
-                raise InputError(f"{label}: throw must be finite, got {self.throw!r}")
-            object.__setattr__(self, "throw", float(self.throw))
-        if self.side not in ("left", "right"):
-            raise InputError(f"{label}: side must be 'left' or 'right', got {self.side!r}")
 
 
 def horizons_to_grdecl(
@@ -314,8 +258,8 @@ def _check_dims(dims: Sequence[int]) -> tuple[int, int]:
     return nx, ny
 
 
-def _check_layers(layers: int | Sequence[int], n_zones: int) -> list[int]:
-    what = f"horizons_to_grdecl: layers must be a positive integer or one per zone ({n_zones} zones)"
+def _check_layers(layers: int | Sequence[int], n_zones: int, who: str = "horizons_to_grdecl") -> list[int]:
+    what = f"{who}: layers must be a positive integer or one per zone ({n_zones} zones)"
     if _is_int(layers):
         values = [int(layers)] * n_zones  # type: ignore[arg-type]
     else:
@@ -366,65 +310,66 @@ def _check_horizons(horizons: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndar
         )
     if len(horizons) < 2:
         raise InputError(f"horizons_to_grdecl: need at least two horizons (top first), got {len(horizons)}")
-    out = []
-    for h, hz in enumerate(horizons):
-        arrays = {}
-        for key in ("x", "y", "z"):
-            try:
-                arrays[key] = np.asarray(_field(hz, key, h), dtype=np.float64)
-            except (TypeError, ValueError) as exc:
-                raise InputError(f"horizon {h}: {key} is not an array of numbers ({exc})") from exc
-        x, y, z = arrays["x"], arrays["y"], arrays["z"]
-        if z.ndim != 2 or min(z.shape) < 2:
+    return [check_horizon(hz, h) for h, hz in enumerate(horizons)]
+
+
+def check_horizon(hz: Any, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One gridded horizon (a :class:`Horizon`, a mapping or an object with ``x``, ``y``, ``z``)
+    as an increasing x axis (nx,), an increasing y axis (ny,) and depths z[j, i] (ny, nx);
+    errors name it ``horizon {h}``."""
+    arrays = {}
+    for key in ("x", "y", "z"):
+        try:
+            arrays[key] = np.asarray(_field(hz, key, h), dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"horizon {h}: {key} is not an array of numbers ({exc})") from exc
+    x, y, z = arrays["x"], arrays["y"], arrays["z"]
+    if z.ndim != 2 or min(z.shape) < 2:
+        raise InputError(f"horizon {h}: z must be a 2-D array of at least 2 x 2 nodes, got shape {z.shape}")
+    if x.ndim != y.ndim or x.ndim not in (1, 2):
+        raise InputError(
+            f"horizon {h}: x and y must both be 1-D axes or both 2-D mesh arrays, "
+            f"got shapes {x.shape} and {y.shape}"
+        )
+    if not (np.isfinite(x).all() and np.isfinite(y).all()):
+        raise InputError(f"horizon {h}: x and y must be finite")
+    if x.ndim == 1:
+        if z.shape != (y.size, x.size):
             raise InputError(
-                f"horizon {h}: z must be a 2-D array of at least 2 x 2 nodes, got shape {z.shape}"
+                f"horizon {h}: z has shape {z.shape}, expected (len(y), len(x)) = ({y.size}, {x.size})"
             )
-        if x.ndim != y.ndim or x.ndim not in (1, 2):
+        xa, ya = x, y
+    else:
+        if x.shape != z.shape or y.shape != z.shape:
             raise InputError(
-                f"horizon {h}: x and y must both be 1-D axes or both 2-D mesh arrays, "
-                f"got shapes {x.shape} and {y.shape}"
+                f"horizon {h}: x, y and z must have the same shape, got {x.shape}, {y.shape} and {z.shape}"
             )
-        if not (np.isfinite(x).all() and np.isfinite(y).all()):
-            raise InputError(f"horizon {h}: x and y must be finite")
-        if x.ndim == 1:
-            if z.shape != (y.size, x.size):
-                raise InputError(
-                    f"horizon {h}: z has shape {z.shape}, expected (len(y), len(x)) = ({y.size}, {x.size})"
-                )
-            xa, ya = x, y
+        tol = 1e-10 * max(1.0, float(np.abs(x).max()), float(np.abs(y).max()))
+
+        def const(a: np.ndarray, axis: int, tol: float = tol) -> bool:
+            ref = a[:1, :] if axis == 0 else a[:, :1]
+            return bool(np.all(np.abs(a - ref) <= tol))
+
+        if const(x, 0) and const(y, 1) and not const(x, 1):  # meshgrid layout: x along columns
+            xa, ya = x[0], y[:, 0]
+        elif const(x, 1) and const(y, 0) and not const(x, 0):  # ndgrid layout: x along rows
+            xa, ya, z = x[:, 0], y[0], z.T
         else:
-            if x.shape != z.shape or y.shape != z.shape:
-                raise InputError(
-                    f"horizon {h}: x, y and z must have the same shape, "
-                    f"got {x.shape}, {y.shape} and {z.shape}"
-                )
-            tol = 1e-10 * max(1.0, float(np.abs(x).max()), float(np.abs(y).max()))
-
-            def const(a: np.ndarray, axis: int, tol: float = tol) -> bool:
-                ref = a[:1, :] if axis == 0 else a[:, :1]
-                return bool(np.all(np.abs(a - ref) <= tol))
-
-            if const(x, 0) and const(y, 1) and not const(x, 1):  # meshgrid layout: x along columns
-                xa, ya = x[0], y[:, 0]
-            elif const(x, 1) and const(y, 0) and not const(x, 0):  # ndgrid layout: x along rows
-                xa, ya, z = x[:, 0], y[0], z.T
-            else:
-                raise InputError(
-                    f"horizon {h}: x and y are not a rectilinear mesh (x must be constant along one "
-                    "axis and y along the other, as meshgrid gives)"
-                )
-        xa, flip_x = _axis(xa, "x", h)
-        ya, flip_y = _axis(ya, "y", h)
-        if flip_x:
-            z = z[:, ::-1]
-        if flip_y:
-            z = z[::-1, :]
-        if np.isinf(z).any():
-            raise InputError(f"horizon {h}: z has infinite values (use NaN for undefined depths)")
-        if np.isnan(z).all():
-            raise InputError(f"horizon {h}: z is undefined (NaN) everywhere")
-        out.append((np.ascontiguousarray(xa), np.ascontiguousarray(ya), np.ascontiguousarray(z)))
-    return out
+            raise InputError(
+                f"horizon {h}: x and y are not a rectilinear mesh (x must be constant along one "
+                "axis and y along the other, as meshgrid gives)"
+            )
+    xa, flip_x = _axis(xa, "x", h)
+    ya, flip_y = _axis(ya, "y", h)
+    if flip_x:
+        z = z[:, ::-1]
+    if flip_y:
+        z = z[::-1, :]
+    if np.isinf(z).any():
+        raise InputError(f"horizon {h}: z has infinite values (use NaN for undefined depths)")
+    if np.isnan(z).all():
+        raise InputError(f"horizon {h}: z is undefined (NaN) everywhere")
+    return np.ascontiguousarray(xa), np.ascontiguousarray(ya), np.ascontiguousarray(z)
 
 
 # --------------------------------------------------------------------------- horizons
@@ -433,6 +378,14 @@ def _check_horizons(horizons: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndar
 def _interpolate(xa: np.ndarray, ya: np.ndarray, z: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
     """Bilinear depths at the pillar nodes (ny + 1, nx + 1); NaN outside the horizon's box and
     wherever one of its NaN nodes has a non-zero weight (not just next to one)."""
+    QX, QY = np.meshgrid(px, py)
+    return interpolate_horizon(xa, ya, z, QX, QY)
+
+
+def interpolate_horizon(xa: np.ndarray, ya: np.ndarray, z: np.ndarray, qx: np.ndarray, qy: np.ndarray):
+    """Bilinear depths of the horizon (``check_horizon``'s axes and z) at the points (qx, qy), any
+    shape; NaN outside its box (round-off at the box edges counts as inside) and wherever one of
+    its NaN nodes has a non-zero weight."""
     from scipy.interpolate import RegularGridInterpolator  # slow to import (0.5 s): only when used
 
     undefined = np.isnan(z)
@@ -444,29 +397,35 @@ def _interpolate(xa: np.ndarray, ya: np.ndarray, z: np.ndarray, px: np.ndarray, 
         p = np.where((p < a[0]) & (p >= a[0] - tol), a[0], p)
         return np.where((p > a[-1]) & (p <= a[-1] + tol), a[-1], p)
 
-    QX, QY = np.meshgrid(snap(px, xa), snap(py, ya))
-    out = interp(np.stack([QY, QX], axis=-1))
+    out = interp(np.stack([snap(qy, ya), snap(qx, xa)], axis=-1))
     return np.where(out[..., 1] > 0, np.nan, out[..., 0])
 
 
-def _order(H: np.ndarray, ordering: str, PX: np.ndarray, PY: np.ndarray, notes: list[str]) -> np.ndarray:
-    """Check or repair the depth order of the horizons at the pillar nodes (ALGORITHMS.md §4)."""
+def _order(
+    H: np.ndarray,
+    ordering: str,
+    PX: np.ndarray,
+    PY: np.ndarray,
+    notes: list[str],
+    who: str = "horizons_to_grdecl",
+    where: str = "pillar nodes",
+) -> np.ndarray:
+    """Check or repair the depth order of the horizons at the pillar nodes (ALGORITHMS.md §4);
+    ``who`` and ``where`` name the caller and the points in messages."""
     defined = np.isfinite(H)
     with np.errstate(invalid="ignore"):
         crossing = defined[1:] & defined[:-1] & (H[1:] < H[:-1])
     if ordering == "error":
         if crossing.any():
             parts = []
-            for h in np.flatnonzero(crossing.any(axis=(1, 2))):
+            for h in np.flatnonzero(crossing.reshape(crossing.shape[0], -1).any(axis=1)):
                 first = int(np.flatnonzero(crossing[h])[0])
                 parts.append(
-                    f"horizons {h} and {h + 1} cross at {int(crossing[h].sum())} pillar nodes "
+                    f"horizons {h} and {h + 1} cross at {int(crossing[h].sum())} {where} "
                     f"(horizon {h + 1} above horizon {h}), first at (x, y) = "
                     f"({PX.flat[first]:g}, {PY.flat[first]:g})"
                 )
-            raise InputError(
-                "horizons_to_grdecl: " + "; ".join(parts) + "; pass ordering='erode' or 'onlap' to repair"
-            )
+            raise InputError(f"{who}: " + "; ".join(parts) + "; pass ordering='erode' or 'onlap' to repair")
         return H
     if ordering == "erode":  # younger wins: top-down running maximum over the defined horizons
         fixed = np.fmax.accumulate(H, axis=0)
@@ -475,11 +434,11 @@ def _order(H: np.ndarray, ordering: str, PX: np.ndarray, PY: np.ndarray, notes: 
     fixed = np.where(defined, fixed, np.nan)
     changed = defined & (fixed != H)
     if changed.any():
-        for h in np.flatnonzero(changed.any(axis=(1, 2))):
+        for h in np.flatnonzero(changed.reshape(changed.shape[0], -1).any(axis=1)):
             notes.append(
                 f"ordering='{ordering}': horizon {h} was moved to the "
                 f"{'horizon above' if ordering == 'erode' else 'horizon below'} it at "
-                f"{int(changed[h].sum())} pillar nodes"
+                f"{int(changed[h].sum())} {where}"
             )
     return fixed
 
@@ -487,35 +446,9 @@ def _order(H: np.ndarray, ordering: str, PX: np.ndarray, PY: np.ndarray, notes: 
 # --------------------------------------------------------------------------- faults
 
 
-def _nearest_on_trace(p: np.ndarray, verts: np.ndarray, open_start: bool, open_end: bool):
-    """Nearest point of the polyline to every point ``p`` (m, 2): segment, parameter t on it
-    (outside [0, 1] only on the rays that extend open ends) and the side value (> 0 = left)."""
-    a, d = verts[:-1], np.diff(verts, axis=0)
-    n_seg = d.shape[0]
-    best = np.full(p.shape[0], np.inf)
-    seg = np.zeros(p.shape[0], dtype=np.int64)
-    tt = np.zeros(p.shape[0])
-    for k in range(n_seg):  # one pass per polyline segment, vectorised over the points
-        t = ((p - a[k]) @ d[k]) / (d[k] @ d[k])
-        lo = -np.inf if (k == 0 and open_start) else 0.0
-        hi = np.inf if (k == n_seg - 1 and open_end) else 1.0
-        t = np.clip(t, lo, hi)
-        dist2 = ((p - a[k] - t[:, None] * d[k]) ** 2).sum(axis=1)
-        better = dist2 < best
-        best[better], seg[better], tt[better] = dist2[better], k, t[better]
-    rel = p - a[seg]
-    side = d[seg, 0] * rel[:, 1] - d[seg, 1] * rel[:, 0]
-    # Nearest point at an interior vertex: the point lies on the outer side of the turn there.
-    at_vertex = np.where((tt == 0) & (seg > 0), seg, np.where((tt == 1) & (seg < n_seg - 1), seg + 1, -1))
-    v = at_vertex[at_vertex > 0]
-    if v.size:
-        turn = d[v - 1, 0] * d[v, 1] - d[v - 1, 1] * d[v, 0]
-        side[at_vertex > 0] = np.where(turn != 0, -turn, side[at_vertex > 0])
-    return seg, tt, side
-
-
 def _fault_displacement(trace: FaultTrace, index: int, name: str, PX, PY, box) -> np.ndarray:
-    """Downward displacement of every cell corner (ny, nx, 2, 2) = [j, i, b, a] by one fault."""
+    """Downward displacement of every cell corner (ny, nx, 2, 2) = [j, i, b, a] by one fault
+    (:func:`~gridlib.stratigraphic.faults.fault_displacement` on the pillar lattice)."""
     xmin, xmax, ymin, ymax = box
     verts = trace.points
     ny, nx = PX.shape[0] - 1, PX.shape[1] - 1
@@ -523,52 +456,25 @@ def _fault_displacement(trace: FaultTrace, index: int, name: str, PX, PY, box) -
     def inside(q: np.ndarray) -> bool:
         return bool(xmin < q[0] < xmax and ymin < q[1] < ymax)
 
-    open_start, open_end = not inside(verts[0]), not inside(verts[-1])
-    seg_len = np.hypot(*np.diff(verts, axis=0).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg_len)])
-
     pillars = np.column_stack([PX.ravel(), PY.ravel()])
     cx = 0.5 * (PX[:-1, :-1] + PX[1:, 1:])
     cy = 0.5 * (PY[:-1, :-1] + PY[1:, 1:])
     centres = np.column_stack([cx.ravel(), cy.ravel()])
-    p_seg, p_t, _ = _nearest_on_trace(pillars, verts, open_start, open_end)
-    c_seg, c_t, c_side = _nearest_on_trace(centres, verts, open_start, open_end)
-    s_pillar = np.clip((cum[p_seg] + p_t * seg_len[p_seg]) / cum[-1], 0.0, 1.0)
-
-    s_all = np.concatenate([s_pillar, [0.0, 1.0]])
-    label = f"fault '{name}' (faults[{index}])"
-    if callable(trace.throw):
-        try:
-            values = np.asarray(trace.throw(s_all.copy()), dtype=np.float64)
-            values = np.broadcast_to(values, s_all.shape).astype(np.float64)
-        except Exception as exc:
-            raise InputError(f"{label}: throw(s) failed for an array s in [0, 1]: {exc}") from exc
-    else:
-        values = np.full(s_all.shape, trace.throw)
-    if not np.isfinite(values).all():
-        raise InputError(f"{label}: throw(s) must be finite for s in [0, 1]")
-    # Round-off zeros (3 * sin(pi) = 3.7e-16) are zeros: a tapered tip must match exactly.
-    values = np.where(np.abs(values) <= 1e-12 * np.abs(values).max(), 0.0, values)
-    t_pillar = values[:-2].reshape(ny + 1, nx + 1)
-    t_start, t_end = values[-2], values[-1]
-
-    n_seg = seg_len.size
-    beyond_start = (c_seg == 0) & (c_t <= 0) & (not open_start)
-    beyond_end = (c_seg == n_seg - 1) & (c_t >= 1) & (not open_end)
-    hanging = (c_side > 0) if trace.side == "left" else (c_side < 0)
-    correction = np.where(beyond_start, t_start, np.where(beyond_end, t_end, 0.0))
-    hanging = hanging.reshape(ny, nx)
-    correction = correction.reshape(ny, nx)
-
     # Corner (a, b) of cell (i, j) lies on pillar (i + a, j + b).
-    tp = np.stack(
-        [
-            np.stack([t_pillar[:-1, :-1], t_pillar[:-1, 1:]], axis=-1),
-            np.stack([t_pillar[1:, :-1], t_pillar[1:, 1:]], axis=-1),
-        ],
-        axis=-2,
-    )  # (ny, nx, b, a)
-    return np.where(hanging[..., None, None], tp - correction[..., None, None], 0.0)
+    j, i, b, a = np.indices((ny, nx, 2, 2))
+    corner_pillar = (j + b) * (nx + 1) + (i + a)
+    corner_cell = j * nx + i
+    return fault_displacement(
+        trace,
+        index,
+        name,
+        pillars,
+        centres,
+        corner_pillar,
+        corner_cell,
+        not inside(verts[0]),
+        not inside(verts[-1]),
+    )
 
 
 def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

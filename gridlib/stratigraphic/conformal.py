@@ -28,11 +28,37 @@ def insert_edge_nodes(
     ``crossing_lines`` (nc, 2, 2) holds, for every crossing, its two lines as
     (node on p1, node on p2); ``crossing_ids`` its node id. A crossing is
     inserted into every face edge equal to one of its lines, ordered along the
-    edge.
+    edge. (The faces of corner-point grids, all with m nodes; see
+    :func:`insert_edge_nodes_ragged` for faces of any sizes.)
     """
     nf, m = face_nodes.shape
-    a = face_nodes.ravel()
-    b = np.roll(face_nodes, -1, axis=1).ravel()
+    return insert_edge_nodes_ragged(
+        np.arange(0, nf * m + 1, m), face_nodes.ravel(), crossing_lines, crossing_ids, coords
+    )
+
+
+def insert_edge_nodes_ragged(
+    face_pos: IntArray,
+    face_nodes: IntArray,
+    crossing_lines: IntArray,
+    crossing_ids: IntArray,
+    coords: FloatArray,
+) -> tuple[IntArray, IntArray]:
+    """:func:`insert_edge_nodes` for ragged faces (``face_pos`` offsets, flat ``face_nodes`` cycles).
+
+    >>> coords = np.array([[0.0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0], [1, 0, 0], [0, -1, 0], [2, 1, 0]])
+    >>> lines = np.array([[[0, 1], [5, 6]]])  # node 4: where the lines 0-1 and 5-6 cross
+    >>> pos, nodes = insert_edge_nodes_ragged(np.array([0, 4, 7]), np.array([0, 1, 2, 3, 3, 1, 0]), lines,
+    ...                                       np.array([4]), coords)
+    >>> pos.tolist(), nodes.tolist()  # a square and a triangle, both with an edge 0-1
+    ([0, 5, 9], [0, 4, 1, 2, 3, 3, 1, 4, 0])
+    """
+    nf = face_pos.size - 1
+    counts = np.diff(face_pos)
+    a = face_nodes
+    nxt = np.arange(1, a.size + 1)
+    nxt[face_pos[1:][counts > 0] - 1] = face_pos[:-1][counts > 0]
+    b = a[nxt] if a.size else a
     n_nodes = coords.shape[0]
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     edge_key = lo * n_nodes + hi
@@ -49,7 +75,7 @@ def insert_edge_nodes(
     start = np.searchsorted(key, edge_key, "left")
     count = np.searchsorted(key, edge_key, "right") - start
     if not count.any():
-        return np.arange(0, nf * m + 1, m), face_nodes.ravel().copy()
+        return face_pos.copy(), face_nodes.copy()
     per_edge = 1 + count
     edge_pos = offsets(per_edge)
     out = np.empty(int(edge_pos[-1]), dtype=np.int64)
@@ -60,5 +86,5 @@ def insert_edge_nodes(
     forward = a[edge] == lo[edge]
     src = start[edge] + np.where(forward, local, count[edge] - 1 - local)
     out[edge_pos[:-1][edge] + 1 + local] = node[src]
-    face_counts = per_edge.reshape(nf, m).sum(axis=1)
+    face_counts = np.bincount(np.repeat(np.arange(nf), counts), per_edge, minlength=nf).astype(np.int64)
     return offsets(face_counts), out
