@@ -16,6 +16,17 @@ z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
 from importlib.metadata import PackageNotFoundError, version
 
 from .checks import check_grid
+from .coarsen import (
+    CoarseGrid,
+    coarse_grid,
+    compress_partition,
+    partition_metis,
+    partition_ui,
+    process_partition,
+    upscale_ntg,
+    upscale_permeability,
+    upscale_porosity,
+)
 from .cornerpoint import (
     CornerPointGrid,
     Deck,
@@ -35,10 +46,12 @@ from .grid import Cells, Faces, Grid, Layering, Nodes
 from .io.egrid import read_egrid
 from .io.grdecl import DeckError, read_grdecl, write_grdecl
 from .layered import make_layered_grid
+from .stratigraphic.columns import ColumnGrid, extrude_columns
+from .stratigraphic.extrude import ExtrudedGrid, extrude
 from .structured import cart_grid, tensor_grid, translate_grid, twister
 from .subgrid import Subgrid, extract_subgrid, remove_cells
 from .unstructured import tessellation_grid, tetrahedral_grid, triangle_grid
-from .voronoi import pebi
+from .voronoi import Fault, PebiGrid, Rings, Well, grid_quality, pebi, pebi_grid, rectangle
 
 try:
     __version__ = version("gridlib")
@@ -47,10 +60,14 @@ except PackageNotFoundError:  # running from a source tree without installation
 
 __all__ = [
     "Cells",
+    "CoarseGrid",
+    "ColumnGrid",
     "CornerPointGrid",
     "Deck",
     "DeckError",
+    "ExtrudedGrid",
     "Faces",
+    "Fault",
     "FaultSegment",
     "FaultTrace",
     "Geometry",
@@ -60,21 +77,34 @@ __all__ = [
     "InputError",
     "Layering",
     "Nodes",
+    "PebiGrid",
+    "Rings",
     "Subgrid",
+    "Well",
     "__version__",
     "cart_grid",
     "check_grid",
+    "coarse_grid",
+    "compress_partition",
     "compute_geometry",
     "cut_grdecl",
     "extract_subgrid",
+    "extrude",
+    "extrude_columns",
     "glue_2d",
+    "grid_quality",
     "horizons_to_grdecl",
     "make_layered_grid",
     "make_model3",
+    "partition_metis",
+    "partition_ui",
     "pebi",
+    "pebi_grid",
     "process_grdecl",
+    "process_partition",
     "read_egrid",
     "read_grdecl",
+    "rectangle",
     "remove_cells",
     "simple_grdecl",
     "tensor_grid",
@@ -83,5 +113,8 @@ __all__ = [
     "translate_grid",
     "triangle_grid",
     "twister",
+    "upscale_ntg",
+    "upscale_permeability",
+    "upscale_porosity",
     "write_grdecl",
 ]

@@ -96,13 +96,13 @@ def cell_node_cycles_2d(grid: Grid) -> tuple[IntArray, IntArray]:
     grid. The cycle starts at the first node of the cell's first half-face.
     Raises GridError if a cell's edges do not form one closed cycle.
     """
-    start, slot = _half_face_cycle_slots(grid)
+    start, slot = half_face_cycle_slots(grid)
     nodes = np.empty_like(start)
     nodes[slot] = start
     return grid.cells.face_pos.copy(), nodes
 
 
-def _half_face_cycle_slots(grid: Grid) -> tuple[IntArray, IntArray]:
+def half_face_cycle_slots(grid: Grid) -> tuple[IntArray, IntArray]:
     """Start node of every half-face (cell on its left) and its slot along the cell's cycle."""
     if grid.griddim != 2:
         raise GridError("2-D cell cycles need a 2-D grid (faces are edges)")
@@ -181,7 +181,7 @@ def order_cell_faces_2d(grid: Grid) -> Grid:
 
     from .grid import Cells
 
-    _, slot = _half_face_cycle_slots(grid)
+    _, slot = half_face_cycle_slots(grid)
     cf = grid.cells.faces
     faces = np.empty_like(cf)
     faces[slot] = cf

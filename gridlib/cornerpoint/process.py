@@ -40,31 +40,11 @@ from ..errors import InputError
 from ..grid import B, Cells, E, Faces, FloatArray, Grid, IntArray, N, Nodes, S, T, W
 from ..stratigraphic.conformal import insert_edge_nodes
 from ..stratigraphic.lateral import SideCells, general_pieces
+from ..stratigraphic.nnc import FAULT, NNC, PINCH
 from .corners import corner_nodes
 from .deck import Deck
 from .faces import structured_lateral, structured_vertical
 from .volumes import hexahedron_volumes
-
-FAULT, PINCH = 0, 1
-
-
-@dataclass(frozen=True, eq=False)
-class NNC:
-    """Non-neighbour connections: cell pairs that are connected but not logical ijk neighbours.
-
-    ``kind`` is 0 (FAULT: a geometric face joins cells of different layers or
-    columns) or 1 (PINCH: cells joined across a thin removed layer, no face);
-    ``face`` is the connecting face, or -1 for pinch connections.
-    """
-
-    cells: IntArray  # (n, 2) cells of the processed grid
-    global_cells: IntArray  # (n, 2) linear ijk indices (i fastest)
-    kind: np.ndarray
-    face: IntArray
-
-    @property
-    def num(self) -> int:
-        return self.cells.shape[0]
 
 
 @dataclass(frozen=True, eq=False)

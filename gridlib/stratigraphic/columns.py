@@ -57,20 +57,20 @@ from scipy import sparse
 from scipy.sparse import csgraph
 
 from ..connectivity import (
-    _half_face_cycle_slots,
     cell_half_faces,
     cell_node_cycles_2d,
     drop_repeated_nodes,
+    half_face_cycle_slots,
     offsets,
     ragged_arange,
     renumbering,
     repeat_ids,
 )
-from ..cornerpoint.process import FAULT, NNC, PINCH
 from ..errors import GridError, InputError
 from ..grid import B, Cells, Faces, FloatArray, Grid, IntArray, Layering, Nodes, T
 from .conformal import insert_edge_nodes_ragged
 from .lateral import LateralFaces, SideCells, general_pieces
+from .nnc import FAULT, NNC, PINCH
 from .points import PillarPoints, points_on_pillars, unique_points
 
 __all__ = ["ColumnGrid", "areal_corners", "extrude_columns"]
@@ -290,7 +290,7 @@ class _Corners:
     def of(cls, areal: Grid) -> _Corners:
         if not isinstance(areal, Grid) or areal.griddim != 2:
             areal_corners(areal)  # raises
-        start, slot = _half_face_cycle_slots(areal)
+        start, slot = half_face_cycle_slots(areal)
         pos = areal.cells.face_pos
         ring = np.empty_like(start)
         ring[slot] = start

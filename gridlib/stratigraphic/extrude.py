@@ -47,11 +47,11 @@ from ..cornerpoint.horizons import (
     check_horizon,
     interpolate_horizon,
 )
-from ..cornerpoint.process import NNC
 from ..errors import GridError, InputError
 from ..grid import FloatArray, Grid, IntArray
 from .columns import _Corners, _extrude_columns, _Pairs, _pillar_lines
 from .faults import FaultTrace, fault_displacement
+from .nnc import NNC
 
 __all__ = ["ExtrudedGrid", "extrude"]
 

@@ -40,7 +40,6 @@ import numpy as np
 
 from ..connectivity import offsets, ragged_arange
 from ..grid import FloatArray, IntArray
-from .points import PillarPoints
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,96 +117,9 @@ def _side_intervals(cells: SideCells, side: int, n_pairs: int, big: int) -> _Int
     return _Intervals(*(a[keep][o] for a in (all_pair, out_cell, out_k, out_t1, out_b1, out_t2, out_b2)))
 
 
-def lateral_faces(
-    cells: SideCells,
-    pair_p1: IntArray,
-    pair_p2: IntArray,
-    reverse: np.ndarray,
-    points: PillarPoints,
-    node_xyz: FloatArray,
-) -> LateralFaces:
-    """All face pieces on all pillar pairs (see the module docstring).
-
-    Fast path: a pair whose two sides hold the same cells with the same corner
-    nodes (no fault there) gives one quadrilateral per cell, and a pair with
-    cells on one side only (the edge of the model) one boundary quadrilateral
-    per cell; only the other pairs go through the general overlap machinery.
-    """
-    n_pairs = pair_p1.size
-    thick = (cells.t1 < cells.b1) | (cells.t2 < cells.b2)
-    cells = SideCells(*(getattr(cells, f)[thick] for f in SideCells.__dataclass_fields__))
-    simple, fast = _simple_pairs(cells, n_pairs, pair_p1, pair_p2, reverse, points)
-    rest = ~simple[cells.pair]
-    cells = SideCells(*(getattr(cells, f)[rest] for f in SideCells.__dataclass_fields__))
-    general = general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz)
-    return concat_lateral(fast, general)
-
-
-def concat_lateral(a: LateralFaces, b: LateralFaces) -> LateralFaces:
-    """Pieces of ``a`` then ``b`` (crossings come from ``b``)."""
-    return LateralFaces(
-        offsets(np.concatenate([np.diff(a.node_pos), np.diff(b.node_pos)])),
-        np.concatenate([a.nodes, b.nodes]),
-        *(
-            np.concatenate([getattr(a, f), getattr(b, f)])
-            for f in ("cell_a", "cell_b", "pair", "k_a", "k_b", "mismatch")
-        ),
-        b.crossing_coords,
-        b.crossing_lines,
-    )
-
-
-def _simple_pairs(cells, n_pairs, pair_p1, pair_p2, reverse, points):
-    """Pairs without a fault (same cells and corners on both sides) or with one empty side."""
-    kmax = int(cells.k.max(initial=0)) + 1
-    order = np.argsort((cells.pair * 2 + cells.side) * kmax + cells.k, kind="stable")
-    c = SideCells(*(getattr(cells, f)[order] for f in SideCells.__dataclass_fields__))
-    group = c.pair * 2 + c.side
-    count = np.bincount(group, minlength=2 * n_pairs).reshape(n_pairs, 2)
-    start = offsets(count.ravel())[:-1].reshape(n_pairs, 2)
-    same_count = (count[:, 0] == count[:, 1]) & (count[:, 0] > 0)
-    cand = np.flatnonzero(same_count)
-    n = count[cand, 0]
-    ia = ragged_arange(start[cand, 0], n)
-    ib = ragged_arange(start[cand, 1], n)
-    differ = np.zeros(ia.size, dtype=bool)
-    for f in ("k", "t1", "b1", "t2", "b2"):
-        differ |= getattr(c, f)[ia] != getattr(c, f)[ib]
-    bad = np.bincount(np.repeat(cand, n)[differ], minlength=n_pairs) > 0
-    regular = same_count & ~bad
-    boundary = (count[:, 0] == 0) ^ (count[:, 1] == 0)
-    simple = regular | boundary
-
-    reg = regular[c.pair] & (c.side == 0)  # one quad per A cell, matched with its B twin
-    reg_a = np.flatnonzero(reg)
-    reg_b = reg_a - start[c.pair[reg_a], 0] + start[c.pair[reg_a], 1]
-    bnd = np.flatnonzero(boundary[c.pair])
-    rows = np.concatenate([reg_a, bnd])
-    cell_a = np.concatenate([c.cell[reg_a], np.where(c.side[bnd] == 0, c.cell[bnd], -1)])
-    cell_b = np.concatenate([c.cell[reg_b], np.where(c.side[bnd] == 1, c.cell[bnd], -1)])
-    k_a = np.concatenate([c.k[reg_a], np.where(c.side[bnd] == 0, c.k[bnd], -1)])
-    k_b = np.concatenate([c.k[reg_b], np.where(c.side[bnd] == 1, c.k[bnd], -1)])
-    pair = c.pair[rows]
-    o1, o2 = points.offset[pair_p1[pair]], points.offset[pair_p2[pair]]
-    quad = np.column_stack([o1 + c.t1[rows], o2 + c.t2[rows], o2 + c.b2[rows], o1 + c.b1[rows]])
-    quad = np.where(reverse[pair][:, None], quad[:, [0, 3, 2, 1]], quad)
-    fast = LateralFaces(
-        np.arange(0, 4 * rows.size + 1, 4),
-        quad.ravel(),
-        cell_a,
-        cell_b,
-        pair,
-        k_a,
-        k_b,
-        np.zeros(rows.size, dtype=bool),
-        np.zeros((0, 3)),
-        np.zeros((0, 2, 2), np.int64),
-    )
-    return simple, fast
-
-
 def general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz) -> LateralFaces:
-    """Pieces of the pairs that need the full partition-and-overlap treatment."""
+    """All face pieces of the pillar pairs whose cells are listed in ``cells`` (see the module
+    docstring); pairs without a fault are better served by the front ends' fast paths."""
     max_rank = int(np.diff(points.offset).max(initial=1))
     big = max_rank + 1
     stride = max_rank + 3  # keys: rank r -> r + 1, sentinel -1 -> 0, big -> max_rank + 2
