@@ -8,7 +8,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 CORES  ?= all
 
-.PHONY: run test lint bench clean
+.PHONY: run test lint bench golden clean
 
 $(BIN)/python:
 	@test -n "$(PYTHON)" || { echo "make: no python3.11 or python3 on PATH" >&2; exit 1; }
@@ -40,6 +40,12 @@ lint: $(VENV)/.installed-test
 bench: $(VENV)/.installed-run
 	$(BIN)/python bench/geometry.py
 	$(BIN)/python bench/cornerpoint.py
+	$(BIN)/python bench/pebi.py
+	$(BIN)/python bench/petrophysics.py
+	$(BIN)/python bench/coarsen.py
+
+golden: $(VENV)/.installed-run
+	$(BIN)/python tests/regression/update_golden.py
 
 clean:
 	rm -rf results/*/ .snakemake

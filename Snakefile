@@ -2,7 +2,10 @@
 
     snakemake --cores all --workflow-profile workflow/profiles/default
 
-Stages per case (wildcard {case}): grid -> geometry -> export. See README.md.
+Stages per case (wildcard {case}): horizons -> grid -> geometry -> petrophysics -> coarsen
+-> export, then summary.csv over all cases (see README.md). A report of the pictures:
+
+    snakemake --report results/report.zip
 """
 
 from snakemake.utils import min_version
@@ -22,6 +25,10 @@ rule all:
         all_outputs(),
 
 
+include: "workflow/rules/horizons.smk"
 include: "workflow/rules/grid.smk"
 include: "workflow/rules/geometry.smk"
+include: "workflow/rules/petrophysics.smk"
+include: "workflow/rules/coarsen.smk"
 include: "workflow/rules/export.smk"
+include: "workflow/rules/summary.smk"

@@ -1,6 +1,6 @@
 """The ``gridlib`` command: build a case without Snakemake, describe or check a grid file.
 
-    gridlib build CASE.yaml OUTDIR   # grid.nc, geometry.nc and CASE.vtu in OUTDIR
+    gridlib build CASE.yaml OUTDIR   # every stage's artifacts (grid.nc, ..., CASE.vtu) in OUTDIR
     gridlib info FILE                # a deck (GRDECL/DATA), an EGRID or a gridlib netCDF file
     gridlib check FILE               # process (decks), compute the geometry, check every invariant
 
@@ -118,17 +118,11 @@ def check(path: Path) -> str:
 
 
 def build(case_file: Path, outdir: Path) -> str:
-    """Run the case's stages (grid, geometry, export) into ``outdir``."""
-    from .config import load_case
-    from .stages import stage_export, stage_geometry, stage_grid
+    """Run every stage the case needs (horizons, grid, geometry, petrophysics, coarsen,
+    export) into ``outdir``; returns the list of files written."""
+    from .stages import run_case
 
-    case = load_case(case_file)
-    outdir.mkdir(parents=True, exist_ok=True)
-    grid, geometry, vtu = outdir / "grid.nc", outdir / "geometry.nc", outdir / f"{case.name}.vtu"
-    stage_grid(case_file, grid)
-    stage_geometry(case_file, grid, geometry)
-    stage_export(case_file, grid, geometry, vtu)
-    return "\n".join(str(p) for p in (grid, geometry, vtu))
+    return "\n".join(str(p) for p in run_case(case_file, outdir))
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -44,6 +44,23 @@ class Case:
     def seed(self) -> int:
         return int(self.data.get("seed", 0))
 
+    @property
+    def has_horizons(self) -> bool:
+        return "horizons" in self.data
+
+    @property
+    def writes_grdecl(self) -> bool:
+        """Corner-point and deck grids are also written as GRDECL for simulators."""
+        return self.data["grid"]["type"] in ("cornerpoint", "deck")
+
+    @property
+    def has_petrophysics(self) -> bool:
+        return "petrophysics" in self.data
+
+    @property
+    def has_coarsening(self) -> bool:
+        return "coarsen" in self.data
+
     def provenance(self) -> dict[str, object]:
         """Attributes every output of this case carries."""
         from . import __version__
@@ -127,4 +144,111 @@ def load_case(path: str | os.PathLike) -> Case:
     if data["name"] != p.stem:
         raise InputError(f"{p}: name: '{data['name']}' must equal the file name '{p.stem}'")
     data = _fill_defaults(copy.deepcopy(data), schema, schema)
+    problem = _consistency_problem(data, p)
+    if problem is not None:
+        raise InputError(f"{p}: {problem}")
     return Case(name=data["name"], path=p, sha256=hashlib.sha256(raw).hexdigest(), data=data)
+
+
+def _axis_range(spec: Any) -> tuple[float, float]:
+    if isinstance(spec, dict):
+        return float(spec["start"]), float(spec["stop"])
+    return float(min(spec)), float(max(spec))
+
+
+def _num_layers(data: dict[str, Any]) -> int | None:
+    grid = data["grid"]
+    kind = grid["type"]
+    if kind in ("cornerpoint", "pebi"):
+        layers = grid["layers"]
+        zones = len(data["horizons"]["surfaces"]) - 1
+        return int(layers) * zones if isinstance(layers, int) else int(sum(layers))
+    if kind == "layered":
+        lay = grid["layers"]
+        return len(lay["thickness"]) if "thickness" in lay else int(lay["num_layers"])
+    if kind == "cartesian" and len(grid["dims"]) == 3:
+        return int(grid["dims"][2])
+    return None
+
+
+def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
+    """What the schema cannot say: references between keys, files, faults and wells in the domain.
+
+    Checked when the case is loaded (so the workflow stops before any job runs
+    and leaves nothing behind); returns "key: message" or None.
+    """
+    grid = data["grid"]
+    kind = grid["type"]
+    base = path.parent
+    horizons = data.get("horizons")
+    if kind in ("cornerpoint", "pebi") and horizons is None:
+        return f"grid.type: a {kind} grid is built between horizons: the case needs `horizons`"
+    if horizons is not None:
+        for k, surface in enumerate(horizons["surfaces"]):
+            for key in ("points", "surface"):
+                if key in surface and not (base / surface[key]).is_file():
+                    name, where = surface[key], base / surface[key]
+                    return f"horizons.surfaces[{k}].{key}: file '{name}' not found (looked for {where})"
+        zones = len(horizons["surfaces"]) - 1
+        layers = grid.get("layers")
+        if kind in ("cornerpoint", "pebi") and isinstance(layers, list) and len(layers) != zones:
+            return f"grid.layers: {len(layers)} values for {zones} zones (one per pair of horizons)"
+    if kind == "deck" and not (base / grid["file"]).is_file():
+        return f"grid.file: '{grid['file']}' not found (looked for {base / grid['file']})"
+    problem = _features_outside(data, kind, horizons)
+    if problem is not None:
+        return problem
+    n_layers = _num_layers(data)
+    for prop in ("porosity", "permeability", "ntg"):
+        spec = (data.get("petrophysics") or {}).get(prop) or {}
+        if "layers" in spec and n_layers is not None and len(spec["layers"]) != n_layers:
+            return f"petrophysics.{prop}.layers: {len(spec['layers'])} values for {n_layers} layers"
+        if "deck" in spec and kind != "deck":
+            return f"petrophysics.{prop}.deck: only deck grids have deck keywords"
+    coarsen = data.get("coarsen")
+    if coarsen is not None and coarsen["method"] == "uniform":
+        want = len(grid["dims"]) if kind == "cartesian" else (None if kind == "tensor" else 3)
+        if want is not None and len(coarsen["dims"]) != want:
+            return f"coarsen.dims: {len(coarsen['dims'])} values for a grid with {want} axes"
+    return None
+
+
+def _features_outside(data: dict[str, Any], kind: str, horizons: dict[str, Any] | None) -> str | None:
+    """Faults must reach into the model's area and wells lie inside it."""
+    import shapely
+
+    area = None
+    if kind == "pebi":
+        domain = data["grid"]["domain"]
+        if isinstance(domain, dict):
+            x0, y0, x1, y1 = domain["rectangle"]
+            if not (x1 > x0 and y1 > y0):
+                return "grid.domain.rectangle: needs xmin < xmax and ymin < ymax"
+            area = shapely.box(x0, y0, x1, y1)
+        else:
+            area = shapely.Polygon(domain)
+            if not area.is_valid or area.area <= 0:
+                return "grid.domain: the polygon is not simple (its sides cross) or has no area"
+        if horizons is not None:
+            (hx0, hx1), (hy0, hy1) = (_axis_range(horizons["lattice"][a]) for a in ("x", "y"))
+            if not shapely.box(hx0, hy0, hx1, hy1).buffer(1e-9 * max(hx1 - hx0, hy1 - hy0)).covers(area):
+                return (
+                    f"grid.domain: reaches beyond the horizons' lattice (x in [{hx0:g}, {hx1:g}], "
+                    f"y in [{hy0:g}, {hy1:g}])"
+                )
+    elif kind == "cornerpoint" and horizons is not None:
+        (hx0, hx1), (hy0, hy1) = (_axis_range(horizons["lattice"][a]) for a in ("x", "y"))
+        area = shapely.box(hx0, hy0, hx1, hy1)
+    if area is None:
+        return None
+    for k, fault in enumerate(data.get("faults", [])):
+        if not shapely.LineString(fault["trace"]).intersects(area):
+            return f"faults[{k}].trace: fault '{fault['name']}' lies entirely outside the domain"
+    for k, well in enumerate(data.get("wells", [])):
+        points = [well["point"]] if "point" in well else well["path"]
+        for point in points:
+            if not area.contains(shapely.Point(point)):
+                key = "point" if "point" in well else "path"
+                at = f"({point[0]:g}, {point[1]:g})"
+                return f"wells[{k}].{key}: well '{well['name']}' at {at} lies outside the domain"
+    return None

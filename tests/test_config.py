@@ -86,3 +86,41 @@ def test_grid_errors_name_the_case_file(tmp_path):
         build_grid(load_case(path))
     with pytest.raises(gl.InputError, match=r"nope\.yaml: case file not found"):
         load_case(tmp_path / "nope.yaml")
+
+
+def _schema_keys(node, keys: set[str]) -> set[str]:
+    """Every property name anywhere in the schema (through $defs, allOf/if/then, oneOf)."""
+    if isinstance(node, dict):
+        for name, sub in node.get("properties", {}).items():
+            keys.add(name)
+            _schema_keys(sub, keys)
+        for key, sub in node.items():
+            if key != "properties":
+                _schema_keys(sub, keys)
+    elif isinstance(node, list):
+        for sub in node:
+            _schema_keys(sub, keys)
+    return keys
+
+
+def test_config_readme_documents_every_key_of_the_schema():
+    import re
+
+    from gridlib.config import load_schema
+
+    readme = (CASES.parent / "README.md").read_text()
+    schema_keys = _schema_keys(load_schema(), set())
+    documented = set(re.findall(r"`([a-z_0-9]+)`", readme))
+    missing = sorted(schema_keys - documented)
+    assert not missing, f"config/README.md does not mention {missing}"
+    table_keys = set(re.findall(r"^\| `([a-z_0-9]+)` \|", readme, flags=re.M))
+    config_keys = {"cases", "results"}  # config.yaml's own keys
+    unknown = sorted(table_keys - schema_keys - config_keys)
+    assert not unknown, f"config/README.md documents keys the schema does not have: {unknown}"
+
+
+def test_every_sample_case_is_valid_and_documented():
+    readme = (CASES.parents[1] / "README.md").read_text()
+    for path in sorted(CASES.glob("*.yaml")):
+        case = load_case(path)
+        assert f"`{case.name}`" in readme, f"README.md's case table does not list {case.name}"

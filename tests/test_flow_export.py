@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -28,7 +29,7 @@ DIMENS
  {nx} {ny} {nz} /
 OIL
 WATER
-METRIC
+{units}
 TABDIMS
  1 1 20 20 /
 EQLDIMS
@@ -68,8 +69,8 @@ END
 """
 
 
-@pytest.fixture(scope="module")
-def flow() -> str:
+def flow_executable() -> str:
+    """The ``flow`` command; skips the test without it, fails with GRIDLIB_REQUIRE_FLOW=1."""
     exe = shutil.which("flow")
     if exe is None:
         if os.environ.get("GRIDLIB_REQUIRE_FLOW") == "1":
@@ -78,20 +79,38 @@ def flow() -> str:
     return exe
 
 
-def run_flow(flow: str, deck, cell_data: dict, tmp_path) -> dict[str, np.ndarray]:
-    """Write ``deck`` + properties, let Flow initialise it, return its EGRID and INIT arrays."""
+@pytest.fixture(scope="module")
+def flow() -> str:
+    return flow_executable()
+
+
+def run_flow_on_grdecl(
+    flow: str, grdecl, workdir, *, units: str = "METRIC", poro: float | None = None
+) -> dict[str, np.ndarray]:
+    """OPM Flow's dry run on a deck that INCLUDEs ``grdecl``; its EGRID and INIT arrays."""
     import resfo
 
-    write_grdecl(tmp_path / "grid.grdecl", deck, cell_data)
+    from gridlib.io.grdecl import read_grdecl
+
+    workdir.mkdir(parents=True, exist_ok=True)
+    deck = read_grdecl(grdecl)
     nx, ny, nz = deck.cart_dims
     finite = deck.zcorn[np.isfinite(deck.zcorn)]
-    (tmp_path / "CASE.DATA").write_text(
-        WRAPPER.format(grid="grid.grdecl", nx=nx, ny=ny, nz=nz, datum=finite.min(), owc=finite.max() + 1)
-    )
-    out = tmp_path / "out"
+    extra = "" if poro is None else f"EQUALS\n 'PORO' {poro} /\n/\n"
+    text = WRAPPER.format(
+        grid=Path(grdecl).resolve(),
+        nx=nx,
+        ny=ny,
+        nz=nz,
+        datum=finite.min(),
+        owc=finite.max() + 1,
+        units=units,
+    ).replace("EQUALS\n 'PERMX'", extra + "EQUALS\n 'PERMX'")
+    (workdir / "CASE.DATA").write_text(text)
+    out = workdir / "out"
     done = subprocess.run(
         [flow, "--enable-dry-run=true", "--threads-per-process=1", f"--output-dir={out}", "CASE.DATA"],
-        cwd=tmp_path,
+        cwd=workdir,
         capture_output=True,
         text=True,
         timeout=300,
@@ -102,6 +121,12 @@ def run_flow(flow: str, deck, cell_data: dict, tmp_path) -> dict[str, np.ndarray
         for kw, arr in resfo.read(out / name):
             arrays.setdefault(kw.strip(), np.asarray(arr))
     return arrays
+
+
+def run_flow(flow: str, deck, cell_data: dict, tmp_path) -> dict[str, np.ndarray]:
+    """Write ``deck`` + properties, let Flow initialise it, return its EGRID and INIT arrays."""
+    write_grdecl(tmp_path / "grid.grdecl", deck, cell_data)
+    return run_flow_on_grdecl(flow, tmp_path / "grid.grdecl", tmp_path)
 
 
 def _fault_model():

@@ -44,16 +44,53 @@ wildcard_constraints:
     case="|".join(sorted(CASES)),
 
 
+def _cases_where(test):
+    names = sorted(name for name, case in CASES.items() if test(case))
+    return "|".join(names) if names else "(?!)"  # (?!) matches nothing
+
+
+WITH_GRDECL = _cases_where(lambda c: c.writes_grdecl)
+WITHOUT_GRDECL = _cases_where(lambda c: not c.writes_grdecl)
+EXPORTS = ("nc", "vtu", "faults", "png", "histograms", "summary")
+
+
 def case_file(wildcards):
     return str(CASES[wildcards.case].path)
 
 
+def out(name):
+    """The path pattern of a case artifact (see gridlib.stages.case_outputs)."""
+    return {
+        "horizons": f"{RESULTS}/{{case}}/horizons.nc",
+        "grid": f"{RESULTS}/{{case}}/grid.nc",
+        "grdecl": f"{RESULTS}/{{case}}/grid.grdecl",
+        "geometry": f"{RESULTS}/{{case}}/geometry.nc",
+        "petrophysics": f"{RESULTS}/{{case}}/petrophysics.nc",
+        "coarse": f"{RESULTS}/{{case}}/coarse.nc",
+        "nc": f"{RESULTS}/{{case}}/{{case}}.nc",
+        "vtu": f"{RESULTS}/{{case}}/{{case}}.vtu",
+        "faults": f"{RESULTS}/{{case}}/{{case}}_faults.vtp",
+        "png": f"{RESULTS}/{{case}}/{{case}}.png",
+        "histograms": f"{RESULTS}/{{case}}/{{case}}_histograms.png",
+        "summary": f"{RESULTS}/{{case}}/summary.json",
+    }[name]
+
+
+def optional(name, wanted):
+    """An input function: the artifact ``name`` for cases where ``wanted(case)``, else nothing."""
+
+    def inputs(wildcards):
+        if wanted(CASES[wildcards.case]):
+            return {name: out(name).format(case=wildcards.case)}
+        return {}
+
+    return inputs
+
+
 def all_outputs():
-    return expand(
-        [
-            f"{RESULTS}/{{case}}/grid.nc",
-            f"{RESULTS}/{{case}}/geometry.nc",
-            f"{RESULTS}/{{case}}/{{case}}.vtu",
-        ],
-        case=sorted(CASES),
-    )
+    files = [f"{RESULTS}/summary.csv"]
+    for name, case in sorted(CASES.items()):
+        files += [out(k).format(case=name) for k in EXPORTS]
+        if case.writes_grdecl:
+            files.append(out("grdecl").format(case=name))
+    return files

@@ -1,19 +1,36 @@
-rule export_vtu:
-    """The grid with its geometry as cell data, for ParaView/pyvista."""
+rule export:
+    """One self-describing netCDF, VTU, fault faces, pictures and the case's summary."""
     input:
+        unpack(optional("petrophysics", lambda c: c.has_petrophysics)),
+        unpack(optional("coarse", lambda c: c.has_coarsening)),
         case=case_file,
-        grid=f"{RESULTS}/{{case}}/grid.nc",
-        geometry=f"{RESULTS}/{{case}}/geometry.nc",
+        grid=out("grid"),
+        geometry=out("geometry"),
     output:
-        vtu=f"{RESULTS}/{{case}}/{{case}}.vtu",
+        nc=out("nc"),
+        vtu=out("vtu"),
+        faults=out("faults"),
+        png=report(
+            out("png"),
+            caption="../report/grid.rst",
+            category="Grids",
+            subcategory="{case}",
+        ),
+        histograms=report(
+            out("histograms"),
+            caption="../report/histograms.rst",
+            category="Grids",
+            subcategory="{case}",
+        ),
+        summary=out("summary"),
     log:
-        f"{RESULTS}/logs/{{case}}/export_vtu.log",
+        f"{RESULTS}/logs/{{case}}/export.log",
     benchmark:
-        f"{RESULTS}/benchmarks/{{case}}/export_vtu.tsv"
+        f"{RESULTS}/benchmarks/{{case}}/export.tsv"
     conda:
         "../envs/gridlib.yaml"
     threads: 1
     resources:
         mem_mb=4000,
     script:
-        "../scripts/export_vtu.py"
+        "../scripts/export.py"

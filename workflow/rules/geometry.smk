@@ -2,9 +2,9 @@ rule geometry:
     """Cell volumes and centroids, face areas, normals and centroids."""
     input:
         case=case_file,
-        grid=f"{RESULTS}/{{case}}/grid.nc",
+        grid=out("grid"),
     output:
-        geometry=f"{RESULTS}/{{case}}/geometry.nc",
+        geometry=out("geometry"),
     log:
         f"{RESULTS}/logs/{{case}}/geometry.log",
     benchmark:

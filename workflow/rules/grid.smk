@@ -1,13 +1,39 @@
 rule grid:
     """Build the case's grid and check every invariant."""
     input:
+        unpack(optional("horizons", lambda c: c.has_horizons)),
         case=case_file,
     output:
-        grid=f"{RESULTS}/{{case}}/grid.nc",
+        grid=out("grid"),
     log:
         f"{RESULTS}/logs/{{case}}/grid.log",
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/grid.tsv"
+    wildcard_constraints:
+        case=WITHOUT_GRDECL,
+    conda:
+        "../envs/gridlib.yaml"
+    threads: 1
+    resources:
+        mem_mb=4000,
+    script:
+        "../scripts/grid.py"
+
+
+rule grid_grdecl:
+    """Corner-point and deck grids: the grid, checked, and its GRDECL for simulators."""
+    input:
+        unpack(optional("horizons", lambda c: c.has_horizons)),
+        case=case_file,
+    output:
+        grid=out("grid"),
+        grdecl=out("grdecl"),
+    log:
+        f"{RESULTS}/logs/{{case}}/grid.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/{{case}}/grid.tsv"
+    wildcard_constraints:
+        case=WITH_GRDECL,
     conda:
         "../envs/gridlib.yaml"
     threads: 1

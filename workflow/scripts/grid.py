@@ -1,5 +1,12 @@
-"""Snakemake script for rule grid (a thin wrapper around gridlib.stages)."""
+"""Snakemake script for rules grid and grid_grdecl (a thin wrapper around gridlib.stages)."""
 
 from gridlib.stages import run_logged, stage_grid
 
-run_logged(snakemake.log[0], stage_grid, snakemake.input.case, snakemake.output.grid)
+run_logged(
+    snakemake.log[0],
+    stage_grid,
+    snakemake.input.case,
+    snakemake.output.grid,
+    snakemake.input.get("horizons"),
+    snakemake.output.get("grdecl"),
+)

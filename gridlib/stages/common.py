@@ -1,0 +1,122 @@
+"""What every stage shares: logging to the rule's log file, and files with provenance.
+
+Every output is written atomically (a temporary file renamed into place, so a
+failed stage leaves nothing) and carries the case's provenance: gridlib
+version, case name, case file and its SHA-256, seed.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import sys
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..errors import GridError, InputError
+from ..geometry import Geometry
+from ..grid import Grid
+from ..io._atomic import atomic_path
+from ..io.netcdf import grid_to_dataset, read_netcdf
+
+log = logging.getLogger("gridlib.stages")
+
+
+def run_logged(log_file: str | os.PathLike, stage: Callable[..., None], *args: Any) -> None:
+    """Run a stage with gridlib's log (and any traceback) going to ``log_file``."""
+    Path(log_file).parent.mkdir(parents=True, exist_ok=True)
+    handler = logging.FileHandler(log_file, mode="w")
+    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
+    root = logging.getLogger("gridlib")
+    root.addHandler(handler)
+    root.setLevel(logging.INFO)
+    try:
+        stage(*args)
+    except (InputError, GridError) as exc:  # the user's input: one message, no traceback
+        root.error("%s failed: %s", stage.__name__, exc)
+        print(f"gridlib: {exc}", file=sys.stderr)
+        raise SystemExit(1) from None
+    except Exception as exc:  # a bug: the whole traceback, in the log and on stderr
+        root.error("%s failed: %s", stage.__name__, exc, exc_info=True)
+        print(f"gridlib: {exc}", file=sys.stderr)
+        raise
+    finally:
+        root.removeHandler(handler)
+        handler.close()
+
+
+def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:
+    """Write an xarray Dataset as netCDF-4, atomically (integers without fill values)."""
+    encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iub"}
+    if "mesh2d_face_nodes" in ds:
+        encoding["mesh2d_face_nodes"] = {"_FillValue": np.int64(-1)}
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
+    return Path(path)
+
+
+def write_grid_file(
+    path: str | os.PathLike,
+    grid: Grid,
+    *,
+    geometry: Geometry | None = None,
+    cell_data: Mapping[str, np.ndarray] | None = None,
+    extra: Mapping[str, xr.DataArray] | None = None,
+    attrs: Mapping[str, Any] | None = None,
+) -> Path:
+    """A gridlib netCDF grid file plus ``extra`` variables with dimensions of their own
+    (e.g. the NNC list, a partition of the fine cells); list-valued attributes as JSON."""
+    flat = {k: (json.dumps(v) if isinstance(v, list | tuple | dict) else v) for k, v in (attrs or {}).items()}
+    ds = grid_to_dataset(grid, geometry, dict(cell_data or {}), None, flat)
+    for name, var in (extra or {}).items():
+        ds[name] = var
+    return write_dataset(path, ds)
+
+
+def nnc_variables(nnc) -> dict[str, xr.DataArray]:
+    """The NNC list as variables over an ``nnc`` dimension (cells of the grid, 0-based)."""
+    if nnc is None:
+        return {}
+    return {
+        "nnc_cells": xr.DataArray(nnc.cells, dims=("nnc", "two"), attrs={"long_name": "cell pair"}),
+        "nnc_global_cells": xr.DataArray(
+            nnc.global_cells,
+            dims=("nnc", "two"),
+            attrs={"long_name": "linear index of the cells (i fastest)"},
+        ),
+        "nnc_kind": xr.DataArray(
+            np.asarray(nnc.kind, dtype=np.int8), dims=("nnc",), attrs={"flag_meanings": "fault pinch"}
+        ),
+        "nnc_face": xr.DataArray(
+            nnc.face, dims=("nnc",), attrs={"long_name": "connecting face, -1 for pinch"}
+        ),
+    }
+
+
+def read_extra(path: str | os.PathLike, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The variables ``names`` present in a netCDF file (missing ones are left out)."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return {n: ds[n].values for n in names if n in ds.variables}
+
+
+def read_attrs(path: str | os.PathLike) -> dict[str, Any]:
+    """Global attributes of a netCDF file, JSON lists decoded."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        attrs = dict(ds.attrs)
+    for key, value in attrs.items():
+        if isinstance(value, str) and value[:1] in "[{":
+            try:
+                attrs[key] = json.loads(value)
+            except json.JSONDecodeError:
+                pass
+    return attrs
+
+
+def read_grid(path: str | os.PathLike):
+    """The GridDataset of a grid file (grid, geometry if stored, cell data, attributes)."""
+    return read_netcdf(path)

@@ -1,0 +1,227 @@
+"""Stage ``export``: everything about a case in the formats people open.
+
+* ``{case}.nc``: one self-describing netCDF file: grid, geometry, the builder's
+  cell data (bulk volume, well, zone, layer), rock properties, the coarse block
+  of every cell, pore volume, and the NNC list;
+* ``{case}.vtu``: the grid with the same cell data (ParaView, pyvista);
+* ``{case}_faults.vtp``: the fault faces as polygons (lines in 2-D) with their
+  fault id (names in the field data ``fault_names``);
+* ``{case}.png``: the grid rendered off-screen, coloured by porosity (or
+  depth), fault faces in red; ``{case}_histograms.png``: cell volumes, face
+  areas and porosity (the MRST book's Fig. 3.33);
+* ``summary.json``: the case's figures (the regression tests compare them).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..config import load_case
+from ..connectivity import offsets, ragged_arange
+from ..errors import InputError
+from ..geometry import Geometry
+from ..grid import Grid
+from ..io._atomic import atomic_path
+from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.vtu import write_vtu
+from .common import log, nnc_variables, read_attrs, read_extra, write_grid_file
+from .petrophysics import read_rock
+
+NNC_VARS = ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face")
+
+
+class _Stored:
+    """An NNC list read back from a grid file (the fields nnc_variables writes)."""
+
+    def __init__(self, extra: dict[str, np.ndarray]) -> None:
+        self.cells = extra["nnc_cells"]
+        self.global_cells = extra["nnc_global_cells"]
+        self.kind = extra["nnc_kind"]
+        self.face = extra["nnc_face"]
+
+
+def _atomic_with_suffix(target: Path, write) -> None:
+    """Write through a temporary file that keeps ``target``'s suffix (VTK picks writers by it)."""
+    tmp = target.with_name(f".{target.stem}.partial{target.suffix}")
+    try:
+        write(tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def write_fault_faces(path: Path, grid: Grid, names: list[str]) -> int:
+    """The fault faces of ``grid`` as a VTK PolyData file; returns how many."""
+    import pyvista as pv
+
+    faces = np.flatnonzero(grid.faces.tag > 0)
+    counts = np.diff(grid.faces.node_pos)[faces]
+    nodes = grid.faces.nodes[ragged_arange(grid.faces.node_pos[:-1][faces], counts)]
+    used, local = np.unique(nodes, return_inverse=True)
+    coords = grid.nodes.coords[used]
+    if coords.shape[1] == 2:
+        coords = np.column_stack([coords, np.zeros(coords.shape[0])])
+    # VTK's cell arrays: [n, ids..., n, ids...]
+    cells = np.insert(local.reshape(-1), offsets(counts)[:-1], counts)
+    if grid.griddim == 2:
+        mesh = pv.PolyData(coords, lines=cells.astype(np.int64))
+    else:
+        mesh = pv.PolyData(coords, faces=cells.astype(np.int64))
+    mesh.cell_data["fault"] = grid.faces.tag[faces].astype(np.int32)
+    mesh.field_data["fault_names"] = np.array(names if names else [""])
+    _atomic_with_suffix(path, lambda p: mesh.save(p))
+    return int(faces.size)
+
+
+def _render(path: Path, vtu: Path, faults_vtp: Path, scalar: str, title: str, griddim: int) -> None:
+    """An off-screen picture of the grid coloured by ``scalar``, fault faces in red."""
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    mesh = pv.read(vtu)
+    faults = pv.read(faults_vtp)
+    span = np.ptp(mesh.points, axis=0)
+    lateral = max(span[0], span[1], 1e-12)
+    # z is depth: flip it for the picture, and exaggerate thin reservoirs to a third of their width.
+    exaggeration = 1.0 if griddim == 2 or span[2] == 0 else max(1.0, 0.3 * lateral / span[2])
+    scale = (1.0, 1.0, -exaggeration)
+    plotter = pv.Plotter(off_screen=True, window_size=(1200, 800))
+    plotter.add_mesh(
+        mesh.scale(scale, inplace=False),
+        scalars=scalar,
+        show_edges=mesh.n_cells < 60_000,
+        cmap="viridis",
+        scalar_bar_args={"title": scalar},
+    )
+    if faults.n_cells:
+        plotter.add_mesh(faults.scale(scale, inplace=False), color="red", line_width=3, opacity=0.8)
+    plotter.add_text(title, font_size=12)
+    if griddim == 2 or span[2] == 0:
+        plotter.view_xy()
+    else:
+        plotter.view_isometric()
+    _atomic_with_suffix(path, lambda p: plotter.screenshot(str(p)))
+    plotter.close()
+
+
+def _histograms(path: Path, geo: Geometry, poro: np.ndarray | None, griddim: int, title: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    panels = [("cell volumes (m3)" if griddim == 3 else "cell areas (m2)", geo.cell_volumes)]
+    panels.append(("face areas (m2)" if griddim == 3 else "face lengths (m)", geo.face_areas))
+    if poro is not None:
+        panels.append(("porosity", poro))
+    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 3.6))
+    for ax, (label, values) in zip(np.atleast_1d(axes), panels, strict=True):
+        v = values[np.isfinite(values) & (values > 0)] if "poro" not in label else values
+        if v.size and "poro" not in label and v.max() > 100 * v.min():
+            ax.hist(v, bins=np.geomspace(v.min(), v.max(), 50))
+            ax.set_xscale("log")
+        elif v.size and np.ptp(v) > 1e-9 * np.abs(v).max():
+            ax.hist(v, bins=50)
+        else:  # one value (a regular grid): one bar
+            ax.bar(
+                [float(v[0]) if v.size else 0.0],
+                [v.size],
+                width=1.0 if not v.size else 0.1 * abs(float(v[0])) or 1.0,
+            )
+        ax.set_xlabel(label)
+        ax.set_ylabel("count")
+    fig.suptitle(title)
+    fig.tight_layout()
+    _atomic_with_suffix(path, lambda p: fig.savefig(p, dpi=100))
+    plt.close(fig)
+
+
+def _figure(value: float) -> float:
+    """Round to 12 significant digits: summaries stay stable across platforms' last bits."""
+    return float(f"{value:.12g}")
+
+
+def stage_export(
+    case_file: str | os.PathLike,
+    grid_nc: str | os.PathLike,
+    geometry_nc: str | os.PathLike,
+    outputs: dict[str, str],
+    petrophysics_nc: str | os.PathLike | None = None,
+    coarse_nc: str | os.PathLike | None = None,
+) -> None:
+    """Write the case's exports; ``outputs`` maps nc, vtu, faults, png, histograms, summary to paths."""
+    case = load_case(case_file)
+    stored = read_netcdf(grid_nc)
+    grid, attrs = stored.grid, read_attrs(grid_nc)
+    geo = read_geometry_netcdf(geometry_nc)
+    if geo.cell_volumes.size != grid.num_cells:
+        raise InputError(f"{geometry_nc}: {geo.cell_volumes.size} cells, but {grid_nc} has {grid.num_cells}")
+    fault_names = list(attrs.get("fault_names", []))
+    well_names = list(attrs.get("well_names", []))
+    cell_data: dict[str, np.ndarray] = dict(stored.cell_data)
+    rock = read_rock(petrophysics_nc) if petrophysics_nc else None
+    if rock is not None:
+        cell_data |= rock
+        cell_data["pore_volume"] = geo.cell_volumes * rock["poro"] * rock["ntg"]
+    blocks = None
+    if coarse_nc:
+        partition = read_extra(coarse_nc, ("partition",))["partition"]
+        cell_data["block"] = partition
+        blocks = int(partition.max()) + 1
+    if grid.cells.index_map is not None:
+        cell_data["index_map"] = grid.cells.index_map
+    depth = geo.cell_centroids[:, -1] if grid.dim == 3 else None
+    if depth is not None:
+        cell_data["depth"] = depth
+    extra = read_extra(grid_nc, NNC_VARS)
+    nnc = _Stored(extra) if len(extra) == len(NNC_VARS) else None
+    provenance = {**case.provenance(), "fault_names": fault_names, "well_names": well_names}
+
+    write_grid_file(
+        outputs["nc"], grid, geometry=geo, cell_data=cell_data, extra=nnc_variables(nnc), attrs=provenance
+    )
+    vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **cell_data}
+    if grid.layering is not None:
+        vtu_data |= {"layer": grid.layering.layer, "column": grid.layering.column}
+    write_vtu(outputs["vtu"], grid, vtu_data)
+    n_fault_faces = write_fault_faces(Path(outputs["faults"]), grid, fault_names)
+    scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
+    title = f"{case.name}: {grid.num_cells:,d} cells"
+    _render(Path(outputs["png"]), Path(outputs["vtu"]), Path(outputs["faults"]), scalar, title, grid.griddim)
+    _histograms(Path(outputs["histograms"]), geo, None if rock is None else rock["poro"], grid.griddim, title)
+
+    summary: dict[str, Any] = {
+        "case": case.name,
+        "grid_type": case.data["grid"]["type"],
+        "griddim": grid.griddim,
+        "cells": grid.num_cells,
+        "faces": grid.num_faces,
+        "nodes": grid.num_nodes,
+        "total_volume": _figure(geo.cell_volumes.sum()),
+        "min_cell_volume": _figure(geo.cell_volumes.min()),
+        "max_cell_volume": _figure(geo.cell_volumes.max()),
+        "total_face_area": _figure(geo.face_areas.sum()),
+        "fault_faces": n_fault_faces,
+        "faults": fault_names,
+        "wells": well_names,
+        "nnc": 0 if nnc is None else int(nnc.cells.shape[0]),
+        "seed": case.seed,
+        "case_sha256": case.sha256,
+    }
+    if "bulk_volume" in cell_data:
+        summary["total_bulk_volume"] = _figure(cell_data["bulk_volume"].sum())
+    if rock is not None:
+        summary["pore_volume"] = _figure(cell_data["pore_volume"].sum())
+        summary["mean_porosity"] = _figure(rock["poro"].mean())
+        summary["mean_permx"] = _figure(rock["permx"].mean())
+    if blocks is not None:
+        summary["coarse_blocks"] = blocks
+    with atomic_path(outputs["summary"]) as tmp:
+        tmp.write_text(json.dumps(summary, indent=2) + "\n")
+    log.info("wrote the exports of %s (%d cells)", case.name, grid.num_cells)

@@ -1,0 +1,48 @@
+"""Stage ``grid``: the case's grid, checked, as ``grid.nc`` (and ``grid.grdecl`` for decks).
+
+``grid.nc`` holds the grid, per-cell data of the builder (bulk volume in
+ECLIPSE's convention, well id, zone, layer), the non-neighbour connections
+(``nnc_*`` variables) and the fault and well names (attributes, JSON lists).
+Corner-point and deck cases also get ``grid.grdecl`` (GRDECL for simulators:
+geometry, ACTNUM, FAULTS, and the deck's own cell keywords).
+"""
+
+from __future__ import annotations
+
+import os
+
+from ..case_grid import build_case_grid
+from ..checks import check_grid
+from ..config import load_case
+from ..io.grdecl import write_grdecl
+from ..surfaces import read_horizons
+from .common import log, nnc_variables, write_grid_file
+
+
+def stage_grid(
+    case_file: str | os.PathLike,
+    grid_out: str | os.PathLike,
+    horizons_nc: str | os.PathLike | None = None,
+    grdecl_out: str | os.PathLike | None = None,
+) -> None:
+    """Build the case's grid, check every invariant, write ``grid.nc`` (and ``grid.grdecl``)."""
+    case = load_case(case_file)
+    horizons = read_horizons(horizons_nc) if horizons_nc else None
+    built = build_case_grid(case, horizons)
+    for note in built.notes:
+        log.info("note: %s", note)
+    check_grid(built.grid)
+    attrs = {
+        **case.provenance(),
+        "fault_names": list(built.fault_names),
+        "well_names": list(built.well_names),
+    }
+    write_grid_file(
+        grid_out, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs
+    )
+    log.info("wrote %s: %r", grid_out, built.grid)
+    if grdecl_out is not None:
+        if built.deck is None:
+            raise ValueError(f"{case.path}: grid.grdecl is only written for cornerpoint and deck grids")
+        write_grdecl(grdecl_out, built.deck)
+        log.info("wrote %s", grdecl_out)

@@ -1,0 +1,65 @@
+"""All of a case's stages in order, in one folder (what ``gridlib build`` runs)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..config import load_case
+from .coarsen import stage_coarsen
+from .export import stage_export
+from .geometry import stage_geometry
+from .grid import stage_grid
+from .horizons import stage_horizons
+from .petrophysics import stage_petrophysics
+
+
+def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:
+    """The paths of a case's artifacts in ``folder`` (the workflow's results/{case}/ layout)."""
+    d = Path(folder)
+    return {
+        "horizons": d / "horizons.nc",
+        "grid": d / "grid.nc",
+        "grdecl": d / "grid.grdecl",
+        "geometry": d / "geometry.nc",
+        "petrophysics": d / "petrophysics.nc",
+        "coarse": d / "coarse.nc",
+        "nc": d / f"{name}.nc",
+        "vtu": d / f"{name}.vtu",
+        "faults": d / f"{name}_faults.vtp",
+        "png": d / f"{name}.png",
+        "histograms": d / f"{name}_histograms.png",
+        "summary": d / "summary.json",
+    }
+
+
+def run_case(case_file: str | os.PathLike, folder: str | os.PathLike) -> list[Path]:
+    """Run every stage the case needs into ``folder``; returns the files written."""
+    case = load_case(case_file)
+    out = case_outputs(case.name, folder)
+    Path(folder).mkdir(parents=True, exist_ok=True)
+    written = []
+    horizons = None
+    if case.has_horizons:
+        stage_horizons(case_file, out["horizons"])
+        horizons = out["horizons"]
+        written.append(horizons)
+    grdecl = out["grdecl"] if case.writes_grdecl else None
+    stage_grid(case_file, out["grid"], horizons, grdecl)
+    written += [out["grid"]] + ([grdecl] if grdecl else [])
+    stage_geometry(case_file, out["grid"], out["geometry"])
+    written.append(out["geometry"])
+    petro = None
+    if case.has_petrophysics:
+        petro = out["petrophysics"]
+        stage_petrophysics(case_file, out["grid"], out["geometry"], petro)
+        written.append(petro)
+    coarse = None
+    if case.has_coarsening:
+        coarse = out["coarse"]
+        stage_coarsen(case_file, out["grid"], out["geometry"], petro, coarse)
+        written.append(coarse)
+    exports = {k: str(out[k]) for k in ("nc", "vtu", "faults", "png", "histograms", "summary")}
+    stage_export(case_file, out["grid"], out["geometry"], exports, petro, coarse)
+    written += [Path(p) for p in exports.values()]
+    return written

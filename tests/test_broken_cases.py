@@ -1,0 +1,94 @@
+"""A corpus of broken case files: each run stops with one message naming the case file and the
+key, and leaves nothing under results/{case}/."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+HORIZONS = """horizons:
+  lattice: {x: {start: 0, stop: 1000, num: 11}, y: {start: 0, stop: 800, num: 9}}
+  surfaces:
+    - {name: top, plane: {depth: 1000}}
+    - {name: base, plane: {depth: 1040}}
+"""
+PEBI = (
+    HORIZONS
+    + """grid:
+  type: pebi
+  domain: {rectangle: [0, 0, 1000, 800]}
+  cell_size: 100
+  layers: 2
+"""
+)
+
+BROKEN = {
+    "misspelled_key": (
+        "grid: {type: cartesian, dims: [2, 2], lenghts: [1, 1]}\n",
+        r"grid: Additional properties are not allowed ('lenghts' was unexpected)",
+    ),
+    "wrong_type": (
+        "grid: {type: cartesian, dims: [2, ten]}\n",
+        "grid.dims[1]: 'ten' is not of type 'integer'",
+    ),
+    "missing_points_file": (
+        PEBI.replace("{name: base, plane: {depth: 1040}}", "{name: base, points: base_picks.xyz}"),
+        "horizons.surfaces[1].points: file 'base_picks.xyz' not found",
+    ),
+    "crossing_horizons": (
+        PEBI.replace("plane: {depth: 1040}", "plane: {depth: 990, dip: 5, azimuth: 90}"),
+        "horizons cross: horizons 'top' and 'base' cross at 18 nodes",
+    ),
+    "fault_outside": (
+        PEBI + "faults:\n  - {name: FX, trace: [[2000, 0], [2000, 800]], throw: 5}\n",
+        "faults[0].trace: fault 'FX' lies entirely outside the domain",
+    ),
+    "well_outside": (
+        PEBI + "wells:\n  - {name: P9, point: [1500, 400], rings: {inner: 1, outer: 50}}\n",
+        "wells[0].point: well 'P9' at (1500, 400) lies outside the domain",
+    ),
+    "zero_layers": (PEBI.replace("layers: 2", "layers: 0"), "grid.layers: 0 is less than the minimum of 1"),
+    "unknown_grid_type": (
+        "grid: {type: hexahedral, dims: [2, 2]}\n",
+        "grid.type: 'hexahedral' is not one of",
+    ),
+    "malformed_yaml": ("grid: {type: cartesian, dims: [2, 2]\n", "not valid YAML"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BROKEN))
+def test_a_broken_case_fails_clearly_and_leaves_nothing(tmp_path, name):
+    text, message = BROKEN[name]
+    case = tmp_path / "config" / f"{name}.yaml"
+    case.parent.mkdir()
+    case.write_text(f"name: {name}\n{text}")
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "snakemake",
+            "-s",
+            str(ROOT / "Snakefile"),
+            "--directory",
+            str(tmp_path),
+            "--cores",
+            "1",
+            "--config",
+            f"cases=[{case}]",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    out = result.stdout + result.stderr
+    assert result.returncode != 0
+    lines = [line for line in out.splitlines() if str(case) in line and message in line]
+    assert lines, f"no line names {case} and says {message!r}:\n{out[-3000:]}"
+    folder = tmp_path / "results" / name
+    left = [p for p in folder.rglob("*") if p.is_file()] if folder.exists() else []
+    assert left == [], f"{name} left {left}"

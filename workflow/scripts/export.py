@@ -1,0 +1,15 @@
+"""Snakemake script for rule export (a thin wrapper around gridlib.stages)."""
+
+from gridlib.stages import run_logged, stage_export
+
+outputs = {key: snakemake.output[key] for key in ("nc", "vtu", "faults", "png", "histograms", "summary")}
+run_logged(
+    snakemake.log[0],
+    stage_export,
+    snakemake.input.case,
+    snakemake.input.grid,
+    snakemake.input.geometry,
+    outputs,
+    snakemake.input.get("petrophysics"),
+    snakemake.input.get("coarse"),
+)
