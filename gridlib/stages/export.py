@@ -82,7 +82,9 @@ def write_fault_faces(path: Path, grid: Grid, names: list[str]) -> int:
 def _render(path: Path, vtu: Path, faults_vtp: Path, scalar: str, title: str, griddim: int) -> None:
     """An off-screen picture of the grid coloured by ``scalar``, fault faces in red."""
     import pyvista as pv
+    from vtkmodules.vtkCommonCore import vtkLogger
 
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)  # no X server here: VTK falls back, noisily
     pv.OFF_SCREEN = True
     mesh = pv.read(vtu)
     faults = pv.read(faults_vtp)
