@@ -254,12 +254,105 @@ def test_grid_quality_report():
     assert q.cells_per_well == {"P": 241}
     assert q.orthogonality_sites_max < 1e-5  # degrees
     assert q.area_max == pytest.approx(gl.compute_geometry(radial.grid).cell_volumes.max())
+    # sizes relative to each cell's target size (the well's rings: sqrt(arc x radial width))
+    assert 0.3 < q.area_ratio_min < 1.0 and 0.1 < q.face_ratio_min < 1.0
+    assert "area / h2 min 0.391" in str(q)
+    np.testing.assert_array_equal(pebi_grid(rectangle(0, 0, 3, 2), 1.0).site_size[:3], 1.0)
     # a bare Grid has no sites
     q = grid_quality(gl.cart_grid([2, 2]))
     assert np.isnan(q.orthogonality_sites_max) and q.num_cells == 4
-    assert "cells per well" not in str(q) and "orthogonality" in str(q)
+    assert np.isnan(q.area_ratio_min) and np.isnan(q.face_ratio_min)
+    assert "cells per well" not in str(q) and "orthogonality" in str(q) and "area / h2" not in str(q)
     with pytest.raises(gl.GridError, match="grid_quality: expected a PebiGrid or a Grid"):
         grid_quality("grid")
+
+
+def _relative_sizes(pg: PebiGrid) -> tuple[np.ndarray, np.ndarray]:
+    """Cell areas / site_size^2 and face lengths / the smaller site_size of their cells."""
+    g = pg.grid
+    geo = gl.compute_geometry(g)
+    nb = g.faces.neighbors
+    h = np.minimum(
+        pg.site_size[nb[:, 0]], np.where(nb[:, 1] >= 0, pg.site_size[np.maximum(nb[:, 1], 0)], np.inf)
+    )
+    return geo.cell_volumes / pg.site_size**2, geo.face_areas / h
+
+
+def _site_orthogonality(pg: PebiGrid) -> np.ndarray:
+    """Degrees between every interior face and the normal to its two sites."""
+    g = pg.grid
+    e = g.faces.nodes.reshape(-1, 2)
+    inner = np.flatnonzero((g.faces.neighbors >= 0).all(axis=1))
+    t = g.nodes.coords[e[inner, 1]] - g.nodes.coords[e[inner, 0]]
+    s = pg.sites[g.faces.neighbors[inner, 1]] - pg.sites[g.faces.neighbors[inner, 0]]
+    c = np.abs((t * s).sum(axis=1)) / (np.linalg.norm(t, axis=1) * np.linalg.norm(s, axis=1))
+    return np.degrees(np.arcsin(np.minimum(c, 1.0)))
+
+
+def test_no_slivers_or_tiny_faces_where_faults_wells_and_the_boundary_meet():
+    """The benchmark's situation in small (bench/pebi.py): a non-convex domain at UTM coordinates,
+    faults crossing (X), meeting (T) and reaching the boundary at a shallow angle, a radial well.
+    Before, nearly co-circular sites gave faces of 7e-4 cell sizes (a lattice vertex a hair from the
+    boundary, lattice sites next to fault and ring sites); now background sites are moved to make
+    those configurations exact and no face is shorter than 1 % of its cells' size."""
+    off = np.array([5.3e5, 6.7e6])
+    domain = np.array(
+        [(0, 0), (1200, 80), (1300, 700), (800, 650), (700, 1000), (100, 950), (-50, 500)], float
+    )
+    traces = [
+        [(100, 150), (1100, 600)],
+        [(300, 700), (900, 100)],
+        [(600, 380), (700, 900)],
+        [(1000, 200), (1290, 420)],
+    ]
+    pg = pebi_grid(
+        domain + off,
+        25.0,
+        [Fault(np.asarray(f) + off) for f in traces],
+        [Well(np.array([300.0, 400.0]) + off, rings=Rings(inner=0.3, outer=40.0))],
+    )
+    g = pg.grid
+    geo = gl.compute_geometry(g)
+    gl.check_grid(g, geo)
+    assert geo.cell_volumes.sum() == pytest.approx(shapely.Polygon(domain).area, rel=1e-10)
+    dom = shapely.Polygon(domain)
+    for k, f in enumerate(traces, start=1):  # faces exactly on the traces (F3's end is extended by 5.6 m)
+        a, b = np.asarray(f, dtype=float)
+        u = (b - a) / np.linalg.norm(b - a)
+        line = shapely.LineString([a - 10 * u, b + 10 * u]).intersection(dom)
+        nodes = g.nodes.coords[np.unique(g.faces.nodes.reshape(-1, 2)[g.faces.tag == k])] - off
+        assert shapely.distance(shapely.points(nodes), line).max() < 1e-6
+    area, face = _relative_sizes(pg)
+    assert area.min() > 0.25 and face.min() >= 0.01
+    assert any("background site(s) moved slightly" in n for n in pg.notes)
+    angle = _site_orthogonality(pg)
+    contracted = sum(int(n.split()[0]) for n in pg.notes if "contracted" in n)
+    assert angle.max() < 1.0 and (angle > 1e-3).sum() <= 8 * contracted
+    q = grid_quality(pg)
+    assert q.area_ratio_min == pytest.approx(area.min()) and q.face_ratio_min == pytest.approx(face.min())
+
+
+@pytest.mark.parametrize("angle", [50.0, 60.0, 70.0])
+def test_straight_faults_crossing_share_the_first_sites_of_both_acute_wedges(angle):
+    """Two straight faults crossing make two equal acute wedges; the first sites of the two arms of each
+    wedge coincide (one site on three circles), in both wedges, not only in the one that is tightest by
+    round-off (the other pair used to be a hair apart: two thin cells and millimetre faces)."""
+    d1 = np.array([1.0, 0.2]) / np.hypot(1.0, 0.2)
+    a = np.radians(angle)
+    d2 = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]) @ d1
+    c = np.array([5.1, 4.9])
+    faults = [Fault([c - 3.7 * d1, c + 3.9 * d1]), Fault([c - 3.6 * d2, c + 3.8 * d2])]
+    pg = pebi_grid(rectangle(0, 0, 10, 10), 0.5, faults=faults)
+    g = pg.grid
+    gl.check_grid(g)
+    node = np.flatnonzero(np.linalg.norm(g.nodes.coords - c, axis=1) < 1e-12)
+    assert node.size == 1  # the crossing is one node
+    at = np.any(g.faces.nodes.reshape(-1, 2) == node[0], axis=1)
+    assert np.unique(g.faces.neighbors[at]).size == 6  # 8 first sites, two pairs shared
+    assert _lengths(g)[g.faces.tag == 1].sum() == pytest.approx(7.6, rel=1e-12)
+    assert _lengths(g)[g.faces.tag == 2].sum() == pytest.approx(7.4, rel=1e-12)
+    area, face = _relative_sizes(pg)
+    assert area.min() > 0.3 and face.min() > 0.01
 
 
 def test_pebi_grid_is_exported():

@@ -8,6 +8,9 @@ Method (ALGORITHMS.md §3.1), all in the domain's local frame:
    site's region is bounded and no frame point's region reaches the domain.
    Where the sites form a regular lattice the ridges are known without Qhull
    (:mod:`.lattice`); elsewhere they come from one Qhull triangulation.
+   Optionally (``adjust``), sites that make faces nearly vanish are then moved
+   a little (:mod:`.degenerate`) and the ridges recomputed around them only
+   (:func:`~.lattice.splice_ridges`), a few times.
 2. Ridges far from the boundary (both ends inside the domain shrunk by the 99th
    percentile of the ridge lengths, and shorter than it) are kept whole. The
    others are cut where they cross the domain's boundary (exact segment-edge
@@ -20,7 +23,9 @@ Method (ALGORITHMS.md §3.1), all in the domain's local frame:
    to the site nearest to its midpoint (whose Voronoi region contains it).
 4. Pieces shorter than ``tol`` (the tiny ridges of co-circular sites, crossings
    a hair apart) are contracted: their end vertices become one, keeping the
-   polygon's corners, then boundary points, exactly where they are.
+   polygon's corners, then boundary points, exactly where they are. Optionally
+   (``contract``), so are faces shorter than a fraction of their cells' sizes
+   (except fault faces), keeping fault vertices too.
 
 Every crossing is one vertex shared by the ridge piece and the two boundary
 pieces it separates, so the topology is exact by construction: interior faces
@@ -32,7 +37,9 @@ extra piece (``ClippedVoronoi.extra_points``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import itertools
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
@@ -44,7 +51,9 @@ from ..connectivity import _cycle_rank, offsets
 from ..errors import GridError
 from ..grid import Cells, Faces, Grid, Nodes
 from .domain import Domain, _cross2
-from .lattice import Lattice, hybrid_ridges, plain_ridges
+from .lattice import Lattice, hybrid_ridges, plain_ridges, splice_ridges
+
+WORK_RADIUS = 5.0  # after the first round, moves are looked at within this many local sizes
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,6 +75,8 @@ class ClippedVoronoi:
     cell_faces: np.ndarray
     areas: np.ndarray
     extra_points: np.ndarray
+    sites: np.ndarray | None = None  # the sites, after ``adjust`` moved some of them
+    contracted: int = 0  # faces contracted because they were too short (``contract``)
 
     def to_grid(self, origin: np.ndarray, tags: np.ndarray | None, history: tuple[str, ...]) -> Grid:
         nf = self.face_nodes.shape[0]
@@ -79,13 +90,29 @@ class ClippedVoronoi:
 
 
 def clipped_voronoi(
-    sites: np.ndarray, domain: Domain, tol: float, lattice: Lattice | None = None
+    sites: np.ndarray,
+    domain: Domain,
+    tol: float,
+    lattice: Lattice | None = None,
+    adjust: Callable | None = None,
+    rounds: int = 4,
+    contract: tuple | None = None,
 ) -> ClippedVoronoi:
     """Voronoi regions of ``sites`` (local frame, all in the closed domain) clipped to ``domain``.
 
     ``tol`` (m) is the length below which ridges are contracted to a point.
     ``lattice`` describes the first sites if they form a regular lattice (see
     :mod:`.lattice`): their cells are then computed without Qhull.
+    ``adjust(sites, coords, va, vb, cp, cq, fresh)``, if given, looks at the ridges
+    (``fresh``: the mask of those recomputed since the last call, None for all) and
+    returns sites to move, their new positions and the sites of all the short faces it
+    found (:mod:`.degenerate`); the ridges around them are then recomputed
+    (:func:`~.lattice.splice_ridges`), up to ``rounds`` times, and after the first
+    round only the ridges within ``WORK_RADIUS`` sizes of those sites are looked at.
+    The sites used are ``.sites``. ``contract`` = (size, protect,
+    fraction): faces shorter than ``fraction`` x the smaller ``size`` (n,) of their two
+    sites are contracted, except between the site pairs ``protect`` (k, 2) (fault faces);
+    ``.contracted`` says how many.
 
     >>> from gridlib.voronoi.domain import rectangle
     >>> d = Domain(rectangle(0, 0, 2, 1))
@@ -95,14 +122,71 @@ def clipped_voronoi(
     """
     if sites.shape[0] == 0:
         raise GridError("pebi_grid: no sites left in the domain")
-    if lattice is not None and lattice.ij.shape[0] > 0:
-        centre, va, vb, cp, cq = hybrid_ridges(sites, domain, lattice)
-    else:
-        centre, va, vb, cp, cq = plain_ridges(sites, domain)
+
+    def full(sites, lattice):
+        if lattice is not None and lattice.ij.shape[0] > 0:
+            return hybrid_ridges(sites, domain, lattice)
+        return plain_ridges(sites, domain)
+
+    centre, va, vb, cp, cq = full(sites, lattice)
+    fresh = None
+    spliced = False
+    tree = cKDTree(sites) if adjust is not None else None
+    stale = np.zeros(sites.shape[0], dtype=bool)
+    rest = None  # the ridges away from every short face (left alone), once the work is local
+    inside = None
+    for _ in range(rounds if adjust is not None else 0):  # move sites, recompute the ridges around them
+        idx, xy, involved = adjust(sites, centre, va, vb, cp, cq, fresh)
+        if idx.size == 0:
+            break
+        if rest is None and contract is not None:  # work on the ridges near the short faces only
+            size = contract[0]
+            near = np.union1d(involved, idx)
+            hits = tree.query_ball_point(sites[near], WORK_RADIUS * size[near], return_sorted=False)
+            inside = np.zeros(sites.shape[0], dtype=bool)
+            inside[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = True
+            for _ in range(2):  # and their Delaunay neighbours (across a concave boundary: far)
+                inside[cq[inside[cp]]] = True
+                inside[cp[inside[cq]]] = True
+            wr = inside[cp] | inside[cq]
+            rest = (va[~wr], vb[~wr], cp[~wr], cq[~wr])
+            va, vb, cp, cq = va[wr], vb[wr], cp[wr], cq[wr]
+            fresh = None if fresh is None else fresh[wr]
+        sites = sites.copy()
+        sites[idx] = xy
+        if lattice is not None and lattice.ij.shape[0] > 0:
+            nl = lattice.ij.shape[0]
+            active = np.ones(nl, dtype=bool) if lattice.active is None else lattice.active.copy()
+            active[idx[idx < nl]] = False
+            lattice = replace(lattice, active=active)
+        stale[idx] = True
+        got = splice_ridges(centre, va, vb, cp, cq, sites, idx, domain, tol, tree, stale, inside)
+        if got is None:
+            centre, va, vb, cp, cq = full(sites, lattice)
+            fresh, rest, inside = None, None, None
+        else:
+            centre, va, vb, cp, cq, fresh = got
+            spliced = True
+    if rest is not None:
+        va, vb, cp, cq = (np.concatenate([r, w]) for r, w in zip(rest, (va, vb, cp, cq), strict=True))
+    if contract is not None and inside is not None:
+        contract = (*contract[:3], inside)  # short faces are all among these sites' faces
+    if spliced:
+        try:
+            return _build(domain, centre, tol, sites, va, vb, cp, cq, contract)
+        except GridError:  # pragma: no cover - a patch that does not join up: recompute everything
+            centre, va, vb, cp, cq = full(sites, lattice)
+    return _build(domain, centre, tol, sites, va, vb, cp, cq, contract)
+
+
+def _build(domain, centre, tol, sites, va, vb, cp, cq, contract=None) -> ClippedVoronoi:
     builder = _Builder(domain, centre, tol, sites)
     builder.add_ridges(va, vb, cp, cq)
     builder.close_boundary(sites)
-    return builder.finish(sites)
+    size, protect, fraction, where = (
+        (*contract, None)[:4] if contract is not None else (None, None, 0.0, None)
+    )
+    return replace(builder.finish(sites, size, protect, fraction, where), sites=sites)
 
 
 class _Builder:
@@ -263,28 +347,28 @@ class _Builder:
         self.merge_a.append(a)
         self.merge_b.append(b)
 
-    def finish(self, sites: np.ndarray) -> ClippedVoronoi:
+    def finish(
+        self, sites: np.ndarray, size=None, protect=None, contract: float = 0.0, where=None
+    ) -> ClippedVoronoi:
         n = sites.shape[0]
         coords = np.concatenate(self.coords)
         nv = coords.shape[0]
         fa, fb = np.concatenate(self.face_a), np.concatenate(self.face_b)
         c0, c1 = np.concatenate(self.face_c0), np.concatenate(self.face_c1)
         ma, mb = np.concatenate(self.merge_a), np.concatenate(self.merge_b)
+        priority = np.full(nv, 2, dtype=np.int64)
+        priority[self.is_boundary[:nv]] = 1
+        priority[self.corner_id] = 0
         if ma.size:
-            graph = sparse.coo_matrix((np.ones(ma.size), (ma, mb)), shape=(nv, nv))
-            _, label = csgraph.connected_components(graph, directed=False)
-            priority = np.full(nv, 2, dtype=np.int64)
-            priority[self.is_boundary[:nv]] = 1
-            priority[self.corner_id] = 0
-            order = np.lexsort((np.arange(nv), priority, label))
-            lab_sorted = label[order]
-            first = np.concatenate([[True], lab_sorted[1:] != lab_sorted[:-1]])
-            rep_of_label = np.empty(label.max() + 1, dtype=np.int64)
-            rep_of_label[lab_sorted[first]] = order[first]
-            rep = rep_of_label[label]
+            rep = _representatives(nv, ma, mb, priority)
             fa, fb = rep[fa], rep[fb]
         keep = fa != fb
         fa, fb, c0, c1 = fa[keep], fb[keep], c0[keep], c1[keep]
+        contracted = 0
+        if contract > 0 and size is not None:
+            fa, fb, c0, c1, contracted = self._contract(
+                coords, fa, fb, c0, c1, size, protect, contract, priority, where
+            )
         used = np.zeros(nv, dtype=bool)
         used[fa] = used[fb] = True
         new_id = np.cumsum(used) - 1
@@ -303,7 +387,109 @@ class _Builder:
         faces = np.column_stack([fa, fb])
         neighbors = np.column_stack([c0, c1])
         pos, cell_faces, areas, extra = _cells(coords, faces, neighbors, n, sites, self.domain)
-        return ClippedVoronoi(coords, faces, neighbors, pos, cell_faces, areas, extra)
+        return ClippedVoronoi(coords, faces, neighbors, pos, cell_faces, areas, extra, contracted=contracted)
+
+    def _contract(self, coords, fa, fb, c0, c1, size, protect, contract, priority, where=None):
+        """Contract the faces shorter than ``contract`` x the smaller size of their two cells.
+
+        The last resort for short faces that no move of a background site collapses (their
+        sites are fault or well sites, or lattice sites pinned by the co-circular squares of
+        a Cartesian lattice). The face's end vertices become one, at the end that must stay
+        (a corner, a boundary point, a vertex of a fault face); faces with two such ends
+        (two fault vertices, a fault vertex and a boundary point, ...) and faces of
+        triangular cells are left alone. Fault faces are never contracted. The faces at
+        the merged vertex turn by at most about (face length / their length) radians.
+        ``where`` (mask of sites, optional): only faces of these cells can be short.
+        """
+        nv = coords.shape[0]
+        n = size.shape[0]
+        pk = np.zeros(0, dtype=np.int64)
+        if protect is not None and protect.size:
+            pk = np.sort(protect, axis=1)
+            pk = np.unique(pk[:, 0] * n + pk[:, 1])
+        bnd = priority <= 1
+        total = 0
+        for _ in range(3):  # merging can shorten a neighbouring face: look again
+            sub = np.arange(fa.size) if where is None else np.flatnonzero(where[c0] | (c1 >= 0) & where[c1])
+            u, w, s0, s1 = fa[sub], fb[sub], c0[sub], c1[sub]
+            length = np.linalg.norm(coords[w] - coords[u], axis=1)
+            h = np.minimum(size[s0], np.where(s1 >= 0, size[np.maximum(s1, 0)], np.inf))
+            short = length < contract * h
+            if not short.any():
+                break
+            fault = np.zeros(sub.size, dtype=bool)
+            if pk.size:
+                fk = np.minimum(s0, s1) * n + np.maximum(s0, s1)
+                loc = np.minimum(np.searchsorted(pk, fk), pk.size - 1)
+                fault = (s1 >= 0) & (pk[loc] == fk)
+            on_fault = np.zeros(nv, dtype=bool)
+            on_fault[u[fault]] = on_fault[w[fault]] = True
+            fixed = on_fault | (priority == 0)
+            # faces per cell (all the faces of a cell in ``where`` are in ``sub``)
+            nfaces = np.bincount(s0, minlength=n) + np.bincount(s1[s1 >= 0], minlength=n)
+            cand = ~fault & short
+            cand &= ~(fixed[u] & fixed[w])
+            cand &= ~(on_fault[u] & ~bnd[u] & bnd[w]) & ~(on_fault[w] & ~bnd[w] & bnd[u])
+            cand &= (nfaces[s0] > 3) & ((s1 < 0) | (nfaces[np.maximum(s1, 0)] > 3))
+            k = np.flatnonzero(cand)
+            if k.size == 0:
+                break
+            verts, inv = np.unique(np.concatenate([u[k], w[k]]), return_inverse=True)
+            m = verts.size
+            graph = sparse.coo_matrix((np.ones(k.size), (inv[: k.size], inv[k.size :])), shape=(m, m))
+            label = csgraph.connected_components(graph, directed=False)[1]
+            # a group may hold at most one vertex that must stay, and no fault vertex off the
+            # boundary together with a boundary point
+            nfix = np.bincount(label[fixed[verts]], minlength=label.max() + 1)
+            mixed = np.bincount(
+                label[on_fault[verts] & ~bnd[verts]], minlength=label.max() + 1
+            ) * np.bincount(label[bnd[verts]], minlength=label.max() + 1)
+            good = ~((nfix > 1) | (mixed > 0))[label]
+            prio = np.where(fixed[verts], 0, np.where(bnd[verts], 1, 2))
+            local = _representatives(m, inv[: k.size], inv[k.size :], prio)
+            # a group without a vertex that must stay goes to the point where the faces around
+            # it turn least: each vertex weighted by 1 / the length of its shortest other face
+            free = good & (np.bincount(label, prio == 2, label.max() + 1) == np.bincount(label))[label]
+            if free.any():
+                vmask = np.zeros(nv, dtype=bool)
+                vmask[verts[free]] = True
+                near = vmask[u] | vmask[w]
+                near[k] = False
+                at = sub[near]
+                lam = np.full(nv, np.inf)
+                flen = np.linalg.norm(coords[fb[at]] - coords[fa[at]], axis=1)
+                np.minimum.at(lam, fa[at], flen)
+                np.minimum.at(lam, fb[at], flen)
+                wgt = 1.0 / np.maximum(lam[verts], 1e-300)
+                grp = label[free]
+                wsum = np.bincount(grp, wgt[free], label.max() + 1)
+                for dim in range(2):
+                    pt = np.bincount(grp, wgt[free] * coords[verts[free], dim], label.max() + 1) / np.where(
+                        wsum > 0, wsum, 1.0
+                    )
+                    coords[verts[local[free]], dim] = pt[grp]
+            rep = np.arange(nv)
+            rep[verts[good]] = verts[local[good]]
+            fa, fb = rep[fa], rep[fb]
+            keep = fa != fb
+            if keep.all():
+                break
+            total += int((~keep).sum())
+            fa, fb, c0, c1 = fa[keep], fb[keep], c0[keep], c1[keep]
+        return fa, fb, c0, c1, total
+
+
+def _representatives(nv: int, ma: np.ndarray, mb: np.ndarray, priority: np.ndarray) -> np.ndarray:
+    """For every vertex, the vertex it becomes when the pairs (ma, mb) are merged: the one of
+    lowest priority (then lowest id) in its group."""
+    graph = sparse.coo_matrix((np.ones(ma.size), (ma, mb)), shape=(nv, nv))
+    _, label = csgraph.connected_components(graph, directed=False)
+    order = np.lexsort((np.arange(nv), priority, label))
+    lab_sorted = label[order]
+    first = np.concatenate([[True], lab_sorted[1:] != lab_sorted[:-1]])
+    rep_of_label = np.empty(label.max() + 1, dtype=np.int64)
+    rep_of_label[lab_sorted[first]] = order[first]
+    return rep_of_label[label]
 
 
 def _perimeter_point(d: Domain, par: np.ndarray) -> np.ndarray:

@@ -715,16 +715,71 @@ def _junction_radii(lay: FaultLayout, centres, radii, sa, sb, slen, constrained,
         lo = float(np.max(lens - rw)) * (1 + 1e-9)
         if fits(hi):
             radii[v] = hi
-            continue
-        if lo >= hi or not fits(lo * (1 + 1e-6)):
+        elif lo >= hi or not fits(lo * (1 + 1e-6)):
             problems.append((int(v), "the traces meet at too sharp an angle"))
             radii[v] = hi
             continue
-        a, b = lo * (1 + 1e-6), hi
-        for _ in range(60):  # bisection: the largest radius that fits
-            m = 0.5 * (a + b)
-            a, b = (m, b) if fits(m) else (a, m)
-        radii[v] = a
+        else:
+            a, b = lo * (1 + 1e-6), hi
+            for _ in range(60):  # bisection: the largest radius that fits
+                m = 0.5 * (a + b)
+                a, b = (m, b) if fits(m) else (a, m)
+            radii[v] = a
+        _close_near_pairs(int(v), float(radii[v]), far, lens, radii, pairs, caps, sa, sb, slen, constrained)
+
+
+def _close_near_pairs(v, rv, far, lens, radii, pairs, caps, sa, sb, slen, constrained) -> None:
+    """Make the first sites of neighbouring arms coincide where they nearly do.
+
+    With two (nearly) equally tight pairs of arms, as where two straight faults cross,
+    only one pair coincides at the largest radius; the other pair's sites end up a hair
+    apart, and their cells meet in faces of millimetres. Such a pair (sites closer than
+    0.1 first steps) is closed by enlarging the circle at the first centre along one of
+    its arms, so that that arm's alpha grows by the angle left: only where the arm's
+    other neighbour keeps its distance, the first centre's other circle still meets it
+    properly, and neither end of that step is constrained (its radius belongs to another
+    junction).
+    """
+    al = np.arccos(np.clip((rv**2 + lens**2 - radii[far] ** 2) / (2 * rv * lens), -1.0, 1.0))
+    slack = {(j, k): gap - (al[j] + al[k]) for j, k, gap in pairs}
+    cap = dict.fromkeys(range(len(far)), np.inf)
+    for k, lim in caps:
+        cap[k] = min(cap[k], lim)
+    close = 0.1 * float(lens.min())
+
+    def fixed(c: int) -> bool:  # network nodes come first among the centres
+        return c < constrained.size and bool(constrained[c])
+
+    for (j, k), left in sorted(slack.items(), key=lambda t: t[1]):
+        left = slack[(j, k)]
+        dist = 2 * rv * np.sin(0.5 * left)
+        if not (1e-7 * rv < dist < close):  # coincide already, or far enough apart
+            continue
+        for arm in (j, k):  # the arm whose other side has room
+            others = [s for key, s in slack.items() if arm in key and key != (j, k)]
+            if (others and min(others) - left < 2 * close / rv) or al[arm] + left > cap[arm]:
+                continue
+            c1 = int(far[arm])
+            at = np.flatnonzero((sa == c1) | (sb == c1))
+            if fixed(c1) or at.size != 2:
+                continue
+            alpha = al[arm] + left
+            rw = float(np.sqrt(max(rv**2 + lens[arm] ** 2 - 2 * rv * lens[arm] * np.cos(alpha), 0.0)))
+            fine = rw > 0
+            for t in at.tolist():  # the circles at both ends of both steps still intersect properly
+                o = int(sb[t]) if int(sa[t]) == c1 else int(sa[t])
+                if o != v and fixed(o):
+                    fine = False
+                ro, lt = float(radii[o]), float(slen[t])
+                fine = fine and abs(rw - ro) < 0.95 * lt and rw + ro > 1.05 * lt
+            if not fine:
+                continue
+            radii[c1] = rw
+            al[arm] = alpha
+            for key in slack:
+                if arm in key:
+                    slack[key] -= left
+            break
 
 
 def _boundary_rays(dom: Domain, p: np.ndarray) -> list[float]:

@@ -37,6 +37,8 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import sparse
+from scipy.sparse import csgraph
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ..errors import GridError
@@ -47,12 +49,17 @@ SQRT3 = np.sqrt(3.0)
 
 @dataclass(frozen=True, eq=False)
 class Lattice:
-    """The lattice of the first ``ij.shape[0]`` sites: site k = origin + h (basis @ ij[k])."""
+    """The lattice of the first ``ij.shape[0]`` sites: site k = origin + h (basis @ ij[k]).
+
+    ``active`` (n_lattice,) bool, default all: sites that are *not* active have been moved
+    off their lattice position (they are treated like any other irregular site).
+    """
 
     pattern: str  # "hexagonal" | "cartesian"
     origin: np.ndarray
     h: float
     ij: np.ndarray  # (n_lattice, 2) int64
+    active: np.ndarray | None = None
 
 
 def triangulate(pts: np.ndarray, domain: Domain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -127,7 +134,8 @@ class _Cells:
         self.lo = ij.min(axis=0) - 1
         self.shape = ij.max(axis=0) - self.lo + 2
         self.grid = np.full(tuple(self.shape), -1, dtype=np.int64)
-        self.grid[ij[:, 0] - self.lo[0], ij[:, 1] - self.lo[1]] = np.arange(ij.shape[0])
+        ids = np.arange(ij.shape[0]) if lat.active is None else np.flatnonzero(lat.active)
+        self.grid[ij[ids, 0] - self.lo[0], ij[ids, 1] - self.lo[1]] = ids
         self.hex = lat.pattern == "hexagonal"
         self.types = 2 if self.hex else 1
         self.n = int(self.shape[0] * self.shape[1] * self.types)
@@ -220,7 +228,7 @@ def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
     nl = lat.ij.shape[0]
     cells = _Cells(lat)
     clean = cells.present()
-    foreign = sites[nl:]
+    foreign = sites[nl:] if lat.active is None else np.concatenate([sites[:nl][~lat.active], sites[nl:]])
     if foreign.shape[0]:
         pt, cid = cells.near(foreign)
         close = np.linalg.norm(cells.centres(cid) - foreign[pt], axis=1) < cells.radius * (1 + 1e-6)
@@ -320,3 +328,148 @@ def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
     coords[~in_cells] = centre[used[~in_cells] - cells.n]
     inv = inv.reshape(-1)
     return coords, inv[: va.size], inv[va.size :], np.concatenate(cp), np.concatenate(cq)
+
+
+def splice_ridges(
+    coords,
+    va,
+    vb,
+    cp,
+    cq,
+    sites: np.ndarray,
+    moved: np.ndarray,
+    domain: Domain,
+    tol: float,
+    tree=None,
+    stale=None,
+    inside=None,
+):
+    """The ridges after a few sites moved a little, recomputed only around them.
+
+    ``coords``, ``va``, ``vb``, ``cp``, ``cq``: the ridges before (as returned by
+    :func:`hybrid_ridges`); ``sites``: all sites, ``moved`` (indices) at their new
+    positions. The ridges of the moved sites and of their neighbours (set A) come from
+    one Qhull triangulation of A, two rings of neighbours around it and the sites whose
+    regions reach far out (so that the frame triangles are right); its triangles at A
+    are checked against all sites (no site strictly inside a circumcircle), and the
+    kept vertices near A against the moved sites, growing A and the patch until both
+    checks pass. Kept ridges that share a vertex with a new one are joined to it by
+    position (within ``tol``). Returns the new (coords, va, vb, cp, cq) and the mask of
+    the new ridges, or None where the patch does not join up (the caller recomputes
+    everything). ``tree``: a cKDTree of the sites where ``stale`` (mask) is False (the
+    others have moved since it was built and are checked at their current positions).
+    ``inside`` (mask of sites): the ridges given are all the ridges of these sites (a
+    part of the diagram); A and its neighbours must be among them.
+    """
+    n = sites.shape[0]
+    nv = coords.shape[0]
+
+    def grow(mask: np.ndarray) -> np.ndarray:
+        """The sites of the mask and their Delaunay neighbours."""
+        out = mask.copy()
+        out[cq[mask[cp]]] = True
+        out[cp[mask[cq]]] = True
+        return out
+
+    lo, hi = domain.xy.min(axis=0), domain.xy.max(axis=0)
+    span = hi - lo
+    far = np.any((coords < lo - span) | (coords > hi + span), axis=1)
+    outer = np.zeros(n, dtype=bool)
+    fr = far[va] | far[vb]
+    outer[cp[fr]] = outer[cq[fr]] = True
+    A = np.zeros(n, dtype=bool)
+    A[moved] = True
+    A = grow(A)
+    if tree is None:
+        tree, stale = cKDTree(sites), np.zeros(n, dtype=bool)
+    stale_idx = np.flatnonzero(stale)
+    stale_tree = cKDTree(sites[stale_idx]) if stale_idx.size else None
+    frame = frame_points(domain)
+    for _ in range(8):  # grow the patch until the triangles at A are Delaunay
+        ring = grow(A)
+        if inside is not None and not inside[ring].all():  # their neighbours must all be known
+            return None
+        P = ring.copy()
+        hull = outer & grow(grow(P))  # the sites of far-reaching regions next to the patch
+        sub = np.flatnonzero(P | hull)
+        pts = np.concatenate([sites[sub], frame])
+        tri, nbr, centre = triangulate(pts, domain)
+        glob = np.concatenate([sub, np.full(frame.shape[0], -1)])
+        gt = glob[tri]
+        real = (gt >= 0).all(axis=1)
+        at_a = (A[np.maximum(gt, 0)] & (gt >= 0)).any(axis=1)
+        check = np.flatnonzero(at_a & real)
+        rad = np.linalg.norm(centre[check] - pts[tri[check, 0]], axis=1) * (1 - 1e-9)
+        hits = tree.query_ball_point(centre[check], rad, return_sorted=False)
+        bad = np.unique(np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64))
+        bad = bad[~stale[bad]]  # where the tree has old positions, the current ones are checked
+        if stale_idx.size:
+            hits = stale_tree.query_ball_point(centre[check], rad, return_sorted=False)
+            bad = np.union1d(bad, stale_idx[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)])
+        bad = bad[~P[bad]]
+        # kept vertices next to the patch must stay empty of the moved sites
+        kept = ~(A[cp] | A[cq])
+        near = kept & (P[cp] | P[cq])
+        kv = np.unique(np.concatenate([va[near], vb[near]]))
+        if kv.size:
+            first = np.full(nv, -1, dtype=np.int64)
+            rv = np.flatnonzero(near)
+            first[va[rv]] = cp[rv]
+            first[vb[rv]] = cp[rv]
+            kr = np.linalg.norm(coords[kv] - sites[first[kv]], axis=1) * (1 - 1e-9)
+            mt = cKDTree(sites[moved])
+            invaded = mt.query_ball_point(coords[kv], kr, return_sorted=False)
+            lens = np.fromiter((len(h) for h in invaded), dtype=np.int64, count=kv.size)
+            spoilt = kv[lens > 0]
+        else:
+            spoilt = np.zeros(0, dtype=np.int64)
+        if bad.size == 0 and spoilt.size == 0:
+            break
+        A[bad] = True
+        if spoilt.size:
+            sv = np.isin(va, spoilt) | np.isin(vb, spoilt)
+            A[cp[sv]] = A[cq[sv]] = True
+    else:
+        return None
+    t, u, p, q = edges_of(tri, nbr)
+    gp, gq = glob[p], glob[q]
+    take = (gp >= 0) & (gq >= 0) & (A[np.maximum(gp, 0)] | A[np.maximum(gq, 0)])
+    t, u, gp, gq = t[take], u[take], gp[take], gq[take]
+    used, inv = np.unique(np.concatenate([u, t]), return_inverse=True)
+    inv = inv.reshape(-1)
+    new_va, new_vb = nv + inv[: u.size], nv + inv[u.size :]
+    new_xy = centre[used]
+    kept = ~(A[cp] | A[cq])
+    # Vertices of kept ridges that dropped ridges also used: the new ones at the same place.
+    in_kept = np.zeros(nv, dtype=bool)
+    in_kept[va[kept]] = in_kept[vb[kept]] = True
+    in_dropped = np.zeros(nv, dtype=bool)
+    in_dropped[va[~kept]] = in_dropped[vb[~kept]] = True
+    seam = np.flatnonzero(in_kept & in_dropped)
+    remap = np.arange(nv + new_xy.shape[0])
+    if seam.size:
+        d, _ = cKDTree(new_xy).query(coords[seam])
+        if np.any(d > tol):
+            return None
+        # every seam vertex and new vertex at one place becomes one (co-circular sites can be
+        # triangulated either way: the two triangulations need not share their vertices)
+        ids = np.concatenate([seam, nv + np.arange(new_xy.shape[0])])
+        pairs = cKDTree(np.concatenate([coords[seam], new_xy])).query_pairs(tol, output_type="ndarray")
+        if pairs.size:
+            m = ids.size
+            graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
+            lab = csgraph.connected_components(graph, directed=False)[1]
+            rep = np.full(lab.max() + 1, -1, dtype=np.int64)
+            rep[lab[::-1]] = ids[::-1]  # the first id of each group
+            remap[ids] = rep[lab]
+    out_va = remap[np.concatenate([va[kept], new_va])]
+    out_vb = remap[np.concatenate([vb[kept], new_vb])]
+    fresh = np.concatenate([np.zeros(int(kept.sum()), dtype=bool), np.ones(gp.size, dtype=bool)])
+    return (
+        np.concatenate([coords, new_xy]),
+        out_va,
+        out_vb,
+        np.concatenate([cp[kept], gp]),
+        np.concatenate([cq[kept], gq]),
+        fresh,
+    )

@@ -24,6 +24,18 @@ the diagram recomputed (a note says how many). Ridges shorter than 1e-7 of the
 smallest spacing (co-circular sites) are contracted, and the vertices of fault
 faces are set to the exact circle centres on the traces.
 
+No tiny faces: nearly co-circular sites (generic along the boundary and where
+the lattice meets fault and well sites) would give faces of millimetres. Where a
+face is shorter than 5 % of its cells' target size (``site_size``), a background
+site is moved, by at most about twice that length, onto the circle that makes
+the configuration exactly degenerate: the face vanishes and every face stays an
+exact perpendicular bisector (:mod:`.degenerate`). Where no background site can
+move (only fault or well sites, or Cartesian lattice sites held by their
+co-circular squares), faces shorter than 1 % are contracted instead (never fault
+faces; the faces next to them are then orthogonal to their sites within about a
+degree). Both are noted. Where two arms of a fault junction nearly share their
+first site (two straight faults crossing), they are made to share it exactly.
+
 Fault faces carry ``faces.tag`` = fault id (1-based position in ``faults``),
 every other face 0; ``cell_well`` is the 1-based well id of the cells generated
 by a well's sites, else 0. Coordinates are metres in the
@@ -55,6 +67,7 @@ from ..errors import GridError
 from ..grid import Grid
 from . import faults as _faults
 from .bounded import clipped_voronoi
+from .degenerate import CONTRACT, SHORT, Collapse, collapse_moves
 from .domain import Domain
 from .faults import Fault
 from .lattice import Lattice
@@ -76,6 +89,10 @@ class PebiGrid:
     or extended faults, sites added). ``site_kind`` (nc,): what generated each
     cell: ``BACKGROUND`` 0, ``PADDING_SITE`` 1, ``FAULT`` 2 (a mirrored pair),
     ``FAULT_TIP`` 3, ``WELL`` 4, ``ADDED`` 5 (where a concave boundary cut a cell).
+    ``site_size`` (nc,): the target size of each cell (m), the square root of the area
+    it is meant to have: the lattice spacing for background sites, the step along the
+    trace for fault sites, sqrt(arc spacing x radial width) for well rings, the spacing
+    along a well path, the cell size for added sites.
     """
 
     grid: Grid
@@ -85,6 +102,7 @@ class PebiGrid:
     sites: np.ndarray
     notes: tuple[str, ...]
     site_kind: np.ndarray | None = None
+    site_size: np.ndarray | None = None
 
     def __repr__(self) -> str:
         return (
@@ -254,9 +272,40 @@ def pebi_grid(
     tol = _merge_tolerance(dom, bg_spacing, fs, ws)
     on_lat = keep & bg_lattice
     lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat])
+    n_lat = int(on_lat.sum())
     kind_extra = n_extra = 0
+    moved = np.zeros(0, dtype=np.int64)
+    collapse = Collapse()
+    site_size = np.concatenate([bg_spacing[keep], fs.site_step, ws.site_size])
+
+    def allowed(xy: np.ndarray) -> np.ndarray:
+        """New positions of background sites: outside every fault circle."""
+        ok = np.ones(xy.shape[0], dtype=bool)
+        if fs.centres.shape[0]:
+            ok[_faults.circle_violations(fs, xy)[1]] = False
+        return ok
+
     for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
-        vor = clipped_voronoi(sites, dom, tol, lattice)
+        movable = np.zeros(sites.shape[0], dtype=bool)
+        movable[:n_bg] = True
+        size_now = np.concatenate([site_size, size(sites[site_size.size :])])
+
+        def adjust(s, coords, va, vb, cp, cq, fresh, movable=movable, size_now=size_now):
+            idx, xy = collapse_moves(
+                coords, va, vb, cp, cq, s, size_now, movable, dom, tol, collapse, allowed, fresh
+            )
+            return idx, xy, collapse.involved
+
+        protect = fs.pairs + n_bg
+        vor = clipped_voronoi(sites, dom, tol, lattice, adjust, contract=(size_now, protect, CONTRACT))
+        changed = np.flatnonzero(np.any(vor.sites != sites, axis=1))
+        if changed.size:
+            moved = np.union1d(moved, changed)
+            sites = vor.sites
+            if n_lat:
+                active = np.ones(n_lat, dtype=bool)
+                active[moved[moved < n_lat]] = False
+                lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat], active)
         if vor.extra_points.shape[0] == 0:
             break
         if kind_extra == MAX_EXTRA_ROUNDS:
@@ -277,6 +326,16 @@ def pebi_grid(
         n_extra += extra.shape[0]
     if n_extra:
         notes.append(f"{n_extra} site(s) added where the concave boundary cut a cell in two")
+    if moved.size:
+        notes.append(
+            f"{moved.size} background site(s) moved slightly to collapse faces shorter than "
+            f"{SHORT:g} cell sizes (nearly co-circular sites)"
+        )
+    if vor.contracted:
+        notes.append(
+            f"{vor.contracted} face(s) shorter than {CONTRACT:g} cell sizes contracted (no background "
+            "site to move there; the faces next to them are orthogonal to within a degree or so)"
+        )
 
     n_sites = sites.shape[0]
     nb = vor.neighbors
@@ -300,13 +359,14 @@ def pebi_grid(
     site_kind[:n_bg] = np.where(bg_padding[keep], PADDING_SITE, BACKGROUND)
     site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)
     site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
+    site_size = np.concatenate([site_size, size(sites[site_size.size :])])  # and the added sites
     _verify(vor, dom, tags, fs, fault_labels, ws, cell_well)
     names_f = tuple((f.name or f"F{i + 1}") for i, f in enumerate(faults))
     names_w = tuple((w.name or f"W{i + 1}") for i, w in enumerate(wells))
     site_xy = sites + dom.origin
-    for a in (cell_well, site_xy, site_kind):
+    for a in (cell_well, site_xy, site_kind, site_size):
         a.flags.writeable = False
-    return PebiGrid(grid, cell_well, names_f, names_w, site_xy, tuple(notes), site_kind)
+    return PebiGrid(grid, cell_well, names_f, names_w, site_xy, tuple(notes), site_kind, site_size)
 
 
 def _fault_problems(

@@ -7,6 +7,11 @@ points: the *sites* (generating points; a PEBI grid's two-point flux is exact
 for these, so the error is 0 up to round-off unless something went wrong) and
 the *centroids* (what most simulators use to compute transmissibilities).
 
+Sizes relative to the target (``PebiGrid.site_size`` h of every cell): the
+smallest cell area / h² and the smallest face length / the smaller h of its
+cells. Deliberately small cells (well rings, fault steps refined at junctions)
+have a small h, so these show slivers and tiny faces rather than refinement.
+
 >>> from gridlib.voronoi import pebi_grid
 >>> q = grid_quality(pebi_grid(((0, 0), (3, 2)), 1.0, pattern="cartesian"))
 >>> q.num_cells, q.area_min, q.area_max, round(q.orthogonality_centroids_max, 9)
@@ -40,6 +45,8 @@ class PebiQuality:
     orthogonality_centroids_mean: float
     cells_per_well: dict[str, int] = field(default_factory=dict)
     faces_per_fault: dict[str, int] = field(default_factory=dict)
+    area_ratio_min: float = float("nan")  # min cell area / its target size squared (PebiGrid only)
+    face_ratio_min: float = float("nan")  # min face length / the smaller target size of its cells
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -52,6 +59,12 @@ class PebiQuality:
             f"orthogonality error: sites max {self.orthogonality_sites_max:.3g} deg, centroids max "
             f"{self.orthogonality_centroids_max:.3g} deg, mean {self.orthogonality_centroids_mean:.3g} deg",
         ]
+        if np.isfinite(self.area_ratio_min):
+            lines.insert(
+                3,
+                f"relative to each cell's target size h: area / h2 min {self.area_ratio_min:.3g}, "
+                f"face length / h min {self.face_ratio_min:.3g}",
+            )
         if self.cells_per_well:
             lines.append("cells per well: " + ", ".join(f"{k} {v}" for k, v in self.cells_per_well.items()))
         if self.faces_per_fault:
@@ -96,6 +109,12 @@ def grid_quality(obj: object) -> PebiQuality:
         site_max = float("nan")
     area = geo.cell_volumes
     length = geo.face_areas
+    area_ratio = face_ratio = float("nan")
+    size = getattr(obj, "site_size", None)
+    if size is not None:
+        area_ratio = float((area / size**2).min())
+        h = np.minimum(size[nb[:, 0]], np.where(nb[:, 1] >= 0, size[np.maximum(nb[:, 1], 0)], np.inf))
+        face_ratio = float((length / h).min())
     return PebiQuality(
         num_cells=grid.num_cells,
         num_faces=grid.num_faces,
@@ -109,4 +128,6 @@ def grid_quality(obj: object) -> PebiQuality:
         orthogonality_centroids_mean=float(cen.mean()),
         cells_per_well=cells_per_well,
         faces_per_fault=faces_per_fault,
+        area_ratio_min=area_ratio,
+        face_ratio_min=face_ratio,
     )

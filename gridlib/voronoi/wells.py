@@ -117,6 +117,7 @@ class WellSites:
 
     sites: np.ndarray  # (k, 2)
     site_well: np.ndarray  # (k,) well id 1..m
+    site_size: np.ndarray  # (k,) target size (m) of each site's cell: sqrt of the area it is meant to have
     disc_centre: np.ndarray  # (w, 2) point wells: centre
     disc_radius: np.ndarray  # (w,) outer ring radius (0 without rings)
     disc_margin: np.ndarray  # (w,) background clearance beyond the outer ring
@@ -135,6 +136,7 @@ def well_label(well: Well, i: int) -> str:
 
 def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSites:
     sites, site_well = [np.zeros((0, 2))], [np.zeros(0, dtype=np.int64)]
+    site_size = [np.zeros(0)]
     dc, dr, dm, dw = [], [], [], []
     paths: list[tuple[int, np.ndarray, float]] = []
     labels = []
@@ -157,6 +159,7 @@ def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSi
                 raise GridError(f"{label}: spacing applies to well paths; a point well has rings")
             h = float(size(c[None, :])[0])
             pts = [c[None, :]]
+            sizes = [np.array([h])]
             radius = 0.0
             if well.rings is not None:
                 if not isinstance(well.rings, Rings):
@@ -184,10 +187,12 @@ def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSi
                         "reduce rings.outer or move the well"
                     )
                 pts.append(ring)
+                sizes = _ring_sizes(radii, sectors, h)
                 radius = float(radii[-1])
             xy = np.concatenate(pts)
             sites.append(xy)
             site_well.append(np.full(xy.shape[0], i + 1))
+            site_size.append(np.concatenate(sizes))
             dc.append(c)
             dr.append(radius)
             dm.append(0.5 * h)
@@ -221,6 +226,8 @@ def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSi
             ps = np.concatenate(pts)
             sites.append(ps)
             site_well.append(np.full(ps.shape[0], i + 1))
+            step = seg / n
+            site_size.append(np.concatenate([step[:1], np.repeat(step, n)]))
             h = float(np.max(size(xy)))
             half = 0.5 * max(float(np.max(seg / n)), h)
             paths.append((i + 1, xy, half))
@@ -228,6 +235,7 @@ def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSi
     return WellSites(
         sites=np.concatenate(sites),
         site_well=np.concatenate(site_well),
+        site_size=np.concatenate(site_size),
         disc_centre=np.asarray(dc).reshape(-1, 2) if dc else empty,
         disc_radius=np.asarray(dr, dtype=np.float64),
         disc_margin=np.asarray(dm, dtype=np.float64),
@@ -235,6 +243,22 @@ def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSi
         paths=paths,
         labels=labels,
     )
+
+
+def _ring_sizes(radii: np.ndarray, sectors: int, h: float) -> list[np.ndarray]:
+    """Target sizes of the centre and of the ring sites: sqrt(arc spacing x radial width).
+
+    A ring cell spans the arc 2 pi r / sectors and, radially, from half way to the
+    ring inside to half way to the ring outside (the last ring: as far out as in,
+    at most the cell size ``h``); the centre cell is the polygon of inradius r_1 / 2.
+    """
+    inner = np.concatenate([[0.0], radii[:-1]])
+    last = radii[-1] + min(h, radii[-1] - inner[-1])
+    outer = np.concatenate([radii[1:], [last]])
+    width = 0.5 * (outer - inner)
+    arc = 2 * np.pi * radii / sectors
+    centre = 0.5 * radii[0] * np.sqrt(sectors * np.tan(np.pi / sectors))
+    return [np.array([centre]), np.repeat(np.sqrt(arc * width), sectors)]
 
 
 def _points(value: object, label: str, what: str) -> np.ndarray:

@@ -1,0 +1,408 @@
+"""Short faces from nearly degenerate sites, collapsed exactly by moving background sites a little.
+
+A Voronoi face is short when the two vertices at its ends nearly coincide: four
+sites lie nearly on one circle, or three sites nearly on a circle centred on the
+domain's boundary, or the bisector of two sites passes close to a polygon corner.
+Generic site sets do this everywhere along the boundary and wherever a regular
+lattice meets fault or well sites, so that faces of 1e-4 cell sizes and less
+appear (useless for simulation: near-zero transmissibility, nodes a hair apart in
+2.5D grids). Contracting them would move Voronoi vertices off the bisectors, and
+faces would no longer be perpendicular to their site pairs. Instead, one *movable*
+site (a background site) is moved radially onto the circle that makes the
+degeneracy exact: the face then has length zero and is contracted (the
+vertex becomes one point shared by four cells, or lies exactly on the boundary,
+or the bisector passes exactly through the corner), and every face of the diagram
+stays an exact perpendicular bisector.
+
+For a short face of length l the site moves by at most about 2 l; faces shorter
+than ``SHORT`` (5 %) of the smaller local size of their two sites are collapsed.
+Three kinds are found from the unclipped ridges (vertex = circumcentre):
+
+* **interior**: a ridge (p, q) between vertices V1 (sites p, q, r) and V2 (p, q, s):
+  s is moved onto the circle of V1, or r onto the circle of V2;
+* **boundary**: a vertex V (sites a, b, c) within ``SHORT`` sizes of a boundary
+  edge: for a pair (a, b), X is where their bisector meets the edge, and c is
+  moved onto the circle of centre X through a and b (the vertex becomes X);
+* **corner**: a ridge (p, q) passing close to a polygon corner K: p is moved onto
+  the circle of centre K through q (or q onto the one through p).
+
+Candidates are taken greedily by displacement, one per group of sites involved,
+and only where the caller allows the new position (inside the domain, outside the
+fault circles); the diagram is then recomputed, and the search repeated.
+
+A site that is already on an exact degenerate circle (a vertex shared by four or
+more cells: the squares of a Cartesian lattice, a face collapsed before, the
+boundary point a vertex was put on) must stay on it, or that collapse would come
+undone as a new short face: with one such circle it moves to the nearer
+intersection of the two circles, with two or more it does not move.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from scipy import sparse
+from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
+
+from .domain import Domain
+
+SHORT = 0.05  # faces shorter than this fraction of the local size are collapsed
+CONTRACT = 0.01  # ... or, where no site can move, contracted if shorter than this fraction
+REACH = 3.0  # a site moves by at most REACH x SHORT x its size
+
+
+@dataclass
+class Collapse:
+    """What :func:`collapse_moves` did in earlier rounds.
+
+    ``pins``: site -> circles it was put on at the boundary or at a corner, as
+    ``("edge", p, q, e)`` (centred where the bisector of sites p and q meets
+    boundary edge e, through p) or ``("corner", k, y)`` (centred on corner k,
+    through site y), recomputed from the current sites (collapses inside the domain
+    are found again as degenerate vertices); ``pending``: the sites of the short
+    faces not collapsed yet (looked at again next round).
+    """
+
+    pins: dict[int, list[tuple]] = field(default_factory=dict)
+    pending: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    involved: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # of the last call
+
+
+def collapse_moves(
+    coords: np.ndarray,
+    va: np.ndarray,
+    vb: np.ndarray,
+    cp: np.ndarray,
+    cq: np.ndarray,
+    sites: np.ndarray,
+    size: np.ndarray,
+    movable: np.ndarray,
+    domain: Domain,
+    tol: float,
+    state: Collapse,
+    allowed: Callable[[np.ndarray], np.ndarray] | None = None,
+    focus: np.ndarray | None = None,
+    short: float = SHORT,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Sites to move and their new positions (local frame) that collapse the short faces.
+
+    ``coords``, ``va``, ``vb``, ``cp``, ``cq``: the ridges of the Voronoi diagram of
+    ``sites`` (vertex coordinates; each ridge from vertex va to vb between sites cp
+    and cq); ``size`` (n,) the local size of every site (m); ``movable`` (n,) bool;
+    ``tol`` the length below which ridges count as zero (m); ``state`` is updated;
+    ``allowed(xy)`` says which new positions are acceptable; ``focus`` (mask of
+    ridges, default all): only faces at the vertices of these (and of the faces left
+    over last time) are looked at.
+    """
+    n = sites.shape[0]
+    none = np.zeros(0, dtype=np.int64), np.zeros((0, 2))
+    if not movable.any() or va.size == 0:
+        return none
+    full = (coords, va, vb, cp, cq)
+    length = np.linalg.norm(coords[va] - coords[vb], axis=1)
+    zero = length <= tol
+    full_zero = zero
+    if focus is not None:  # only the ridges at the vertices of the focus (and their co-circular groups)
+        if state.pending.size:
+            pend = np.zeros(n, dtype=bool)
+            pend[state.pending] = True
+            focus = focus | pend[cp] | pend[cq]
+        vmask = np.zeros(coords.shape[0], dtype=bool)
+        vmask[va[focus]] = vmask[vb[focus]] = True
+        for _ in range(4):
+            z = zero & (vmask[va] | vmask[vb])
+            vmask[va[z]] = vmask[vb[z]] = True
+        keep = vmask[va] | vmask[vb]
+        va, vb, cp, cq, length, zero = (x[keep] for x in (va, vb, cp, cq, length, zero))
+        used, inv = np.unique(np.concatenate([va, vb]), return_inverse=True)
+        coords = coords[used]
+        va, vb = inv[: va.size], inv[va.size :]
+    nv = coords.shape[0]
+    # Vertices joined by zero-length ridges are one vertex (co-circular sites).
+    if zero.any():
+        graph = sparse.coo_matrix((np.ones(int(zero.sum())), (va[zero], vb[zero])), shape=(nv, nv))
+        label = csgraph.connected_components(graph, directed=False)[1].astype(np.int64)
+    else:
+        label = np.arange(nv)
+    _, first = np.unique(label, return_index=True)
+    gxy = coords[first]
+    ga, gb = label[va], label[vb]
+    h_ridge = np.minimum(size[cp], size[cq])
+    raw: list[tuple] = []  # (site, target circle, feature length, lockset, feature id, pin or None)
+    features: list[tuple] = []  # the lockset of every short face found
+
+    def add(x: int, circle, feature: float, lock: tuple, pin: tuple | None = None) -> None:
+        if not features or features[-1] is not lock:
+            features.append(lock)
+        if movable[x] and circle is not None:
+            raw.append((int(x), circle, feature, lock, len(features) - 1, pin))
+
+    # Interior: short ridges with a part inside the domain (or touching it).
+    sr = np.flatnonzero(~zero & (length < short * h_ridge) & (ga != gb))
+    if sr.size:
+        mid = 0.5 * (coords[va[sr]] + coords[vb[sr]])
+        sr = sr[domain.covers(mid, float(short * size.max()))]
+    # Boundary: vertices within short x size of the boundary (either side); corners: ridges
+    # at vertices within reach of the boundary.
+    wide = _band(domain, gxy, 1.5 * float(size.max()))
+    band = wide.copy()
+    band[wide] = _band(domain, gxy[wide], short * float(size.max()))
+    need = np.zeros(gxy.shape[0], dtype=bool)
+    need[ga[sr]] = need[gb[sr]] = True
+    need |= band
+    sel = np.flatnonzero(need[ga] | need[gb])
+    # Sites of every vertex involved (from the ridges at it).
+    gs_g = np.concatenate([ga[sel], ga[sel], gb[sel], gb[sel]])
+    gs_s = np.concatenate([cp[sel], cq[sel], cp[sel], cq[sel]])
+    key = np.unique(gs_g * n + gs_s)
+    kg, ks = key // n, key % n
+    start = np.searchsorted(kg, np.arange(gxy.shape[0] + 1))
+
+    def sites_of(g: int) -> np.ndarray:
+        return ks[start[g] : start[g + 1]]
+
+    for r in sr.tolist():  # a few hundred short ridges
+        g1, g2 = int(ga[r]), int(gb[r])
+        s1, s2 = sites_of(g1), sites_of(g2)
+        lock = tuple(np.union1d(s1, s2).tolist())
+        only1, only2 = np.setdiff1d(s1, s2), np.setdiff1d(s2, s1)
+        for g_at, others in ((g1, only2), (g2, only1)):
+            if others.size != 1:  # one site moved onto the circle of the other vertex
+                continue
+            centre = gxy[g_at]
+            add(int(others[0]), (centre, float(np.hypot(*(sites[cp[r]] - centre)))), float(length[r]), lock)
+        if only1.size == 1 and only2.size == 1:  # or a site of the ridge onto the circle of the other three
+            for x, y in ((int(cp[r]), int(cq[r])), (int(cq[r]), int(cp[r]))):
+                add(
+                    x,
+                    _circle(("circle", y, int(only1[0]), int(only2[0])), sites, domain),
+                    float(length[r]),
+                    lock,
+                )
+
+    bnd = np.flatnonzero(band)
+    if bnd.size:
+        dist, edge, _ = domain.nearest_boundary(gxy[bnd])
+        for g, d, e in zip(bnd.tolist(), dist.tolist(), edge.tolist(), strict=True):
+            s = sites_of(g)
+            if s.size != 3 or d <= tol or d >= short * float(size[s].min()):
+                continue
+            lock = tuple(s.tolist())
+            nm = domain.num_vertices
+            # next to a corner, the vertex must go to the corner (else a piece of boundary between
+            # them stays): once a ridge passes through it (the corner case below), a third site moves
+            at_corner = float(np.hypot(*(domain.xy[[e, (e + 1) % nm]] - gxy[g]).T).min()) < short * float(
+                size[s].min()
+            )
+            for m in range(3):  # the third site moves; the bisector of the other two meets the edge at X
+                p, q, x = int(s[(m + 1) % 3]), int(s[(m + 2) % 3]), int(s[m])
+                for ee in (int(e), (int(e) - 1) % nm, (int(e) + 1) % nm):  # near a corner: either edge
+                    pin = _edge_pin(p, q, ee, sites, domain, tol)
+                    if pin is not None and (pin[0] == "corner" or not at_corner):
+                        add(x, _circle(pin, sites, domain), d, lock, pin)
+
+    wr = np.flatnonzero((wide[ga] | wide[gb]) & ~zero)
+    if wr.size:
+        corners = domain.xy
+        kt = cKDTree(corners)
+        a, b = coords[va[wr]], coords[vb[wr]]
+        best = np.full(wr.size, np.inf)
+        which = np.zeros(wr.size, dtype=np.int64)
+        for pt in (a, b, 0.5 * (a + b)):
+            _, k = kt.query(pt)
+            d = _point_segment(corners[k], a, b)
+            better = d < best
+            best[better], which[better] = d[better], k[better]
+        hit = np.flatnonzero((best > tol) & (best < short * h_ridge[wr]))
+        for i in hit.tolist():
+            r = int(wr[i])
+            p, q = int(cp[r]), int(cq[r])
+            k = corners[which[i]]
+            if abs(np.hypot(*(sites[p] - k)) - np.hypot(*(sites[q] - k))) <= tol:
+                continue  # their bisector passes through the corner already (the ridge ends short of it)
+            for x, y in ((p, q), (q, p)):
+                pin = ("corner", int(which[i]), y)
+                add(x, _circle(pin, sites, domain), float(best[i]), (p, q), pin)
+
+    if not raw:
+        state.pending = state.involved = _sites_of_features(features, set())
+        return none
+    pins = _pins(np.unique([c[0] for c in raw]), full, full_zero, sites, domain, state, tol)
+    cand = []
+    for x, circle, feature, lock, fid, pin in raw:
+        on = [c for c in pins.get(x, []) if np.hypot(*(c[0] - circle[0])) > 1e3 * tol]
+        if len(on) >= 2:
+            continue
+        new = _project(circle, sites[x]) if not on else _intersection(on[0], circle, sites[x])
+        if new is None:
+            continue
+        moved = float(np.hypot(*(new - sites[x])))
+        if moved <= tol or moved > REACH * short * float(size[x]) or moved > 4.0 * feature:
+            continue  # (a site already on its circle: the short face has another cause)
+        cand.append((moved, x, new, lock, fid, pin))
+    if not cand:
+        state.pending = state.involved = _sites_of_features(features, set())
+        return none
+    cand.sort(key=lambda c: (c[0], c[1]))
+    xy = np.array([c[2] for c in cand])
+    ok = domain.inside(xy)
+    if allowed is not None:
+        ok &= allowed(xy)
+    locked = np.zeros(n, dtype=bool)
+    idx, new = [], []
+    fixed: set[int] = set()
+    for k, (_, x, p, lock, fid, pin) in enumerate(cand):
+        if not ok[k] or locked[x] or locked[list(lock)].any():
+            continue
+        locked[list(lock)] = True
+        locked[x] = True
+        idx.append(x)
+        new.append(p)
+        fixed.add(fid)
+        if pin is not None:
+            state.pins.setdefault(x, []).append(pin)
+    state.pending = _sites_of_features(features, fixed)
+    state.involved = _sites_of_features(features, set())
+    if not idx:
+        return none
+    return np.asarray(idx, dtype=np.int64), np.asarray(new)
+
+
+def _pins(xs, full, zero, sites, domain: Domain, state: Collapse, tol: float) -> dict[int, list]:
+    """The exact circles each site of ``xs`` lies on, (centre, radius) each: its degenerate
+    vertices (shared by four or more cells: one vertex with four or more sites, as the
+    squares of a lattice, or vertices joined by a zero-length ridge) and the boundary
+    points it was put on before."""
+    coords, va, vb, cp, cq = full
+    n = sites.shape[0]
+    want = np.zeros(n, dtype=bool)
+    want[xs] = True
+    rx = np.flatnonzero(want[cp] | want[cq])
+    vmask = np.zeros(coords.shape[0], dtype=bool)
+    vmask[va[rx]] = vmask[vb[rx]] = True
+    rv = np.flatnonzero(vmask[va] | vmask[vb])
+    pv = np.concatenate([va[rv], va[rv], vb[rv], vb[rv]])
+    ps = np.concatenate([cp[rv], cq[rv], cp[rv], cq[rv]])
+    key = np.unique(pv * n + ps)
+    count = np.bincount(key // n, minlength=coords.shape[0])
+    degenerate = count >= 4
+    degenerate[va[zero]] = degenerate[vb[zero]] = True
+    out: dict[int, list] = {}
+    for s_col in (cp, cq):
+        r = rx[want[s_col[rx]]]
+        for v_col in (va, vb):
+            v = v_col[r]
+            z = degenerate[v]
+            for x, vv in zip(s_col[r[z]].tolist(), v[z].tolist(), strict=True):
+                out.setdefault(x, []).append(coords[vv])
+    pins: dict[int, list] = {}
+    for x, centres in out.items():
+        uniq: list[np.ndarray] = []
+        for c in centres:
+            if all(np.hypot(*(c - u)) > 1e3 * tol for u in uniq):
+                uniq.append(c)
+        pins[x] = [(c, float(np.hypot(*(sites[x] - c)))) for c in uniq]
+    for x in xs.tolist():
+        for pin in state.pins.get(x, []):
+            circle = _circle(pin, sites, domain)
+            if circle is not None and all(np.hypot(*(circle[0] - c[0])) > 1e3 * tol for c in pins.get(x, [])):
+                pins.setdefault(x, []).append(circle)
+    return pins
+
+
+def _sites_of_features(features: list[tuple], fixed: set[int]) -> np.ndarray:
+    rest = [f for k, f in enumerate(features) if k not in fixed]
+    if not rest:
+        return np.zeros(0, dtype=np.int64)
+    return np.unique(np.concatenate([np.asarray(f, dtype=np.int64) for f in rest]))
+
+
+def _edge_pin(p: int, q: int, e: int, sites: np.ndarray, domain: Domain, tol: float) -> tuple | None:
+    """Where the bisector of sites p and q meets boundary edge e: ``("edge", p, q, e)``, or
+    ``("corner", k, p)`` if that is (within ``tol``) the edge's corner k; None if it misses."""
+    a, b = domain.edge_a[e], domain.edge_vec[e]
+    w = sites[q] - sites[p]
+    den = float(b @ w)
+    if den == 0.0:
+        return None
+    t = float((0.5 * (sites[p] + sites[q]) - a) @ w) / den
+    eps = tol / float(domain.edge_len[e])
+    if t < -eps or t > 1 + eps:
+        return None
+    if t <= eps:
+        return ("corner", e, p)
+    if t >= 1 - eps:
+        return ("corner", (e + 1) % domain.num_vertices, p)
+    return ("edge", p, q, e)
+
+
+def _circle(con: tuple, sites: np.ndarray, domain: Domain) -> tuple[np.ndarray, float] | None:
+    """(centre, radius) of a constraint, from the current sites."""
+    kind = con[0]
+    if kind == "circle":
+        a, b, c = sites[con[1]], sites[con[2]], sites[con[3]]
+        u, v = b - a, c - a
+        d = 2.0 * (u[0] * v[1] - u[1] * v[0])
+        if d == 0.0:
+            return None
+        uu, vv = u @ u, v @ v
+        centre = a + np.array([v[1] * uu - u[1] * vv, u[0] * vv - v[0] * uu]) / d
+        return centre, float(np.hypot(*(a - centre)))
+    if kind == "edge":
+        p, q, e = sites[con[1]], sites[con[2]], con[3]
+        a, b = domain.edge_a[e], domain.edge_vec[e]
+        w = q - p
+        den = float(b @ w)
+        if den == 0.0:
+            return None
+        t = float((0.5 * (p + q) - a) @ w) / den
+        if not (1e-9 < t < 1 - 1e-9):  # off the edge: the corner case handles it
+            return None
+        centre = a + t * b
+        return centre, float(np.hypot(*(p - centre)))
+    centre = domain.xy[con[1]]
+    return centre, float(np.hypot(*(sites[con[2]] - centre)))
+
+
+def _project(circle: tuple[np.ndarray, float], x: np.ndarray) -> np.ndarray | None:
+    centre, radius = circle
+    rel = x - centre
+    dist = float(np.hypot(*rel))
+    return None if dist == 0.0 else centre + rel * (radius / dist)
+
+
+def _intersection(c1: tuple[np.ndarray, float], c2: tuple[np.ndarray, float], x: np.ndarray):
+    """The intersection of two circles nearer to x, or None."""
+    (p1, r1), (p2, r2) = c1, c2
+    dv = p2 - p1
+    d = float(np.hypot(*dv))
+    if d == 0.0 or d > r1 + r2 or d < abs(r1 - r2):
+        return None
+    a = (d * d + r1 * r1 - r2 * r2) / (2 * d)
+    h = np.sqrt(max(r1 * r1 - a * a, 0.0))
+    u = dv / d
+    base = p1 + a * u
+    nrm = np.array([-u[1], u[0]])
+    pts = (base + h * nrm, base - h * nrm)
+    return min(pts, key=lambda p: float(np.hypot(*(p - x))))
+
+
+def _band(domain: Domain, xy: np.ndarray, width: float) -> np.ndarray:
+    """Points within ``width`` of the boundary, either side (a superset is fine)."""
+    out = ~shapely.contains_xy(domain.inner_buffer(width), xy[:, 0], xy[:, 1])
+    k = np.flatnonzero(out)
+    if k.size:
+        outer = domain.polygon.buffer(1.02 * width, quad_segs=4)
+        out[k] = shapely.contains_xy(outer, xy[k, 0], xy[k, 1])
+    return out
+
+
+def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    ab = b - a
+    den = (ab * ab).sum(axis=1)
+    t = np.clip(((p - a) * ab).sum(axis=1) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    return np.linalg.norm(p - (a + t[:, None] * ab), axis=1)
