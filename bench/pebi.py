@@ -138,8 +138,27 @@ def main() -> None:
     print("  notes: " + "; ".join(pg.notes))
     print("quality:")
     print("  " + str(grid_quality(pg)).replace("\n", "\n  "))
+    print_by_kind(pg)
 
     extrusion(pg, faults, args.repeat)
+
+
+def print_by_kind(pg) -> None:
+    """The smallest cells by what generated them, in m2 and relative to their target size h
+    (``PebiGrid.site_size``): well rings are small by design (the first ring at 0.2 m), not slivers."""
+    geo = compute_geometry(pg.grid)
+    area = geo.cell_volumes
+    rel = area / pg.site_size**2
+    names = ("background", "padding", "fault", "fault tip", "well", "added")
+    print("  smallest cells by kind (area m2, area / h2):")
+    for k, name in enumerate(names):
+        sel = np.flatnonzero(pg.site_kind == k)
+        if sel.size:
+            i, j = sel[np.argmin(area[sel])], sel[np.argmin(rel[sel])]
+            print(
+                f"    {name:10s} {sel.size:7,d} cells: min area {area[i]:.4g} m2 "
+                f"(h {pg.site_size[i]:.3g} m), min area / h2 {rel[j]:.3g}"
+            )
 
 
 def extrusion(pg, faults, repeat: int) -> None:

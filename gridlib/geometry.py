@@ -77,11 +77,12 @@ def compute_geometry(grid: Grid) -> Geometry:
     """
     if grid.num_cells == 0:
         raise GridError("compute_geometry: the grid has no cells")
-    counts = grid.faces.num_nodes
+    counts = _node_counts(grid.faces.node_pos)
     if grid.griddim == 3:
         if counts.min(initial=3) < 3:
             f = int(np.flatnonzero(counts < 3)[0])
             raise GridError(f"compute_geometry: face {f} has {counts[f]} nodes (3-D faces need >= 3)")
+        del counts
         return _geometry_3d(grid)
     if np.any(counts != 2):
         f = int(np.flatnonzero(counts != 2)[0])
@@ -103,9 +104,10 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _face_blocks(grid: Grid):
-    """Yield (face ids, (m, k) node ids) blocks of k faces with m nodes each."""
+    """Yield (face ids, (m, k) node ids) blocks of k faces with m nodes each: the faces of every
+    size m present, ascending, in increasing order, ``_CHUNK`` at a time."""
     pos = grid.faces.node_pos
-    counts = np.diff(pos)
+    counts = _node_counts(pos)
     nodes = grid.faces.nodes
     if counts.size > 0 and np.all(counts == counts[0]):
         m = int(counts[0])
@@ -114,16 +116,55 @@ def _face_blocks(grid: Grid):
             stop = min(start + _CHUNK, counts.size)
             yield slice(start, stop), np.ascontiguousarray(table[start:stop].T)
         return
-    for m in np.flatnonzero(np.bincount(counts)):  # the face sizes present, ascending
-        faces_m = np.flatnonzero(counts == m)
-        for start in range(0, faces_m.size, _CHUNK):
-            f = faces_m[start : start + _CHUNK]
+    for m in _sizes_present(counts):
+        for f in _faces_of_size(counts, m):
             if f[-1] - f[0] == f.size - 1:  # a run of consecutive faces: slices beat index arrays
                 first = pos[f[0]]
                 block = nodes[first : first + m * f.size].reshape(f.size, m)
                 yield slice(int(f[0]), int(f[-1]) + 1), np.ascontiguousarray(block.T)
             else:
                 yield f, nodes[pos[f][None, :] + np.arange(m)[:, None]]
+
+
+_WINDOW = 1 << 20  # faces scanned at a time for the faces of one size: no array of all faces
+
+
+def _node_counts(pos: np.ndarray) -> np.ndarray:
+    """The number of nodes of every face, in the smallest of uint8, int32 and int64 that holds them
+    (an eighth of the memory of ``np.diff`` as a rule), computed a window at a time."""
+    n = pos.size - 1
+    windows = [slice(start, min(start + _WINDOW, n)) for start in range(0, n, _WINDOW)]
+    top = max((int(np.max(pos[w.start + 1 : w.stop + 1] - pos[w])) for w in windows), default=0)
+    counts = np.empty(n, dtype=next(t for t in (np.uint8, np.int32, np.int64) if top <= np.iinfo(t).max))
+    for w in windows:
+        np.subtract(pos[w.start + 1 : w.stop + 1], pos[w], out=counts[w], casting="unsafe")
+    return counts
+
+
+def _sizes_present(counts: np.ndarray) -> np.ndarray:
+    """The face sizes that occur, ascending."""
+    present = np.zeros(0, dtype=np.int64)
+    for start in range(0, counts.size, _WINDOW):
+        found = np.bincount(counts[start : start + _WINDOW])
+        present = np.pad(present, (0, max(found.size - present.size, 0)))
+        present[: found.size] += found
+    return np.flatnonzero(present)
+
+
+def _faces_of_size(counts: np.ndarray, m: int):
+    """The faces with ``m`` nodes, ascending, in blocks of ``_CHUNK`` (the last one shorter):
+    the blocks of ``np.flatnonzero(counts == m)``, found a window at a time."""
+    carry = np.zeros(0, dtype=np.int64)
+    for start in range(0, counts.size, _WINDOW):
+        found = np.flatnonzero(counts[start : start + _WINDOW] == m)
+        found += start
+        ids = np.concatenate([carry, found]) if carry.size else found
+        full = ids.size - ids.size % _CHUNK
+        for begin in range(0, full, _CHUNK):
+            yield ids[begin : begin + _CHUNK]
+        carry = ids[full:]
+    if carry.size:
+        yield carry
 
 
 def _geometry_3d(grid: Grid) -> Geometry:
@@ -135,50 +176,38 @@ def _geometry_3d(grid: Grid) -> Geometry:
     areas = np.empty(nf)
     normals = np.empty((3, nf))
     centroids = np.empty((3, nf))
-    vol = np.zeros(nc)
-    mom = np.zeros((3, nc))  # first moment about the apex, times 4/3
+    sums = _CellSums(nc)  # volume, and first moment about the apex times 4/3
 
     for f, ids in _face_blocks(grid):
-        m = ids.shape[0]
-        v = np.take(ct, ids, axis=1)  # (3, m, k) node coordinates ...
-        h = v.sum(axis=1)
-        h *= 1.0 / m  # ... hinge (3, k) ...
-        v -= h[:, None, :]  # ... and node offsets from the hinge
-        vn = np.empty_like(v)
-        vn[:, :-1] = v[:, 1:]
-        vn[:, -1] = v[:, 0]
-        n = _cross(v, vn)  # twice the triangle vector areas (3, m, k)
-        N2 = n.sum(axis=1)
-        a = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])  # twice the areas (m, k)
-        # A triangle facing against the face normal (hinge outside a non-convex face)
-        # counts negatively: exact area and centroid for any planar polygon.
-        np.copysign(a, n[0] * N2[0] + n[1] * N2[1] + n[2] * N2[2], out=a)
-        v += vn  # 3 x (triangle centroid - hinge)
-        A2 = a.sum(axis=0)
-        areas[f] = 0.5 * A2
-        normals[:, f] = 0.5 * N2
-        with np.errstate(invalid="ignore", divide="ignore"):
-            centroids[:, f] = h + (a * v).sum(axis=1) / (3.0 * A2)
+        k = ids.shape[1]
+        sides = []
         for side, sign in ((0, 1.0), (1, -1.0)):
             cell = nb[f, side]
             inside = cell >= 0
-            if not inside.any():
-                continue
-            lo, hi = int(cell[inside].min()), int(cell.max()) + 1
-            cell = np.where(inside, cell, lo)  # outside sides get zero weight below
-            delta = h - np.take(x0, cell, axis=1)  # (3, k)
-            dn = (delta * N2).sum(axis=0)  # 2 (delta . N)
-            w = n[0] * delta[0] + n[1] * delta[1] + n[2] * delta[2]  # 2 (delta . n_k)
-            W = (w * v).sum(axis=1)  # 6 sum_k (delta . n_k) d_k
-            weight = np.where(inside, sign / 6.0, 0.0)
-            dn *= weight
-            # Accumulate over the chunk's cell range only (compact for structured numberings).
-            local = cell - lo
-            vol[lo:hi] += np.bincount(local, dn, hi - lo)
-            # sum_k V_k (c_k - x0) = s/3 [sum_k (delta . n_k) d_k + (delta . N) delta]
-            mom_w = W * (weight / 3.0) + dn * delta
-            for i in range(3):
-                mom[i, lo:hi] += np.bincount(local, mom_w[i], hi - lo)
+            if inside.any():  # outside sides get zero weight, on a cell of the block
+                sides.append((np.where(inside, cell, cell[inside].min()), np.where(inside, sign / 6.0, 0.0)))
+        dn = np.empty((len(sides), k))
+        mom_w = np.empty((len(sides), 3, k))
+        for start in range(0, k, _SUB):
+            sub = slice(start, min(start + _SUB, k))
+            faces = slice(f.start + sub.start, f.start + sub.stop) if isinstance(f, slice) else f[sub]
+            h, n, N2, a, v = _hinge_triangles(ct, ids[:, sub])
+            A2 = a.sum(axis=0)
+            areas[faces] = 0.5 * A2
+            normals[:, faces] = 0.5 * N2
+            with np.errstate(invalid="ignore", divide="ignore"):
+                centroids[:, faces] = h + (a * v).sum(axis=1) / (3.0 * A2)
+            for s, (cell, weight) in enumerate(sides):
+                delta = h - np.take(x0, cell[sub], axis=1)  # (3, k)
+                d = (delta * N2).sum(axis=0)  # 2 (delta . N)
+                w = n[0] * delta[0] + n[1] * delta[1] + n[2] * delta[2]  # 2 (delta . n_k)
+                W = (w * v).sum(axis=1)  # 6 sum_k (delta . n_k) d_k
+                d *= weight[sub]
+                dn[s, sub] = d
+                # sum_k V_k (c_k - x0) = s/3 [sum_k (delta . n_k) d_k + (delta . N) delta]
+                mom_w[s, :, sub] = W * (weight[sub] / 3.0) + d * delta
+        for s, (cell, _) in enumerate(sides):
+            sums.add(cell, dn[s], mom_w[s])
 
     zero_area = areas <= 0.0
     if np.any(zero_area):
@@ -187,11 +216,71 @@ def _geometry_3d(grid: Grid) -> Geometry:
             f"compute_geometry: {int(zero_area.sum())} face(s) have zero area "
             f"(first: face {fz}); remove degenerate faces before computing geometry"
         )
+    vol, mom = sums.vol, sums.mom
     with np.errstate(invalid="ignore", divide="ignore"):
         mom *= 0.75 / vol
     mom += x0
     # Vectors are stored component-major; the (n, 3) arrays are transposed views.
     return Geometry(vol, mom.T, areas, normals.T, centroids.T)
+
+
+_SUB = 1 << 13  # faces per sub-block of the per-face arithmetic
+
+
+def _hinge_triangles(ct: np.ndarray, ids: np.ndarray):
+    """The hinge tessellation of faces with nodes ``ids`` (m, k): hinges h (3, k), twice the
+    triangle vector areas n (3, m, k) and their sum N2 (3, k), twice the (signed) triangle areas
+    a (m, k), and 3 (triangle centroid - hinge) v (3, m, k)."""
+    m = ids.shape[0]
+    v = np.take(ct, ids, axis=1)  # (3, m, k) node coordinates ...
+    h = v.sum(axis=1)
+    h *= 1.0 / m  # ... hinge (3, k) ...
+    v -= h[:, None, :]  # ... and node offsets from the hinge
+    vn = np.empty_like(v)
+    vn[:, :-1] = v[:, 1:]
+    vn[:, -1] = v[:, 0]
+    n = _cross(v, vn)  # twice the triangle vector areas (3, m, k)
+    N2 = n.sum(axis=1)
+    a = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])  # twice the areas (m, k)
+    # A triangle facing against the face normal (hinge outside a non-convex face)
+    # counts negatively: exact area and centroid for any planar polygon.
+    np.copysign(a, n[0] * N2[0] + n[1] * N2[1] + n[2] * N2[2], out=a)
+    v += vn  # 3 x (triangle centroid - hinge)
+    return h, n, N2, a, v
+
+
+class _CellSums:
+    """Per-cell sums of face contributions, block by block: ``vol`` (nc,) and ``mom`` (3, nc).
+
+    Every block adds its partial sums (its contributions to a cell, in face order) to the cells'
+    totals. Over the block's range of cells when that is compact (structured numberings), else
+    over the cells it touches only: the same partial sums either way.
+    """
+
+    def __init__(self, nc: int) -> None:
+        self.vol = np.zeros(nc)
+        self.mom = np.zeros((3, nc))
+        self._rep: np.ndarray | None = None  # scratch: a representative entry of every cell (< _CHUNK)
+
+    def add(self, cell: np.ndarray, dn: np.ndarray, mom_w: np.ndarray) -> None:
+        """Add the contributions ``dn`` (k,) and ``mom_w`` (3, k) of a block's faces to ``cell``."""
+        k = cell.size
+        lo, hi = int(cell.min()), int(cell.max()) + 1
+        if hi - lo <= 2 * k:
+            local = cell - lo
+            self.vol[lo:hi] += np.bincount(local, dn, hi - lo)
+            for i in range(3):
+                self.mom[i, lo:hi] += np.bincount(local, mom_w[i], hi - lo)
+            return
+        if self._rep is None:
+            self._rep = np.zeros(self.vol.size, dtype=np.int16 if _CHUNK <= 1 << 15 else np.intp)
+        self._rep[cell] = np.arange(k)
+        rep = self._rep[cell]  # the same entry for every entry of a cell
+        first = np.flatnonzero(rep == np.arange(k))
+        cells = cell[first]
+        self.vol[cells] += np.bincount(rep, dn, k)[first]
+        for i in range(3):
+            self.mom[i, cells] += np.bincount(rep, mom_w[i], k)[first]
 
 
 def _edge_data(grid: Grid, ct: np.ndarray):

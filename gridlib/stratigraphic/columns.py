@@ -68,10 +68,10 @@ from ..connectivity import (
 )
 from ..errors import GridError, InputError
 from ..grid import B, Cells, Faces, FloatArray, Grid, IntArray, Layering, Nodes, T
-from .conformal import insert_edge_nodes_ragged
+from .conformal import edge_insertions, insert_after
 from .lateral import LateralFaces, SideCells, general_pieces
 from .nnc import FAULT, NNC, PINCH
-from .points import PillarPoints, points_on_pillars, unique_points
+from .points import points_on_pillars, unique_points
 
 __all__ = ["ColumnGrid", "areal_corners", "extrude_columns"]
 
@@ -181,10 +181,7 @@ def _extrude_columns(areal, corners, z, pillars, active, edge_tag, fault_names) 
     _check_used_depths(z, used, act, owner, pos2)
 
     pts, node_of = _number_points(z, ring, used, nn2)
-    if lines is None:
-        xyz = np.column_stack([areal.nodes.coords[pts.pillar, :2], pts.z])
-    else:
-        xyz = points_on_pillars(lines, pts.pillar, pts.z)
+    del z, used  # the depths are ranks from here on (and the caller's may be the only other reference)
 
     # Cells: active and not collapsed on all their pillars, numbered layer by layer.
     collapsed = np.logical_and.reduceat(node_of[1:] == node_of[:-1], pos2[:-1], axis=1)
@@ -199,28 +196,26 @@ def _extrude_columns(areal, corners, z, pillars, active, edge_tag, fault_names) 
     cell_id[kept] = np.arange(n_cells)
 
     pairs = _Pairs.of(areal, corners, reverse)
-    ver = _vertical(node_of, kept, cell_id, pos2)
-    lat = _lateral(pairs, node_of, kept, cell_id, pts, xyz)
-    coords = np.concatenate([xyz, lat.general.crossing_coords]) if lat.num_general else xyz
+    ver, h_nodes = _vertical(node_of, kept, cell_id, pos2)
+    xy = areal.nodes.coords[:, :2]
+    lat = _lateral(pairs, node_of, kept, cell_id, pts, _NodeCoords(pts, xy, lines))
+    n_points, n_cross = pts.num_nodes, lat.general.crossing_coords.shape[0]
+    coords = pts.coords(xy, lines, n_cross)
+    coords[n_points:] = lat.general.crossing_coords
+    del pts
 
     # Crossing nodes go into the top/bottom faces of the cells next to a subdivided pair.
-    h_pos, h_nodes = ver.pos, ver.nodes
-    if lat.general.crossing_lines.shape[0]:
+    insert = None
+    if n_cross:
         near = np.zeros(n_cells + 1, dtype=bool)  # index -1 (outside): the extra False
         near[lat.general_cells] = True
         touched = np.flatnonzero(near[ver.upper] | near[ver.lower])
-        counts = np.diff(h_pos)[touched]
-        t_pos, t_nodes = insert_edge_nodes_ragged(
-            offsets(counts),
-            h_nodes[ragged_arange(h_pos[:-1][touched], counts)],
-            lat.general.crossing_lines,
-            pts.num_nodes + np.arange(lat.general.crossing_coords.shape[0]),
-            coords,
-        )
-        h_pos, h_nodes = _replace_ragged(h_pos, h_nodes, touched, t_pos, t_nodes)
+        insert = _crossings_in_faces(ver.pos, h_nodes, touched, lat.general, n_points, coords)
 
-    faces = _FaceList.join(ver, h_pos, h_nodes, lat, etag, pairs)
+    faces = _FaceList.join(ver, h_nodes, insert, lat, node_of, etag, pairs)
     n_h, n_q = ver.upper.size, lat.num_quads
+    top_face, bottom_face = ver.top_face, ver.bottom_face
+    del node_of, h_nodes, insert, ver  # in the faces now
     structured = True  # the cells' faces follow from the construction (else: transpose neighbors)
     if lines is not None or lat.num_general:
         check = np.arange(faces.num) if lines is not None else np.arange(n_h + n_q, faces.num)
@@ -233,7 +228,7 @@ def _extrude_columns(areal, corners, z, pillars, active, edge_tag, fault_names) 
 
     cell_k, cell_c = np.nonzero(kept)
     if structured:
-        face_pos, half = _cell_half_faces(ver, lat, corners, pairs, kept, cell_id, n_h, n_q)
+        face_pos, half = _cell_half_faces(top_face, bottom_face, lat, corners, pairs, kept, cell_id, n_h, n_q)
     else:
         face_pos, half = cell_half_faces(faces.neighbors, n_cells)
     alive = np.diff(face_pos) >= 4
@@ -430,21 +425,101 @@ def _check_used_depths(z: FloatArray, used, act: np.ndarray, owner: IntArray, po
 
 
 @dataclass(frozen=True, eq=False)
-class _Points:
-    """The distinct points on the pillars, numbered by rank along their pillar, then pillar
+class _LevelMajor:
+    """Node ids of the points on the pillars, numbered by rank along their pillar, then pillar
     (``make_layered_grid``'s level-major order: the nodes of a layer interface are close in
-    memory); ``pm`` numbers them pillar by pillar (``offset[p] + rank``), as the general
-    pillar-pair engine wants, and ``to_lm`` maps those ids to ours."""
+    memory). The first ``dense`` ranks, which every pillar has, are numbered in closed form,
+    ``rank * n_pillars + pillar``; the points of higher ranks (on pillars with more points than
+    the others: faults, masks) by the position of their key ``rank * n_pillars + pillar`` in the
+    sorted ``tail``, after the dense ones."""
 
-    pillar: IntArray
+    n_pillars: int
+    dense: int
+    tail: IntArray
+
+    @classmethod
+    def of(cls, count: IntArray) -> _LevelMajor:
+        """The numbering of pillars with ``count[p]`` points."""
+        n = count.size
+        dense = int(count.min()) if n else 0
+        extra = count - dense
+        tall = np.flatnonzero(extra)
+        rank = ragged_arange(np.full(tall.size, dense), extra[tall])
+        tail = rank * n + np.repeat(tall, extra[tall])
+        tail.sort()
+        return cls(n, dense, tail)
+
+    @property
+    def num(self) -> int:
+        return self.dense * self.n_pillars + self.tail.size
+
+    def ids(self, rank: IntArray, pillar: IntArray | int) -> IntArray:
+        """The id of the point of rank ``rank`` on pillar ``pillar`` (broadcast together)."""
+        ids = rank * self.n_pillars + pillar
+        if self.tail.size:
+            high = np.flatnonzero(ids.reshape(-1) >= self.dense * self.n_pillars)
+            flat = ids.reshape(-1)
+            flat[high] = self.dense * self.n_pillars + np.searchsorted(self.tail, flat[high])
+        return ids
+
+    def keys(self, ids: IntArray) -> IntArray:
+        """``rank * n_pillars + pillar`` of the points ``ids`` (1-D)."""
+        keys = ids.copy()
+        high = np.flatnonzero(ids >= self.dense * self.n_pillars)
+        keys[high] = self.tail[ids[high] - self.dense * self.n_pillars]
+        return keys
+
+    def rank(self, ids: IntArray) -> IntArray:
+        return self.keys(ids) // self.n_pillars
+
+
+@dataclass(frozen=True, eq=False)
+class _Points:
+    """The distinct points on the pillars: their ids (:class:`_LevelMajor`), depths ``z`` in that
+    order, and ``offset`` (n_pillars + 1,) of the pillar-major numbering ``offset[p] + rank`` in
+    which the general pillar-pair engine works (``pm_to_ids`` maps those to ours)."""
+
+    ids: _LevelMajor
     z: FloatArray
-    rank: IntArray
-    pm: PillarPoints
-    to_lm: IntArray
+    offset: IntArray
 
     @property
     def num_nodes(self) -> int:
         return self.z.size
+
+    def pm_to_ids(self, pm: IntArray) -> IntArray:
+        pillar = np.searchsorted(self.offset, pm, "right") - 1
+        return self.ids.ids(pm - self.offset[pillar], pillar)
+
+    def coords(self, xy: FloatArray, lines: FloatArray | None, n_extra: int) -> FloatArray:
+        """(num_nodes + n_extra, 3) node coordinates, the ``n_extra`` last rows left to fill."""
+        n, dense, tail = self.ids.n_pillars, self.ids.dense, self.ids.tail
+        n_dense = dense * n
+        out = np.empty((self.num_nodes + n_extra, 3))
+        if lines is None:
+            out[:n_dense].reshape(dense, n, 3)[:, :, :2] = xy  # the dense ranks: every pillar in order
+            out[n_dense : self.num_nodes, :2] = xy[tail % n]
+            out[: self.num_nodes, 2] = self.z
+        else:
+            pillar = np.concatenate([np.tile(np.arange(n), dense), tail % n])
+            points_on_pillars(lines, pillar, self.z, out=out[: self.num_nodes])
+        return out
+
+
+class _NodeCoords:
+    """``self[pm]``: the coordinates of points given by pillar-major ids (as the general engine
+    asks for them), without the whole coordinate array."""
+
+    def __init__(self, pts: _Points, xy: FloatArray, lines: FloatArray | None) -> None:
+        self.pts, self.xy, self.lines = pts, xy, lines
+
+    def __getitem__(self, pm: IntArray) -> FloatArray:
+        pts = self.pts
+        ids = pts.pm_to_ids(pm)
+        pillar, z = pts.ids.keys(ids) % pts.ids.n_pillars, pts.z[ids]
+        if self.lines is None:
+            return np.column_stack([self.xy[pillar], z])
+        return points_on_pillars(self.lines, pillar, z)
 
 
 def _number_points(
@@ -487,48 +562,24 @@ def _number_points(
         q = irr_corner[q]
         irr = unique_points(ring[q], z[lev, q], nn2)
         count += np.diff(irr.offset)
-    offset = offsets(count)
-    n_pts = int(offset[-1])
+    ids = _LevelMajor.of(count)
 
-    # Pillar-major ids (offset + rank) first, as the general engine numbers them.
-    pillar_pm = np.repeat(np.arange(nn2, dtype=np.int64), count)
-    rank_pm = np.arange(n_pts) - offset[pillar_pm]
-    z_pm = np.empty(n_pts)
-    table = rank
-    table += offset[:-1]  # pillar-major node id of every (level, regular pillar)
-    if irr is None and has.all():  # every pillar regular: its points are its distinct depths in order
-        z_pm[:] = zp.T[new.T]
+    table = ids.ids(rank, np.arange(nn2))  # (n_levels, nn2): node of every level of a regular pillar
+    if irr is None and has.all() and ids.num == table.size:  # every level a point of its own
+        z_ids = zp.reshape(-1)
     else:
-        reg = np.flatnonzero(regular)
-        z_pm[np.take(table, reg, axis=1).ravel()] = np.take(zp, reg, axis=1).ravel()
+        z_ids = np.empty(ids.num)
+        first = new & regular  # the first level at every point of a regular pillar
+        z_ids[table[first]] = zp[first]
     if irr is not None:
-        irr_node = offset[irr.pillar] + (np.arange(irr.num_nodes) - irr.offset[irr.pillar])
-        z_pm[irr_node] = irr.z
-
-    # Level-major ids: by rank, then pillar.
-    to_lm = _level_major(count, rank_pm, pillar_pm)
-    np.minimum(table, max(n_pts - 1, 0), out=table)  # junk of irregular pillars, overwritten below
-    node_of = np.take(to_lm[table], ring, axis=1)
+        irr_rank = np.arange(irr.num_nodes) - irr.offset[irr.pillar]
+        irr_ids = ids.ids(irr_rank, irr.pillar)
+        z_ids[irr_ids] = irr.z
+    node_of = np.take(table, ring, axis=1)
     if irr is not None:
         node_of[:, irr_corner] = -1
-        node_of[lev, q] = to_lm[irr_node[irr.node_of_corner]]
-    pillar, z_lm, rank_lm = (np.empty_like(a) for a in (pillar_pm, z_pm, rank_pm))
-    pillar[to_lm], z_lm[to_lm], rank_lm[to_lm] = pillar_pm, z_pm, rank_pm
-    pm = PillarPoints(np.zeros(0, np.int64), offset, pillar_pm, z_pm)
-    return _Points(pillar, z_lm, rank_lm, pm, to_lm), node_of
-
-
-def _level_major(count: IntArray, rank: IntArray, pillar: IntArray) -> IntArray:
-    """For points numbered pillar by pillar (``rank``, ``pillar`` of each; ``count`` per pillar),
-    their ids when numbered by rank, then pillar."""
-    n_ranks, n_pillars = int(count.max(initial=0)), count.size
-    if n_ranks * n_pillars <= 8 * max(rank.size, 1):
-        has = np.arange(n_ranks)[:, None] < count[None, :]  # (rank, pillar): a point there
-        ids = np.cumsum(has.reshape(-1)) - 1
-        return ids[rank * n_pillars + pillar]
-    new = np.empty(rank.size, dtype=np.int64)  # few pillars with many points: a stable sort by rank
-    new[np.argsort(rank, kind="stable")] = np.arange(rank.size)
-    return new
+        node_of[lev, q] = irr_ids[irr.node_of_corner]
+    return _Points(ids, z_ids, offsets(count)), node_of
 
 
 # --------------------------------------------------------------------------- lateral faces
@@ -577,93 +628,100 @@ class _Pairs:
 @dataclass(frozen=True, eq=False)
 class _Lateral:
     """Lateral faces: quads (t1, t2, b2, b1) of the simple pairs (by layer, then pair), then the
-    general pieces. The quads are kept as the node columns of the simple pairs and written
-    straight into the grid's arrays."""
+    general pieces. A quad's nodes are those of one side's corners ``q1``, ``q2`` of its pair
+    (side A unless it has no cell there) at the layer's two levels: they are gathered from the
+    corners' nodes and written straight into the grid's arrays, a layer at a time."""
 
-    m1: IntArray  # (n_levels, n_pairs): nodes on p1 of a simple pair's cells (side A unless none)
-    m2: IntArray  # ... on p2
+    q1: IntArray  # (n_pairs,): the corner on p1 of the side the quads take their nodes from
+    q2: IntArray  # ... on p2
+    col: tuple[IntArray, IntArray]  # (n_pairs,): the column on side A, B (-1 = none)
+    cell_ext: IntArray  # (n_layers, n_areal_cells + 1): cell ids, -1 in the last column (none)
+    ex: tuple[np.ndarray, np.ndarray]  # (n_layers, n_pairs): a kept cell, not pinched there, on A, B
     sel: np.ndarray  # (n_layers, n_pairs): a quad there
-    cells: tuple[IntArray, IntArray]  # (n_layers, n_pairs): the cell on side A, B (-1 = none)
+    thin: np.ndarray | None  # (n_layers, n_pairs): the quad is collapsed on a pillar (None: none is)
     every: bool  # a quad at every (layer, pair)
     all_sides: bool  # ... with a cell on every side that has a column
-    pinched: bool  # some quads are triangles (collapsed on a pillar)
     general: LateralFaces
     general_order: IntArray  # the pieces in face order
     general_cells: IntArray  # cells on the subdivided pairs
     faulted: np.ndarray  # per pair: both sides have cells whose corners differ
-    quad_has: tuple[np.ndarray, np.ndarray]  # (n_layers, n_pairs): a quad with a cell on side A, B
 
     @property
     def num_general(self) -> int:
         return self.general_order.size
 
     @property
+    def pinched(self) -> bool:
+        """Some quads are triangles (collapsed on a pillar)."""
+        return self.thin is not None
+
+    @property
     def num_quads(self) -> int:
         return self.sel.size if self.every else int(np.count_nonzero(self.sel))
 
-    def quad_pair(self) -> IntArray:
-        n_pairs = self.sel.shape[1]
-        return np.tile(np.arange(n_pairs), self.sel.shape[0]) if self.every else np.nonzero(self.sel)[1]
+    def quad_has(self, side: int) -> np.ndarray:
+        """(n_layers, n_pairs): a quad with a cell on ``side`` (0 = A)."""
+        return self.ex[side] & self.sel
+
+    def _layers(self):
+        """(layer, its pairs with a quad (None: all), the range of its quads)."""
+        start = 0
+        for k in range(self.sel.shape[0]):
+            pairs = None if self.every else np.flatnonzero(self.sel[k])
+            stop = start + (self.sel.shape[1] if pairs is None else pairs.size)
+            yield k, pairs, slice(start, stop)
+            start = stop
+
+    def quad_values(self, values: np.ndarray, out: np.ndarray) -> None:
+        """Per-pair ``values`` (n_pairs, ...) into ``out`` (n_quads, ...), the row of every quad."""
+        for _, pairs, rows in self._layers():
+            out[rows] = values if pairs is None else values[pairs]
 
     def quad_counts(self) -> IntArray | None:
         """Node count of every quad (None: all 4)."""
-        if not self.pinched:
+        if self.thin is None:
             return None
-        thin = self.m1[1:] == self.m1[:-1]
-        thin |= self.m2[1:] == self.m2[:-1]
-        return 4 - (thin.reshape(-1) if self.every else thin[self.sel]).astype(np.int64)
+        return 4 - (self.thin.reshape(-1) if self.every else self.thin[self.sel]).astype(np.int64)
 
-    def write_quads(self, out: IntArray) -> None:
+    def write_quads(self, node_of: IntArray, out: IntArray) -> None:
         """The quads' node cycles into ``out`` (flat, sized by :meth:`quad_counts`)."""
-        m1, m2 = self.m1, self.m2
-        columns = (m1[:-1], m2[:-1], m2[1:], m1[1:])
-        if self.pinched:
-            quad = np.stack([c if self.every else c[self.sel] for c in columns], axis=-1).reshape(-1, 4)
-            out[:] = quad[quad != quad[:, [1, 2, 3, 0]]]
-        elif self.every:  # in blocks that stay in cache while their four columns are interleaved
-            view = out.reshape(*self.sel.shape, 4)
-            n_pairs = self.sel.shape[1]
-            for k in range(self.sel.shape[0]):
-                for start in range(0, n_pairs, _BLOCK):
-                    part = slice(start, start + _BLOCK)
-                    block = view[k, part]
-                    block[:, 0], block[:, 1] = m1[k, part], m2[k, part]
-                    block[:, 2], block[:, 3] = m2[k + 1, part], m1[k + 1, part]
-        else:
-            view = out.reshape(-1, 4)
-            for i, c in enumerate(columns):
-                view[:, i] = c[self.sel]
+        written = 0
+        for k, pairs, rows in self._layers():
+            for part in _blocks(rows.stop - rows.start):  # quads of the layer, a cache-sized block at a time
+                sub = part if pairs is None else pairs[part]
+                q1, q2 = self.q1[sub], self.q2[sub]
+                top, bottom = node_of[k], node_of[k + 1]
+                quad = np.stack([top[q1], top[q2], bottom[q2], bottom[q1]], axis=1)
+                if self.thin is not None:
+                    quad = quad[quad != quad[:, [1, 2, 3, 0]]]
+                out[written : written + quad.size] = quad.reshape(-1)
+                written += quad.size
 
     def write_cells(self, out: IntArray) -> None:
         """The quads' neighbours (cells on sides A and B) into ``out`` (n_quads, 2)."""
-        if not self.every:
+        for k, pairs, rows in self._layers():
             for s in (0, 1):
-                out[:, s] = self.cells[s][self.sel]
-            return
-        a, b = self.cells[0].reshape(-1), self.cells[1].reshape(-1)
-        for start in range(0, a.size, _BLOCK):  # interleaved in blocks that stay in cache
-            part = slice(start, start + _BLOCK)
-            out[part, 0], out[part, 1] = a[part], b[part]
+                c = self.cell_ext[k][self.col[s]]
+                c[~self.ex[s][k]] = -1
+                out[rows, s] = c if pairs is None else c[pairs]
+
+
+def _blocks(n: int):
+    """Slices of at most ``_BLOCK`` of range(n)."""
+    return (slice(start, min(start + _BLOCK, n)) for start in range(0, n, _BLOCK))
 
 
 def _lateral(
-    pairs: _Pairs, node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pts: _Points, xyz: FloatArray
+    pairs: _Pairs, node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pts: _Points, node_xyz
 ) -> _Lateral:
-    """Quads of the simple pairs, general pieces of the others (see ``structured_lateral``)."""
-    nl, n_pairs = kept.shape[0], pairs.num
+    """Quads of the simple pairs, general pieces of the others (see ``structured_lateral``).
+
+    ``node_xyz[pm]`` gives the coordinates of points by pillar-major id (see :class:`_Points`).
+    """
+    nl = kept.shape[0]
     kept_ext = np.concatenate([kept, np.zeros((nl, 1), dtype=bool)], axis=1)  # column -1: no cell
     cell_ext = np.concatenate([cell_id, np.full((nl, 1), -1)], axis=1)
-    # Node ids (n_levels, n_pairs) of each side's corners on p1 and p2; junk where there is no column.
-    n1 = [np.take(node_of, q, axis=1) for q in pairs.q1]
-    n2 = [np.take(node_of, q, axis=1) for q in pairs.q2]
-    ex = []  # a kept cell, not pinched on this pair
-    for s in (0, 1):
-        thick = n1[s][1:] > n1[s][:-1]
-        thick |= n2[s][1:] > n2[s][:-1]
-        thick &= np.take(kept_ext, pairs.col[s], axis=1)
-        ex.append(thick)
-    eq = n1[0] == n1[1]
-    eq &= n2[0] == n2[1]
+    ex, eq, thin = _compare_sides(pairs, node_of, kept_ext)
     same = eq[1:] & eq[:-1]
     both = ex[0] & ex[1]
     regular = ~((ex[0] != ex[1]) | (both & ~same)).any(axis=0)
@@ -673,26 +731,67 @@ def _lateral(
 
     # One quadrilateral (t1, t2, b2, b1) per cell of a simple pair; a triangle if collapsed on a pillar.
     # On a simple pair both sides agree wherever both have a cell: take side A unless it has none.
-    # (Side A's columns are overwritten there: general pairs have cells on both sides.)
-    use_b = np.flatnonzero(~has_a)
-    m1, m2 = n1[0], n2[0]
-    m1[:, use_b] = n1[1][:, use_b]
-    m2[:, use_b] = n2[1][:, use_b]
+    q1 = np.where(has_a, pairs.q1[0], pairs.q1[1])
+    q2 = np.where(has_a, pairs.q2[0], pairs.q2[1])
     sel = ex[0] | ex[1]
     sel &= simple
     every = bool(sel.all())
-    thin = m1[1:] == m1[:-1]
-    thin |= m2[1:] == m2[:-1]
+    thin = np.where(has_a, thin[0], thin[1])
     thin &= sel
     pinched = bool(thin.any())
-    cells = []
-    for s in (0, 1):
-        c = np.take(cell_ext, pairs.col[s], axis=1)
-        c[~ex[s]] = -1
-        cells.append(c)
 
-    # The other pairs, through the general partition-and-overlap engine (on ranks), numbered
-    # locally so that its per-pair work covers them only.
+    general, general_cells = _general_pieces(pairs, node_of, ex, simple, cell_ext, pts, node_xyz)
+    k_ref = np.where(general.cell_a >= 0, general.k_a, general.k_b)
+    order = np.lexsort((general.k_b, general.pair, k_ref))
+    all_sides = every and all(bool((ex[s] | (pairs.col[s] < 0)[None, :]).all()) for s in (0, 1))
+    return _Lateral(
+        q1,
+        q2,
+        pairs.col,
+        cell_ext,
+        tuple(ex),
+        sel,
+        thin if pinched else None,
+        every,
+        all_sides,
+        general,
+        order,
+        general_cells,
+        faulted,
+    )
+
+
+def _compare_sides(pairs: _Pairs, node_of: IntArray, kept_ext: np.ndarray):
+    """Per (layer, pair) and side, the kept cell not pinched there (``ex``) and the cell collapsed
+    on a pillar (``thin``); per (level, pair), both sides' corners on the same nodes (``eq``,
+    junk where a side has no column). A level at a time, gathering the corners' nodes."""
+    n_levels, n_pairs = node_of.shape[0], pairs.num
+    ex = [np.empty((n_levels - 1, n_pairs), dtype=bool) for _ in (0, 1)]
+    thin = [np.empty((n_levels - 1, n_pairs), dtype=bool) for _ in (0, 1)]
+    eq = np.empty((n_levels, n_pairs), dtype=bool)
+    corners = (pairs.q1[0], pairs.q2[0], pairs.q1[1], pairs.q2[1])  # -1 (no column): junk, masked
+    above = None
+    for level in range(n_levels):
+        nodes = [node_of[level][q] for q in corners]
+        np.equal(nodes[0], nodes[2], out=eq[level])
+        eq[level] &= nodes[1] == nodes[3]
+        if above is not None:
+            k = level - 1
+            for s in (0, 1):
+                on1, on2 = nodes[2 * s], nodes[2 * s + 1]
+                np.greater(on1, above[2 * s], out=ex[s][k])
+                ex[s][k] |= on2 > above[2 * s + 1]
+                ex[s][k] &= kept_ext[k][pairs.col[s]]
+                np.equal(on1, above[2 * s], out=thin[s][k])
+                thin[s][k] |= on2 == above[2 * s + 1]
+        above = nodes
+    return ex, eq, thin
+
+
+def _general_pieces(pairs, node_of, ex, simple, cell_ext, pts: _Points, node_xyz):
+    """The pieces of the pairs that are not simple, through the general partition-and-overlap engine
+    (on ranks), numbered locally so that its per-pair work covers them only; and the cells on them."""
+    n_pairs = pairs.num
     gp = np.flatnonzero(~simple)
     local = np.full(n_pairs, -1, dtype=np.int64)
     local[gp] = np.arange(gp.size)
@@ -700,57 +799,48 @@ def _lateral(
     for s in (0, 1):
         gk, ge = np.nonzero(ex[s][:, gp])
         ge = gp[ge]
+        q1, q2 = pairs.q1[s][ge], pairs.q2[s][ge]
         fields.append(
             (
                 local[ge],
                 np.full(ge.size, s),
                 cell_ext[gk, pairs.col[s][ge]],
                 gk,
-                pts.rank[n1[s][gk, ge]],
-                pts.rank[n1[s][gk + 1, ge]],
-                pts.rank[n2[s][gk, ge]],
-                pts.rank[n2[s][gk + 1, ge]],
+                pts.ids.rank(node_of[gk, q1]),
+                pts.ids.rank(node_of[gk + 1, q1]),
+                pts.ids.rank(node_of[gk, q2]),
+                pts.ids.rank(node_of[gk + 1, q2]),
             )
         )
     side = SideCells(*(np.concatenate([f[i] for f in fields]).astype(np.int64) for i in range(8)))
-    if gp.size:
-        # The general engine numbers points pillar by pillar (offset + rank): map its nodes to ours.
-        general = general_pieces(
-            side,
-            gp.size,
-            pairs.p1[gp],
-            pairs.p2[gp],
-            np.zeros(gp.size, bool),
-            pts.pm,
-            _Reindexed(xyz, pts.to_lm),
-        )
-        n_cross = general.crossing_coords.shape[0]
-        to_ours = np.concatenate([pts.to_lm, np.arange(pts.num_nodes, pts.num_nodes + n_cross)])
-        general = replace(
-            general,
-            pair=gp[general.pair],
-            nodes=to_ours[general.nodes],
-            crossing_lines=to_ours[general.crossing_lines],
-        )
-    else:
-        general = _no_pieces()
-    k_ref = np.where(general.cell_a >= 0, general.k_a, general.k_b)
-    order = np.lexsort((general.k_b, general.pair, k_ref))
-    quad_has = (ex[0] & sel, ex[1] & sel)
-    all_sides = every and all(bool((ex[s] | (pairs.col[s] < 0)[None, :]).all()) for s in (0, 1))
-    return _Lateral(
-        m1, m2, sel, tuple(cells), every, all_sides, pinched, general, order, side.cell, faulted, quad_has
+    if gp.size == 0:
+        return _no_pieces(), side.cell
+    # The general engine numbers points pillar by pillar (offset + rank): map its nodes to ours.
+    general = general_pieces(
+        side, gp.size, pairs.p1[gp], pairs.p2[gp], np.zeros(gp.size, bool), _PillarMajor(pts), node_xyz
     )
+    return replace(
+        general,
+        pair=gp[general.pair],
+        nodes=_to_ids(pts, general.nodes),
+        crossing_lines=_to_ids(pts, general.crossing_lines),
+    ), side.cell
 
 
-class _Reindexed:
-    """``rows[ids[i]]`` for ``self[i]``: the coordinates in another numbering, without a copy."""
+class _PillarMajor:
+    """What the general engine needs of the points: their pillar-major offsets and number."""
 
-    def __init__(self, rows: np.ndarray, ids: IntArray) -> None:
-        self.rows, self.ids = rows, ids
+    def __init__(self, pts: _Points) -> None:
+        self.offset, self.num_nodes = pts.offset, pts.num_nodes
 
-    def __getitem__(self, i):
-        return self.rows[self.ids[i]]
+
+def _to_ids(pts: _Points, pm: IntArray) -> IntArray:
+    """Our ids of the general engine's nodes: points by pillar-major id, crossing nodes (numbered
+    from ``num_nodes``) kept."""
+    out = pm.copy()
+    point = np.flatnonzero(pm.reshape(-1) < pts.num_nodes)
+    out.reshape(-1)[point] = pts.pm_to_ids(pm.reshape(-1)[point])
+    return out
 
 
 def _no_pieces() -> LateralFaces:
@@ -777,7 +867,6 @@ class _Vertical:
     """Top and bottom faces by (interface, column, bottom before top); normals +z (down)."""
 
     pos: IntArray
-    nodes: IntArray
     upper: IntArray  # cell above the face (-1 = outside)
     lower: IntArray
     skips: np.ndarray  # an interior face joining cells more than one layer apart
@@ -785,8 +874,11 @@ class _Vertical:
     bottom_face: IntArray  # and of its bottom
 
 
-def _vertical(node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pos2: IntArray) -> _Vertical:
-    """Walk every column through its kept cells (as ``structured_vertical`` on a (k, column) layout).
+def _vertical(
+    node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pos2: IntArray
+) -> tuple[_Vertical, IntArray]:
+    """Walk every column through its kept cells (as ``structured_vertical`` on a (k, column) layout);
+    the faces and their nodes (flat, a view of ``node_of`` when every cell is kept).
 
     Consecutive kept cells touch (share one face) when the lower one's top nodes
     are the upper one's bottom nodes: always in adjacent layers (a column's
@@ -800,15 +892,15 @@ def _vertical(node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pos2: IntA
         cells = np.arange(nl * nc2)
         edge = np.full(nc2, -1)
         faces = cells.reshape(nl, nc2)
-        return _Vertical(
+        ver = _Vertical(
             offsets(np.tile(ring_len, nl + 1)),
-            node_of.reshape(-1),
             np.concatenate([edge, cells]),
             np.concatenate([cells, edge]),
             np.zeros((nl + 1) * nc2, dtype=bool),
             faces,
             faces + nc2,
         )
+        return ver, node_of.reshape(-1)
     index = np.arange(nl * nc2).reshape(nl, nc2)
     last_kept = np.maximum.accumulate(np.where(kept, index, -1), axis=0)
     prev = np.full(nl * nc2, -1)
@@ -855,37 +947,38 @@ def _vertical(node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pos2: IntA
     top_face = face_at[:-1, :, 1]
     bottom_face = face_at[1:, :, 0].copy()
     bottom_face.reshape(-1)[up[touch]] = top_face.reshape(-1)[rows[touch]]
-    return _Vertical(
+    ver = _Vertical(
         offsets(counts),
-        nodes,
         np.where(bottom, ids, joined_to[cell]),
         np.where(bottom, -1, ids),
         ~bottom & far_above[cell],
         top_face,
         bottom_face,
     )
+    return ver, nodes
 
 
-def _replace_ragged(pos: IntArray, nodes: IntArray, rows: IntArray, new_pos: IntArray, new_nodes: IntArray):
-    """Ragged (pos, nodes) with the entries ``rows`` (sorted) replaced by (new_pos, new_nodes)."""
-    counts = np.diff(pos)
-    out_counts = counts.copy()
-    out_counts[rows] = np.diff(new_pos)
-    out_pos = offsets(out_counts)
-    out = np.empty(int(out_pos[-1]), dtype=np.int64)
-    plain = np.ones(counts.size, dtype=bool)
-    plain[rows] = False
-    keep = np.flatnonzero(plain)
-    out[ragged_arange(out_pos[:-1][keep], counts[keep])] = nodes[ragged_arange(pos[:-1][keep], counts[keep])]
-    out[ragged_arange(out_pos[:-1][rows], out_counts[rows])] = new_nodes
-    return out_pos, out
+def _crossings_in_faces(h_pos, h_nodes, touched, general: LateralFaces, first_crossing: int, coords):
+    """Where the crossing nodes go into the top/bottom faces ``touched`` (the others have none):
+    (positions in ``h_nodes`` after which they are inserted, sorted; the nodes inserted)."""
+    counts = np.diff(h_pos)[touched]
+    sub_pos = offsets(counts)
+    slots, nodes = edge_insertions(
+        sub_pos,
+        h_nodes[ragged_arange(h_pos[:-1][touched], counts)],
+        general.crossing_lines,
+        first_crossing + np.arange(general.crossing_coords.shape[0]),
+        coords,
+    )
+    face = np.searchsorted(sub_pos, slots, "right") - 1
+    return h_pos[touched[face]] + (slots - sub_pos[face]), nodes
 
 
 # --------------------------------------------------------------------------- assembly
 
 
 def _cell_half_faces(
-    ver, lat, corners, pairs, kept, cell_id, n_h: int, n_q: int
+    top_face, bottom_face, lat, corners, pairs, kept, cell_id, n_h: int, n_q: int
 ) -> tuple[IntArray, IntArray]:
     """Every cell's half-faces ``2 f + side`` in increasing face order (what ``cell_half_faces``
     gives from ``neighbors``), straight from the construction, without sorting all half-faces.
@@ -909,19 +1002,16 @@ def _cell_half_faces(
         first = offsets(2 + ring_len)
         half = np.empty(nl * int(first[-1]), dtype=np.int64)
         rows = half.reshape(nl, -1)
-        rows[:, first[:-1]] = 2 * ver.top_face + 1  # the cell is the lower neighbour of its top face
-        rows[:, first[:-1] + 1] = 2 * ver.bottom_face
+        rows[:, first[:-1]] = 2 * top_face + 1  # the cell is the lower neighbour of its top face
+        rows[:, first[:-1] + 1] = 2 * bottom_face
         dst = first[:-1][hc] + 2 + local
         for k in range(nl):
             rows[k, dst] = hs + 2 * (n_h + k * n_pairs)
         return offsets(np.tile(2 + ring_len, nl)), half
 
-    quad_has = np.concatenate(lat.quad_has, axis=1)  # (nl, 2 n_pairs): side A, then side B
+    quad_has = np.concatenate([lat.quad_has(0), lat.quad_has(1)], axis=1)  # (nl, 2 n_pairs): A, then B
     slot = side * n_pairs + edge
-    if not lat.every:
-        sel = lat.quad_has[0] | lat.quad_has[1]
-        quad_id = np.cumsum(sel.reshape(-1)).reshape(sel.shape)
-        quad_id += n_h - 1
+    layer_first = n_h + offsets(np.count_nonzero(lat.sel, axis=1))  # the first quad of every layer
     nq = np.zeros(kept.shape, dtype=np.int64)
     for k in range(nl):
         nq[k] = np.add.reduceat(quad_has[k, slot], pos2[:-1], dtype=np.int64) if edge.size else 0
@@ -940,8 +1030,8 @@ def _cell_half_faces(
     face_pos = offsets(2 + nq_kept + ng)
     start = face_pos[:-1]
     half = np.empty(int(face_pos[-1]), dtype=np.int64)
-    half[start] = 2 * ver.top_face[kept] + 1  # the cell is the lower neighbour of its top face
-    half[start + 1] = 2 * ver.bottom_face[kept]
+    half[start] = 2 * top_face[kept] + 1  # the cell is the lower neighbour of its top face
+    half[start + 1] = 2 * bottom_face[kept]
     ring_len = np.diff(pos2)
     for k in range(nl):
         present = quad_has[k, slot]
@@ -949,7 +1039,12 @@ def _cell_half_faces(
             continue
         ids = cell_id[k]
         first = np.where(ids >= 0, start[ids] + 2, 0)
-        qhalf = 2 * (n_h + k * n_pairs + edge if lat.every else quad_id[k, edge]) + side
+        if lat.every:
+            qhalf = 2 * (n_h + k * n_pairs + edge) + side
+        else:
+            quad_id = np.cumsum(lat.sel[k])
+            quad_id += layer_first[k] - 1
+            qhalf = 2 * quad_id[edge] + side
         full = nq[k] == ring_len  # a quad on every edge of the column: its position is its rank
         if full.all():
             half[first[hc] + local] = qhalf
@@ -988,46 +1083,57 @@ class _FaceList:
         return self.pos.size - 1
 
     @classmethod
-    def join(cls, ver: _Vertical, h_pos, h_nodes, lat: _Lateral, etag, pairs: _Pairs) -> _FaceList:
-        """Top/bottom faces, then the quads, then the general pieces (arrays filled once)."""
+    def join(cls, ver: _Vertical, h_nodes, insert, lat: _Lateral, node_of, etag, pairs: _Pairs) -> _FaceList:
+        """Top/bottom faces (``ver``, nodes ``h_nodes`` with the crossing nodes ``insert`` = (slots,
+        nodes) of :func:`insert_after`, or None), then the quads, then the general pieces (arrays
+        filled once, in place)."""
         g, o = lat.general, lat.general_order
         g_counts = np.diff(g.node_pos)[o]
         g_pos, g_nodes = drop_repeated_nodes(
             offsets(g_counts), g.nodes[ragged_arange(g.node_pos[:-1][o], g_counts)]
         )
-        n_h, n_q, n_g = h_pos.size - 1, lat.num_quads, o.size
+        n_h, n_q, n_g = ver.upper.size, lat.num_quads, o.size
         nf = n_h + n_q + n_g
         h, q = slice(0, n_h), slice(n_h, n_h + n_q)
         gs = slice(n_h + n_q, nf)
         pos = np.empty(nf + 1, dtype=np.int64)
-        pos[: n_h + 1] = h_pos
+        pos[: n_h + 1] = ver.pos
+        if insert is not None:
+            pos[: n_h + 1] += np.searchsorted(insert[0], ver.pos)  # the insertions before every face
+        h_end = int(pos[n_h])
         q_counts = lat.quad_counts()
         if q_counts is None:
-            pos[n_h + 1 : n_h + n_q + 1] = np.arange(h_pos[-1] + 4, h_pos[-1] + 4 * n_q + 1, 4)
+            pos[n_h + 1 : n_h + n_q + 1] = np.arange(h_end + 4, h_end + 4 * n_q + 1, 4)
         else:
             np.cumsum(q_counts, out=pos[n_h + 1 : n_h + n_q + 1])
-            pos[n_h + 1 : n_h + n_q + 1] += h_pos[-1]
+            pos[n_h + 1 : n_h + n_q + 1] += h_end
         pos[n_h + n_q + 1 :] = g_pos[1:] + pos[n_h + n_q]
         nodes = np.empty(int(pos[-1]), dtype=np.int64)
-        nodes[: h_pos[-1]] = h_nodes
-        lat.write_quads(nodes[h_pos[-1] : pos[n_h + n_q]])
+        if insert is None:
+            nodes[:h_end] = h_nodes
+        else:
+            nodes[:h_end] = insert_after(h_nodes, *insert)
+        lat.write_quads(node_of, nodes[h_end : pos[n_h + n_q]])
         nodes[pos[n_h + n_q] :] = g_nodes
         neighbors = np.empty((nf, 2), dtype=np.int64)
         neighbors[h, 0], neighbors[h, 1] = ver.upper, ver.lower
         lat.write_cells(neighbors[q])
         neighbors[gs, 0], neighbors[gs, 1] = g.cell_a[o], g.cell_b[o]
-        pair = None  # the areal edge of every face (-1: top/bottom), only when something needs it
-        if etag.any() or pairs.side_tag is not None or lat.faulted.any():
+        pair = None  # the areal edge of every face (-1: top/bottom), only for the automatic fault tags
+        if (lat.faulted & (etag == 0)).any():
             pair = np.empty(nf, dtype=np.int64)
-            pair[h], pair[q], pair[gs] = -1, lat.quad_pair(), g.pair[o]
+            pair[h], pair[gs] = -1, g.pair[o]
+            lat.quad_values(np.arange(pairs.num), pair[q])
         tag = np.zeros(nf, dtype=np.int32)
         if etag.any():
-            tag[n_h:] = etag[pair[n_h:]]
+            lat.quad_values(etag, tag[q])
+            tag[gs] = etag[g.pair[o]]
         half_tags = None
         if pairs.side_tag is not None:
             half_tags = np.empty((nf, 2), dtype=np.int8)
             half_tags[h] = (B, T)  # the upper cell's bottom, the lower cell's top
-            half_tags[n_h:] = pairs.side_tag[pair[n_h:]]
+            lat.quad_values(pairs.side_tag, half_tags[q])
+            half_tags[gs] = pairs.side_tag[g.pair[o]]
         kind = np.full(nf, -1, dtype=np.int8)
         kind[h][ver.skips] = PINCH
         kind[gs][(neighbors[gs] >= 0).all(axis=1) & (g.k_a[o] != g.k_b[o])] = FAULT
@@ -1102,16 +1208,14 @@ def _fault_names(faces: _FaceList, names: list[str], lat: _Lateral, pairs: _Pair
 
 def _zero_area(coords: FloatArray, pos: IntArray, nodes: IntArray, faces: IntArray) -> np.ndarray:
     """Faces (of ``faces``) whose vector area vanishes (Newell's formula, relative to the extent)."""
-    counts = np.diff(pos)[faces]
-    sub = nodes[ragged_arange(pos[:-1][faces], counts)]
+    counts = pos[faces + 1] - pos[faces]
     p_local = offsets(counts)
     owner = np.repeat(np.arange(faces.size), counts)
-    nxt = np.arange(1, sub.size + 1)
+    nxt = np.arange(1, p_local[-1] + 1)
     nxt[p_local[1:] - 1] = p_local[:-1]
-    origin = coords[sub[p_local[:-1]]][owner]
-    p, q = coords[sub] - origin, coords[sub[nxt]] - origin
-    cr = np.cross(p, q)
+    xyz = coords[nodes[ragged_arange(pos[faces], counts)]]  # the faces' nodes
+    p = xyz - np.repeat(xyz[p_local[:-1]], counts, axis=0)  # from the face's first node
+    cr = np.cross(p, p[nxt])
     area = np.stack([np.bincount(owner, cr[:, d], faces.size) for d in range(3)], axis=1)
-    used = coords[sub]
-    extent = float((used.max(axis=0) - used.min(axis=0)).max()) if sub.size else 1.0
+    extent = max((float(np.ptp(xyz[:, d])) for d in range(3)), default=1.0) if xyz.size else 1.0
     return 0.5 * np.linalg.norm(area, axis=1) <= 1e-14 * extent**2

@@ -53,7 +53,25 @@ def insert_edge_nodes_ragged(
     >>> pos.tolist(), nodes.tolist()  # a square and a triangle, both with an edge 0-1
     ([0, 5, 9], [0, 4, 1, 2, 3, 3, 1, 4, 0])
     """
+    slots, nodes = edge_insertions(face_pos, face_nodes, crossing_lines, crossing_ids, coords)
+    if slots.size == 0:
+        return face_pos.copy(), face_nodes.copy()
     nf = face_pos.size - 1
+    owner = np.searchsorted(face_pos, slots, "right") - 1  # the face of every insertion
+    face_counts = np.diff(face_pos) + np.bincount(owner, minlength=nf)
+    return offsets(face_counts), insert_after(face_nodes, slots, nodes)
+
+
+def edge_insertions(
+    face_pos: IntArray,
+    face_nodes: IntArray,
+    crossing_lines: IntArray,
+    crossing_ids: IntArray,
+    coords: FloatArray,
+) -> tuple[IntArray, IntArray]:
+    """The crossings to insert into the edges of ragged faces (see :func:`insert_edge_nodes_ragged`):
+    ``(slots, nodes)``, ``nodes[i]`` to go right after ``face_nodes[slots[i]]`` (the edge from that
+    node to the next), sorted by slot and along the edge (see :func:`insert_after`)."""
     counts = np.diff(face_pos)
     a = face_nodes
     nxt = np.arange(1, a.size + 1)
@@ -74,17 +92,27 @@ def insert_edge_nodes_ragged(
 
     start = np.searchsorted(key, edge_key, "left")
     count = np.searchsorted(key, edge_key, "right") - start
-    if not count.any():
-        return face_pos.copy(), face_nodes.copy()
-    per_edge = 1 + count
-    edge_pos = offsets(per_edge)
-    out = np.empty(int(edge_pos[-1]), dtype=np.int64)
-    out[edge_pos[:-1]] = a
+    edge = np.flatnonzero(count)
+    count, start = count[edge], start[edge]
     # Inserted nodes run from a to b: increasing t when a is the line's low node.
     local = ragged_arange(np.zeros(count.size, np.int64), count)
-    edge = np.repeat(np.arange(count.size), count)
-    forward = a[edge] == lo[edge]
-    src = start[edge] + np.where(forward, local, count[edge] - 1 - local)
-    out[edge_pos[:-1][edge] + 1 + local] = node[src]
-    face_counts = np.bincount(np.repeat(np.arange(nf), counts), per_edge, minlength=nf).astype(np.int64)
-    return offsets(face_counts), out
+    which = np.repeat(np.arange(count.size), count)
+    forward = a[edge][which] == lo[edge][which]
+    src = start[which] + np.where(forward, local, count[which] - 1 - local)
+    return edge[which], node[src]
+
+
+def insert_after(values: IntArray, slots: IntArray, inserted: IntArray) -> IntArray:
+    """``values`` with ``inserted[i]`` placed right after ``values[slots[i]]`` (``slots`` sorted;
+    entries of the same slot keep their order).
+
+    >>> insert_after(np.array([5, 6, 7]), np.array([0, 0, 2]), np.array([1, 2, 3])).tolist()
+    [5, 1, 2, 6, 7, 3]
+    """
+    out = np.empty(values.size + slots.size, dtype=values.dtype)
+    at = slots + 1 + np.arange(slots.size)
+    keep = np.ones(out.size, dtype=bool)
+    keep[at] = False
+    out[keep] = values
+    out[at] = inserted
+    return out

@@ -161,24 +161,19 @@ def extrude(
     H = _order(H, ordering, xy[:, 0], xy[:, 1], notes, who="extrude", where="areal nodes")
     H.flags.writeable = False
 
-    # Depths of the layer interfaces at every node: proportional layers in every zone.
-    levels = []
-    for h in range(n_zones):
-        t = np.arange(nlay[h]) / nlay[h]
-        with np.errstate(invalid="ignore"):
-            lev = H[h][None] + t[:, None] * (H[h + 1] - H[h])[None]
-        lev[0] = H[h]  # exactly the horizon
-        levels.append(lev)
-    levels.append(H[-1][None])
-    z = np.take(np.concatenate(levels), ring, axis=1)  # (n_levels, n_corners)
-
     etag = np.asarray(areal.faces.tag, dtype=np.int64).copy()
     n_areal_tags = int(etag.max(initial=0))
     names = [f"fault_{t}" for t in range(1, n_areal_tags + 1)]
-    if faults:
-        _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes)
 
-    r = _extrude_columns(areal, corners, z, lines, act, etag, tuple(names))
+    def corner_depths() -> FloatArray:
+        z = _corner_depths(H, nlay, ring)
+        if faults:
+            _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes)
+        return z
+
+    # The depths go to the engine as a temporary (nothing here keeps them): it drops them, the size
+    # of the grid's nodes several times over, once they are ranks. etag and names are then final.
+    r = _extrude_columns(areal, corners, corner_depths(), lines, act, etag, tuple(names))
     grid = dataclasses.replace(r.grid, history=(*areal.history, "extrude"))
     zone = zone_of_layer[grid.layering.layer]
     zone.flags.writeable = False
@@ -204,6 +199,20 @@ def _active(active: ArrayLike | None, nl: int, nc2: int) -> np.ndarray:
             raise InputError("extrude: active must be booleans (or 0/1) per layer and areal cell")
         arr = arr != 0
     return np.ascontiguousarray(arr)
+
+
+def _corner_depths(H: FloatArray, nlay: Sequence[int], ring: IntArray) -> FloatArray:
+    """Depths (n_levels, n_corners) of the layer interfaces at every corner: proportional layers in
+    every zone, dz = (z_{h+1} - z_h) / n at every pillar (``H``: the horizons at the pillars)."""
+    levels = []
+    for h in range(H.shape[0] - 1):
+        t = np.arange(nlay[h]) / nlay[h]
+        with np.errstate(invalid="ignore"):
+            lev = H[h][None] + t[:, None] * (H[h + 1] - H[h])[None]
+        lev[0] = H[h]  # exactly the horizon
+        levels.append(lev)
+    levels.append(H[-1][None])
+    return np.take(np.concatenate(levels), ring, axis=1)
 
 
 def _evaluate(hz: Any, h: int, xy: FloatArray, lines: FloatArray | None) -> FloatArray:
@@ -336,11 +345,12 @@ def _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes) ->
     qa1, qa2 = pairs.q1[0][inner], pairs.q2[0][inner]
     qb1, qb2 = pairs.q1[1][inner], pairs.q2[1][inner]
     ring, owner = corners.ring, corners.owner
+    boundary = _Boundary.of(areal)
     for f, trace in enumerate(faults):
         if not isinstance(trace, FaultTrace):
             raise InputError(f"extrude: faults[{f}]: expected a FaultTrace, got {type(trace).__name__}")
         name = trace.name if trace.name is not None else f"F{f + 1}"
-        open_start, open_end = ~_strictly_inside(trace.points[[0, -1]], areal)
+        open_start, open_end = ~boundary.strictly_inside(trace.points[[0, -1]])
         disp = fault_displacement(
             trace, f, name, xy, centre_xy, ring, owner, bool(open_start), bool(open_end)
         )
@@ -360,22 +370,33 @@ def _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes) ->
             )
 
 
-def _strictly_inside(points: np.ndarray, areal: Grid) -> np.ndarray:
-    """Which points lie strictly inside the areal grid's domain (not on or near its boundary)."""
-    nb = areal.faces.neighbors
-    b = np.flatnonzero((nb < 0).any(axis=1))
-    e = areal.faces.nodes.reshape(-1, 2)[b]
-    xy = areal.nodes.coords[:, :2]
-    a, c = xy[e[:, 0]], xy[e[:, 1]]
-    extent = float(np.ptp(xy, axis=0).max())
-    out = np.zeros(points.shape[0], dtype=bool)
-    for i, p in enumerate(points):  # the two end points of a trace
-        up = (a[:, 1] > p[1]) != (c[:, 1] > p[1])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x_cross = a[:, 0] + (p[1] - a[:, 1]) * (c[:, 0] - a[:, 0]) / (c[:, 1] - a[:, 1])
-        inside = bool(np.count_nonzero(up & (x_cross > p[0])) % 2)
-        d = c - a
-        t = np.clip(((p - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
-        dist = np.sqrt((((a + t[:, None] * d) - p) ** 2).sum(axis=1)).min()
-        out[i] = inside and dist > 1e-10 * extent
-    return out
+@dataclass(frozen=True, eq=False)
+class _Boundary:
+    """The boundary edges (a -> c) of an areal grid, and the extent of its nodes (m)."""
+
+    a: FloatArray
+    c: FloatArray
+    extent: float
+
+    @classmethod
+    def of(cls, areal: Grid) -> _Boundary:
+        nb = areal.faces.neighbors
+        b = np.flatnonzero((nb < 0).any(axis=1))
+        e = areal.faces.nodes.reshape(-1, 2)[b]
+        xy = areal.nodes.coords[:, :2]
+        return cls(xy[e[:, 0]], xy[e[:, 1]], float(np.ptp(xy, axis=0).max()))
+
+    def strictly_inside(self, points: np.ndarray) -> np.ndarray:
+        """Which points lie strictly inside the areal grid's domain (not on or near its boundary)."""
+        a, c = self.a, self.c
+        out = np.zeros(points.shape[0], dtype=bool)
+        for i, p in enumerate(points):  # the two end points of a trace
+            up = (a[:, 1] > p[1]) != (c[:, 1] > p[1])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                x_cross = a[:, 0] + (p[1] - a[:, 1]) * (c[:, 0] - a[:, 0]) / (c[:, 1] - a[:, 1])
+            inside = bool(np.count_nonzero(up & (x_cross > p[0])) % 2)
+            d = c - a
+            t = np.clip(((p - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
+            dist = np.sqrt((((a + t[:, None] * d) - p) ** 2).sum(axis=1)).min()
+            out[i] = inside and dist > 1e-10 * self.extent
+        return out

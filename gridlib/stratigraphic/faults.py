@@ -103,16 +103,18 @@ def nearest_on_trace(p: np.ndarray, verts: np.ndarray, open_start: bool, open_en
     best = np.full(p.shape[0], np.inf)
     seg = np.zeros(p.shape[0], dtype=np.int64)
     tt = np.zeros(p.shape[0])
+    px, py = np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1])
     for k in range(n_seg):  # one pass per polyline segment, vectorised over the points
         t = ((p - a[k]) @ d[k]) / (d[k] @ d[k])
         lo = -np.inf if (k == 0 and open_start) else 0.0
         hi = np.inf if (k == n_seg - 1 and open_end) else 1.0
         t = np.clip(t, lo, hi)
-        dist2 = ((p - a[k] - t[:, None] * d[k]) ** 2).sum(axis=1)
+        dist2 = _squared_offset(px, a[k, 0], t, d[k, 0])  # on x and y apart: contiguous and fast
+        dist2 += _squared_offset(py, a[k, 1], t, d[k, 1])
         better = dist2 < best
         best[better], seg[better], tt[better] = dist2[better], k, t[better]
-    rel = p - a[seg]
-    side = d[seg, 0] * rel[:, 1] - d[seg, 1] * rel[:, 0]
+    rel_x, rel_y = px - a[seg, 0], py - a[seg, 1]
+    side = d[seg, 0] * rel_y - d[seg, 1] * rel_x
     # Nearest point at an interior vertex: the point lies on the outer side of the turn there.
     at_vertex = np.where((tt == 0) & (seg > 0), seg, np.where((tt == 1) & (seg < n_seg - 1), seg + 1, -1))
     v = at_vertex[at_vertex > 0]
@@ -120,6 +122,14 @@ def nearest_on_trace(p: np.ndarray, verts: np.ndarray, open_start: bool, open_en
         turn = d[v - 1, 0] * d[v, 1] - d[v - 1, 1] * d[v, 0]
         side[at_vertex > 0] = np.where(turn != 0, -turn, side[at_vertex > 0])
     return seg, tt, side
+
+
+def _squared_offset(x: np.ndarray, origin: float, t: np.ndarray, step: float) -> np.ndarray:
+    """``(x - origin - t * step) ** 2`` elementwise, in place of one temporary."""
+    out = x - origin
+    out -= t * step
+    out *= out
+    return out
 
 
 def fault_displacement(

@@ -56,18 +56,21 @@ def unique_points(pillar: IntArray, z: FloatArray, n_pillars: int, tol: float = 
     return PillarPoints(node_of_corner, offset, node_pillar, zs[new])
 
 
-def points_on_pillars(lines: FloatArray, pillar: IntArray, z: FloatArray) -> FloatArray:
+def points_on_pillars(
+    lines: FloatArray, pillar: IntArray, z: FloatArray, out: FloatArray | None = None
+) -> FloatArray:
     """Coordinates of points at depth ``z`` on straight pillars ``lines`` (n, 2, 3).
 
     A pillar whose top and bottom depths differ by less than 1e-6 (OPM's rule)
     has no usable direction and is treated as vertical through its top point.
+    The (n, 3) result is written to ``out`` if given.
     """
     top = lines[:, 0]
     dz = lines[:, 1, 2] - top[:, 2]
     vertical = np.abs(dz) < 1e-6
     t = (z - top[pillar, 2]) / np.where(vertical, 1.0, dz)[pillar]
     t[vertical[pillar]] = 0.0
-    xyz = np.empty((z.size, 3))
+    xyz = np.empty((z.size, 3)) if out is None else out
     for d in (0, 1):
         xyz[:, d] = top[pillar, d] + t * (lines[:, 1, d] - top[:, d])[pillar]
     xyz[:, 2] = z
