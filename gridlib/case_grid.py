@@ -107,7 +107,7 @@ def build_case_grid(case: Case, horizons=None) -> CaseGrid:
 
 
 def _horizon_list(case: Case, horizons):
-    from .surfaces import to_horizons
+    from .horizons import to_horizons
 
     if horizons is None:
         raise InputError(f"{case.path}: grid: a {case.data['grid']['type']} grid needs the case's horizons")

@@ -14,8 +14,8 @@ import os
 from ..case_grid import build_case_grid
 from ..checks import check_grid
 from ..config import load_case
+from ..horizons import read_horizons
 from ..io.grdecl import write_grdecl
-from ..surfaces import read_horizons
 from .common import log, nnc_variables, write_grid_file
 
 

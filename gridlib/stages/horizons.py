@@ -9,7 +9,7 @@ import numpy as np
 from ..build import _axis
 from ..config import load_case
 from ..errors import InputError
-from ..surfaces import build_horizons, write_horizons
+from ..horizons import build_horizons, write_horizons
 from .common import log
 
 
@@ -20,7 +20,7 @@ def case_horizons(case):
     specs = []
     for surface in spec["surfaces"]:
         item = dict(surface)
-        if "points" in item:  # gridlib.surfaces takes the file under `points`
+        if "points" in item:  # gridlib.horizons takes the file under `points`
             item["points"] = str(case.path.parent / item["points"])
         if "surface" in item:
             item["surface"] = str(case.path.parent / item["surface"])

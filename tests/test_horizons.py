@@ -1,4 +1,4 @@
-"""Horizons (gridlib.surfaces, gridlib.io.irap): interpolation, fault blocks, ordering, files."""
+"""Horizons (gridlib.horizons, gridlib.io.irap): interpolation, fault blocks, ordering, files."""
 
 from __future__ import annotations
 
@@ -7,8 +7,7 @@ import pytest
 
 from gridlib import InputError, compute_geometry, horizons_to_grdecl, process_grdecl
 from gridlib.cornerpoint import FaultTrace, Horizon
-from gridlib.io.irap import IRAP_UNDEFINED, read_irap, write_irap
-from gridlib.surfaces import (
+from gridlib.horizons import (
     HorizonCrossingError,
     Surface,
     build_horizons,
@@ -26,6 +25,7 @@ from gridlib.surfaces import (
     to_horizons,
     write_horizons,
 )
+from gridlib.io.irap import IRAP_UNDEFINED, read_irap, write_irap
 
 X_AXIS = np.linspace(0.0, 1000.0, 51)  # 20 m spacing
 Y_AXIS = np.linspace(0.0, 800.0, 41)

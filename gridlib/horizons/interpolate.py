@@ -40,7 +40,7 @@ def interpolate_points(
 
     See :func:`interpolate_points_at` for the options.
 
-    >>> from gridlib.surfaces import plane
+    >>> from gridlib.horizons import plane
     >>> rng = np.random.default_rng(0)
     >>> xy = rng.uniform(0.0, 1000.0, (200, 2))
     >>> pts = np.column_stack([xy, plane(xy[:, 0], xy[:, 1], depth=1000.0, dip=5.0, azimuth=90.0)])
