@@ -215,15 +215,12 @@ def partition_metis(
         w = _metis_weights(fw[faces], log_weights, "face_weights")
     else:
         w = np.ones(faces.size, dtype=np.int64)
-    lo, hi = np.minimum(c0, c1), np.maximum(c0, c1)
-    pairs, inverse = np.unique(lo * n + hi, return_inverse=True)
-    pw = np.bincount(inverse.reshape(-1), weights=w).astype(np.int64)
-    a, b = pairs // n, pairs % n
-    rows = np.concatenate([a, b])
-    cols = np.concatenate([b, a])
-    weights = np.concatenate([pw, pw])
-    order = np.lexsort((cols, rows))
-    xadj = offsets(np.bincount(rows, minlength=n))
+    # The symmetric cell graph in CSR, faces joining the same two cells summed (in C, by scipy).
+    graph = sparse.coo_array(
+        (np.concatenate([w, w]).astype(np.float64), (np.concatenate([c0, c1]), np.concatenate([c1, c0]))),
+        shape=(n, n),
+    ).tocsr()
+    graph.sum_duplicates()
     kwargs = {}
     if cell_weights is not None:
         cw = np.asarray(cell_weights, dtype=np.float64)
@@ -232,8 +229,8 @@ def partition_metis(
         kwargs["vweights"] = _metis_weights(cw, False, "cell_weights").astype(np.int32)
     result = pymetis.part_graph(
         int(num_blocks),
-        pymetis.CSRAdjacency(xadj.astype(np.int32), cols[order].astype(np.int32)),
-        eweights=weights[order].astype(np.int32),
+        pymetis.CSRAdjacency(graph.indptr.astype(np.int32), graph.indices.astype(np.int32)),
+        eweights=graph.data.astype(np.int32),
         options=pymetis.Options(seed=int(seed)),
         **kwargs,
     )
