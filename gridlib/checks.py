@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .connectivity import cell_node_cycles_2d, half_face_cells, half_face_signs, repeat_ids
+from .connectivity import cell_node_cycles_2d, half_face_cells, half_face_signs
 from .errors import GridError
 from .geometry import Geometry, compute_geometry
 from .grid import Grid
@@ -56,25 +56,17 @@ def topology_violations(grid: Grid) -> list[str]:
     if bad.any():
         out.append(f"faces with the same cell on both sides: {_ids(bad)}")
 
-    # cells.faces must be exactly the transpose of faces.neighbors.
+    # cells.faces must be exactly the transpose of faces.neighbors: every half-face names a
+    # neighbour of its face, and each face has as many half-faces, summing to the same cells
+    # (with distinct neighbours, a repeated cell would change the sum). O(n); the sorting
+    # diagnosis below runs only when this fails.
     hc = half_face_cells(grid)
-    from_cells = np.sort(cf * (nc + 1) + hc)
     inside = nb >= 0
-    from_faces = np.sort((np.repeat(np.arange(nf), 2) * (nc + 1) + nb.ravel())[inside.ravel()])
-    if from_cells.size != from_faces.size or np.any(from_cells != from_faces):
-        c_keys, c_counts = np.unique(from_cells, return_counts=True)
-        missing = np.setdiff1d(from_faces, c_keys)
-        extra = np.setdiff1d(c_keys, from_faces)
-        dup = c_keys[c_counts > 1]
-        if missing.size:
-            pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in missing[:_MAX_LISTED]]
-            out.append(f"half-faces missing from cells.faces (face, cell): {pairs}")
-        if extra.size:
-            pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in extra[:_MAX_LISTED]]
-            out.append(f"cells list faces they are not a neighbour of (face, cell): {pairs}")
-        if dup.size:
-            pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in dup[:_MAX_LISTED]]
-            out.append(f"cells list the same face twice (face, cell): {pairs}")
+    names_neighbor = (nb[cf, 0] == hc) | (nb[cf, 1] == hc)
+    same_count = np.bincount(cf, minlength=nf) == inside.sum(axis=1)
+    same_sum = np.bincount(cf, weights=hc, minlength=nf) == np.where(inside, nb, 0).sum(axis=1)
+    if not (names_neighbor.all() and same_count.all() and same_sum.all()):
+        out += _transpose_violations(cf, hc, nb, nc, nf)
 
     counts = grid.faces.num_nodes
     if grid.griddim == 2:
@@ -85,15 +77,9 @@ def topology_violations(grid: Grid) -> list[str]:
         bad = counts < 3
         if bad.any():
             out.append(f"3-D faces need at least 3 nodes; faces {_ids(bad)} have fewer")
-    owner = repeat_ids(grid.faces.node_pos)
-    order = np.lexsort((fn, owner))
-    sorted_nodes, sorted_owner = fn[order], owner[order]
-    rep = (sorted_nodes[1:] == sorted_nodes[:-1]) & (sorted_owner[1:] == sorted_owner[:-1])
-    if rep.any():
-        faces = np.unique(sorted_owner[1:][rep])
-        out.append(f"faces repeating a node: {faces[:_MAX_LISTED].tolist()}")
-
-    dups = _duplicate_faces(counts, sorted_nodes, grid.faces.node_pos)
+    repeating, dups = _repeated_and_duplicate_faces(counts, fn, grid.faces.node_pos)
+    if repeating.size:
+        out.append(f"faces repeating a node: {repeating[:_MAX_LISTED].tolist()}")
     if dups.size:
         out.append(f"faces with the same nodes as another face: {dups[:_MAX_LISTED].tolist()}")
 
@@ -113,19 +99,56 @@ def topology_violations(grid: Grid) -> list[str]:
     return out
 
 
-def _duplicate_faces(counts: np.ndarray, sorted_nodes: np.ndarray, pos: np.ndarray) -> np.ndarray:
-    """Faces whose sorted node list equals that of an earlier face."""
-    if counts.size == 0:
-        return np.zeros(0, dtype=np.int64)
-    m = int(counts.max())
-    table = np.full((counts.size, m + 1), -1, dtype=np.int64)
-    table[:, 0] = counts
-    owner = repeat_ids(pos)
-    local = np.arange(sorted_nodes.size) - pos[owner]
-    table[owner, 1 + local] = sorted_nodes
-    _, first, inverse = np.unique(table, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    return np.flatnonzero(first[inverse] != np.arange(counts.size))
+def _transpose_violations(cf: np.ndarray, hc: np.ndarray, nb: np.ndarray, nc: int, nf: int) -> list[str]:
+    """Which (face, cell) half-faces ``cells.faces`` lacks, has in excess or lists twice."""
+    out: list[str] = []
+    from_cells = np.sort(cf * (nc + 1) + hc)
+    inside = nb >= 0
+    from_faces = np.sort((np.repeat(np.arange(nf), 2) * (nc + 1) + nb.ravel())[inside.ravel()])
+    c_keys, c_counts = np.unique(from_cells, return_counts=True)
+    for what, keys in (
+        ("half-faces missing from cells.faces (face, cell)", np.setdiff1d(from_faces, c_keys)),
+        ("cells list faces they are not a neighbour of (face, cell)", np.setdiff1d(c_keys, from_faces)),
+        ("cells list the same face twice (face, cell)", c_keys[c_counts > 1]),
+    ):
+        if keys.size:
+            pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in keys[:_MAX_LISTED]]
+            out.append(f"{what}: {pairs}")
+    return out
+
+
+def _repeated_and_duplicate_faces(
+    counts: np.ndarray, nodes: np.ndarray, pos: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Faces that repeat a node, and faces whose node set equals that of an earlier face.
+
+    Faces are taken a node count at a time as (faces, k) tables sorted along each row.
+    Duplicate rows are found by sorting a 64-bit hash of each row; rows whose hash is
+    shared (duplicates, or a collision) are compared exactly, so the answer is exact.
+    """
+    repeating, candidates, rows_of = [], [], []
+    multipliers = np.random.default_rng(0x5EED).integers(1, 2**62, size=int(counts.max(initial=0)) + 1)
+    multipliers |= 1  # odd: multiplication is a bijection modulo 2**64
+    for k in np.unique(counts):
+        faces = np.flatnonzero(counts == k)
+        rows = np.sort(nodes[pos[faces][:, None] + np.arange(k)], axis=1)
+        if k > 1:
+            repeating.append(faces[(rows[:, 1:] == rows[:, :-1]).any(axis=1)])
+        with np.errstate(over="ignore"):
+            h = (rows.astype(np.uint64) * multipliers[:k].astype(np.uint64)).sum(axis=1, dtype=np.uint64)
+        hs = np.sort(h)
+        twice = hs[1:][hs[1:] == hs[:-1]]
+        if twice.size:
+            pick = np.flatnonzero(np.isin(h, twice))  # ascending face number: the first is kept
+            candidates.append(faces[pick])
+            rows_of.append(rows[pick])
+    empty = np.zeros(0, dtype=np.int64)
+    rep = np.sort(np.concatenate(repeating)) if repeating else empty
+    dups = []
+    for faces, rows in zip(candidates, rows_of, strict=True):
+        _, first, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
+        dups.append(faces[first[inverse.reshape(-1)] != np.arange(faces.size)])
+    return rep, (np.sort(np.concatenate(dups)) if dups else empty)
 
 
 def geometry_violations(grid: Grid, geometry: Geometry, tol: float) -> list[str]:

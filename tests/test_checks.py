@@ -73,6 +73,63 @@ def test_duplicated_face_is_caught():
         gl.check_grid(dataclasses.replace(g, faces=faces, cells=cells))
 
 
+def test_half_face_in_the_wrong_cell_is_caught():
+    """Cell 1 lists the x-face between cells 0 and 1 twice and cell 0 not at all: counts per face
+    stay right, only the cells differ (the O(n) transpose check sums the cells per face)."""
+    g = gl.cart_grid([3, 1, 1])
+    faces = np.array(g.cells.faces)
+    first = g.cells.face_pos[0]
+    shared = np.flatnonzero((g.faces.neighbors == [0, 1]).all(axis=1))[0]
+    slot = first + int(np.flatnonzero(faces[first : g.cells.face_pos[1]] == shared)[0])
+    other = g.cells.face_pos[1] + int(
+        np.flatnonzero(faces[g.cells.face_pos[1] : g.cells.face_pos[2]] != shared)[0]
+    )
+    faces[slot], faces[other] = faces[other], faces[slot]  # cell 0 takes a face of cell 1 and vice versa
+    with pytest.raises(gl.GridError, match=r"cells list faces they are not a neighbour of \(face, cell\)"):
+        gl.check_grid(dataclasses.replace(g, cells=Cells(g.cells.face_pos, faces)))
+
+
+def test_face_listed_twice_by_one_neighbour_and_not_by_the_other_is_caught():
+    """Faces F (the x-face between cells 0 and 1) and G (cell 0's west face, made to join 0 and 1):
+    cell 0 lists F twice and not G, cell 1 lists G twice and not F. Every half-face names a
+    neighbour and every face has two half-faces; only the cells per face differ."""
+    g = gl.cart_grid([2, 1, 1])
+    nb = np.array(g.faces.neighbors)
+    west, shared = 0, 1  # MRST numbering: x-faces of row 0 are 0, 1, 2
+    assert nb[west].tolist() == [-1, 0] and nb[shared].tolist() == [0, 1]
+    nb[west] = [0, 1]
+    c0 = [f for f in g.cells.faces[: g.cells.face_pos[1]] if f not in (west, shared)]
+    c1 = [f for f in g.cells.faces[g.cells.face_pos[1] :] if f != shared]
+    cells = Cells(
+        np.array([0, len(c0) + 2, len(c0) + len(c1) + 4]), np.array([shared, shared, *c0, west, west, *c1])
+    )
+    broken = dataclasses.replace(g, cells=cells, faces=dataclasses.replace(g.faces, neighbors=nb))
+    with pytest.raises(gl.GridError) as err:
+        gl.check_grid(broken)
+    assert "half-faces missing from cells.faces (face, cell): [(0, 0), (1, 1)]" in str(err.value)
+    assert "cells list the same face twice (face, cell): [(0, 1), (1, 0)]" in str(err.value)
+
+
+def test_face_repeating_a_node_and_duplicates_among_mixed_faces_are_caught():
+    """A triangle face 0-1-1 and, among faces of 3 and 4 nodes, two faces with one node set in
+    other orders: each is named, and only the later copy is a duplicate."""
+    g = gl.cart_grid([2, 2, 2])
+    f = g.faces
+    a = f.nodes[f.node_pos[5] : f.node_pos[6]]
+    extra = [a[[2, 3, 0, 1]], a[:3], a[[2, 1, 0]], np.array([a[0], a[1], a[1]])]
+    pos = np.concatenate([f.node_pos, f.node_pos[-1] + np.cumsum([e.size for e in extra])])
+    faces = Faces(pos, np.concatenate([f.nodes, *extra]), np.concatenate([f.neighbors, [[-1, 0]] * 4]))
+    n = g.num_faces
+    cells = Cells(
+        np.concatenate([[0], g.cells.face_pos[1:] + 4]),
+        np.concatenate([g.cells.faces[:6], np.arange(n, n + 4), g.cells.faces[6:]]),
+    )
+    with pytest.raises(gl.GridError) as err:
+        gl.check_grid(dataclasses.replace(g, faces=faces, cells=cells))
+    assert f"faces repeating a node: [{n + 3}]" in str(err.value)
+    assert f"faces with the same nodes as another face: [{n}, {n + 2}]" in str(err.value)
+
+
 def test_index_errors_and_orphans_are_caught():
     g = gl.cart_grid([2, 2])
     nb = np.array(g.faces.neighbors)
