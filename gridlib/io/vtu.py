@@ -65,13 +65,30 @@ def polyhedron_streams(grid: Grid) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
     fwd = np.repeat(outward, n)
     src = npos[cf][hf_rep] + np.where(fwd, local, n[hf_rep] - 1 - local)
     stream[np.repeat(count_at + 1, n) + local] = grid.faces.nodes[src]
-    # Points of each cell: the unique nodes of its faces.
-    cell_of_entry = np.repeat(hc, n)
-    nodes = grid.faces.nodes[src]
-    key = np.unique(cell_of_entry * grid.num_nodes + nodes)
-    conn = key % grid.num_nodes
-    conn_off = np.cumsum(np.bincount(key // grid.num_nodes, minlength=grid.num_cells))
+    conn, conn_off = _cell_points(grid.faces.nodes[src], np.bincount(hc, n, grid.num_cells).astype(np.int64))
     return conn, conn_off, stream, cell_start[1:]
+
+
+def _cell_points(entries: np.ndarray, per_cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct nodes of each cell, ascending, from its face-node ``entries`` (grouped by
+    cell, ``per_cell`` each), and their end offsets. Cells with the same number of entries
+    are sorted together as one (cells, m) table: no global sort of all entries."""
+    start = offsets(per_cell)[:-1]
+    distinct = np.zeros(per_cell.size, dtype=np.int64)
+    tables = []
+    for m in np.unique(per_cell[per_cell > 0]):
+        cells = np.flatnonzero(per_cell == m)
+        rows = np.sort(entries[start[cells][:, None] + np.arange(m)], axis=1)
+        keep = np.ones(rows.shape, dtype=bool)
+        keep[:, 1:] = rows[:, 1:] != rows[:, :-1]
+        distinct[cells] = keep.sum(axis=1)
+        tables.append((cells, rows, keep))
+    end = np.cumsum(distinct)
+    conn = np.empty(int(end[-1]) if end.size else 0, dtype=entries.dtype)
+    for cells, rows, keep in tables:
+        slot = np.cumsum(keep, axis=1) - 1 + (end[cells] - distinct[cells])[:, None]
+        conn[slot[keep]] = rows[keep]
+    return conn, end
 
 
 def write_vtu(path: str | os.PathLike, grid: Grid, cell_data: dict[str, np.ndarray] | None = None) -> Path:
