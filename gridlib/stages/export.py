@@ -79,14 +79,42 @@ def write_fault_faces(path: Path, grid: Grid, names: list[str]) -> int:
     return int(faces.size)
 
 
-def _render(path: Path, vtu: Path, faults_vtp: Path, scalar: str, title: str, griddim: int) -> None:
+def _polydata(grid: Grid, values: np.ndarray, name: str):
+    """What a picture shows, as VTK PolyData with ``values`` as cell data: the outer boundary
+    faces of a 3-D grid (coloured by the cell inside; far smaller than the polyhedra), or the
+    cells of a 2-D grid as polygons."""
+    import pyvista as pv
+
+    if grid.griddim == 3:
+        nb = grid.faces.neighbors
+        faces = np.flatnonzero((nb < 0).any(axis=1))
+        owner = nb[faces].max(axis=1)
+        counts = np.diff(grid.faces.node_pos)[faces]
+        nodes = grid.faces.nodes[ragged_arange(grid.faces.node_pos[:-1][faces], counts)]
+    else:
+        from ..connectivity import cell_node_cycles_2d
+
+        pos, nodes = cell_node_cycles_2d(grid)
+        counts, owner = np.diff(pos), np.arange(grid.num_cells)
+    used, local = np.unique(nodes, return_inverse=True)
+    coords = grid.nodes.coords[used]
+    if coords.shape[1] == 2:
+        coords = np.column_stack([coords, np.zeros(coords.shape[0])])
+    cells = np.insert(local.reshape(-1), offsets(counts)[:-1], counts).astype(np.int64)
+    mesh = pv.PolyData(coords, faces=cells)
+    mesh.cell_data[name] = np.asarray(values)[owner]
+    return mesh
+
+
+def _render(path: Path, grid: Grid, values: np.ndarray, faults_vtp: Path, scalar: str, title: str) -> None:
     """An off-screen picture of the grid coloured by ``scalar``, fault faces in red."""
     import pyvista as pv
     from vtkmodules.vtkCommonCore import vtkLogger
 
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)  # no X server here: VTK falls back, noisily
     pv.OFF_SCREEN = True
-    mesh = pv.read(vtu)
+    griddim = grid.griddim
+    mesh = _polydata(grid, values, scalar)
     faults = pv.read(faults_vtp)
     span = np.ptp(mesh.points, axis=0)
     lateral = max(span[0], span[1], 1e-12)
@@ -97,7 +125,7 @@ def _render(path: Path, vtu: Path, faults_vtp: Path, scalar: str, title: str, gr
     plotter.add_mesh(
         mesh.scale(scale, inplace=False),
         scalars=scalar,
-        show_edges=mesh.n_cells < 60_000,
+        show_edges=grid.num_cells < 60_000,
         cmap="viridis",
         scalar_bar_args={"title": scalar},
     )
@@ -195,7 +223,8 @@ def stage_export(
     n_fault_faces = write_fault_faces(Path(outputs["faults"]), grid, fault_names)
     scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
     title = f"{case.name}: {grid.num_cells:,d} cells"
-    _render(Path(outputs["png"]), Path(outputs["vtu"]), Path(outputs["faults"]), scalar, title, grid.griddim)
+    values = rock[scalar] if rock is not None else (depth if depth is not None else geo.cell_volumes)
+    _render(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title)
     _histograms(Path(outputs["histograms"]), geo, None if rock is None else rock["poro"], grid.griddim, title)
 
     summary: dict[str, Any] = {
