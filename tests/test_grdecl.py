@@ -229,6 +229,85 @@ def test_write_then_read_is_bit_identical(tmp_path):
     assert "2*" in text  # runs are compressed
 
 
+def test_write_exact_text_of_a_tiny_deck(tmp_path):
+    """Runs of bit-identical values become n*v (0.0 and -0.0 are not merged), integers are bare."""
+    coord = np.array([[i, j, 0.0, i, j, 1.0] for j in (0, 1) for i in (0.0, 0.5, 1.0)]).ravel()
+    zcorn = np.repeat([1000.0, 1000.0000000000001], 8)
+    deck = Deck(
+        (2, 1, 1),
+        coord,
+        zcorn,
+        np.array([1, 0], np.int32),
+        {"PORO": np.array([0.0, -0.0]), "SATNUM": np.array([3.0, 3.0])},
+        faults=(FaultSegment("F", 0, 0, 0, 0, 0, 0, "X"),),
+        multflt={"F": 0.5},
+        mapaxes=np.array([0.0, 1.0, 0.0, 0.0, 1.0, 0.0]),
+        source="tiny",
+    )
+    path = write_grdecl(tmp_path / "tiny.grdecl", deck)
+    assert path.read_text() == (
+        "-- written by gridlib from tiny\n\n"
+        "SPECGRID\n 2 1 1 1 F /\n\n"
+        "MAPAXES\n 0.0 1.0 0.0 0.0 1.0 0.0 /\n\n"
+        "COORD\n"
+        "5*0.0 1.0 0.5 2*0.0 0.5 0.0\n"
+        "2*1.0 2*0.0 1.0 0.0 1.0 0.0\n"
+        "1.0 2*0.0 2*1.0 0.5 1.0 0.0\n"
+        "0.5 4*1.0 0.0 3*1.0\n"
+        "/\n\n"
+        "ZCORN\n8*1000.0 8*1000.0000000000001\n/\n\n"
+        "ACTNUM\n1 0\n/\n\n"
+        "PORO\n0.0 -0.0\n/\n\n"
+        "SATNUM\n2*3\n/\n\n"
+        "FAULTS\n 'F' 1 1 1 1 1 1 X /\n/\n\n"
+        "MULTFLT\n 'F' 0.5 /\n/\n\n"
+    )
+    back = read_grdecl(path)
+    _assert_same_deck(deck, back)
+    np.testing.assert_array_equal(back.mapaxes, deck.mapaxes)
+
+
+def test_write_round_trips_special_values_and_keeps_lines_short(tmp_path):
+    rng = np.random.default_rng(3)
+    deck = make_model3([6, 5, 4])
+    nc = deck.num_cells
+    special = np.array(
+        [0.0, -0.0, 5e-324, -5e-324, 2.2250738585072014e-308, 2.225073858507201e-308,
+         1.7976931348623157e308, -1.7976931348623157e308, 1e-300, -1.2345678901234567e-100,
+         1e16, 9999999999999998.0, 1e-4, 9.999999999999999e-05, 0.1, 0.30000000000000004, 1 / 3,
+         2.0**53, 2.0**53 + 2, 123456789.00000001, -7.0710678118654755],
+    )  # fmt: skip
+    arrays = {
+        "SPECIAL": np.resize(special, nc),
+        "RUNS": np.repeat(rng.choice(special, nc // 8 + 1), rng.integers(1, 30, nc // 8 + 1))[:nc],
+        "LONGRUNS": np.repeat(special[[9, 8, 9, 6]], [nc - 3, 1, 1, 1]),
+        "ZEROS": np.where(rng.random(nc) < 0.5, 0.0, -0.0),
+        "RANDOM": rng.standard_normal(nc) * 10.0 ** rng.integers(-300, 300, nc),
+        "BITS": rng.integers(0, 2**62, nc, dtype=np.int64).view(np.float64),  # NaN-free bit patterns
+        "FIPNUM": np.repeat([1.0, 2.0, -0.0, 1e15], nc // 4),  # whole numbers: integers
+    }
+    coord = deck.coord.copy()
+    coord[[3, 4, 10]] = np.nan  # NaN is written one by one ("n*nan" is not read)
+    deck = dataclasses.replace(deck, coord=coord, cell_data=arrays)
+    path = write_grdecl(tmp_path / "special.grdecl", deck)
+    back = read_grdecl(path)
+    assert np.isnan(back.coord[[3, 4, 10]]).all()
+    np.testing.assert_array_equal(
+        back.coord.view(np.int64)[~np.isnan(coord)], coord.view(np.int64)[~np.isnan(coord)]
+    )
+    np.testing.assert_array_equal(back.zcorn.view(np.int64), deck.zcorn.view(np.int64))
+    for name, values in arrays.items():
+        expected = values + 0.0 if name == "FIPNUM" else values  # an integer keyword has no -0
+        np.testing.assert_array_equal(
+            back.cell_data[name].view(np.int64), expected.view(np.int64), err_msg=name
+        )
+    text = path.read_text()
+    assert max(len(line) for line in text.splitlines()) <= 131  # ECLIPSE reads 132 characters a line
+    assert "nan" in text and "*nan" not in text
+    assert f"{nc - 3}*-1.2345678901234567e-100" in text
+    assert "FIPNUM\n30*1 30*2 30*0 30*1000000000000000\n/" in text
+
+
 def test_write_refuses_undefined_values_and_leaves_no_file(tmp_path):
     deck = simple_grdecl([2, 2, 1])
     bad = dataclasses.replace(deck, cell_data={"PORO": np.array([0.1, np.nan, 0.2, 0.2])})

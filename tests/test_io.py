@@ -70,6 +70,7 @@ def test_netcdf_round_trip_is_lossless(tmp_path, name):
 
 def test_ugrid_footprint_opens_in_xugrid(tmp_path):
     import xugrid as xu  # a test dependency: a missing install fails here, it never skips
+
     g = gl.remove_cells(_grids()["layered"], [3])
     poro = np.linspace(0.1, 0.3, g.num_cells)
     write_netcdf(tmp_path / "lay.nc", g, cell_data={"poro": poro})

@@ -105,6 +105,7 @@ def test_figures_equal_the_golden_summaries(workflow_run, case):
 
 def test_the_ugrid_footprint_opens_with_xugrid(workflow_run):
     import xugrid  # a test dependency: a missing install fails here, it never skips
+
     folder = workflow_run / "results" / "faulted_pebi"
     ds = xugrid.open_dataset(folder / "faulted_pebi.nc")
     assert ds.ugrid.grid.n_face == read_netcdf(folder / "grid.nc").grid.layering.areal.num_cells

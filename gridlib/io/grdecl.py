@@ -22,8 +22,10 @@ keyword (:class:`DeckError`, an :class:`~gridlib.errors.InputError`).
 
 ``write_grdecl`` writes a deck that ECLIPSE, OPM Flow and ``read_grdecl`` read;
 floats are written with the shortest text that reads back to the same float64
-(Python's ``repr``) and runs of equal values as ``n*v``, so a written and
-re-read deck has bit-identical arrays.
+(Python's ``repr``) and runs of bit-identical values as ``n*v``, so a written
+and re-read deck has bit-identical arrays. Each distinct value is formatted
+once (``repr``, most of the time taken) and the text is assembled in NumPy,
+in lines of at most 131 characters (ECLIPSE reads 132).
 
 Lengths are in the deck's units (metres for METRIC, feet for FIELD); z is
 depth, positive down, as the deck gives it.
@@ -32,10 +34,12 @@ depth, positive down, as the deck gives it.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from ..cornerpoint.deck import FAULT_FACES, Deck, FaultSegment
 from ._atomic import atomic_path
@@ -698,22 +702,85 @@ def _cartesian_geometry(state: _State, arrays: dict, where: str) -> tuple[np.nda
 
 # --- writing --------------------------------------------------------------------------------
 
-_VALUES_PER_LINE = 6  # 6 x (up to 24 characters) stays under ECLIPSE's 132-character lines
+_VALUES_PER_LINE = 6
+_MAX_LINE = 131  # ECLIPSE reads 132 characters a line; stay below
+_CHUNK_RUNS = 1 << 16  # runs formatted per block: a few MiB of scratch, whatever the array size
+_DIRECT_COUNTS = 1 << 16  # runs up to this long index the prefix table by their length
+_SPACE, _NEWLINE = ord(" "), ord("\n")
 
 
-def _format_values(values: np.ndarray, integer: bool = False) -> str:
-    """Run-length encoded, round-trip exact text of an array, a few values per line."""
-    v = np.asarray(values)
+def _text_table(values: list, integer: bool) -> np.ndarray:
+    """Fixed-width ASCII table (one row per value, NUL-padded) of ``repr`` (or ``%d``) of each value.
+
+    ``repr`` of a float is the shortest text that reads back to the same
+    float64. One ``%`` formatting of all values, then a vectorised split,
+    costs less than a Python string per value.
+    """
+    if not values:
+        return np.zeros((0, 1), np.uint8)
+    text = np.frombuffer(
+        (("%d\n" if integer else "%r\n") * len(values) % tuple(values)).encode("ascii"), np.uint8
+    )
+    ends = np.flatnonzero(text == _NEWLINE)
+    lengths = np.diff(ends, prepend=-1) - 1
+    table = np.zeros((len(values), int(lengths.max())), np.uint8)
+    table[np.arange(table.shape[1]) < lengths[:, None]] = text[text != _NEWLINE]
+    return table
+
+
+def _format_values(values: np.ndarray, integer: bool = False) -> Iterator[bytes]:
+    """Round-trip exact ASCII text of an array, in blocks: runs of equal values as ``n*v``.
+
+    Runs are of bit-identical values (so ``-0.0`` next to ``0.0`` stays
+    itself; with ``integer`` they are equal values), and a NaN is never
+    repeated. Each distinct value and each distinct repeat count is formatted
+    once; the tokens are gathered from those tables as fixed-width byte rows,
+    with a space or line break after each, and the NUL padding dropped. At
+    most ``_VALUES_PER_LINE`` tokens go on a line, fewer when the longest
+    token would make a line longer than ``_MAX_LINE``. The text ends with a
+    line break.
+    """
+    v = np.ascontiguousarray(values).ravel()
     if v.size == 0:
-        return ""
-    change = np.flatnonzero(v[1:] != v[:-1]) + 1
-    starts = np.concatenate([[0], change])
-    lengths = np.diff(np.concatenate([starts, [v.size]]))
-    run_values = v[starts]
-    text = [str(int(x)) for x in run_values.tolist()] if integer else [repr(x) for x in run_values.tolist()]
-    tokens = [t if n == 1 else f"{n}*{t}" for n, t in zip(lengths.tolist(), text, strict=True)]
-    lines = [" ".join(tokens[i : i + _VALUES_PER_LINE]) for i in range(0, len(tokens), _VALUES_PER_LINE)]
-    return "\n".join(lines)
+        yield b"\n"
+        return
+    floating = v.dtype.kind == "f"
+    if floating:
+        v = v.astype(np.float64, copy=False)
+        key = (v + 0.0 if integer else v).view(np.uint64)  # integer: -0.0 is 0
+    else:
+        key = v.astype(np.int64, copy=False)
+    same = key[1:] == key[:-1]
+    if floating and not integer:
+        same &= ~np.isnan(v[1:])  # the reader does not take "n*nan"
+    starts = np.flatnonzero(np.concatenate([[True], ~same]))
+    counts = np.diff(starts, append=v.size)
+    codes, distinct = pd.factorize(key[starts], sort=False)
+    distinct = np.asarray(distinct)
+    value_table = _text_table((distinct.view(np.float64) if floating else distinct).tolist(), integer)
+    if counts.max() <= _DIRECT_COUNTS:  # the usual case: a prefix for every count up to the longest run
+        count_codes, distinct_counts = counts, range(int(counts.max()) + 1)
+    else:
+        count_codes, distinct_counts = pd.factorize(counts, sort=False)
+    prefixes = [f"{n}*" if n > 1 else "" for n in list(distinct_counts)]
+    width = max(1, *map(len, prefixes))
+    prefix_table = np.array(prefixes, dtype=f"S{width}").view(np.uint8).reshape(len(prefixes), width)
+    widest = int(((prefix_table != 0).sum(1)[count_codes] + (value_table != 0).sum(1)[codes]).max())
+    per_line = max(1, min(_VALUES_PER_LINE, (_MAX_LINE + 1) // (widest + 1)))
+    wp, wv = prefix_table.shape[1], value_table.shape[1]
+    chunk = _CHUNK_RUNS - _CHUNK_RUNS % per_line  # whole lines per block
+    block = np.empty((chunk, wp + wv + 1), np.uint8)
+    for lo in range(0, starts.size, chunk):
+        hi = min(lo + chunk, starts.size)
+        rows = block[: hi - lo]
+        # The codes are in range; mode="clip" lets take write into the strided columns unbuffered.
+        np.take(prefix_table, count_codes[lo:hi], axis=0, out=rows[:, :wp], mode="clip")
+        np.take(value_table, codes[lo:hi], axis=0, out=rows[:, wp:-1], mode="clip")
+        rows[:, -1] = _SPACE
+        rows[per_line - 1 :: per_line, -1] = _NEWLINE
+        if hi == starts.size:
+            rows[-1, -1] = _NEWLINE
+        yield rows[rows != 0].tobytes()
 
 
 def _finite_zcorn(deck: Deck) -> np.ndarray:
@@ -762,33 +829,44 @@ def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = N
     if deck.mapunits:
         parts += ["MAPUNITS", f" '{deck.mapunits}' /", ""]
     if deck.mapaxes is not None:
-        parts += ["MAPAXES", " " + " ".join(repr(float(v)) for v in deck.mapaxes) + " /", ""]
+        axes = [repr(float(v)) for v in deck.mapaxes]
+        line = " " + " ".join(axes) + " /"
+        if len(line) > _MAX_LINE:  # three points, one a line
+            line = "\n".join(" " + " ".join(axes[i : i + 2]) for i in range(0, len(axes), 2)) + " /"
+        parts += ["MAPAXES", line, ""]
     if deck.gridunit:
         parts += ["GRIDUNIT", f" '{deck.gridunit}' /", ""]
-    parts += ["COORD", _format_values(deck.coord), "/", ""]
-    parts += ["ZCORN", _format_values(_finite_zcorn(deck)), "/", ""]
+    arrays: list[tuple[str, np.ndarray, bool]] = [("COORD", deck.coord, False)]
+    arrays.append(("ZCORN", _finite_zcorn(deck), False))
     if deck.actnum is not None:
-        parts += ["ACTNUM", _format_values(deck.actnum, integer=True), "/", ""]
+        arrays.append(("ACTNUM", deck.actnum, True))
     for name, values in data.items():
         if np.isnan(values).any():
             raise DeckError(f"write_grdecl: {name} has undefined (NaN) values; ECLIPSE cannot read them")
         integer = bool(np.all(values == np.round(values))) and name.endswith("NUM")
-        parts += [name, _format_values(values, integer), "/", ""]
+        arrays.append((name, values, integer))
+    tail: list[str] = []
     if deck.faults:
-        parts.append("FAULTS")
-        for f in deck.faults:
-            box = (f.i1 + 1, f.i2 + 1, f.j1 + 1, f.j2 + 1, f.k1 + 1, f.k2 + 1)
-            parts.append(f" '{f.name}' " + " ".join(map(str, box)) + f" {f.face} /")
-        parts += ["/", ""]
+        tail.append("FAULTS")
+        for seg in deck.faults:
+            box = (seg.i1 + 1, seg.i2 + 1, seg.j1 + 1, seg.j2 + 1, seg.k1 + 1, seg.k2 + 1)
+            tail.append(f" '{seg.name}' " + " ".join(map(str, box)) + f" {seg.face} /")
+        tail += ["/", ""]
     if deck.multflt:
-        parts.append("MULTFLT")
-        parts += [f" '{name}' {value!r} /" for name, value in deck.multflt.items()]
-        parts += ["/", ""]
+        tail.append("MULTFLT")
+        tail += [f" '{name}' {value!r} /" for name, value in deck.multflt.items()]
+        tail += ["/", ""]
     if deck.pinch is not None:
-        parts += ["PINCH", f" {deck.pinch[0]!r} /", ""]
+        tail += ["PINCH", f" {deck.pinch[0]!r} /", ""]
     if deck.minpv is not None:
-        parts += ["MINPV", f" {deck.minpv!r} /", ""]
+        tail += ["MINPV", f" {deck.minpv!r} /", ""]
     target = Path(path)
-    with atomic_path(target) as tmp:
-        tmp.write_text("\n".join(parts) + "\n", encoding="ascii")
+    with atomic_path(target) as tmp, open(tmp, "wb") as f:
+        f.write(("\n".join(parts) + "\n").encode("ascii"))
+        for name, values, integer in arrays:
+            f.write(f"{name}\n".encode("ascii"))
+            for block in _format_values(values, integer):
+                f.write(block)
+            f.write(b"/\n\n")
+        f.write(("\n".join(tail) + "\n").encode("ascii") if tail else b"")
     return target
