@@ -93,6 +93,7 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import InputError
 from .grid import Grid
 from .io._atomic import atomic_path
+from .threads import num_threads
 
 __all__ = [
     "MILLIDARCY",
@@ -532,7 +533,7 @@ def _factorised(srf: Any, model: Any, u: Depositional) -> FloatArray | None:
 def _parallel(fn: Any, starts: range) -> None:
     """fn(s) for every s, on a few threads (numpy releases the GIL in its loops and products);
     every block writes its own rows, so the result does not depend on the number of threads."""
-    workers = min(len(starts), os.cpu_count() or 1, _MAX_THREADS)
+    workers = num_threads(min(len(starts), _MAX_THREADS))
     if workers > 1:
         from concurrent.futures import ThreadPoolExecutor
 

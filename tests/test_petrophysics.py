@@ -265,3 +265,19 @@ def test_cube_sampling_at_centroids_and_depositional_coordinates(tmp_path):
         sample_cube(cube, u, names=["permx"])
     with pytest.raises(InputError, match=r"coordinate x must be increasing and regularly spaced"):
         PropertyCube([0.0, 1.0, 3.0], [0.0], [0.0], {"a": np.zeros((1, 1, 3))})
+
+
+def test_fields_do_not_depend_on_the_number_of_threads(monkeypatch):
+    """The workflow sets GRIDLIB_NUM_THREADS to each rule's threads: 1 or 3 threads, same arrays."""
+    sites = np.random.default_rng(2).uniform(0.0, 1000.0, (5000, 2))  # irregular: blocks of columns
+    g = gl.make_layered_grid(gl.pebi(gl.triangle_grid(sites)), 3)
+    u = depositional_coordinates(g, dz_ref=2.0)
+    v = Variogram("exponential", var=1.0, len_scale=[80.0, 40.0, 3.0])
+    fields = []
+    for n in ("1", "3"):
+        monkeypatch.setenv("GRIDLIB_NUM_THREADS", n)
+        fields.append(gaussian_field(u, v, seed=4))
+    assert np.array_equal(fields[0], fields[1])
+    monkeypatch.setenv("GRIDLIB_NUM_THREADS", "two")
+    with pytest.raises(InputError, match=r"GRIDLIB_NUM_THREADS: expected an integer >= 1, got 'two'"):
+        gaussian_field(u, v, seed=4)

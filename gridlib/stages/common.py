@@ -23,12 +23,18 @@ from ..geometry import Geometry
 from ..grid import Grid
 from ..io._atomic import atomic_path
 from ..io.netcdf import grid_to_dataset, read_netcdf
+from ..threads import ENV
 
 log = logging.getLogger("gridlib.stages")
 
 
-def run_logged(log_file: str | os.PathLike, stage: Callable[..., None], *args: Any) -> None:
-    """Run a stage with gridlib's log (and any traceback) going to ``log_file``."""
+def run_logged(
+    log_file: str | os.PathLike, stage: Callable[..., None], *args: Any, threads: int | None = None
+) -> None:
+    """Run a stage with gridlib's log (and any traceback) going to ``log_file``, on at most
+    ``threads`` threads (a rule's ``threads``; see :mod:`gridlib.threads`)."""
+    if threads is not None:
+        os.environ[ENV] = str(max(1, int(threads)))
     Path(log_file).parent.mkdir(parents=True, exist_ok=True)
     handler = logging.FileHandler(log_file, mode="w")
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))

@@ -10,4 +10,5 @@ run_logged(
     snakemake.input.geometry,
     snakemake.input.get("petrophysics"),
     snakemake.output.coarse,
+    threads=snakemake.threads,
 )

@@ -12,4 +12,5 @@ run_logged(
     outputs,
     snakemake.input.get("petrophysics"),
     snakemake.input.get("coarse"),
+    threads=snakemake.threads,
 )

@@ -3,5 +3,10 @@
 from gridlib.stages import run_logged, stage_geometry
 
 run_logged(
-    snakemake.log[0], stage_geometry, snakemake.input.case, snakemake.input.grid, snakemake.output.geometry
+    snakemake.log[0],
+    stage_geometry,
+    snakemake.input.case,
+    snakemake.input.grid,
+    snakemake.output.geometry,
+    threads=snakemake.threads,
 )

@@ -9,4 +9,5 @@ run_logged(
     snakemake.output.grid,
     snakemake.input.get("horizons"),
     snakemake.output.get("grdecl"),
+    threads=snakemake.threads,
 )

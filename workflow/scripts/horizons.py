@@ -2,4 +2,10 @@
 
 from gridlib.stages import run_logged, stage_horizons
 
-run_logged(snakemake.log[0], stage_horizons, snakemake.input.case, snakemake.output.horizons)
+run_logged(
+    snakemake.log[0],
+    stage_horizons,
+    snakemake.input.case,
+    snakemake.output.horizons,
+    threads=snakemake.threads,
+)

@@ -9,4 +9,5 @@ run_logged(
     snakemake.input.grid,
     snakemake.input.geometry,
     snakemake.output.petrophysics,
+    threads=snakemake.threads,
 )

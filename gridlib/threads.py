@@ -1,0 +1,41 @@
+"""How many threads gridlib's blocked numpy loops may use (geometry, random fields).
+
+numpy releases the GIL inside its loops and products, so gridlib runs independent
+blocks of work on a few threads; every block writes its own rows, so results do
+not depend on the number of threads. By default that number is the count of CPUs
+this process may run on; ``GRIDLIB_NUM_THREADS`` (an integer >= 1) overrides it,
+and the workflow sets it to each rule's ``threads`` so that Snakemake's core
+accounting holds (``snakemake --set-threads geometry=2 petrophysics=2`` gives the
+big stages of a large case two cores each).
+
+>>> import os
+>>> os.environ["GRIDLIB_NUM_THREADS"] = "3"
+>>> num_threads(8), num_threads(2)
+(3, 2)
+>>> del os.environ["GRIDLIB_NUM_THREADS"]
+"""
+
+from __future__ import annotations
+
+import os
+
+from .errors import InputError
+
+ENV = "GRIDLIB_NUM_THREADS"
+
+
+def num_threads(cap: int) -> int:
+    """Threads to use, at most ``cap``: ``GRIDLIB_NUM_THREADS`` if set, else the usable CPUs."""
+    value = os.environ.get(ENV, "").strip()
+    if value:
+        try:
+            n = int(value)
+        except ValueError:
+            n = 0
+        if n < 1:
+            raise InputError(f"environment variable {ENV}: expected an integer >= 1, got {value!r}")
+    elif hasattr(os, "sched_getaffinity"):
+        n = len(os.sched_getaffinity(0))
+    else:  # pragma: no cover - macOS and Windows
+        n = os.cpu_count() or 1
+    return max(1, min(n, cap))
