@@ -31,13 +31,17 @@ Units: metres in, m^3 (3-D) or m^2 (2-D) volumes, m^2 (3-D) or m (2-D) areas.
 
 from __future__ import annotations
 
+import threading
+from collections import deque
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
 from .connectivity import half_face_cells
 from .errors import GridError
 from .grid import FloatArray, Grid
+from .threads import num_threads
 
 _CHUNK = 1 << 14  # faces per vectorised block: temporaries stay in cache and are reused
 
@@ -104,8 +108,9 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _face_blocks(grid: Grid):
-    """Yield (face ids, (m, k) node ids) blocks of k faces with m nodes each: the faces of every
-    size m present, ascending, in increasing order, ``_CHUNK`` at a time."""
+    """Yield (face ids, node ids) blocks of k faces with m nodes each: the faces of every size m
+    present, ascending, in increasing order, ``_CHUNK`` at a time. The node ids come as a function
+    returning them, (m, k), so that they are gathered where the block is worked on."""
     pos = grid.faces.node_pos
     counts = _node_counts(pos)
     nodes = grid.faces.nodes
@@ -114,16 +119,26 @@ def _face_blocks(grid: Grid):
         table = nodes.reshape(-1, m)
         for start in range(0, counts.size, _CHUNK):
             stop = min(start + _CHUNK, counts.size)
-            yield slice(start, stop), np.ascontiguousarray(table[start:stop].T)
+            yield slice(start, stop), partial(_transposed, table[start:stop])
         return
     for m in _sizes_present(counts):
         for f in _faces_of_size(counts, m):
             if f[-1] - f[0] == f.size - 1:  # a run of consecutive faces: slices beat index arrays
                 first = pos[f[0]]
                 block = nodes[first : first + m * f.size].reshape(f.size, m)
-                yield slice(int(f[0]), int(f[-1]) + 1), np.ascontiguousarray(block.T)
+                yield slice(int(f[0]), int(f[-1]) + 1), partial(_transposed, block)
             else:
-                yield f, nodes[pos[f][None, :] + np.arange(m)[:, None]]
+                yield f, partial(_gathered, nodes, pos, f, int(m))
+
+
+def _transposed(block: np.ndarray) -> np.ndarray:
+    """(m, k) node ids of faces given as rows (k, m)."""
+    return np.ascontiguousarray(block.T)
+
+
+def _gathered(nodes: np.ndarray, pos: np.ndarray, f: np.ndarray, m: int) -> np.ndarray:
+    """(m, k) node ids of the faces ``f`` with m nodes each."""
+    return nodes[pos[f][None, :] + np.arange(m)[:, None]]
 
 
 _WINDOW = 1 << 20  # faces scanned at a time for the faces of one size: no array of all faces
@@ -168,17 +183,29 @@ def _faces_of_size(counts: np.ndarray, m: int):
 
 
 def _geometry_3d(grid: Grid) -> Geometry:
-    """Hinge tessellation of 3-D faces; arrays are (3, m, k) blocks: component, node, face."""
+    """Hinge tessellation of 3-D faces; arrays are (3, m, k) blocks: component, node, face.
+
+    The blocks of faces are tessellated on a few threads (numpy releases the GIL in its loops);
+    their contributions are added to the cells' sums in block order, so the result does not depend
+    on the number of threads.
+    """
     nf, nc = grid.num_faces, grid.num_cells
-    ct = np.ascontiguousarray(grid.nodes.coords.T)
-    x0 = _cell_apex(grid, ct)
+    rows = np.zeros((grid.num_nodes, 4))
+    rows[:, :3] = grid.nodes.coords
+    first_face = grid.cells.faces[grid.cells.face_pos[:-1]]  # the apex, as _cell_apex: rows gather faster
+    apex = np.take(rows, grid.faces.nodes[grid.faces.node_pos[first_face]], axis=0)
+    x0 = np.ascontiguousarray(apex[:, :3].T)
+    del first_face, apex
     nb = grid.faces.neighbors
     areas = np.empty(nf)
     normals = np.empty((3, nf))
     centroids = np.empty((3, nf))
     sums = _CellSums(nc)  # volume, and first moment about the apex times 4/3
 
-    for f, ids in _face_blocks(grid):
+    def block(f: slice | np.ndarray, nodes_of) -> list[tuple]:
+        """Write the areas, normals and centroids of a block's faces (node ids ``nodes_of()``);
+        return the partial sums over the cells of each of its sides that has a cell."""
+        ids = nodes_of()
         k = ids.shape[1]
         sides = []
         for side, sign in ((0, 1.0), (1, -1.0)):
@@ -191,23 +218,36 @@ def _geometry_3d(grid: Grid) -> Geometry:
         for start in range(0, k, _SUB):
             sub = slice(start, min(start + _SUB, k))
             faces = slice(f.start + sub.start, f.start + sub.stop) if isinstance(f, slice) else f[sub]
-            h, n, N2, a, v = _hinge_triangles(ct, ids[:, sub])
+            h, n, N2, a, v = _hinge_triangles(rows, ids[:, sub])
             A2 = a.sum(axis=0)
             areas[faces] = 0.5 * A2
             normals[:, faces] = 0.5 * N2
-            with np.errstate(invalid="ignore", divide="ignore"):
-                centroids[:, faces] = h + (a * v).sum(axis=1) / (3.0 * A2)
+            a3 = 3.0 * A2
+            for i in range(3):
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    centroids[i, faces] = h[i] + np.einsum("mk,mk->k", a, v[i]) / a3
             for s, (cell, weight) in enumerate(sides):
                 delta = h - np.take(x0, cell[sub], axis=1)  # (3, k)
-                d = (delta * N2).sum(axis=0)  # 2 (delta . N)
-                w = n[0] * delta[0] + n[1] * delta[1] + n[2] * delta[2]  # 2 (delta . n_k)
-                W = (w * v).sum(axis=1)  # 6 sum_k (delta . n_k) d_k
+                d = delta[0] * N2[0]  # 2 (delta . N) ...
+                d += delta[1] * N2[1]
+                d += delta[2] * N2[2]
+                w = n[0] * delta[0]  # ... and 2 (delta . n_k)
+                w += n[1] * delta[1]
+                w += n[2] * delta[2]
                 d *= weight[sub]
                 dn[s, sub] = d
                 # sum_k V_k (c_k - x0) = s/3 [sum_k (delta . n_k) d_k + (delta . N) delta]
-                mom_w[s, :, sub] = W * (weight[sub] / 3.0) + d * delta
-        for s, (cell, _) in enumerate(sides):
-            sums.add(cell, dn[s], mom_w[s])
+                w3 = weight[sub] / 3.0
+                for i in range(3):
+                    W = np.einsum("mk,mk->k", w, v[i])  # 6 sum_k (delta . n_k) d_k
+                    W *= w3
+                    W += d * delta[i]
+                    mom_w[s, i, sub] = W
+        return [sums.partial(cell, dn[s], mom_w[s]) for s, (cell, _) in enumerate(sides)]
+
+    for parts in _in_order(block, _face_blocks(grid)):
+        for part in parts:
+            sums.add(*part)
 
     zero_area = areas <= 0.0
     if np.any(zero_area):
@@ -225,28 +265,65 @@ def _geometry_3d(grid: Grid) -> Geometry:
 
 
 _SUB = 1 << 13  # faces per sub-block of the per-face arithmetic
+_MAX_THREADS = 2  # blocks of faces tessellated at once (each block alone: the same result)
 
 
-def _hinge_triangles(ct: np.ndarray, ids: np.ndarray):
-    """The hinge tessellation of faces with nodes ``ids`` (m, k): hinges h (3, k), twice the
-    triangle vector areas n (3, m, k) and their sum N2 (3, k), twice the (signed) triangle areas
-    a (m, k), and 3 (triangle centroid - hinge) v (3, m, k)."""
-    m = ids.shape[0]
-    v = np.take(ct, ids, axis=1)  # (3, m, k) node coordinates ...
-    h = v.sum(axis=1)
-    h *= 1.0 / m  # ... hinge (3, k) ...
-    v -= h[:, None, :]  # ... and node offsets from the hinge
-    vn = np.empty_like(v)
-    vn[:, :-1] = v[:, 1:]
-    vn[:, -1] = v[:, 0]
-    n = _cross(v, vn)  # twice the triangle vector areas (3, m, k)
+def _in_order(fn, blocks):
+    """``fn(*b)`` for every ``b`` of ``blocks``, yielded in order; computed on up to
+    ``_MAX_THREADS`` threads, a few blocks ahead of the consumer (bounded memory)."""
+    workers = num_threads(_MAX_THREADS)
+    if workers <= 1:
+        for b in blocks:
+            yield fn(*b)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(workers) as pool:
+        pending: deque = deque()
+        for b in blocks:
+            pending.append(pool.submit(fn, *b))
+            if len(pending) > 2 * workers:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()
+
+
+def _hinge_triangles(rows: np.ndarray, ids: np.ndarray):
+    """The hinge tessellation of faces with nodes ``ids`` (m, k), node coordinates ``rows``
+    (n_nodes, 4) (x, y, z and padding: one 32-byte row per node gathers fastest): hinges h (3, k),
+    twice the triangle vector areas n (3, m, k) and their sum N2 (3, k), twice the (signed) triangle
+    areas a (m, k), and 3 (triangle centroid - hinge) v (3, m, k)."""
+    m, k = ids.shape
+    ring = np.empty((m + 1, k), dtype=ids.dtype)  # the nodes, the first one again at the end
+    ring[:m] = ids
+    ring[m] = ids[0]
+    q = np.take(rows, ring, axis=0)  # (m + 1, k, 4) node coordinates ...
+    hk = q[:m].sum(axis=0)
+    hk *= 1.0 / m  # ... hinge (k, 4) ...
+    p = np.empty((3, m + 1, k))
+    for i in range(3):  # ... and node offsets from the hinge, component-major
+        np.subtract(q[:, :, i], hk[:, i], out=p[i])
+    h = np.ascontiguousarray(hk[:, :3].T)
+    v, vn = p[:, :m], p[:, 1:]  # every node and the next one
+    n = np.empty((3, m, k))  # twice the triangle vector areas v x vn
+    tmp = np.empty((m, k))
+    for i, j, r in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        np.multiply(v[j], vn[r], out=n[i])
+        np.multiply(v[r], vn[j], out=tmp)
+        n[i] -= tmp
     N2 = n.sum(axis=1)
-    a = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])  # twice the areas (m, k)
+    a = n[0] * n[0]  # twice the areas (m, k)
+    a += n[1] * n[1]
+    a += n[2] * n[2]
+    np.sqrt(a, out=a)
     # A triangle facing against the face normal (hinge outside a non-convex face)
     # counts negatively: exact area and centroid for any planar polygon.
-    np.copysign(a, n[0] * N2[0] + n[1] * N2[1] + n[2] * N2[2], out=a)
-    v += vn  # 3 x (triangle centroid - hinge)
-    return h, n, N2, a, v
+    np.multiply(n[0], N2[0], out=tmp)
+    tmp += n[1] * N2[1]
+    tmp += n[2] * N2[2]
+    np.copysign(a, tmp, out=a)
+    c = v + vn  # 3 x (triangle centroid - hinge)
+    return h, n, N2, a, c
 
 
 class _CellSums:
@@ -254,33 +331,44 @@ class _CellSums:
 
     Every block adds its partial sums (its contributions to a cell, in face order) to the cells'
     totals. Over the block's range of cells when that is compact (structured numberings), else
-    over the cells it touches only: the same partial sums either way.
+    over the cells it touches only: the same partial sums either way. The partial sums of a block
+    (:meth:`partial`) can be formed on any thread; :meth:`add` adds them, in block order.
     """
 
     def __init__(self, nc: int) -> None:
         self.vol = np.zeros(nc)
         self.mom = np.zeros((3, nc))
-        self._rep: np.ndarray | None = None  # scratch: a representative entry of every cell (< _CHUNK)
+        self._local = threading.local()  # per thread: a representative entry of every cell (< _CHUNK)
 
-    def add(self, cell: np.ndarray, dn: np.ndarray, mom_w: np.ndarray) -> None:
-        """Add the contributions ``dn`` (k,) and ``mom_w`` (3, k) of a block's faces to ``cell``."""
+    def partial(self, cell: np.ndarray, dn: np.ndarray, mom_w: np.ndarray) -> tuple:
+        """The partial sums of the contributions ``dn`` (k,) and ``mom_w`` (3, k) of a block's
+        faces to ``cell``: (the cells lo:hi as a slice, or the cells touched, in an array; their
+        partial volumes; their partial moments (3, n))."""
         k = cell.size
         lo, hi = int(cell.min()), int(cell.max()) + 1
         if hi - lo <= 2 * k:
             local = cell - lo
-            self.vol[lo:hi] += np.bincount(local, dn, hi - lo)
+            vol = np.bincount(local, dn, hi - lo)
+            mom = np.empty((3, hi - lo))
             for i in range(3):
-                self.mom[i, lo:hi] += np.bincount(local, mom_w[i], hi - lo)
-            return
-        if self._rep is None:
-            self._rep = np.zeros(self.vol.size, dtype=np.int16 if _CHUNK <= 1 << 15 else np.intp)
-        self._rep[cell] = np.arange(k)
-        rep = self._rep[cell]  # the same entry for every entry of a cell
+                mom[i] = np.bincount(local, mom_w[i], hi - lo)
+            return slice(lo, hi), vol, mom
+        rep_of = getattr(self._local, "rep", None)
+        if rep_of is None:
+            rep_of = np.zeros(self.vol.size, dtype=np.int16 if _CHUNK <= 1 << 15 else np.intp)
+            self._local.rep = rep_of
+        rep_of[cell] = np.arange(k)
+        rep = rep_of[cell]  # the same entry for every entry of a cell
         first = np.flatnonzero(rep == np.arange(k))
-        cells = cell[first]
-        self.vol[cells] += np.bincount(rep, dn, k)[first]
+        mom = np.empty((3, first.size))
         for i in range(3):
-            self.mom[i, cells] += np.bincount(rep, mom_w[i], k)[first]
+            mom[i] = np.bincount(rep, mom_w[i], k)[first]
+        return cell[first], np.bincount(rep, dn, k)[first], mom
+
+    def add(self, cells: slice | np.ndarray, vol: np.ndarray, mom: np.ndarray) -> None:
+        """Add a block's partial sums (:meth:`partial`) to the cells' totals."""
+        self.vol[cells] += vol
+        self.mom[:, cells] += mom
 
 
 def _edge_data(grid: Grid, ct: np.ndarray):

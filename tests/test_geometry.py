@@ -148,3 +148,14 @@ def test_non_convex_planar_faces_have_their_true_area():
     np.testing.assert_allclose(geo.face_areas[:2], 7.0, rtol=1e-15)
     np.testing.assert_allclose(np.linalg.norm(geo.face_normals[:2], axis=1), 7.0, rtol=1e-15)
     np.testing.assert_allclose(geo.cell_centroids[0], [1.5, 9.5 / 7.0, 1.0], rtol=1e-14)
+
+
+def test_geometry_does_not_depend_on_the_number_of_threads(monkeypatch):
+    """Face blocks run on threads (GRIDLIB_NUM_THREADS); the sums are added in block order."""
+    g = gl.twister(gl.cart_grid([40, 40, 20], [400.0, 400.0, 40.0]))  # ~1e5 faces: several blocks
+    results = []
+    for n in ("1", "2"):
+        monkeypatch.setenv("GRIDLIB_NUM_THREADS", n)
+        results.append(gl.compute_geometry(g))
+    for name in ("cell_volumes", "cell_centroids", "face_areas", "face_normals", "face_centroids"):
+        assert np.array_equal(getattr(results[0], name), getattr(results[1], name)), name

@@ -49,6 +49,8 @@ Units: metres; z is depth, positive downwards.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import suppress
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -68,6 +70,7 @@ from ..connectivity import (
 )
 from ..errors import GridError, InputError
 from ..grid import B, Cells, Faces, FloatArray, Grid, IntArray, Layering, Nodes, T
+from ..threads import num_threads
 from .conformal import edge_insertions, insert_after
 from .lateral import LateralFaces, SideCells, general_pieces
 from .nnc import FAULT, NNC, PINCH
@@ -150,8 +153,11 @@ def extrude_columns(
     return _extrude_columns(areal, _Corners.of(areal), z, pillars, active, edge_tag, fault_names)
 
 
-def _extrude_columns(areal, corners, z, pillars, active, edge_tag, fault_names) -> ColumnGrid:
-    """:func:`extrude_columns` with the areal corners already known (``_Corners.of(areal)``)."""
+def _extrude_columns(
+    areal, corners, z, pillars, active, edge_tag, fault_names, step: str = "extrude_columns"
+) -> ColumnGrid:
+    """:func:`extrude_columns` with the areal corners already known (``_Corners.of(areal)``);
+    ``step`` is the entry the grid's history gets after the areal grid's."""
     pos2, owner = corners.pos, corners.owner
     nc2, nn2 = areal.num_cells, areal.num_nodes
     z = _depths(z, corners.num)
@@ -212,9 +218,14 @@ def _extrude_columns(areal, corners, z, pillars, active, edge_tag, fault_names) 
         touched = np.flatnonzero(near[ver.upper] | near[ver.lower])
         insert = _crossings_in_faces(ver.pos, h_nodes, touched, lat.general, n_points, coords)
 
-    faces = _FaceList.join(ver, h_nodes, insert, lat, node_of, etag, pairs)
     n_h, n_q = ver.upper.size, lat.num_quads
     top_face, bottom_face = ver.top_face, ver.bottom_face
+    # The cells' half-faces as the construction gives them (used unless faces are removed below),
+    # on a second thread while the faces are assembled: the two only read what they share.
+    structured_cells = _in_background(
+        _cell_half_faces, top_face, bottom_face, lat, corners, pairs, kept, cell_id, n_h, n_q
+    )
+    faces = _FaceList.join(ver, h_nodes, insert, lat, node_of, etag, pairs)
     del node_of, h_nodes, insert, ver  # in the faces now
     structured = True  # the cells' faces follow from the construction (else: transpose neighbors)
     if lines is not None or lat.num_general:
@@ -228,8 +239,10 @@ def _extrude_columns(areal, corners, z, pillars, active, edge_tag, fault_names) 
 
     cell_k, cell_c = np.nonzero(kept)
     if structured:
-        face_pos, half = _cell_half_faces(top_face, bottom_face, lat, corners, pairs, kept, cell_id, n_h, n_q)
+        face_pos, half = structured_cells()
     else:
+        with suppress(Exception):  # not needed: wait for it, whatever it gives
+            structured_cells()
         face_pos, half = cell_half_faces(faces.neighbors, n_cells)
     alive = np.diff(face_pos) >= 4
     if not alive.all():
@@ -262,10 +275,22 @@ def _extrude_columns(areal, corners, z, pillars, active, edge_tag, fault_names) 
         nodes=Nodes(coords),
         griddim=3,
         cart_dims=cart_dims,
-        history=(*areal.history, "extrude_columns"),
+        history=(*areal.history, step),
         layering=Layering(areal, cell_c, cell_k, nl),
     )
     return ColumnGrid(grid, faces.nnc(index_map), names, tuple(notes))
+
+
+def _in_background(fn, *args):
+    """Start ``fn(*args)`` on another thread (numpy releases the GIL in its loops) where there
+    is a second core; return a function that waits for its result (or re-raises its error)."""
+    if num_threads(2) < 2:
+        result = fn(*args)
+        return lambda: result
+    pool = ThreadPoolExecutor(1)
+    future = pool.submit(fn, *args)
+    pool.shutdown(wait=False)
+    return future.result
 
 
 @dataclass(frozen=True, eq=False)
@@ -991,7 +1016,9 @@ def _cell_half_faces(
     nl = kept.shape[0]
     pos2 = corners.pos
     hc = corners.owner[corners.hf_first]
-    order = np.lexsort((pairs.hf_edge, hc))  # areal half-faces by (cell, edge)
+    # The areal half-faces by (cell, edge): np.lexsort((hf_edge, hc)) as one stable sort of a combined
+    # key, quick on the half-faces already grouped by cell.
+    order = np.argsort(hc * max(pairs.num, 1) + pairs.hf_edge, kind="stable")
     edge, side, hc = pairs.hf_edge[order], pairs.hf_side[order], hc[order]
     n_pairs = pairs.num
     local = np.arange(edge.size) - pos2[hc]  # position among its cell's half-faces
@@ -1012,9 +1039,11 @@ def _cell_half_faces(
     quad_has = np.concatenate([lat.quad_has(0), lat.quad_has(1)], axis=1)  # (nl, 2 n_pairs): A, then B
     slot = side * n_pairs + edge
     layer_first = n_h + offsets(np.count_nonzero(lat.sel, axis=1))  # the first quad of every layer
-    nq = np.zeros(kept.shape, dtype=np.int64)
-    for k in range(nl):
-        nq[k] = np.add.reduceat(quad_has[k, slot], pos2[:-1], dtype=np.int64) if edge.size else 0
+    present_all = quad_has[:, slot]  # (nl, n half-faces): a quad on the half-face
+    if edge.size:
+        nq = np.add.reduceat(present_all, pos2[:-1], axis=1, dtype=np.int64)
+    else:
+        nq = np.zeros(kept.shape, dtype=np.int64)
 
     g_face = n_h + n_q + np.arange(lat.general_order.size)
     g_cell = np.concatenate([lat.general.cell_a[lat.general_order], lat.general.cell_b[lat.general_order]])
@@ -1034,7 +1063,7 @@ def _cell_half_faces(
     half[start + 1] = 2 * bottom_face[kept]
     ring_len = np.diff(pos2)
     for k in range(nl):
-        present = quad_has[k, slot]
+        present = present_all[k]
         if not present.any():
             continue
         ids = cell_id[k]
@@ -1045,20 +1074,17 @@ def _cell_half_faces(
             quad_id = np.cumsum(lat.sel[k])
             quad_id += layer_first[k] - 1
             qhalf = 2 * quad_id[edge] + side
-        full = nq[k] == ring_len  # a quad on every edge of the column: its position is its rank
-        if full.all():
+        if (nq[k] == ring_len).all():  # a quad on every edge of every column: its position is its rank
             half[first[hc] + local] = qhalf
             continue
-        on_full = np.flatnonzero(full[hc])
-        half[first[hc[on_full]] + local[on_full]] = qhalf[on_full]
-        part = np.flatnonzero(~full[hc])  # the half-faces of the other columns, grouped by column
-        there = present[part]
-        seen = np.cumsum(there)
-        before = seen - there  # present half-faces before this one, in the columns of ``part``
-        begins = np.ones(part.size, dtype=bool)
-        begins[1:] = hc[part[1:]] != hc[part[:-1]]
-        rank = before - np.maximum.accumulate(np.where(begins, before, 0))
-        half[(first[hc[part]] + rank)[there]] = qhalf[part][there]
+        # The rank of a present half-face among its column's (the half-faces are grouped by column,
+        # column c at pos2[c]:pos2[c + 1]): the present ones before it, less those before its column.
+        before = np.zeros(present.size + 1, dtype=np.int64)
+        np.cumsum(present, out=before[1:])  # before[i]: the present half-faces before half-face i
+        first -= before[pos2[:-1]]
+        dst = first[hc]
+        dst += before[:-1]
+        half[dst[present]] = qhalf[present]
     g_start = offsets(ng)[:-1]
     g_rank = np.arange(g_cell.size) - g_start[g_cell]
     half[start[g_cell] + 2 + nq_kept[g_cell] + g_rank] = g_half

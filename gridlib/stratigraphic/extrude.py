@@ -30,9 +30,9 @@ Units are metres; z is depth, positive downwards.
 
 from __future__ import annotations
 
-import dataclasses
 import numbers
 from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -49,8 +49,9 @@ from ..cornerpoint.horizons import (
 )
 from ..errors import GridError, InputError
 from ..grid import FloatArray, Grid, IntArray
+from ..threads import num_threads
 from .columns import _Corners, _extrude_columns, _Pairs, _pillar_lines
-from .faults import FaultTrace, fault_displacement
+from .faults import FaultTrace, cell_displacement, fault_displacement
 from .nnc import NNC
 
 __all__ = ["ExtrudedGrid", "extrude"]
@@ -173,8 +174,8 @@ def extrude(
 
     # The depths go to the engine as a temporary (nothing here keeps them): it drops them, the size
     # of the grid's nodes several times over, once they are ranks. etag and names are then final.
-    r = _extrude_columns(areal, corners, corner_depths(), lines, act, etag, tuple(names))
-    grid = dataclasses.replace(r.grid, history=(*areal.history, "extrude"))
+    r = _extrude_columns(areal, corners, corner_depths(), lines, act, etag, tuple(names), "extrude")
+    grid = r.grid
     zone = zone_of_layer[grid.layering.layer]
     zone.flags.writeable = False
     return ExtrudedGrid(grid, r.nnc, r.fault_names, (*notes, *r.notes), zone, H)
@@ -345,17 +346,34 @@ def _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes) ->
     qa1, qa2 = pairs.q1[0][inner], pairs.q2[0][inner]
     qb1, qb2 = pairs.q1[1][inner], pairs.q2[1][inner]
     ring, owner = corners.ring, corners.owner
+    ca, cb = owner[qa1], owner[qb1]  # the cells on both sides (those of qa2, qb2 are the same)
     boundary = _Boundary.of(areal)
+    ends = []  # per fault: its first and last points are not tips
     for f, trace in enumerate(faults):
         if not isinstance(trace, FaultTrace):
             raise InputError(f"extrude: faults[{f}]: expected a FaultTrace, got {type(trace).__name__}")
-        name = trace.name if trace.name is not None else f"F{f + 1}"
         open_start, open_end = ~boundary.strictly_inside(trace.points[[0, -1]])
-        disp = fault_displacement(
-            trace, f, name, xy, centre_xy, ring, owner, bool(open_start), bool(open_end)
-        )
+        ends.append((bool(open_start), bool(open_end)))
+
+    def per_cell_of(f: int) -> FloatArray | None:
+        return cell_displacement(faults[f], centre_xy, *ends[f])
+
+    # The faults of constant throw displace whole cells: those found on two threads, in advance.
+    if len(faults) > 1 and num_threads(2) > 1:
+        with ThreadPoolExecutor(2) as pool:
+            per_cells = list(pool.map(per_cell_of, range(len(faults))))
+    else:
+        per_cells = [per_cell_of(f) for f in range(len(faults))]
+    for f, trace in enumerate(faults):
+        name = trace.name if trace.name is not None else f"F{f + 1}"
+        per_cell = per_cells[f]
+        if per_cell is None:  # a throw varying along the trace
+            disp = fault_displacement(trace, f, name, xy, centre_xy, ring, owner, *ends[f])
+            across = (disp[qa1] != disp[qb1]) | (disp[qa2] != disp[qb2])
+        else:  # the same displacement at every corner of a cell
+            disp = per_cell[owner]
+            across = per_cell[ca] != per_cell[cb]
         z += disp[None, :]
-        across = (disp[qa1] != disp[qb1]) | (disp[qa2] != disp[qb2])
         names.append(name)
         if not across.any():
             notes.append(f"fault '{name}' offsets no edge of the areal grid")

@@ -112,7 +112,9 @@ def nearest_on_trace(p: np.ndarray, verts: np.ndarray, open_start: bool, open_en
         dist2 = _squared_offset(px, a[k, 0], t, d[k, 0])  # on x and y apart: contiguous and fast
         dist2 += _squared_offset(py, a[k, 1], t, d[k, 1])
         better = dist2 < best
-        best[better], seg[better], tt[better] = dist2[better], k, t[better]
+        np.copyto(best, dist2, where=better)
+        np.copyto(seg, k, where=better)
+        np.copyto(tt, t, where=better)
     rel_x, rel_y = px - a[seg, 0], py - a[seg, 1]
     side = d[seg, 0] * rel_y - d[seg, 1] * rel_x
     # Nearest point at an interior vertex: the point lies on the outer side of the turn there.
@@ -165,7 +167,6 @@ def fault_displacement(
     cum = np.concatenate([[0.0], np.cumsum(seg_len)])
 
     p_seg, p_t, _ = nearest_on_trace(pillar_xy, verts, open_start, open_end)
-    c_seg, c_t, c_side = nearest_on_trace(centre_xy, verts, open_start, open_end)
     s_pillar = np.clip((cum[p_seg] + p_t * seg_len[p_seg]) / cum[-1], 0.0, 1.0)
 
     s_all = np.concatenate([s_pillar, [0.0, 1.0]])
@@ -185,9 +186,36 @@ def fault_displacement(
     t_pillar = values[:-2]
     t_start, t_end = values[-2], values[-1]
 
-    n_seg = seg_len.size
+    hanging, correction = _hanging(trace, verts, centre_xy, open_start, open_end, t_start, t_end)
+    return np.where(hanging[corner_cell], t_pillar[corner_pillar] - correction[corner_cell], 0.0)
+
+
+def cell_displacement(
+    trace: FaultTrace, centre_xy: FloatArray, open_start: bool, open_end: bool
+) -> FloatArray | None:
+    """The displacement (m) of every cell's corners by a fault of constant throw, one value per
+    cell (n_cells,): what :func:`fault_displacement` gives every corner of the cell, without
+    locating the pillars on the trace (the throw is the same at all of them). None when the
+    throw is a function of the arc length (use :func:`fault_displacement`).
+
+    >>> trace = FaultTrace([(1.0, -1.0), (1.0, 3.0)], throw=2.0)
+    >>> cell_displacement(trace, np.array([[0.5, 0.5], [1.5, 0.5]]), True, True).tolist()
+    [0.0, 2.0]
+    """
+    if callable(trace.throw):
+        return None
+    # fault_displacement's values at every pillar and at both ends, round-off zeros made exact.
+    throw = 0.0 if trace.throw == 0.0 else float(trace.throw)
+    hanging, correction = _hanging(trace, trace.points, centre_xy, open_start, open_end, throw, throw)
+    return np.where(hanging, throw - correction, 0.0)
+
+
+def _hanging(trace: FaultTrace, verts, centre_xy, open_start: bool, open_end: bool, t_start, t_end):
+    """Which cells are on the hanging wall, and the throw their corners lose (that of the tip
+    their centre is beyond, else 0)."""
+    n_seg = verts.shape[0] - 1
+    c_seg, c_t, c_side = nearest_on_trace(centre_xy, verts, open_start, open_end)
     beyond_start = (c_seg == 0) & (c_t <= 0) & (not open_start)
     beyond_end = (c_seg == n_seg - 1) & (c_t >= 1) & (not open_end)
     hanging = (c_side > 0) if trace.side == "left" else (c_side < 0)
-    correction = np.where(beyond_start, t_start, np.where(beyond_end, t_end, 0.0))
-    return np.where(hanging[corner_cell], t_pillar[corner_pillar] - correction[corner_cell], 0.0)
+    return hanging, np.where(beyond_start, t_start, np.where(beyond_end, t_end, 0.0))
