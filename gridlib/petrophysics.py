@@ -93,6 +93,7 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import InputError
 from .grid import Grid
 from .io._atomic import atomic_path
+from .io._dataset import load_dataset
 from .threads import num_threads
 
 __all__ = [
@@ -812,16 +813,9 @@ def read_property_cube(path: str | os.PathLike, variables: Sequence[str] | None 
     """A :class:`PropertyCube` from netCDF: 3-D variables over (z, y, x) (x last) with regular 1-D
     coordinate variables of cell centres (m). A vertical coordinate with ``positive = "up"`` is
     an elevation and is negated to depth. ``variables``: which (default: every 3-D variable)."""
-    import xarray as xr
 
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        with xr.open_dataset(p, engine="netcdf4") as handle:
-            ds = handle.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{p}: cannot read as netCDF ({exc})") from exc
+    ds = load_dataset(p)
     names = [str(k) for k, v in ds.data_vars.items() if v.ndim == 3] if variables is None else list(variables)
     if not names:
         raise InputError(f"{p}: no 3-D variable (z, y, x) in the file")

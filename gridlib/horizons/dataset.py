@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 from ..cornerpoint.horizons import Horizon
 from ..errors import InputError
 from ..io._atomic import atomic_path
+from ..io._dataset import load_dataset
 from .ordering import _names, _stack, order_horizons
 
 
@@ -112,13 +113,7 @@ def write_horizons(path: str | os.PathLike, ds: xr.Dataset) -> Path:
 def read_horizons(path: str | os.PathLike) -> xr.Dataset:
     """Read a ``horizons.nc`` written by :func:`write_horizons` (checked: depth (horizon, y, x))."""
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        with xr.open_dataset(p, engine="netcdf4") as handle:
-            ds = handle.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{p}: cannot read as netCDF ({exc})") from exc
+    ds = load_dataset(p)
     if "depth" not in ds or ds["depth"].dims != ("horizon", "y", "x"):
         raise InputError(f"{p}: not a horizons file (needs a variable depth over (horizon, y, x))")
     for key in ("x", "y", "horizon"):

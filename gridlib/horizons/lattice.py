@@ -8,12 +8,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
 from ..cornerpoint.horizons import Horizon
 from ..errors import InputError
 from ..grid import FloatArray
+from ..io._dataset import load_dataset
 
 
 @dataclass(frozen=True, eq=False)
@@ -198,13 +198,7 @@ def read_surface_netcdf(
     index). ``elevation``: the values are elevations (positive up), negated to depths.
     """
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        with xr.open_dataset(p, engine="netcdf4") as handle:
-            ds = handle.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{p}: cannot read as netCDF ({exc})") from exc
+    ds = load_dataset(p)
     if variable is None:
         for candidate in ("depth", "z"):
             if candidate in ds.data_vars:

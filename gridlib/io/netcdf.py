@@ -38,6 +38,7 @@ from ..errors import GridError, InputError
 from ..geometry import Geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
 from ._atomic import atomic_path
+from ._dataset import load_dataset
 
 _AXES = ("x", "y", "z")
 
@@ -305,13 +306,7 @@ _RESERVED = {
 def read_netcdf(path: str | os.PathLike) -> GridDataset:
     """Read a file written by :func:`write_netcdf` back into grid, geometry and data."""
     p = str(path)
-    if not Path(p).is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        with xr.open_dataset(p, engine="netcdf4") as handle:
-            ds = handle.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{p}: cannot read as netCDF ({exc})") from exc
+    ds = load_dataset(p)
     grid = _read_grid(ds, "", p)
     if "cell_column" in ds and "areal_cell_faces" in ds:
         areal = _read_grid(ds, "areal_", p)
