@@ -129,7 +129,7 @@ def _repeated_and_duplicate_faces(
     repeating, candidates, rows_of = [], [], []
     multipliers = np.random.default_rng(0x5EED).integers(1, 2**62, size=int(counts.max(initial=0)) + 1)
     multipliers |= 1  # odd: multiplication is a bijection modulo 2**64
-    for k in np.unique(counts):
+    for k in np.unique(counts[counts > 0]):  # faces without nodes are reported by their count
         faces = np.flatnonzero(counts == k)
         rows = np.sort(nodes[pos[faces][:, None] + np.arange(k)], axis=1)
         if k > 1:
