@@ -115,7 +115,19 @@ def _horizon_list(case: Case, horizons):
 
 
 def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
-    deck = horizons_to_grdecl(_horizon_list(case, horizons), spec["dims"], spec["layers"], fault_traces(case))
+    from .horizons.by_block import block_horizons, horizons_to_grdecl_by_block
+
+    by_block = block_horizons(horizons) if horizons is not None else None
+    ordering = case.data["horizons"].get("ordering", "error")
+    if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
+        stacks, blocks = by_block
+        deck = horizons_to_grdecl_by_block(
+            stacks, blocks, spec["dims"], spec["layers"], fault_traces(case), ordering=ordering
+        )
+    else:
+        deck = horizons_to_grdecl(
+            _horizon_list(case, horizons), spec["dims"], spec["layers"], fault_traces(case)
+        )
     deck = replace(deck, source=f"{case.path} (horizons_to_grdecl)")
     r = process_grdecl(deck, tolerance=spec.get("tolerance", 0.0))
     layer = r.grid.cells.index_map // (deck.cart_dims[0] * deck.cart_dims[1])

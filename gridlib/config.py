@@ -193,6 +193,17 @@ def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
         layers = grid.get("layers")
         if kind in ("cornerpoint", "pebi") and isinstance(layers, list) and len(layers) != zones:
             return f"grid.layers: {len(layers)} values for {zones} zones (one per pair of horizons)"
+    if horizons is not None and horizons.get("per_fault_block"):
+        if kind != "cornerpoint":
+            return f"horizons.per_fault_block: supported for cornerpoint grids (grid.type is {kind})"
+        if not data.get("faults"):
+            return "horizons.per_fault_block: needs faults (their traces cut the area into blocks)"
+        for k, fault in enumerate(data["faults"]):
+            if fault.get("throw", 0) != 0:
+                return (
+                    f"faults[{k}].throw: with horizons.per_fault_block the offset is in the picks; "
+                    f"fault '{fault['name']}' must not have a throw as well"
+                )
     if kind == "deck" and not (base / grid["file"]).is_file():
         return f"grid.file: '{grid['file']}' not found (looked for {base / grid['file']})"
     problem = _features_outside(data, kind, horizons)

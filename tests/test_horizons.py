@@ -410,3 +410,104 @@ def test_faults_accept_fault_traces():
     a = interpolate_points(pts, X_AXIS, Y_AXIS, faults=[trace])
     b = interpolate_points(pts, X_AXIS, Y_AXIS, faults=[TRACE])
     assert np.array_equal(a, b, equal_nan=True)
+
+
+def test_picks_of_faulted_horizons_per_block_give_the_exact_throw():
+    """Picks of two horizons already offset 30 m by a N-S fault (east side down). Interpolated per
+    fault block and built with horizons_to_grdecl_by_block, the deck equals the one made from the
+    pre-fault planes with a 30 m FaultTrace; interpolated across the trace, the offset is smeared."""
+    from gridlib.horizons.by_block import block_horizons, horizons_to_grdecl_by_block
+
+    rng = np.random.default_rng(3)
+    xy = rng.uniform([0.0, 0.0], [1000.0, 500.0], (400, 2))
+    xy = xy[np.abs(xy[:, 0] - 500.0) > 5.0]  # no pick on the trace itself
+
+    def top(x, y):
+        return 1000.0 + 0.02 * x + 0.01 * y
+
+    east = np.where(xy[:, 0] > 500.0, 30.0, 0.0)
+    specs = [
+        {"name": "top", "points": np.column_stack([xy, top(*xy.T) + east]), "extrapolation": "trend"},
+        {"name": "base", "points": np.column_stack([xy, top(*xy.T) + 40.0 + east]), "extrapolation": "trend"},
+    ]
+    x, y = np.linspace(0.0, 1000.0, 41), np.linspace(0.0, 500.0, 21)
+    trace = [(500.0, -10.0), (500.0, 510.0)]
+    ds = build_horizons(specs, x, y, faults=[trace], per_block=True)
+    assert ds["depth_by_block"].dims == ("fault_block", "horizon", "y", "x") and ds.sizes["fault_block"] == 2
+    stacks, blocks = block_horizons(ds)
+    deck = horizons_to_grdecl_by_block(stacks, blocks, [20, 10], 4, [FaultTrace(trace, throw=0.0, name="F")])
+
+    X, Y = np.meshgrid(x, y)
+    planes = [Horizon(x, y, top(X, Y)), Horizon(x, y, top(X, Y) + 40.0)]
+    want = horizons_to_grdecl(planes, [20, 10], 4, [FaultTrace(trace, throw=30.0, name="F")])
+    np.testing.assert_allclose(deck.zcorn, want.zcorn, rtol=0, atol=1e-9)  # linear: planes are exact
+    assert deck.faults == want.faults
+    # the interpolated depths carry round-off (1e-13 m): merge points within 1e-6 m, or layers that
+    # exactly touch across the fault would meet in slivers of 1e-10 m2
+    got, ref = process_grdecl(deck, tolerance=1e-6), process_grdecl(want)
+    assert got.grid.num_cells == 800 and got.nnc.num == ref.nnc.num > 0
+    np.testing.assert_array_equal(np.sort(got.nnc.cells, axis=1), np.sort(ref.nnc.cells, axis=1))
+    assert int((got.grid.faces.tag > 0).sum()) == int((ref.grid.faces.tag > 0).sum()) > 0
+    volume = compute_geometry(got.grid).cell_volumes.sum()
+    assert volume == pytest.approx(1000.0 * 500.0 * 40.0, rel=1e-12)
+
+    smeared = build_horizons(specs, x, y)  # across the trace: the 30 m step spreads over cells
+    plain = horizons_to_grdecl(to_horizons(smeared), [20, 10], 4)
+    assert np.nanmax(np.abs(plain.zcorn - want.zcorn)) > 5.0
+
+
+def test_per_block_surfaces_need_traces_and_picks_in_every_block():
+    x, y = np.linspace(0.0, 1000.0, 11), np.linspace(0.0, 500.0, 6)
+    pts = np.array(
+        [[100.0, 100.0, 1000.0], [200.0, 400.0, 1001.0], [300.0, 200.0, 1002.0], [900.0, 100.0, 1003.0]]
+    )
+    spec = [
+        {"name": "top", "points": pts, "extrapolation": "trend"},
+        {"name": "base", "plane": {"depth": 1100.0}},
+    ]
+    with pytest.raises(InputError, match=r"per-fault-block surfaces need fault traces"):
+        build_horizons(spec, x, y, per_block=True)
+    with pytest.raises(InputError, match=r"horizons\[0\] \('top'\): fault block 1 has 1 pick\(s\)"):
+        build_horizons(spec, x, y, faults=[[(500.0, -10.0), (500.0, 510.0)]], per_block=True)
+
+
+def test_a_case_with_picks_of_faulted_horizons_keeps_the_throw(tmp_path):
+    """The workflow's stages on a case whose picks hold a 20 m offset (horizons.per_fault_block):
+    the fault faces are tagged F1, cells connect across it, and the volume is area x thickness."""
+    import json
+
+    from gridlib.config import load_case
+    from gridlib.stages import run_case
+
+    rng = np.random.default_rng(5)
+    xy = rng.uniform([0.0, 0.0], [1200.0, 800.0], (500, 2))
+    xy = xy[np.abs(xy[:, 0] - 600.0) > 5.0]
+    z = 1500.0 + 0.03 * xy[:, 0] + np.where(xy[:, 0] > 600.0, 20.0, 0.0)
+    np.savetxt(tmp_path / "top.xyz", np.column_stack([xy, z]))
+    np.savetxt(tmp_path / "base.xyz", np.column_stack([xy, z + 35.0]))
+    (tmp_path / "picks.yaml").write_text(
+        """name: picks
+horizons:
+  per_fault_block: true
+  lattice: {x: {start: 0, stop: 1200, num: 49}, y: {start: 0, stop: 800, num: 33}}
+  surfaces:
+    - {name: top, points: top.xyz, extrapolation: trend}
+    - {name: base, points: base.xyz, extrapolation: trend}
+faults:
+  - {name: F1, trace: [[600, -20], [600, 820]]}
+grid: {type: cornerpoint, dims: [24, 16], layers: 5, tolerance: 1.0e-6}
+"""
+    )
+    run_case(tmp_path / "picks.yaml", tmp_path / "out")
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["cells"] == 24 * 16 * 5 and summary["faults"] == ["F1"]
+    assert summary["fault_faces"] > 0 and summary["nnc"] > 0
+    assert summary["total_volume"] == pytest.approx(1200.0 * 800.0 * 35.0, rel=1e-9)
+    bad = (
+        (tmp_path / "picks.yaml")
+        .read_text()
+        .replace("trace: [[600, -20], [600, 820]]}", "trace: [[600, -20], [600, 820]], throw: 5}")
+    )
+    (tmp_path / "thrown.yaml").write_text(bad.replace("name: picks", "name: thrown"))
+    with pytest.raises(InputError, match=r"thrown.yaml: faults\[0\].throw: with horizons.per_fault_block"):
+        load_case(tmp_path / "thrown.yaml")

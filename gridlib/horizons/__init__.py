@@ -11,6 +11,12 @@ Conventions: x, y and z in metres; **z is depth, positive downwards**; NaN means
 undefined (no data there). A lattice is given by its increasing 1-D axes ``x``
 (nx,) and ``y`` (ny,) and maps are ``z[j, i]`` at ``(x[i], y[j])``.
 
+Picks of already-faulted surfaces (the throw is in them): ``build_horizons(...,
+faults=..., per_block=True)`` interpolates every fault block from its own picks
+over the whole lattice, and :func:`horizons_to_grdecl_by_block` gives each
+corner-point cell the corners of its own block, so the offset is exact at the
+trace (:mod:`.by_block`).
+
 Inputs
 ------
 * scattered picks: :func:`read_points` (CSV or whitespace x y z text), then
@@ -82,6 +88,7 @@ from ._constants import EXTRAPOLATIONS, METHODS, ORDERINGS
 from .analytic import dome, peaks, plane
 from .blocks import FaultBlocks, fault_blocks
 from .build import build_horizons
+from .by_block import block_horizons, horizons_to_grdecl_by_block
 from .dataset import horizon_dataset, read_horizons, to_horizons, write_horizons
 from .interpolate import interpolate_points, interpolate_points_at
 from .lattice import Surface, read_surface_netcdf
@@ -96,11 +103,13 @@ __all__ = [
     "FaultBlocks",
     "HorizonCrossingError",
     "Surface",
+    "block_horizons",
     "build_horizons",
     "dome",
     "fault_blocks",
     "find_crossings",
     "horizon_dataset",
+    "horizons_to_grdecl_by_block",
     "interpolate_points",
     "interpolate_points_at",
     "order_horizons",

@@ -43,6 +43,7 @@ def build_horizons(
     *,
     ordering: str = "error",
     faults: Sequence[Any] = (),
+    per_block: bool = False,
     base_dir: str | os.PathLike = ".",
     attrs: Mapping[str, Any] | None = None,
 ) -> xr.Dataset:
@@ -61,6 +62,13 @@ def build_horizons(
       stays within one of its cells;
     * ``plane``, ``dome`` or ``peaks``: the keyword arguments of :func:`plane`,
       :func:`dome` or :func:`peaks`.
+
+    ``per_block`` (with ``faults``): the picks are of already-faulted surfaces. Each fault
+    block then also gets its own surfaces over the whole lattice, from its own picks only,
+    extended with each horizon's ``extrapolation`` (give ``trend`` or ``nearest``): the
+    variable ``depth_by_block`` (fault_block, horizon, y, x), ordered per block, for
+    :func:`~gridlib.horizons.by_block.horizons_to_grdecl_by_block`; ``depth`` is then each
+    node's own block's value. Formulas and gridded surfaces are the same in every block.
 
     Relative paths are relative to ``base_dir``. Errors name the spec, e.g.
     ``horizons[1] ('base'): method: unknown value 'spline'; expected one of ...``.
@@ -93,13 +101,19 @@ def build_horizons(
         except TypeError as exc:  # bad keyword arguments of a formula
             raise InputError(f"{item.label}: {item.kind}: {exc}") from exc
     block = fault_blocks(faults, extent).classify(X, Y) if faulted else None
+    by_block = None
+    if per_block:
+        if not faulted:
+            raise InputError("horizons: per-fault-block surfaces need fault traces")
+        by_block = _by_block(loaded, depths, fault_blocks(faults, extent), xa, ya, ordering)
+        depths = list(np.take_along_axis(by_block, block[None, None], axis=0)[0])
     methods = [
         str(item.spec.get("method", "linear")) if item.kind == "points"
         else f"resampled ({item.spec.get('method', 'linear')})" if item.kind == "surface"
         else item.kind
         for item in loaded
     ]  # fmt: skip
-    return horizon_dataset(
+    ds = horizon_dataset(
         np.stack(depths),
         xa,
         ya,
@@ -111,6 +125,54 @@ def build_horizons(
         notes=notes,
         attrs=attrs,
     )
+    if by_block is not None:
+        traces = [np.asarray(getattr(f, "points", f), dtype=np.float64).tolist() for f in faults]
+        ds["depth_by_block"] = xr.DataArray(
+            by_block,
+            dims=("fault_block", "horizon", "y", "x"),
+            attrs={
+                "units": "m",
+                "positive": "down",
+                "long_name": "depth of each fault block's surface (from its own picks)",
+                "traces": json.dumps(traces),
+                "extent": list(extent),
+            },
+        )
+    return ds
+
+
+def _by_block(loaded, depths, blocks, xa, ya, ordering: str) -> FloatArray:
+    """(block, horizon, y, x): every horizon of every block over the whole lattice, ordered."""
+    from .ordering import order_horizons
+
+    out = np.empty((blocks.num, len(loaded), ya.size, xa.size))
+    for k, item in enumerate(loaded):
+        if item.kind != "points":
+            out[:, k] = depths[k]
+            continue
+        pts, spec = item.data, item.spec
+        of_point = blocks.classify(pts[:, 0], pts[:, 1])
+        for b in range(blocks.num):
+            mine = pts[of_point == b]
+            if mine.shape[0] < 3:
+                raise InputError(
+                    f"{item.label}: fault block {b} has {mine.shape[0]} pick(s); a per-block surface "
+                    "needs at least 3"
+                )
+            out[b, k] = interpolate_points(
+                mine,
+                xa,
+                ya,
+                method=spec.get("method", "linear"),
+                extrapolation=spec.get("extrapolation", "nan"),
+                smoothing=spec.get("smoothing", 0.0),
+                neighbors=spec.get("neighbors"),
+                name=f"{item.label} (fault block {b})",
+            )
+    names = [item.name for item in loaded]
+    for b in range(blocks.num):
+        out[b], _ = order_horizons(out[b], xa, ya, ordering=ordering, names=names)
+    return out
 
 
 class _Loaded(NamedTuple):

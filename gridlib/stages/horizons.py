@@ -31,6 +31,8 @@ def case_horizons(case):
             x,
             y,
             ordering=spec.get("ordering", "error"),
+            faults=[f["trace"] for f in case.data.get("faults", [])] if spec.get("per_fault_block") else (),
+            per_block=bool(spec.get("per_fault_block", False)),
             base_dir=case.path.parent,
             attrs=case.provenance(),
         )
