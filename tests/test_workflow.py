@@ -132,7 +132,7 @@ def test_grdecl_outputs_are_read_by_opm_flow(workflow_run, tmp_path):
     from test_flow_export import flow_executable, run_flow_on_grdecl
 
     flow = flow_executable()
-    for case in ("peaks", "anticline", "spe9"):
+    for case in ("peaks", "anticline", "faulted_picks", "spe9"):
         folder = workflow_run / "results" / case
         ours = read_netcdf(folder / "grid.nc")
         units = "FIELD" if case == "spe9" else "METRIC"

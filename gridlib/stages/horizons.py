@@ -17,14 +17,7 @@ def case_horizons(case):
     """The horizons Dataset of a case (depth over (horizon, y, x), m, positive down)."""
     spec = case.data["horizons"]
     x, y = _axis(spec["lattice"]["x"]), _axis(spec["lattice"]["y"])
-    specs = []
-    for surface in spec["surfaces"]:
-        item = dict(surface)
-        if "points" in item:  # gridlib.horizons takes the file under `points`
-            item["points"] = str(case.path.parent / item["points"])
-        if "surface" in item:
-            item["surface"] = str(case.path.parent / item["surface"])
-        specs.append(item)
+    specs = [dict(surface) for surface in spec["surfaces"]]  # files relative to the case file (base_dir)
     try:
         return build_horizons(
             specs,
