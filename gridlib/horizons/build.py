@@ -160,14 +160,7 @@ def _by_block(loaded, depths, blocks, xa, ya, ordering: str) -> FloatArray:
                     "needs at least 3"
                 )
             out[b, k] = interpolate_points(
-                mine,
-                xa,
-                ya,
-                method=spec.get("method", "linear"),
-                extrapolation=spec.get("extrapolation", "nan"),
-                smoothing=spec.get("smoothing", 0.0),
-                neighbors=spec.get("neighbors"),
-                name=f"{item.label} (fault block {b})",
+                mine, xa, ya, **_point_options(spec), name=f"{item.label} (fault block {b})"
             )
     names = [item.name for item in loaded]
     for b in range(blocks.num):
@@ -237,6 +230,16 @@ def _load_one(k: int, spec: Any, base: Path) -> _Loaded:
     return _Loaded(name, label, kind, surf, spec, str(path))
 
 
+def _point_options(spec: Mapping[str, Any]) -> dict[str, Any]:
+    """The interpolation options of a points horizon, with their defaults."""
+    return {
+        "method": spec.get("method", "linear"),
+        "extrapolation": spec.get("extrapolation", "nan"),
+        "smoothing": spec.get("smoothing", 0.0),
+        "neighbors": spec.get("neighbors"),
+    }
+
+
 def _make_one(item: _Loaded, X, Y, xa, ya, faults, extent, notes: list[str]) -> FloatArray:
     spec, kind, data, label = item.spec, item.kind, item.data, item.label
     if kind in ("plane", "dome", "peaks"):
@@ -247,10 +250,7 @@ def _make_one(item: _Loaded, X, Y, xa, ya, faults, extent, notes: list[str]) -> 
             data,
             xa,
             ya,
-            method=spec.get("method", "linear"),
-            extrapolation=spec.get("extrapolation", "nan"),
-            smoothing=spec.get("smoothing", 0.0),
-            neighbors=spec.get("neighbors"),
+            **_point_options(spec),
             faults=faults,
             extent=extent,
             name=label,
