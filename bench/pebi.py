@@ -76,8 +76,8 @@ def _status_kib(key: str) -> int | None:
             for line in f:
                 if line.startswith(key + ":"):
                     return int(line.split()[1])
-    except OSError:
-        pass
+    except OSError:  # no /proc (not Linux): no resident-memory figure
+        return None
     return None
 
 

@@ -129,7 +129,12 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
             _horizon_list(case, horizons), spec["dims"], spec["layers"], fault_traces(case)
         )
     deck = replace(deck, source=f"{case.path} (horizons_to_grdecl)")
-    r = process_grdecl(deck, tolerance=spec.get("tolerance", 0.0))
+    return _processed(deck, spec.get("tolerance", 0.0))
+
+
+def _processed(deck: Deck, tolerance: float, pinch: bool = False) -> CaseGrid:
+    """A deck through process_grdecl, with its bulk volumes and layer index as cell data."""
+    r = process_grdecl(deck, tolerance=tolerance, pinch=pinch)
     layer = r.grid.cells.index_map // (deck.cart_dims[0] * deck.cart_dims[1])
     return CaseGrid(
         r.grid,
@@ -202,14 +207,4 @@ def read_case_deck(case: Case) -> Deck:
 
 
 def _deck(case: Case, spec: dict[str, Any]) -> CaseGrid:
-    deck = read_case_deck(case)
-    r = process_grdecl(deck, tolerance=spec.get("tolerance", 0.0), pinch=spec.get("pinch", False))
-    layer = r.grid.cells.index_map // (deck.cart_dims[0] * deck.cart_dims[1])
-    return CaseGrid(
-        r.grid,
-        r.nnc,
-        r.fault_names,
-        cell_data={"bulk_volume": r.bulk_volumes, "layer": layer},
-        deck=deck,
-        notes=deck.notes + r.notes,
-    )
+    return _processed(read_case_deck(case), spec.get("tolerance", 0.0), spec.get("pinch", False))

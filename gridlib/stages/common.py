@@ -114,13 +114,18 @@ def read_attrs(path: str | os.PathLike) -> dict[str, Any]:
     """Global attributes of a netCDF file, JSON lists decoded."""
     with xr.open_dataset(path, engine="netcdf4") as ds:
         attrs = dict(ds.attrs)
-    for key, value in attrs.items():
-        if isinstance(value, str) and value[:1] in "[{":
-            try:
-                attrs[key] = json.loads(value)
-            except json.JSONDecodeError:
-                pass
-    return attrs
+    return {key: _json_or_text(value) for key, value in attrs.items()}
+
+
+def _json_or_text(value: Any) -> Any:
+    """A JSON list or mapping attribute decoded; any other value (text that merely starts with
+    a bracket included) as it is."""
+    if not (isinstance(value, str) and value[:1] in "[{"):
+        return value
+    try:
+        return json.loads(value)
+    except json.JSONDecodeError:
+        return value
 
 
 def read_grid(path: str | os.PathLike):
