@@ -11,6 +11,7 @@ from .errors import GridError, InputError
 from .geometry import compute_geometry
 from .grid import Grid
 from .layered import make_layered_grid
+from .reproducible import exp
 from .structured import cart_grid, tensor_grid, translate_grid, twister
 from .subgrid import remove_cells
 from .unstructured import triangle_grid
@@ -37,7 +38,7 @@ def radial_sites(center: list[float] | None, radii: Any, sectors: int) -> np.nda
     """Rings of ``sectors`` sites at the given radii around ``center``, plus the centre."""
     if isinstance(radii, dict):
         logs = np.arange(radii["log_start"], radii["log_stop"] + 1e-9 * radii["log_step"], radii["log_step"])
-        r = np.exp(logs)
+        r = exp(logs)
     else:
         r = np.asarray(radii, dtype=np.float64)
     theta = np.arange(sectors) / sectors * 2 * np.pi

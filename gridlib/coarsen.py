@@ -36,6 +36,7 @@ from .connectivity import cell_faces_from_neighbors, offsets, repeat_ids
 from .errors import InputError
 from .geometry import Geometry, compute_geometry
 from .grid import Cells, Faces, FloatArray, Grid, IntArray, Nodes
+from .reproducible import exp, log, log10
 
 __all__ = [
     "CoarseFaces",
@@ -179,7 +180,7 @@ def _metis_weights(values: np.ndarray, log: bool, what: str) -> np.ndarray:
     if not np.isfinite(v).all() or np.any(v <= 0):
         raise InputError(f"partition_metis: {what} must be positive and finite")
     if log:
-        v = np.log10(v)
+        v = log10(v)
     lo, hi = float(v.min()), float(v.max())
     if hi == lo:
         return np.ones(v.size, dtype=np.int64)
@@ -495,7 +496,7 @@ def upscale_permeability(
     if method == "harmonic":
         return np.column_stack([1.0 / mean(1.0 / k[:, d]) for d in range(k.shape[1])])
     if method == "geometric":
-        return np.column_stack([np.exp(mean(np.log(k[:, d]))) for d in range(k.shape[1])])
+        return np.column_stack([exp(mean(log(k[:, d]))) for d in range(k.shape[1])])
     return _harmonic_arithmetic(coarse, k, v)
 
 

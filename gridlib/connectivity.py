@@ -153,7 +153,7 @@ def _cycle_rank(succ: IntArray, pos: IntArray, owner: IntArray) -> IntArray:
     nxt = np.where(terminal, idx, succ)
     dist = np.where(terminal, 0, 1).astype(np.int64)
     lengths = np.diff(pos)
-    steps = int(np.ceil(np.log2(max(int(lengths.max(initial=1)), 1)))) + 1
+    steps = (max(int(lengths.max(initial=1)), 1) - 1).bit_length() + 1  # ceil(log2 n) + 1
     for _ in range(steps):
         dist = dist + dist[nxt]
         nxt = nxt[nxt]

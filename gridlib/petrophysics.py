@@ -94,6 +94,7 @@ from .errors import InputError
 from .grid import Grid
 from .io._atomic import atomic_path
 from .io._dataset import load_dataset
+from .reproducible import exp, matmul
 from .threads import num_threads
 
 __all__ = [
@@ -482,7 +483,8 @@ def _factorised(srf: Any, model: Any, u: Depositional) -> FloatArray | None:
     T gstools' (linear) isometrisation. With K = T^t k, phase = K_xy . x_r + K_w w,
     so per column c and layer l: sum_m cos(a_cm) P_ml + sin(a_cm) Q_ml with
     P = z1 cos(b) + z2 sin(b), Q = z2 cos(b) - z1 sin(b), a_cm = K_xy,m . x_c,
-    b_ml = K_w,m w_l: two matrix products.
+    b_ml = K_w,m w_l: matrix products, by :func:`gridlib.reproducible.matmul` so that
+    the field has the same bits for any BLAS, CPU and thread count.
     """
     gen = srf.generator
     try:
@@ -492,8 +494,8 @@ def _factorised(srf: Any, model: Any, u: Depositional) -> FloatArray | None:
         return None
     if getattr(model, "nugget", 0.0) or k is None or np.shape(k) != (3, n_modes):
         return None
-    T = model.isometrize(np.eye(3))  # linear: columns are the images of the unit vectors
-    K = T.T @ np.asarray(k, dtype=np.float64)  # (3, modes): phase = K . u
+    T = _isometrization(model)
+    K = matmul(T.T, np.asarray(k, dtype=np.float64))  # (3, modes): phase = K . u
     used, col_pos = np.unique(u.column, return_inverse=True)
     xy = u.column_xy[used]
     b = np.outer(u.layer_w, K[2])  # (layers, modes)
@@ -513,22 +515,38 @@ def _factorised(srf: Any, model: Any, u: Depositional) -> FloatArray | None:
         G = np.empty((ux.size, uy.size, u.num_layers))
         CS = np.hstack([cy, sy])  # (len(uy), 2 modes)
         rows = max(1, _CHUNK // 32)
-        for s in range(0, ux.size, rows):  # one large product per block (BLAS runs it in parallel)
+        for s in range(0, ux.size, rows):  # one large product per block
             c, sn = cx[s : s + rows, :, None], sx[s : s + rows, :, None]  # (rows, modes, 1)
             R = np.concatenate([c * P + sn * Q, c * Q - sn * P], axis=1)  # (rows, 2 modes, layers)
             n = R.shape[0]
             R = R.transpose(1, 0, 2).reshape(CS.shape[1], n * u.num_layers)
-            G[s : s + n] = (CS @ R).reshape(uy.size, n, u.num_layers).transpose(1, 0, 2)
+            G[s : s + n] = matmul(CS, R).reshape(uy.size, n, u.num_layers).transpose(1, 0, 2)
         F = G[ix.ravel(), iy.ravel()]
     else:
         F = np.empty((used.size, u.num_layers))
+        PQ = np.vstack([P, Q])
 
         def block(s: int) -> None:
-            a = xy[s : s + _CHUNK] @ K[:2]  # (chunk, modes)
-            F[s : s + _CHUNK] = np.cos(a) @ P + np.sin(a) @ Q
+            a = matmul(xy[s : s + _CHUNK], K[:2])  # (chunk, modes)
+            F[s : s + _CHUNK] = matmul(np.hstack([np.cos(a), np.sin(a)]), PQ)
 
         _parallel(block, range(0, used.size, _CHUNK))
     return math.sqrt(model.var / n_modes) * F[col_pos.ravel(), u.layer]
+
+
+def _isometrization(model: Any) -> FloatArray:
+    """gstools' isometrisation matrix of a 3-D model (``model.isometrize(np.eye(3))``), with
+    its 3 x 3 products summed term by term instead of by BLAS (whose kernels round
+    differently on different CPUs): diag(1, 1/anis) times the derotation, gstools'
+    Givens rotations by the negated angles, in gstools' order and signs."""
+    from gstools.tools.geometric import givens_rotation, rotation_planes
+
+    angles = -np.asarray(model.angles, dtype=np.float64)
+    derotate = np.eye(3)
+    for i, (angle, plane) in enumerate(zip(angles, rotation_planes(3), strict=True)):
+        derotate = matmul(derotate, givens_rotation(3, plane, (-1) ** i * angle))
+    stretch = np.concatenate(([1.0], 1.0 / np.asarray(model.anis, dtype=np.float64)))
+    return stretch[:, None] * derotate
 
 
 def _parallel(fn: Any, starts: range) -> None:
@@ -575,7 +593,7 @@ def lognormal_permeability(z: ArrayLike, *, median: float, sigma: float) -> Floa
     """
     median = _number(median, "permeability median (mD)", positive=True)
     sigma = _number(sigma, "permeability sigma (of ln K)", nonnegative=True)
-    return median * np.exp(sigma * np.asarray(z, dtype=np.float64))
+    return median * exp(sigma * np.asarray(z, dtype=np.float64))
 
 
 def carman_kozeny(poro: ArrayLike, *, grain_diameter: float = 10e-6, tortuosity: float = 0.81) -> FloatArray:
@@ -593,7 +611,7 @@ def carman_kozeny(poro: ArrayLike, *, grain_diameter: float = 10e-6, tortuosity:
     phi = np.asarray(poro, dtype=np.float64)
     if np.isnan(phi).any() or (phi < 0).any() or (phi >= 1).any():
         raise InputError("carman_kozeny: porosity must lie in [0, 1)")
-    return phi**3 * d**2 / (72.0 * tau * (1.0 - phi) ** 2) / MILLIDARCY
+    return phi * phi * phi * (d * d) / (72.0 * tau * ((1.0 - phi) * (1.0 - phi))) / MILLIDARCY
 
 
 def per_layer(layer: ArrayLike, values: float | ArrayLike, *, zones: ArrayLike | None = None) -> FloatArray:

@@ -9,6 +9,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..grid import FloatArray
+from ..reproducible import exp
 
 
 def plane(
@@ -32,7 +33,7 @@ def plane(
     if not 0.0 <= dip < 90.0:
         raise InputError(f"plane: dip must be in [0, 90) degrees, got {dip!r}")
     a = math.radians(azimuth)
-    g = math.tan(math.radians(dip))
+    g = math.sin(math.radians(dip)) / math.cos(math.radians(dip))  # tan(dip), from sin and cos
     return depth + g * ((x - x0) * math.sin(a) + (y - y0) * math.cos(a))
 
 
@@ -56,7 +57,7 @@ def dome(
         raise InputError(f"dome: radius must be positive, got {radius!r}")
     x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
     r2 = ((x - x0) ** 2 + (y - y0) ** 2) / radius**2
-    return depth + relief * (1.0 - np.exp(-r2))
+    return depth + relief * (1.0 - exp(-r2))
 
 
 def peaks(
@@ -85,8 +86,8 @@ def peaks(
     u = (np.asarray(x, dtype=np.float64) - x0) / length
     v = (np.asarray(y, dtype=np.float64) - y0) / length
     p = (
-        3.0 * (1.0 - u) ** 2 * np.exp(-(u**2) - (v + 1.0) ** 2)
-        - 10.0 * (u / 5.0 - u**3 - v**5) * np.exp(-(u**2) - v**2)
-        - np.exp(-((u + 1.0) ** 2) - v**2) / 3.0
+        3.0 * (1.0 - u) ** 2 * exp(-(u**2) - (v + 1.0) ** 2)
+        - 10.0 * (u / 5.0 - u * u * u - v * v * v * v * v) * exp(-(u**2) - v**2)
+        - exp(-((u + 1.0) ** 2) - v**2) / 3.0
     )
     return depth + amplitude * p

@@ -242,8 +242,29 @@ def _interpolate_group(
         if miss.any():
             fq[miss] = NearestNDInterpolator(P, z)(q[miss])
     if extrapolation == "trend":
-        A = np.column_stack([np.ones(P.shape[0]), P])
-        coef = np.linalg.lstsq(A, z, rcond=None)[0]
-        fq = fq + (Q[outside] - q) @ coef[1:]
+        gx, gy = _trend_gradient(P, z)
+        d = Q[outside] - q
+        fq = fq + (d[:, 0] * gx + d[:, 1] * gy)
     out[outside] = fq
     return out
+
+
+def _trend_gradient(P: np.ndarray, z: np.ndarray) -> tuple[float, float]:
+    """The slopes (dz/dx, dz/dy) of the least-squares plane through the points (x, y, z).
+
+    Normal equations of the centred points, solved by Cramer's rule: fixed-order sums,
+    no LAPACK, so the trend is the same bits on every machine. A degenerate set (all
+    points on a line) has no plane: slopes 0.
+    """
+    d = P - P.mean(axis=0)
+    dz = z - z.mean()
+    sxx, syy, sxy = (
+        float((d[:, 0] * d[:, 0]).sum()),
+        float((d[:, 1] * d[:, 1]).sum()),
+        float((d[:, 0] * d[:, 1]).sum()),
+    )
+    sxz, syz = float((d[:, 0] * dz).sum()), float((d[:, 1] * dz).sum())
+    det = sxx * syy - sxy * sxy
+    if not det > 1e-12 * max(sxx * syy, np.finfo(float).tiny):
+        return 0.0, 0.0
+    return (sxz * syy - syz * sxy) / det, (syz * sxx - sxz * sxy) / det
