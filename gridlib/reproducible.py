@@ -263,6 +263,7 @@ def power(x: ArrayLike, y: ArrayLike) -> FloatArray:
 
 # -------------------------------------------------------------------------- inverse trigonometry
 
+
 def _decimal_atan(x: decimal.Decimal) -> decimal.Decimal:
     """atan(x) for 0 <= x <= 1/2 by its series, in the context's precision."""
     term, total, k = x, x, 0
