@@ -209,6 +209,9 @@ def assert_same_grid(r, cp):
         (simple_grdecl([4, 2, 3], 0.12, flat=True), (24, 106, 4)),  # the seed's model, inclined pillars
         (simple_grdecl([6, 5, 4], lambda y: 0.05 * (np.sin(2 * np.pi * y) - 0.5)), (120, 469, 21)),
         (make_model3([30, 20, 6]), (2778, 9463, 378)),  # two faults, pinch-outs, inactive cells
+        # Linear throws meeting other layers' depths at pillars (equal only up to rounding there).
+        (simple_grdecl([2, 2, 5], lambda y: 0.6 * y, flat=True), (20, 107, 12)),
+        (simple_grdecl([4, 3, 5], lambda y: 1 / 6 + 0.1 * y, flat=True), (60, 245, 17)),
     ],
 )
 def test_engine_on_a_corner_point_deck_is_process_grdecl(deck, counts):

@@ -147,6 +147,9 @@ MODELS = {
         [12, 8, 4], lambda y: 4.0 * (np.sin(2 * np.pi * y / 800.0) - 0.5), phys_dims=(1000.0, 800.0, 40.0)
     ),
     "horizons_with_faults": _fault_model,
+    # A throw growing along the fault meets other layers' depths at pillars (equal only up to
+    # rounding there): Flow's NNCs are the exact geometry's, no connection where cells only touch.
+    "simple_grdecl_linear": lambda: simple_grdecl([4, 3, 5], lambda y: 1 / 6 + 0.1 * y, flat=True),
 }
 
 

@@ -2,7 +2,8 @@
 
 Inactive cells are masked before anything else (their corners, often junk, are
 never read). Active corners must be finite. z-up decks are negated to depth.
-Every corner gets the id of its distinct depth on its pillar (ids grow with
+Every corner gets the id of its distinct depth (distinct beyond rounding:
+:mod:`~gridlib.stratigraphic.points`) on its pillar (ids grow with
 depth along a pillar), computed a few pillar rows at a time so that the
 temporaries stay small.
 """

@@ -9,14 +9,20 @@ Steps, all vectorised over cells, corners and pillar pairs:
    decks (k x j x i frame mirrored in plan view) get every face reversed at the
    end, so volumes are positive and normals point outwards either way;
 3. the distinct depths on every pillar are numbered (``tolerance`` > 0 rounds
-   them to multiples of it first) and corners become integer ranks;
+   them to multiples of it first) and corners become integer ranks; depths
+   equal up to rounding (within the pillar's depth resolution, 64 units in the
+   last place of its largest depth: :mod:`~gridlib.stratigraphic.points`) are
+   one point, so that the exact rank tests never make a face of zero area
+   (nodes collinear up to rounding) nor a connection between cells that do
+   not touch;
 4. cells collapsed on all four pillars are removed; lateral faces come from the
    pillar-pair engine (fault faces subdivided exactly), top/bottom faces from a
    walk down every column, with the crossing nodes of fault faces inserted into
    their edges so that every cell is watertight (exact closure even between
    skew pillars);
-5. faces with fewer than three distinct nodes or zero area are dropped, then
-   cells left with fewer than four faces.
+5. faces with fewer than three distinct nodes are dropped, and those of zero
+   area that coincident pillars make (a pair of no width); then cells left
+   with fewer than four faces.
 
 Faces are numbered like ``cart_grid``'s: all i-faces, then j-faces, then
 k-faces, each ordered by layer, then j, then i, so an unfaulted deck gives
@@ -68,7 +74,8 @@ def process_grdecl(
     """Process a corner-point deck into a grid, its NNCs and fault names.
 
     ``tolerance`` (deck length unit): depths on a pillar closer than this may be
-    merged (MRST's quantisation); 0, the default, merges only equal depths.
+    merged (MRST's quantisation); 0, the default, merges only depths equal up
+    to rounding (see the module docstring).
     ``pinch``: connect cells across removed layers whose gap is at most
     ``pinch_threshold`` (default: the deck's PINCH threshold, else 0.001) as
     non-neighbour connections.

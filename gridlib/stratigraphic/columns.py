@@ -14,7 +14,10 @@ From there on everything is the corner-point engine (ALGORITHMS.md §1):
    active cell may have its bottom above its top;
 2. the distinct depths on every pillar are numbered (node ids grow with depth
    along a pillar; pillars where every column agrees at every level take a
-   fast path), so that all topology tests compare integer ranks;
+   fast path), so that all topology tests compare integer ranks; depths equal
+   up to rounding (within the pillar's depth resolution,
+   :mod:`~gridlib.stratigraphic.points`) are one point, so that no face of zero
+   area (nodes collinear up to rounding) is ever made;
 3. cells of zero thickness on all their pillars are removed (the cells above
    and below then touch and share a face, as in ``process_grdecl``);
 4. lateral faces: pairs whose two sides hold the same cells with the same
@@ -24,7 +27,8 @@ From there on everything is the corner-point engine (ALGORITHMS.md §1):
    exactly where fault throw makes the corners mismatch, with crossing nodes;
 5. top and bottom faces by walking every column through its kept cells, with
    the crossing nodes inserted into their edges (every cell watertight);
-6. faces of zero area are removed, then cells with fewer than four faces.
+6. with inclined pillars, faces of zero area (on pillars that coincide, a
+   pair of no width) are removed; then cells with fewer than four faces.
 
 Orientation: the column on the left of an areal edge p1 -> p2 (in plan view,
 x right and y up) is side A, as the lower-i column of an i-pair in
@@ -74,7 +78,7 @@ from ..threads import num_threads
 from .conformal import edge_insertions, insert_after
 from .lateral import LateralFaces, SideCells, general_pieces
 from .nnc import FAULT, NNC, PINCH
-from .points import points_on_pillars, unique_points
+from .points import depth_resolution, points_on_pillars, unique_points
 
 __all__ = ["ColumnGrid", "areal_corners", "extrude_columns"]
 
@@ -228,10 +232,8 @@ def _extrude_columns(
     faces = _FaceList.join(ver, h_nodes, insert, lat, node_of, etag, pairs)
     del node_of, h_nodes, insert, ver  # in the faces now
     structured = True  # the cells' faces follow from the construction (else: transpose neighbors)
-    if lines is not None or lat.num_general:
-        check = np.arange(faces.num) if lines is not None else np.arange(n_h + n_q, faces.num)
-        zero = np.zeros(faces.num, dtype=bool)
-        zero[check] = _zero_area(coords, faces.pos, faces.nodes, check)
+    if lines is not None:  # inclined pillars may coincide (a deck's collapsed pillars): pairs of no width
+        zero = _zero_area(coords, faces.pos, faces.nodes, np.arange(faces.num))
         if zero.any():
             notes.append(f"{int(zero.sum())} faces of zero area were removed")
             faces = faces.subset(~zero)
@@ -556,9 +558,11 @@ def _number_points(
     Fast path: on a pillar where every corner has the same depth as one
     reference corner at every level (no fault, no masked junk) and those depths
     do not decrease, the points are the reference's distinct depths in level
-    order. The other pillars number the depths of their used corners with
-    :func:`~gridlib.stratigraphic.points.unique_points`. Unused corners of those
-    get node -1. Node ids grow with depth along every pillar.
+    order (distinct beyond the pillar's depth resolution). The other pillars
+    number the depths of their used corners with
+    :func:`~gridlib.stratigraphic.points.unique_points`, which decides
+    distinctness the same way. Unused corners of those get node -1. Node ids
+    grow with depth along every pillar.
     """
     n_corners = z.shape[1]
     ref = np.full(nn2, -1, dtype=np.int64)
@@ -574,7 +578,9 @@ def _number_points(
     regular[ring[differ]] = False
 
     new = np.ones(zp.shape, dtype=bool)
-    new[1:] = zp[1:] != zp[:-1]
+    with np.errstate(invalid="ignore"):  # junk (NaN, inf) on pillars that are not regular: unused
+        rho = depth_resolution(np.maximum(np.abs(zp[0]), np.abs(zp[-1])))
+        np.greater(zp[1:] - zp[:-1], rho, out=new[1:])  # equal up to rounding: one point
     rank = np.cumsum(new, axis=0)
     rank -= 1
     count = np.where(regular, rank[-1] + 1, 0)

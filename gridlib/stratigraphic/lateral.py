@@ -14,7 +14,14 @@ All tests run on integer ranks (node ids along a pillar grow with depth):
 
 * A_i and B_j share area iff they overlap on p1, or on p2, or their tops cross
   strictly between the pillars, or their bottoms do (exact once intervals of
-  zero thickness on both pillars are dropped);
+  zero thickness on both pillars are dropped). This is also the zero-area
+  criterion: a piece is degenerate (its corners collinear) exactly when the
+  test fails, so none is made. Because depths equal up to rounding are one
+  point (:mod:`~gridlib.stratigraphic.points`), a rounding difference never
+  passes for an overlap or a crossing: a fault whose throw varies along the
+  trace and meets another layer's depth at a pillar touches it there, it does
+  not leave a triangle of ~1e-33 m² and a connection between cells that do
+  not touch;
 * candidates come from one ``searchsorted`` over all pairs at once, on keys
   ``pair * R + rank``, since bottoms (and tops) grow with depth along a side;
 * the piece {max(tops) <= z <= min(bottoms)} is a convex polygon of at most 6
