@@ -146,6 +146,55 @@ EXP_MIN = -745.13321910194110842  # and is 0 below this
 _EXP_TAYLOR = (1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0, 1.0 / 720.0)  # 1/k!, k = 2..6
 
 
+ELEMENT_BLOCK = 1 << 14  # elements per block: the temporaries of a block stay in the CPU cache
+
+
+def _blockwise(kernel, x: np.ndarray) -> FloatArray:
+    """kernel applied to cache-sized blocks of x (any shape), the result shaped like x."""
+    flat = np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
+    out = np.empty_like(flat)
+    for s in range(0, flat.size, ELEMENT_BLOCK):
+        out[s : s + ELEMENT_BLOCK] = kernel(flat[s : s + ELEMENT_BLOCK])
+    out = out.reshape(np.shape(x))
+    return out if out.ndim else out[()]
+
+
+def _pow2(m: np.ndarray) -> np.ndarray:
+    """2.0**m for integers -1022 <= m <= 1023, built from the bits (exact)."""
+    return ((m + 1023) << 52).view(np.float64)
+
+
+def _exp_kernel(x: np.ndarray) -> np.ndarray:
+    finite = np.isfinite(x)
+    all_finite = bool(finite.all())
+    xc = np.clip(x if all_finite else np.where(finite, x, 0.0), EXP_MIN - 1.0, EXP_MAX + 1.0)
+    k = np.rint(xc * _N_OVER_LN2)
+    r = xc - k * _STEP_HI
+    r -= k * _STEP_LO
+    ki = k.astype(np.int64)
+    j = ki & ((1 << EXP_TABLE_BITS) - 1)
+    m = (ki - j) >> EXP_TABLE_BITS
+    em1 = np.full_like(r, _EXP_TAYLOR[-1])
+    for c in _EXP_TAYLOR[-2::-1]:
+        em1 *= r
+        em1 += c
+    em1 *= r * r
+    em1 += r  # e**r - 1 = r + r**2 (1/2 + r/6 + ...)
+    t_hi = _EXP2_HI[j]
+    em1 *= t_hi
+    em1 += _EXP2_LO[j]
+    em1 += t_hi  # 2**(j/64) e**r
+    # times 2**m in two exact-or-once-rounded steps: 2**m1 keeps the product normal
+    m1 = np.clip(m, -1000, 1000)
+    with np.errstate(over="ignore", under="ignore"):
+        em1 *= _pow2(m1)
+        em1 *= _pow2(m - m1)
+    out = np.where(xc > EXP_MAX, np.inf, np.where(xc < EXP_MIN, 0.0, em1))
+    if not all_finite:
+        out = np.where(finite, out, np.where(x == np.inf, np.inf, np.where(x == -np.inf, 0.0, np.nan)))
+    return out
+
+
 def exp(x: ArrayLike) -> FloatArray:
     """e**x, the same bits on every machine (within 0.51 ulp of the true value, so nearly
     always the correctly rounded value).
@@ -157,30 +206,45 @@ def exp(x: ArrayLike) -> FloatArray:
     >>> exp([0.0, -np.inf, np.inf, 710.0]).tolist()
     [1.0, 0.0, inf, inf]
     """
-    x = np.asarray(x, dtype=np.float64)
-    finite = np.isfinite(x)
-    xc = np.where(finite, np.clip(x, EXP_MIN - 1.0, EXP_MAX + 1.0), 0.0)
-    k = np.rint(xc * _N_OVER_LN2)
-    r = (xc - k * _STEP_HI) - k * _STEP_LO
-    ki = k.astype(np.int64)
-    j = ki & ((1 << EXP_TABLE_BITS) - 1)
-    m = (ki - j) >> EXP_TABLE_BITS
-    q = np.full_like(r, _EXP_TAYLOR[-1])
-    for c in _EXP_TAYLOR[-2::-1]:
-        q = q * r + c
-    em1 = r + (r * r) * q  # e**r - 1
-    t_hi = _EXP2_HI[j]
-    y = t_hi + (_EXP2_LO[j] + t_hi * em1)
-    with np.errstate(over="ignore", under="ignore"):
-        out = np.ldexp(y, m)
-    out = np.where(xc > EXP_MAX, np.inf, np.where(xc < EXP_MIN, 0.0, out))
-    out = np.where(finite, out, np.where(x == np.inf, np.inf, np.where(x == -np.inf, 0.0, np.nan)))
-    return out if out.ndim else out[()]
+    return _blockwise(_exp_kernel, np.asarray(x, dtype=np.float64))
 
 
 # 2 / (2k + 1) for k = 1..11: 2 atanh(s) = 2 s + s R(s**2), R(z) = sum 2 z**k / (2k + 1)
 _LOG_SERIES = tuple(2.0 / (2 * k + 1) for k in range(1, 12))
 SQRT_HALF = 0.70710678118654752440
+
+
+def _log_kernel(x: np.ndarray) -> np.ndarray:
+    ok = np.isfinite(x) & (x > 0)
+    all_ok = bool(ok.all())
+    m, e = np.frexp(x if all_ok else np.where(ok, x, 1.0))  # m in [0.5, 1)
+    low = m < SQRT_HALF
+    m += m * low  # doubled where below sqrt(1/2): exact
+    e = e.astype(np.float64)
+    e -= low
+    f = m
+    f -= 1.0  # exact (Sterbenz)
+    s = f / (2.0 + f)
+    z = s * s
+    rz = np.full_like(z, _LOG_SERIES[-1])
+    for c in _LOG_SERIES[-2::-1]:
+        rz *= z
+        rz += c
+    rz *= z
+    hfsq = 0.5 * f
+    hfsq *= f
+    rz += hfsq
+    rz *= s
+    rz += e * LN2_LO
+    np.subtract(hfsq, rz, out=rz)
+    np.subtract(f, rz, out=rz)
+    out = e * LN2_HI
+    out += rz  # e ln2 + (f - (f**2/2 - (s (f**2/2 + R) + e ln2_lo)))
+    if not all_ok:
+        with np.errstate(invalid="ignore"):
+            special = np.where(x == 0.0, -np.inf, np.where(x == np.inf, np.inf, np.nan))
+        out = np.where(ok, out, special)
+    return out
 
 
 def log(x: ArrayLike) -> FloatArray:
@@ -192,26 +256,7 @@ def log(x: ArrayLike) -> FloatArray:
     >>> log([1.0, 0.0, -1.0, np.inf]).tolist()
     [0.0, -inf, nan, inf]
     """
-    x = np.asarray(x, dtype=np.float64)
-    ok = np.isfinite(x) & (x > 0)
-    xs = np.where(ok, x, 1.0)
-    m, e = np.frexp(xs)  # m in [0.5, 1)
-    low = m < SQRT_HALF
-    m = np.where(low, 2.0 * m, m)
-    e = (e - low).astype(np.float64)
-    f = m - 1.0  # exact (Sterbenz)
-    s = f / (2.0 + f)
-    z = s * s
-    rz = np.full_like(z, _LOG_SERIES[-1])
-    for c in _LOG_SERIES[-2::-1]:
-        rz = rz * z + c
-    rz = rz * z
-    hfsq = 0.5 * f * f
-    out = e * LN2_HI + (f - (hfsq - (s * (hfsq + rz) + e * LN2_LO)))
-    with np.errstate(invalid="ignore"):
-        special = np.where(x == 0.0, -np.inf, np.where(x == np.inf, np.inf, np.nan))
-    out = np.where(ok, out, special)
-    return out if out.ndim else out[()]
+    return _blockwise(_log_kernel, np.asarray(x, dtype=np.float64))
 
 
 def log10(x: ArrayLike) -> FloatArray:
@@ -346,3 +391,82 @@ def arccos(x: ArrayLike) -> FloatArray:
     with np.errstate(invalid="ignore"):
         s = np.sqrt((1.0 - x) * (1.0 + x))
     return arctan2(s, x)
+
+
+# -------------------------------------------------------------------------- linear systems
+
+LU_BLOCK = 64  # panel width of the blocked factorisation of large single systems
+
+
+def solve(a: ArrayLike, b: ArrayLike) -> FloatArray:
+    """x with a x = b, for a (..., n, n) and b (..., n): a batch of dense systems, the same
+    bits on every machine and thread count (LAPACK's blocking and kernels differ).
+
+    Gaussian elimination with partial pivoting (the first largest pivot), elementwise
+    updates in a fixed order; a single large system (n > 4 ``LU_BLOCK``) is factorised
+    in panels whose trailing updates go through :func:`matmul`. Raises
+    ``np.linalg.LinAlgError`` on a zero pivot (a singular matrix).
+
+    >>> solve([[2.0, 1.0], [1.0, 3.0]], [3.0, 5.0]).tolist()
+    [0.8, 1.4]
+    """
+    a = np.array(a, dtype=np.float64)  # copies: eliminated in place
+    b = np.asarray(b, dtype=np.float64)
+    n = a.shape[-1]
+    if a.ndim < 2 or a.shape[-2] != n or b.shape != a.shape[:-1]:
+        raise ValueError(f"solve: shapes {a.shape} and {b.shape} are not square systems with one right side")
+    aug = np.concatenate([a, b[..., None]], axis=-1)  # (..., n, n + 1)
+    batch = aug.reshape(-1, n, n + 1)
+    if batch.shape[0] == 1 and n > 4 * LU_BLOCK:
+        _eliminate_blocked(batch[0])
+    else:
+        _eliminate(batch, 0, n, n + 1)
+    return _back_substitute(batch).reshape(b.shape)
+
+
+def _eliminate(aug: np.ndarray, k0: int, k1: int, c1: int) -> None:
+    """Eliminate below the diagonal in columns k0..k1-1 of each (n, c) system of ``aug``,
+    swapping whole rows and updating columns up to c1; the multipliers stay below the
+    diagonal."""
+    n = aug.shape[1]
+    rows = np.arange(aug.shape[0])
+    for k in range(k0, k1):
+        p = k + np.argmax(np.abs(aug[:, k:, k]), axis=1)
+        if np.any(aug[rows, p, k] == 0.0):
+            raise np.linalg.LinAlgError("singular matrix")
+        swap = p != k
+        if swap.any():
+            r = rows[swap]
+            top = aug[r, k].copy()
+            aug[r, k] = aug[r, p[swap]]
+            aug[r, p[swap]] = top
+        if k + 1 == n:
+            break
+        lower = aug[:, k + 1 :, k] / aug[:, k, k][:, None]
+        aug[:, k + 1 :, k] = lower
+        aug[:, k + 1 :, k + 1 : c1] -= lower[:, :, None] * aug[:, k, None, k + 1 : c1]
+
+
+def _eliminate_blocked(aug: np.ndarray) -> None:
+    """Right-looking blocked elimination of one (n, n + 1) system: panel, the panel's rows
+    of U by forward substitution, then one trailing update by :func:`matmul`."""
+    n = aug.shape[0]
+    view = aug[None]
+    for k0 in range(0, n, LU_BLOCK):
+        k1 = min(k0 + LU_BLOCK, n)
+        _eliminate(view, k0, k1, k1)  # the panel: pivots swap whole rows
+        for k in range(k0, k1 - 1):  # U12 = L11^-1 A12 (unit lower L11)
+            aug[k + 1 : k1, k1:] -= aug[k + 1 : k1, k, None] * aug[k, None, k1:]
+        if k1 < n:
+            aug[k1:, k1:] -= matmul(aug[k1:, k0:k1], aug[k0:k1, k1:])
+
+
+def _back_substitute(aug: np.ndarray) -> np.ndarray:
+    """x from the upper triangle and the last column of each eliminated system (column by column)."""
+    n = aug.shape[1]
+    y = aug[:, :, n].copy()
+    x = np.empty_like(y)
+    for k in range(n - 1, -1, -1):
+        x[:, k] = y[:, k] / aug[:, k, k]
+        y[:, :k] -= aug[:, :k, k] * x[:, k, None]
+    return x

@@ -6,67 +6,16 @@ from __future__ import annotations
 
 import ast
 import math
-import os
 import pathlib
-import subprocess
-import sys
-import textwrap
 
 import numpy as np
 import pytest
+from variants import same_output_everywhere
 
 import gridlib
 from gridlib import reproducible as rp
 
 ROOT = pathlib.Path(gridlib.__file__).parent
-
-
-def machine_variants() -> list[dict[str, str]]:
-    """Environments that make BLAS and numpy behave as on other machines: 1 or 2 BLAS/OpenMP/
-    gridlib threads, other OpenBLAS kernels (an older CPU without FMA, a Haswell), and numpy
-    with its SIMD dispatch (AVX2, AVX-512) switched off, as on a CPU without them."""
-    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
-
-    present = " ".join(f for f in __cpu_dispatch__ if __cpu_features__.get(f))
-    one = {
-        "OPENBLAS_NUM_THREADS": "1",
-        "OMP_NUM_THREADS": "1",
-        "MKL_NUM_THREADS": "1",
-        "GRIDLIB_NUM_THREADS": "1",
-    }
-    two = {
-        "OPENBLAS_NUM_THREADS": "2",
-        "OMP_NUM_THREADS": "2",
-        "MKL_NUM_THREADS": "2",
-        "GRIDLIB_NUM_THREADS": "2",
-    }
-    variants = [one, two, {**two, "OPENBLAS_CORETYPE": "Nehalem"}, {**one, "OPENBLAS_CORETYPE": "Haswell"}]
-    if present:
-        variants.append({**two, "NPY_DISABLE_CPU_FEATURES": present, "OPENBLAS_CORETYPE": "Sandybridge"})
-    return variants
-
-
-MACHINE_KEYS = {
-    "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "GRIDLIB_NUM_THREADS",
-    "OPENBLAS_CORETYPE", "NPY_DISABLE_CPU_FEATURES",
-}  # fmt: skip
-
-
-def run_variants(code: str) -> list[str]:
-    """The stdout of ``code`` run in a fresh interpreter under every machine variant."""
-    outs = []
-    for env in machine_variants():
-        full = {k: v for k, v in os.environ.items() if k not in MACHINE_KEYS} | env
-        res = subprocess.run(
-            [sys.executable, "-c", textwrap.dedent(code)],
-            env=full,
-            capture_output=True,
-            text=True,
-            check=False,
-        )
-        assert res.returncode == 0, f"{env}: {res.stderr[-2000:]}"
-        outs.append(res.stdout)
-    return outs
 
 
 def test_matmul_is_exact_split_and_accurate():
@@ -84,6 +33,20 @@ def test_matmul_is_exact_split_and_accurate():
         rp.matmul(np.full((2, 20), np.nan), np.ones((20, 2)))
     with pytest.raises(ValueError, match="shapes"):
         rp.matmul(np.ones((2, 3)), np.ones((2, 3)))
+
+
+def test_solve_small_large_and_batched():
+    rng = np.random.default_rng(5)
+    for shape in [(1, 1), (4, 4), (30, 12, 12), (1, 67, 67), (700, 700)]:
+        a = rng.normal(size=shape) + 3 * np.eye(shape[-1])
+        b = rng.normal(size=shape[:-1])
+        x = rp.solve(a, b)
+        assert x.shape == b.shape
+        np.testing.assert_allclose(np.einsum("...ij,...j->...i", a, x), b, atol=1e-11)
+    with pytest.raises(np.linalg.LinAlgError, match="singular"):
+        rp.solve(np.ones((3, 3)), np.ones(3))
+    with pytest.raises(ValueError, match="square"):
+        rp.solve(np.ones((3, 2)), np.ones(3))
 
 
 def test_elementary_functions_are_accurate():
@@ -133,6 +96,8 @@ out = {
     "matmul": rp.matmul(a, b), "matmul_small": rp.matmul(a[:, :5], b[:5]),
     "exp": rp.exp(x), "log": rp.log(p), "log10": rp.log10(p), "power": rp.power(p % 7, x % 3),
     "arctan2": rp.arctan2(x, p - 300), "arccos": rp.arccos(np.cos(x)),
+    "solve": rp.solve(a[:, :300] + 300 * np.eye(300), a[:, 0]), "solve_batch": rp.solve(
+        a[:200, :60].reshape(20, 10, 60)[:, :, :10] + np.eye(10), a[:20, :10]),
     # numpy's own functions that gridlib uses as they are
     "sin": np.sin(x), "cos": np.cos(x), "sqrt": np.sqrt(p), "hypot": np.hypot(x, p),
     "sum": np.array([x.sum(), np.add.reduce(x.reshape(400, 250), axis=0).sum()]), "cumsum": np.cumsum(x),
@@ -147,11 +112,7 @@ for k, v in out.items():
 
 
 def test_same_bits_for_every_blas_kernel_thread_count_and_simd_level():
-    outs = run_variants(CODE)
-    for env, out in zip(machine_variants(), outs, strict=True):
-        assert out == outs[0], f"differs under {env}:\n" + "\n".join(
-            f"  {a}" for a, b in zip(out.splitlines(), outs[0].splitlines(), strict=True) if a != b
-        )
+    same_output_everywhere(CODE)
 
 
 # Calls whose results depend on the CPU, the BLAS kernel or its thread count; the library

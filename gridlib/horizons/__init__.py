@@ -32,8 +32,9 @@ Interpolation of points (:func:`interpolate_points_at`)
 -------------------------------------------------------
 ``method``: ``"linear"`` (Delaunay, C0; scipy's ``griddata`` linear),
 ``"cubic"`` (Clough-Tocher, C1), ``"rbf"`` (thin-plate spline with a
-linear polynomial, scipy's ``RBFInterpolator``, optional ``smoothing``, local
-``neighbors`` for large point sets) or ``"nearest"``. Planes are reproduced
+linear polynomial: scipy's ``RBFInterpolator`` interpolant, solved by
+:mod:`gridlib.horizons.rbf` so that it has the same bits on every machine;
+optional ``smoothing``, local ``neighbors`` for large point sets) or ``"nearest"``. Planes are reproduced
 exactly by ``linear`` and ``rbf`` (to round-off), data points by every method
 with ``smoothing=0``. Before any of them, x and y are shifted to the points'
 mean and divided by the larger side of their bounding box, so results

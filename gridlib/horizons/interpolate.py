@@ -13,6 +13,7 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ._constants import EXTRAPOLATIONS, METHODS, RBF_GLOBAL_MAX, RBF_NEIGHBORS
 from .blocks import _extent, fault_blocks
+from .rbf import thin_plate_spline
 
 
 def _check_choice(value: Any, choices: Sequence[str], option: str) -> str:
@@ -88,7 +89,7 @@ def interpolate_points_at(
 
     ``method``: ``"linear"``, ``"cubic"``, ``"rbf"`` or ``"nearest"``;
     ``extrapolation``: ``"nan"``, ``"nearest"`` or ``"trend"`` (module docstring).
-    ``smoothing`` (>= 0, ``rbf`` only): scipy's RBF smoothing on the
+    ``smoothing`` (>= 0, ``rbf`` only): the RBF smoothing (as scipy's) on the
     non-dimensionalised coordinates; 0 interpolates. ``neighbors`` (``rbf``
     only): the number of nearest points of each local RBF; default: a global
     RBF up to 2000 points (per block), else 64 neighbours (the global solve is
@@ -187,7 +188,6 @@ def _interpolate_group(
         CloughTocher2DInterpolator,
         LinearNDInterpolator,
         NearestNDInterpolator,
-        RBFInterpolator,
     )
     from scipy.spatial import ConvexHull, Delaunay, QhullError
 
@@ -219,7 +219,7 @@ def _interpolate_group(
                 "locations have several points (use smoothing > 0, or another method)"
             )
         try:
-            f = RBFInterpolator(P, z, neighbors=k, smoothing=smoothing, kernel="thin_plate_spline", degree=1)
+            f = thin_plate_spline(P, z, smoothing=smoothing, neighbors=k)
         except np.linalg.LinAlgError as exc:
             raise InputError(f"{label}: the RBF system is singular ({exc}); use smoothing > 0") from exc
     inside = tri.find_simplex(Q) >= 0

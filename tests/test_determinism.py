@@ -1,0 +1,69 @@
+"""Same inputs and seed, same bits: gridlib's random fields, RBF horizons, METIS partitions,
+PEBI grids and geometry computed in fresh interpreters with 1 or 2 BLAS/OpenMP/gridlib
+threads, other OpenBLAS kernels and numpy's SIMD dispatch switched off (tests/variants.py)
+give identical arrays. The whole workflow is compared the same way in test_workflow.py."""
+
+from __future__ import annotations
+
+from variants import same_output_everywhere
+
+PRELUDE = """
+import hashlib, numpy as np, gridlib as gl
+def show(name, *arrays):
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(np.ascontiguousarray(a).tobytes())
+    print(name, h.hexdigest())
+"""
+
+
+def test_random_fields_on_lattice_and_voronoi_columns():
+    """The factorised sums of both kinds of column layout, all variogram models, rotated."""
+    same_output_everywhere(
+        PRELUDE
+        + """
+from gridlib.petrophysics import Variogram, depositional_coordinates, gaussian_field, lognormal_permeability
+lattice = gl.cart_grid([40, 30, 8], [800.0, 600.0, 16.0])
+areal = gl.pebi(gl.triangle_grid(np.random.default_rng(2).uniform(0.0, 800.0, (3000, 2))))
+voronoi = gl.make_layered_grid(areal, thickness=np.full(6, 2.0))
+for name, g in (("lattice", lattice), ("voronoi", voronoi)):
+    u = depositional_coordinates(g, dz_ref=2.0)
+    for model in ("exponential", "gaussian", "matern"):
+        v = Variogram(model, var=1.5, len_scale=[120.0, 60.0, 4.0], angles=[25.0, 3.0, 0.0], nu=1.5)
+        z = gaussian_field(u, v, seed=7)
+        show(f"{name} {model}", z, lognormal_permeability(z, median=100.0, sigma=1.2))
+"""
+    )
+
+
+def test_rbf_horizons_global_and_local():
+    same_output_everywhere(
+        PRELUDE
+        + """
+from gridlib.horizons import interpolate_points_at
+rng = np.random.default_rng(0)
+p = rng.uniform(0.0, 2000.0, (900, 2))
+z = 1500.0 + 0.05 * p[:, 0] + 8.0 * np.sin(p[:, 1] / 150.0)
+x, y = np.meshgrid(np.linspace(-100.0, 2100.0, 90), np.linspace(-100.0, 2100.0, 80))
+pts = np.column_stack([p, z])
+show("global", interpolate_points_at(pts, x, y, method="rbf", extrapolation="trend"))
+show("local", interpolate_points_at(pts, x, y, method="rbf", neighbors=40, smoothing=1e-4))
+"""
+    )
+
+
+def test_pebi_grid_geometry_and_metis_partition():
+    same_output_everywhere(
+        PRELUDE
+        + """
+from gridlib.voronoi import Fault, Rings, Well, pebi_grid
+pg = pebi_grid(((0.0, 0.0), (1000.0, 700.0)), 40.0,
+               faults=[Fault([(100.0, 80.0), (900.0, 640.0)]), Fault([(80.0, 600.0), (700.0, 60.0)])],
+               wells=[Well((300.0, 420.0), rings=Rings(inner=1.0, outer=50.0))])
+g = gl.make_layered_grid(pg.grid, thickness=[2.0, 3.0, 4.0])
+geo = gl.compute_geometry(g)
+show("grid", pg.grid.nodes.coords, pg.grid.faces.nodes, pg.grid.faces.neighbors, pg.sites)
+show("geometry", geo.cell_volumes, geo.cell_centroids, geo.face_areas, geo.face_normals, geo.face_centroids)
+show("metis", gl.partition_metis(g, 12, face_weights=geo.face_areas, cell_weights=geo.cell_volumes))
+"""
+    )

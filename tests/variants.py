@@ -1,0 +1,77 @@
+"""Environments that make one machine compute as others would, for determinism tests.
+
+BLAS and numpy choose code by the CPU and the thread count: OpenBLAS splits sums by
+thread and picks its kernels by CPU (``OPENBLAS_CORETYPE`` forces another one, e.g. an
+older CPU without fused multiply-add), numpy dispatches its loops to AVX2/AVX-512 code
+when the CPU has it (``NPY_DISABLE_CPU_FEATURES`` switches that off, as on a CPU
+without them). gridlib promises the same bits under all of them.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+
+THREAD_KEYS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "GRIDLIB_NUM_THREADS")
+MACHINE_KEYS = (*THREAD_KEYS, "OPENBLAS_CORETYPE", "NPY_DISABLE_CPU_FEATURES")
+
+
+def threads(n: int) -> dict[str, str]:
+    return dict.fromkeys(THREAD_KEYS, str(n))
+
+
+def simd_features() -> str:
+    """numpy's dispatch targets this CPU has (empty on a baseline-only CPU)."""
+    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+
+    return " ".join(f for f in __cpu_dispatch__ if __cpu_features__.get(f))
+
+
+def other_machine() -> dict[str, str]:
+    """Two threads everywhere, an old CPU's BLAS kernels and numpy without its SIMD code."""
+    env = {**threads(2), "OPENBLAS_CORETYPE": "Nehalem"}
+    if simd_features():
+        env["NPY_DISABLE_CPU_FEATURES"] = simd_features()
+    return env
+
+
+def machine_variants() -> list[dict[str, str]]:
+    """1 or 2 threads, other OpenBLAS kernels, numpy's SIMD switched off."""
+    one, two = threads(1), threads(2)
+    return [
+        one,
+        two,
+        {**one, "OPENBLAS_CORETYPE": "Haswell"},
+        {**two, "OPENBLAS_CORETYPE": "Sandybridge"},
+        other_machine(),
+    ]
+
+
+def environment(variant: dict[str, str]) -> dict[str, str]:
+    """This process's environment with the machine keys replaced by ``variant``'s."""
+    return {k: v for k, v in os.environ.items() if k not in MACHINE_KEYS} | variant
+
+
+def run_python(code: str, variant: dict[str, str], timeout: float = 600) -> str:
+    """The stdout of ``code`` run by a fresh interpreter under ``variant``; fails on an error."""
+    res = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)],
+        env=environment(variant),
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=timeout,
+    )
+    assert res.returncode == 0, f"{variant}: {res.stderr[-3000:]}"
+    return res.stdout
+
+
+def same_output_everywhere(code: str) -> None:
+    """Run ``code`` under every machine variant and assert identical stdout."""
+    variants = machine_variants()
+    outs = [run_python(code, v) for v in variants]
+    for env, out in zip(variants, outs, strict=True):
+        diff = [a for a, b in zip(out.splitlines(), outs[0].splitlines(), strict=True) if a != b]
+        assert out == outs[0], f"differs under {env}:\n  " + "\n  ".join(diff)
