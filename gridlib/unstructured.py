@@ -9,7 +9,11 @@ lexicographic order; the cell that traverses a face from lo to hi is
 
 Tetrahedra are oriented to positive volume; faces are the unique node triples,
 stored sorted, and the cell whose outward orientation is the even permutation
-of the sorted triple is ``neighbors[f, 0]``.
+of the sorted triple is ``neighbors[f, 0]``. Delaunay tetrahedralisations of
+degenerate points (lattices, layers at exact depths: co-spherical sets) have
+no tetrahedron of zero volume: Qhull's flat ones on the hull are dropped, and
+points whose Delaunay cells Qhull glues with flat ones inside are
+tetrahedralised again with the ties broken by a tiny deterministic lift.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import sparse
 from scipy.sparse import csgraph
-from scipy.spatial import Delaunay, QhullError
+from scipy.spatial import ConvexHull, Delaunay, QhullError, cKDTree
 
 from .connectivity import offsets, repeat_ids
 from .errors import GridError
@@ -326,29 +330,93 @@ def _signed_volume6(p: np.ndarray, tet: np.ndarray) -> np.ndarray:
 
 
 def _delaunay_tetrahedra(p: np.ndarray, scale: float) -> np.ndarray:
-    """Delaunay tetrahedra without Qhull's zero-volume slivers on the hull.
+    """Delaunay tetrahedra without zero-volume ones.
 
-    Co-spherical points (lattices) make Qhull triangulate merged cells with
-    flat "glue" tetrahedra. Those lying in a hull plane (reachable from the hull
-    through other flat ones) have no volume and no interior neighbour pair to
-    reconnect, so they are dropped. Flat tetrahedra inside the domain cannot be
-    dropped without breaking connectivity: they raise an error.
+    Co-spherical points (lattices, layers at exact depths) make Qhull
+    triangulate merged Delaunay cells with flat "glue" tetrahedra. Those lying
+    in a hull plane (reachable from the hull through other flat ones) have no
+    volume and no interior neighbour pair to reconnect, so they are dropped.
+    Flat ones inside the domain glue two incompatible triangulations of a
+    planar polygon (a box corner's rectangle, say); then the points are
+    triangulated again with the ties broken (:func:`_lifted_tetrahedra`),
+    which makes none inside the domain.
     """
     local = (p - p.mean(axis=0)) / np.abs(p - p.mean(axis=0)).max()
     try:
         dl = Delaunay(local)
     except QhullError as exc:
         raise GridError("tetrahedral_grid: cannot tetrahedralise the points (all coplanar?)") from exc
-    tet = dl.simplices.astype(np.int64)
+    tet, neighbors = dl.simplices.astype(np.int64), dl.neighbors
     flat = np.abs(_signed_volume6(p, tet)) <= 1e-13 * scale
-    gone = _peel_from_hull(flat, dl.neighbors)
+    gone = _peel_from_hull(flat, neighbors)
+    if np.any(flat & ~gone):
+        tet, neighbors = _lifted_tetrahedra(p, local)
+        flat = np.abs(_signed_volume6(p, tet)) <= 1e-13 * scale
+        gone = _peel_from_hull(flat, neighbors)
     if np.any(flat & ~gone):
         raise GridError(
-            f"tetrahedral_grid: the points are degenerate (co-spherical, e.g. a lattice): Delaunay "
-            f"gives {int((flat & ~gone).sum())} zero-volume tetrahedra inside the domain; "
-            "perturb the points or pass the tetrahedra"
+            f"tetrahedral_grid: the points are degenerate: Delaunay gives {int((flat & ~gone).sum())} "
+            "zero-volume tetrahedra inside the domain; pass the tetrahedra"
         )
     return tet[~gone]
+
+
+def _lifted_tetrahedra(p: np.ndarray, local: np.ndarray) -> tuple[IntArray, IntArray]:
+    """Delaunay tetrahedra of co-spherical points with the ties broken: (tetrahedra, neighbours).
+
+    The Delaunay tetrahedra are the lower facets of the convex hull of the
+    points lifted onto the paraboloid h = |x|^2 (in 4-D). Co-spherical points
+    lift onto one hyperplane, where Qhull's triangulated output glues
+    incompatible triangulations with flat tetrahedra. Here the lift of point i
+    gets a tiny extra height eps_i * w_i: w_i in [0, 1) a hash of the bits of
+    its coordinates (deterministic, machine- and order-independent), eps_i =
+    2^-16 d_i^2 with d_i its distance to the nearest other point (normalised
+    coordinates). That is a regular triangulation with generic weights:
+
+    * no lower facet is flat: four coplanar points lift onto a vertical
+      hyperplane, which is never a lower facet (only the hull's own planes,
+      whose flat tetrahedra are peeled as before);
+    * no point is left out: the lower hull of the other points lies at least
+      d_i^2 above point i's lift (over a simplex of others containing x, the
+      interpolant of |q|^2 exceeds |x|^2 by sum(lambda_k |q_k - x|^2)), more
+      than eps_i;
+    * it is the Delaunay tetrahedralisation wherever that is unique (lift
+      differences of order d^2, against 2^-16 d^2), and cuts every cell of
+      co-spherical points into proper tetrahedra once; eps_i is still some
+      1e6 times the round-off of the lift for points 1e-5 of the extent apart.
+
+    Only the connectivity is taken: the grid keeps the exact coordinates.
+    Neighbours as Qhull's (across from vertex k; -1 on the hull).
+    """
+    nearest = cKDTree(local).query(local, k=2)[0][:, 1]
+    lift = local[:, 0] ** 2 + local[:, 1] ** 2 + local[:, 2] ** 2
+    lifted = np.column_stack([local, lift + 2.0**-16 * nearest**2 * _unit_hash(p)])
+    try:
+        hull = ConvexHull(lifted)
+    except QhullError as exc:
+        raise GridError("tetrahedral_grid: cannot tetrahedralise the points (all coplanar?)") from exc
+    lower = hull.equations[:, 3] < 0
+    index = np.where(lower, np.cumsum(lower) - 1, -1)
+    tet = hull.simplices[lower].astype(np.int64)
+    neighbors = index[hull.neighbors[lower]]
+    missing = np.setdiff1d(np.arange(p.shape[0]), tet)
+    if missing.size:
+        raise GridError(f"tetrahedral_grid: points {missing[:5].tolist()} were left out by Qhull")
+    return tet, neighbors
+
+
+def _unit_hash(p: np.ndarray) -> np.ndarray:
+    """A number in [0, 1) per row of ``p``, mixed from the bits of its coordinates (splitmix64)."""
+    bits = np.ascontiguousarray(p, dtype=np.float64).view(np.uint64)
+    h = np.zeros(p.shape[0], dtype=np.uint64)
+    for d in range(p.shape[1]):  # three columns
+        h ^= bits[:, d] + np.uint64((0x9E3779B97F4A7C15 * (d + 1)) % 2**64)
+        h ^= h >> np.uint64(30)
+        h *= np.uint64(0xBF58476D1CE4E5B9)
+        h ^= h >> np.uint64(27)
+        h *= np.uint64(0x94D049BB133111EB)
+        h ^= h >> np.uint64(31)
+    return (h >> np.uint64(11)).astype(np.float64) * 2.0**-53
 
 
 _TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
@@ -356,6 +424,10 @@ _TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
 
 def tetrahedral_grid(points: ArrayLike, tetrahedra: ArrayLike | None = None) -> Grid:
     """3-D grid of tetrahedra; Delaunay tetrahedralisation of ``points`` if none given.
+
+    Degenerate points are fine (see the module docstring): the seed's Fig. 3.8
+    example, a lattice with exact z-levels, unperturbed box faces and
+    perturbed interior x, y, fills its box exactly.
 
     >>> g = tetrahedral_grid([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     >>> g.num_cells, g.num_faces, g.num_nodes

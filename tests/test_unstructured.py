@@ -123,10 +123,83 @@ def test_tetrahedral_grid_drops_hull_slivers_of_lattice_faces(seed):
     gl.check_grid(g, geo)
 
 
-def test_tetrahedral_grid_reports_interior_degeneracy():
-    x, y, z = np.meshgrid(np.arange(4.0), np.arange(4.0), np.arange(4.0), indexing="ij")
-    with pytest.raises(gl.GridError, match="zero-volume tetrahedra inside the domain"):
-        gl.tetrahedral_grid(np.column_stack([x.ravel(), y.ravel(), z.ravel()]))
+def seed_fig_3_8_points(seed: int) -> np.ndarray:
+    """The seed's Fig. 3.8 points (MRST book §3.2.1): an 8 x 6 x 4 lattice on [0, 7] x [0, 5] x [0, 3]
+    whose interior columns are moved by 0.3 randn in x and y; z-levels exact, box faces unmoved.
+
+        N=7; M=5; K=3;
+        [x,y,z] = ndgrid(0:N,0:M,0:K);
+        x(2:N,2:M,:) = x(2:N,2:M,:) + 0.3*randn(N-1,M-1,K+1);
+        y(2:N,2:M,:) = y(2:N,2:M,:) + 0.3*randn(N-1,M-1,K+1);
+        G = tetrahedralGrid([x(:) y(:) z(:)]);
+    """
+    n, m, k = 7, 5, 3
+    x, y, z = np.meshgrid(np.arange(n + 1.0), np.arange(m + 1.0), np.arange(k + 1.0), indexing="ij")
+    rng = np.random.default_rng(seed)
+    x[1:n, 1:m, :] += 0.3 * rng.standard_normal((n - 1, m - 1, k + 1))
+    y[1:n, 1:m, :] += 0.3 * rng.standard_normal((n - 1, m - 1, k + 1))
+    return np.column_stack([x.ravel(order="F"), y.ravel(order="F"), z.ravel(order="F")])
+
+
+def interior_glue(p: np.ndarray) -> int:
+    """Qhull's flat Delaunay tetrahedra whose four neighbours are proper ones (glue inside the domain)."""
+    from scipy.spatial import Delaunay
+
+    dl = Delaunay(p - p.mean(axis=0))
+    t = dl.simplices
+    d1, d2, d3 = (p[t[:, i]] - p[t[:, 0]] for i in (1, 2, 3))
+    flat = np.abs(np.einsum("ij,ij->i", np.cross(d1, d2), d3)) < 1e-12
+    inside = (dl.neighbors >= 0).all(axis=1)
+    return int((flat & inside & ~flat[np.maximum(dl.neighbors, 0)].any(axis=1)).sum())
+
+
+def test_seed_fig_3_8_tetrahedral_grid_fills_its_box():
+    """Layers at exact z and unmoved box faces make co-spherical sets (a box corner's vertical
+    rectangle with the corner edge, lattice squares on the faces): Qhull glues incompatible
+    triangulations with flat tetrahedra, also inside the box. They are tetrahedralised again with
+    the ties broken: a valid grid of the exact box volume, 7 x 5 x 3 = 105."""
+    glued = 0
+    for seed in range(8):
+        p = seed_fig_3_8_points(seed)
+        glued += interior_glue(p)
+        g = gl.tetrahedral_grid(p)
+        geo = gl.compute_geometry(g)
+        gl.check_grid(g, geo)
+        assert g.num_nodes == 192 and np.all(g.cells.num_faces == 4)
+        assert geo.cell_volumes.sum() == pytest.approx(105.0, rel=1e-14)
+        assert geo.cell_volumes.min() > 1e-6
+        np.testing.assert_array_equal(g.nodes.coords, p)  # the exact coordinates, not the tie-breaking
+        again = gl.tetrahedral_grid(p)  # deterministic
+        np.testing.assert_array_equal(again.faces.nodes, g.faces.nodes)
+    assert glued > 0  # the situation under test really occurs
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 6])
+def test_tetrahedral_grid_of_an_exact_lattice(n):
+    """Every cube of a lattice is co-spherical with its neighbours' corners: the most degenerate
+    input there is; it fills the cube exactly (it was an error before)."""
+    x, y, z = np.meshgrid(*(np.arange(n + 1.0),) * 3, indexing="ij")
+    p = np.column_stack([x.ravel(), y.ravel(), z.ravel()]) * [10.0, 20.0, 1.0] + [4.6e5, 6.7e6, 1500.0]
+    g = gl.tetrahedral_grid(p)
+    geo = gl.compute_geometry(g)
+    gl.check_grid(g, geo)
+    assert geo.cell_volumes.sum() == pytest.approx(200.0 * n**3, rel=1e-12)
+    assert geo.cell_volumes.min() >= 200.0 / 6 * (1 - 1e-9)  # no sliver: a sixth of a cube at least
+
+
+def test_tetrahedral_grid_of_a_large_degenerate_lattice_fills_its_hull():
+    """Fig. 3.8's construction at 31 x 21 x 11 points (7161): vectorised, no loop per cell."""
+    n, m, k = 30, 20, 10
+    x, y, z = np.meshgrid(np.arange(n + 1.0), np.arange(m + 1.0), np.arange(k + 1.0), indexing="ij")
+    rng = np.random.default_rng(3)
+    x[1:n, 1:m, :] += 0.3 * rng.standard_normal((n - 1, m - 1, k + 1))
+    y[1:n, 1:m, :] += 0.3 * rng.standard_normal((n - 1, m - 1, k + 1))
+    p = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    g = gl.tetrahedral_grid(p)
+    geo = gl.compute_geometry(g)
+    gl.check_grid(g, geo)
+    assert geo.cell_volumes.sum() == pytest.approx(ConvexHull(p).volume, rel=1e-12)
+    assert geo.cell_volumes.min() > 0
 
 
 @pytest.mark.parametrize("angle", [0, 10, 30, 45, 60, 77])
