@@ -390,7 +390,7 @@ def _lifted_tetrahedra(p: np.ndarray, local: np.ndarray) -> tuple[IntArray, IntA
     """
     nearest = cKDTree(local).query(local, k=2)[0][:, 1]
     lift = local[:, 0] ** 2 + local[:, 1] ** 2 + local[:, 2] ** 2
-    lifted = np.column_stack([local, lift + 2.0**-16 * nearest**2 * _unit_hash(p)])
+    lifted = np.column_stack([local, lift + np.ldexp(nearest * nearest, -16) * _unit_hash(p)])
     try:
         hull = ConvexHull(lifted)
     except QhullError as exc:
@@ -416,7 +416,7 @@ def _unit_hash(p: np.ndarray) -> np.ndarray:
         h ^= h >> np.uint64(27)
         h *= np.uint64(0x94D049BB133111EB)
         h ^= h >> np.uint64(31)
-    return (h >> np.uint64(11)).astype(np.float64) * 2.0**-53
+    return np.ldexp((h >> np.uint64(11)).astype(np.float64), -53)
 
 
 _TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
@@ -434,7 +434,8 @@ def tetrahedral_grid(points: ArrayLike, tetrahedra: ArrayLike | None = None) -> 
     (1, 4, 4)
     """
     p = _points(points, (3,), "tetrahedral_grid", 4)
-    scale = np.ptp(p, axis=0).max() ** 3
+    extent = np.ptp(p, axis=0).max()
+    scale = extent * extent * extent
     if tetrahedra is None:
         _reject_duplicates(p, "tetrahedral_grid")
         tet = _delaunay_tetrahedra(p, scale)
@@ -467,7 +468,7 @@ def tetrahedral_grid(points: ArrayLike, tetrahedra: ArrayLike | None = None) -> 
     second = tri[np.arange(tri.shape[0]), (rot + 1) % 3]
     even = second == srt[:, 1]
     n = p.shape[0]
-    if n**3 < 2**62:
+    if n**3 < 2**62:  # machine-independent: Python integers
         key = (srt[:, 0] * n + srt[:, 1]) * n + srt[:, 2]
         uniq, face_of = np.unique(key, return_inverse=True)
         face_nodes = np.column_stack([uniq // (n * n), (uniq // n) % n, uniq % n])

@@ -105,7 +105,7 @@ def nearest_on_trace(p: np.ndarray, verts: np.ndarray, open_start: bool, open_en
     tt = np.zeros(p.shape[0])
     px, py = np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1])
     for k in range(n_seg):  # one pass per polyline segment, vectorised over the points
-        t = ((p - a[k]) @ d[k]) / (d[k] @ d[k])
+        t = ((px - a[k, 0]) * d[k, 0] + (py - a[k, 1]) * d[k, 1]) / (d[k, 0] * d[k, 0] + d[k, 1] * d[k, 1])
         lo = -np.inf if (k == 0 and open_start) else 0.0
         hi = np.inf if (k == n_seg - 1 and open_end) else 1.0
         t = np.clip(t, lo, hi)
