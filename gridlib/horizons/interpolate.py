@@ -189,14 +189,14 @@ def _interpolate_group(
         LinearNDInterpolator,
         NearestNDInterpolator,
     )
-    from scipy.spatial import ConvexHull, Delaunay, QhullError
+    from scipy.spatial import ConvexHull, QhullError
 
     out = np.full(Q.shape[0], np.nan)
     if P.shape[0] < 3:
         notes.append(f"{label}: {P.shape[0]} points (needs 3 non-collinear); its targets are undefined")
         return out
     try:
-        tri = Delaunay(P)
+        tri = _delaunay(P)
         hull = ConvexHull(P)
     except QhullError:
         notes.append(f"{label}: its {P.shape[0]} points are collinear; its targets are undefined")
@@ -268,3 +268,34 @@ def _trend_gradient(P: np.ndarray, z: np.ndarray) -> tuple[float, float]:
     if not det > 1e-12 * max(sxx * syy, np.finfo(float).tiny):
         return 0.0, 0.0
     return (sxz * syy - syz * sxy) / det, (syz * sxx - sxz * sxy) / det
+
+
+def _delaunay(P: np.ndarray) -> Any:
+    """scipy's Delaunay triangulation of P (m, 2) with its barycentric transforms computed here.
+
+    scipy computes them lazily with LAPACK, whose kernels round differently on different
+    CPUs; its linear and Clough-Tocher interpolators and ``find_simplex`` use them. Here
+    each triangle's 2 x 2 inverse is the explicit adjugate over the determinant, and a
+    triangle whose 1-norm condition number exceeds 1 / (1000 eps) gets NaN, as in scipy.
+    """
+    from scipy.spatial import Delaunay
+
+    tri = Delaunay(P)
+    v = P[tri.simplices]  # (t, 3, 2)
+    r = v[:, 2]
+    a, b = v[:, 0, 0] - r[:, 0], v[:, 1, 0] - r[:, 0]  # T = [[a, b], [c, d]]: columns v_k - r
+    c, d = v[:, 0, 1] - r[:, 1], v[:, 1, 1] - r[:, 1]
+    det = a * d - b * c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.stack([np.stack([d, -b], axis=-1), np.stack([-c, a], axis=-1)], axis=1) / det[:, None, None]
+        norm = np.maximum(np.abs(a) + np.abs(c), np.abs(b) + np.abs(d))
+        norm_inv = np.abs(inv).sum(axis=1).max(axis=1)
+        singular = ~(norm * norm_inv <= 1.0 / (1000.0 * np.finfo(np.float64).eps))
+    transform = np.empty((tri.nsimplex, 3, 2))
+    transform[:, :2] = inv
+    transform[:, 2] = r
+    transform[singular] = np.nan
+    tri._transform = transform  # scipy's cache of Delaunay.transform
+    if tri.transform is not transform:  # pragma: no cover - scipy changed its internals
+        raise RuntimeError("scipy.spatial.Delaunay no longer caches its transform in _transform")
+    return tri
