@@ -36,7 +36,8 @@ for name, g in (("lattice", lattice), ("voronoi", voronoi)):
     )
 
 
-def test_rbf_horizons_global_and_local():
+def test_horizon_interpolation_by_every_method():
+    """Delaunay-based methods use barycentric transforms, RBF a dense solve: neither by LAPACK."""
     same_output_everywhere(
         PRELUDE
         + """
@@ -46,8 +47,11 @@ p = rng.uniform(0.0, 2000.0, (900, 2))
 z = 1500.0 + 0.05 * p[:, 0] + 8.0 * np.sin(p[:, 1] / 150.0)
 x, y = np.meshgrid(np.linspace(-100.0, 2100.0, 90), np.linspace(-100.0, 2100.0, 80))
 pts = np.column_stack([p, z])
-show("global", interpolate_points_at(pts, x, y, method="rbf", extrapolation="trend"))
-show("local", interpolate_points_at(pts, x, y, method="rbf", neighbors=40, smoothing=1e-4))
+show("rbf global", interpolate_points_at(pts, x, y, method="rbf", extrapolation="trend"))
+show("rbf local", interpolate_points_at(pts, x, y, method="rbf", neighbors=40, smoothing=1e-4))
+trace = [np.array([[300.0, -50.0], [1700.0, 2050.0]])]
+for method in ("linear", "cubic", "nearest"):
+    show(method, interpolate_points_at(pts, x, y, method=method, extrapolation="trend", faults=trace))
 """
     )
 
