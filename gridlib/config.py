@@ -12,6 +12,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -148,6 +149,36 @@ def load_case(path: str | os.PathLike) -> Case:
     if problem is not None:
         raise InputError(f"{p}: {problem}")
     return Case(name=data["name"], path=p, sha256=hashlib.sha256(raw).hexdigest(), data=data)
+
+
+def load_cases(paths: Sequence[str | os.PathLike]) -> dict[str, Case]:
+    """Every case file read and validated, keyed by case name.
+
+    All problems are collected before raising: one :class:`InputError` whose message has
+    one line per broken file (each naming the file and the key, as :func:`load_case`)
+    and per name used twice, so a run with several broken case files names all of them.
+
+    >>> load_cases(["no/such/a.yaml", "no/such/b.yaml"])
+    Traceback (most recent call last):
+    ...
+    gridlib.errors.InputError: no/such/a.yaml: case file not found
+    no/such/b.yaml: case file not found
+    """
+    cases: dict[str, Case] = {}
+    problems: list[str] = []
+    for path in paths:
+        try:
+            case = load_case(path)
+        except InputError as exc:
+            problems.append(" ".join(str(exc).split("\n")))
+            continue
+        if case.name in cases:
+            problems.append(f"{path}: name: '{case.name}' is also used by {cases[case.name].path}")
+            continue
+        cases[case.name] = case
+    if problems:
+        raise InputError("\n".join(problems))
+    return cases
 
 
 def _axis_range(spec: Any) -> tuple[float, float]:

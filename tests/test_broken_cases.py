@@ -92,3 +92,30 @@ def test_a_broken_case_fails_clearly_and_leaves_nothing(tmp_path, name):
     folder = tmp_path / "results" / name
     left = [p for p in folder.rglob("*") if p.is_file()] if folder.exists() else []
     assert left == [], f"{name} left {left}"
+
+
+def test_every_broken_case_of_a_run_is_named_in_that_run(tmp_path):
+    """Three case files, two broken (and one valid): both broken ones are named, one line each,
+    with no traceback; the run stops before any job, so no case leaves a results folder."""
+    config = tmp_path / "config"
+    config.mkdir()
+    files = {}
+    for name in ("wrong_type", "fault_outside"):
+        text, message = BROKEN[name]
+        files[name] = (config / f"{name}.yaml", message)
+        files[name][0].write_text(f"name: {name}\n{text}")
+    good = config / "good.yaml"
+    good.write_text("name: good\ngrid: {type: cartesian, dims: [2, 2]}\n")
+    cases = ",".join(str(p) for p in sorted([good, *(f for f, _ in files.values())]))
+    result = subprocess.run(
+        [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(tmp_path),
+         "--cores", "1", "--config", f"cases=[{cases}]"],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    out = result.stdout + result.stderr
+    assert result.returncode != 0
+    for path, message in files.values():
+        assert [line for line in out.splitlines() if line == f"{path}: {message}"], out[-3000:]
+    assert "2 problem(s) in the case files; nothing was run" in out
+    assert "Traceback" not in out and 'File "' not in out, out[-3000:]
+    assert not (tmp_path / "results").exists() or not any((tmp_path / "results").rglob("*.*"))

@@ -1,13 +1,41 @@
-"""Configuration, case discovery and validation (runs when the workflow is parsed)."""
+"""Configuration, case discovery and validation (runs when the workflow is parsed).
+
+A broken configuration or case file stops the run before any job: every problem of every
+case file is printed, one line each naming the file and the key, without a traceback.
+"""
 
 import glob
+import sys
 from pathlib import Path
 
+import yaml
 from snakemake.utils import validate
 
-from gridlib.config import load_case
+from gridlib.config import load_cases
+from gridlib.config import validate as check_schema
+from gridlib.errors import InputError
 
-validate(config, "../schemas/config.schema.yaml")
+
+def check_config(data, source):
+    """The configuration against its schema: an InputError naming the key."""
+    with open(
+        Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml"
+    ) as f:
+        check_schema(data, yaml.safe_load(f), source)
+
+
+def stop(message):
+    """End the parse with ``message`` (one line per problem) and no traceback."""
+    print(message, file=sys.stderr)
+    sys.exit(1)
+
+
+try:
+    check_config(config, "config")  # one line naming the key
+except InputError as exc:
+    stop(str(exc))
+validate(config, "../schemas/config.schema.yaml")  # fills in the defaults
+
 
 RESULTS = config.get("results", "results")
 
@@ -25,16 +53,15 @@ def discover_cases(spec):
     else:
         paths = [p if Path(p).is_absolute() else str(base / p) for p in spec]
     if not paths:
-        raise ValueError(f"config: cases: no case file matches {spec!r}")
-    cases = {}
-    for path in paths:
-        case = load_case(path)  # raises naming the file and key on any schema error
-        if case.name in cases:
-            raise ValueError(
-                f"{path}: name: '{case.name}' is also used by {cases[case.name].path}"
-            )
-        cases[case.name] = case
-    return cases
+        stop(f"config: cases: no case file matches {spec!r}")
+    try:
+        return load_cases(paths)
+    except InputError as exc:
+        problems = str(exc).splitlines()
+        stop(
+            "\n".join(problems)
+            + f"\n{len(problems)} problem(s) in the case files; nothing was run"
+        )
 
 
 CASES = discover_cases(config["cases"])
