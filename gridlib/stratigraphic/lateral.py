@@ -233,13 +233,25 @@ def general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz) 
 
 
 def _crossing_points(line_u: IntArray, line_v: IntArray, xyz: FloatArray) -> FloatArray:
-    """Where line u (nodes u1 on p1, u2 on p2) meets line v: the point of u at equal depth."""
+    """Where line u (nodes u1 on p1, u2 on p2) crosses line v, on the pillar pair's surface.
+
+    At the fraction s along the pair where both lines have the same depth z, the point
+    is the fraction s of the way from pillar 1 to pillar 2, both taken at depth z: a
+    point of the bilinear surface the two pillars span, as OPM's corner-point processing
+    places it (the straight lines u and v themselves leave that surface where the
+    pillars are not parallel), so that fault faces are the simulator's.
+    """
     u1, u2 = xyz[line_u[:, 0]], xyz[line_u[:, 1]]
     v1, v2 = xyz[line_v[:, 0]], xyz[line_v[:, 1]]
     d1 = u1[:, 2] - v1[:, 2]
     d2 = u2[:, 2] - v2[:, 2]
-    s = d1 / (d1 - d2)
-    return u1 + s[:, None] * (u2 - u1)
+    s = (d1 / (d1 - d2))[:, None]
+    z = u1[:, 2:] + s * (u2[:, 2:] - u1[:, 2:])
+    on_p1 = u1 + (z - u1[:, 2:]) / (v1[:, 2:] - u1[:, 2:]) * (v1 - u1)  # pillar 1 at depth z
+    on_p2 = u2 + (z - u2[:, 2:]) / (v2[:, 2:] - u2[:, 2:]) * (v2 - u2)
+    out = on_p1 + s * (on_p2 - on_p1)
+    out[:, 2] = z[:, 0]
+    return out
 
 
 def _piece_cycles(slots: IntArray, reverse: np.ndarray) -> tuple[IntArray, IntArray, np.ndarray]:
