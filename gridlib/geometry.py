@@ -102,8 +102,8 @@ def _cell_apex(grid: Grid, coords_t: np.ndarray) -> np.ndarray:
     return np.take(coords_t, grid.faces.nodes[grid.faces.node_pos[first_face]], axis=1)
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross product of component-major arrays (3, ...)."""
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product of component-major arrays (3, ...): a[0] is x of every vector."""
     return np.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
@@ -415,7 +415,7 @@ def _geometry_surface(grid: Grid) -> Geometry:
     hinge = np.stack([np.bincount(hc, mid[i, cf], nc) for i in range(3)]) / counts
     va = ct[:, a] - hinge[:, hc]
     vb = ct[:, b] - hinge[:, hc]
-    n = 0.5 * _cross(va, vb)
+    n = 0.5 * cross(va, vb)
     vec_area = np.stack([np.bincount(hc, n[i], nc) for i in range(3)])
     tri_a = np.sqrt(np.einsum("ih,ih->h", n, n))
     np.copysign(tri_a, np.einsum("ih,ih->h", n, vec_area[:, hc]), out=tri_a)
@@ -429,7 +429,7 @@ def _geometry_surface(grid: Grid) -> Geometry:
     for side in (0, 1):
         cell = nb[:, side]
         mean_normal += np.where(cell >= 0, unit[:, np.maximum(cell, 0)], 0.0)
-    fn = _cross(e, mean_normal)
+    fn = cross(e, mean_normal)
     with np.errstate(invalid="ignore", divide="ignore"):
         fn *= length / np.sqrt(np.einsum("if,if->f", fn, fn))
     return Geometry(area, cent.T.copy(), length, fn.T.copy(), mid.T.copy(), vec_area.T.copy())

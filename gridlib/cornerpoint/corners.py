@@ -220,3 +220,38 @@ def _left_handed(lines: FloatArray, active: np.ndarray, nx: int, ny: int) -> boo
     ej = mid[1:, :-1] - mid[:-1, :-1]
     cross = (ei[..., 0] * ej[..., 1] - ei[..., 1] * ej[..., 0])[active.any(axis=0)]
     return bool((cross < 0).sum() > (cross > 0).sum())
+
+
+def corner_points(deck: Deck, cells: IntArray) -> FloatArray:
+    """Coordinates (n, 8, 3) of the eight corners of ``cells`` (linear ijk indices, i fastest),
+    in the frame of :func:`~gridlib.cornerpoint.process_grdecl` (z is depth: z-up decks are
+    negated).
+
+    Corner ``a + 2b + 4c`` lies on pillar (i + a, j + b) at the cell's top (c = 0) or bottom
+    (c = 1) depth from ZCORN; its x, y are the pillar line's at that depth (the pillar's
+    top point where both ends of the pillar have the same depth), as ECLIPSE and OPM Flow
+    place corners.
+
+    >>> from gridlib.cornerpoint.generators import simple_grdecl
+    >>> corner_points(simple_grdecl([2, 1, 1]), [1])[0, [4, 7]].round(6).tolist()  # bottom corners
+    [[0.5, 0.0, 0.5], [1.0, 1.0, 0.45]]
+    """
+    nx, ny, nz = deck.cart_dims
+    g = np.asarray(cells, dtype=np.int64).ravel()
+    i, j, k = g % nx, (g // nx) % ny, g // (nx * ny)
+    zc = deck.zcorn_array()
+    sign = _depth_sign(zc, deck.active.reshape(nz, ny, nx), deck.source)
+    lines = deck.pillars().reshape(-1, 2, 3)
+    out = np.empty((g.size, 8, 3))
+    for corner in range(8):
+        a, b, c = corner & 1, (corner >> 1) & 1, corner >> 2
+        z = zc[2 * k + c, 2 * j + b, 2 * i + a]
+        line = lines[(j + b) * (nx + 1) + i + a]  # (n, 2, 3): top and bottom points
+        top, bottom = line[:, 0], line[:, 1]
+        span = bottom[:, 2] - top[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(span != 0.0, (z - top[:, 2]) / span, 0.0)
+        out[:, corner, 0] = top[:, 0] + t * (bottom[:, 0] - top[:, 0])
+        out[:, corner, 1] = top[:, 1] + t * (bottom[:, 1] - top[:, 1])
+        out[:, corner, 2] = sign * z
+    return out

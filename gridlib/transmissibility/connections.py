@@ -1,0 +1,103 @@
+"""The connection list a two-point flux simulator needs: cell pairs and their transmissibility."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..grid import FloatArray, IntArray
+
+# Connection kinds (Connections.kind)
+NEIGHBOR = 0  # logical ijk neighbours (i, i+1 / j, j+1 / k, k+1) sharing a face
+FAULT = 1  # a face across non-matching cells (fault throw): not logical neighbours
+PINCH = 2  # across removed or inactive thin layers, no face (PINCH, MINPV)
+OTHER = 3  # any other pair: unstructured grids, explicit NNC keywords
+KIND_NAMES = ("neighbor", "fault", "pinch", "other")
+
+
+@dataclass(frozen=True, eq=False)
+class Connections:
+    """Every connection of a grid with a non-zero transmissibility, arrays read-only.
+
+    ``cells`` (n, 2): the two cells (rows of the grid; first < second), sorted by
+    (first, second). ``global_cells`` (n, 2): their 0-based linear ijk indices (i
+    fastest) where the grid is logically Cartesian, else None. ``trans`` (n,): the
+    transmissibility in the unit system's unit (``units``: METRIC cP m3/(day bar),
+    FIELD cP rb/(day psi), LAB cP cm3/(h atm), PVT-M cP m3/(day atm); see
+    :mod:`gridlib.units`). ``kind`` (n,) int8: NEIGHBOR 0, FAULT 1, PINCH 2, OTHER 3.
+    ``face`` (n,): the face of the grid the connection crosses (the first, where two
+    cells share several faces), -1 for pinch and explicit connections. ``notes``:
+    what was applied, ignored or adjusted, for the reader of the results.
+    """
+
+    cells: IntArray
+    global_cells: IntArray | None
+    trans: FloatArray
+    kind: np.ndarray
+    face: IntArray
+    units: str = "METRIC"
+    notes: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        for name, dtype in (
+            ("cells", np.int64),
+            ("trans", np.float64),
+            ("kind", np.int8),
+            ("face", np.int64),
+        ):
+            arr = np.ascontiguousarray(getattr(self, name), dtype=dtype)
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+        if self.global_cells is not None:
+            g = np.ascontiguousarray(self.global_cells, dtype=np.int64)
+            g.flags.writeable = False
+            object.__setattr__(self, "global_cells", g)
+        n = self.trans.size
+        if self.cells.shape != (n, 2) or self.kind.shape != (n,) or self.face.shape != (n,):
+            raise ValueError("Connections: cells (n, 2), trans, kind and face (n,) must agree")
+
+    @property
+    def num(self) -> int:
+        return int(self.trans.size)
+
+    def counts(self) -> dict[str, int]:
+        """Number of connections of each kind, by name."""
+        c = np.bincount(self.kind, minlength=len(KIND_NAMES))
+        return {name: int(c[k]) for k, name in enumerate(KIND_NAMES)}
+
+    def __repr__(self) -> str:
+        kinds = ", ".join(f"{v} {k}" for k, v in self.counts().items() if v)
+        return f"Connections({self.num} in {self.units}: {kinds})"
+
+
+def assemble(
+    cells: IntArray,
+    trans: FloatArray,
+    kind: np.ndarray,
+    face: IntArray,
+    *,
+    index_map: IntArray | None,
+    units: str,
+    notes: list[str] | tuple[str, ...] = (),
+) -> Connections:
+    """Connections from one entry per face or pair: pairs ordered (first < second), entries of
+    the same pair added (their faces are parallel paths; the smallest kind and first face
+    kept), zero transmissibilities dropped, sorted by pair."""
+    cells = np.sort(np.asarray(cells, dtype=np.int64).reshape(-1, 2), axis=1)
+    trans = np.asarray(trans, dtype=np.float64)
+    kind = np.asarray(kind, dtype=np.int8)
+    face = np.asarray(face, dtype=np.int64)
+    order = np.lexsort((face, cells[:, 1], cells[:, 0]))
+    cells, trans, kind, face = cells[order], trans[order], kind[order], face[order]
+    first = np.ones(order.size, dtype=bool)
+    first[1:] = (cells[1:] != cells[:-1]).any(axis=1)
+    group = np.cumsum(first) - 1
+    starts = np.flatnonzero(first)
+    total = np.bincount(group, trans, starts.size) if starts.size else np.zeros(0)
+    kmin = np.full(starts.size, 127, dtype=np.int8)
+    np.minimum.at(kmin, group, kind)
+    pairs, face = cells[starts], face[starts]
+    keep = total > 0.0
+    glob = None if index_map is None else np.asarray(index_map, dtype=np.int64)[pairs[keep]]
+    return Connections(pairs[keep], glob, total[keep], kmin[keep], face[keep], units, tuple(notes))

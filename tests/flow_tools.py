@@ -1,0 +1,89 @@
+"""OPM Flow as the independent reference of the tests: run it, read what it computed.
+
+``flow --enable-dry-run=true`` processes a deck (grid, PINCH/MINPV, pore volumes,
+transmissibilities, NNCs) and writes EGRID and INIT without simulating. Its
+transmissibilities are spread over INIT's TRANX/TRANY/TRANZ (per active cell: the
+connection to the next cell in +i, +j, and the next active cell below in the same
+column) and EGRID's NNC1/NNC2 with INIT's TRANNNC (every other connection); INIT
+stores float32.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+import resfo
+
+
+def flow_executable() -> str:
+    """The ``flow`` command; skips the test without it, fails with GRIDLIB_REQUIRE_FLOW=1."""
+    exe = shutil.which("flow")
+    if exe is None:
+        if os.environ.get("GRIDLIB_REQUIRE_FLOW") == "1":
+            pytest.fail("GRIDLIB_REQUIRE_FLOW=1 but OPM Flow ('flow') is not on the PATH")
+        pytest.skip("OPM Flow ('flow') is not installed")
+    return exe
+
+
+def run_flow_dry(deck: Path, out: Path) -> Path:
+    """Flow's dry run of ``deck`` into ``out``; returns the case path without suffix."""
+    out.mkdir(parents=True, exist_ok=True)
+    res = subprocess.run(
+        [
+            flow_executable(),
+            "--enable-dry-run=true",
+            "--threads-per-process=1",
+            f"--output-dir={out}",
+            str(deck),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    return out / Path(deck).stem.upper()
+
+
+def read_keywords(path: Path) -> dict[str, np.ndarray]:
+    return {kw.strip(): np.asarray(v) for kw, v in resfo.read(path) if v is not resfo.MESS}
+
+
+def flow_connections(case: Path) -> dict[tuple[int, int], float]:
+    """Flow's connections {(g1, g2): T} (0-based linear indices, g1 < g2, T in deck units),
+    from ``case``.EGRID and ``case``.INIT; zero transmissibilities are left out."""
+    egrid = read_keywords(Path(f"{case}.EGRID"))
+    init = read_keywords(Path(f"{case}.INIT"))
+    nx, ny, nz = (int(v) for v in egrid["GRIDHEAD"][1:4])
+    active = np.flatnonzero(egrid["ACTNUM"] > 0) if "ACTNUM" in egrid else np.arange(nx * ny * nz)
+    out: dict[tuple[int, int], float] = {}
+    for key, step in (("TRANX", 1), ("TRANY", nx)):
+        t = init[key].astype(np.float64)
+        for g, v in zip(active[t != 0].tolist(), t[t != 0].tolist(), strict=True):
+            out[(g, g + step)] = v
+    # TRANZ: to the next active cell below in the same column
+    t = init["TRANZ"].astype(np.float64)
+    k = active // (nx * ny)
+    col = active % (nx * ny)
+    order = np.lexsort((k, col))
+    below = np.full(active.size, -1)
+    same = col[order][1:] == col[order][:-1]
+    below[order[:-1][same]] = active[order[1:][same]]
+    for g, b, v in zip(active.tolist(), below.tolist(), t.tolist(), strict=True):
+        if v != 0:
+            assert b >= 0, f"TRANZ of cell {g} without an active cell below"
+            out[(g, b)] = v
+    if "NNC1" in egrid and "TRANNNC" in init:
+        for a, b, v in zip(
+            egrid["NNC1"].tolist(),
+            egrid["NNC2"].tolist(),
+            init["TRANNNC"].astype(np.float64).tolist(),
+            strict=True,
+        ):
+            pair = (min(a, b) - 1, max(a, b) - 1)
+            out[pair] = out.get(pair, 0.0) + v
+    return {p: v for p, v in out.items() if v != 0}
