@@ -33,6 +33,11 @@ from numpy.typing import NDArray
 from ..errors import InputError
 
 FAULT_FACES = ("X", "X-", "Y", "Y-", "Z", "Z-")
+# PINCH items 2, 4 and 5, ECLIPSE's defaults: the gap mode (GAP: a pinch-out may join cells
+# across a removed gap; NOGAP: only across thin cells), how pinch-outs are made (TOPBOT or
+# ALL) and which MULTZ a pinch-out connection takes (TOP: the upper cell's; ALL: the
+# smallest along the column between the two cells).
+PINCH_DEFAULTS = ("GAP", "TOPBOT", "TOP")
 
 
 @dataclass(frozen=True)
@@ -70,11 +75,12 @@ class Deck:
     mapunits: str | None = None
     gridunit: str | None = None
     units: str | None = None
-    pinch: tuple[float, ...] | None = None  # PINCH threshold thickness and options, if given
+    pinch: tuple[float, ...] | None = None  # PINCH threshold thickness and maximum gap, if given
     minpv: float | None = None
     source: str = "<memory>"
     notes: tuple[str, ...] = ()  # what the reader skipped or assumed
     nnc: NDArray[np.int64] | None = None  # (n, 2) explicit NNC pairs, 0-based linear cell indices
+    pinch_options: tuple[str, str, str] = PINCH_DEFAULTS  # PINCH items 2, 4, 5 (see PINCH_DEFAULTS)
 
     def __post_init__(self) -> None:
         nx, ny, nz = (int(d) for d in self.cart_dims)

@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..cornerpoint.deck import FAULT_FACES, Deck, FaultSegment
+from ..cornerpoint.deck import FAULT_FACES, PINCH_DEFAULTS, Deck, FaultSegment
 from ._atomic import atomic_path
 from .eclipse_text import (
     DeckError,
@@ -100,6 +100,7 @@ class _State:
     gridunit: str | None = None
     units: str | None = None
     pinch: tuple[float, ...] | None = None
+    pinch_options: tuple[str, ...] = PINCH_DEFAULTS
     minpv: float | None = None
     gdfile: Deck | None = None
     paths: dict[str, str] = field(default_factory=dict)
@@ -490,9 +491,17 @@ def _pinch(state, src, pos, name, depth):
     threshold = _float_item(src, at, name, items[0] if items else None, "threshold")
     max_gap = _float_item(src, at, name, items[2] if len(items) > 2 else None, "maximum gap")
     state.pinch = (0.001 if threshold is None else threshold, 1e20 if max_gap is None else max_gap)
-    options = " ".join(str(v) for v in items[1:5] if v is not None)
-    if options:
-        state.notes.append(f"{src.path.name}:{src.line(at)}: PINCH options: {options}")
+    chosen = []
+    choices = (("GAP", "NOGAP"), ("TOPBOT", "ALL"), ("TOP", "ALL"))
+    for item, allowed, default in zip((1, 3, 4), choices, PINCH_DEFAULTS, strict=True):
+        value = items[item].upper() if len(items) > item and items[item] else default
+        if value not in allowed:
+            raise DeckError(
+                f"{src.path}:{src.line(at)}: PINCH: item {item + 1} must be {' or '.join(allowed)}, "
+                f"got {value!r}"
+            )
+        chosen.append(value)
+    state.pinch_options = tuple(chosen)
     return pos
 
 
@@ -632,6 +641,7 @@ def _deck(state: _State) -> Deck:
         state.minpv,
         where,
         tuple(notes),
+        pinch_options=state.pinch_options,
     )
 
 
@@ -857,7 +867,8 @@ def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = N
         tail += [f" '{name}' {value!r} /" for name, value in deck.multflt.items()]
         tail += ["/", ""]
     if deck.pinch is not None:
-        tail += ["PINCH", f" {deck.pinch[0]!r} /", ""]
+        gap, pinchout, multz = deck.pinch_options
+        tail += ["PINCH", f" {deck.pinch[0]!r} {gap} {deck.pinch[1]!r} {pinchout} {multz} /", ""]
     if deck.minpv is not None:
         tail += ["MINPV", f" {deck.minpv!r} /", ""]
     target = Path(path)
