@@ -30,9 +30,16 @@ Method (ALGORITHMS.md §3.1), all in the domain's local frame:
 Every crossing is one vertex shared by the ridge piece and the two boundary
 pieces it separates, so the topology is exact by construction: interior faces
 have two cells, boundary faces one, and each cell's faces close into a cycle
-(checked). A site whose clipped region falls into several pieces (a concave
-boundary cutting it) is reported back so that the caller can add a site in each
-extra piece (``ClippedVoronoi.extra_points``).
+(checked). Crossings are found from the distances of a ridge's ends to the edge's
+line, and a ridge passing within ``tol`` of a corner crosses at that corner, so a
+ridge nearly along an edge or through a corner gives no spurious crossing. A
+boundary piece equidistant from two sites (their bisector runs along the edge: a
+site and its mirror image) belongs to the one inside. A site whose clipped region
+falls into several pieces (a concave boundary cutting it) is reported back so that
+the caller can add a site for each extra piece (``ClippedVoronoi.extra_points``: the
+site mirrored across the boundary edge that cuts the piece off, or a point inside the
+piece). Contracting short faces never flattens a triangle of a cell (the triangular
+piece of a cut region).
 """
 
 from __future__ import annotations
@@ -64,7 +71,7 @@ class ClippedVoronoi:
     normal (dy, -dx) points from ``neighbors[:, 0]`` to ``neighbors[:, 1]``;
     ``neighbors`` (nf, 2) sites, -1 outside; ``cell_pos``/``cell_faces`` each
     cell's faces in counter-clockwise order; ``areas`` (nc,) m²;
-    ``extra_points`` (k, 2) one point inside every piece of a region that is
+    ``extra_points`` (k, 2) a new site for every piece of a region that is
     not the piece holding its site (empty when every cell is one piece).
     """
 
@@ -331,8 +338,9 @@ class _Builder:
         short = (nxt_par - ring_par) <= self.tol
         self._merge(ring[short], nxt[short])
         a, b = ring[~short], nxt[~short]
-        mid = _perimeter_point(d, 0.5 * (ring_par[~short] + nxt_par[~short]))
-        owner = cKDTree(sites).query(mid)[1].astype(np.int64)  # the region holding the piece
+        mid_par = 0.5 * (ring_par[~short] + nxt_par[~short])
+        mid = _perimeter_point(d, mid_par)
+        owner = _piece_owner(d, sites, mid, mid_par)
         self._faces(a, b, owner, np.full(owner.size, -1, dtype=np.int64))
         self.is_boundary = np.zeros(self.n_vert, dtype=bool)
         self.is_boundary[ids] = True
@@ -431,6 +439,7 @@ class _Builder:
             cand &= ~(fixed[u] & fixed[w])
             cand &= ~(on_fault[u] & ~bnd[u] & bnd[w]) & ~(on_fault[w] & ~bnd[w] & bnd[u])
             cand &= (nfaces[s0] > 3) & ((s1 < 0) | (nfaces[np.maximum(s1, 0)] > 3))
+            cand &= ~_closes_a_triangle(u, w, s0, s1, np.ones(n, dtype=bool) if where is None else where)
             k = np.flatnonzero(cand)
             if k.size == 0:
                 break
@@ -479,6 +488,34 @@ class _Builder:
         return fa, fb, c0, c1, total
 
 
+def _closes_a_triangle(u, w, s0, s1, complete: np.ndarray) -> np.ndarray:
+    """Faces (u, w) whose contraction would flatten a triangle of one of their cells.
+
+    A cell may consist of pieces (a concave boundary cutting its region), so it can have
+    many faces and still a triangular piece: the face is one of a triangle (u, w, v) if the
+    cell's other face at u and its other face at w share their far vertex v. A vertex with
+    more than two faces of a cell (pieces touching there) counts as such too. Only cells
+    whose faces are all given (``complete``, a mask of cells) are looked at.
+    """
+    n = u.size
+    nv = max(int(u.max(initial=0)), int(w.max(initial=0))) + 1
+    inner = s1 >= 0
+    cell = np.concatenate([s0, s0, s1[inner], s1[inner]])
+    at = np.concatenate([u, w, u[inner], w[inner]])
+    far = np.concatenate([w, u, w[inner], u[inner]])
+    uniq, inv = np.unique(cell * nv + at, return_inverse=True)
+    deg = np.bincount(inv)
+    total = np.bincount(inv, far.astype(np.float64))  # the far ends of a vertex's faces, summed
+    flat = np.zeros(n, dtype=bool)
+    for side in (s0, s1):  # both cells of every face
+        idx = np.flatnonzero((side >= 0) & complete[np.maximum(side, 0)])
+        ku = np.searchsorted(uniq, side[idx] * nv + u[idx])
+        kw = np.searchsorted(uniq, side[idx] * nv + w[idx])
+        odd = (deg[ku] != 2) | (deg[kw] != 2)
+        flat[idx] |= odd | (total[ku] - w[idx] == total[kw] - u[idx])
+    return flat
+
+
 def _representatives(nv: int, ma: np.ndarray, mb: np.ndarray, priority: np.ndarray) -> np.ndarray:
     """For every vertex, the vertex it becomes when the pairs (ma, mb) are merged: the one of
     lowest priority (then lowest id) in its group."""
@@ -490,6 +527,30 @@ def _representatives(nv: int, ma: np.ndarray, mb: np.ndarray, priority: np.ndarr
     rep_of_label = np.empty(label.max() + 1, dtype=np.int64)
     rep_of_label[lab_sorted[first]] = order[first]
     return rep_of_label[label]
+
+
+def _piece_owner(d: Domain, sites: np.ndarray, mid: np.ndarray, mid_par: np.ndarray) -> np.ndarray:
+    """The site whose region holds each boundary piece (given by its midpoint and perimeter parameter).
+
+    That is the nearest site to the midpoint; where two are equally near, the piece lies
+    on their bisector, which then runs along the boundary (a site and its mirror image across
+    the edge's line): the region on the domain's side holds it, i.e. the site on the inner side.
+    """
+    if sites.shape[0] == 1:
+        return np.zeros(mid.shape[0], dtype=np.int64)
+    dist, idx = cKDTree(sites).query(mid, k=2)
+    owner = idx[:, 0].astype(np.int64)
+    tie = np.flatnonzero(dist[:, 1] - dist[:, 0] <= 1e-9 * np.maximum(dist[:, 1], d.tol))
+    if tie.size:
+        par = np.mod(mid_par[tie], d.perimeter)
+        edge = np.clip(np.searchsorted(d.cum, par, side="right") - 1, 0, d.num_vertices - 1)
+        inward = np.column_stack([-d.edge_unit[edge, 1], d.edge_unit[edge, 0]])
+        depth = []
+        for k in range(2):
+            rel = sites[idx[tie, k]] - mid[tie]
+            depth.append(rel[:, 0] * inward[:, 0] + rel[:, 1] * inward[:, 1])
+        owner[tie] = np.where(depth[1] > depth[0], idx[tie, 1], idx[tie, 0])
+    return owner
 
 
 def _perimeter_point(d: Domain, par: np.ndarray) -> np.ndarray:
@@ -545,7 +606,7 @@ def _cells(coords, faces, neighbors, n, sites, domain: Domain):
     cycles_per_cell = np.bincount(pair // (nh + 1), minlength=n)
     area_h = 0.5 * _cross2(coords[ha], coords[hb])
     if np.any(cycles_per_cell > 1):
-        extra = _extra_pieces(np.flatnonzero(cycles_per_cell > 1), hc, ha, cyc, succ, coords, sites)
+        extra = _extra_pieces(np.flatnonzero(cycles_per_cell > 1), hc, ha, cyc, succ, coords, sites, domain)
         return pos, hf, np.bincount(hc, area_h, n), extra
     rank = _cycle_rank(succ, pos, hc)
     cell_faces = np.empty(nh, dtype=np.int64)
@@ -601,8 +662,15 @@ def _successors(hc, ha, hb, nn, coords, sites, domain: Domain) -> np.ndarray:
     return succ
 
 
-def _extra_pieces(cells, hc, ha, cyc, succ, coords, sites) -> np.ndarray:
-    """A point inside every piece of a split region other than the one holding its site."""
+def _extra_pieces(cells, hc, ha, cyc, succ, coords, sites, domain: Domain) -> np.ndarray:
+    """A new site for every piece of a split region other than the one holding its site.
+
+    A region splits where it reaches around a re-entrant corner, across the outside. The
+    new site is the region's site mirrored across the line of a boundary edge that
+    separates the piece from the site (then that line is the bisector of the two, and the
+    new cell takes the cut-off side whole, as a cell as wide as the old one); failing that,
+    a point inside the piece.
+    """
     out = []
     for c in cells:  # a handful of cells cut in two by a concave boundary
         hs = np.flatnonzero(hc == c)
@@ -620,6 +688,31 @@ def _extra_pieces(cells, hc, ha, cyc, succ, coords, sites) -> np.ndarray:
         main = int(np.argmin(dist))
         for i, poly in enumerate(polys):
             if i != main:
-                rp = poly.point_on_surface()
-                out.append([rp.x, rp.y])
+                out.append(_mirror_site(sites[c], poly, polys[main], domain))
     return np.asarray(out, dtype=np.float64).reshape(-1, 2)
+
+
+def _mirror_site(site: np.ndarray, piece, main, domain: Domain) -> list[float]:
+    """The site mirrored across a boundary edge's line that has the piece on its far side and the
+    main piece on the near side (the candidate nearest to the piece); else a point in the piece."""
+    a, u = domain.edge_a, domain.edge_unit
+    n = np.column_stack([-u[:, 1], u[:, 0]])
+    off = (site[0] - a[:, 0]) * n[:, 0] + (site[1] - a[:, 1]) * n[:, 1]  # signed distance to each line
+    mirror = site[None, :] - 2.0 * off[:, None] * n
+    piece_xy = np.asarray(piece.exterior.coords)
+    main_xy = np.asarray(main.exterior.coords)
+    best, pick = np.inf, None
+    for e in np.flatnonzero(np.abs(off) > domain.tol).tolist():  # the boundary edges (a few)
+        far = -np.sign(off[e])
+        side_piece = far * ((piece_xy[:, 0] - a[e, 0]) * n[e, 0] + (piece_xy[:, 1] - a[e, 1]) * n[e, 1])
+        side_main = far * ((main_xy[:, 0] - a[e, 0]) * n[e, 0] + (main_xy[:, 1] - a[e, 1]) * n[e, 1])
+        if side_piece.min() < -domain.tol or side_main.max() > domain.tol:
+            continue
+        if domain.inside(mirror[e][None, :])[0]:
+            gap = piece.distance(shapely.Point(mirror[e]))
+            if gap < best:
+                best, pick = gap, mirror[e]
+    if pick is None:
+        rp = piece.point_on_surface()
+        return [float(rp.x), float(rp.y)]
+    return [float(pick[0]), float(pick[1])]

@@ -23,8 +23,11 @@ Three kinds are found from the unclipped ridges (vertex = circumcentre):
 * **boundary**: a vertex V (sites a, b, c) within ``SHORT`` sizes of a boundary
   edge: for a pair (a, b), X is where their bisector meets the edge, and c is
   moved onto the circle of centre X through a and b (the vertex becomes X);
-* **corner**: a ridge (p, q) passing close to a polygon corner K: p is moved onto
-  the circle of centre K through q (or q onto the one through p).
+* **corner**: a ridge (p, q) passing close to a convex polygon corner K: p is moved
+  onto the circle of centre K through q (or q onto the one through p). At a
+  re-entrant corner the opposite: a ridge through K would cut the cell on the side
+  of the outside wedge into two pieces touching at K, so the ridge is pushed off, to
+  about ``SHORT`` sizes from K (K stays in the cell it is nearer to), and no pin is kept.
 
 Candidates are taken greedily by displacement, one per group of sites involved,
 and only where the caller allows the new position (inside the domain, outside the
@@ -217,11 +220,17 @@ def collapse_moves(
             d = _point_segment(corners[k], a, b)
             better = d < best
             best[better], which[better] = d[better], k[better]
-        hit = np.flatnonzero((best > tol) & (best < short * h_ridge[wr]))
+        reflex = domain.reflex
+        hit = np.flatnonzero(((best > tol) | reflex[which]) & (best < short * h_ridge[wr]))
         for i in hit.tolist():
             r = int(wr[i])
             p, q = int(cp[r]), int(cq[r])
             k = corners[which[i]]
+            if reflex[which[i]]:  # push the ridge off a re-entrant corner (see _push_off)
+                for x, y in ((p, q), (q, p)):
+                    margin = short * float(min(size[x], size[y]))
+                    add(x, _push_off(k, sites[x], sites[y], margin), max(float(best[i]), margin), (p, q))
+                continue
             if abs(np.hypot(*(sites[p] - k)) - np.hypot(*(sites[q] - k))) <= tol:
                 continue  # their bisector passes through the corner already (the ridge ends short of it)
             for x, y in ((p, q), (q, p)):
@@ -312,6 +321,19 @@ def _pins(xs, full, zero, sites, domain: Domain, state: Collapse, tol: float) ->
             if circle is not None and all(np.hypot(*(circle[0] - c[0])) > 1e3 * tol for c in pins.get(x, [])):
                 pins.setdefault(x, []).append(circle)
     return pins
+
+
+def _push_off(corner: np.ndarray, x: np.ndarray, y: np.ndarray, margin: float) -> tuple[np.ndarray, float]:
+    """The circle about a re-entrant corner that site x moves onto so that its bisector with y
+    passes about ``margin`` (m) from the corner, the corner staying in the cell it is nearer to.
+
+    A ridge through a re-entrant corner cuts the cell on the side of the corner's outside
+    wedge in two pieces touching at the corner (and a ridge that close leaves tiny faces):
+    unlike at a convex corner, the degeneracy is not made exact but avoided.
+    """
+    dx = float(np.hypot(*(x - corner)))
+    dy = float(np.hypot(*(y - corner)))
+    return corner, (dy - 2.0 * margin if dx <= dy else dy + 2.0 * margin)
 
 
 def _sites_of_features(features: list[tuple], fixed: set[int]) -> np.ndarray:

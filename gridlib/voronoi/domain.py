@@ -83,7 +83,8 @@ class Domain:
     Attributes: ``origin`` (2,) subtracted from every input coordinate; ``xy``
     (M, 2) the counter-clockwise vertices in the local frame; ``polygon`` the
     shapely polygon of ``xy`` (prepared); ``area`` (m²); ``diameter`` (m, of the
-    bounding box); ``tol`` (m) the length below which two points are one.
+    bounding box); ``tol`` (m) the length below which two points are one; ``reflex``
+    (M,) which corners are re-entrant (interior angle above 180°).
     """
 
     def __init__(self, domain: object, what: str = "domain") -> None:
@@ -140,6 +141,8 @@ class Domain:
         self.edge_vec = self.edge_b - self.edge_a
         self.edge_len = np.linalg.norm(self.edge_vec, axis=1)
         self.edge_unit = self.edge_vec / self.edge_len[:, None]
+        d_in = self.edge_unit[np.arange(local.shape[0]) - 1]
+        self.reflex = _cross2(d_in, self.edge_unit) < 0  # re-entrant corners: the boundary turns clockwise
         self.cum = np.concatenate([[0.0], np.cumsum(self.edge_len)])
         self.perimeter = float(self.cum[-1])
         self._edge_tree = shapely.STRtree(shapely.linestrings(np.stack([self.edge_a, self.edge_b], axis=1)))
@@ -215,21 +218,39 @@ class Domain:
         Returns (segment, t, edge, u): the crossing lies at ``a + t (b - a)`` and at
         ``edge_a[edge] + u edge_vec[edge]``. Crossings within ``tol`` of a segment end
         have t snapped to 0 or 1, within ``tol`` of a polygon vertex u to 0 or 1.
-        Segments parallel to an edge give no crossing.
+        Segments within ``tol`` of an edge's line at both ends (running along it) give
+        no crossing.
+
+        The crossing is found from the signed distances of the segment's ends to the edge's
+        line, so that a segment nearly parallel to an edge (a Voronoi ridge through a corner,
+        along its edge) crosses where it actually does, not wherever round-off puts it.
         """
         seg, edge = self.segment_edge_pairs(a, b)
+        nrm = np.column_stack([-self.edge_unit[edge, 1], self.edge_unit[edge, 0]])
+        rel_a, rel_b = a[seg] - self.edge_a[edge], b[seg] - self.edge_a[edge]
+        sa = rel_a[:, 0] * nrm[:, 0] + rel_a[:, 1] * nrm[:, 1]
+        sb = rel_b[:, 0] * nrm[:, 0] + rel_b[:, 1] * nrm[:, 1]
+        on_a, on_b = np.abs(sa) <= tol, np.abs(sb) <= tol
+        ok = (on_a | on_b | (sa * sb < 0)) & ~(on_a & on_b)
+        seg, edge, sa, sb, on_a, on_b, nrm = seg[ok], edge[ok], sa[ok], sb[ok], on_a[ok], on_b[ok], nrm[ok]
+        t = np.where(on_a, 0.0, np.where(on_b, 1.0, sa / np.where(on_a | on_b, 1.0, sa - sb)))
         r = b[seg] - a[seg]
-        s = self.edge_vec[edge]
-        q = self.edge_a[edge] - a[seg]
-        den = _cross2(r, s)
-        rl = np.linalg.norm(r, axis=1)
-        ok = np.abs(den) > 1e-13 * rl * self.edge_len[edge]
-        seg, edge, r, s, q, den, rl = seg[ok], edge[ok], r[ok], s[ok], q[ok], den[ok], rl[ok]
-        t = _cross2(q, s) / den
-        u = _cross2(q, r) / den
+        rl = np.hypot(r[:, 0], r[:, 1])
+        x = a[seg] + t[:, None] * r
+        rel = x - self.edge_a[edge]
+        unit = self.edge_unit[edge]
+        u = (rel[:, 0] * unit[:, 0] + rel[:, 1] * unit[:, 1]) / self.edge_len[edge]
         et = tol / np.maximum(rl, 1e-300)
         eu = tol / self.edge_len[edge]
-        hit = (t >= -et) & (t <= 1 + et) & (u >= -eu) & (u <= 1 + eu)
+        # A segment passing within tol of a corner crosses there (at a shallow angle to one of the
+        # edges, its crossing with that edge's line may lie farther from the corner than tol).
+        for end, corner in ((0.0, self.edge_a[edge]), (1.0, self.edge_b[edge])):
+            rel = corner - a[seg]
+            w = np.clip((rel[:, 0] * r[:, 0] + rel[:, 1] * r[:, 1]) / np.maximum(rl**2, 1e-300), 0.0, 1.0)
+            gap = np.hypot(rel[:, 0] - w * r[:, 0], rel[:, 1] - w * r[:, 1])
+            snap = (gap <= tol) & (np.abs(u - end) * self.edge_len[edge] <= np.sqrt(tol * rl) + tol)
+            u, t = np.where(snap, end, u), np.where(snap, w, t)
+        hit = (u >= -eu) & (u <= 1 + eu)
         seg, edge, t, u, et, eu = seg[hit], edge[hit], t[hit], u[hit], et[hit], eu[hit]
         t = np.where(t <= et, 0.0, np.where(t >= 1 - et, 1.0, t))
         # A crossing at a polygon vertex counts once, on the edge that starts there.
