@@ -8,6 +8,11 @@ Construction (ALGORITHMS.md §3.2, in our own words), all in the domain's local 
    0.75 fault spacings is extended to it (a note says so), and faults are split
    where they cross (X) or touch (T, Y). The result is a planar graph whose
    nodes are the polyline vertices, the intersections and the boundary points.
+   Geometry finer than the smallest cell the refinement may make (``min_feature``
+   times the cell size, 2^-max_refinements) is not honoured but resolved, with a
+   note: a trace passing that close to a corner of the domain is made to pass
+   through it, and nodes that close to each other (three faults crossing nearly at
+   one point, two faults leaving the domain a hair apart) become one.
 2. **Circle centres.** Every polyline vertex, intersection and boundary point is
    a centre, so faces follow the trace exactly, bends included. Each segment is
    divided into steps whose length follows the fault spacing (``Fault.spacing``,
@@ -27,17 +32,27 @@ Construction (ALGORITHMS.md §3.2, in our own words), all in the domain's local 
    node, grows with the radius, and neighbouring arms need alpha_j + alpha_k <=
    the angle between them. The tightest pair gets equality: its two inner sites
    coincide and become one site on three circles. Sites next to the boundary
-   keep alpha below half the angle to it, so they stay inside. Traces meeting at
-   less than 40° get smaller circles (ratio down to 0.52: sites closer to the
-   traces) within a few steps of the junction, because the traces are only
-   s sin(angle) apart at a distance s.
-5. **Check and refine.** After the background is added, every circle is checked
-   for sites strictly inside it (:func:`circle_violations`), and every fault site
-   for lying inside the domain. Where a check fails the fault spacing is halved
-   locally (around the circle and the offending site) and the sites rebuilt, up to
-   ``max_refinements`` times; if it still fails, the traces meet too sharply
-   (below about 12°) or run too close, and a :class:`GridError` names the faults,
-   the place and the angle.
+   keep alpha below half the angle to it, so they stay inside.
+5. **Acute wedges.** Where two arms leave a node less than 40° apart (a V, an
+   acute X, T or Y, a trace kinked by a sharp bend) or a trace meets the boundary
+   at less than 40°, mirrored pairs cannot fit near the node at any step (the
+   wedge is s sin(angle) wide at a distance s): one row of sites shared by both
+   sides fills the wedge instead (:mod:`.wedges`), exact on both traces, until the
+   wedge is wide enough for two rows. The node's circle is then the wedge's, and the
+   other arms' first circles are fitted to it. (Traces meeting at less than 40°
+   that share an arm with a narrower wedge get smaller circles nearby instead,
+   ratio down to 0.52.)
+6. **Check and refine.** After the background is added, every circle is checked
+   for sites strictly inside it (:func:`circle_violations`, background, fault and
+   well sites alike), and every fault site for lying inside the domain. Where a
+   check fails the fault step is made smaller locally, by what the geometry needs
+   (a circle holding a site shrinks below that site's distance; a site outside the
+   domain comes closer to its trace than the boundary is; at least halving), and
+   the sites rebuilt, up to ``max_refinements`` times; if it still fails, a
+   :class:`GridError` names the faults and the place.
+
+Wells keep clear of the fault circles: :func:`ring_room` gives how far a well's
+rings may reach (:mod:`.wells` shrinks them to that, with a note).
 
 Fault ids are the 1-based positions in the ``faults`` sequence; face tags use them.
 """
@@ -56,6 +71,7 @@ from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
 from ..errors import GridError
+from . import wedges as _wedges
 from .domain import Domain, _cross2
 
 GROWTH = 0.3  # at most 30 % longer steps per step length away from a short one
@@ -63,6 +79,9 @@ KEY_ANGLE = np.radians(90.0)  # a bend sharper than this (inner angle) is handle
 ACUTE = np.radians(40.0)  # traces meeting at less than this get smaller circles near the junction
 RATIO_MIN = 0.52  # the smallest circle radius / step used there
 REACH = 0.75  # free ends this close (in fault spacings) to a fault or the boundary are extended
+RING_GAP = 0.25  # a well's rings end this many fault steps outside the fault circles
+REFLEX_REACH = 0.1  # a trace passing a re-entrant corner closer than this x the cell size goes through it
+FITTED = "its arms' first circles were fitted to it"  # a junction problem that leaves conforming sites
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,6 +119,7 @@ class FaultSites:
     sites: np.ndarray  # (k, 2)
     site_fault: np.ndarray  # (k,) fault id 1..n of each site
     site_step: np.ndarray  # (k,) length (m) of the step a site belongs to
+    site_foot: np.ndarray  # (k, 2) the point of its trace nearest to each site
     is_tip: np.ndarray  # (k,) bool
     pairs: np.ndarray  # (p, 2) indices into sites: the two sites of a step
     pair_fault: np.ndarray  # (p,)
@@ -111,12 +131,14 @@ class FaultSites:
     trace_b: np.ndarray
     trace_fault: np.ndarray
     problems: list[tuple[int, str]] = field(default_factory=list)  # (centre, why) found while building
+    site_wedge: np.ndarray | None = None  # (k,) index into ``wedges`` of the acute wedge a site is in, or -1
+    wedges: list[str] = field(default_factory=list)  # a description of every acute wedge
 
     @staticmethod
     def empty() -> FaultSites:
         z2, zi, zf = np.zeros((0, 2)), np.zeros(0, dtype=np.int64), np.zeros(0)
         return FaultSites(
-            z2, zi, zf, np.zeros(0, bool), np.zeros((0, 2), np.int64), zi, z2, zf, zi, zf, z2, z2, zi
+            z2, zi, zf, z2, np.zeros(0, bool), np.zeros((0, 2), np.int64), zi, z2, zf, zi, zf, z2, z2, zi
         )
 
 
@@ -136,9 +158,13 @@ def fault_label(fault: Fault, i: int) -> str:
 
 
 def build_network(
-    faults: Sequence[Fault], domain: Domain, size: Callable, notes: list[str]
+    faults: Sequence[Fault], domain: Domain, size: Callable, notes: list[str], min_feature: float = 0.0
 ) -> _Network | None:
-    """Clip, extend and split the fault traces into one planar graph."""
+    """Clip, extend and split the fault traces into one planar graph.
+
+    Pieces of trace between two network nodes shorter than ``min_feature`` times the
+    local cell size (crossings a hair apart) are contracted to a point (a note says so).
+    """
     if not faults:
         return None
     tol = domain.tol
@@ -179,6 +205,7 @@ def build_network(
         line = shapely.LineString(local)
         if not line.is_simple:
             raise GridError(f"{label}: the trace crosses itself")
+        local = _through_near_corners(local, domain, size, min_feature, label, notes)
         got = _clip_polyline(local, domain, label)
         if not got:
             raise GridError(f"{label}: the trace lies outside the domain")
@@ -187,8 +214,123 @@ def build_network(
             notes.append(f"{label}: clipped to the domain ({kept:.6g} of {seg_len.sum():.6g} m inside)")
         for p, b0, b1 in got:
             pieces.append({"xy": p, "fault": i + 1, "bnd": [b0, b1]})
-    _extend_free_ends(pieces, domain, size, spacing, labels, notes)
-    return _split_into_graph(pieces, domain, spacing, labels)
+    _extend_free_ends(pieces, domain, size, spacing, labels, notes, min_feature)
+    net = _split_into_graph(pieces, domain, spacing, labels)
+    return _contract_short_edges(net, domain, size, min_feature, notes)
+
+
+def _corner_reach(domain: Domain, size: Callable, fraction: float) -> np.ndarray:
+    """Distance (m) within which a trace is made to pass through each corner of the domain.
+
+    ``fraction`` x the cell size (the smallest cell); at a re-entrant corner at least
+    ``REFLEX_REACH`` x the cell size: the fault cells between the trace and such a corner
+    would be slivers reaching around it, cut in pieces by the boundary.
+    """
+    return np.where(domain.reflex, max(fraction, REFLEX_REACH), fraction) * size(domain.xy)
+
+
+def _through_near_corners(
+    xy: np.ndarray, domain: Domain, size: Callable, fraction: float, label: str, notes: list[str]
+) -> np.ndarray:
+    """The trace made to pass through the domain's corners it passes closer than ``fraction`` x the
+    cell size (a sliver of rock thinner than the smallest cell, between the trace and a corner;
+    see :func:`_corner_reach` for re-entrant corners).
+
+    The nearest point of the trace moves onto the corner (a vertex there if one is that
+    close, else a new vertex), so that the trace touches or leaves the boundary exactly there.
+    """
+    if fraction <= 0:
+        return xy
+    line = shapely.LineString(xy)
+    corners = domain.xy
+    reach = _corner_reach(domain, size, fraction)
+    gap = shapely.distance(shapely.points(corners), line)
+    for k in np.flatnonzero((gap > domain.tol) & (gap < reach)).tolist():  # corners next to the trace
+        line = shapely.LineString(xy)
+        along = float(line.project(shapely.Point(corners[k])))
+        cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+        near = np.flatnonzero(np.abs(cum - along) < reach[k])
+        moved = float(gap[k])
+        if near.size:  # that vertex moves onto the corner
+            moved = max(moved, float(np.hypot(*(xy[near[0]] - corners[k]))))
+            xy = xy.copy()
+            xy[near[0]] = corners[k]
+        else:
+            i = int(np.searchsorted(cum, along)) - 1
+            xy = np.insert(xy, i + 1, corners[k], axis=0)
+        notes.append(
+            f"{label}: passes {gap[k]:.3g} m from the domain's corner at {domain.fmt(corners[k])} (too close "
+            f"for the cells between them): joined to the corner, the trace moves by at most {moved:.3g} m"
+        )
+    return xy
+
+
+def _contract_short_edges(net: _Network, domain: Domain, size: Callable, fraction: float, notes) -> _Network:
+    """Join network nodes closer than ``fraction`` x the local cell size.
+
+    Such nodes (three faults crossing nearly at one point, a crossing next to a bend, two
+    faults reaching the boundary a hair apart) make a feature smaller than the smallest
+    cell the refinement may make: they become one node, the first boundary point among
+    them if there is one, else at their mean, and the edges between them vanish.
+    """
+    nodes, ea, eb = net.nodes, net.edge_a, net.edge_b
+    nn = nodes.shape[0]
+    if fraction <= 0:
+        return net
+    reach = fraction * size(nodes)
+    bnd = np.flatnonzero(net.on_boundary)
+    if bnd.size:  # a boundary point that close to a corner of the domain (an end extended there) is it
+        gap, k = cKDTree(domain.xy).query(nodes[bnd])
+        snap = (gap > 0) & (gap < _corner_reach(domain, size, fraction)[k])
+        if snap.any():
+            nodes = nodes.copy()
+            nodes[bnd[snap]] = domain.xy[k[snap]]
+            for i, g in zip(bnd[snap].tolist(), gap[snap].tolist(), strict=True):
+                faults_at = np.unique(net.edge_fault[(ea == i) | (eb == i)])
+                names = ", ".join(net.labels[f - 1] for f in faults_at.tolist())
+                notes.append(
+                    f"{names}: leaves the domain {g:.3g} m from its corner at {domain.fmt(nodes[i])} (too "
+                    f"close for the cells between them): joined to the corner, the trace moves by at most "
+                    f"{g:.3g} m"
+                )
+            net = _Network(nodes, ea, eb, net.edge_fault, net.on_boundary, net.spacing, net.labels)
+    if nn < 2:
+        return net
+    pairs = cKDTree(nodes).query_pairs(float(reach.max()), output_type="ndarray")
+    if pairs.size:
+        gap = np.linalg.norm(nodes[pairs[:, 0]] - nodes[pairs[:, 1]], axis=1)
+        pairs = pairs[gap < np.minimum(reach[pairs[:, 0]], reach[pairs[:, 1]])]
+    if pairs.size == 0:
+        return net
+    graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(nn, nn))
+    _, label = csgraph.connected_components(graph, directed=False)
+    _, first, new_of = np.unique(label, return_index=True, return_inverse=True)
+    count = np.bincount(new_of)
+    merged = np.column_stack([np.bincount(new_of, nodes[:, k]) for k in range(2)]) / count[:, None]
+    on_bnd = np.bincount(new_of, net.on_boundary.astype(np.float64)) > 0
+    bnd = np.flatnonzero(net.on_boundary)
+    merged[new_of[bnd[::-1]]] = nodes[bnd[::-1]]  # the first boundary point of a group (set last)
+    single = count == 1
+    merged[single] = nodes[first[single]]  # untouched nodes keep their exact position
+    a, b = new_of[ea], new_of[eb]
+    keep = a != b
+    key = np.where(keep, np.minimum(a, b) * merged.shape[0] + np.maximum(a, b), -1 - np.arange(a.size))
+    _, once = np.unique(key, return_index=True)
+    uniq = np.zeros(key.size, dtype=bool)
+    uniq[once] = True
+    keep &= uniq
+    for g in np.flatnonzero(count > 1).tolist():  # a note per joined group (a handful)
+        members = np.flatnonzero(new_of == g)
+        touching = np.isin(ea, members) | np.isin(eb, members)
+        names = ", ".join(net.labels[f - 1] for f in np.unique(net.edge_fault[touching]).tolist())
+        spread = float(np.linalg.norm(nodes[members] - nodes[members].mean(axis=0), axis=1).max())
+        moved = float(np.linalg.norm(nodes[members] - merged[g], axis=1).max())
+        notes.append(
+            f"{names}: crossings, bends or ends within {2 * spread:.3g} m of each other near "
+            f"{domain.fmt(merged[g])} (less than the smallest cell) joined at one point; the traces "
+            f"move by at most {moved:.3g} m there"
+        )
+    return _Network(merged, a[keep], b[keep], net.edge_fault[keep], on_bnd, net.spacing, net.labels)
 
 
 def _clip_polyline(xy: np.ndarray, domain: Domain, label: str) -> list[tuple[np.ndarray, bool, bool]]:
@@ -260,9 +402,16 @@ def _ray_hits(origin: np.ndarray, d: np.ndarray, a: np.ndarray, b: np.ndarray, t
     return np.where(ok, s, np.inf)
 
 
-def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes) -> None:
-    """Extend free ends that stop just short of the boundary or of another fault."""
+def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes, min_feature: float = 0.0) -> None:
+    """Extend free ends that stop just short of the boundary or of another fault.
+
+    An extension passing a corner of the domain closer than :func:`_corner_reach` ends at
+    that corner.
+    """
     tol = domain.tol
+    corner_reach = np.zeros(domain.num_vertices)
+    if min_feature > 0:
+        corner_reach = _corner_reach(domain, size, min_feature)
     for pi, piece in enumerate(pieces):  # loop over fault pieces and their two ends
         for end in (0, 1):
             if piece["bnd"][end]:
@@ -278,6 +427,14 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes) -> N
             hits = _ray_hits(tip, d, domain.edge_a, domain.edge_b, tol)
             if hits.min() <= reach:
                 best, what, onto_bnd = float(hits.min()), "the domain boundary", True
+            rel = domain.xy - tip
+            along = rel[:, 0] * d[0] + rel[:, 1] * d[1]
+            by = np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])
+            near = np.flatnonzero((along > tol) & (along <= min(best, reach)) & (by < corner_reach))
+            corner = None
+            if near.size:  # the extension passes a corner: it ends there
+                corner = int(near[np.argmin(along[near])])
+                best, what, onto_bnd = float(along[corner]), "a corner", True
             for pj, other in enumerate(pieces):
                 oxy = other["xy"]
                 a, b = oxy[:-1], oxy[1:]
@@ -292,18 +449,25 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes) -> N
                 w = np.clip((rel * sv).sum(axis=1) / (sv * sv).sum(axis=1), 0, 1)
                 off = np.linalg.norm(rel - w[:, None] * sv, axis=1)
                 if off.min() <= tol:
-                    best, what, onto_bnd = 0.0, labels[other["fault"] - 1], False
+                    best, what, onto_bnd, corner = 0.0, labels[other["fault"] - 1], False, None
                     break
                 if h.min() < best and h.min() <= reach:
-                    best, what, onto_bnd = float(h.min()), labels[other["fault"] - 1], False
+                    best, what, onto_bnd, corner = float(h.min()), labels[other["fault"] - 1], False, None
             if np.isfinite(best) and best > tol:
                 xy = xy.copy()
-                xy[0 if end == 0 else -1] = tip + best * d  # the end moves straight on
+                xy[0 if end == 0 else -1] = tip + best * d if corner is None else domain.xy[corner]
                 piece["xy"] = xy
                 label = labels[piece["fault"] - 1]
-                notes.append(
-                    f"{label}: its end at {domain.fmt(tip)} was extended by {best:.3g} m to meet {what}"
-                )
+                if corner is None:
+                    notes.append(
+                        f"{label}: its end at {domain.fmt(tip)} was extended by {best:.3g} m to meet {what}"
+                    )
+                else:
+                    notes.append(
+                        f"{label}: its end at {domain.fmt(tip)} was extended by {best:.3g} m to the domain's "
+                        f"corner at {domain.fmt(domain.xy[corner])}, which it passes {by[corner]:.3g} m "
+                        f"away: joined to the corner, the trace moves by at most {by[corner]:.3g} m"
+                    )
             if onto_bnd and np.isfinite(best):
                 piece["bnd"][end] = True
 
@@ -467,11 +631,37 @@ class FaultLayout:
     refine: list[tuple[float, float, float]] = field(default_factory=list)
 
 
-def layout(faults: Sequence[Fault], domain: Domain, size: Callable, ratio: float, notes: list[str]):
-    net = build_network(faults, domain, size, notes)
+def layout(
+    faults: Sequence[Fault],
+    domain: Domain,
+    size: Callable,
+    ratio: float,
+    notes: list[str],
+    min_feature: float = 0.0,
+):
+    net = build_network(faults, domain, size, notes, min_feature)
     if net is None:
         return None
     return FaultLayout(net, _chains(net), size, ratio, domain)
+
+
+def ring_room(lay: FaultLayout, point: np.ndarray) -> tuple[float, str, float]:
+    """How far (m) a well's rings may reach from ``point`` (local frame) and stay clear of the faults.
+
+    A fault circle reaches ``ratio`` x the step from its trace (a little more at
+    junctions; the refinement takes care of those): rings end ``RING_GAP`` steps short
+    of that. Also returns the label of the fault that limits them and its distance (m).
+    """
+    net = lay.net
+    a, b = net.nodes[net.edge_a], net.nodes[net.edge_b]
+    ab = b - a
+    rel = point[None, :] - a
+    t = np.clip((rel[:, 0] * ab[:, 0] + rel[:, 1] * ab[:, 1]) / (ab[:, 0] ** 2 + ab[:, 1] ** 2), 0.0, 1.0)
+    foot = a + t[:, None] * ab
+    dist = np.hypot(point[0] - foot[:, 0], point[1] - foot[:, 1])
+    room = dist - (lay.ratio + RING_GAP) * _ds(lay, foot, net.edge_fault)
+    k = int(np.argmin(room))
+    return float(room[k]), net.labels[net.edge_fault[k] - 1], float(dist[k])
 
 
 def _ds(lay: FaultLayout, xy: np.ndarray, fault: np.ndarray) -> np.ndarray:
@@ -510,6 +700,20 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         np.minimum.at(hv, eb, hv[ea] + GROWTH * elen)
         if np.array_equal(before, hv):
             break
+    # At a constrained node (junction, sharp bend, boundary point) every arm starts with the same
+    # step L0, and an edge needs a step of its own next to each constrained end; an acute wedge
+    # (wedges.py) fixes the first centres of its arms at its rungs instead.
+    constrained = ch.key & ~ch.tip
+    ends_c = constrained[ea].astype(np.int64) + constrained[eb]
+    l0 = hv.copy()
+    np.minimum.at(l0, ea, elen / np.maximum(ends_c + 1, 2))
+    np.minimum.at(l0, eb, elen / np.maximum(ends_c + 1, 2))
+    wedge_list = _plan_wedges(lay, elen, l0, constrained)
+    for w in wedge_list:  # the other arms at a wedge's node start with steps its circle can reach
+        l0[w.node] = min(l0[w.node], _wedges.node_radius(w) / lay.ratio)
+    lead, wedge_ends = _leads(wedge_list, ea, eb, l0, constrained)
+    wedge_node = np.zeros(nn, dtype=bool)
+    wedge_node[[w.node for w in wedge_list]] = True
     # Steps per edge.
     ne = ea.size
     n_steps = np.zeros(ne, dtype=np.int64)
@@ -519,13 +723,18 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         for _ in range(4):  # sample the size function finely enough (8 samples per step)
             tt = np.linspace(0.0, 1.0, m)
             xy = nodes[ea[e]] + tt[:, None] * (nodes[eb[e]] - nodes[ea[e]])
-            s = np.minimum.reduce(
-                [
-                    _ds(lay, xy, np.full(m, ef[e])),
-                    hv[ea[e]] + GROWTH * tt * elen[e],
-                    hv[eb[e]] + GROWTH * (1 - tt) * elen[e],
-                ]
-            )
+            caps = [
+                _ds(lay, xy, np.full(m, ef[e])),
+                hv[ea[e]] + GROWTH * tt * elen[e],
+                hv[eb[e]] + GROWTH * (1 - tt) * elen[e],
+            ]
+            for end, along in ((0, tt * elen[e]), (1, (1 - tt) * elen[e])):  # grading away from a wedge
+                w = lead[e][end]
+                if (e, end) in wedge_ends:
+                    caps.append((w[-1] - w[-2]) + GROWTH * np.maximum(along - w[-1], 0.0))
+                elif wedge_node[(ea[e], eb[e])[end]]:  # another arm at a wedge's node
+                    caps.append(w[0] + GROWTH * np.maximum(along - w[0], 0.0))
+            s = np.minimum.reduce(caps)
             need = int(np.ceil(8 * elen[e] / s.min())) + 1
             if need <= m or m >= 20001:
                 break
@@ -534,28 +743,26 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         cum = np.concatenate([[0.0], np.cumsum(0.5 * (dens[1:] + dens[:-1]) * np.diff(tt))])
         n_steps[e] = max(1, int(np.round(cum[-1])))
         params[e] = (tt, cum)
-    # At a constrained node (junction, sharp bend, boundary point) every arm starts with the same
-    # step L0, and an edge needs a step of its own next to each constrained end.
-    constrained = ch.key & ~ch.tip
-    ends_c = constrained[ea].astype(np.int64) + constrained[eb]
-    l0 = hv.copy()
-    np.minimum.at(l0, ea, elen / np.maximum(ends_c + 1, 2))
-    np.minimum.at(l0, eb, elen / np.maximum(ends_c + 1, 2))
     n_steps = np.maximum(n_steps, ends_c + 1)
     # Centres: network nodes first, then the interior points of every edge.
     cen = [nodes]
     cen_fault = [node_fault]
     step_a, step_b, step_f = [], [], []
     n_cen = nn
+    n_step = 0
+    wedge_steps: dict[tuple[int, int], np.ndarray] = {}  # (edge, end) -> its steps, from that end
     for e in range(ne):  # loop over polyline segments
-        k = n_steps[e]
         tt, cum = params[e]
-        t0 = l0[ea[e]] / elen[e] if constrained[ea[e]] else 0.0
-        t1 = 1.0 - l0[eb[e]] / elen[e] if constrained[eb[e]] else 1.0
-        m_free = k - int(constrained[ea[e]]) - int(constrained[eb[e]])  # steps between t0 and t1
-        c0, c1 = np.interp([t0, t1], tt, cum)
+        la, lb = lead[e]
+        t_a, t_b = la / elen[e], 1.0 - lb[::-1] / elen[e]
+        c0, c1 = np.interp([t_a[-1] if la.size else 0.0, t_b[0] if lb.size else 1.0], tt, cum)
+        if (e, 0) in wedge_ends or (e, 1) in wedge_ends:
+            m_free = max(1, int(np.round(c1 - c0)))
+        else:
+            m_free = n_steps[e] - la.size - lb.size  # steps between the leading centres
+        k = la.size + lb.size + m_free
         inner = np.interp(c0 + np.arange(1, m_free) * (c1 - c0) / m_free, cum, tt)
-        tk = np.concatenate([[t0] if constrained[ea[e]] else [], inner, [t1] if constrained[eb[e]] else []])
+        tk = np.concatenate([t_a, inner, t_b])
         pts = nodes[ea[e]] + tk[:, None] * (nodes[eb[e]] - nodes[ea[e]])
         ids = np.concatenate([[ea[e]], n_cen + np.arange(k - 1), [eb[e]]])
         cen.append(pts)
@@ -564,6 +771,11 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         step_a.append(ids[:-1])
         step_b.append(ids[1:])
         step_f.append(np.full(k, ef[e]))
+        if (e, 0) in wedge_ends:
+            wedge_steps[(e, 0)] = n_step + np.arange(la.size)
+        if (e, 1) in wedge_ends:
+            wedge_steps[(e, 1)] = n_step + k - 1 - np.arange(lb.size)
+        n_step += k
     centres = np.concatenate(cen)
     centre_fault = np.concatenate(cen_fault)
     sa, sb, sf = np.concatenate(step_a), np.concatenate(step_b), np.concatenate(step_f)
@@ -571,12 +783,16 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     nc = centres.shape[0]
     cnt = np.bincount(sa, minlength=nc) + np.bincount(sb, minlength=nc)
     tot = np.bincount(sa, slen, nc) + np.bincount(sb, slen, nc)
-    radii = _local_ratio(lay, centres, l0, constrained) * tot / np.maximum(cnt, 1)
+    radii = _local_ratio(lay, centres, l0, constrained & ~wedge_node) * tot / np.maximum(cnt, 1)
     cmin = np.full(nc, np.inf)
     np.minimum.at(cmin, sa, slen)
     np.minimum.at(cmin, sb, slen)
+    fixed = np.zeros(nc, dtype=bool)
+    shared = _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed)
     problems: list[tuple[int, str]] = []
-    _junction_radii(lay, centres, radii, sa, sb, slen, constrained, problems, tot / np.maximum(cnt, 1))
+    _junction_radii(
+        lay, centres, radii, sa, sb, slen, constrained, problems, tot / np.maximum(cnt, 1), wedge_node, fixed
+    )
     # Mirrored pairs.
     ra, rb = radii[sa], radii[sb]
     uvec = (centres[sb] - centres[sa]) / slen[:, None]
@@ -590,6 +806,14 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     foot = centres[sa] + a_off[:, None] * uvec
     left = foot + hgt[:, None] * nvec
     right = foot - hgt[:, None] * nvec
+    step_size = slen.copy()
+    step_wedge = np.full(sa.size, -1, dtype=np.int64)
+    for steps, inside, outside, size, w in shared:  # acute wedges: a shared site and its mirror per step
+        on_left = _wedges.side_of(inside, centres[sa[steps]], centres[sb[steps]]) > 0
+        left[steps] = np.where(on_left[:, None], inside, outside)
+        right[steps] = np.where(on_left[:, None], outside, inside)
+        step_size[steps] = size
+        step_wedge[steps] = w
     ns_ = sa.size
     # Tips: one site straight ahead of every free end, on its circle.
     tip_nodes = np.flatnonzero(ch.tip)
@@ -602,8 +826,15 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     tdir /= np.linalg.norm(tdir, axis=1, keepdims=True) if tdir.size else 1.0
     tips = centres[tip_nodes] + radii[tip_nodes, None] * tdir
     all_sites = np.concatenate([left, right, tips])
+    ab = centres[sb] - centres[sa]
+    pair_foot = []
+    for side in (left, right):  # the nearest point of each site's step (its mirror axis)
+        rel = side - centres[sa]
+        t = np.clip((rel[:, 0] * ab[:, 0] + rel[:, 1] * ab[:, 1]) / slen**2, 0.0, 1.0)
+        pair_foot.append(centres[sa] + t[:, None] * ab)
+    all_foot = np.concatenate([*pair_foot, centres[tip_nodes]])
     site_fault = np.concatenate([sf, sf, centre_fault[tip_nodes]])
-    site_step = np.concatenate([slen, slen, slen[t_step]])
+    site_step = np.concatenate([step_size, step_size, slen[t_step]])
     is_tip = np.concatenate([np.zeros(2 * ns_, dtype=bool), np.ones(tip_nodes.size, dtype=bool)])
     # Coinciding inner sites (merged at sharp junctions) become one.
     tiny = 1e-7 * float(slen.min())
@@ -621,6 +852,7 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         sites=sites,
         site_fault=site_fault[first],
         site_step=site_step[first],
+        site_foot=all_foot[first],
         is_tip=is_tip[first],
         pairs=pair_idx,
         pair_fault=sf,
@@ -632,7 +864,110 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         trace_b=centres[sb],
         trace_fault=sf,
         problems=problems,
+        site_wedge=np.concatenate([step_wedge, step_wedge, np.full(tip_nodes.size, -1)])[first],
+        wedges=[_describe_wedge(w, lay) for w in wedge_list],
     )
+
+
+def _describe_wedge(w, lay: FaultLayout) -> str:
+    """A note on an acute wedge: where, between what, at which angle, how many shared cells."""
+    net = lay.net
+    a = net.labels[net.edge_fault[w.edge_a] - 1]
+    b = "the boundary" if w.edge_b < 0 else net.labels[net.edge_fault[w.edge_b] - 1]
+    what = f"{a} meets {b}" if a != b else f"{a} bends"
+    return (
+        f"{what} at {np.degrees(w.phi):.3g} degrees at {lay.domain.fmt(net.nodes[w.node])}: one row of "
+        f"{w.rungs.size} cells between them up to {float(w.rungs[-1]):.3g} m from there"
+    )
+
+
+def _plan_wedges(lay: FaultLayout, elen: np.ndarray, l0: np.ndarray, constrained: np.ndarray) -> list:
+    """The acute wedges at constrained nodes, their rungs fitted into their arms.
+
+    An arm may use its whole length if its far end is free, half of it if that end is
+    constrained too; a boundary side as far as the next corner or half way to the next
+    fault on it. All wedges at one node share the node's circle (the smallest of theirs).
+    """
+    net, dom = lay.net, lay.domain
+    nodes, ea, eb = net.nodes, net.edge_a, net.edge_b
+    cand = np.flatnonzero(constrained)
+    rays = {int(v): _boundary_rays(dom, nodes[v]) for v in cand if net.on_boundary[v]}
+    found = _wedges.find_wedges(nodes, ea, eb, cand, rays, dom)
+    for w in found:  # loop over acute wedges
+        room = np.inf
+        for e, _ in w.arms():
+            other = eb[e] if ea[e] == w.node else ea[e]
+            room = min(room, float(elen[e]) * (0.5 if constrained[other] else 1.0))
+        if w.edge_b < 0:
+            room = min(room, _boundary_room(net, dom, w.node, w.dir_b))
+        step = float(l0[w.node])
+        for _ in range(3):  # the step wanted along the arms as far as the rungs reach (refinements)
+            _wedges.plan(w, step, room)
+            along = np.linspace(0.0, float(w.rungs[-1]) + step, 17)
+            for e, d in w.arms():
+                pts = net.nodes[w.node] + along[:, None] * d[None, :]
+                step = min(step, float(_ds(lay, pts, np.full(along.size, net.edge_fault[e])).min()))
+        _wedges.plan(w, step, room)
+    radius: dict[int, float] = {}
+    for w in found:
+        radius[w.node] = min(radius.get(w.node, np.inf), _wedges.node_radius(w))
+    for w in found:
+        _wedges.scale_to_radius(w, radius[w.node])
+    return found
+
+
+def _boundary_room(net: _Network, dom: Domain, v: int, u: np.ndarray) -> float:
+    """Length (m) along the boundary from node v in direction u: to the next corner, or half way
+    to the next fault node on the boundary."""
+    x = net.nodes[v]
+    best = np.inf
+    for pts, share in ((dom.xy, 1.0), (net.nodes[net.on_boundary], 0.5)):
+        rel = pts - x
+        along = rel[:, 0] * u[0] + rel[:, 1] * u[1]
+        off = np.abs(_cross2(u[None, :], rel))
+        ahead = (along > dom.tol) & (off <= 1e-7 * np.maximum(along, dom.tol))
+        if ahead.any():
+            best = min(best, share * float(along[ahead].min()))
+    return best
+
+
+def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndarray]], set]:
+    """Distances (m) of the centres fixed next to each end of every edge, and the wedge ends.
+
+    A constrained end has its first centre one step L0 away; a wedge's arm has its rungs.
+    """
+    empty = np.zeros(0)
+    lead = [
+        [np.array([l0[a]]) if constrained[a] else empty, np.array([l0[b]]) if constrained[b] else empty]
+        for a, b in zip(ea.tolist(), eb.tolist(), strict=True)
+    ]
+    ends = set()
+    for w in wedge_list:
+        for e, _ in w.arms():
+            end = 0 if ea[e] == w.node else 1
+            lead[e][end] = w.rungs
+            ends.add((e, end))
+    return lead, ends
+
+
+def _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed) -> list[tuple]:
+    """Shared sites of every wedge: (steps, shared sites, mirror sites, site size) per arm.
+
+    Sets the radii of the wedge nodes and rung centres (and marks the rungs ``fixed``).
+    """
+    out = []
+    for index, w in enumerate(wedge_list):  # loop over acute wedges
+        ws = _wedges.wedge_sites(w, nodes[w.node])
+        radii[w.node] = ws.radius_node
+        step = float(w.rungs[1] - w.rungs[0]) if w.rungs.size > 1 else float(w.rungs[0])
+        for (e, _), mirror in zip(w.arms(), (ws.mirror_a, ws.mirror_b), strict=False):
+            end = 0 if ea[e] == w.node else 1
+            steps = wedge_steps[(e, end)]
+            rung = sb[steps] if end == 0 else sa[steps]
+            radii[rung] = ws.radius_rungs
+            fixed[rung] = True
+            out.append((steps, ws.shared, mirror, np.full(steps.size, step), index))
+    return out
 
 
 def _local_ratio(
@@ -666,7 +1001,9 @@ def _local_ratio(
     return ratio
 
 
-def _junction_radii(lay: FaultLayout, centres, radii, sa, sb, slen, constrained, problems, mean_step) -> None:
+def _junction_radii(
+    lay: FaultLayout, centres, radii, sa, sb, slen, constrained, problems, mean_step, wedge_node, fixed
+) -> None:
     """Radii at constrained nodes (junctions, sharp bends, boundary points).
 
     The sites of the first step of arm j sit at an angle alpha_j from the arm, seen
@@ -675,6 +1012,10 @@ def _junction_radii(lay: FaultLayout, centres, radii, sa, sb, slen, constrained,
     the sites of neighbouring arms do not cross (alpha_j + alpha_k <= gap; at
     equality they coincide and are merged into one site on three circles) and the
     sites next to the boundary stay inside it (alpha_j <= gap / 2).
+
+    At the node of an acute wedge (``wedge_node``) r_v is the wedge's, and so are the
+    radii of its rung points (``fixed``); the other arms' first circles are made smaller
+    where their sites would cross (:func:`_fit_free_arms`).
     """
     dom = lay.domain
     ratio = lay.ratio
@@ -711,13 +1052,21 @@ def _junction_radii(lay: FaultLayout, centres, radii, sa, sb, slen, constrained,
                 al[k] <= lim for k, lim in caps
             )
 
+        shared = _shared_first_centres(far, v, sa, sb, constrained) | fixed[far]
+        if wedge_node[v]:
+            if not _fit_free_arms(float(radii[v]), far, lens, radii, pairs, caps, shared):
+                problems.append((int(v), "the traces meet at too sharp an angle"))
+            continue
         hi = min(ratio, radii[v] / mean_step[v]) * float(lens.min())
         lo = float(np.max(lens - rw)) * (1 + 1e-9)
         if fits(hi):
             radii[v] = hi
         elif lo >= hi or not fits(lo * (1 + 1e-6)):
-            problems.append((int(v), "the traces meet at too sharp an angle"))
+            # no node radius fits with these first circles (arms of different steps between tight
+            # gaps, at a corner of the domain): the arms' first circles are fitted instead
             radii[v] = hi
+            fitted = _fit_free_arms(hi, far, lens, radii, pairs, caps, shared)
+            problems.append((int(v), FITTED if fitted else "the traces meet at too sharp an angle"))
             continue
         else:
             a, b = lo * (1 + 1e-6), hi
@@ -726,6 +1075,57 @@ def _junction_radii(lay: FaultLayout, centres, radii, sa, sb, slen, constrained,
                 a, b = (m, b) if fits(m) else (a, m)
             radii[v] = a
         _close_near_pairs(int(v), float(radii[v]), far, lens, radii, pairs, caps, sa, sb, slen, constrained)
+
+
+def _shared_first_centres(far: np.ndarray, v: int, sa, sb, constrained) -> np.ndarray:
+    """Which first centres of the arms at node v are also next to another constrained node
+    (an edge of two steps between two junctions): their radii belong to both."""
+    out = np.zeros(far.size, dtype=bool)
+    for j, c in enumerate(far.tolist()):  # the arms at one node (a handful)
+        other = np.concatenate([sb[sa == c], sa[sb == c]])
+        other = other[other != v]
+        node = other[other < constrained.size]  # network nodes come first among the centres
+        out[j] = bool(constrained[node].any())
+    return out
+
+
+def _fit_free_arms(rv: float, far, lens, radii, pairs, caps, held) -> bool:
+    """Shrink the first circles of arms (not ``held``, per arm: a wedge's, or shared with another
+    node) so that no sites cross at a node whose radius is given (a wedge's, or any that fits).
+
+    Arm j's first sites sit at alpha_j from it; with the node's radius r_v fixed, alpha_j
+    is set by the radius r_j of its first centre: r_j^2 = r_v^2 + L_j^2 - 2 r_v L_j cos alpha_j
+    (L_j its first step). Where neighbouring arms' sites cross, the free arm's alpha is cut to
+    what the gap leaves (half of it between two free arms). True if everything fits then.
+    """
+    tol = 1e-9
+
+    def alphas() -> np.ndarray:
+        return np.arccos(np.clip((rv**2 + lens**2 - radii[far] ** 2) / (2 * rv * lens), -1.0, 1.0))
+
+    al = alphas()
+    free = ~held
+    bound = np.full(far.size, np.inf)
+    for j, k, gap in pairs:
+        if al[j] + al[k] <= gap * (1 + tol):
+            continue
+        if free[j] and free[k]:
+            bound[j], bound[k] = min(bound[j], 0.5 * gap), min(bound[k], 0.5 * gap)
+        elif free[j]:
+            bound[j] = min(bound[j], gap - al[k])
+        elif free[k]:
+            bound[k] = min(bound[k], gap - al[j])
+    for k, lim in caps:
+        if free[k] and al[k] > lim * (1 + tol):
+            bound[k] = min(bound[k], lim)
+    cut = free & (bound < al) & (bound > 0)
+    if cut.any():
+        a = bound[cut]
+        radii[far[cut]] = np.sqrt(rv**2 + lens[cut] ** 2 - 2 * rv * lens[cut] * np.cos(a))
+        al = alphas()
+    return all(al[j] + al[k] <= gap * (1 + tol) for j, k, gap in pairs) and all(
+        al[k] <= lim * (1 + tol) for k, lim in caps
+    )
 
 
 def _close_near_pairs(v, rv, far, lens, radii, pairs, caps, sa, sb, slen, constrained) -> None:

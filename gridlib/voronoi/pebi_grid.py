@@ -19,10 +19,34 @@ Near the boundary: lattice sites outside the domain, or closer to its boundary
 than ``boundary_clearance`` (0.25) times their spacing, are dropped (no half-width
 sliver cells); fault and well sites must lie inside (faults are refined until
 their sites do, wells whose rings reach outside are errors). Where a concave
-boundary cuts a site's region in two, a site is added in the cut-off piece and
-the diagram recomputed (a note says how many). Ridges shorter than 1e-7 of the
-smallest spacing (co-circular sites) are contracted, and the vertices of fault
-faces are set to the exact circle centres on the traces.
+boundary cuts a site's region in two, a site is added for the cut-off piece, the
+region's site mirrored across the boundary edge between them (so that the edge's
+line is their bisector and the new cell is as wide as the old one), and the diagram
+recomputed (a note says how many). Ridges shorter than 1e-7 of the smallest spacing
+(co-circular sites) are contracted, and the vertices of fault faces are set to the
+exact circle centres on the traces.
+
+Awkward layouts build; what could not be honoured exactly is said in ``notes``:
+
+* faults meeting each other or the boundary at small angles, and sharply kinked
+  traces, get one row of cells shared by both sides of the wedge (:mod:`.wedges`,
+  a note per wedge);
+* faults running close to each other or to the boundary get locally smaller steps,
+  as small as the gap needs (a note says how many rounds of refinement);
+* a well near a fault keeps its rings clear of the fault's circles: they are
+  shrunk (or dropped, one cell at the well), with a note; fault steps are refined
+  where a well's site would fall into a circle;
+* geometry finer than the smallest cell the refinement may make (the cell size
+  times 2^-max_refinements) is resolved: a trace passing that close to a corner
+  goes through it, crossings and ends that close join, and the notes name the
+  faults and how far their traces moved. ``fault_traces`` holds the traces honoured;
+* cells smaller than 0.1 h^2 and faces shorter than 0.01 h (h = ``site_size``)
+  that a constraint forces are counted in a note, with the smallest and its cause
+  (:mod:`.size_notes`).
+
+Errors remain for input that is wrong: an invalid domain or trace, a fault or well
+outside the domain, rings reaching outside it, wells overlapping each other, a well
+path crossing a fault. They are :class:`GridError` naming the object.
 
 No tiny faces: nearly co-circular sites (generic along the boundary and where
 the lattice meets fault and well sites) would give faces of millimetres. Where a
@@ -69,9 +93,10 @@ from . import faults as _faults
 from .bounded import clipped_voronoi
 from .degenerate import CONTRACT, SHORT, Collapse, collapse_moves
 from .domain import Domain
-from .faults import Fault
+from .faults import FITTED, Fault
 from .lattice import Lattice
 from .sites import PADDING, background_sites
+from .size_notes import KIND_NAMES, size_notes
 from .wells import Well, build_wells, check_clearances, removal_mask
 
 MAX_EXTRA_ROUNDS = 6
@@ -91,8 +116,11 @@ class PebiGrid:
     ``FAULT_TIP`` 3, ``WELL`` 4, ``ADDED`` 5 (where a concave boundary cut a cell).
     ``site_size`` (nc,): the target size of each cell (m), the square root of the area
     it is meant to have: the lattice spacing for background sites, the step along the
-    trace for fault sites, sqrt(arc spacing x radial width) for well rings, the spacing
-    along a well path, the cell size for added sites.
+    trace for fault sites (in an acute wedge, the wedge's step; its first step is longer),
+    sqrt(arc spacing x radial width) for well rings, the spacing along a well path, the
+    cell size for added sites. ``fault_traces``: for every fault (by id - 1) the pieces of
+    trace its faces follow, as segments (k, 2, 2) in metres: the input clipped to the
+    domain, with the extensions and joins the notes name.
     """
 
     grid: Grid
@@ -103,6 +131,7 @@ class PebiGrid:
     notes: tuple[str, ...]
     site_kind: np.ndarray | None = None
     site_size: np.ndarray | None = None
+    fault_traces: tuple[np.ndarray, ...] = ()
 
     def __repr__(self) -> str:
         return (
@@ -190,7 +219,9 @@ def pebi_grid(
     boundary_clearance
         Lattice sites closer than this fraction of their spacing to the boundary are dropped.
     max_refinements
-        How often the fault spacing is halved locally where the empty-circle condition fails.
+        How often the fault steps are made smaller locally where the empty-circle condition
+        fails (at least halved each time); also sets the smallest feature honoured, the
+        cell size times 2^-max_refinements.
 
     Raises
     ------
@@ -220,9 +251,15 @@ def pebi_grid(
     faults = list(faults)
     wells = list(wells)
 
-    ws = build_wells(wells, dom, size)
-    lay = _faults.layout(faults, dom, size, float(fault_ratio), notes)
+    lay = _faults.layout(faults, dom, size, float(fault_ratio), notes, 2.0 ** -int(max_refinements))
     fault_labels = lay.net.labels if lay is not None else []
+    room = None if lay is None else (lambda p: _faults.ring_room(lay, p))
+    ws = build_wells(wells, dom, size, room, notes)
+    if lay is None:
+        check_clearances(ws, None, None, None, fault_labels, dom)
+    else:
+        net = lay.net
+        check_clearances(ws, net.nodes[net.edge_a], net.nodes[net.edge_b], net.edge_fault, fault_labels, dom)
     back = background_sites(dom, size, constant, pattern, padding, float(boundary_clearance))
     order = np.argsort(~back.on_lattice, kind="stable")  # lattice sites first (see lattice.py)
     bg, bg_spacing, bg_ij = back.xy[order], back.spacing[order], back.ij[order]
@@ -235,7 +272,6 @@ def pebi_grid(
     fs = _faults.FaultSites.empty()
     for attempt in range(max_refinements + 1):  # rebuild the fault sites where they conflict
         fs = _faults.build_sites(lay) if lay is not None else _faults.FaultSites.empty()
-        check_clearances(ws, fs.centres, fs.radii, fs.centre_fault, fault_labels, dom)
         keep = bg_keep.copy()
         if bg_tree is not None and fs.centres.shape[0]:
             hits = bg_tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
@@ -250,11 +286,15 @@ def pebi_grid(
         if not problems:
             break
         if attempt == max_refinements:
-            _raise_fault_problem(problems, fs, dom, lay, max_refinements)
+            hard = [p for p, why in zip(problems, _problem_kinds(problems, fs), strict=True) if why != FITTED]
+            if not hard:  # only junctions whose arms were fitted to them: the sites conform
+                break
+            _raise_fault_problem(hard, fs, dom, lay, max_refinements)
         for where, step in problems:
-            lay.refine.append((float(where[0]), float(where[1]), 0.5 * step))
+            lay.refine.append((float(where[0]), float(where[1]), step))
+    notes.extend(fs.wedges)
     if attempt:
-        notes.append(f"fault spacing halved locally {attempt} time(s) to keep the empty-circle condition")
+        notes.append(f"fault spacing refined locally {attempt} time(s) to keep the empty-circle condition")
     dropped = int(bg_keep.sum() - keep.sum())
     if dropped:
         notes.append(f"{dropped} background sites removed inside fault circles or next to fault sites")
@@ -361,21 +401,36 @@ def pebi_grid(
     site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
     site_size = np.concatenate([site_size, size(sites[site_size.size :])])  # and the added sites
     _verify(vor, dom, tags, fs, fault_labels, ws, cell_well)
+    notes.extend(_size_notes(vor, site_size, site_kind, fs, n_bg, dom))
     names_f = tuple((f.name or f"F{i + 1}") for i, f in enumerate(faults))
     names_w = tuple((w.name or f"W{i + 1}") for i, w in enumerate(wells))
     site_xy = sites + dom.origin
-    for a in (cell_well, site_xy, site_kind, site_size):
+    traces = _honoured_traces(lay, len(faults), dom)
+    for a in (cell_well, site_xy, site_kind, site_size, *traces):
         a.flags.writeable = False
-    return PebiGrid(grid, cell_well, names_f, names_w, site_xy, tuple(notes), site_kind, site_size)
+    return PebiGrid(grid, cell_well, names_f, names_w, site_xy, tuple(notes), site_kind, site_size, traces)
+
+
+def _honoured_traces(lay, n_faults: int, dom: Domain) -> tuple[np.ndarray, ...]:
+    """Segments (k, 2, 2) of every fault's honoured trace in the caller's frame (m)."""
+    if lay is None:
+        return tuple(np.zeros((0, 2, 2)) for _ in range(n_faults))
+    net = lay.net
+    seg = np.stack([net.nodes[net.edge_a], net.nodes[net.edge_b]], axis=1) + dom.origin
+    return tuple(np.ascontiguousarray(seg[net.edge_fault == k + 1]) for k in range(n_faults))
 
 
 def _fault_problems(
     fs, sites, n_bg, n_f, dom: Domain, ws, labels, bg_tree, keep
 ) -> list[tuple[np.ndarray, float]]:
-    """Where fault sites break conformity: (location, local step) to refine.
+    """Where fault sites break conformity: (location, step wanted there, m) to refine.
 
     Every site is checked against every fault circle: the kept background sites through
-    the tree of all background sites, the fault and well sites through a tree of their own.
+    the tree of all background sites, the fault and well sites through a tree of their own;
+    and every fault site for lying inside the domain. The step wanted is the local step
+    scaled by what the geometry needs (circles and sites scale with the step): a circle
+    holding a site at distance d from its centre shrinks below d, a site outside the domain
+    comes closer to its trace than the boundary is; at least halved, at most by 20.
     """
     out: list[tuple[np.ndarray, float]] = []
     if fs.centres.shape[0] == 0:
@@ -387,25 +442,41 @@ def _fault_problems(
         kept = keep[sb]
         position = np.cumsum(keep) - 1
         c, s = np.concatenate([cb[kept], c]), np.concatenate([position[sb[kept]], s])
-    if c.size:
-        well_hit = s >= n_bg + n_f
-        if well_hit.any():  # pragma: no cover - check_clearances raises first
-            k = int(np.flatnonzero(well_hit)[0])
-            raise GridError(
-                f"{ws.labels[ws.site_well[s[k] - n_bg - n_f] - 1]} is too close to "
-                f"{labels[fs.centre_fault[c[k]] - 1]} near {dom.fmt(fs.centres[c[k]])}"
-            )
-        for ci, si in zip(c[:200], s[:200], strict=True):
-            out.append((fs.centres[ci], float(fs.centre_step[ci])))
+    if c.size:  # a site in a fault circle (a background, fault or well site): smaller steps there
+        c, s = c[:200], s[:200]
+        rel = sites[s] - fs.centres[c]
+        scale = _refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
+        for ci, si, f in zip(c.tolist(), s.tolist(), scale.tolist(), strict=True):
+            out.append((fs.centres[ci], f * float(fs.centre_step[ci])))
             if n_bg <= si < n_bg + n_f:
-                out.append((fs.sites[si - n_bg], float(fs.site_step[si - n_bg])))
-    outside = ~dom.inside(fs.sites)
-    if outside.any():
-        for k in np.flatnonzero(outside)[:200]:
-            out.append((fs.sites[k], float(fs.site_step[k])))
+                out.append((fs.sites[si - n_bg], f * float(fs.site_step[si - n_bg])))
+    outside = np.flatnonzero(~dom.inside(fs.sites))[:200]
+    if outside.size:  # closer to the trace than the boundary is
+        foot = fs.site_foot[outside]
+        rel = fs.sites[outside] - foot
+        room = np.where(dom.inside(foot), dom.boundary_distance(foot), 0.0)
+        scale = _refine_factor(0.8 * room / np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-300))
+        for k, f in zip(outside.tolist(), scale.tolist(), strict=True):
+            out.append((fs.sites[k], f * float(fs.site_step[k])))
     for ci, _why in fs.problems[:200]:
-        out.append((fs.centres[ci], float(fs.centre_step[ci])))
+        out.append((fs.centres[ci], 0.5 * float(fs.centre_step[ci])))
     return out
+
+
+def _problem_kinds(problems: list, fs) -> list[str]:
+    """The reason of each problem from :func:`_fault_problems`: ``FITTED`` for the junctions listed
+    last whose arms were fitted to them (smaller steps are tried first, but they conform as they
+    are), "" for the others."""
+    kinds = [""] * len(problems)
+    tail = fs.problems[:200]
+    for k, (_, why) in enumerate(tail):
+        kinds[len(problems) - len(tail) + k] = why
+    return kinds
+
+
+def _refine_factor(need: np.ndarray) -> np.ndarray:
+    """How much a local step is scaled for a refinement: what is needed, at least halving."""
+    return np.clip(need, 0.05, 0.5)
 
 
 def _raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
@@ -418,8 +489,8 @@ def _raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
     outside = ~dom.inside(where[None, :])[0]
     if outside:
         raise GridError(
-            f"{names}: its sites leave the domain near {dom.fmt(where)} even after halving the fault spacing "
-            f"{times} times; the fault runs too close to the boundary there"
+            f"{names}: its sites leave the domain near {dom.fmt(where)} even after refining the fault steps "
+            f"{times} times; the fault runs too close to the boundary there for max_refinements={times}"
         )
     # the sharpest angle between traces at the nearest junction or bend, if there is one close by
     net = lay.net
@@ -432,10 +503,26 @@ def _raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
         gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
         angle = f" (they meet at {np.degrees(gaps.min()):.3g} degrees at {dom.fmt(net.nodes[node])})"
     raise GridError(
-        f"{names}: no conforming PEBI sites near {dom.fmt(where)} even after halving the fault spacing "
+        f"{names}: no conforming PEBI sites near {dom.fmt(where)} even after refining the fault steps "
         f"{times} times: a site falls inside a fault circle (the empty-circle condition), because the traces "
-        f"meet at too sharp an angle or run too close to each other{angle}; widen the angle or the separation"
+        f"meet at too sharp an angle or run too close to each other or to a well{angle}; allow more "
+        "max_refinements, or widen the angle or the separation"
     )
+
+
+def _size_notes(vor, site_size: np.ndarray, site_kind: np.ndarray, fs, n_bg: int, dom: Domain) -> list[str]:
+    """Notes on the cells and faces below the size bounds (:mod:`.size_notes`), with their cause."""
+    e = vor.face_nodes
+    rel = vor.coords[e[:, 1]] - vor.coords[e[:, 0]]
+    length = np.hypot(rel[:, 0], rel[:, 1])
+    why = [f"a {KIND_NAMES[k]} cell" for k in site_kind.tolist()]
+    if fs.site_wedge is not None:
+        for k in np.flatnonzero(fs.site_wedge >= 0).tolist():  # cells of acute wedges
+            why[n_bg + k] = "in the wedge where " + fs.wedges[fs.site_wedge[k]].split(" at ")[0]
+    for k in np.flatnonzero(site_kind == ADDED).tolist():
+        why[k] = "added where the concave boundary cut a cell in two"
+    mid = 0.5 * (vor.coords[e[:, 0]] + vor.coords[e[:, 1]])
+    return size_notes(vor.areas, length, vor.neighbors, mid, vor.sites, site_size, why, dom.fmt)
 
 
 def _merge_tolerance(dom: Domain, bg_spacing, fs, ws) -> float:

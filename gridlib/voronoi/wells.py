@@ -9,6 +9,14 @@ vertices and ``spacing`` apart in between; background sites closer than half
 the larger of the spacing and the cell size to the path are removed. The cells
 of a well's sites are that well's cells (``PebiGrid.cell_well``).
 
+Near a fault, a well's rings end a quarter step outside the fault's circles (the
+circles that keep the fault's faces on its trace must hold no site): rings reaching
+farther are shrunk to that radius, same inner radius and growth, or dropped if not
+even the first ring fits (the well is then one cell), and a note says so. The well
+and fault sites then coexist; where one still falls into a fault circle (a circle at
+a junction is larger), the fault's steps are refined there. Wells must keep clear of
+each other, and a well path may not cross a fault trace.
+
 Units are metres and radians; x, y in plan view.
 
 >>> Rings(inner=0.1, outer=10.0, growth=10 ** 0.5).radii(8).round(3).tolist()
@@ -134,7 +142,20 @@ def well_label(well: Well, i: int) -> str:
     return f"well {well.name or f'W{i + 1}'!r} (wells[{i}])"
 
 
-def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSites:
+def build_wells(
+    wells: Sequence[Well],
+    domain: Domain,
+    size: Callable,
+    fault_room: Callable[[np.ndarray], tuple[float, str, float]] | None = None,
+    notes: list[str] | None = None,
+) -> WellSites:
+    """Sites of all wells (local frame).
+
+    ``fault_room(point)`` gives, for a point well, the largest outer ring radius (m) that
+    keeps its rings clear of the fault circles, the nearest fault's label and its
+    distance (m): rings reaching farther are shrunk (same inner radius and growth, fewer
+    rings), or dropped if not even the first ring fits, and ``notes`` says so.
+    """
     sites, site_well = [np.zeros((0, 2))], [np.zeros(0, dtype=np.int64)]
     site_size = [np.zeros(0)]
     dc, dr, dm, dw = [], [], [], []
@@ -176,6 +197,9 @@ def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSi
                         outer_guess = float(probe[-1])
                     sectors = max(6, int(np.round(2 * np.pi * outer_guess / h)))
                 radii = r0.radii(sectors, f"{label}: rings")
+                if fault_room is not None:
+                    radii = _fit_rings(radii, *fault_room(c), label, notes)
+            if well.rings is not None and radii.size:
                 theta = float(r0.angle) + 2 * np.pi * np.arange(sectors) / sectors
                 ring = radii[:, None, None] * np.stack([np.cos(theta), np.sin(theta)], axis=-1)[None]
                 ring = ring.reshape(-1, 2) + c
@@ -245,6 +269,31 @@ def build_wells(wells: Sequence[Well], domain: Domain, size: Callable) -> WellSi
     )
 
 
+def _fit_rings(
+    radii: np.ndarray, max_outer: float, fault: str, distance: float, label: str, notes: list[str] | None
+) -> np.ndarray:
+    """Ring radii (m) no larger than ``max_outer``: the same inner radius and growth, fewer rings,
+    the last exactly at ``max_outer``; none if not even the first ring fits. Noted."""
+    if radii[-1] <= max_outer:
+        return radii
+    if notes is None:
+        notes = []
+    if radii[0] > max_outer:
+        notes.append(
+            f"{label}: rings dropped (one cell at the well): {fault} runs {distance:.3g} m away, so "
+            f"even the first ring (radius {radii[0]:.3g} m) would reach into its circles"
+        )
+        return np.zeros(0)
+    growth = float(radii[1] / radii[0]) if radii.size > 1 else max_outer / float(radii[0])
+    count = int(np.round(np.log(max_outer / radii[0]) / np.log(growth))) + 1 if growth > 1 else 1
+    fitted = np.geomspace(radii[0], max_outer, count) if count > 1 else radii[:1].copy()
+    notes.append(
+        f"{label}: rings shrunk to outer radius {fitted[-1]:.3g} m (from {radii[-1]:.3g} m; {fitted.size} "
+        f"of {radii.size} rings) to keep clear of {fault}, {distance:.3g} m away"
+    )
+    return fitted
+
+
 def _ring_sizes(radii: np.ndarray, sectors: int, h: float) -> list[np.ndarray]:
     """Target sizes of the centre and of the ring sites: sqrt(arc spacing x radial width).
 
@@ -304,9 +353,19 @@ def _max_seg(xy: np.ndarray) -> float:
 
 
 def check_clearances(
-    ws: WellSites, fault_centres, fault_radii, fault_ids, fault_labels, domain: Domain
+    ws: WellSites,
+    trace_a: np.ndarray | None,
+    trace_b: np.ndarray | None,
+    trace_fault: np.ndarray | None,
+    fault_labels: Sequence[str],
+    domain: Domain,
 ) -> None:
-    """Wells must keep clear of each other and of the fault circles."""
+    """Wells must keep clear of each other, and well paths must not cross a fault trace.
+
+    ``trace_a``, ``trace_b``, ``trace_fault``: the fault traces as segments (local frame)
+    and their fault ids. Wells near faults are fine: rings are fitted (:func:`build_wells`)
+    and the fault's steps are refined where a well's site falls into a fault circle.
+    """
     nw = ws.disc_centre.shape[0]
     # point wells vs point wells
     if nw > 1:
@@ -340,26 +399,17 @@ def check_clearances(
                     f"{ws.labels[wid - 1]} and {ws.labels[wid2 - 1]} are too close: {dd:.4g} m apart, "
                     f"they need {half + half2:.4g} m"
                 )
-    if fault_centres is None or fault_centres.shape[0] == 0:
+    if trace_a is None or trace_a.shape[0] == 0:
         return
-    if nw:
-        d = np.linalg.norm(ws.disc_centre[:, None, :] - fault_centres[None, :, :], axis=2)
-        need = ws.disc_radius[:, None] + ws.disc_margin[:, None] + fault_radii[None, :]
-        i, j = np.nonzero(d < need)
-        if i.size:
-            a, b = int(i[0]), int(j[0])
+    segs = shapely.linestrings(np.stack([trace_a, trace_b], axis=1))
+    for wid, xy, _half in ws.paths:
+        line = shapely.LineString(xy)
+        hit = np.flatnonzero(shapely.intersects(segs, line))
+        if hit.size:
+            b = int(hit[0])
+            at = shapely.intersection(segs[b], line)
+            p = np.asarray(shapely.get_coordinates(at)[0])
             raise GridError(
-                f"{ws.labels[ws.disc_well[a] - 1]} is too close to {fault_labels[fault_ids[b] - 1]}: "
-                "its rings "
-                f"and clearance (radius {ws.disc_radius[a] + ws.disc_margin[a]:.4g} m) overlap the fault's "
-                f"circles near {domain.fmt(fault_centres[b])}; move the well or shrink its rings"
-            )
-    for wid, xy, half in ws.paths:
-        dist = _dist_to_polyline(fault_centres, xy)
-        bad = dist < half + fault_radii
-        if bad.any():
-            b = int(np.flatnonzero(bad)[0])
-            raise GridError(
-                f"{ws.labels[wid - 1]} crosses or comes too close to {fault_labels[fault_ids[b] - 1]} near "
-                f"{domain.fmt(fault_centres[b])} (it needs {half + fault_radii[b]:.3g} m)"
+                f"{ws.labels[wid - 1]} crosses {fault_labels[trace_fault[b] - 1]} near {domain.fmt(p)}: "
+                "a well path may not cross a fault trace (end it short of the fault, or give two wells)"
             )
