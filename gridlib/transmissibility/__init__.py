@@ -1,10 +1,22 @@
 """Transmissibilities: the connection list (cell pairs, T) a two-point flux simulator needs.
 
 * :func:`transmissibility`: any grid, from its geometry (MRST's ``computeTrans``);
+* :func:`deck_transmissibility`: corner-point decks, ECLIPSE's conventions as OPM Flow
+  applies them (NEWTRAN, multipliers, PINCH and MINPV connections);
 * :class:`Connections`: the result, in a unit system of :mod:`gridlib.units`.
 """
 
 from .connections import FAULT, KIND_NAMES, NEIGHBOR, OTHER, PINCH, Connections
+from .deck import deck_transmissibility
 from .tpfa import transmissibility
 
-__all__ = ["FAULT", "KIND_NAMES", "NEIGHBOR", "OTHER", "PINCH", "Connections", "transmissibility"]
+__all__ = [
+    "FAULT",
+    "KIND_NAMES",
+    "NEIGHBOR",
+    "OTHER",
+    "PINCH",
+    "Connections",
+    "deck_transmissibility",
+    "transmissibility",
+]
