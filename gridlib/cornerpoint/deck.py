@@ -21,6 +21,21 @@ in a GRDECL include file; ECLIPSE's default is METRIC).
 Fault segments are stored 0-based and inclusive (i1 <= i <= i2), with the face
 as in the FAULTS keyword: X, Y, Z (the +i, +j, +k face of the cells in the box)
 or X-, Y-, Z- (the -i, -j, -k face); I/J/K are read as X/Y/Z.
+
+Connections, two kinds of records (0-based linear cell indices, i fastest):
+
+* ``nnc``: the non-neighbour connections a *simulator wrote* into an EGRID (NNC1/NNC2),
+  pairs only (``read_egrid``); None for a text deck;
+* ``nnc_keyword``: the NNC keyword's records, pairs with the transmissibility the deck
+  gives (deck units), which a simulator adds to what it computes; ``editnnc``: the
+  EDITNNC records, pairs with a multiplier (:class:`CellPairs`).
+
+Multipliers and edits a simulator applies to the transmissibilities it computes, as
+read (:mod:`gridlib.cornerpoint.connection_keywords`): MULTX/MULTX-/... are cell
+keywords in ``cell_data`` (the EDIT section's arrays already multiplied in), MULTFLT
+in ``multflt`` (the last value given for each fault, GRID then EDIT), ``multregt``
+(MULTREGT records in deck order), ``gridopts`` (GRIDOPTS) and ``tran_edits`` (the EDIT
+section's operations on TRANX/TRANY/TRANZ in deck order).
 """
 
 from __future__ import annotations
@@ -31,6 +46,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from .connection_keywords import CellPairs, GridOptions, MultregtRecord, TranEdit
 
 FAULT_FACES = ("X", "X-", "Y", "Y-", "Z", "Z-")
 # PINCH items 2, 4 and 5, ECLIPSE's defaults: the gap mode (GAP: a pinch-out may join cells
@@ -79,8 +95,13 @@ class Deck:
     minpv: float | None = None
     source: str = "<memory>"
     notes: tuple[str, ...] = ()  # what the reader skipped or assumed
-    nnc: NDArray[np.int64] | None = None  # (n, 2) explicit NNC pairs, 0-based linear cell indices
+    nnc: NDArray[np.int64] | None = None  # (n, 2) NNC pairs an EGRID lists, 0-based linear cell indices
     pinch_options: tuple[str, str, str] = PINCH_DEFAULTS  # PINCH items 2, 4, 5 (see PINCH_DEFAULTS)
+    nnc_keyword: CellPairs | None = None  # NNC keyword: pairs and transmissibilities (deck units)
+    editnnc: CellPairs | None = None  # EDITNNC: pairs and multipliers
+    multregt: tuple[MultregtRecord, ...] = ()  # MULTREGT records in deck order
+    gridopts: GridOptions | None = None  # GRIDOPTS, if given
+    tran_edits: tuple[TranEdit, ...] = ()  # EDIT operations on TRANX/TRANY/TRANZ in deck order
 
     def __post_init__(self) -> None:
         nx, ny, nz = (int(d) for d in self.cart_dims)
@@ -121,11 +142,25 @@ class Deck:
                 raise InputError(f"{self.source}: NNC cell indices must lie in [0, {nc})")
             pairs.flags.writeable = False
             object.__setattr__(self, "nnc", pairs)
+        self._check_connection_keywords(nc)
         if self.mapaxes is not None:
             m = np.asarray(self.mapaxes, dtype=np.float64).ravel()
             if m.size != 6:
                 raise InputError(f"{self.source}: MAPAXES has {m.size} values, expected 6")
             object.__setattr__(self, "mapaxes", m)
+
+    def _check_connection_keywords(self, nc: int) -> None:
+        for keyword, records in (("NNC", self.nnc_keyword), ("EDITNNC", self.editnnc)):
+            if records is not None:
+                if not isinstance(records, CellPairs):
+                    raise InputError(f"{self.source}: {keyword} records must be CellPairs")
+                if records.num and (records.cells.min() < 0 or records.cells.max() >= nc):
+                    raise InputError(f"{self.source}: {keyword} cell indices must lie in [0, {nc})")
+        object.__setattr__(self, "multregt", tuple(self.multregt))
+        object.__setattr__(self, "tran_edits", tuple(self.tran_edits))
+        for edit in self.tran_edits:
+            if any(edit.box[2 * a + 1] >= self.cart_dims[a] for a in range(3)):
+                raise InputError(f"{self.source}: {edit.keyword}: box {edit.box} is not inside the grid")
 
     @property
     def num_cells(self) -> int:

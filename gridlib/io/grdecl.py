@@ -12,6 +12,16 @@ DATA deck (RUNSPEC, GRID and EDIT sections; it stops at PROPS):
 * FAULTS, MULTFLT, PINCH, MINPV;
 * INCLUDE (relative to the including file; PATHS aliases), BOX/ENDBOX, and
   EQUALS, COPY, ADD, MULTIPLY, MINVALUE, MAXVALUE;
+* what modifies connections, kept as records to be replayed in the simulator's
+  order (:mod:`gridlib.cornerpoint.connection_keywords`): MULTREGT (GRID and EDIT,
+  deck order), GRIDOPTS, NNC, EDITNNC, and the EDIT section's TRANX/TRANY/TRANZ (the
+  keywords, with BOX, and EQUALS, MULTIPLY, ADD, MINVALUE, MAXVALUE on them, in deck
+  order). As OPM Flow 2022.10 reads them: MULTX/MULTX-/MULTY/... arrays in the EDIT
+  section multiply the values from GRID; MULTFLT in GRID or EDIT sets a fault's
+  multiplier (the last one counts); COPY from TRANX/TRANY/TRANZ is ignored (noted),
+  COPY into them and operations on them in the GRID section are errors, TRANX arrays
+  outside EDIT are ignored (noted); MULTNUM defaults to 1, FLUXNUM and OPERNUM have
+  no default;
 * repeat counts (``3*0.2``; ``5*`` leaves five values unchanged), comments,
   ``/`` terminators. Keywords it does not know are skipped and listed in
   ``Deck.notes``.
@@ -41,8 +51,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..cornerpoint.connection_keywords import TRAN_KEYWORDS, CellPairs, GridOptions, MultregtRecord, TranEdit
 from ..cornerpoint.deck import FAULT_FACES, PINCH_DEFAULTS, Deck, FaultSegment
 from ._atomic import atomic_path
+from .connection_records import cell_pair_record, gridopts_record, multregt_record
 from .eclipse_text import (
     DeckError,
     Item,
@@ -68,14 +80,14 @@ _NO_DATA = frozenset(
     ENDSKIP""".split()
 )
 # Cell keywords with a default value (used when EQUALS/ADD/... touch them before they are set).
-_DEFAULTS = {"ACTNUM": 1.0, "NTG": 1.0, "MULTPV": 1.0} | {
-    f"MULT{d}{s}": 1.0 for d in "XYZ" for s in ("", "-")
-}
+_MULTIPLIER_KEYWORDS = frozenset(f"MULT{d}{s}" for d in "XYZ" for s in ("", "-"))
+_DEFAULTS = {"ACTNUM": 1.0, "NTG": 1.0, "MULTPV": 1.0, "MULTNUM": 1.0}
+_DEFAULTS |= dict.fromkeys(_MULTIPLIER_KEYWORDS, 1.0)
 # Cell keywords we know; others with one value per cell are kept too.
 _CELL_KEYWORDS = frozenset(
     """ACTNUM PORO NTG PERMX PERMY PERMZ PERMXY PERMYZ PERMZX MULTX MULTY MULTZ MULTX- MULTY- MULTZ-
-    MULTPV PORV DX DY DZ TOPS SATNUM FIPNUM EQLNUM PVTNUM IMBNUM ROCKNUM MINPVV SWATINIT TRANX TRANY
-    TRANZ DEPTH SWL SWCR SWU SGL SGCR SGU SOWCR SOGCR KRW KRO KRG PCW PCG MULTNUM FLUXNUM OPERNUM
+    MULTPV PORV DX DY DZ TOPS SATNUM FIPNUM EQLNUM PVTNUM IMBNUM ROCKNUM MINPVV SWATINIT
+    DEPTH SWL SWCR SWU SGL SGCR SGU SOWCR SOGCR KRW KRO KRG PCW PCG MULTNUM FLUXNUM OPERNUM
     DIFFX DIFFY DIFFZ THCONR HEATCR PRESSURE SWAT SGAS RS RV""".split()
 )
 _GEOMETRY_KEYWORDS = ("DX", "DY", "DZ", "TOPS")
@@ -102,6 +114,11 @@ class _State:
     pinch: tuple[float, ...] | None = None
     pinch_options: tuple[str, ...] = PINCH_DEFAULTS
     minpv: float | None = None
+    multregt: list[MultregtRecord] = field(default_factory=list)
+    gridopts: GridOptions | None = None
+    tran_edits: list[TranEdit] = field(default_factory=list)
+    cell_pairs: dict[str, list[tuple[int, int, float, str]]] = field(default_factory=dict)  # NNC, EDITNNC
+    multflt_sources: dict[str, str] = field(default_factory=dict)  # fault -> where its MULTFLT was set
     gdfile: Deck | None = None
     paths: dict[str, str] = field(default_factory=dict)
     section: str | None = None
@@ -295,17 +312,41 @@ def _cell_array(state, src, pos, name, depth=0):
         expected = numbers.values.size
     else:
         numbers, end = read_numbers(src, pos, name, expected=expected)
-    _store(state, name, numbers, box, expected)
+    multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
+    _store(state, name, numbers, box, expected, multiply)
     return end
 
 
-def _store(state, name, numbers, box, expected):
+def _store(state, name, numbers, box, expected, multiply=False):
     target = _array(state, name)
     cells = _box_cells(state, box) if expected == _box_size(state, box) else np.arange(expected)
     values = numbers.values
+    if multiply:
+        values = target[cells] * values
     if numbers.defaulted is not None:  # n* leaves the values as they were
         values = np.where(numbers.defaulted, target[cells], values)
     target[cells] = values
+
+
+def _full_box(state: _State, box: tuple[int, ...] | None) -> tuple[int, int, int, int, int, int]:
+    nx, ny, nz = state.dims  # type: ignore[misc]
+    return tuple(box) if box is not None else (0, nx - 1, 0, ny - 1, 0, nz - 1)  # type: ignore[return-value]
+
+
+def _tran_array(state, src, pos, name, depth):
+    """TRANX, TRANY, TRANZ: values the simulator computes, replaced in the EDIT section."""
+    _need_dims(state, src, pos, name)
+    at = skip_blank(src.data, pos)
+    numbers, end = read_numbers(src, pos, name, expected=_box_size(state, state.box))
+    where = f"{src.path.name}:{src.line(at)}"
+    if state.section != "EDIT":
+        state.notes.append(f"{where}: {name} outside the EDIT section ignored (as OPM Flow does)")
+        return end
+    values = numbers.values
+    if numbers.defaulted is not None:
+        values = np.where(numbers.defaulted, np.nan, values)
+    state.tran_edits.append(TranEdit(name, "SET", _full_box(state, state.box), values=values, source=where))
+    return end
 
 
 def _unknown(state, src, pos, name):
@@ -413,6 +454,9 @@ def _operator(state, src, pos, name, depth):
             )
         target = items[0].upper()
         box = _read_box(state, src, at, name, items[2:8], state.box)
+        if target in TRAN_KEYWORDS or (name == "COPY" and items[1].upper() in TRAN_KEYWORDS):
+            _tran_operation(state, src, at, name, items, box)
+            continue
         cells = _box_cells(state, box)
         if name == "COPY":
             dest = items[1].upper()
@@ -425,11 +469,6 @@ def _operator(state, src, pos, name, depth):
             _array(state, target)[cells] = value
             continue
         if target not in state.arrays and target not in _DEFAULTS:
-            if state.section == "EDIT":  # e.g. MULTIPLY TRANX: values the simulator computes
-                state.notes.append(
-                    f"{src.path.name}:{src.line(at)}: {name} {target} ignored (computed by the simulator)"
-                )
-                continue
             raise src.error(at, name, f"{target} is not defined")
         arr = _array(state, target)
         if name == "ADD":
@@ -440,6 +479,58 @@ def _operator(state, src, pos, name, depth):
             arr[cells] = np.maximum(arr[cells], value)
         else:  # MAXVALUE
             arr[cells] = np.minimum(arr[cells], value)
+    return pos
+
+
+def _tran_operation(state, src, at, name, items, box) -> None:
+    """EQUALS/MULTIPLY/ADD/MINVALUE/MAXVALUE on TRANX/TRANY/TRANZ (EDIT only), or COPY."""
+    where = f"{src.path.name}:{src.line(at)}"
+    if name == "COPY":
+        source, dest = items[0].upper(), items[1].upper()
+        if dest in TRAN_KEYWORDS:
+            raise src.error(at, name, f"cannot copy into {dest}: a transmissibility the simulator computes")
+        state.notes.append(f"{where}: COPY {source} {dest} ignored (as OPM Flow 2022.10 does)")
+        return
+    keyword = items[0].upper()
+    if state.section != "EDIT":
+        if state.section == "GRID":
+            raise src.error(at, name, f"{keyword} can only be modified in the EDIT section")
+        state.notes.append(f"{where}: {name} {keyword} outside the EDIT section ignored")
+        return
+    value = _float_item(src, at, name, items[1], keyword)
+    if value is None or not np.isfinite(value):
+        raise src.error(at, name, f"{keyword}: needs one finite value, got {items[1]!r}")
+    state.tran_edits.append(TranEdit(keyword, name, _full_box(state, box), value=value, source=where))
+
+
+def _multregt(state, src, pos, name, depth):
+    records, pos = read_records(src, pos, name)
+    state.multregt.extend(multregt_record(src, at, name, items) for items, at in records)
+    return pos
+
+
+def _gridopts(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    state.gridopts = gridopts_record(src, at, name, items)
+    return pos
+
+
+def _cell_pairs(state, src, pos, name, depth):
+    """NNC (I1 J1 K1 I2 J2 K2 TRAN ...) and EDITNNC (... multiplier ...) records."""
+    dims = _need_dims(state, src, pos, name)
+    records, pos = read_records(src, pos, name)
+    rows = state.cell_pairs.setdefault(name, [])
+    unused = 0
+    for items, at in records:
+        g1, g2, value, extra = cell_pair_record(src, at, name, items, dims)
+        default = 0.0 if name == "NNC" else 1.0
+        rows.append((g1, g2, default if value is None else value, f"{src.path.name}:{src.line(at)}"))
+        unused += extra
+    if unused:
+        state.notes.append(
+            f"{src.path.name}:{src.line(records[0][1])}: {name}: items after item 7 are not used "
+            f"({unused} records give some)"
+        )
     return pos
 
 
@@ -467,6 +558,7 @@ def _multflt(state, src, pos, name, depth):
         if len(items) < 2 or items[0] is None:
             raise src.error(at, name, "a record needs: fault name and multiplier")
         state.multflt[items[0]] = _float_item(src, at, name, items[1], "multiplier")
+        state.multflt_sources[items[0]] = f"{src.path.name}:{src.line(at)}"
     return pos
 
 
@@ -535,15 +627,6 @@ def _single_record_note(state, src, pos, name, depth):
     return pos
 
 
-def _multi_record_note(state, src, pos, name, depth):
-    records, pos = read_records(src, pos, name)
-    if records:
-        state.notes.append(
-            f"{src.path.name}:{src.line(records[0][1])}: {name}: {len(records)} records ignored"
-        )
-    return pos
-
-
 _HANDLERS = {
     "DIMENS": _dims_keyword,
     "SPECGRID": _dims_keyword,
@@ -578,9 +661,13 @@ _HANDLERS = {
     "RADFIN4": _skip_block("ENDFIN", "local grid refinement"),
     "GDORIENT": _single_record_note,
     "COORDSYS": _single_record_note,
-    "NNC": _multi_record_note,
-    "EDITNNC": _multi_record_note,
-    "MULTREGT": _multi_record_note,
+    "NNC": _cell_pairs,
+    "EDITNNC": _cell_pairs,
+    "MULTREGT": _multregt,
+    "GRIDOPTS": _gridopts,
+    "TRANX": _tran_array,
+    "TRANY": _tran_array,
+    "TRANZ": _tran_array,
 }
 
 
@@ -625,6 +712,14 @@ def _deck(state: _State) -> Deck:
     if state.skipped:
         shown = ", ".join(f"{k} ({v})" for k, v in state.skipped.items())
         notes.append(f"skipped keywords not needed for the grid: {shown}")
+    fault_names = {seg.name for seg in state.faults}
+    for name, at in state.multflt_sources.items():
+        if name not in fault_names:
+            notes.append(f"{at}: MULTFLT of fault {name!r} ignored: FAULTS does not define it (Flow stops)")
+    pairs = {}
+    for keyword, rows in state.cell_pairs.items():
+        g1, g2, values, sources = zip(*rows, strict=True) if rows else ((), (), (), ())
+        pairs[keyword] = CellPairs(np.column_stack([g1, g2]).reshape(-1, 2), values, sources)
     return Deck(
         (nx, ny, nz),
         coord,
@@ -642,6 +737,11 @@ def _deck(state: _State) -> Deck:
         where,
         tuple(notes),
         pinch_options=state.pinch_options,
+        nnc_keyword=pairs.get("NNC"),
+        editnnc=pairs.get("EDITNNC"),
+        multregt=tuple(state.multregt),
+        gridopts=state.gridopts,
+        tran_edits=tuple(state.tran_edits),
     )
 
 
