@@ -1,0 +1,250 @@
+"""What OPM Flow 2022.10 does to the transmissibilities it has computed, in its order.
+
+After the grid's connections have their transmissibility with MULTX/.../MULTFLT and
+MULTREGT applied (one value per cell pair), Flow, and :func:`apply_deck_edits`:
+
+1. makes a connection of transmissibility 0 for every NNC-keyword pair the grid does
+   not connect (both cells in the grid);
+2. replays the EDIT section's operations on TRANX, TRANY and TRANZ in deck order
+   (SET = the keyword itself, EQUALS, MULTIPLY, ADD, MINVALUE = at least, MAXVALUE = at
+   most), on logical neighbours only: TRANX of cell g is the connection (g, g + 1) if
+   nx > 1, TRANY (g, g + nx) if ny > 1, TRANZ (g, g + nx ny); fault connections between
+   such cells are edited, pinch-outs and other pairs are not;
+3. applies EDITNNC: a record's multiplier multiplies the NNC keyword's values for the
+   same pair if there are any (not the grid's own transmissibility of that pair),
+   otherwise the grid's connection between the two cells, if there is one (else it is
+   ignored, noted). Records with a multiplier of 1 or an inactive cell are skipped, and
+   so are pairs Flow takes for neighbours: index difference 0, 1, nx or, **a quirk of
+   2022.10**, ny (where nx ny is meant), so EDITNNC does multiply the vertical
+   neighbour connections and skips pairs ny apart;
+4. adds each NNC-keyword value (after EDITNNC) to its pair's transmissibility; no
+   MULT*, MULTREGT or TRAN edit applies to that value (but EDIT TRAN operations do
+   apply to a 0 connection the NNC keyword made between logical neighbours). Records
+   with an inactive cell, or a cell the grid has removed (MINPV, collapsed), are
+   skipped (noted);
+5. sets every connection that is not between logical neighbours (index difference
+   1, nx or nx ny) and has a transmissibility below 1e-6 deck units to 0.
+
+Connections of transmissibility 0 are then left out (negative ones too, noted). All
+values are in the deck's transmissibility unit (:mod:`gridlib.units`): NNC values and
+the operands of EQUALS/ADD/MINVALUE/MAXVALUE as the deck gives them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..cornerpoint.connection_keywords import CellPairs
+from ..cornerpoint.deck import Deck
+from ..grid import FloatArray, IntArray
+from .connections import OTHER
+
+NNC_THRESHOLD = 1e-6  # deck units: non-neighbour connections below this are set to 0 (Flow)
+
+
+def per_pair(
+    cells: IntArray, trans: FloatArray, kind: np.ndarray, face: IntArray
+) -> tuple[IntArray, FloatArray, np.ndarray, IntArray]:
+    """One entry per cell pair (first < second), sorted: faces between the same two cells
+    added (parallel paths), the smallest kind and the first face kept."""
+    cells = np.sort(np.asarray(cells, dtype=np.int64).reshape(-1, 2), axis=1)
+    order = np.lexsort((face, cells[:, 1], cells[:, 0]))
+    cells, trans, kind, face = cells[order], trans[order], kind[order], face[order]
+    first = np.ones(order.size, dtype=bool)
+    first[1:] = (cells[1:] != cells[:-1]).any(axis=1)
+    group = np.cumsum(first) - 1
+    starts = np.flatnonzero(first)
+    total = np.bincount(group, trans, starts.size) if starts.size else np.zeros(0)
+    kmin = np.full(starts.size, 127, dtype=np.int8)
+    np.minimum.at(kmin, group, kind)
+    return cells[starts], total, kmin, face[starts]
+
+
+def _keys(lo: IntArray, hi: IntArray, n: int) -> IntArray:
+    return np.asarray(lo, dtype=np.int64) * n + np.asarray(hi, dtype=np.int64)
+
+
+def _ordered(pairs: IntArray) -> tuple[IntArray, IntArray]:
+    return np.minimum(pairs[:, 0], pairs[:, 1]), np.maximum(pairs[:, 0], pairs[:, 1])
+
+
+def nnc_keyword_values(deck: Deck, notes: list[str]) -> tuple[IntArray, FloatArray, IntArray, FloatArray]:
+    """Flow's input NNCs and EDITNNC: the NNC keyword's pairs (lo, hi linear indices,
+    sorted) with their values after EDITNNC, and the EDITNNC multipliers left for the
+    grid's own connections (pairs, product per pair)."""
+    nc = deck.num_cells
+    active = deck.active
+    empty = CellPairs(np.zeros((0, 2), np.int64), np.zeros(0))
+    nnc = deck.nnc_keyword or empty
+    lo, hi = _ordered(nnc.cells)
+    ok = active[lo] & active[hi]
+    if not ok.all():
+        notes.append(f"NNC: {int((~ok).sum())} records with an inactive cell ignored (as Flow)")
+    order = np.argsort(_keys(lo[ok], hi[ok], nc), kind="stable")
+    nnc_lo, nnc_hi, nnc_value = lo[ok][order], hi[ok][order], nnc.values[ok][order]
+
+    edit = deck.editnnc or empty
+    lo, hi = _ordered(edit.cells)
+    mult = edit.values
+    nx, ny, _ = deck.cart_dims
+    diff = hi - lo
+    quirk = (diff == ny) & (ny != 1) & (ny != nx)
+    ok = (mult != 1.0) & active[lo] & active[hi] & ~np.isin(diff, [0, 1, nx, ny])
+    if quirk.any():
+        notes.append(
+            f"EDITNNC: {int(quirk.sum())} records for cells ny = {ny} apart skipped "
+            "(OPM Flow 2022.10 takes them for neighbours)"
+        )
+    if (~ok & ~quirk & (mult != 1.0)).any():
+        skipped = int((~ok & ~quirk & (mult != 1.0)).sum())
+        notes.append(f"EDITNNC: {skipped} records for neighbours or inactive cells skipped (as Flow)")
+    keys, mult = _keys(lo[ok], hi[ok], nc), mult[ok]
+    unique, inverse = np.unique(keys, return_inverse=True)
+    product = np.ones(unique.size)
+    np.multiply.at(product, inverse, mult)
+    nnc_keys = _keys(nnc_lo, nnc_hi, nc)
+    on_input = np.isin(unique, nnc_keys)
+    at = np.searchsorted(unique, nnc_keys)
+    hit = (at < unique.size) & (unique[np.minimum(at, unique.size - 1)] == nnc_keys)
+    nnc_value = np.where(hit, nnc_value * product[np.minimum(at, unique.size - 1)], nnc_value)
+    if on_input.any():
+        notes.append(f"EDITNNC: {int(on_input.sum())} pairs multiply the NNC keyword's values")
+    rest = unique[~on_input]
+    return (
+        np.column_stack([nnc_lo, nnc_hi]),
+        nnc_value,
+        np.column_stack([rest // nc, rest % nc]),
+        product[~on_input],
+    )
+
+
+def apply_deck_edits(
+    deck: Deck,
+    cells: IntArray,
+    trans: FloatArray,
+    kind: np.ndarray,
+    face: IntArray,
+    index_map: IntArray,
+    notes: list[str],
+    unit_label: str = "",
+) -> tuple[IntArray, FloatArray, np.ndarray, IntArray]:
+    """Steps 1-5 above on the grid's connections (one entry per face or pair, cells of
+    the processed grid whose linear indices are ``index_map``); per pair, sorted."""
+    cells, trans, kind, face = per_pair(cells, np.asarray(trans, dtype=np.float64), kind, face)
+    index_map = np.asarray(index_map, dtype=np.int64)
+    nc = deck.num_cells
+    cell_of = np.full(nc, -1, dtype=np.int64)
+    cell_of[index_map] = np.arange(index_map.size)
+
+    nnc_pairs, nnc_values, edit_pairs, edit_mult = nnc_keyword_values(deck, notes)
+    in_grid = (cell_of[nnc_pairs[:, 0]] >= 0) & (cell_of[nnc_pairs[:, 1]] >= 0)
+    if not in_grid.all():
+        notes.append(
+            f"NNC: {int((~in_grid).sum())} records with a cell the grid has removed ignored (as Flow)"
+        )
+    nnc_pairs, nnc_values = nnc_pairs[in_grid], nnc_values[in_grid]
+
+    # 1. a connection for every NNC-keyword pair the grid does not join
+    new = np.unique(np.sort(cell_of[nnc_pairs], axis=1), axis=0)
+    n_cells = index_map.size
+    have = _keys(cells[:, 0], cells[:, 1], n_cells)
+    new = new[~np.isin(_keys(new[:, 0], new[:, 1], n_cells), have)]
+    if new.size:
+        cells = np.concatenate([cells, new])
+        trans = np.concatenate([trans, np.zeros(new.shape[0])])
+        kind = np.concatenate([kind, np.full(new.shape[0], OTHER, dtype=np.int8)])
+        face = np.concatenate([face, np.full(new.shape[0], -1, dtype=np.int64)])
+        order = np.lexsort((cells[:, 1], cells[:, 0]))
+        cells, trans, kind, face = cells[order], trans[order], kind[order], face[order]
+        notes.append(f"NNC: {new.shape[0]} connections the grid does not make added")
+    glob = index_map[cells]
+    lo, hi = _ordered(glob)
+
+    # 2. EDIT TRANX/TRANY/TRANZ
+    trans = apply_tran_edits(deck, lo, hi, trans, notes)
+
+    # 3. EDITNNC on the grid's connections
+    keys = _keys(lo, hi, nc)
+    order = np.argsort(keys)
+    if edit_pairs.size:
+        wanted = _keys(edit_pairs[:, 0], edit_pairs[:, 1], nc)
+        at = (
+            order[np.minimum(np.searchsorted(keys[order], wanted), keys.size - 1)]
+            if keys.size
+            else wanted * 0
+        )
+        found = keys[at] == wanted if keys.size else np.zeros(wanted.size, dtype=bool)
+        trans = trans.copy()
+        trans[at[found]] *= edit_mult[found]
+        notes.append(f"EDITNNC: {int(found.sum())} connections multiplied")
+        if not found.all():
+            notes.append(f"EDITNNC: {int((~found).sum())} pairs the grid does not join ignored (Flow warns)")
+
+    # 4. NNC values added
+    if nnc_values.size:
+        wanted = _keys(nnc_pairs[:, 0], nnc_pairs[:, 1], nc)
+        at = order[np.searchsorted(keys[order], wanted)]
+        trans = trans.copy()
+        np.add.at(trans, at, nnc_values)
+        notes.append(f"NNC: {nnc_values.size} transmissibilities added")
+
+    # 5. small non-neighbour connections
+    nx, ny, _ = deck.cart_dims
+    neighbor = np.isin(hi - lo, [1, nx, nx * ny])
+    small = ~neighbor & (trans < NNC_THRESHOLD) & (trans != 0.0)
+    if small.any():
+        notes.append(
+            f"{int(small.sum())} non-neighbour connections below {NNC_THRESHOLD:g} {unit_label} were dropped "
+            "(as OPM Flow does)".replace("  ", " ")
+        )
+        trans = np.where(small, 0.0, trans)
+    if (trans < 0).any():
+        notes.append(f"{int((trans < 0).sum())} connections with a negative transmissibility left out")
+    return cells, trans, kind, face
+
+
+_AXIS_OF_KEYWORD = {"TRANX": 0, "TRANY": 1, "TRANZ": 2}
+
+
+def apply_tran_edits(
+    deck: Deck, lo: IntArray, hi: IntArray, trans: FloatArray, notes: list[str]
+) -> FloatArray:
+    """The EDIT section's TRANX/TRANY/TRANZ operations replayed on connections (lo, hi)."""
+    if not deck.tran_edits:
+        return trans
+    nx, ny, _ = deck.cart_dims
+    step = hi - lo
+    axis = np.full(step.size, -1)
+    axis[(step == nx * ny)] = 2  # Flow's if/else chain: X first, then Y, then Z
+    axis[(step == nx) & (ny > 1)] = 1
+    axis[(step == 1) & (nx > 1)] = 0
+    trans = np.array(trans, dtype=np.float64)
+    for keyword, ax in _AXIS_OF_KEYWORD.items():
+        edits = [e for e in deck.tran_edits if e.keyword == keyword]
+        if not edits:
+            continue
+        rows = np.flatnonzero(axis == ax)
+        values = np.full(deck.num_cells, np.nan)  # per cell: its connection to the next cell along ax
+        values[lo[rows]] = trans[rows]
+        for edit in edits:
+            cells = edit.cells(deck.cart_dims)
+            current = values[cells]
+            if edit.operation == "SET":
+                given = ~np.isnan(edit.values)
+                current = np.where(given, edit.values, current)
+            elif edit.operation == "EQUALS":
+                current = np.full(cells.size, edit.value)
+            elif edit.operation == "MULTIPLY":
+                current = current * edit.value
+            elif edit.operation == "ADD":
+                current = current + edit.value
+            elif edit.operation == "MINVALUE":
+                current = np.maximum(current, edit.value)
+            else:  # MAXVALUE
+                current = np.minimum(current, edit.value)
+            values[cells] = current
+        changed = values[lo[rows]] != trans[rows]
+        trans[rows] = values[lo[rows]]
+        sources = ", ".join(f"{e.operation} {e.source}".strip() for e in edits)
+        notes.append(f"{keyword} edits ({sources}) changed {int(changed.sum())} connections")
+    return trans
