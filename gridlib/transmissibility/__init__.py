@@ -9,6 +9,7 @@
 from .connections import FAULT, KIND_NAMES, NEIGHBOR, OTHER, PINCH, Connections
 from .deck import deck_transmissibility
 from .tpfa import transmissibility
+from .wells import cell_extents, deck_cell_extents, deck_well_index, well_index
 
 __all__ = [
     "FAULT",
@@ -20,3 +21,4 @@ __all__ = [
     "deck_transmissibility",
     "transmissibility",
 ]
+__all__ += ["cell_extents", "deck_cell_extents", "deck_well_index", "well_index"]  # wells.py
