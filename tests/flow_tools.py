@@ -87,3 +87,54 @@ def flow_connections(case: Path) -> dict[tuple[int, int], float]:
             pair = (min(a, b) - 1, max(a, b) - 1)
             out[pair] = out.get(pair, 0.0) + v
     return {p: v for p, v in out.items() if v != 0}
+
+
+def flow_connection_factors(deck: Path, out: Path, step_days: float = 1.0) -> dict[tuple[str, int], float]:
+    """Flow's well connection factors {(well, g): CF} (g the 0-based linear cell index, CF in
+    deck units, float32) of the connections that exist after the first report step.
+
+    The dry run writes no well data, so Flow simulates one short report step of a copy of
+    ``deck`` written into ``out``: the text up to the first TSTEP or DATES of its SCHEDULE
+    section (which must then come in the deck file itself, not in an include), followed by
+    RPTRST BASIC=1 and one TSTEP of ``step_days``; the other entries of the deck's folder are
+    linked next to it, so that relative INCLUDE paths resolve. The factors are read from the
+    restart file: per well, ICON holds each connection's 1-based I, J, K (items 2-4) and SCON
+    its connection transmissibility factor (item 1), in windows of INTEHEAD's NICONZ and
+    NSCONZ entries for NCWMAX connections; ZWEL holds the well names.
+    """
+    deck = Path(deck)
+    out.mkdir(parents=True, exist_ok=True)
+    for entry in deck.parent.iterdir():
+        if entry != deck and not (out / entry.name).exists():
+            (out / entry.name).symlink_to(entry.resolve())
+    lines = deck.read_text(errors="replace").splitlines(keepends=True)
+    keywords = [line.split("--")[0].strip().upper() for line in lines]
+    schedule = keywords.index("SCHEDULE")
+    stop = next(i for i in range(schedule, len(lines)) if keywords[i] in ("TSTEP", "DATES"))
+    copy = out / deck.name
+    copy.write_text("".join(lines[:stop]) + f"RPTRST\n 'BASIC=1' /\nTSTEP\n {step_days} /\nEND\n")
+    res = subprocess.run(
+        [flow_executable(), "--threads-per-process=1", f"--output-dir={out / 'flow'}", str(copy)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    case = out / "flow" / deck.stem.upper()
+    restart = Path(f"{case}.UNRST") if Path(f"{case}.UNRST").exists() else Path(f"{case}.X0001")
+    rst = read_keywords(restart)
+    egrid = read_keywords(Path(f"{case}.EGRID"))
+    nx, ny = (int(v) for v in egrid["GRIDHEAD"][1:3])
+    head = rst["INTEHEAD"]
+    nwells, ncwmax, niconz, nsconz = (int(head[i]) for i in (16, 17, 32, 33))
+    icon = rst["ICON"].reshape(nwells, ncwmax, niconz)
+    scon = rst["SCON"].reshape(nwells, ncwmax, nsconz)
+    names = [bytes(v).decode().strip() if not isinstance(v, str) else v.strip() for v in rst["ZWEL"]]
+    names = names[:: len(names) // nwells] if nwells else []
+    factors: dict[tuple[str, int], float] = {}
+    for w, name in enumerate(names):
+        for c in range(ncwmax):
+            if icon[w, c, 0] > 0:
+                i, j, k = (int(v) - 1 for v in icon[w, c, 1:4])
+                factors[(name, i + nx * (j + ny * k))] = float(scon[w, c, 0])
+    return factors
