@@ -222,7 +222,13 @@ def _left_handed(lines: FloatArray, active: np.ndarray, nx: int, ny: int) -> boo
     return bool((cross < 0).sum() > (cross > 0).sum())
 
 
-def corner_points(deck: Deck, cells: IntArray) -> FloatArray:
+def depth_sign(deck: Deck) -> int:
+    """-1 for a deck whose z grows upwards (process_grdecl negates it), else 1."""
+    nx, ny, nz = deck.cart_dims
+    return _depth_sign(deck.zcorn_array(), deck.active.reshape(nz, ny, nx), deck.source)
+
+
+def corner_points(deck: Deck, cells: IntArray, sign: int | None = None) -> FloatArray:
     """Coordinates (n, 8, 3) of the eight corners of ``cells`` (linear ijk indices, i fastest),
     in the frame of :func:`~gridlib.cornerpoint.process_grdecl` (z is depth: z-up decks are
     negated).
@@ -230,7 +236,7 @@ def corner_points(deck: Deck, cells: IntArray) -> FloatArray:
     Corner ``a + 2b + 4c`` lies on pillar (i + a, j + b) at the cell's top (c = 0) or bottom
     (c = 1) depth from ZCORN; its x, y are the pillar line's at that depth (the pillar's
     top point where both ends of the pillar have the same depth), as ECLIPSE and OPM Flow
-    place corners.
+    place corners. ``sign``: :func:`depth_sign` of the deck, if known.
 
     >>> from gridlib.cornerpoint.generators import simple_grdecl
     >>> corner_points(simple_grdecl([2, 1, 1]), [1])[0, [4, 7]].round(6).tolist()  # bottom corners
@@ -240,7 +246,8 @@ def corner_points(deck: Deck, cells: IntArray) -> FloatArray:
     g = np.asarray(cells, dtype=np.int64).ravel()
     i, j, k = g % nx, (g // nx) % ny, g // (nx * ny)
     zc = deck.zcorn_array()
-    sign = _depth_sign(zc, deck.active.reshape(nz, ny, nx), deck.source)
+    if sign is None:
+        sign = _depth_sign(zc, deck.active.reshape(nz, ny, nx), deck.source)
     lines = deck.pillars().reshape(-1, 2, 3)
     out = np.empty((g.size, 8, 3))
     for corner in range(8):

@@ -82,13 +82,14 @@ def assemble(
     notes: list[str] | tuple[str, ...] = (),
 ) -> Connections:
     """Connections from one entry per face or pair: pairs ordered (first < second), entries of
-    the same pair added (their faces are parallel paths; the smallest kind and first face
-    kept), zero transmissibilities dropped, sorted by pair."""
+    the same pair added (their faces are parallel paths; the smallest kind and the first
+    entry's face kept), zero transmissibilities dropped, sorted by pair."""
     cells = np.sort(np.asarray(cells, dtype=np.int64).reshape(-1, 2), axis=1)
     trans = np.asarray(trans, dtype=np.float64)
     kind = np.asarray(kind, dtype=np.int8)
     face = np.asarray(face, dtype=np.int64)
-    order = np.lexsort((face, cells[:, 1], cells[:, 0]))
+    key = cells[:, 0] * (int(cells.max(initial=0)) + 1) + cells[:, 1]
+    order = np.argsort(key, kind="stable")  # entries of one pair keep their given order
     cells, trans, kind, face = cells[order], trans[order], kind[order], face[order]
     first = np.ones(order.size, dtype=bool)
     first[1:] = (cells[1:] != cells[:-1]).any(axis=1)

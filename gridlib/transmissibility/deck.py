@@ -23,18 +23,11 @@ from ..errors import InputError
 from ..grid import B, E, N, S, T, W
 from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
+from .edits import apply_deck_edits
 from .multipliers import directional_multipliers
-from .newtran import (
-    cell_and_face_centres,
-    combine,
-    half_transmissibilities,
-    interior_half_faces,
-    vector_areas,
-)
-from .pinch import minpv_connections
+from .newtran import newtran_connections
+from .region_multipliers import region_multipliers
 
-NNC_THRESHOLD = 1e-6  # deck units: non-neighbour connections below this are dropped (Flow)
-_AXIS_OF_TAG = np.array([0, 0, 1, 1, 2, 2])  # W, E -> x; S, N -> y; T, B -> z
 assert (W, E, S, N, T, B) == (0, 1, 2, 3, 4, 5)
 
 
@@ -104,24 +97,9 @@ def deck_transmissibility(
     dims = deck.cart_dims
     layer = dims[0] * dims[1]
 
-    f, a, ta, b, tb = interior_half_faces(grid)
-    centre, face_centre, bottom = cell_and_face_centres(deck, glob)
-    area = vector_areas(grid, f)
-    column = (ta >= T) & (tb >= T)  # one cell above the other
-    across = column & (np.abs(glob[b] - glob[a]) > layer)  # across collapsed cells (PINCH)
-    if across.any() and not pinch_active:
-        keep = ~across
-        f, a, ta, b, tb, area, column = (x[keep] for x in (f, a, ta, b, tb, area, column))
-        notes.append(f"{int(across.sum())} connections across zero-thickness layers left out (no PINCH)")
-    f, a, ta, b, tb, area, column = _with_minpv_connections(deck, glob, f, a, ta, b, tb, area, column, notes)
-    upper = np.where(ta == B, a, b)
-    area[column] = bottom[upper[column]]
+    raw = newtran_connections(deck, grid, perm, ntg, units, pinch_active, notes)
+    a, b, ta, tb, f, column, trans = raw.a, raw.b, raw.ta, raw.tb, raw.face, raw.column, raw.trans
     ga, gb = glob[a], glob[b]
-    ha = half_transmissibilities(area, centre[a], face_centre[a, ta], perm[ga, _AXIS_OF_TAG[ta]])
-    hb = half_transmissibilities(area, centre[b], face_centre[b, tb], perm[gb, _AXIS_OF_TAG[tb]])
-    ha = np.where(ta < T, ha * ntg[ga], ha)
-    hb = np.where(tb < T, hb * ntg[gb], hb)
-    trans = combine(ha, hb, units)
 
     mult = directional_multipliers(deck, notes)
     if mult is not None:
@@ -132,44 +110,17 @@ def deck_transmissibility(
             mb = np.where(column & (tb == B), smallest, mb)
         trans = trans * ma * mb
 
+    region = region_multipliers(deck, ga, gb, ta // 2, notes)  # MULTREGT; tag // 2 = axis
+    if region is not None:
+        trans = trans * region
+
     neighbor = logical_neighbors(ga, gb, dims)
     kind = np.where(neighbor, NEIGHBOR, np.where(column, PINCH, FAULT)).astype(np.int8)
-    small = ~neighbor & (trans < NNC_THRESHOLD)
-    if small.any():
-        notes.append(
-            f"{int(small.sum())} non-neighbour connections below {NNC_THRESHOLD:g} "
-            f"{units.transmissibility_label} were dropped (as OPM Flow does)"
-        )
-        trans = np.where(small, 0.0, trans)
-    return assemble(np.column_stack([a, b]), trans, kind, f, index_map=glob, units=units.name, notes=notes)
-
-
-def _with_minpv_connections(deck, glob, f, a, ta, b, tb, area, column, notes):
-    """The face connections with Flow's MINPV connections added (face -1, upper cell first,
-    its bottom face to the lower cell's top), those already joined by a face left out."""
-    pairs = minpv_connections(deck)
-    if pairs.size == 0:
-        return f, a, ta, b, tb, area, column
-    cell_of = np.full(deck.num_cells, -1, dtype=np.int64)
-    cell_of[glob] = np.arange(glob.size)
-    up, low = cell_of[pairs[:, 0]], cell_of[pairs[:, 1]]
-    ok = (up >= 0) & (low >= 0)
-    n_cells = glob.size
-    have = np.minimum(a, b) * n_cells + np.maximum(a, b)
-    ok &= ~np.isin(np.minimum(up, low) * n_cells + np.maximum(up, low), have)
-    up, low = up[ok], low[ok]
-    if up.size:
-        notes.append(f"{up.size} connections across cells removed by MINPV (as OPM Flow makes them)")
-    n = up.size
-    return (
-        np.concatenate([f, np.full(n, -1)]),
-        np.concatenate([a, up]),
-        np.concatenate([ta, np.full(n, B)]),
-        np.concatenate([b, low]),
-        np.concatenate([tb, np.full(n, T)]),
-        np.concatenate([area, np.zeros((n, 3))]),
-        np.concatenate([column, np.ones(n, dtype=bool)]),
+    # EDIT TRANX/Y/Z, EDITNNC, NNC keyword, small non-neighbours (.edits)
+    pairs, trans, kind, f = apply_deck_edits(
+        deck, np.column_stack([a, b]), trans, kind, f, glob, notes, units.transmissibility_label
     )
+    return assemble(pairs, trans, kind, f, index_map=glob, units=units.name, notes=notes)
 
 
 def _smallest_multz(mult, ga, gb, ta, column, layer):

@@ -21,13 +21,15 @@ deck's transmissibility unit (:mod:`gridlib.units`).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..connectivity import repeat_ids
-from ..cornerpoint.corners import corner_points
+from ..cornerpoint.corners import depth_sign
 from ..cornerpoint.deck import Deck
 from ..geometry import cross
-from ..grid import FloatArray, Grid, IntArray
+from ..grid import B, FloatArray, Grid, IntArray, T
 from ..units import MILLIDARCY, UnitSystem
 
 # Corners (a + 2b + 4c) of each logical face W, E, S, N, T, B (grid.W..grid.B)
@@ -36,24 +38,7 @@ HALF_MINIMUM = 1e-30  # m3: below this a half-transmissibility makes the connect
 _BLOCK = 1 << 16  # cells per block of corner coordinates
 
 
-def cell_and_face_centres(deck: Deck, cells: IntArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Centres (n, 3) of ``cells`` (linear ijk indices) and of their six logical faces
-    (n, 6, 3), means of the 8 and of the 4 corners, and the area vector (n, 3) of each
-    cell's bottom face, in the processed grid's frame."""
-    cells = np.asarray(cells, dtype=np.int64)
-    centre = np.empty((cells.size, 3))
-    faces = np.empty((cells.size, 6, 3))
-    bottom = np.empty((cells.size, 3))
-    for s in range(0, cells.size, _BLOCK):
-        p = corner_points(deck, cells[s : s + _BLOCK])  # (m, 8, 3)
-        acc = p[:, 0].copy()
-        for c in range(1, 8):
-            acc += p[:, c]
-        centre[s : s + _BLOCK] = acc / 8.0
-        for f, (a, b, c, d) in enumerate(FACE_CORNERS):
-            faces[s : s + _BLOCK, f] = (((p[:, a] + p[:, b]) + p[:, c]) + p[:, d]) / 4.0
-        bottom[s : s + _BLOCK] = quad_vector_area(p[:, 4], p[:, 5], p[:, 7], p[:, 6])
-    return centre, faces, bottom
+_AXIS_OF_FACE = np.array([0, 0, 1, 1, 2, 2])  # W, E -> x; S, N -> y; T, B -> z
 
 
 def quad_vector_area(p0: FloatArray, p1: FloatArray, p2: FloatArray, p3: FloatArray) -> FloatArray:
@@ -62,16 +47,31 @@ def quad_vector_area(p0: FloatArray, p1: FloatArray, p2: FloatArray, p3: FloatAr
 
 
 def vector_areas(grid: Grid, faces: IntArray) -> FloatArray:
-    """½ sum p_k x p_k+1 over the node cycle of each of ``faces``: (m, 3) area vectors."""
+    """½ sum p_k x p_k+1 over the node cycle of each of ``faces``: (m, 3) area vectors.
+
+    Quadrilaterals (most faces) by the cross product of their diagonals, in blocks; the
+    other polygons by the sum over their edges."""
     pos = grid.faces.node_pos
-    starts, counts = pos[faces], pos[faces + 1] - pos[faces]
-    owner = np.repeat(np.arange(faces.size), counts)
-    idx = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
-    here = grid.faces.nodes[np.repeat(starts, counts) + idx]
-    nxt = grid.faces.nodes[np.repeat(starts, counts) + (idx + 1) % np.repeat(counts, counts)]
-    p, q = grid.nodes.coords[here], grid.nodes.coords[nxt]
-    c = cross(p.T, q.T)  # (3, entries)
-    return np.stack([np.bincount(owner, c[d], faces.size) for d in range(3)], axis=1) * 0.5
+    counts = pos[faces + 1] - pos[faces]
+    out = np.empty((faces.size, 3))
+    quad = np.flatnonzero(counts == 4)
+    coords = grid.nodes.coords
+    for s in range(0, quad.size, _BLOCK):
+        rows = quad[s : s + _BLOCK]
+        nodes = grid.faces.nodes[pos[faces[rows]][:, None] + np.arange(4)]
+        p = coords[nodes]  # (m, 4, 3)
+        out[rows] = quad_vector_area(p[:, 0], p[:, 1], p[:, 2], p[:, 3])
+    other = np.flatnonzero(counts != 4)
+    if other.size:
+        f, cnt = faces[other], counts[other]
+        owner = np.repeat(np.arange(other.size), cnt)
+        idx = np.arange(int(cnt.sum())) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        start = np.repeat(pos[f], cnt)
+        p = coords[grid.faces.nodes[start + idx]]
+        q = coords[grid.faces.nodes[start + (idx + 1) % np.repeat(cnt, cnt)]]
+        c = cross(p.T, q.T)  # (3, entries)
+        out[other] = np.stack([np.bincount(owner, c[k], other.size) for k in range(3)], axis=1) * 0.5
+    return out
 
 
 def interior_half_faces(grid: Grid) -> tuple[IntArray, IntArray, IntArray, IntArray, IntArray]:
@@ -88,15 +88,15 @@ def interior_half_faces(grid: Grid) -> tuple[IntArray, IntArray, IntArray, IntAr
     return f, nb[f, 0], tag_of[f, 0], nb[f, 1], tag_of[f, 1]
 
 
-def half_transmissibilities(
-    area: FloatArray, centre: FloatArray, face_centre: FloatArray, perm: FloatArray
-) -> FloatArray:
-    """K |A . d| / (d . d) with d = face_centre - centre (rows), K per row (mD, deck lengths)."""
-    d = face_centre - centre
-    num = (area[:, 0] * d[:, 0] + area[:, 1] * d[:, 1]) + area[:, 2] * d[:, 2]
-    den = (d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]) + d[:, 2] * d[:, 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(den > 0.0, perm * np.abs(num) / den, 0.0)
+def half_transmissibilities(area: FloatArray, d: FloatArray, kdd: FloatArray) -> FloatArray:
+    """K |A . d| / (d . d) per connection, from component-major area vectors and d (3, n)
+    and K / (d . d) (n,) (:func:`structured_half_data`)."""
+    dot = area[0] * d[0]
+    dot += area[1] * d[1]
+    dot += area[2] * d[2]
+    np.abs(dot, out=dot)
+    dot *= kdd
+    return dot
 
 
 def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
@@ -107,3 +107,215 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(small, 0.0, 1.0 / (1.0 / np.where(small, 1.0, ta) + 1.0 / np.where(small, 1.0, tb)))
     return t * (si / units.transmissibility)
+
+
+# -------------------------------------------------------------------------- every cell at once
+
+_LAYERS = 1  # layers of corner coordinates computed at a time (cache-sized temporaries)
+
+
+def structured_half_data(deck: Deck, perm: FloatArray, ntg: FloatArray):
+    """What the half-transmissibilities need for every cell of the deck (linear ijk order),
+    component-major: d (3, 6, nc) from the cell's centre to each logical face's centre
+    (W, E, S, N, T, B), K / (d . d) (6, nc) (NTG on W, E, S, N) and the area vectors
+    (3, 3, nc) of each cell's E, N and B faces. Computed on the (k, c, j, b, i, a) layout
+    of ZCORN layer by layer, without gathers. Inactive cells get whatever their corners
+    give (never used)."""
+    nx, ny, nz = deck.cart_dims
+    nc = nx * ny * nz
+    layer = nx * ny
+    sign = depth_sign(deck)
+    pil = deck.pillars()  # (ny+1, nx+1, 2, 3)
+
+    def corner_columns(end: int, comp: int) -> FloatArray:  # (8 corners a + 2b, layer) per c
+        return np.stack([pil[b : b + ny, a : a + nx, end, comp].ravel() for b in (0, 1) for a in (0, 1)])
+
+    top = [corner_columns(0, c) for c in range(3)]  # (4, layer): corner a + 2b of each column
+    bot = [corner_columns(1, c) for c in range(3)]
+    span = bot[2] - top[2]
+    flat = span == 0.0
+    span = np.where(flat, 1.0, span)
+    dxy = [bot[0] - top[0], bot[1] - top[1]]
+    d = np.empty((3, 6, nc))
+    kdd = np.empty((6, nc))
+    areas = np.empty((3, 3, nc))
+    k_face = np.empty((6, nc))
+    for f, axis in enumerate(_AXIS_OF_FACE):
+        k_face[f] = perm[:, axis] * ntg if f < 4 else perm[:, axis]
+    zc = deck.zcorn_array()
+    p = np.empty((3, 8, layer))
+    for k in range(nz):
+        z = zc[2 * k : 2 * k + 2].reshape(2, ny, 2, nx, 2).transpose(0, 2, 4, 1, 3).reshape(2, 4, layer)
+        with np.errstate(invalid="ignore", over="ignore"):
+            for c in (0, 1):  # top, bottom corners: slots 4 c + (a + 2b)
+                t = np.where(flat, 0.0, (z[c] - top[2]) / span)
+                rows = slice(4 * c, 4 * c + 4)
+                np.multiply(t, dxy[0], out=p[0, rows])
+                p[0, rows] += top[0]
+                np.multiply(t, dxy[1], out=p[1, rows])
+                p[1, rows] += top[1]
+                np.multiply(z[c], sign, out=p[2, rows])
+            cells = slice(k * layer, (k + 1) * layer)
+            _fill_half_data(p, k_face[:, cells], d[:, :, cells], kdd[:, cells], areas[:, :, cells])
+    return d, kdd, areas
+
+
+def _fill_half_data(p, k_face, d, kdd, areas):
+    """d, K / (d . d) and the E, N, B area vectors of cells with corners p (3, 8, m)."""
+    centre = p[:, 0].copy()
+    for c in range(1, 8):
+        centre += p[:, c]
+    centre /= 8.0
+    for f, (a, b, c, e) in enumerate(FACE_CORNERS):
+        v = d[:, f]
+        np.add(p[:, a], p[:, b], out=v)
+        v += p[:, c]
+        v += p[:, e]
+        v /= 4.0
+        v -= centre
+    dd = d[0] * d[0]
+    dd += d[1] * d[1]
+    dd += d[2] * d[2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        np.divide(k_face, dd, out=kdd)
+    kdd[~(dd > 0.0)] = 0.0
+    areas[:, 0] = 0.5 * cross(p[:, 1] - p[:, 7], p[:, 3] - p[:, 5])  # E: corners 1 3 7 5
+    areas[:, 1] = 0.5 * cross(p[:, 2] - p[:, 7], p[:, 6] - p[:, 3])  # N: corners 2 6 7 3
+    areas[:, 2] = 0.5 * cross(p[:, 4] - p[:, 7], p[:, 5] - p[:, 6])  # B: corners 4 5 7 6
+
+
+@dataclass(frozen=True, eq=False)
+class RawConnections:
+    """Connections before multipliers: grid cells a, b; their logical face tags ta, tb (the
+    side of the connection each is on); the face (-1 for none); whether the two cells are
+    one above the other (``column``); the NEWTRAN transmissibility in deck units."""
+
+    a: IntArray
+    b: IntArray
+    ta: IntArray
+    tb: IntArray
+    face: IntArray
+    column: np.ndarray
+    trans: FloatArray
+
+
+def newtran_connections(
+    deck: Deck,
+    grid: Grid,
+    perm: FloatArray,
+    ntg: FloatArray,
+    units: UnitSystem,
+    pinch_active: bool,
+    notes: list[str],
+) -> RawConnections:
+    """Every connection of a processed deck with its NEWTRAN transmissibility (no multipliers).
+
+    Pairs of logical neighbours whose shared corners coincide (the full quadrilateral is
+    their face: most of any deck) are computed from the per-cell data alone; the rest
+    (fault faces, faces between cells of a column that do not quite match, connections
+    across removed layers) from the grid's faces. Connections across zero-thickness
+    layers are kept only with PINCH; MINPV connections are added (:mod:`.pinch`)."""
+    nx, ny, _ = deck.cart_dims
+    layer = nx * ny
+    glob = grid.cells.index_map
+    cell_of = np.full(deck.num_cells, -1, dtype=np.int64)
+    cell_of[glob] = np.arange(glob.size)
+    d, kdd, areas = structured_half_data(deck, perm, ntg)
+
+    f, a, ta, b, tb = interior_half_faces(grid)
+    ga, gb = glob[a], glob[b]
+    lo, step = np.minimum(ga, gb), np.abs(gb - ga)
+    simple = {axis: _matched(deck, cell_of >= 0, axis) for axis in range(3)}
+    strides = (1, nx, layer)
+    is_simple = np.zeros(f.size, dtype=bool)
+    face_of = []
+    for axis, stride in enumerate(strides):
+        hit = (step == stride) & simple[axis].ravel()[lo] & ((ta >> 1) == axis)
+        is_simple |= hit
+        lookup = np.full(deck.num_cells, -1, dtype=np.int64)
+        lookup[lo[hit]] = f[hit]
+        face_of.append(lookup)
+
+    parts = []
+    for axis, stride in enumerate(strides):  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
+        g = np.flatnonzero(simple[axis].ravel())
+        h = g + stride
+        area = areas[:, axis, g]
+        plus, minus = 2 * axis + 1, 2 * axis
+        t = combine(
+            half_transmissibilities(area, d[:, plus, g], kdd[plus, g]),
+            half_transmissibilities(area, d[:, minus, h], kdd[minus, h]),
+            units,
+        )
+        n = g.size
+        tags = (np.full(n, plus), np.full(n, minus))
+        parts.append((cell_of[g], cell_of[h], *tags, face_of[axis][g], np.full(n, axis == 2), t))
+
+    rest = ~is_simple
+    f, a, ta, b, tb, ga, gb = (x[rest] for x in (f, a, ta, b, tb, ga, gb))
+    column = (ta >= T) & (tb >= T)
+    across = column & (np.abs(gb - ga) > layer)  # across collapsed cells (PINCH)
+    if across.any() and not pinch_active:
+        keep = ~across
+        f, a, ta, b, tb, ga, gb, column = (x[keep] for x in (f, a, ta, b, tb, ga, gb, column))
+        notes.append(f"{int(across.sum())} connections across zero-thickness layers left out (no PINCH)")
+    existing = np.concatenate(
+        [np.minimum(p[0], p[1]) * glob.size + np.maximum(p[0], p[1]) for p in parts]
+        + [np.minimum(a, b) * glob.size + np.maximum(a, b)]
+    )
+    up, low = _minpv_pairs(deck, cell_of, existing, glob.size, notes)
+    n = up.size
+    f = np.concatenate([f, np.full(n, -1)])
+    a, b = np.concatenate([a, up]), np.concatenate([b, low])
+    ta, tb = np.concatenate([ta, np.full(n, B)]), np.concatenate([tb, np.full(n, T)])
+    column = np.concatenate([column, np.ones(n, dtype=bool)])
+    ga, gb = glob[a], glob[b]
+    area = np.empty((3, f.size))
+    lateral = np.flatnonzero(~column)
+    area[:, lateral] = vector_areas(grid, f[lateral]).T
+    vertical = np.flatnonzero(column)
+    area[:, vertical] = areas[:, 2, np.where(ta == B, ga, gb)[vertical]]  # the upper cell's bottom quad
+    t = combine(
+        half_transmissibilities(area, d[:, ta, ga], kdd[ta, ga]),
+        half_transmissibilities(area, d[:, tb, gb], kdd[tb, gb]),
+        units,
+    )
+    parts.append((a, b, ta, tb, f, column, t))
+    cols = list(zip(*parts, strict=True))
+    return RawConnections(*(np.concatenate(c) for c in cols))
+
+
+def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
+    """(nz, ny, nx) whether cell (k, j, i) and its +axis neighbour are both in the grid and
+    share all four corners of their common face exactly (False on the last row)."""
+    nx, ny, nz = deck.cart_dims
+    z = deck.zcorn_array().reshape(nz, 2, ny, 2, nx, 2)
+    g = in_grid.reshape(nz, ny, nx)
+    out = np.zeros((nz, ny, nx), dtype=bool)
+    with np.errstate(invalid="ignore"):
+        if axis == 0:
+            same = (z[:, :, :, :, :-1, 1] == z[:, :, :, :, 1:, 0]).all(axis=(1, 3))
+            out[:, :, :-1] = same & g[:, :, :-1] & g[:, :, 1:]
+        elif axis == 1:
+            same = (z[:, :, :-1, 1] == z[:, :, 1:, 0]).all(axis=(1, 4))
+            out[:, :-1] = same & g[:, :-1] & g[:, 1:]
+        else:
+            same = (z[:-1, 1] == z[1:, 0]).all(axis=(2, 4))
+            out[:-1] = same & g[:-1] & g[1:]
+    return out
+
+
+def _minpv_pairs(deck: Deck, cell_of: IntArray, existing: IntArray, n_cells: int, notes: list[str]):
+    """Grid cells (upper, lower) of Flow's MINPV connections not already joined by a face."""
+    from .pinch import minpv_connections
+
+    pairs = minpv_connections(deck)
+    if pairs.size == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    up, low = cell_of[pairs[:, 0]], cell_of[pairs[:, 1]]
+    ok = (up >= 0) & (low >= 0)
+    ok &= ~np.isin(np.minimum(up, low) * n_cells + np.maximum(up, low), existing)
+    up, low = up[ok], low[ok]
+    if up.size:
+        notes.append(f"{up.size} connections across cells removed by MINPV (as OPM Flow makes them)")
+    return up, low
