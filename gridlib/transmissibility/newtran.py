@@ -237,19 +237,21 @@ def newtran_connections(
         face_of.append(lookup)
 
     parts = []
+    nc = deck.num_cells
     for axis, stride in enumerate(strides):  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
-        g = np.flatnonzero(simple[axis].ravel())
-        h = g + stride
-        area = areas[:, axis, g]
         plus, minus = 2 * axis + 1, 2 * axis
-        t = combine(
-            half_transmissibilities(area, d[:, plus, g], kdd[plus, g]),
-            half_transmissibilities(area, d[:, minus, h], kdd[minus, h]),
+        low, high = slice(0, nc - stride), slice(stride, nc)  # every cell and its +axis neighbour
+        area = areas[:, axis, low]
+        t_all = combine(
+            half_transmissibilities(area, d[:, plus, low], kdd[plus, low]),
+            half_transmissibilities(area, d[:, minus, high], kdd[minus, high]),
             units,
         )
+        g = np.flatnonzero(simple[axis].ravel()[low])
         n = g.size
         tags = (np.full(n, plus), np.full(n, minus))
-        parts.append((cell_of[g], cell_of[h], *tags, face_of[axis][g], np.full(n, axis == 2), t))
+        row = (cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t_all[g])
+        parts.append(row)
 
     rest = ~is_simple
     f, a, ta, b, tb, ga, gb = (x[rest] for x in (f, a, ta, b, tb, ga, gb))
@@ -259,11 +261,7 @@ def newtran_connections(
         keep = ~across
         f, a, ta, b, tb, ga, gb, column = (x[keep] for x in (f, a, ta, b, tb, ga, gb, column))
         notes.append(f"{int(across.sum())} connections across zero-thickness layers left out (no PINCH)")
-    existing = np.concatenate(
-        [np.minimum(p[0], p[1]) * glob.size + np.maximum(p[0], p[1]) for p in parts]
-        + [np.minimum(a, b) * glob.size + np.maximum(a, b)]
-    )
-    up, low = _minpv_pairs(deck, cell_of, existing, glob.size, notes)
+    up, low = _minpv_pairs(deck, cell_of, parts, a, b, notes)
     n = up.size
     f = np.concatenate([f, np.full(n, -1)])
     a, b = np.concatenate([a, up]), np.concatenate([b, low])
@@ -305,16 +303,25 @@ def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
     return out
 
 
-def _minpv_pairs(deck: Deck, cell_of: IntArray, existing: IntArray, n_cells: int, notes: list[str]):
-    """Grid cells (upper, lower) of Flow's MINPV connections not already joined by a face."""
+def _minpv_pairs(deck: Deck, cell_of: IntArray, parts, a: IntArray, b: IntArray, notes: list[str]):
+    """Grid cells (upper, lower) of Flow's MINPV connections not already joined by a face
+    (the simple pairs in ``parts`` or the other face connections a, b)."""
     from .pinch import minpv_connections
 
     pairs = minpv_connections(deck)
     if pairs.size == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    n_cells = int(cell_of.max()) + 1
+    existing = np.concatenate(
+        [np.minimum(p[0], p[1]) * n_cells + np.maximum(p[0], p[1]) for p in parts]
+        + [np.minimum(a, b) * n_cells + np.maximum(a, b)]
+    )
     up, low = cell_of[pairs[:, 0]], cell_of[pairs[:, 1]]
     ok = (up >= 0) & (low >= 0)
-    ok &= ~np.isin(np.minimum(up, low) * n_cells + np.maximum(up, low), existing)
+    key = np.minimum(up, low) * n_cells + np.maximum(up, low)
+    existing.sort()
+    at = np.minimum(np.searchsorted(existing, key), existing.size - 1)
+    ok &= existing[at] != key
     up, low = up[ok], low[ok]
     if up.size:
         notes.append(f"{up.size} connections across cells removed by MINPV (as OPM Flow makes them)")
