@@ -45,16 +45,18 @@ NNC_THRESHOLD = 1e-6  # deck units: non-neighbour connections below this are set
 def per_pair(
     cells: IntArray, trans: FloatArray, kind: np.ndarray, face: IntArray
 ) -> tuple[IntArray, FloatArray, np.ndarray, IntArray]:
-    """One entry per cell pair (first < second), sorted: faces between the same two cells
-    added (parallel paths), the smallest kind and the first face kept."""
+    """One entry per cell pair (first < second), sorted by pair: faces between the same two
+    cells added (parallel paths), the smallest kind and the first entry's face kept."""
     cells = np.sort(np.asarray(cells, dtype=np.int64).reshape(-1, 2), axis=1)
-    order = np.lexsort((face, cells[:, 1], cells[:, 0]))
+    order = np.argsort(_keys(cells[:, 0], cells[:, 1], int(cells.max(initial=0)) + 1), kind="stable")
     cells, trans, kind, face = cells[order], trans[order], kind[order], face[order]
     first = np.ones(order.size, dtype=bool)
     first[1:] = (cells[1:] != cells[:-1]).any(axis=1)
+    if first.all():
+        return cells, trans, kind, face
     group = np.cumsum(first) - 1
     starts = np.flatnonzero(first)
-    total = np.bincount(group, trans, starts.size) if starts.size else np.zeros(0)
+    total = np.bincount(group, trans, starts.size)
     kmin = np.full(starts.size, 127, dtype=np.int8)
     np.minimum.at(kmin, group, kind)
     return cells[starts], total, kmin, face[starts]
@@ -66,6 +68,14 @@ def _keys(lo: IntArray, hi: IntArray, n: int) -> IntArray:
 
 def _ordered(pairs: IntArray) -> tuple[IntArray, IntArray]:
     return np.minimum(pairs[:, 0], pairs[:, 1]), np.maximum(pairs[:, 0], pairs[:, 1])
+
+
+def _find(sorted_keys: IntArray, wanted: IntArray) -> tuple[IntArray, np.ndarray]:
+    """Positions of ``wanted`` in ``sorted_keys`` and whether each is there."""
+    if sorted_keys.size == 0:
+        return np.zeros(wanted.size, dtype=np.int64), np.zeros(wanted.size, dtype=bool)
+    at = np.minimum(np.searchsorted(sorted_keys, wanted), sorted_keys.size - 1)
+    return at, sorted_keys[at] == wanted
 
 
 def nnc_keyword_values(deck: Deck, notes: list[str]) -> tuple[IntArray, FloatArray, IntArray, FloatArray]:
@@ -88,25 +98,24 @@ def nnc_keyword_values(deck: Deck, notes: list[str]) -> tuple[IntArray, FloatArr
     mult = edit.values
     nx, ny, _ = deck.cart_dims
     diff = hi - lo
-    quirk = (diff == ny) & (ny != 1) & (ny != nx)
-    ok = (mult != 1.0) & active[lo] & active[hi] & ~np.isin(diff, [0, 1, nx, ny])
+    wanted = mult != 1.0
+    quirk = wanted & (diff == ny) & ~np.isin(ny, [1, nx])
+    skipped = wanted & ~quirk & ~(active[lo] & active[hi] & ~np.isin(diff, [0, 1, nx]))
     if quirk.any():
         notes.append(
             f"EDITNNC: {int(quirk.sum())} records for cells ny = {ny} apart skipped "
             "(OPM Flow 2022.10 takes them for neighbours)"
         )
-    if (~ok & ~quirk & (mult != 1.0)).any():
-        skipped = int((~ok & ~quirk & (mult != 1.0)).sum())
-        notes.append(f"EDITNNC: {skipped} records for neighbours or inactive cells skipped (as Flow)")
-    keys, mult = _keys(lo[ok], hi[ok], nc), mult[ok]
-    unique, inverse = np.unique(keys, return_inverse=True)
+    if skipped.any():
+        notes.append(f"EDITNNC: {int(skipped.sum())} records for neighbours or inactive cells skipped (Flow)")
+    ok = wanted & ~quirk & ~skipped
+    unique, inverse = np.unique(_keys(lo[ok], hi[ok], nc), return_inverse=True)
     product = np.ones(unique.size)
-    np.multiply.at(product, inverse, mult)
-    nnc_keys = _keys(nnc_lo, nnc_hi, nc)
-    on_input = np.isin(unique, nnc_keys)
-    at = np.searchsorted(unique, nnc_keys)
-    hit = (at < unique.size) & (unique[np.minimum(at, unique.size - 1)] == nnc_keys)
-    nnc_value = np.where(hit, nnc_value * product[np.minimum(at, unique.size - 1)], nnc_value)
+    np.multiply.at(product, inverse, mult[ok])
+    at, hit = _find(unique, _keys(nnc_lo, nnc_hi, nc))
+    nnc_value = np.where(hit, nnc_value * product[at], nnc_value)
+    on_input = np.zeros(unique.size, dtype=bool)
+    on_input[at[hit]] = True
     if on_input.any():
         notes.append(f"EDITNNC: {int(on_input.sum())} pairs multiply the NNC keyword's values")
     rest = unique[~on_input]
@@ -128,52 +137,52 @@ def apply_deck_edits(
     notes: list[str],
     unit_label: str = "",
 ) -> tuple[IntArray, FloatArray, np.ndarray, IntArray]:
-    """Steps 1-5 above on the grid's connections (one entry per face or pair, cells of
-    the processed grid whose linear indices are ``index_map``); per pair, sorted."""
-    cells, trans, kind, face = per_pair(cells, np.asarray(trans, dtype=np.float64), kind, face)
+    """Steps 1-5 above on the grid's connections: ``cells`` (n, 2) of the processed grid
+    (linear indices ``index_map``), one entry per face or pair. Returns the entries
+    (per pair and sorted if the deck has NNC, EDITNNC or TRAN edits)."""
+    trans = np.asarray(trans, dtype=np.float64)
     index_map = np.asarray(index_map, dtype=np.int64)
-    nc = deck.num_cells
+    if deck.nnc_keyword is not None or deck.editnnc is not None or deck.tran_edits:
+        cells, trans, kind, face = _edited(deck, cells, trans, kind, face, index_map, notes)
+    return _drop_small(deck, cells, trans, kind, face, index_map, notes, unit_label)
+
+
+def _edited(deck, cells, trans, kind, face, index_map, notes):
+    """Steps 1-4, per pair."""
+    cells, trans, kind, face = per_pair(cells, trans, kind, face)
+    nc, n_cells = deck.num_cells, index_map.size
     cell_of = np.full(nc, -1, dtype=np.int64)
-    cell_of[index_map] = np.arange(index_map.size)
+    cell_of[index_map] = np.arange(n_cells)
 
     nnc_pairs, nnc_values, edit_pairs, edit_mult = nnc_keyword_values(deck, notes)
-    in_grid = (cell_of[nnc_pairs[:, 0]] >= 0) & (cell_of[nnc_pairs[:, 1]] >= 0)
+    nnc_cells = np.sort(cell_of[nnc_pairs], axis=1)
+    in_grid = nnc_cells[:, 0] >= 0
     if not in_grid.all():
-        notes.append(
-            f"NNC: {int((~in_grid).sum())} records with a cell the grid has removed ignored (as Flow)"
-        )
-    nnc_pairs, nnc_values = nnc_pairs[in_grid], nnc_values[in_grid]
+        notes.append(f"NNC: {int((~in_grid).sum())} records with a cell the grid removed ignored (as Flow)")
+    nnc_cells, nnc_values = nnc_cells[in_grid], nnc_values[in_grid]
 
-    # 1. a connection for every NNC-keyword pair the grid does not join
-    new = np.unique(np.sort(cell_of[nnc_pairs], axis=1), axis=0)
-    n_cells = index_map.size
-    have = _keys(cells[:, 0], cells[:, 1], n_cells)
-    new = new[~np.isin(_keys(new[:, 0], new[:, 1], n_cells), have)]
+    # 1. a connection of 0 for every NNC-keyword pair the grid does not join
+    keys = _keys(cells[:, 0], cells[:, 1], n_cells)
+    nnc_keys = _keys(nnc_cells[:, 0], nnc_cells[:, 1], n_cells)
+    new = np.unique(nnc_keys[~_find(keys, nnc_keys)[1]])
     if new.size:
-        cells = np.concatenate([cells, new])
-        trans = np.concatenate([trans, np.zeros(new.shape[0])])
-        kind = np.concatenate([kind, np.full(new.shape[0], OTHER, dtype=np.int8)])
-        face = np.concatenate([face, np.full(new.shape[0], -1, dtype=np.int64)])
-        order = np.lexsort((cells[:, 1], cells[:, 0]))
-        cells, trans, kind, face = cells[order], trans[order], kind[order], face[order]
-        notes.append(f"NNC: {new.shape[0]} connections the grid does not make added")
-    glob = index_map[cells]
-    lo, hi = _ordered(glob)
+        at = np.searchsorted(keys, new)
+        cells = np.insert(cells, at, np.column_stack([new // n_cells, new % n_cells]), axis=0)
+        trans = np.insert(trans, at, 0.0)
+        kind = np.insert(kind, at, OTHER)
+        face = np.insert(face, at, -1)
+        keys = np.insert(keys, at, new)
+        notes.append(f"NNC: {new.size} connections the grid does not make added")
+    lo, hi = _ordered(index_map[cells])
 
     # 2. EDIT TRANX/TRANY/TRANZ
     trans = apply_tran_edits(deck, lo, hi, trans, notes)
 
     # 3. EDITNNC on the grid's connections
-    keys = _keys(lo, hi, nc)
-    order = np.argsort(keys)
     if edit_pairs.size:
-        wanted = _keys(edit_pairs[:, 0], edit_pairs[:, 1], nc)
-        at = (
-            order[np.minimum(np.searchsorted(keys[order], wanted), keys.size - 1)]
-            if keys.size
-            else wanted * 0
-        )
-        found = keys[at] == wanted if keys.size else np.zeros(wanted.size, dtype=bool)
+        edit_cells = np.sort(cell_of[edit_pairs], axis=1)
+        at, found = _find(keys, _keys(edit_cells[:, 0], edit_cells[:, 1], n_cells))
+        found &= edit_cells[:, 0] >= 0
         trans = trans.copy()
         trans[at[found]] *= edit_mult[found]
         notes.append(f"EDITNNC: {int(found.sum())} connections multiplied")
@@ -182,22 +191,30 @@ def apply_deck_edits(
 
     # 4. NNC values added
     if nnc_values.size:
-        wanted = _keys(nnc_pairs[:, 0], nnc_pairs[:, 1], nc)
-        at = order[np.searchsorted(keys[order], wanted)]
         trans = trans.copy()
-        np.add.at(trans, at, nnc_values)
+        np.add.at(trans, np.searchsorted(keys, nnc_keys), nnc_values)
         notes.append(f"NNC: {nnc_values.size} transmissibilities added")
+    return cells, trans, kind, face
 
-    # 5. small non-neighbour connections
+
+def _drop_small(deck, cells, trans, kind, face, index_map, notes, unit_label):
+    """Step 5: non-neighbour pairs whose total is below the threshold set to 0."""
     nx, ny, _ = deck.cart_dims
-    neighbor = np.isin(hi - lo, [1, nx, nx * ny])
-    small = ~neighbor & (trans < NNC_THRESHOLD) & (trans != 0.0)
-    if small.any():
-        notes.append(
-            f"{int(small.sum())} non-neighbour connections below {NNC_THRESHOLD:g} {unit_label} were dropped "
-            "(as OPM Flow does)".replace("  ", " ")
-        )
-        trans = np.where(small, 0.0, trans)
+    lo, hi = _ordered(index_map[cells])
+    far = np.flatnonzero(~np.isin(hi - lo, [1, nx, nx * ny]))
+    if far.size:
+        sub = np.sort(cells[far], axis=1)
+        _, group = np.unique(_keys(sub[:, 0], sub[:, 1], index_map.size), return_inverse=True)
+        total = np.bincount(group, trans[far])[group]  # per pair: its faces added
+        small = far[(total < NNC_THRESHOLD) & (total != 0.0)]
+        if small.size:
+            label = f" {unit_label}" if unit_label else ""
+            notes.append(
+                f"{small.size} non-neighbour connections below {NNC_THRESHOLD:g}{label} were dropped "
+                "(as OPM Flow does)"
+            )
+            trans = trans.copy()
+            trans[small] = 0.0
     if (trans < 0).any():
         notes.append(f"{int((trans < 0).sum())} connections with a negative transmissibility left out")
     return cells, trans, kind, face
