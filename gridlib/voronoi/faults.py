@@ -245,7 +245,13 @@ def _through_near_corners(
     corners = domain.xy
     reach = _corner_reach(domain, size, fraction)
     gap = shapely.distance(shapely.points(corners), line)
-    for k in np.flatnonzero((gap > domain.tol) & (gap < reach)).tolist():  # corners next to the trace
+    close = np.flatnonzero((gap > domain.tol) & (gap < reach))
+    joined: set[int] = set()
+    m = domain.num_vertices
+    for k in close[np.argsort(gap[close])].tolist():  # corners next to the trace, the nearest first
+        if (k - 1) % m in joined or (k + 1) % m in joined:
+            continue  # not both ends of an edge: the trace would run along it
+        joined.add(k)
         line = shapely.LineString(xy)
         along = float(line.project(shapely.Point(corners[k])))
         cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
@@ -319,6 +325,15 @@ def _contract_short_edges(net: _Network, domain: Domain, size: Callable, fractio
     uniq = np.zeros(key.size, dtype=bool)
     uniq[once] = True
     keep &= uniq
+    # a piece of trace from a joined boundary point to another boundary point may now run along the
+    # boundary (a crossing a hair inside it joined to where the other fault leaves): it is the boundary
+    along = keep & on_bnd[a] & on_bnd[b]
+    if along.any():
+        mid = 0.5 * (merged[a[along]] + merged[b[along]])
+        keep[np.flatnonzero(along)[domain.boundary_distance(mid) <= domain.tol]] = False
+    used = np.zeros(merged.shape[0], dtype=bool)
+    used[a[keep]] = used[b[keep]] = True
+    renum = np.cumsum(used) - 1
     for g in np.flatnonzero(count > 1).tolist():  # a note per joined group (a handful)
         members = np.flatnonzero(new_of == g)
         touching = np.isin(ea, members) | np.isin(eb, members)
@@ -330,7 +345,15 @@ def _contract_short_edges(net: _Network, domain: Domain, size: Callable, fractio
             f"{domain.fmt(merged[g])} (less than the smallest cell) joined at one point; the traces "
             f"move by at most {moved:.3g} m there"
         )
-    return _Network(merged, a[keep], b[keep], net.edge_fault[keep], on_bnd, net.spacing, net.labels)
+    return _Network(
+        merged[used],
+        renum[a[keep]],
+        renum[b[keep]],
+        net.edge_fault[keep],
+        on_bnd[used],
+        net.spacing,
+        net.labels,
+    )
 
 
 def _clip_polyline(xy: np.ndarray, domain: Domain, label: str) -> list[tuple[np.ndarray, bool, bool]]:

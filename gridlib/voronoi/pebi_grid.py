@@ -22,7 +22,8 @@ their sites do, wells whose rings reach outside are errors). Where a concave
 boundary cuts a site's region in two, a site is added for the cut-off piece, the
 region's site mirrored across the boundary edge between them (so that the edge's
 line is their bisector and the new cell is as wide as the old one), and the diagram
-recomputed (a note says how many). Ridges shorter than 1e-7 of the smallest spacing
+recomputed (a note says how many; where that site would fall into a fault circle, the
+fault's steps are refined there first). Ridges shorter than 1e-7 of the smallest spacing
 (co-circular sites) are contracted, and the vertices of fault faces are set to the
 exact circle centres on the traces.
 
@@ -36,10 +37,11 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
 * a well near a fault keeps its rings clear of the fault's circles: they are
   shrunk (or dropped, one cell at the well), with a note; fault steps are refined
   where a well's site would fall into a circle;
-* geometry finer than the smallest cell the refinement may make (the cell size
-  times 2^-max_refinements) is resolved: a trace passing that close to a corner
-  goes through it, crossings and ends that close join, and the notes name the
-  faults and how far their traces moved. ``fault_traces`` holds the traces honoured;
+* geometry finer than the cells can follow is resolved: a trace passing a
+  re-entrant corner within a tenth of the cell size, or any corner within the
+  smallest cell the refinement may make (the cell size times 2^-max_refinements),
+  goes through it; crossings and ends that close join; the notes name the faults
+  and how far their traces moved. ``fault_traces`` holds the traces honoured;
 * cells smaller than 0.1 h^2 and faces shorter than 0.01 h (h = ``site_size``)
   that a constraint forces are counted in a note, with the smallest and its cause
   (:mod:`.size_notes`).
@@ -269,29 +271,123 @@ def pebi_grid(
     if bg_tree is not None:
         bg_keep &= ~removal_mask(ws, bg, bg_tree)
 
-    fs = _faults.FaultSites.empty()
-    for attempt in range(max_refinements + 1):  # rebuild the fault sites where they conflict
-        fs = _faults.build_sites(lay) if lay is not None else _faults.FaultSites.empty()
-        keep = bg_keep.copy()
-        if bg_tree is not None and fs.centres.shape[0]:
-            hits = bg_tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
-            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
-            near = 0.5 * np.maximum(fs.site_step, size(fs.sites))
-            hits = bg_tree.query_ball_point(fs.sites, near, return_sorted=False)
-            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
-        sites = np.concatenate([bg[keep], fs.sites, ws.sites])
-        n_bg = int(keep.sum())
+    def conforming_fault_sites(attempt: int):
+        """Fault sites meeting the empty-circle condition with everything else, the fault steps
+        refined where they do not (from round ``attempt`` on)."""
+        while True:  # rebuild the fault sites where they conflict
+            fs = _faults.build_sites(lay) if lay is not None else _faults.FaultSites.empty()
+            keep = bg_keep.copy()
+            if bg_tree is not None and fs.centres.shape[0]:
+                hits = bg_tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
+                keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+                near = 0.5 * np.maximum(fs.site_step, size(fs.sites))
+                hits = bg_tree.query_ball_point(fs.sites, near, return_sorted=False)
+                keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+            sites = np.concatenate([bg[keep], fs.sites, ws.sites])
+            n_bg = int(keep.sum())
+            problems = _fault_problems(
+                fs, sites, n_bg, fs.sites.shape[0], dom, ws, fault_labels, bg_tree, keep
+            )
+            if not problems:
+                return fs, keep, sites, n_bg, attempt
+            if attempt == max_refinements:
+                kinds = _problem_kinds(problems, fs)
+                hard = [p for p, why in zip(problems, kinds, strict=True) if why != FITTED]
+                if not hard:  # only junctions whose arms were fitted to them: the sites conform
+                    return fs, keep, sites, n_bg, attempt
+                _raise_fault_problem(hard, fs, dom, lay, max_refinements)
+            for where, step in problems:
+                lay.refine.append((float(where[0]), float(where[1]), step))
+            attempt += 1
+
+    attempt = 0
+    for _ in range(max_refinements + 1):  # a site added for a cut-off piece may ask for smaller fault steps
+        fs, keep, sites, n_bg, attempt = conforming_fault_sites(attempt)
         n_f = fs.sites.shape[0]
-        problems = _fault_problems(fs, sites, n_bg, n_f, dom, ws, fault_labels, bg_tree, keep)
-        if not problems:
-            break
-        if attempt == max_refinements:
-            hard = [p for p, why in zip(problems, _problem_kinds(problems, fs), strict=True) if why != FITTED]
-            if not hard:  # only junctions whose arms were fitted to them: the sites conform
+        if sites.shape[0] == 0:  # a domain smaller than one cell: one cell
+            rp = dom.polygon.point_on_surface()
+            bg = np.array([[rp.x, rp.y]])
+            bg_spacing, bg_lattice, bg_padding = (
+                np.array([dom.diameter]),
+                np.zeros(1, bool),
+                np.zeros(1, bool),
+            )
+            bg_ij = np.zeros((1, 2), dtype=np.int64)
+            keep = np.ones(1, dtype=bool)
+            sites, n_bg = bg.copy(), 1
+            notes.append("the domain is smaller than one cell: one site at a point inside it")
+        tol = _merge_tolerance(dom, bg_spacing, fs, ws)
+        on_lat = keep & bg_lattice
+        lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat])
+        n_lat = int(on_lat.sum())
+        kind_extra = n_extra = 0
+        moved = np.zeros(0, dtype=np.int64)
+        collapse = Collapse()
+        site_size = np.concatenate([bg_spacing[keep], fs.site_step, ws.site_size])
+        retry = False
+
+        def allowed(xy: np.ndarray, fs=fs) -> np.ndarray:
+            """New positions of background sites: outside every fault circle."""
+            ok = np.ones(xy.shape[0], dtype=bool)
+            if fs.centres.shape[0]:
+                ok[_faults.circle_violations(fs, xy)[1]] = False
+            return ok
+
+        for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
+            movable = np.zeros(sites.shape[0], dtype=bool)
+            movable[:n_bg] = True
+            size_now = np.concatenate([site_size, size(sites[site_size.size :])])
+
+            def adjust(s, coords, va, vb, cp, cq, fresh, state=(movable, size_now, tol, collapse)):
+                movable, size_now, tol, collapse = state
+                idx, xy = collapse_moves(
+                    coords, va, vb, cp, cq, s, size_now, movable, dom, tol, collapse, allowed, fresh
+                )
+                return idx, xy, collapse.involved
+
+            protect = fs.pairs + n_bg
+            vor = clipped_voronoi(sites, dom, tol, lattice, adjust, contract=(size_now, protect, CONTRACT))
+            changed = np.flatnonzero(np.any(vor.sites != sites, axis=1))
+            if changed.size:
+                moved = np.union1d(moved, changed)
+                sites = vor.sites
+                if n_lat:
+                    active = np.ones(n_lat, dtype=bool)
+                    active[moved[moved < n_lat]] = False
+                    lattice = Lattice(
+                        back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat], active
+                    )
+            if vor.extra_points.shape[0] == 0:
                 break
-            _raise_fault_problem(hard, fs, dom, lay, max_refinements)
-        for where, step in problems:
-            lay.refine.append((float(where[0]), float(where[1]), step))
+            if kind_extra == MAX_EXTRA_ROUNDS:
+                raise GridError(
+                    f"pebi_grid: the domain is too narrow for the cell size near "
+                    f"{dom.fmt(vor.extra_points[0])}: Voronoi regions keep falling apart there; use a "
+                    "smaller cell_size"
+                )
+            extra = vor.extra_points
+            if fs.centres.shape[0]:
+                c, k = _faults.circle_violations(fs, extra)
+                if c.size and attempt < max_refinements:  # the piece lies by a fault: smaller steps there
+                    rel = extra[k] - fs.centres[c]
+                    scale = _refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
+                    for ci, f in zip(c.tolist(), scale.tolist(), strict=True):
+                        where = fs.centres[ci]
+                        lay.refine.append((float(where[0]), float(where[1]), f * float(fs.centre_step[ci])))
+                    attempt += 1
+                    retry = True
+                    break
+                if c.size:
+                    raise GridError(
+                        f"{fault_labels[fs.centre_fault[c[0]] - 1]} runs through a part of the domain "
+                        f"narrower than the cell size near {dom.fmt(fs.centres[c[0]])}; use a smaller "
+                        "cell_size"
+                    )
+            sites = np.concatenate([sites, extra])
+            kind_extra += 1
+            n_extra += extra.shape[0]
+        if not retry:
+            break
     notes.extend(fs.wedges)
     if attempt:
         notes.append(f"fault spacing refined locally {attempt} time(s) to keep the empty-circle condition")
@@ -300,70 +396,6 @@ def pebi_grid(
         notes.append(f"{dropped} background sites removed inside fault circles or next to fault sites")
     if (~bg_keep).any():
         notes.append(f"{int((~bg_keep).sum())} background sites removed around wells")
-
-    if sites.shape[0] == 0:  # a domain smaller than one cell: one cell
-        rp = dom.polygon.point_on_surface()
-        bg = np.array([[rp.x, rp.y]])
-        bg_spacing, bg_lattice, bg_padding = np.array([dom.diameter]), np.zeros(1, bool), np.zeros(1, bool)
-        bg_ij = np.zeros((1, 2), dtype=np.int64)
-        keep = np.ones(1, dtype=bool)
-        sites, n_bg = bg.copy(), 1
-        notes.append("the domain is smaller than one cell: one site at a point inside it")
-    tol = _merge_tolerance(dom, bg_spacing, fs, ws)
-    on_lat = keep & bg_lattice
-    lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat])
-    n_lat = int(on_lat.sum())
-    kind_extra = n_extra = 0
-    moved = np.zeros(0, dtype=np.int64)
-    collapse = Collapse()
-    site_size = np.concatenate([bg_spacing[keep], fs.site_step, ws.site_size])
-
-    def allowed(xy: np.ndarray) -> np.ndarray:
-        """New positions of background sites: outside every fault circle."""
-        ok = np.ones(xy.shape[0], dtype=bool)
-        if fs.centres.shape[0]:
-            ok[_faults.circle_violations(fs, xy)[1]] = False
-        return ok
-
-    for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
-        movable = np.zeros(sites.shape[0], dtype=bool)
-        movable[:n_bg] = True
-        size_now = np.concatenate([site_size, size(sites[site_size.size :])])
-
-        def adjust(s, coords, va, vb, cp, cq, fresh, movable=movable, size_now=size_now):
-            idx, xy = collapse_moves(
-                coords, va, vb, cp, cq, s, size_now, movable, dom, tol, collapse, allowed, fresh
-            )
-            return idx, xy, collapse.involved
-
-        protect = fs.pairs + n_bg
-        vor = clipped_voronoi(sites, dom, tol, lattice, adjust, contract=(size_now, protect, CONTRACT))
-        changed = np.flatnonzero(np.any(vor.sites != sites, axis=1))
-        if changed.size:
-            moved = np.union1d(moved, changed)
-            sites = vor.sites
-            if n_lat:
-                active = np.ones(n_lat, dtype=bool)
-                active[moved[moved < n_lat]] = False
-                lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat], active)
-        if vor.extra_points.shape[0] == 0:
-            break
-        if kind_extra == MAX_EXTRA_ROUNDS:
-            raise GridError(
-                f"pebi_grid: the domain is too narrow for the cell size near {dom.fmt(vor.extra_points[0])}: "
-                "Voronoi regions keep falling apart there; use a smaller cell_size"
-            )
-        extra = vor.extra_points
-        if fs.centres.shape[0]:
-            c, _ = _faults.circle_violations(fs, extra)
-            if c.size:
-                raise GridError(
-                    f"{fault_labels[fs.centre_fault[c[0]] - 1]} runs through a part of the domain narrower "
-                    f"than the cell size near {dom.fmt(fs.centres[c[0]])}; use a smaller cell_size"
-                )
-        sites = np.concatenate([sites, extra])
-        kind_extra += 1
-        n_extra += extra.shape[0]
     if n_extra:
         notes.append(f"{n_extra} site(s) added where the concave boundary cut a cell in two")
     if moved.size:

@@ -45,6 +45,7 @@ ACUTE = np.radians(40.0)  # wedges narrower than this get a row of shared sites
 SPLIT = 1.3  # the row ends where the wedge is this many steps wide
 TIP_AREA = 0.125  # smallest area of the first (triangular) cell, x step^2
 MAX_STRETCH = 4.0  # the first rung at most this many steps from the node
+MAX_RUNGS = 200  # a wedge under about 0.4 degrees: the row ends before it is SPLIT steps wide
 
 
 @dataclass
@@ -137,7 +138,7 @@ def rung_count(phi: float) -> tuple[int, float]:
     """Number of rungs K + 1 and the first rung's distance in steps (stretch g) for angle phi."""
     stretch = float(np.clip(np.sqrt(2.0 * TIP_AREA / np.sin(phi)), 1.0, MAX_STRETCH))
     width = 2.0 * np.sin(0.5 * phi)  # wedge width per unit distance from the node
-    extra = int(np.ceil(SPLIT / width - stretch - 1e-9))
+    extra = int(np.ceil(min(SPLIT / width, MAX_RUNGS) - stretch - 1e-9))
     return 1 + max(0, extra), stretch
 
 
