@@ -439,7 +439,14 @@ class _Builder:
             cand &= ~(fixed[u] & fixed[w])
             cand &= ~(on_fault[u] & ~bnd[u] & bnd[w]) & ~(on_fault[w] & ~bnd[w] & bnd[u])
             cand &= (nfaces[s0] > 3) & ((s1 < 0) | (nfaces[np.maximum(s1, 0)] > 3))
-            cand &= ~_closes_a_triangle(u, w, s0, s1, np.ones(n, dtype=bool) if where is None else where)
+            if cand.any():  # (looked at only around the candidates: a handful of cells)
+                near = np.zeros(n, dtype=bool)
+                near[s0[cand]] = True
+                near[s1[cand & (s1 >= 0)]] = True
+                around = np.flatnonzero(near[s0] | ((s1 >= 0) & near[np.maximum(s1, 0)]))
+                complete = near if where is None else near & where
+                flat = _closes_a_triangle(u[around], w[around], s0[around], s1[around], complete)
+                cand[around[flat]] = False
             k = np.flatnonzero(cand)
             if k.size == 0:
                 break

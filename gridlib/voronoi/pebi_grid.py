@@ -547,13 +547,18 @@ def _size_notes(vor, site_size: np.ndarray, site_kind: np.ndarray, fs, n_bg: int
     e = vor.face_nodes
     rel = vor.coords[e[:, 1]] - vor.coords[e[:, 0]]
     length = np.hypot(rel[:, 0], rel[:, 1])
-    why = [f"a {KIND_NAMES[k]} cell" for k in site_kind.tolist()]
-    if fs.site_wedge is not None:
-        for k in np.flatnonzero(fs.site_wedge >= 0).tolist():  # cells of acute wedges
-            why[n_bg + k] = "in the wedge where " + fs.wedges[fs.site_wedge[k]].split(" at ")[0]
-    for k in np.flatnonzero(site_kind == ADDED).tolist():
-        why[k] = "added where the concave boundary cut a cell in two"
-    mid = 0.5 * (vor.coords[e[:, 0]] + vor.coords[e[:, 1]])
+
+    def why(c: int) -> str:
+        if site_kind[c] == ADDED:
+            return "added where the concave boundary cut a cell in two"
+        k = c - n_bg
+        if fs.site_wedge is not None and 0 <= k < fs.site_wedge.size and fs.site_wedge[k] >= 0:
+            return "in the wedge where " + fs.wedges[fs.site_wedge[k]].split(" at ")[0]
+        return f"a {KIND_NAMES[site_kind[c]]} cell"
+
+    def mid(f: int) -> np.ndarray:
+        return 0.5 * (vor.coords[e[f, 0]] + vor.coords[e[f, 1]])
+
     return size_notes(vor.areas, length, vor.neighbors, mid, vor.sites, site_size, why, dom.fmt)
 
 

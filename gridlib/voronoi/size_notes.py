@@ -15,6 +15,8 @@ Lengths in metres, areas in m².
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 AREA_RATIO_MIN = 0.1  # cells smaller than this x h^2 are noted
@@ -26,17 +28,17 @@ def size_notes(
     areas: np.ndarray,
     face_length: np.ndarray,
     neighbors: np.ndarray,
-    face_mid: np.ndarray,
+    face_mid: Callable[[int], np.ndarray],
     sites: np.ndarray,
     site_size: np.ndarray,
-    why: list[str],
-    fmt,
+    why: Callable[[int], str],
+    fmt: Callable[[np.ndarray], str],
 ) -> list[str]:
     """The notes (zero to two) on cells and faces below the bounds.
 
     ``areas`` (nc,) m²; ``face_length`` (nf,) m; ``neighbors`` (nf, 2) (-1 outside);
-    ``face_mid`` (nf, 2) and ``sites`` (nc, 2) points for the messages (local frame);
-    ``site_size`` (nc,) m; ``why[c]`` what made cell c (its kind, the wedge it is in);
+    ``face_mid(f)`` and ``sites`` (nc, 2) points for the messages (local frame);
+    ``site_size`` (nc,) m; ``why(c)`` what made cell c (its kind, the wedge it is in);
     ``fmt`` writes a local point in the caller's coordinates.
     """
     notes = []
@@ -46,7 +48,7 @@ def size_notes(
         c = int(small[np.argmin(area_ratio[small])])
         notes.append(
             f"{small.size} cell(s) smaller than {AREA_RATIO_MIN:g} h^2 (the smallest {area_ratio[c]:.3g} h^2 "
-            f"near {fmt(sites[c])}, {why[c]})"
+            f"near {fmt(sites[c])}, {why(c)})"
         )
     other = np.where(neighbors[:, 1] >= 0, site_size[np.maximum(neighbors[:, 1], 0)], np.inf)
     face_ratio = face_length / np.minimum(site_size[neighbors[:, 0]], other)
@@ -56,6 +58,6 @@ def size_notes(
         c = int(neighbors[f, 0])
         notes.append(
             f"{short.size} face(s) shorter than {FACE_RATIO_MIN:g} h (the shortest {face_ratio[f]:.3g} h "
-            f"near {fmt(face_mid[f])}, of a cell {why[c]})"
+            f"near {fmt(face_mid(f))}, of a cell {why(c)})"
         )
     return notes
