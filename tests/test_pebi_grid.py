@@ -397,6 +397,25 @@ def test_wells_next_to_a_fault_keep_clear_of_its_circles():
     assert _lengths(pg.grid)[pg.grid.faces.tag == 1].sum() == pytest.approx(6.0, rel=1e-12)
 
 
+def test_well_paths_across_and_along_a_fault_get_its_cells():
+    """A well path crossing a fault (used to be refused) has no site in the fault's circles: the two
+    fault cells at the crossing are the well's; a path running along the trace 0.1 to 0.2 m off it
+    gets the fault cells on its side."""
+    fault = Fault([(2, 2), (8, 2)], "F")
+    pg = pebi_grid(R10, 0.5, faults=[fault], wells=[Well(path=[(5, 1), (5, 3)], name="H")])
+    gl.check_grid(pg.grid)
+    mine = np.flatnonzero(pg.cell_well == 1)
+    assert pg.site_kind[mine].tolist().count(2) == 2 and pg.site_kind[mine].tolist().count(4) == 4
+    side = np.sign(pg.sites[mine[pg.site_kind[mine] == 2], 1] - 2.0)
+    assert sorted(side.tolist()) == [-1.0, 1.0]  # one on each side of the trace
+    assert any("'H' (wells[0]): 1 of its 5 sites would lie in the circles" in n for n in pg.notes)
+    pg = pebi_grid(R10, 0.5, faults=[fault], wells=[Well(path=[(3, 2.1), (7, 2.2)], name="A")])
+    gl.check_grid(pg.grid)
+    mine = np.flatnonzero(pg.cell_well == 1)
+    assert mine.size >= 7 and np.all(pg.site_kind[mine] == 2) and np.all(pg.sites[mine, 1] > 2.0)
+    assert _lengths(pg.grid)[pg.grid.faces.tag == 1].sum() == pytest.approx(6.0, rel=1e-12)
+
+
 def test_pebi_grid_is_exported():
     assert gl.voronoi.pebi_grid is pebi_grid
     assert isinstance(pebi_grid(rectangle(0, 0, 2, 2), 1.0), PebiGrid)
@@ -471,10 +490,6 @@ R10 = rectangle(0, 0, 10, 10)
             },
             r"well 'P1' \(wells\[0\]\) and well 'P2' \(wells\[1\]\) are too close: 1.5 m apart, "
             r"their rings and clearances need 2.25 m",
-        ),
-        (
-            {"faults": [Fault([(2, 2), (8, 2)], "F")], "wells": [Well(path=[(5, 1), (5, 3)], name="H")]},
-            r"well 'H' \(wells\[0\]\) crosses fault 'F' \(faults\[0\]\) near \(5, 2\)",
         ),
         (
             {"wells": [Well((5, 5), rings=Rings(inner=2.0, outer=1.0))]},

@@ -668,23 +668,27 @@ def layout(
     return FaultLayout(net, _chains(net), size, ratio, domain)
 
 
-def ring_room(lay: FaultLayout, point: np.ndarray) -> tuple[float, str, float]:
-    """How far (m) a well's rings may reach from ``point`` (local frame) and stay clear of the faults.
+def ring_room(lay: FaultLayout, points: np.ndarray) -> tuple[np.ndarray, list[str], np.ndarray]:
+    """How far (m) well sites may reach from ``points`` (k, 2; local frame) and stay clear of the faults.
 
     A fault circle reaches ``ratio`` x the step from its trace (a little more at
     junctions; the refinement takes care of those): rings end ``RING_GAP`` steps short
-    of that. Also returns the label of the fault that limits them and its distance (m).
+    of that, and a path's sites with no room at all are dropped. Also returns, per
+    point, the label of the fault that limits it and its distance (m) to that trace.
     """
     net = lay.net
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     a, b = net.nodes[net.edge_a], net.nodes[net.edge_b]
     ab = b - a
-    rel = point[None, :] - a
-    t = np.clip((rel[:, 0] * ab[:, 0] + rel[:, 1] * ab[:, 1]) / (ab[:, 0] ** 2 + ab[:, 1] ** 2), 0.0, 1.0)
-    foot = a + t[:, None] * ab
-    dist = np.hypot(point[0] - foot[:, 0], point[1] - foot[:, 1])
-    room = dist - (lay.ratio + RING_GAP) * _ds(lay, foot, net.edge_fault)
-    k = int(np.argmin(room))
-    return float(room[k]), net.labels[net.edge_fault[k] - 1], float(dist[k])
+    rel = points[:, None, :] - a[None, :, :]
+    t = (rel[..., 0] * ab[:, 0] + rel[..., 1] * ab[:, 1]) / (ab[:, 0] ** 2 + ab[:, 1] ** 2)
+    foot = a + np.clip(t, 0.0, 1.0)[..., None] * ab
+    dist = np.hypot(points[:, None, 0] - foot[..., 0], points[:, None, 1] - foot[..., 1])
+    step = _ds(lay, foot.reshape(-1, 2), np.tile(net.edge_fault, points.shape[0])).reshape(dist.shape)
+    room = dist - (lay.ratio + RING_GAP) * step
+    k = np.argmin(room, axis=1)
+    rows = np.arange(points.shape[0])
+    return room[rows, k], [net.labels[f - 1] for f in net.edge_fault[k].tolist()], dist[rows, k]
 
 
 def _ds(lay: FaultLayout, xy: np.ndarray, fault: np.ndarray) -> np.ndarray:

@@ -35,8 +35,9 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
 * faults running close to each other or to the boundary get locally smaller steps,
   as small as the gap needs (a note says how many rounds of refinement);
 * a well near a fault keeps its rings clear of the fault's circles: they are
-  shrunk (or dropped, one cell at the well), with a note; fault steps are refined
-  where a well's site would fall into a circle;
+  shrunk (or dropped, one cell at the well), with a note; a well path crossing a
+  fault or running along it gets the fault cells it runs through there instead of
+  sites of its own; fault steps are refined where a well's site would fall into a circle;
 * geometry finer than the cells can follow is resolved: a trace passing a
   re-entrant corner within a tenth of the cell size, or any corner within the
   smallest cell the refinement may make (the cell size times 2^-max_refinements),
@@ -47,8 +48,8 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
   (:mod:`.size_notes`).
 
 Errors remain for input that is wrong: an invalid domain or trace, a fault or well
-outside the domain, rings reaching outside it, wells overlapping each other, a well
-path crossing a fault. They are :class:`GridError` naming the object.
+outside the domain, rings reaching outside it, wells overlapping each other. They
+are :class:`GridError` naming the object.
 
 No tiny faces: nearly co-circular sites (generic along the boundary and where
 the lattice meets fault and well sites) would give faces of millimetres. Where a
@@ -64,7 +65,7 @@ first site (two straight faults crossing), they are made to share it exactly.
 
 Fault faces carry ``faces.tag`` = fault id (1-based position in ``faults``),
 every other face 0; ``cell_well`` is the 1-based well id of the cells generated
-by a well's sites, else 0. Coordinates are metres in the
+by a well's sites (and of the fault cells a well path runs through), else 0. Coordinates are metres in the
 caller's frame (UTM-sized coordinates are fine: everything is computed in a
 local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
 2-D faces are edges whose normal (dy, -dx) points from ``neighbors[:, 0]`` to
@@ -257,11 +258,7 @@ def pebi_grid(
     fault_labels = lay.net.labels if lay is not None else []
     room = None if lay is None else (lambda p: _faults.ring_room(lay, p))
     ws = build_wells(wells, dom, size, room, notes)
-    if lay is None:
-        check_clearances(ws, None, None, None, fault_labels, dom)
-    else:
-        net = lay.net
-        check_clearances(ws, net.nodes[net.edge_a], net.nodes[net.edge_b], net.edge_fault, fault_labels, dom)
+    check_clearances(ws)
     back = background_sites(dom, size, constant, pattern, padding, float(boundary_clearance))
     order = np.argsort(~back.on_lattice, kind="stable")  # lattice sites first (see lattice.py)
     bg, bg_spacing, bg_ij = back.xy[order], back.spacing[order], back.ij[order]
@@ -427,6 +424,10 @@ def pebi_grid(
     grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
     cell_well = np.zeros(n_sites, dtype=np.int64)
     cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.site_well
+    if ws.absorbed.shape[0]:  # the cells holding the points of well paths given no site (fault cells)
+        holder = cKDTree(sites).query(ws.absorbed)[1]
+        free = cell_well[holder] == 0
+        cell_well[holder[free]] = ws.absorbed_well[free]
     site_kind = np.full(n_sites, ADDED, dtype=np.int8)
     site_kind[:n_bg] = np.where(bg_padding[keep], PADDING_SITE, BACKGROUND)
     site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)

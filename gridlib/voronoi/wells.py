@@ -12,10 +12,12 @@ of a well's sites are that well's cells (``PebiGrid.cell_well``).
 Near a fault, a well's rings end a quarter step outside the fault's circles (the
 circles that keep the fault's faces on its trace must hold no site): rings reaching
 farther are shrunk to that radius, same inner radius and growth, or dropped if not
-even the first ring fits (the well is then one cell), and a note says so. The well
+even the first ring fits (the well is then one cell), and a note says so. A well path
+crossing a fault, or running along it, has no sites that close to the trace: the
+fault cells it runs through there are the well's (``WellSites.absorbed``). The well
 and fault sites then coexist; where one still falls into a fault circle (a circle at
 a junction is larger), the fault's steps are refined there. Wells must keep clear of
-each other, and a well path may not cross a fault trace.
+each other.
 
 Units are metres and radians; x, y in plan view.
 
@@ -132,6 +134,8 @@ class WellSites:
     disc_well: np.ndarray  # (w,)
     paths: list[tuple[int, np.ndarray, float]]  # (well id, polyline, half-width)
     labels: list[str]
+    absorbed: np.ndarray  # (a, 2) points of well paths given no site, next to or on a fault trace
+    absorbed_well: np.ndarray  # (a,) their well ids: the cells holding them become that well's
 
     @property
     def count(self) -> int:
@@ -146,20 +150,24 @@ def build_wells(
     wells: Sequence[Well],
     domain: Domain,
     size: Callable,
-    fault_room: Callable[[np.ndarray], tuple[float, str, float]] | None = None,
+    fault_room: Callable[[np.ndarray], tuple[np.ndarray, list[str], np.ndarray]] | None = None,
     notes: list[str] | None = None,
 ) -> WellSites:
     """Sites of all wells (local frame).
 
-    ``fault_room(point)`` gives, for a point well, the largest outer ring radius (m) that
-    keeps its rings clear of the fault circles, the nearest fault's label and its
-    distance (m): rings reaching farther are shrunk (same inner radius and growth, fewer
-    rings), or dropped if not even the first ring fits, and ``notes`` says so.
+    ``fault_room(points)`` gives, for every point, how far (m) a well's sites may reach
+    from it and stay clear of the fault circles, the limiting fault's label and its
+    distance (m). A point well's rings reaching farther are shrunk (same inner radius and
+    growth, fewer rings), or dropped if not even the first ring fits; a path's sites with
+    no room (on or next to a trace) are dropped, the points kept as ``absorbed``: the fault
+    cells there become the well's. ``notes`` says so.
     """
     sites, site_well = [np.zeros((0, 2))], [np.zeros(0, dtype=np.int64)]
     site_size = [np.zeros(0)]
     dc, dr, dm, dw = [], [], [], []
     paths: list[tuple[int, np.ndarray, float]] = []
+    absorbed: list[np.ndarray] = []
+    absorbed_well: list[np.ndarray] = []
     labels = []
     tol = domain.tol
     for i, well in enumerate(wells):  # loop over wells
@@ -198,7 +206,8 @@ def build_wells(
                     sectors = max(6, int(np.round(2 * np.pi * outer_guess / h)))
                 radii = r0.radii(sectors, f"{label}: rings")
                 if fault_room is not None:
-                    radii = _fit_rings(radii, *fault_room(c), label, notes)
+                    room, by, dist = fault_room(c)
+                    radii = _fit_rings(radii, float(room[0]), by[0], float(dist[0]), label, notes)
             if well.rings is not None and radii.size:
                 theta = float(r0.angle) + 2 * np.pi * np.arange(sectors) / sectors
                 ring = radii[:, None, None] * np.stack([np.cos(theta), np.sin(theta)], axis=-1)[None]
@@ -248,14 +257,30 @@ def build_wells(
                 t = np.arange(1, n[k] + 1) / n[k]
                 pts.append(xy[k] + t[:, None] * (xy[k + 1] - xy[k]))
             ps = np.concatenate(pts)
+            step = seg / n
+            ps_size = np.concatenate([step[:1], np.repeat(step, n)])
+            if fault_room is not None:  # sites on or next to a fault trace: the fault's cells serve
+                room, by, _ = fault_room(ps)
+                gone = room < 0
+                if gone.any():
+                    fine = _resample(xy, 0.125 * float(step.min()))  # the path through those cells
+                    absorbed.append(fine[fault_room(fine)[0] < 0])
+                    absorbed_well.append(np.full(absorbed[-1].shape[0], i + 1))
+                    names = ", ".join(dict.fromkeys(b for b, g in zip(by, gone.tolist(), strict=True) if g))
+                    (notes if notes is not None else []).append(
+                        f"{label}: {int(gone.sum())} of its {ps.shape[0]} sites would lie in the circles of "
+                        f"{names}; the fault cells it runs through there are the well's"
+                    )
+                    ps, ps_size = ps[~gone], ps_size[~gone]
             sites.append(ps)
             site_well.append(np.full(ps.shape[0], i + 1))
-            step = seg / n
-            site_size.append(np.concatenate([step[:1], np.repeat(step, n)]))
+            site_size.append(ps_size)
             h = float(np.max(size(xy)))
             half = 0.5 * max(float(np.max(seg / n)), h)
             paths.append((i + 1, xy, half))
     empty = np.zeros((0, 2))
+    if not absorbed:
+        absorbed, absorbed_well = [empty], [np.zeros(0, dtype=np.int64)]
     return WellSites(
         sites=np.concatenate(sites),
         site_well=np.concatenate(site_well),
@@ -266,6 +291,8 @@ def build_wells(
         disc_well=np.asarray(dw, dtype=np.int64),
         paths=paths,
         labels=labels,
+        absorbed=np.concatenate(absorbed),
+        absorbed_well=np.concatenate(absorbed_well),
     )
 
 
@@ -310,6 +337,17 @@ def _ring_sizes(radii: np.ndarray, sectors: int, h: float) -> list[np.ndarray]:
     return [np.array([centre]), np.repeat(np.sqrt(arc * width), sectors)]
 
 
+def _resample(xy: np.ndarray, spacing: float) -> np.ndarray:
+    """Points along a polyline (m), its vertices and at most ``spacing`` apart in between."""
+    seg = np.hypot(*np.diff(xy, axis=0).T)
+    n = np.maximum(1, np.ceil(seg / spacing).astype(np.int64))
+    out = [xy[:1]]
+    for k in range(seg.size):  # loop over path segments
+        t = np.arange(1, n[k] + 1) / n[k]
+        out.append(xy[k] + t[:, None] * (xy[k + 1] - xy[k]))
+    return np.concatenate(out)
+
+
 def _points(value: object, label: str, what: str) -> np.ndarray:
     try:
         xy = np.asarray(value, dtype=np.float64)
@@ -352,19 +390,12 @@ def _max_seg(xy: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).max())
 
 
-def check_clearances(
-    ws: WellSites,
-    trace_a: np.ndarray | None,
-    trace_b: np.ndarray | None,
-    trace_fault: np.ndarray | None,
-    fault_labels: Sequence[str],
-    domain: Domain,
-) -> None:
-    """Wells must keep clear of each other, and well paths must not cross a fault trace.
+def check_clearances(ws: WellSites) -> None:
+    """Wells must keep clear of each other.
 
-    ``trace_a``, ``trace_b``, ``trace_fault``: the fault traces as segments (local frame)
-    and their fault ids. Wells near faults are fine: rings are fitted (:func:`build_wells`)
-    and the fault's steps are refined where a well's site falls into a fault circle.
+    Wells near or across faults are fine: rings are fitted and paths give the fault cells
+    they run through to the well (:func:`build_wells`), and the fault's steps are refined
+    where a well's site falls into a fault circle.
     """
     nw = ws.disc_centre.shape[0]
     # point wells vs point wells
@@ -399,17 +430,3 @@ def check_clearances(
                     f"{ws.labels[wid - 1]} and {ws.labels[wid2 - 1]} are too close: {dd:.4g} m apart, "
                     f"they need {half + half2:.4g} m"
                 )
-    if trace_a is None or trace_a.shape[0] == 0:
-        return
-    segs = shapely.linestrings(np.stack([trace_a, trace_b], axis=1))
-    for wid, xy, _half in ws.paths:
-        line = shapely.LineString(xy)
-        hit = np.flatnonzero(shapely.intersects(segs, line))
-        if hit.size:
-            b = int(hit[0])
-            at = shapely.intersection(segs[b], line)
-            p = np.asarray(shapely.get_coordinates(at)[0])
-            raise GridError(
-                f"{ws.labels[wid - 1]} crosses {fault_labels[trace_fault[b] - 1]} near {domain.fmt(p)}: "
-                "a well path may not cross a fault trace (end it short of the fault, or give two wells)"
-            )
