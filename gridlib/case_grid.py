@@ -3,8 +3,11 @@
 :func:`build_case_grid` turns a validated :class:`~gridlib.config.Case` (and, for
 cornerpoint and pebi grids, its horizons Dataset) into a :class:`CaseGrid`: the
 grid, its non-neighbour connections, fault and well names, per-cell data
-(bulk volume, well, zone, layer) and, for corner-point grids, the deck (written
-as ``grid.grdecl``). The case's faults and wells become gridlib objects here:
+(bulk volume, well, zone, layer; for pebi grids the generating ``site`` (x, y) of
+each cell's column, whose perpendicular bisectors the lateral faces are: the
+transmissibility stage uses them as cell centres) and, for corner-point grids,
+the deck (written as ``grid.grdecl``). The case's faults and wells become
+gridlib objects here:
 
 * a fault's ``trace`` and ``throw`` (a number, or ``{start, end}`` varying
   linearly along the trace) and ``side`` give a
@@ -168,7 +171,12 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
         r.nnc,
         names,
         areal.well_names,
-        cell_data={"well": areal.cell_well[column], "zone": r.zone, "layer": grid.layering.layer},
+        cell_data={
+            "well": areal.cell_well[column],
+            "zone": r.zone,
+            "layer": grid.layering.layer,
+            "site": areal.sites[column],  # the generating site (x, y) of each cell's column
+        },
         notes=areal.notes + r.notes,
     )
 

@@ -1,8 +1,10 @@
 """Stage ``grid``: the case's grid, checked, as ``grid.nc`` (and ``grid.grdecl`` for decks).
 
 ``grid.nc`` holds the grid, per-cell data of the builder (bulk volume in
-ECLIPSE's convention, well id, zone, layer), the non-neighbour connections
-(``nnc_*`` variables) and the fault and well names (attributes, JSON lists).
+ECLIPSE's convention, well id, zone, layer, the PEBI site of each cell), the
+non-neighbour connections (``nnc_*`` variables), the fault and well names
+(attributes, JSON lists) and the ``unit_system`` of its coordinates (METRIC:
+metres; a FIELD deck's grid is in feet).
 Corner-point and deck cases also get ``grid.grdecl`` (GRDECL for simulators:
 geometry, ACTNUM, FAULTS, and the deck's own cell keywords).
 """
@@ -11,12 +13,20 @@ from __future__ import annotations
 
 import os
 
-from ..case_grid import build_case_grid
+from ..case_grid import CaseGrid, build_case_grid
 from ..checks import check_grid
 from ..config import load_case
 from ..horizons import read_horizons
 from ..io.grdecl import write_grdecl
+from ..units import unit_system
 from .common import log, nnc_variables, write_grid_file
+
+
+def grid_unit_system(built: CaseGrid) -> str:
+    """The ECLIPSE unit system of the grid's coordinates: a deck's own (METRIC where it does not
+    say, ECLIPSE's default), METRIC (metres) for every grid gridlib builds."""
+    units = built.deck.units if built.deck is not None else None
+    return unit_system(units).name
 
 
 def stage_grid(
@@ -36,6 +46,7 @@ def stage_grid(
         **case.provenance(),
         "fault_names": list(built.fault_names),
         "well_names": list(built.well_names),
+        "unit_system": grid_unit_system(built),
     }
     write_grid_file(
         grid_out, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs
