@@ -3,7 +3,8 @@
     snakemake --cores all --workflow-profile workflow/profiles/default
 
 Stages per case (wildcard {case}): horizons -> grid -> geometry -> petrophysics -> coarsen
--> export, then summary.csv over all cases (see README.md). A report of the pictures:
+and transmissibility -> export, then summary.csv over all cases (see README.md). A report
+of the pictures:
 
     snakemake --report results/report.zip
 """
@@ -30,5 +31,6 @@ include: "workflow/rules/grid.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/petrophysics.smk"
 include: "workflow/rules/coarsen.smk"
+include: "workflow/rules/transmissibility.smk"
 include: "workflow/rules/export.smk"
 include: "workflow/rules/summary.smk"

@@ -5,8 +5,8 @@ with the case's provenance (gridlib version, case file hash, seed). The
 Snakemake scripts in ``workflow/scripts`` are one-line wrappers around these,
 so the same stages run from Python or from the ``gridlib build`` command.
 
-Stages: horizons -> grid -> geometry -> petrophysics -> coarsen -> export,
-then summary over all cases.
+Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and
+transmissibility -> export, then summary over all cases.
 """
 
 from .coarsen import stage_coarsen
@@ -18,6 +18,7 @@ from .horizons import stage_horizons
 from .petrophysics import stage_petrophysics
 from .pipeline import case_outputs, run_case
 from .summary import stage_summary
+from .transmissibility import stage_transmissibility
 
 __all__ = [
     "case_outputs",
@@ -30,4 +31,5 @@ __all__ = [
     "stage_horizons",
     "stage_petrophysics",
     "stage_summary",
+    "stage_transmissibility",
 ]

@@ -12,6 +12,7 @@ from .geometry import stage_geometry
 from .grid import stage_grid
 from .horizons import stage_horizons
 from .petrophysics import stage_petrophysics
+from .transmissibility import has_transmissibility, stage_transmissibility
 
 
 def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:
@@ -24,6 +25,7 @@ def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:
         "geometry": d / "geometry.nc",
         "petrophysics": d / "petrophysics.nc",
         "coarse": d / "coarse.nc",
+        "transmissibility": d / "transmissibility.nc",
         "nc": d / f"{name}.nc",
         "vtu": d / f"{name}.vtu",
         "faults": d / f"{name}_faults.vtp",
@@ -59,7 +61,12 @@ def run_case(case_file: str | os.PathLike, folder: str | os.PathLike) -> list[Pa
         coarse = out["coarse"]
         stage_coarsen(case_file, out["grid"], out["geometry"], petro, coarse)
         written.append(coarse)
+    trans = None
+    if has_transmissibility(case):
+        trans = out["transmissibility"]
+        stage_transmissibility(case_file, out["grid"], out["geometry"], petro, trans, grdecl)
+        written.append(trans)
     exports = {k: str(out[k]) for k in ("nc", "vtu", "faults", "png", "histograms", "summary")}
-    stage_export(case_file, out["grid"], out["geometry"], exports, petro, coarse)
+    stage_export(case_file, out["grid"], out["geometry"], exports, petro, coarse, trans)
     written += [Path(p) for p in exports.values()]
     return written

@@ -14,6 +14,7 @@ from snakemake.utils import validate
 from gridlib.config import load_cases
 from gridlib.config import validate as check_schema
 from gridlib.errors import InputError
+from gridlib.stages.transmissibility import has_transmissibility
 
 
 def check_config(data, source):
@@ -78,6 +79,7 @@ def _cases_where(test):
 
 WITH_GRDECL = _cases_where(lambda c: c.writes_grdecl)
 WITHOUT_GRDECL = _cases_where(lambda c: not c.writes_grdecl)
+WITH_TRANSMISSIBILITY = _cases_where(has_transmissibility)
 EXPORTS = ("nc", "vtu", "faults", "png", "histograms", "summary")
 
 
@@ -94,6 +96,7 @@ def out(name):
         "geometry": f"{RESULTS}/{{case}}/geometry.nc",
         "petrophysics": f"{RESULTS}/{{case}}/petrophysics.nc",
         "coarse": f"{RESULTS}/{{case}}/coarse.nc",
+        "transmissibility": f"{RESULTS}/{{case}}/transmissibility.nc",
         "nc": f"{RESULTS}/{{case}}/{{case}}.nc",
         "vtu": f"{RESULTS}/{{case}}/{{case}}.vtu",
         "faults": f"{RESULTS}/{{case}}/{{case}}_faults.vtp",
@@ -120,4 +123,6 @@ def all_outputs():
         files += [out(k).format(case=name) for k in EXPORTS]
         if case.writes_grdecl:
             files.append(out("grdecl").format(case=name))
+        if has_transmissibility(case):
+            files.append(out("transmissibility").format(case=name))
     return files

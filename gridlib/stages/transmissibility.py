@@ -1,0 +1,315 @@
+"""Stage ``transmissibility``: what a two-point flux simulator needs, as ``transmissibility.nc``.
+
+Per connection (a pair of cells with a non-zero transmissibility; dimension
+``connection``): ``connection_cells`` (the two cells, rows of ``grid.nc``, first <
+second), ``trans``, ``connection_kind`` (0 neighbor, 1 fault, 2 pinch, 3 other) and
+``connection_face`` (the face crossed, -1 for none). Per cell: ``porv``, the pore
+volume, and ``cell_flow_index``, the cell's 0-based linear index (i fastest) in the
+logical box ``flow_dims`` a simulator sees.
+
+Which computation, by grid type (the ``method`` attribute says which ran):
+
+* **cornerpoint and deck** (the cases that write ``grid.grdecl``):
+  :func:`~gridlib.transmissibility.deck.deck_transmissibility` on ``grid.grdecl`` with
+  the case's PERMX, PERMY, PERMZ and NTG from ``petrophysics.nc`` (per grid cell, put
+  on the deck's cells through ``index_map``): ECLIPSE's NEWTRAN, MULT* and MULTFLT as
+  OPM Flow computes them, so the T equal Flow's for that deck. Pore volume as Flow:
+  the ECLIPSE bulk volume (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV
+  (the deck's PORV where it gives one). ``cell_flow_index`` is the grid's
+  ``index_map``, ``flow_dims`` the deck's dimensions;
+* **pebi**: :func:`~gridlib.transmissibility.transmissibility` with each cell's
+  generating site (x, y) at its centroid's depth as the cell centre (``site`` in
+  ``grid.nc``, stored by the grid stage: the lateral faces are the sites'
+  perpendicular bisectors, so the two-point flux is consistent in plan);
+* **every other grid**: the same with the centroids.
+
+For the last two, the pore volume is the geometric cell volume x porosity x NTG,
+and ``cell_flow_index`` is the grid's ``index_map`` in its ``cart_dims`` (cartesian
+and tensor grids); for layered grids (pebi, layered) column + n_columns x layer in a
+box of n_columns x 1 x n_layers, so that k is the layer; else the cell number itself
+(a box of num_cells x 1 x 1). Such grids reach a simulator as a list of connections,
+not through its own geometry: the box only numbers the cells. For 2-D grids T and
+pore volumes are per metre of thickness.
+
+Units: the grid's ``unit_system`` (METRIC, or a deck's own, e.g. FIELD for SPE9):
+T in its transmissibility unit (METRIC cP m3/(day bar), FIELD cP rb/(day psi)),
+pore volumes in its reservoir volume unit (rm3, rb), permeability in mD.
+The stage runs for cases with petrophysics (T needs permeability, pore volume
+porosity).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..config import Case, load_case
+from ..cornerpoint.process import CornerPointGrid
+from ..errors import InputError
+from ..geometry import Geometry
+from ..grid import Grid
+from ..io.grdecl import read_grdecl
+from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf
+from ..stratigraphic.nnc import NNC
+from ..transmissibility import KIND_NAMES, Connections, deck_transmissibility, transmissibility
+from ..units import UnitSystem, unit_system
+from .common import log, read_attrs, read_extra, write_dataset
+from .petrophysics import read_rock
+
+CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
+CELL_VARS = ("porv", "cell_flow_index")
+VOLUME_LABELS = {"METRIC": "rm3", "FIELD": "rb", "LAB": "rcc", "PVT-M": "rm3"}
+
+
+def has_transmissibility(case: Case) -> bool:
+    """Whether the stage runs for ``case``: it needs the case's rock properties."""
+    return case.has_petrophysics
+
+
+def stage_transmissibility(
+    case_file: str | os.PathLike,
+    grid_nc: str | os.PathLike,
+    geometry_nc: str | os.PathLike,
+    petrophysics_nc: str | os.PathLike,
+    transmissibility_out: str | os.PathLike,
+    grdecl: str | os.PathLike | None = None,
+) -> None:
+    """Connections, transmissibilities and pore volumes of the case's grid; write
+    ``transmissibility.nc``. ``grdecl``: the case's ``grid.grdecl`` (cornerpoint and deck
+    cases, which need it)."""
+    case = load_case(case_file)
+    stored = read_netcdf(grid_nc)
+    grid = stored.grid
+    geo = read_geometry_netcdf(geometry_nc)
+    if geo.cell_volumes.size != grid.num_cells:
+        raise InputError(f"{geometry_nc}: {geo.cell_volumes.size} cells, but {grid_nc} has {grid.num_cells}")
+    rock = read_rock(petrophysics_nc)
+    if rock["poro"].size != grid.num_cells:
+        raise InputError(f"{petrophysics_nc}: {rock['poro'].size} cells, but {grid_nc} has {grid.num_cells}")
+    attrs = read_attrs(grid_nc)
+    if "unit_system" not in attrs:
+        raise InputError(
+            f"{grid_nc}: unit_system: attribute missing (written by an older gridlib: rebuild it)"
+        )
+    system = unit_system(str(attrs["unit_system"]))
+    if case.writes_grdecl:
+        if grdecl is None:
+            raise InputError(
+                f"{case.path}: grid: a {case.data['grid']['type']} grid's T need its grid.grdecl"
+            )
+        conn, porv, method = _deck_case(grid_nc, stored, attrs, rock, Path(grdecl), system)
+        flow_index, flow_dims = grid.cells.index_map, tuple(grid.cart_dims)
+    else:
+        conn, centres = _grid_case(case, grid_nc, stored, geo, rock, system)
+        porv = geo.cell_volumes * rock["poro"] * rock["ntg"] * _volume_unit(system)
+        method = f"transmissibility (two-point flux, cell centres: {centres})"
+        flow_index, flow_dims = _flow_index(grid)
+    ds = connections_dataset(conn, porv, flow_index, flow_dims, system)
+    ds.attrs |= {
+        **case.provenance(),
+        "title": "gridlib transmissibility",
+        "method": method,
+        "notes": "; ".join(conn.notes),
+    }
+    write_dataset(transmissibility_out, ds)
+    counts = ", ".join(f"{v:,d} {k}" for k, v in conn.counts().items() if v)
+    log.info(
+        "wrote %s: %d connections (%s), T %.6g to %.6g %s, pore volume %.6g %s",
+        transmissibility_out,
+        conn.num,
+        counts or "none",
+        conn.trans.min() if conn.num else 0.0,
+        conn.trans.max() if conn.num else 0.0,
+        system.transmissibility_label,
+        porv.sum(),
+        VOLUME_LABELS[system.name],
+    )
+    for note in conn.notes:
+        log.info("note: %s", note)
+
+
+def _deck_case(
+    grid_nc: str | os.PathLike,
+    stored: GridDataset,
+    attrs: dict[str, Any],
+    rock: dict[str, np.ndarray],
+    grdecl: Path,
+    system: UnitSystem,
+) -> tuple[Connections, np.ndarray, str]:
+    """deck_transmissibility of ``grid.grdecl`` with the case's rock; Flow's pore volumes."""
+    grid = stored.grid
+    deck = read_grdecl(grdecl)
+    if grid.cells.index_map is None or tuple(grid.cart_dims or ()) != deck.cart_dims:
+        raise InputError(
+            f"{grdecl}: SPECGRID: {deck.cart_dims} does not match the grid of {grid_nc} "
+            f"(logical dimensions {grid.cart_dims})"
+        )
+    if "bulk_volume" not in stored.cell_data:
+        raise InputError(f"{grid_nc}: bulk_volume: missing (a cornerpoint or deck grid stores it)")
+    index = grid.cells.index_map
+
+    def on_deck(values: np.ndarray) -> np.ndarray:
+        full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read
+        full[index] = values
+        return full
+
+    case_rock = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
+    cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in case_rock.items()}}
+    deck = replace(deck, cell_data=cell_data, units=system.name)
+    extra = read_extra(grid_nc, ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face"))
+    empty = np.zeros((0, 2), dtype=np.int64)
+    nnc = NNC(
+        extra.get("nnc_cells", empty),
+        extra.get("nnc_global_cells", empty),
+        extra.get("nnc_kind", np.zeros(0, dtype=np.int8)),
+        extra.get("nnc_face", np.zeros(0, dtype=np.int64)),
+    )
+    bulk = stored.cell_data["bulk_volume"]
+    cp = CornerPointGrid(grid, nnc, tuple(attrs.get("fault_names", ())), (), bulk)
+    conn = deck_transmissibility(deck, cp)
+    if "PORV" in deck.cell_data:  # Flow takes the deck's pore volumes as they are
+        porv = deck.cell_data["PORV"][index]
+        conn = replace(conn, notes=(*conn.notes, "pore volumes: the deck's PORV"))
+    else:
+        multpv = deck.cell_data["MULTPV"][index] if "MULTPV" in deck.cell_data else 1.0
+        porv = bulk * rock["poro"] * rock["ntg"] * multpv * _volume_unit(system)
+    method = "deck_transmissibility (ECLIPSE NEWTRAN, MULT* and MULTFLT as OPM Flow 2022.10 computes them)"
+    return conn, porv, method
+
+
+def _volume_unit(system: UnitSystem) -> float:
+    """Reservoir volume units per cubed length unit (METRIC 1, FIELD ft3 -> rb)."""
+    return system.length * system.length * system.length / system.volume
+
+
+def _grid_case(
+    case: Case,
+    grid_nc: str | os.PathLike,
+    stored: GridDataset,
+    geo: Geometry,
+    rock: dict[str, np.ndarray],
+    system: UnitSystem,
+) -> tuple[Connections, str]:
+    """Two-point flux T of any grid: centroids, or the PEBI sites at the centroids' depth."""
+    grid = stored.grid
+    d = grid.griddim
+    perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, :d]
+    ntg = None if (rock["ntg"] == 1.0).all() else rock["ntg"]
+    centres, what = None, "centroids"
+    if case.data["grid"]["type"] == "pebi":
+        site = stored.cell_data.get("site")
+        if site is None or site.shape != (grid.num_cells, 2):
+            raise InputError(
+                f"{grid_nc}: site: the PEBI sites are missing (written by an older gridlib: rebuild it)"
+            )
+        centres = np.column_stack([site, geo.cell_centroids[:, 2]]) if d == 3 else site
+        what = "generating sites (x, y) at the centroid depth"
+    try:
+        conn = transmissibility(grid, geo, perm, ntg, centres=centres, units=system.name)
+    except InputError as exc:
+        raise InputError(f"{case.path}: petrophysics: {exc}") from None
+    return conn, what
+
+
+def _flow_index(grid: Grid) -> tuple[np.ndarray, tuple[int, ...]]:
+    """The cells' linear indices in a logical box: ``index_map`` in ``cart_dims`` where the grid
+    has them; for layered grids column + n_columns x layer in (n_columns, 1, n_layers), so that
+    k is the layer; else the cell numbers in a box of num_cells x 1 x 1."""
+    if grid.cells.index_map is not None and grid.cart_dims is not None:
+        dims = tuple(int(v) for v in grid.cart_dims)
+        return grid.cells.index_map, dims + (1,) * (3 - len(dims))
+    if grid.layering is not None:
+        lay = grid.layering
+        n = lay.areal.num_cells
+        return lay.column + n * lay.layer, (n, 1, int(lay.num_layers))
+    return np.arange(grid.num_cells, dtype=np.int64), (grid.num_cells, 1, 1)
+
+
+def connections_dataset(
+    conn: Connections,
+    porv: np.ndarray,
+    flow_index: np.ndarray,
+    flow_dims: tuple[int, ...],
+    system: UnitSystem,
+) -> xr.Dataset:
+    """The variables of ``transmissibility.nc`` (also written into ``{case}.nc``)."""
+    volume = VOLUME_LABELS[system.name]
+    data = {
+        "connection_cells": xr.DataArray(
+            conn.cells,
+            dims=("connection", "two"),
+            attrs={"long_name": "the two cells of the connection (0-based cells of grid.nc, first < second)"},
+        ),
+        "trans": xr.DataArray(
+            conn.trans,
+            dims=("connection",),
+            attrs={"long_name": "transmissibility", "units": system.transmissibility_label},
+        ),
+        "connection_kind": xr.DataArray(
+            np.asarray(conn.kind, dtype=np.int8),
+            dims=("connection",),
+            attrs={
+                "flag_values": np.arange(len(KIND_NAMES), dtype=np.int8),
+                "flag_meanings": " ".join(KIND_NAMES),
+            },
+        ),
+        "connection_face": xr.DataArray(
+            conn.face,
+            dims=("connection",),
+            attrs={"long_name": "face of grid.nc the connection crosses, -1 none"},
+        ),
+        "porv": xr.DataArray(
+            np.asarray(porv, dtype=np.float64),
+            dims=("cell",),
+            attrs={"long_name": "pore volume", "units": volume},
+        ),
+        "cell_flow_index": xr.DataArray(
+            np.asarray(flow_index, dtype=np.int64),
+            dims=("cell",),
+            attrs={"long_name": "0-based linear index (i fastest) of the cell in the logical box flow_dims"},
+        ),
+    }
+    counts = conn.counts()
+    attrs: dict[str, Any] = {
+        "unit_system": system.name,
+        "trans_units": system.transmissibility_label,
+        "porv_units": volume,
+        "permeability_units": "mD",
+        "flow_dims": np.asarray(flow_dims, dtype=np.int64),
+        "num_connections": np.int64(conn.num),
+        **{f"{kind}_connections": np.int64(n) for kind, n in counts.items()},
+    }
+    return xr.Dataset(data, attrs=attrs)
+
+
+def read_transmissibility(path: str | os.PathLike) -> tuple[dict[str, xr.DataArray], dict[str, Any]]:
+    """The variables (loaded, with their attributes) and global attributes of ``transmissibility.nc``."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        missing = [n for n in CONNECTION_VARS + CELL_VARS if n not in ds.variables]
+        if missing:
+            raise InputError(f"{path}: not a transmissibility file (missing {', '.join(missing)})")
+        return {n: ds[n].load() for n in CONNECTION_VARS + CELL_VARS}, dict(ds.attrs)
+
+
+def face_connections(neighbors: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """The connection (row of ``cells``) each face's two cells form, -1 for boundary faces and
+    pairs without a connection (T = 0)."""
+    nb = np.sort(np.asarray(neighbors, dtype=np.int64), axis=1)
+    pairs = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
+    out = np.full(nb.shape[0], -1, dtype=np.int64)
+    if not pairs.size:
+        return out
+    width = int(max(pairs.max(), nb.max())) + 1
+    key = pairs[:, 0] * width + pairs[:, 1]
+    order = np.argsort(key, kind="stable")
+    inner = np.flatnonzero(nb[:, 0] >= 0)
+    face_key = nb[inner, 0] * width + nb[inner, 1]
+    pos = np.minimum(np.searchsorted(key[order], face_key), key.size - 1)
+    found = key[order][pos] == face_key
+    out[inner[found]] = order[pos[found]]
+    return out

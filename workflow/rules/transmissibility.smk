@@ -1,0 +1,23 @@
+rule transmissibility:
+    """Connections (cell pairs, T, kind, face), pore volumes and the simulator's cell index."""
+    input:
+        unpack(optional("grdecl", lambda c: c.writes_grdecl)),
+        case=case_file,
+        grid=out("grid"),
+        geometry=out("geometry"),
+        petrophysics=out("petrophysics"),
+    output:
+        transmissibility=out("transmissibility"),
+    log:
+        f"{RESULTS}/logs/{{case}}/transmissibility.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/{{case}}/transmissibility.tsv"
+    wildcard_constraints:
+        case=WITH_TRANSMISSIBILITY,
+    conda:
+        "../envs/gridlib.yaml"
+    threads: 1
+    resources:
+        mem_mb=4000,
+    script:
+        "../scripts/transmissibility.py"
