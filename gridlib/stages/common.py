@@ -74,13 +74,17 @@ def write_grid_file(
     cell_data: Mapping[str, np.ndarray] | None = None,
     extra: Mapping[str, xr.DataArray] | None = None,
     attrs: Mapping[str, Any] | None = None,
+    var_attrs: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> Path:
     """A gridlib netCDF grid file plus ``extra`` variables with dimensions of their own
-    (e.g. the NNC list, a partition of the fine cells); list-valued attributes as JSON."""
+    (e.g. the NNC list, a partition of the fine cells); list-valued attributes as JSON;
+    ``var_attrs``: attributes (units, long names) of cell data variables, by name."""
     flat = {k: (json.dumps(v) if isinstance(v, list | tuple | dict) else v) for k, v in (attrs or {}).items()}
     ds = grid_to_dataset(grid, geometry, dict(cell_data or {}), None, flat)
     for name, var in (extra or {}).items():
         ds[name] = var
+    for name, meta in (var_attrs or {}).items():
+        ds[name].attrs.update(meta)
     return write_dataset(path, ds)
 
 

@@ -2,14 +2,22 @@
 
 * ``{case}.nc``: one self-describing netCDF file: grid, geometry, the builder's
   cell data (bulk volume, well, zone, layer), rock properties, the coarse block
-  of every cell, pore volume, and the NNC list;
+  of every cell, pore volume, the NNC list, and the variables of
+  ``transmissibility.nc`` (connections with their T, ``porv`` and
+  ``cell_flow_index``);
 * ``{case}.vtu``: the grid with the same cell data (ParaView, pyvista);
 * ``{case}_faults.vtp``: the fault faces as polygons (lines in 2-D) with their
-  fault id (names in the field data ``fault_names``);
+  fault id (names in the field data ``fault_names``) and, where the case has
+  transmissibilities, ``trans``: the T of the connection the face belongs to (of
+  the face's cell pair: faces between the same two cells share it), 0 where none;
 * ``{case}.png``: the grid rendered off-screen, coloured by porosity (or
   depth), fault faces in red; ``{case}_histograms.png``: cell volumes, face
-  areas and porosity (the MRST book's Fig. 3.33);
+  areas, porosity (the MRST book's Fig. 3.33) and log10 T;
 * ``summary.json``: the case's figures (the regression tests compare them).
+
+``pore_volume`` (geometric cell volume x porosity x NTG, m3) predates the
+transmissibility stage and is kept; ``porv`` is the simulator's pore volume (for
+corner-point decks from ECLIPSE's bulk volumes) in the case's unit system.
 """
 
 from __future__ import annotations
@@ -29,8 +37,10 @@ from ..grid import Grid
 from ..io._atomic import atomic_path
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..io.vtu import write_vtu
+from ..reproducible import log10
 from .common import log, nnc_variables, read_attrs, read_extra, write_grid_file
 from .petrophysics import read_rock
+from .transmissibility import CONNECTION_VARS, face_connections, read_transmissibility
 
 NNC_VARS = ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face")
 
@@ -56,8 +66,9 @@ def _atomic_with_suffix(target: Path, write) -> None:
         raise
 
 
-def write_fault_faces(path: Path, grid: Grid, names: list[str]) -> int:
-    """The fault faces of ``grid`` as a VTK PolyData file; returns how many."""
+def write_fault_faces(path: Path, grid: Grid, names: list[str], face_trans: np.ndarray | None = None) -> int:
+    """The fault faces of ``grid`` as a VTK PolyData file, with ``face_trans`` (per face of the
+    grid) as cell data ``trans`` if given; returns how many."""
     import pyvista as pv
 
     faces = np.flatnonzero(grid.faces.tag > 0)
@@ -74,6 +85,8 @@ def write_fault_faces(path: Path, grid: Grid, names: list[str]) -> int:
     else:
         mesh = pv.PolyData(coords, faces=cells.astype(np.int64))
     mesh.cell_data["fault"] = grid.faces.tag[faces].astype(np.int32)
+    if face_trans is not None:
+        mesh.cell_data["trans"] = np.asarray(face_trans, dtype=np.float64)[faces]
     mesh.field_data["fault_names"] = np.array(names if names else [""])
     _atomic_with_suffix(path, lambda p: mesh.save(p))
     return int(faces.size)
@@ -140,7 +153,16 @@ def _render(path: Path, grid: Grid, values: np.ndarray, faults_vtp: Path, scalar
     plotter.close()
 
 
-def _histograms(path: Path, geo: Geometry, poro: np.ndarray | None, griddim: int, title: str) -> None:
+def _histograms(
+    path: Path,
+    geo: Geometry,
+    poro: np.ndarray | None,
+    griddim: int,
+    title: str,
+    trans: tuple[np.ndarray, str] | None = None,
+) -> None:
+    """Histograms of cell volumes, face areas, porosity and, with ``trans`` (T and its unit),
+    log10 T; logarithmic axes where values span more than two decades."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -150,10 +172,15 @@ def _histograms(path: Path, geo: Geometry, poro: np.ndarray | None, griddim: int
     panels.append(("face areas (m2)" if griddim == 3 else "face lengths (m)", geo.face_areas))
     if poro is not None:
         panels.append(("porosity", poro))
+    if trans is not None:
+        t, unit = trans
+        panels.append((f"log10 T, T in {unit}", log10(t[t > 0])))
+    linear = ("poro", "log10")
     fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 3.6))
     for ax, (label, values) in zip(np.atleast_1d(axes), panels, strict=True):
-        v = values[np.isfinite(values) & (values > 0)] if "poro" not in label else values
-        if v.size and "poro" not in label and v.max() > 100 * v.min():
+        plain = label.startswith(linear)
+        v = values if plain else values[np.isfinite(values) & (values > 0)]
+        if v.size and not plain and v.max() > 100 * v.min():
             ax.hist(v, bins=np.geomspace(v.min(), v.max(), 50))
             ax.set_xscale("log")
         elif v.size and np.ptp(v) > 1e-9 * np.abs(v).max():
@@ -172,6 +199,39 @@ def _histograms(path: Path, geo: Geometry, poro: np.ndarray | None, griddim: int
     plt.close(fig)
 
 
+def _transmissibility(path: str | os.PathLike, num_cells: int):
+    """The variables and attributes of ``transmissibility.nc``, checked against the grid."""
+    variables, attrs = read_transmissibility(path)
+    if variables["porv"].size != num_cells:
+        raise InputError(f"{path}: porv has {variables['porv'].size} cells, but the grid has {num_cells}")
+    return variables, attrs
+
+
+def _face_trans(grid: Grid, variables) -> np.ndarray:
+    """Per face of the grid, the T of the connection of its two cells (0 where none)."""
+    conn = face_connections(grid.faces.neighbors, variables["connection_cells"].values)
+    t = variables["trans"].values
+    return np.where(conn >= 0, t[np.maximum(conn, 0)] if t.size else 0.0, 0.0)
+
+
+def transmissibility_figures(variables, attrs) -> dict[str, Any]:
+    """The summary's figures of the connections: counts by kind, min/median/max T, total porv."""
+    t = variables["trans"].values
+    kind = variables["connection_kind"].values
+    names = str(variables["connection_kind"].attrs["flag_meanings"]).split()
+    counts = np.bincount(kind.astype(np.int64), minlength=len(names))
+    out: dict[str, Any] = {"unit_system": str(attrs["unit_system"]), "connections": int(t.size)}
+    out |= {f"{name}_connections": int(counts[k]) for k, name in enumerate(names)}
+    if t.size:
+        out |= {
+            "min_trans": _figure(t.min()),
+            "median_trans": _figure(np.median(t)),
+            "max_trans": _figure(t.max()),
+        }
+    out["total_porv"] = _figure(variables["porv"].values.sum())
+    return out
+
+
 def _figure(value: float) -> float:
     """Round to 12 significant digits: summaries stay stable across platforms' last bits."""
     return float(f"{value:.12g}")
@@ -184,6 +244,7 @@ def stage_export(
     outputs: dict[str, str],
     petrophysics_nc: str | os.PathLike | None = None,
     coarse_nc: str | os.PathLike | None = None,
+    transmissibility_nc: str | os.PathLike | None = None,
 ) -> None:
     """Write the case's exports; ``outputs`` maps nc, vtu, faults, png, histograms, summary to paths."""
     case = load_case(case_file)
@@ -204,6 +265,13 @@ def stage_export(
         partition = read_extra(coarse_nc, ("partition",))["partition"]
         cell_data["block"] = partition
         blocks = int(partition.max()) + 1
+    trans = _transmissibility(transmissibility_nc, grid.num_cells) if transmissibility_nc else None
+    var_attrs: dict[str, dict[str, Any]] = {}
+    if trans is not None:
+        variables, _ = trans
+        for name in ("porv", "cell_flow_index"):
+            cell_data[name] = variables[name].values
+            var_attrs[name] = dict(variables[name].attrs)
     if grid.cells.index_map is not None:
         cell_data["index_map"] = grid.cells.index_map
     depth = geo.cell_centroids[:, -1] if grid.dim == 3 else None
@@ -212,20 +280,35 @@ def stage_export(
     extra = read_extra(grid_nc, NNC_VARS)
     nnc = _Stored(extra) if len(extra) == len(NNC_VARS) else None
     provenance = {**case.provenance(), "fault_names": fault_names, "well_names": well_names}
+    extra = nnc_variables(nnc)
+    face_trans = None
+    if trans is not None:
+        variables, tattrs = trans
+        extra |= {name: variables[name] for name in CONNECTION_VARS}
+        provenance |= {k: tattrs[k] for k in ("unit_system", "trans_units", "porv_units", "flow_dims")}
+        face_trans = _face_trans(grid, variables)
 
     write_grid_file(
-        outputs["nc"], grid, geometry=geo, cell_data=cell_data, extra=nnc_variables(nnc), attrs=provenance
+        outputs["nc"],
+        grid,
+        geometry=geo,
+        cell_data=cell_data,
+        extra=extra,
+        attrs=provenance,
+        var_attrs=var_attrs,
     )
     vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **cell_data}
     if grid.layering is not None:
         vtu_data |= {"layer": grid.layering.layer, "column": grid.layering.column}
     write_vtu(outputs["vtu"], grid, vtu_data)
-    n_fault_faces = write_fault_faces(Path(outputs["faults"]), grid, fault_names)
+    n_fault_faces = write_fault_faces(Path(outputs["faults"]), grid, fault_names, face_trans)
     scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
     title = f"{case.name}: {grid.num_cells:,d} cells"
     values = rock[scalar] if rock is not None else (depth if depth is not None else geo.cell_volumes)
     _render(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title)
-    _histograms(Path(outputs["histograms"]), geo, None if rock is None else rock["poro"], grid.griddim, title)
+    t_panel = None if trans is None else (trans[0]["trans"].values, str(trans[1]["trans_units"]))
+    poro = None if rock is None else rock["poro"]
+    _histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, t_panel)
 
     summary: dict[str, Any] = {
         "case": case.name,
@@ -253,6 +336,8 @@ def stage_export(
         summary["mean_permx"] = _figure(rock["permx"].mean())
     if blocks is not None:
         summary["coarse_blocks"] = blocks
+    if trans is not None:
+        summary |= transmissibility_figures(*trans)
     with atomic_path(outputs["summary"]) as tmp:
         tmp.write_text(json.dumps(summary, indent=2) + "\n")
     log.info("wrote the exports of %s (%d cells)", case.name, grid.num_cells)

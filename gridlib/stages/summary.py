@@ -26,6 +26,16 @@ COLUMNS = (
     "fault_faces",
     "nnc",
     "coarse_blocks",
+    "unit_system",
+    "connections",
+    "neighbor_connections",
+    "fault_connections",
+    "pinch_connections",
+    "other_connections",
+    "min_trans",
+    "median_trans",
+    "max_trans",
+    "total_porv",
     "seed",
 )
 

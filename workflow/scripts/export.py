@@ -12,5 +12,6 @@ run_logged(
     outputs,
     snakemake.input.get("petrophysics"),
     snakemake.input.get("coarse"),
+    snakemake.input.get("transmissibility"),
     threads=snakemake.threads,
 )
