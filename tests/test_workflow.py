@@ -23,6 +23,7 @@ import pyvista as pv
 import xarray as xr
 
 import gridlib as gl
+from gridlib.config import load_case
 from gridlib.io import read_geometry_netcdf as read_geometry
 from gridlib.io import read_netcdf
 
@@ -30,6 +31,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]
 GOLDEN = ROOT / "tests" / "regression"
 CASES = sorted(p.stem for p in (ROOT / "config" / "cases").glob("*.yaml"))
+SAMPLES = {c: load_case(ROOT / "config" / "cases" / f"{c}.yaml") for c in CASES}
 # Relative tolerance of the float figures against the golden summaries: the grids are
 # deterministic; the margin covers numpy/BLAS versions summing in other orders.
 RTOL = 1e-9
@@ -173,3 +175,208 @@ def test_same_case_and_seed_give_identical_arrays(workflow_run, tmp_path):
             assert sorted(a.variables) == sorted(b.variables)
             for var in a.variables:
                 np.testing.assert_array_equal(a[var].values, b[var].values, err_msg=f"{name}: {var}")
+
+
+# --- the transmissibility stage -----------------------------------------------------------
+
+
+def _expected_connections(grid, writes_grdecl: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The cell pairs of the grid's interior faces (sorted, unique) and the kind each should get:
+    logical neighbours (index step 1, nx, nx ny), else for decks a pair of one column (pinch)
+    or a fault pair; without logical indices, fault-tagged faces (fault) or other."""
+    nb = grid.faces.neighbors
+    inner = np.flatnonzero((nb >= 0).all(axis=1))
+    pairs = np.sort(nb[inner], axis=1)
+    if grid.cells.index_map is not None and grid.cart_dims is not None:
+        dims = list(grid.cart_dims) + [1] * (3 - len(grid.cart_dims))
+        g = grid.cells.index_map[pairs]
+        step = g[:, 1] - g[:, 0]
+        column = g[:, 0] % (dims[0] * dims[1]) == g[:, 1] % (dims[0] * dims[1])
+        kind = np.where(np.isin(step, [1, dims[0], dims[0] * dims[1]]), 0, 1)
+        if writes_grdecl:
+            kind = np.where((kind == 1) & column, 2, kind)
+    else:
+        kind = np.where(grid.faces.tag[inner] > 0, 1, 3)
+    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    kinds = np.full(unique.shape[0], 127)
+    np.minimum.at(kinds, inverse.ravel(), kind)
+    return unique, kinds
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_transmissibility_files_hold_every_interior_face(workflow_run, case):
+    folder = workflow_run / "results" / case
+    path = folder / "transmissibility.nc"
+    if not SAMPLES[case].has_petrophysics:
+        assert not path.exists()  # no rock, no transmissibilities
+        return
+    summary = json.loads((folder / "summary.json").read_text())
+    data = read_netcdf(folder / "grid.nc")
+    grid = data.grid
+    with xr.open_dataset(path) as ds:
+        assert ds.attrs["case_sha256"] == summary["case_sha256"]
+        assert ds.attrs["gridlib_version"] == gl.__version__
+        assert ds.attrs["unit_system"] == summary["unit_system"] == ("FIELD" if case == "spe9" else "METRIC")
+        assert ds["trans"].attrs["units"] == ds.attrs["trans_units"]
+        assert ds["porv"].attrs["units"] == ("rb" if case == "spe9" else "rm3")
+        cells, trans, kind = (ds[v].values for v in ("connection_cells", "trans", "connection_kind"))
+        face, porv, flow_index = (ds[v].values for v in ("connection_face", "porv", "cell_flow_index"))
+        variables = {v: ds[v].values for v in ds.data_vars}
+        dims = tuple(int(v) for v in ds.attrs["flow_dims"])
+    pairs, kinds = _expected_connections(grid, SAMPLES[case].writes_grdecl)
+    np.testing.assert_array_equal(cells, pairs)  # one connection per pair of cells sharing a face
+    np.testing.assert_array_equal(np.bincount(kind, minlength=4), np.bincount(kinds, minlength=4))
+    assert summary["connections"] == trans.size and (trans > 0).all() and np.isfinite(trans).all()
+    for k, name in enumerate(("neighbor", "fault", "pinch", "other")):
+        assert summary[f"{name}_connections"] == int((kind == k).sum())
+    assert summary["median_trans"] == pytest.approx(np.median(trans), rel=1e-11)
+    nb = np.sort(grid.faces.neighbors[face], axis=1)
+    np.testing.assert_array_equal(nb, cells)  # the face lies between the two cells
+    assert porv.shape == (grid.num_cells,) and (porv > 0).all()
+    assert porv.sum() == pytest.approx(summary["total_porv"], rel=1e-11)
+    if grid.cart_dims is not None:  # the logical box: a deck's, or cart_dims
+        np.testing.assert_array_equal(flow_index, grid.cells.index_map)
+        assert dims == tuple(grid.cart_dims)
+    else:  # layered: k is the layer
+        lay = grid.layering
+        np.testing.assert_array_equal(flow_index, lay.column + lay.areal.num_cells * lay.layer)
+        assert dims == (lay.areal.num_cells, 1, lay.num_layers)
+    assert np.unique(flow_index).size == grid.num_cells and flow_index.max() < np.prod(dims)
+    with xr.open_dataset(folder / f"{case}.nc") as one:  # the self-describing file carries them all
+        for name, values in variables.items():
+            np.testing.assert_array_equal(one[name].values, values, err_msg=name)
+        assert one["trans"].attrs["units"] == one.attrs["trans_units"]
+    faults = pv.read(folder / f"{case}_faults.vtp")
+    fault_faces = np.flatnonzero(grid.faces.tag > 0)
+    want = np.zeros(grid.num_faces)
+    want[face] = trans  # sample cases: one face per connection
+    np.testing.assert_array_equal(faults.cell_data["trans"], want[fault_faces])
+    assert (workflow_run / "results" / "logs" / case / "transmissibility.log").is_file()
+    assert (workflow_run / "results" / "benchmarks" / case / "transmissibility.tsv").is_file()
+
+
+FLOW_DECK = """\
+-- OPM Flow dry run of a case's grid.grdecl written again with the case's rock
+RUNSPEC
+DIMENS
+ {nx} {ny} {nz} /
+OIL
+WATER
+{units}
+TABDIMS
+ 1 1 20 20 /
+EQLDIMS
+ 1 /
+START
+ 1 'JAN' 2020 /
+UNIFOUT
+GRID
+INIT
+INCLUDE
+ 'rock.grdecl' /
+PROPS
+SWOF
+ 0.0 0.0 1.0 0.0
+ 1.0 1.0 0.0 0.0 /
+PVTW
+ 200.0 1.0 3.0e-6 0.5 0.0 /
+PVDO
+ 100.0 1.01 1.0
+ 400.0 1.00 1.0 /
+DENSITY
+ 800 1000 1 /
+ROCK
+ 200.0 1.0e-6 /
+SOLUTION
+EQUIL
+ {datum} 200.0 {owc} 0 {datum} 0 /
+SCHEDULE
+TSTEP
+ 1 /
+END
+"""
+
+
+@pytest.mark.parametrize("case", ["anticline", "spe9"])
+def test_corner_point_transmissibilities_equal_opm_flow(workflow_run, case, tmp_path):
+    """The case's grid.grdecl with its PERMX/PERMY/PERMZ/NTG/PORO, through Flow's dry run: the same
+    connections, T and pore volumes (Flow's INIT holds float32: 1e-6 relative)."""
+    from flow_tools import flow_connections, flow_executable, read_keywords, run_flow_dry
+
+    flow_executable()
+    folder = workflow_run / "results" / case
+    deck = gl.read_grdecl(folder / "grid.grdecl")
+    index = read_netcdf(folder / "grid.nc").grid.cells.index_map
+    rock = {}
+    with xr.open_dataset(folder / "petrophysics.nc") as petro:
+        for key in ("PORO", "PERMX", "PERMY", "PERMZ", "NTG"):
+            rock[key] = np.zeros(deck.num_cells)
+            rock[key][index] = petro[key.lower()].values
+    gl.write_grdecl(tmp_path / "rock.grdecl", deck, rock)
+    with xr.open_dataset(folder / "transmissibility.nc") as ds:
+        units = ds.attrs["unit_system"]
+        ours = dict(
+            zip(
+                map(tuple, np.sort(ds["cell_flow_index"].values[ds["connection_cells"].values], axis=1).tolist()),
+                ds["trans"].values.tolist(),
+                strict=True,
+            )
+        )
+        porv = ds["porv"].values
+    finite = deck.zcorn[np.isfinite(deck.zcorn)]
+    nx, ny, nz = deck.cart_dims
+    text = FLOW_DECK.format(nx=nx, ny=ny, nz=nz, units=units, datum=finite.min(), owc=finite.max() + 1)
+    (tmp_path / "CASE.DATA").write_text(text)
+    result = run_flow_dry(tmp_path / "CASE.DATA", tmp_path / "out")
+    flow = flow_connections(result)
+    assert sorted(ours) == sorted(flow)
+    pairs = sorted(flow)
+    np.testing.assert_allclose([ours[p] for p in pairs], [flow[p] for p in pairs], rtol=1e-6)
+    init = read_keywords(result.with_suffix(".INIT"))
+    np.testing.assert_allclose(porv, init["PORV"].astype(np.float64)[index], rtol=1e-6)
+
+
+def test_pebi_lateral_transmissibility_is_k_area_over_site_distance(tmp_path):
+    """faulted_pebi between flat horizons, K = 100 mD, NTG 1: where a lateral face's centroid lies
+    on the segment between its cells' centres (site at the centroid depth), T = K A / d with d
+    the distance of the two sites, to 1e-12; among those faces are well-ring cells whose
+    centroid is not their site (the centroids would not give K A / d there)."""
+    import yaml
+
+    from gridlib.stages import stage_geometry, stage_grid, stage_horizons, stage_petrophysics
+    from gridlib.stages.transmissibility import stage_transmissibility
+    from gridlib.units import METRIC
+
+    spec = yaml.safe_load((ROOT / "config" / "cases" / "faulted_pebi.yaml").read_text())
+    for surface, depth in zip(spec["horizons"]["surfaces"], (1500.0, 1560.0), strict=True):
+        surface["plane"] = {"depth": depth}
+    spec["petrophysics"] = {"porosity": {"constant": 0.2}, "permeability": {"constant": 100.0}}
+    spec.pop("coarsen")
+    case = tmp_path / "faulted_pebi.yaml"
+    case.write_text(yaml.safe_dump(spec))
+    f = {k: tmp_path / f"{k}.nc" for k in ("horizons", "grid", "geometry", "petrophysics", "trans")}
+    stage_horizons(case, f["horizons"])
+    stage_grid(case, f["grid"], f["horizons"])
+    stage_geometry(case, f["grid"], f["geometry"])
+    stage_petrophysics(case, f["grid"], f["geometry"], f["petrophysics"])
+    stage_transmissibility(case, f["grid"], f["geometry"], f["petrophysics"], f["trans"])
+    stored = read_netcdf(f["grid"])
+    grid, site = stored.grid, stored.cell_data["site"]
+    geo = read_geometry(f["geometry"])
+    with xr.open_dataset(f["trans"]) as ds:
+        cells, trans, face = ds["connection_cells"].values, ds["trans"].values, ds["connection_face"].values
+    a, b = cells[:, 0], cells[:, 1]
+    lateral = grid.layering.column[a] != grid.layering.column[b]
+    centre = np.column_stack([site, geo.cell_centroids[:, 2]])
+    d = np.hypot(*(site[a] - site[b]).T)
+    n = geo.face_normals[face] / geo.face_areas[face][:, None]
+    on_line = lateral.copy()
+    for c in (a, b):  # the centre-to-face vector along the normal: its other part vanishes
+        v = geo.face_centroids[face] - centre[c]
+        along = (v * n).sum(axis=1)[:, None] * n
+        on_line &= np.abs(v - along).max(axis=1) <= 1e-9 * d
+    assert on_line.sum() > 0.5 * lateral.sum()
+    expected = 100.0 * geo.face_areas[face[on_line]] / d[on_line] * METRIC.darcy_constant
+    np.testing.assert_allclose(trans[on_line], expected, rtol=1e-12)
+    off_site = np.maximum(*(np.hypot(*(geo.cell_centroids[c, :2] - site[c]).T) for c in (a, b)))
+    assert (on_line & (off_site > 1e-3 * d)).sum() > 0
