@@ -7,6 +7,8 @@ PYTHON ?= $(shell command -v python3.11 2>/dev/null || command -v python3 2>/dev
 VENV   := .venv
 BIN    := $(VENV)/bin
 CORES  ?= all
+# make bench PEER_PYTHON=/path/to/venv/bin/python: peers (resdata, xtgeo) timed from that interpreter
+PEER_PYTHON ?=
 
 .PHONY: run test lint bench golden clean
 
@@ -39,10 +41,11 @@ lint: $(VENV)/.installed-test
 
 bench: $(VENV)/.installed-run
 	$(BIN)/python bench/geometry.py
-	$(BIN)/python bench/cornerpoint.py
+	$(BIN)/python bench/cornerpoint.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
 	$(BIN)/python bench/pebi.py
 	$(BIN)/python bench/petrophysics.py
 	$(BIN)/python bench/coarsen.py
+	$(BIN)/python bench/transmissibility.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
 
 golden: $(VENV)/.installed-run
 	$(BIN)/python tests/regression/update_golden.py
