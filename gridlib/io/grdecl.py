@@ -487,7 +487,7 @@ def _tran_operation(state, src, at, name, items, box) -> None:
     where = f"{src.path.name}:{src.line(at)}"
     if name == "COPY":
         source, dest = items[0].upper(), items[1].upper()
-        if dest in TRAN_KEYWORDS:
+        if source not in TRAN_KEYWORDS:  # as Flow: a copy from TRAN* is skipped, one into it fails
             raise src.error(at, name, f"cannot copy into {dest}: a transmissibility the simulator computes")
         state.notes.append(f"{where}: COPY {source} {dest} ignored (as OPM Flow 2022.10 does)")
         return

@@ -16,7 +16,11 @@ MULTREGT applied (one value per cell pair), Flow, and :func:`apply_deck_edits`:
    ignored, noted). Records with a multiplier of 1 or an inactive cell are skipped, and
    so are pairs Flow takes for neighbours: index difference 0, 1, nx or, **a quirk of
    2022.10**, ny (where nx ny is meant), so EDITNNC does multiply the vertical
-   neighbour connections and skips pairs ny apart;
+   neighbour connections and skips pairs ny apart. **Another quirk**: Flow matches the
+   sorted EDITNNC records against the sorted NNC records in one pass, so of several
+   records for the NNC keyword's last pair (by index) only the first multiplies its
+   value; the others multiply the grid's connection of that pair (records in deck
+   order; Flow's unstable sort may order equal pairs otherwise beyond 16 records);
 4. adds each NNC-keyword value (after EDITNNC) to its pair's transmissibility; no
    MULT*, MULTREGT or TRAN edit applies to that value (but EDIT TRAN operations do
    apply to a 0 connection the NNC keyword made between logical neighbours). Records
@@ -109,21 +113,31 @@ def nnc_keyword_values(deck: Deck, notes: list[str]) -> tuple[IntArray, FloatArr
     if skipped.any():
         notes.append(f"EDITNNC: {int(skipped.sum())} records for neighbours or inactive cells skipped (Flow)")
     ok = wanted & ~quirk & ~skipped
-    unique, inverse = np.unique(_keys(lo[ok], hi[ok], nc), return_inverse=True)
-    product = np.ones(unique.size)
-    np.multiply.at(product, inverse, mult[ok])
-    at, hit = _find(unique, _keys(nnc_lo, nnc_hi, nc))
-    nnc_value = np.where(hit, nnc_value * product[at], nnc_value)
-    on_input = np.zeros(unique.size, dtype=bool)
-    on_input[at[hit]] = True
+    keys, mult = _keys(lo[ok], hi[ok], nc), mult[ok]
+    order = np.argsort(keys, kind="stable")
+    keys, mult = keys[order], mult[order]
+    nnc_keys = _keys(nnc_lo, nnc_hi, nc)
+    on_input = _find(nnc_keys, keys)[1]
+    late = np.flatnonzero(on_input & (keys == nnc_keys[-1]))[1:] if nnc_keys.size else []
+    if len(late):  # Flow's matching loop has passed the last NNC pair: the grid's connection
+        on_input[late] = False
+        notes.append(
+            f"EDITNNC: {len(late)} further records for the NNC keyword's last pair multiply the "
+            "grid's connection, not the NNC value (as OPM Flow 2022.10)"
+        )
+    at, hit = _find(nnc_keys, keys[on_input])
+    factor = np.ones(nnc_keys.size)
+    np.multiply.at(factor, at[hit], mult[on_input][hit])
     if on_input.any():
-        notes.append(f"EDITNNC: {int(on_input.sum())} pairs multiply the NNC keyword's values")
-    rest = unique[~on_input]
+        notes.append(f"EDITNNC: {int(on_input.sum())} records multiply the NNC keyword's values")
+    rest, inverse = np.unique(keys[~on_input], return_inverse=True)
+    product = np.ones(rest.size)
+    np.multiply.at(product, inverse, mult[~on_input])
     return (
         np.column_stack([nnc_lo, nnc_hi]),
-        nnc_value,
+        nnc_value * factor,
         np.column_stack([rest // nc, rest % nc]),
-        product[~on_input],
+        product,
     )
 
 
