@@ -535,11 +535,10 @@ def test_missing_permeability_and_partial_regions(tmp_path):
 
 def test_records_flow_refuses_are_noted(tmp_path):
     """MULTREGT within one region and NOAQUNNC stop Flow 2022.10; here they are noted
-    (ignored, and applied as ALL), and so is a MULTFLT of a fault FAULTS does not define."""
-    path = _deck(
-        tmp_path,
-        "FLUXNUM\n 6*1 6*2 /\nMULTREGT\n 1 1 0.5 /\n 1 2 0.25 Z NOAQUNNC F /\n/\nMULTFLT\n 'B' 2 /\n/",
-    )
+    (ignored, and applied as ALL), and so are a MULTFLT of a fault FAULTS does not define and
+    GRIDOPTS items Flow does not act on (TRANMULT NO with MULTX-, NRPINC)."""
+    grid = "FLUXNUM\n 6*1 6*2 /\nMULTREGT\n 1 1 0.5 /\n 1 2 0.25 Z NOAQUNNC F /\n/\nMULTFLT\n 'B' 2 /\n/"
+    path = _deck(tmp_path, grid + "\nMULTX-\n 12*0.5 /", runspec="GRIDOPTS\n 'NO' 0 2 /")
     deck = read_grdecl(path)
     c = deck_transmissibility(deck)
     t = dict(zip(map(tuple, c.global_cells.tolist()), c.trans.tolist(), strict=True))
@@ -548,3 +547,6 @@ def test_records_flow_refuses_are_noted(tmp_path):
     assert any("MULTREGT within region 1 ignored" in n for n in c.notes)
     assert any("NOAQUNNC applied as ALL" in n for n in c.notes)
     assert any("MULTFLT of fault 'B' ignored" in n for n in deck.notes)
+    assert t[(0, 1)] == pytest.approx(0.5 * 1000.0 * METRIC.darcy_constant, rel=1e-12)  # MULTX- of cell 2
+    assert any("GRIDOPTS TRANMULT is NO, yet MULTX- applied" in n for n in c.notes)
+    assert any("GRIDOPTS NRPINC 2: PINCHNUM regions not used" in n for n in c.notes)

@@ -1,16 +1,24 @@
 """``deck_transmissibility``: the connections of a corner-point deck as OPM Flow computes them.
 
-Order of operations (OPM Flow 2022.10, ECLIPSE's NEWTRAN):
+Order of operations (OPM Flow 2022.10, ECLIPSE's NEWTRAN), all in the deck's unit system
+(lengths in deck units, permeability in mD, T in METRIC cP m3/(day bar), FIELD cP
+rb/(day psi), ...; :mod:`gridlib.units`):
 
 1. half-transmissibilities and their harmonic mean (:mod:`.newtran`), NTG on I and J
-   halves;
+   halves; connections across removed layers (:mod:`.pinch`);
 2. directional multipliers on the total: the multiplier of each cell for its own side
    of the face (MULTX of the cell on the -i side times MULTX- of the cell on the +i
    side, likewise Y and Z), by the face's logical direction, so fault connections are
    treated the same way; MULTFLT folded into those arrays for the faces listed under
-   FAULTS (:mod:`.multipliers`);
-3. non-neighbour connections (index difference not 1, nx or nx ny) below 1e-6 deck
+   FAULTS (:mod:`.multipliers`); PINCH item 5 ALL: the smallest MULTZ down a column;
+3. MULTREGT, the region multiplier of each connection (:mod:`.region_multipliers`);
+4. from here per cell pair (:mod:`.edits`): a 0 connection for each NNC-keyword pair
+   the grid does not make; the EDIT section's TRANX/TRANY/TRANZ operations in deck
+   order on logical neighbours; EDITNNC; the NNC keyword's values added;
+5. non-neighbour connections (index difference not 1, nx or nx ny) below 1e-6 deck
    units are dropped, as Flow does.
+
+What a deck uses that is not honoured is said in ``Connections.notes``.
 """
 
 from __future__ import annotations

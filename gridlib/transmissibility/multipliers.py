@@ -1,5 +1,8 @@
 """Transmissibility multipliers of a deck: MULTX/Y/Z(-) and MULTFLT, as OPM Flow applies them.
 
+Unitless factors on transmissibilities, applied after the harmonic mean and before
+MULTREGT (:mod:`.region_multipliers`) and the EDIT section (:mod:`.edits`).
+
 Flow keeps one multiplier array per face direction (X+ MULTX, X- MULTX-, Y+ MULTY,
 Y- MULTY-, Z+ MULTZ, Z- MULTZ-; 1 where not given) and folds MULTFLT into them: every
 cell listed under a fault's FAULTS records with face X has its X+ entry multiplied by
@@ -26,6 +29,7 @@ def directional_multipliers(deck: Deck, notes: list[str]) -> np.ndarray | None:
     present = [tag for tag, key in _KEYWORD_OF_TAG.items() if key in deck.cell_data]
     faulted = [seg for seg in deck.faults if deck.multflt.get(seg.name, 1.0) != 1.0]
     if not present and not faulted:
+        _gridopts_notes(deck, [], notes)
         return None
     nx, ny, _ = deck.cart_dims
     mult = np.ones((6, deck.num_cells))
@@ -36,6 +40,7 @@ def directional_multipliers(deck: Deck, notes: list[str]) -> np.ndarray | None:
         mult[tag] = values
     if present:
         notes.append("multipliers applied: " + ", ".join(_KEYWORD_OF_TAG[t] for t in present))
+    _gridopts_notes(deck, [_KEYWORD_OF_TAG[t] for t in present], notes)
     for seg in faulted:
         ranges = (np.arange(seg.i1, seg.i2 + 1), np.arange(seg.j1, seg.j2 + 1), np.arange(seg.k1, seg.k2 + 1))
         i, j, k = np.meshgrid(*ranges, indexing="ij")
@@ -45,3 +50,16 @@ def directional_multipliers(deck: Deck, notes: list[str]) -> np.ndarray | None:
         names = sorted({seg.name for seg in faulted})
         notes.append(f"MULTFLT applied to the faces of {len(names)} faults: {', '.join(names)}")
     return mult
+
+
+def _gridopts_notes(deck: Deck, keywords: list[str], notes: list[str]) -> None:
+    """GRIDOPTS items OPM Flow 2022.10 does not act on (nor gridlib): TRANMULT NO with
+    MULTX-/MULTY-/MULTZ- given (they are applied all the same), NRPINC (PINCHNUM)."""
+    options = deck.gridopts
+    if options is None:
+        return
+    negative = [k for k in keywords if k.endswith("-")]
+    if negative and not options.tranmult:
+        notes.append(f"GRIDOPTS TRANMULT is NO, yet {', '.join(negative)} applied (as OPM Flow 2022.10)")
+    if options.nrpinc > 0:
+        notes.append(f"GRIDOPTS NRPINC {options.nrpinc}: PINCHNUM regions not used (nor by OPM Flow 2022.10)")
