@@ -550,3 +550,20 @@ def test_records_flow_refuses_are_noted(tmp_path):
     assert t[(0, 1)] == pytest.approx(0.5 * 1000.0 * METRIC.darcy_constant, rel=1e-12)  # MULTX- of cell 2
     assert any("GRIDOPTS TRANMULT is NO, yet MULTX- applied" in n for n in c.notes)
     assert any("GRIDOPTS NRPINC 2: PINCHNUM regions not used" in n for n in c.notes)
+
+
+def _fields(records) -> list[tuple]:
+    return [(r.region1, r.region2, r.multiplier, r.directions, r.nnc_option, r.region_set) for r in records]
+
+
+def test_write_grdecl_keeps_multregt_and_nnc(tmp_path):
+    """MULTREGT and NNC go into the GRID include write_grdecl writes (exact values, deck
+    order, defaulted items as 1*); EDIT-section records are not written there."""
+    grid = "FLUXNUM\n 6*1 6*2 /\nMULTREGT\n 1 2 0.1 /\n 1* -3 0.25 YZ NONNC F /\n/\n"
+    grid += "NNC\n 1 1 1 3 2 2 0.3 /\n/"
+    deck = read_grdecl(_deck(tmp_path, grid, "EDITNNC\n 1 1 1 3 2 2 2 /\n/"))
+    write_grdecl(tmp_path / "out.grdecl", deck)
+    back = read_grdecl(tmp_path / "out.grdecl")
+    assert _fields(back.multregt) == [(1, 2, 0.1, "XYZ", "ALL", None), (None, None, 0.25, "YZ", "NONNC", "F")]
+    np.testing.assert_array_equal(back.nnc_keyword.cells, [[0, 11]])
+    assert back.nnc_keyword.values.tolist() == [0.3] and back.editnnc is None

@@ -920,13 +920,20 @@ def _finite_zcorn(deck: Deck) -> np.ndarray:
     return np.where(undefined, filled, z).ravel()
 
 
+def _ijk_text(g: int, nx: int, ny: int) -> str:
+    """1-based "I J K" of linear cell index ``g``."""
+    return f"{g % nx + 1} {g // nx % ny + 1} {g // (nx * ny) + 1}"
+
+
 def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = None) -> Path:
     """Write ``deck`` (and extra per-cell ``cell_data``) as a GRDECL file, atomically.
 
     The file holds SPECGRID, MAPUNITS/MAPAXES/GRIDUNIT when known, COORD,
-    ZCORN, ACTNUM, every cell keyword, FAULTS, MULTFLT, PINCH and MINPV; it can
-    be INCLUDEd in the GRID section of a DATA deck. Values are exact:
-    ``read_grdecl`` gives back bit-identical arrays.
+    ZCORN, ACTNUM, every cell keyword, FAULTS, MULTFLT, PINCH, MINPV, MULTREGT
+    and NNC; it can be INCLUDEd in the GRID section of a DATA deck. Values are
+    exact: ``read_grdecl`` gives back bit-identical arrays. GRIDOPTS (RUNSPEC),
+    EDITNNC and the TRANX/TRANY/TRANZ operations (EDIT) belong to other sections
+    and are not written.
     """
     nx, ny, nz = deck.cart_dims
     data = dict(deck.cell_data)
@@ -971,6 +978,17 @@ def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = N
         tail += ["PINCH", f" {deck.pinch[0]!r} {gap} {deck.pinch[1]!r} {pinchout} {multz} /", ""]
     if deck.minpv is not None:
         tail += ["MINPV", f" {deck.minpv!r} /", ""]
+    if deck.multregt:
+        tail.append("MULTREGT")
+        for r in deck.multregt:
+            items = (r.region1, r.region2, repr(r.multiplier), r.directions, r.nnc_option, r.region_set)
+            tail.append(" " + " ".join("1*" if v is None else str(v) for v in items) + " /")
+        tail += ["/", ""]
+    if deck.nnc_keyword is not None and deck.nnc_keyword.num:
+        tail.append("NNC")
+        records = zip(deck.nnc_keyword.cells.tolist(), deck.nnc_keyword.values.tolist(), strict=True)
+        tail += [f" {_ijk_text(g1, nx, ny)} {_ijk_text(g2, nx, ny)} {t!r} /" for (g1, g2), t in records]
+        tail += ["/", ""]
     target = Path(path)
     with atomic_path(target) as tmp, open(tmp, "wb") as f:
         f.write(("\n".join(parts) + "\n").encode("ascii"))
