@@ -58,7 +58,8 @@ def _region_values(deck: Deck, name: str, record: MultregtRecord) -> np.ndarray:
     where = f"{record.source}: MULTREGT" if record.source else "MULTREGT"
     if values is None:
         raise InputError(
-            f"{where}: region set {name} is not given in the deck ({deck.source}; OPM Flow stops too)"
+            f"{where}: region set {name} is not given in the deck ({deck.source}: RUNSPEC, GRID and EDIT "
+            "are read; OPM Flow stops too if the deck has none)"
         )
     active = deck.active
     bad = active & ~(np.isfinite(values) & (values >= 0) & (values == np.floor(values)))
