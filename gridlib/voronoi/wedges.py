@@ -53,9 +53,9 @@ class Wedge:
     """An acute wedge at network node ``node`` between arm ``edge_a`` and ``edge_b``.
 
     ``edge_b`` is -1 where the second side is the domain's boundary. ``dir_a``,
-    ``dir_b``: unit vectors from the node along the arms, ``dir_b`` counter-clockwise
-    from ``dir_a`` by ``phi``. ``rungs`` (K + 1,): distances of the rung points from the
-    node along both arms (m), set by :func:`plan`.
+    ``dir_b``: unit vectors from the node along the two sides, ``phi`` (radians) apart.
+    ``rungs`` (K + 1,): distances of the rung points from the node along both sides (m),
+    equally spaced after the first, set by :func:`plan`.
     """
 
     node: int
@@ -102,13 +102,15 @@ def find_wedges(
         far = np.concatenate([edge_b[edge_a == v], edge_a[edge_b == v]])
         d = nodes[far] - nodes[v]
         ang = np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
-        rays = [(float(a), int(e)) for a, e in zip(ang, arms, strict=True)]
-        rays += [(float(np.mod(b, 2 * np.pi)), -1) for b in boundary_rays.get(v, [])]
+        unit = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+        rays = [(float(a), int(e), unit[k]) for k, (a, e) in enumerate(zip(ang, arms, strict=True))]
+        for b in boundary_rays.get(v, []):
+            rays.append((float(np.mod(b, 2 * np.pi)), -1, np.array([np.cos(b), np.sin(b)])))
         if len(rays) < 2:
             continue
-        rays.sort()
+        rays.sort(key=lambda r: (r[0], r[1]))
         for g in range(len(rays)):
-            (a0, e0), (a1, e1) = rays[g], rays[(g + 1) % len(rays)]
+            (a0, e0, ua), (a1, e1, ub) = rays[g], rays[(g + 1) % len(rays)]
             gap = float(np.mod(a1 - a0, 2 * np.pi))
             if not (0.0 < gap < ACUTE) or (e0 < 0 and e1 < 0):
                 continue
@@ -117,7 +119,6 @@ def find_wedges(
                 probe = nodes[v] + 1e-6 * domain.diameter * np.array([np.cos(mid), np.sin(mid)])
                 if not domain.inside(probe[None, :])[0]:
                     continue
-            ua, ub = np.array([np.cos(a0), np.sin(a0)]), np.array([np.cos(a1), np.sin(a1)])
             if e0 < 0:  # the fault arm first, the boundary second: mirror the wedge's orientation
                 found.append(Wedge(v, e1, -1, ub, ua, gap))
             else:
@@ -184,10 +185,9 @@ def wedge_sites(wedge: Wedge, node: np.ndarray) -> WedgeSites:
     cos_b = np.cos(wedge.half)
     m = wedge.bisector
     step = s[1] - s[0] if s.size > 1 else s[0]
-    t = np.empty(s.size)
-    t[0] = (s[0] - 0.5 * step) * cos_b
-    for k in range(1, s.size):  # reflect q_{k-1} across rung k - 1 (a handful of rungs)
-        t[k] = 2.0 * s[k - 1] * cos_b - t[k - 1]
+    # q_k half a step before rung k along the bisector: q_{k+1} is q_k reflected across rung k
+    # (equal steps after the first), and q_0 is where that puts it inside the first triangle
+    t = (s - 0.5 * step) * cos_b
     q = node + t[:, None] * m
     rung_a = node + s[:, None] * wedge.dir_a
     rung_b = node + s[:, None] * wedge.dir_b
