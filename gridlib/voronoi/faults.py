@@ -1006,6 +1006,8 @@ def _local_ratio(
     junction, while circles and sites stand off the traces by fixed fractions of the
     step: for phi below ACUTE the ratio drops towards 0.52 (sites closer to the
     traces) within 4 steps / sin(phi) of the junction, tapering back over as much again.
+    Only at the ``constrained`` nodes given, those without an acute wedge of shared sites
+    (:mod:`.wedges`): where two acute wedges would share an arm, the wider one.
     """
     ratio = np.full(centres.shape[0], lay.ratio)
     net = lay.net
