@@ -19,8 +19,10 @@ Which computation, by grid type (the ``method`` attribute says which ran):
   ``index_map``, ``flow_dims`` the deck's dimensions;
 * **pebi**: :func:`~gridlib.transmissibility.transmissibility` with each cell's
   generating site (x, y) at its centroid's depth as the cell centre (``site`` in
-  ``grid.nc``, stored by the grid stage: the lateral faces are the sites'
-  perpendicular bisectors, so the two-point flux is consistent in plan);
+  ``grid.nc``, stored by the grid stage) and ``distance="normal"`` (centre to the
+  face's plane): the lateral faces are the sites' perpendicular bisectors, so a
+  lateral T is K A / d exactly, d the distance of the two sites, also in dipping
+  layers and across fault throw;
 * **every other grid**: the same with the centroids.
 
 For the last two, the pore volume is the geometric cell volume x porosity x NTG,
@@ -200,7 +202,7 @@ def _grid_case(
     d = grid.griddim
     perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, :d]
     ntg = None if (rock["ntg"] == 1.0).all() else rock["ntg"]
-    centres, what = None, "centroids"
+    centres, what, distance = None, "centroids", "centroid"
     if case.data["grid"]["type"] == "pebi":
         site = stored.cell_data.get("site")
         if site is None or site.shape != (grid.num_cells, 2):
@@ -208,9 +210,9 @@ def _grid_case(
                 f"{grid_nc}: site: the PEBI sites are missing (written by an older gridlib: rebuild it)"
             )
         centres = np.column_stack([site, geo.cell_centroids[:, 2]]) if d == 3 else site
-        what = "generating sites (x, y) at the centroid depth"
+        what, distance = "generating sites (x, y) at the centroid depth, distance to the face plane", "normal"
     try:
-        conn = transmissibility(grid, geo, perm, ntg, centres=centres, units=system.name)
+        conn = transmissibility(grid, geo, perm, ntg, centres=centres, distance=distance, units=system.name)
     except InputError as exc:
         raise InputError(f"{case.path}: petrophysics: {exc}") from None
     return conn, what
