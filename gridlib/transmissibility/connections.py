@@ -84,21 +84,28 @@ def assemble(
     """Connections from one entry per face or pair: pairs ordered (first < second), entries of
     the same pair added (their faces are parallel paths; the smallest kind and the first
     entry's face kept), zero transmissibilities dropped, sorted by pair."""
-    cells = np.sort(np.asarray(cells, dtype=np.int64).reshape(-1, 2), axis=1)
+    cells = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
+    lo, hi = np.minimum(cells[:, 0], cells[:, 1]), np.maximum(cells[:, 0], cells[:, 1])
     trans = np.asarray(trans, dtype=np.float64)
     kind = np.asarray(kind, dtype=np.int8)
     face = np.asarray(face, dtype=np.int64)
-    key = cells[:, 0] * (int(cells.max(initial=0)) + 1) + cells[:, 1]
+    key = lo * (int(hi.max(initial=0)) + 1) + hi
     order = np.argsort(key, kind="stable")  # entries of one pair keep their given order
-    cells, trans, kind, face = cells[order], trans[order], kind[order], face[order]
+    key = key[order]
     first = np.ones(order.size, dtype=bool)
-    first[1:] = (cells[1:] != cells[:-1]).any(axis=1)
-    group = np.cumsum(first) - 1
-    starts = np.flatnonzero(first)
-    total = np.bincount(group, trans, starts.size) if starts.size else np.zeros(0)
-    kmin = np.full(starts.size, 127, dtype=np.int8)
-    np.minimum.at(kmin, group, kind)
-    pairs, face = cells[starts], face[starts]
-    keep = total > 0.0
-    glob = None if index_map is None else np.asarray(index_map, dtype=np.int64)[pairs[keep]]
-    return Connections(pairs[keep], glob, total[keep], kmin[keep], face[keep], units, tuple(notes))
+    np.not_equal(key[1:], key[:-1], out=first[1:])
+    if first.all():  # one entry per pair: nothing to add up
+        keep = trans[order] > 0.0
+        pick = order[keep]
+        total, kmin = trans[pick], kind[pick]
+    else:
+        starts = np.flatnonzero(first)
+        group = np.cumsum(first) - 1
+        total = np.bincount(group, trans[order], starts.size)
+        kmin = np.minimum.reduceat(kind[order], starts)
+        keep = total > 0.0
+        pick = order[starts[keep]]
+        total, kmin = total[keep], kmin[keep]
+    pairs = np.column_stack([lo[pick], hi[pick]])
+    glob = None if index_map is None else np.asarray(index_map, dtype=np.int64)[pairs]
+    return Connections(pairs, glob, total, kmin, face[pick], units, tuple(notes))

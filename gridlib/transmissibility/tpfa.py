@@ -69,35 +69,45 @@ def permeability_tensors(permeability: ArrayLike, num_cells: int, dim: int, what
     return k
 
 
-def half_transmissibility(k: np.ndarray, c: np.ndarray, n: np.ndarray) -> np.ndarray:
-    """|c . K n| / (c . c) for rows of diagonal (m, d) or full (m, d, d) tensors, summed in a
-    fixed order (component by component)."""
-    d = c.shape[1]
+def half_transmissibility(
+    k: np.ndarray, cells: np.ndarray, c: list[np.ndarray], n: list[np.ndarray], distance: str
+) -> np.ndarray:
+    """Half-transmissibilities of ``cells`` (their tensors: rows of ``k``, diagonal (nc, d)
+    or full (nc, d, d)) towards faces with area vectors ``n`` and centre-to-face vectors
+    ``c``, both given component by component (lists of d arrays), summed in a fixed order.
+
+    ``"centroid"``: |c . K n| / (c . c); ``"normal"``: c replaced by its component along n,
+    which reduces to |n . K n| / |c . n|.
+    """
+    d = len(n)
     if k.ndim == 2:
-        kn = k * n
+        kn = [k[cells, j] * n[j] for j in range(d)]
     else:
-        kn = k[:, :, 0] * n[:, 0:1]
+        kc = k[cells]
+        kn = []
+        for i in range(d):
+            row = kc[:, i, 0] * n[0]
+            for j in range(1, d):
+                row += kc[:, i, j] * n[j]
+            kn.append(row)
+    if distance == "normal":
+        num = n[0] * kn[0]
+        den = c[0] * n[0]
         for j in range(1, d):
-            kn = kn + k[:, :, j] * n[:, j : j + 1]
-    num = c[:, 0] * kn[:, 0]
-    den = c[:, 0] * c[:, 0]
-    for j in range(1, d):
-        num = num + c[:, j] * kn[:, j]
-        den = den + c[:, j] * c[:, j]
+            num += n[j] * kn[j]
+            den += c[j] * n[j]
+    else:
+        num = c[0] * kn[0]
+        den = c[0] * c[0]
+        for j in range(1, d):
+            num += c[j] * kn[j]
+            den += c[j] * c[j]
+    np.abs(num, out=num)
+    np.abs(den, out=den)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(den > 0.0, np.abs(num) / den, 0.0)
-
-
-def along_normal(c: np.ndarray, n: np.ndarray) -> np.ndarray:
-    """The component of each row of c along the direction of the matching row of n."""
-    d = c.shape[1]
-    cn = c[:, 0] * n[:, 0]
-    nn = n[:, 0] * n[:, 0]
-    for j in range(1, d):
-        cn = cn + c[:, j] * n[:, j]
-        nn = nn + n[:, j] * n[:, j]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(nn[:, None] > 0.0, (cn / nn)[:, None] * n, 0.0)
+        num /= den
+    num[~(den > 0.0)] = 0.0
+    return num
 
 
 def harmonic(ta: np.ndarray, tb: np.ndarray) -> np.ndarray:
@@ -159,17 +169,15 @@ def transmissibility(
     x = geometry.cell_centroids if centres is None else np.asarray(centres, dtype=np.float64)
     if x.shape != (nc, dim) or not np.isfinite(x).all():
         raise InputError(f"centres: expected finite ({nc}, {dim}) cell centres, got shape {x.shape}")
+    if distance not in ("centroid", "normal"):
+        raise InputError(f"distance: expected 'centroid' or 'normal', got {distance!r}")
     nb = grid.faces.neighbors
     f = np.flatnonzero((nb >= 0).all(axis=1))
     a, b = nb[f, 0], nb[f, 1]
-    n, xf = geometry.face_normals[f], geometry.face_centroids[f]
-    ca, cb = xf - x[a], xf - x[b]
-    if distance == "normal":
-        ca, cb = along_normal(ca, n), along_normal(cb, n)
-    elif distance != "centroid":
-        raise InputError(f"distance: expected 'centroid' or 'normal', got {distance!r}")
-    ta = half_transmissibility(k[a], ca, n)
-    tb = half_transmissibility(k[b], cb, n)
+    n = [geometry.face_normals[:, j][f] for j in range(dim)]
+    xf = [geometry.face_centroids[:, j][f] for j in range(dim)]
+    ta = half_transmissibility(k, a, [xf[j] - x[:, j][a] for j in range(dim)], n, distance)
+    tb = half_transmissibility(k, b, [xf[j] - x[:, j][b] for j in range(dim)], n, distance)
     notes = []
     if ntg is not None:
         g = np.asarray(ntg, dtype=np.float64)
