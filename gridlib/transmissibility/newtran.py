@@ -103,10 +103,15 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
     """The harmonic combination of two halves (mD x deck length), in the deck's unit;
     0 where a half is below ``HALF_MINIMUM`` m3."""
     si = MILLIDARCY * units.length
-    small = (ta * si < HALF_MINIMUM) | (tb * si < HALF_MINIMUM)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(small, 0.0, 1.0 / (1.0 / np.where(small, 1.0, ta) + 1.0 / np.where(small, 1.0, tb)))
-    return t * (si / units.transmissibility)
+    floor = HALF_MINIMUM / si
+    small = ta < floor
+    small |= tb < floor
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        t = ta * tb
+        t /= ta + tb
+    t[small] = 0.0
+    t *= si / units.transmissibility
+    return t
 
 
 # -------------------------------------------------------------------------- every cell at once
