@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import itertools
 
 import numpy as np
 import pytest
@@ -376,6 +377,27 @@ def test_faults_meeting_at_a_small_angle_share_one_row_of_cells():
     area, face = _relative_sizes(pg)
     assert area.min() == pytest.approx(0.125, rel=1e-9) and face.min() > 0.01
     assert _site_orthogonality(pg).max() < 1e-4
+
+
+@pytest.mark.parametrize("angles", [(0.0, 15.0, 30.0), (0.0, 12.0, 40.0), (0.0, 8.0, 16.0, 24.0)])
+def test_a_splay_of_faults_at_small_angles_builds(angles):
+    """Three or four faults leaving one point a few degrees apart (a splay): the wedges between them
+    share their middle arms, each with a row of cells on its ray (rays mirror images across the shared
+    arms); every trace is followed exactly."""
+    c = np.array([20.0, 20.0])
+    units = [np.array([np.cos(np.radians(a)), np.sin(np.radians(a))]) for a in angles]
+    faults = [Fault([c, c + 12.0 * u]) for u in units]
+    pg = pebi_grid(rectangle(0, 0, 40, 40), 2.0, faults=faults)
+    g = pg.grid
+    geo = gl.compute_geometry(g)
+    gl.check_grid(g, geo)
+    assert geo.cell_volumes.sum() == pytest.approx(1600.0, rel=1e-12)
+    for k in range(1, len(angles) + 1):
+        assert _lengths(g)[g.faces.tag == k].sum() == pytest.approx(12.0, rel=1e-12)
+    gaps = " and ".join(f"{b - a:.3g}" for a, b in itertools.pairwise(angles))
+    assert any(f"meet at {gaps} degrees at (20, 20)" in n for n in pg.notes), pg.notes
+    area, face = _relative_sizes(pg)
+    assert area.min() >= 0.1 and face.min() >= 0.01
 
 
 def test_wells_next_to_a_fault_keep_clear_of_its_circles():

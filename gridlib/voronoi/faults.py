@@ -71,6 +71,7 @@ from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
 from ..errors import GridError
+from ..reproducible import arccos, arctan2
 from . import wedges as _wedges
 from .domain import Domain, _cross2
 
@@ -198,7 +199,7 @@ def build_network(
         if np.any(seg_len <= tol):
             k = int(np.flatnonzero(seg_len <= tol)[0])
             raise GridError(f"{label}: points {k} and {k + 1} coincide")
-        if np.all(local[0] == local[-1]) or np.linalg.norm(local[0] - local[-1]) <= tol:
+        if np.all(local[0] == local[-1]) or np.hypot(*(local[0] - local[-1])) <= tol:
             raise GridError(
                 f"{label}: the trace is closed (first point = last point); split it into two faults"
             )
@@ -442,7 +443,7 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes, min_
             xy = piece["xy"]
             tip, prev = (xy[0], xy[1]) if end == 0 else (xy[-1], xy[-2])
             d = tip - prev
-            d = d / np.linalg.norm(d)
+            d = d / np.hypot(d[0], d[1])
             sp = spacing[piece["fault"] - 1]
             ds = sp if np.isfinite(sp) else float(size(tip[None, :])[0])
             reach = REACH * ds
@@ -758,7 +759,7 @@ def build_sites(lay: FaultLayout) -> FaultSites:
             for end, along in ((0, tt * elen[e]), (1, (1 - tt) * elen[e])):  # grading away from a wedge
                 w = lead[e][end]
                 if (e, end) in wedge_ends:
-                    caps.append((w[-1] - w[-2]) + GROWTH * np.maximum(along - w[-1], 0.0))
+                    caps.append(wedge_ends[(e, end)] + GROWTH * np.maximum(along - w[-1], 0.0))
                 elif wedge_node[(ea[e], eb[e])[end]]:  # another arm at a wedge's node
                     caps.append(w[0] + GROWTH * np.maximum(along - w[0], 0.0))
             s = np.minimum.reduce(caps)
@@ -835,10 +836,10 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     right = foot - hgt[:, None] * nvec
     step_size = slen.copy()
     step_wedge = np.full(sa.size, -1, dtype=np.int64)
-    for steps, inside, outside, size, w in shared:  # acute wedges: a shared site and its mirror per step
-        on_left = _wedges.side_of(inside, centres[sa[steps]], centres[sb[steps]]) > 0
-        left[steps] = np.where(on_left[:, None], inside, outside)
-        right[steps] = np.where(on_left[:, None], outside, inside)
+    for steps, one, other, size, w in shared:  # acute wedges: the shared sites either side of a step
+        on_left = _wedges.side_of(one, centres[sa[steps]], centres[sb[steps]]) > 0
+        left[steps] = np.where(on_left[:, None], one, other)
+        right[steps] = np.where(on_left[:, None], other, one)
         step_size[steps] = size
         step_wedge[steps] = w
     ns_ = sa.size
@@ -897,42 +898,52 @@ def build_sites(lay: FaultLayout) -> FaultSites:
 
 
 def _describe_wedge(w, lay: FaultLayout) -> str:
-    """A note on an acute wedge: where, between what, at which angle, how many shared cells."""
+    """A note on an acute wedge or fan: where, between what, at which angles, how many shared cells."""
     net = lay.net
-    a = net.labels[net.edge_fault[w.edge_a] - 1]
-    b = "the boundary" if w.edge_b < 0 else net.labels[net.edge_fault[w.edge_b] - 1]
-    what = f"{a} meets {b}" if a != b else f"{a} bends"
+    names = [net.labels[net.edge_fault[e] - 1] if e >= 0 else "the boundary" for e in w.sides]
+    names = list(dict.fromkeys(names))
+    angles = " and ".join(f"{np.degrees(g):.3g}" for g in w.gaps)
+    if len(names) == 1:
+        what = f"{names[0]} bends"
+    elif len(names) == 2:
+        what = f"{names[0]} meets {names[1]}"
+    else:
+        what = ", ".join(names[:-1]) + f" and {names[-1]} meet"
+    rows = "one row" if w.gaps.size == 1 else f"{w.gaps.size} rows"
     return (
-        f"{what} at {np.degrees(w.phi):.3g} degrees at {lay.domain.fmt(net.nodes[w.node])}: one row of "
-        f"{w.rungs.size} cells between them up to {float(w.rungs[-1]):.3g} m from there"
+        f"{what} at {angles} degrees at {lay.domain.fmt(net.nodes[w.node])}: {rows} of {w.rungs.size} "
+        f"cells between them up to {float(w.rungs[-1]):.3g} m from there"
     )
 
 
 def _plan_wedges(lay: FaultLayout, elen: np.ndarray, l0: np.ndarray, constrained: np.ndarray) -> list:
-    """The acute wedges at constrained nodes, their rungs fitted into their arms.
+    """The acute wedges and fans at constrained nodes, their rungs fitted into their sides.
 
     An arm may use its whole length if its far end is free, half of it if that end is
     constrained too; a boundary side as far as the next corner or half way to the next
-    fault on it. All wedges at one node share the node's circle (the smallest of theirs).
+    fault on it. The step is the smallest wanted along the sides as far as the rungs
+    reach (refinements there). All wedges at one node share the node's circle (the
+    smallest of theirs).
     """
     net, dom = lay.net, lay.domain
     nodes, ea, eb = net.nodes, net.edge_a, net.edge_b
     cand = np.flatnonzero(constrained)
     rays = {int(v): _boundary_rays(dom, nodes[v]) for v in cand if net.on_boundary[v]}
     found = _wedges.find_wedges(nodes, ea, eb, cand, rays, dom)
-    for w in found:  # loop over acute wedges
-        room = np.inf
-        for e, _ in w.arms():
-            other = eb[e] if ea[e] == w.node else ea[e]
-            room = min(room, float(elen[e]) * (0.5 if constrained[other] else 1.0))
-        if w.edge_b < 0:
-            room = min(room, _boundary_room(net, dom, w.node, w.dir_b))
+    for w in found:  # loop over acute wedges and fans
+        room = np.empty(len(w.sides))
+        for j, e in enumerate(w.sides):
+            if e >= 0:
+                other = eb[e] if ea[e] == w.node else ea[e]
+                room[j] = float(elen[e]) * (0.5 if constrained[other] else 1.0)
+            else:
+                room[j] = _boundary_room(net, dom, w.node, w.dirs[j])
         step = float(l0[w.node])
         for _ in range(3):  # the step wanted along the arms as far as the rungs reach (refinements)
             _wedges.plan(w, step, room)
-            along = np.linspace(0.0, float(w.rungs[-1]) + step, 17)
-            for e, d in w.arms():
-                pts = net.nodes[w.node] + along[:, None] * d[None, :]
+            for e, j in w.arms():
+                along = np.linspace(0.0, float(w.side_rungs(j)[-1]) + step, 17)
+                pts = net.nodes[w.node] + along[:, None] * w.dirs[j][None, :]
                 step = min(step, float(_ds(lay, pts, np.full(along.size, net.edge_fault[e])).min()))
         _wedges.plan(w, step, room)
     radius: dict[int, float] = {}
@@ -958,8 +969,9 @@ def _boundary_room(net: _Network, dom: Domain, v: int, u: np.ndarray) -> float:
     return best
 
 
-def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndarray]], set]:
-    """Distances (m) of the centres fixed next to each end of every edge, and the wedge ends.
+def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndarray]], dict]:
+    """Distances (m) of the centres fixed next to each end of every edge, and the wedge ends
+    with the step (m) of their rungs along the edge.
 
     A constrained end has its first centre one step L0 away; a wedge's arm has its rungs.
     """
@@ -968,32 +980,40 @@ def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndar
         [np.array([l0[a]]) if constrained[a] else empty, np.array([l0[b]]) if constrained[b] else empty]
         for a, b in zip(ea.tolist(), eb.tolist(), strict=True)
     ]
-    ends = set()
+    ends: dict[tuple[int, int], float] = {}
     for w in wedge_list:
-        for e, _ in w.arms():
+        for e, j in w.arms():
             end = 0 if ea[e] == w.node else 1
-            lead[e][end] = w.rungs
-            ends.add((e, end))
+            lead[e][end] = w.side_rungs(j)
+            ends[(e, end)] = w.ray_step / float(np.cos(w.tilt[j]))
     return lead, ends
 
 
 def _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed) -> list[tuple]:
-    """Shared sites of every wedge: (steps, shared sites, mirror sites, site size) per arm.
+    """Shared sites of every wedge or fan: (steps, one site, the other, site size, wedge) per fault side.
 
-    Sets the radii of the wedge nodes and rung centres (and marks the rungs ``fixed``).
+    The sites of a step on an inner side of a fan are the shared sites of the wedges on
+    either side, on an outer side the shared sites and their mirror images. Sets the
+    radii of the wedge nodes and rung centres (and marks the rungs ``fixed``).
     """
     out = []
-    for index, w in enumerate(wedge_list):  # loop over acute wedges
+    for index, w in enumerate(wedge_list):  # loop over acute wedges and fans
         ws = _wedges.wedge_sites(w, nodes[w.node])
         radii[w.node] = ws.radius_node
-        step = float(w.rungs[1] - w.rungs[0]) if w.rungs.size > 1 else float(w.rungs[0])
-        for (e, _), mirror in zip(w.arms(), (ws.mirror_a, ws.mirror_b), strict=False):
+        n = w.gaps.size
+        for e, j in w.arms():
             end = 0 if ea[e] == w.node else 1
             steps = wedge_steps[(e, end)]
             rung = sb[steps] if end == 0 else sa[steps]
-            radii[rung] = ws.radius_rungs
+            k = steps.size  # the rungs this side keeps
+            radii[rung] = ws.radius_rungs[j, :k]
             fixed[rung] = True
-            out.append((steps, ws.shared, mirror, np.full(steps.size, step), index))
+            one = ws.shared[min(j, n - 1), :k]
+            if 0 < j < n:
+                other = ws.shared[j - 1, :k]
+            else:
+                other = (ws.mirror_first if j == 0 else ws.mirror_last)[:k]
+            out.append((steps, one, other, np.full(k, w.step), index))
     return out
 
 
@@ -1016,7 +1036,7 @@ def _local_ratio(
         if arms.size < 2:
             continue
         d = net.nodes[arms] - net.nodes[v]
-        ang = np.sort(np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * np.pi))
+        ang = np.sort(np.mod(arctan2(d[:, 1], d[:, 0]), 2 * np.pi))
         phi = float(np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi])).min())
         if phi >= ACUTE:
             continue
@@ -1054,7 +1074,7 @@ def _junction_radii(
             continue
         far = np.concatenate([sb[sa == v], sa[sb == v]])
         d = centres[far] - centres[v]
-        ang = np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
+        ang = np.mod(arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
         lens = slen[steps]
         rw = radii[far]
         rays = [(a, k) for k, a in enumerate(ang)]
@@ -1076,7 +1096,7 @@ def _junction_radii(
                     caps.append((k0 if k0 >= 0 else k1, 0.5 * gap))
 
         def fits(rv: float, lens=lens, rw=rw, pairs=pairs, caps=caps) -> bool:
-            al = np.arccos(np.clip((rv**2 + lens**2 - rw**2) / (2 * rv * lens), -1.0, 1.0))
+            al = arccos(np.clip((rv**2 + lens**2 - rw**2) / (2 * rv * lens), -1.0, 1.0))
             return all(al[j] + al[k] <= gap * (1 + 1e-12) for j, k, gap in pairs) and all(
                 al[k] <= lim for k, lim in caps
             )
@@ -1130,7 +1150,7 @@ def _fit_free_arms(rv: float, far, lens, radii, pairs, caps, held) -> bool:
     tol = 1e-9
 
     def alphas() -> np.ndarray:
-        return np.arccos(np.clip((rv**2 + lens**2 - radii[far] ** 2) / (2 * rv * lens), -1.0, 1.0))
+        return arccos(np.clip((rv**2 + lens**2 - radii[far] ** 2) / (2 * rv * lens), -1.0, 1.0))
 
     al = alphas()
     free = ~held
@@ -1169,7 +1189,7 @@ def _close_near_pairs(v, rv, far, lens, radii, pairs, caps, sa, sb, slen, constr
     properly, and neither end of that step is constrained (its radius belongs to another
     junction).
     """
-    al = np.arccos(np.clip((rv**2 + lens**2 - radii[far] ** 2) / (2 * rv * lens), -1.0, 1.0))
+    al = arccos(np.clip((rv**2 + lens**2 - radii[far] ** 2) / (2 * rv * lens), -1.0, 1.0))
     slack = {(j, k): gap - (al[j] + al[k]) for j, k, gap in pairs}
     cap = dict.fromkeys(range(len(far)), np.inf)
     for k, lim in caps:
@@ -1223,7 +1243,7 @@ def _boundary_rays(dom: Domain, p: np.ndarray) -> list[float]:
         d1, d2 = dom.edge_unit[(e + 1) % m], -dom.edge_unit[e]
     else:
         d1, d2 = dom.edge_unit[e], -dom.edge_unit[e]
-    return [float(np.arctan2(d1[1], d1[0])), float(np.arctan2(d2[1], d2[0]))]
+    return [float(arctan2(d1[1], d1[0])), float(arctan2(d2[1], d2[0]))]
 
 
 def circle_violations(

@@ -8,29 +8,37 @@ fixed fraction of the step. Halving the steps does not help (the configuration i
 same at every scale), so the wedge gets a construction of its own, exact and with no
 refinement:
 
-* **Rungs.** Points at equal distances s_0 < s_1 < ... < s_K from the node along both
-  arms (``c^A_k``, ``c^B_k``) are joined by *rungs*, perpendicular to the wedge's
-  bisector. The steps along the arms are the pieces between consecutive rungs (the
-  first from the node), so these points are circle centres on the traces.
-* **Shared sites.** One site ``q_k`` on the bisector between rung k - 1 (the node for
-  k = 0) and rung k serves both arms: q_{k+1} is q_k reflected across rung k, so every
-  rung is the perpendicular bisector of q_k and q_{k+1}; q_0 is placed so that all
-  later sites lie half way between their rungs. Its partners across the traces are its
-  mirror images ``p^A_k``, ``p^B_k`` (none across the boundary). The cell of q_k is the
-  trapezoid between its rungs: its faces on the traces are the steps, exactly.
+* **Ray and rungs.** The sites of the wedge lie on a *ray* from the node inside it
+  (its bisector for a single wedge). Lines perpendicular to the ray at distances
+  r_0 < r_1 < ... < r_K from the node, the *rungs*, cut both sides; the steps along
+  the sides are the pieces between consecutive rungs (the first from the node), so
+  the rung points are circle centres on the traces.
+* **Shared sites.** One site ``q_k`` on the ray half a step before rung k serves both
+  sides: q_{k+1} is q_k reflected across rung k (the steps after the first are equal),
+  so every rung is the perpendicular bisector of q_k and q_{k+1}. Its partners across
+  the traces are its mirror images (none across the boundary). The cell of q_k is the
+  strip between its rungs: its faces on the traces are the steps, exactly.
 * **Circles.** Every rung point is equidistant from q_k, q_{k+1} and their mirrors,
   and the node from q_0 and its mirrors: these distances are the circle radii, and
-  the circles are empty by symmetry (the sites farther along the bisector are
-  farther away, and a site is nearer to its own side's points than its mirror is).
-* **Transition.** The row ends at the first rung where the wedge is ``SPLIT`` (1.3)
-  steps wide: beyond it the arms carry ordinary mirrored pairs, whose sites (at most
-  about half a step off the trace) stay on their own side of the bisector and out of
-  the other arm's circles.
+  the circles are empty (the sites farther along the ray are farther away, and a site
+  is nearer to its own side's points than its mirror is).
+* **Fans.** Consecutive acute wedges sharing an arm (a splay of faults, three
+  faults within a few tens of degrees) form one *fan*: the arm's step is shared, so
+  the sites on either side of it are mirror images. That holds when the two wedges'
+  rays are mirror images across the arm, with the same rungs: the rays are chosen so,
+  each as central in its wedge as the others allow (a fan whose rays cannot all stay
+  well inside their wedges is split).
+* **Transition.** A side leaves the shared rows at the first rung where it stands
+  ``SPLIT / 2`` (0.65) of its step off the ray next to it: beyond it the side carries
+  ordinary mirrored pairs, whose sites (at most about half a step off the trace) stay
+  on their own side of the ray and out of the other arms' circles. The rows go on until
+  every side of the fan may leave; its inner sides stay till then, its outer sides leave
+  as soon as they may.
 
-The first rung is moved out (s_0 up to ``MAX_STRETCH`` steps) where the wedge is so
-narrow that the triangular first cell would be smaller than ``TIP_AREA`` step². Rungs
-are fitted into the arms (a short arm gets proportionally shorter steps). Lengths in
-metres, angles in radians, local frame.
+The first rung is moved out (up to ``MAX_STRETCH`` steps) where a wedge is so narrow
+that the triangular first cell would be smaller than ``TIP_AREA`` step². Rungs are
+fitted into the arms (a short arm gets proportionally shorter steps). Lengths in metres,
+angles in radians, local frame.
 """
 
 from __future__ import annotations
@@ -39,48 +47,60 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..reproducible import arctan2
 from .domain import Domain, _cross2
 
 ACUTE = np.radians(40.0)  # wedges narrower than this get a row of shared sites
-SPLIT = 1.3  # the row ends where the wedge is this many steps wide
+SPLIT = 1.3  # the rows end where every wedge is this many steps wide
 TIP_AREA = 0.125  # smallest area of the first (triangular) cell, x step^2
 MAX_STRETCH = 4.0  # the first rung at most this many steps from the node
 MAX_RUNGS = 200  # a wedge under about 0.4 degrees: the row ends before it is SPLIT steps wide
+MIN_MARGIN = 0.2  # a fan's rays stay at least this fraction of their wedge's angle off its sides
 
 
 @dataclass
 class Wedge:
-    """An acute wedge at network node ``node`` between arm ``edge_a`` and ``edge_b``.
+    """An acute wedge, or a fan of consecutive ones, at network node ``node``.
 
-    ``edge_b`` is -1 where the second side is the domain's boundary. ``dir_a``,
-    ``dir_b``: unit vectors from the node along the two sides, ``phi`` (radians) apart.
-    ``rungs`` (K + 1,): distances of the rung points from the node along both sides (m),
-    equally spaced after the first, set by :func:`plan`.
+    ``sides`` (n + 1 edge ids, -1 for the domain's boundary, which can only be an outer
+    side) and ``dirs`` (n + 1, 2) unit vectors from the node, in counter-clockwise order;
+    gap i lies between sides i and i + 1, ``gaps`` (n,) radians. ``rays`` (n, 2) unit
+    vectors of the sites' rays; ``tilt`` (n + 1,) the angle between each side and the ray
+    next to it. ``rungs`` (K + 1,) distances (m) of the rungs from the node along the
+    rays, equally spaced after the first, set by :func:`plan`.
     """
 
     node: int
-    edge_a: int
-    edge_b: int
-    dir_a: np.ndarray
-    dir_b: np.ndarray
-    phi: float
+    sides: list[int]
+    dirs: np.ndarray
+    gaps: np.ndarray
+    rays: np.ndarray | None = None
+    tilt: np.ndarray | None = None
     rungs: np.ndarray | None = None
+    side_count: np.ndarray | None = None  # (n + 1,) rungs each side keeps (an outer side may leave early)
 
     @property
-    def bisector(self) -> np.ndarray:
-        m = self.dir_a + self.dir_b
-        return m / np.hypot(m[0], m[1])
+    def phi(self) -> float:
+        """The narrowest gap (radians)."""
+        return float(self.gaps.min())
 
     @property
-    def half(self) -> float:
-        return 0.5 * self.phi
+    def ray_step(self) -> float:
+        r = self.rungs
+        return float(r[1] - r[0]) if r.size > 1 else float(r[0])
 
-    def arms(self) -> list[tuple[int, np.ndarray]]:
-        """(edge, direction) of the fault arms (one or two)."""
-        out = [(self.edge_a, self.dir_a)]
-        if self.edge_b >= 0:
-            out.append((self.edge_b, self.dir_b))
-        return out
+    def arms(self) -> list[tuple[int, int]]:
+        """(edge, side index) of the fault sides."""
+        return [(e, j) for j, e in enumerate(self.sides) if e >= 0]
+
+    def side_rungs(self, j: int) -> np.ndarray:
+        """Distances (m) of the rung points from the node along side j (those it keeps)."""
+        return self.rungs[: self.side_count[j]] / np.cos(self.tilt[j])
+
+    @property
+    def step(self) -> float:
+        """The longest step along a side after the first (m): the wedge cells' target size."""
+        return self.ray_step / float(np.cos(self.tilt).min())
 
 
 def find_wedges(
@@ -91,7 +111,7 @@ def find_wedges(
     boundary_rays: dict[int, list[float]],
     domain: Domain,
 ) -> list[Wedge]:
-    """The acute wedges at the ``candidates`` nodes, each arm in at most one (the narrowest first).
+    """The acute wedges and fans at the ``candidates`` nodes, their rays chosen.
 
     ``boundary_rays[v]``: directions (angles) along the boundary from boundary node v;
     a gap between a fault arm and a boundary ray counts when it lies inside the domain.
@@ -101,7 +121,7 @@ def find_wedges(
         arms = np.concatenate([np.flatnonzero(edge_a == v), np.flatnonzero(edge_b == v)])
         far = np.concatenate([edge_b[edge_a == v], edge_a[edge_b == v]])
         d = nodes[far] - nodes[v]
-        ang = np.mod(np.arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
+        ang = np.mod(arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
         unit = d / np.hypot(d[:, 0], d[:, 1])[:, None]
         rays = [(float(a), int(e), unit[k]) for k, (a, e) in enumerate(zip(ang, arms, strict=True))]
         for b in boundary_rays.get(v, []):
@@ -109,93 +129,179 @@ def find_wedges(
         if len(rays) < 2:
             continue
         rays.sort(key=lambda r: (r[0], r[1]))
-        for g in range(len(rays)):
-            (a0, e0, ua), (a1, e1, ub) = rays[g], rays[(g + 1) % len(rays)]
-            gap = float(np.mod(a1 - a0, 2 * np.pi))
-            if not (0.0 < gap < ACUTE) or (e0 < 0 and e1 < 0):
+        nr = len(rays)
+        acute = np.zeros(nr, dtype=bool)  # gap g lies between rays g and g + 1
+        gap = np.zeros(nr)
+        for g in range(nr):
+            (a0, e0, _), (a1, e1, _) = rays[g], rays[(g + 1) % nr]
+            gap[g] = float(np.mod(a1 - a0, 2 * np.pi))
+            if not (0.0 < gap[g] < ACUTE) or (e0 < 0 and e1 < 0):
                 continue
             if e0 < 0 or e1 < 0:  # a fault and the boundary: the gap must be inside the domain
-                mid = a0 + 0.5 * gap
+                mid = a0 + 0.5 * gap[g]
                 probe = nodes[v] + 1e-6 * domain.diameter * np.array([np.cos(mid), np.sin(mid)])
                 if not domain.inside(probe[None, :])[0]:
                     continue
-            if e0 < 0:  # the fault arm first, the boundary second: mirror the wedge's orientation
-                found.append(Wedge(v, e1, -1, ub, ua, gap))
-            else:
-                found.append(Wedge(v, e0, e1, ua, ub, gap))
-    found.sort(key=lambda w: w.phi)
-    used: set[tuple[int, int]] = set()
+            acute[g] = True
+        here: list[Wedge] = []
+        for run in _runs(acute, rays):  # consecutive acute gaps sharing fault arms: fans
+            for part in _fan_parts(gap[run]):
+                chosen = [run[k] for k in part]
+                idx = [*chosen, (chosen[-1] + 1) % nr]
+                w = Wedge(v, [rays[i][1] for i in idx], np.array([rays[i][2] for i in idx]), gap[chosen])
+                _aim(w)
+                here.append(w)
+        found += _one_per_arm(here)
+    return found
+
+
+def _one_per_arm(wedges: list[Wedge]) -> list[Wedge]:
+    """The wedges at one node such that every fault arm is in one at most, the narrowest first."""
+    used: set[int] = set()
     kept = []
-    for w in found:  # an arm between two acute wedges joins the narrower one only
-        ids = {(e, w.node) for e, _ in w.arms()}
-        if ids & used:
-            continue
-        used |= ids
-        kept.append(w)
+    for w in sorted(wedges, key=lambda w: w.phi):
+        arms = {e for e in w.sides if e >= 0}
+        if not arms & used:
+            used |= arms
+            kept.append(w)
     return kept
 
 
-def rung_count(phi: float) -> tuple[int, float]:
-    """Number of rungs K + 1 and the first rung's distance in steps (stretch g) for angle phi."""
-    stretch = float(np.clip(np.sqrt(2.0 * TIP_AREA / np.sin(phi)), 1.0, MAX_STRETCH))
-    width = 2.0 * np.sin(0.5 * phi)  # wedge width per unit distance from the node
-    extra = int(np.ceil(min(SPLIT / width, MAX_RUNGS) - stretch - 1e-9))
-    return 1 + max(0, extra), stretch
+def _runs(acute: np.ndarray, rays: list) -> list[list[int]]:
+    """Maximal runs of consecutive acute gaps (indices) around a node between fault arms (fans),
+    never closing around the whole node; a gap between a fault and the boundary is a run of its
+    own (the boundary needs no mirror sites, so such a gap never has to share its fault arm)."""
+    nr = acute.size
+    if acute.all():  # all gaps acute: the widest one is left to the ordinary construction
+        start = int(np.argmax([np.mod(rays[(g + 1) % nr][0] - rays[g][0], 2 * np.pi) for g in range(nr)]))
+        acute = acute.copy()
+        acute[start] = False
+    out: list[list[int]] = []
+    first = next((g for g in range(nr) if not acute[g]), None)
+    if first is None:
+        return out
+    run: list[int] = []
+    for k in range(1, nr + 1):  # walk once around from a gap that is not acute
+        g = (first + k) % nr
+        boundary = rays[g][1] < 0 or rays[(g + 1) % nr][1] < 0
+        if acute[g] and not boundary and run:
+            run.append(g)
+            continue
+        if run:
+            out.append(run)
+        run = [g] if acute[g] else []
+        if boundary and run:
+            out.append(run)
+            run = []
+    if run:
+        out.append(run)
+    return out
 
 
-def plan(wedge: Wedge, step: float, room: float) -> None:
-    """Rung distances for a target step (m), fitted into ``room`` (m) along the arms.
+def _fan_parts(gaps: np.ndarray) -> list[list[int]]:
+    """Split a run of acute gaps into fans whose rays can all stay MIN_MARGIN inside their gaps:
+    the widest gap of a run that cannot is left out (to the ordinary construction)."""
+    if gaps.size == 1 or _offsets(gaps)[1] >= MIN_MARGIN:
+        return [list(range(gaps.size))]
+    cut = int(np.argmax(gaps))
+    left = _fan_parts(gaps[:cut]) if cut > 0 else []
+    right = [[k + cut + 1 for k in p] for p in _fan_parts(gaps[cut + 1 :])] if cut + 1 < gaps.size else []
+    return left + right
 
-    The arms must hold the rungs and one ordinary step beyond them.
+
+def _offsets(gaps: np.ndarray) -> tuple[np.ndarray, float]:
+    """Angles of the rays from the first side of their gaps, mirror images across every shared
+    side (the ray of gap i + 1 is as far from side i + 1 as the ray of gap i), and the smallest
+    relative margin min(offset, gap - offset) / gap, as large as it can be."""
+    x = np.linspace(0.0, 1.0, 401)[1:-1] * gaps[0]
+    off = np.empty((gaps.size, x.size))
+    off[0] = x
+    for i in range(1, gaps.size):  # the mirror condition fixes the next ray
+        off[i] = gaps[i - 1] - off[i - 1]
+    margin = (np.minimum(off, gaps[:, None] - off) / gaps[:, None]).min(axis=0)
+    best = int(np.argmax(margin))
+    return off[:, best], float(margin[best])
+
+
+def _aim(w: Wedge) -> None:
+    """Set the rays of a wedge or fan (:func:`_offsets`) and the tilt of every side."""
+    off, _ = _offsets(w.gaps)
+    n = w.gaps.size
+    rays = np.empty((n, 2))
+    for i in range(n):  # rotate side i counter-clockwise by the offset
+        c, s = np.cos(off[i]), np.sin(off[i])
+        d = w.dirs[i]
+        rays[i] = (c * d[0] - s * d[1], s * d[0] + c * d[1])
+    w.rays = rays
+    w.tilt = np.concatenate([off, [w.gaps[-1] - off[-1]]])
+
+
+def rung_count(w: Wedge) -> tuple[np.ndarray, float]:
+    """Rungs kept by every side and the first rung's distance in ray steps (stretch) of a wedge.
+
+    A side may leave the shared rows at the first rung where it stands ``SPLIT / 2``
+    of its step off the ray next to it (r sin(tilt) >= SPLIT / 2 ray steps). The inner
+    sides of a fan, and so the rows, go on until every side may leave; an outer side
+    leaves as soon as it may (a wide gap's far side would otherwise get huge circles).
     """
-    n, stretch = rung_count(wedge.phi)
-    reach = stretch + n  # (n - 1) steps after the first rung, plus one ordinary step
-    step = min(step, room / reach)
-    wedge.rungs = step * (stretch + np.arange(n, dtype=np.float64))
+    off = w.tilt[:-1]
+    far = w.gaps - off
+    spread = np.sin(off) / np.cos(off) + np.sin(far) / np.cos(far)  # rung length per unit ray distance
+    cos2 = float(np.cos(w.tilt).min()) ** 2
+    stretch = float(np.clip(np.sqrt(2.0 * TIP_AREA / (float(spread.min()) * cos2)), 1.0, MAX_STRETCH))
+    need = np.minimum(0.5 * SPLIT / np.sin(w.tilt), MAX_RUNGS)  # ray distance, in ray steps, to leave
+    count = 1 + np.maximum(0, np.ceil(need - stretch - 1e-9).astype(np.int64))
+    count[1:-1] = count.max()  # a fan's inner sides keep every rung
+    return count, stretch
 
 
-def node_radius(wedge: Wedge) -> float:
-    """Distance (m) from the node to the first shared site: the node's circle radius."""
-    r = wedge.rungs
-    step = r[1] - r[0] if r.size > 1 else r[0]
-    return (r[0] - 0.5 * step) * np.cos(wedge.half)
+def plan(w: Wedge, step: float, room: np.ndarray) -> None:
+    """Rungs for a target step (m) along the sides, fitted into ``room`` (m) along each side.
+
+    Every side must hold the rungs and one ordinary step beyond them.
+    """
+    count, stretch = rung_count(w)
+    cos = np.cos(w.tilt)
+    ray_step = step * float(cos.min())
+    ray_step = min(ray_step, float((room * cos / (stretch + count)).min()))
+    w.rungs = ray_step * (stretch + np.arange(int(count.max()), dtype=np.float64))
+    w.side_count = count
 
 
-def scale_to_radius(wedge: Wedge, radius: float) -> None:
+def node_radius(w: Wedge) -> float:
+    """Distance (m) from the node to the first shared sites: the node's circle radius."""
+    return float(w.rungs[0] - 0.5 * w.ray_step)
+
+
+def scale_to_radius(w: Wedge, radius: float) -> None:
     """Scale the rungs so that the node's circle has the given radius (several wedges at a node)."""
-    wedge.rungs = wedge.rungs * (radius / node_radius(wedge))
+    w.rungs = w.rungs * (radius / node_radius(w))
 
 
 @dataclass
 class WedgeSites:
-    """Sites and circles of one wedge (local frame): shared sites, mirrors and rung radii."""
+    """Sites and circles of a wedge or fan (local frame)."""
 
-    shared: np.ndarray  # (K + 1, 2) q_k
-    mirror_a: np.ndarray  # (K + 1, 2) q_k reflected across arm A
-    mirror_b: np.ndarray | None  # (K + 1, 2) across arm B, None at the boundary
-    rung_a: np.ndarray  # (K + 1, 2) rung points on A
-    rung_b: np.ndarray  # (K + 1, 2) on B (on the boundary for a boundary wedge)
-    radius_rungs: np.ndarray  # (K + 1,) circle radius at the rung points
+    shared: np.ndarray  # (n, K + 1, 2) q_k on the ray of every gap
+    mirror_first: np.ndarray | None  # (K + 1, 2) the first gap's q reflected across side 0 (None: boundary)
+    mirror_last: np.ndarray | None  # (K + 1, 2) the last gap's q reflected across side n
+    radius_rungs: np.ndarray  # (n + 1, K + 1) circle radius at the rung points of every side
     radius_node: float
 
 
-def wedge_sites(wedge: Wedge, node: np.ndarray) -> WedgeSites:
-    """The shared row of a planned wedge, its mirror images and circle radii."""
-    s = wedge.rungs
-    cos_b = np.cos(wedge.half)
-    m = wedge.bisector
-    step = s[1] - s[0] if s.size > 1 else s[0]
-    # q_k half a step before rung k along the bisector: q_{k+1} is q_k reflected across rung k
-    # (equal steps after the first), and q_0 is where that puts it inside the first triangle
-    t = (s - 0.5 * step) * cos_b
-    q = node + t[:, None] * m
-    rung_a = node + s[:, None] * wedge.dir_a
-    rung_b = node + s[:, None] * wedge.dir_b
-    mirror_a = _reflect(q, node, wedge.dir_a)
-    mirror_b = _reflect(q, node, wedge.dir_b) if wedge.edge_b >= 0 else None
-    rel = rung_a - q
-    radius = np.sqrt(rel[:, 0] ** 2 + rel[:, 1] ** 2)
-    return WedgeSites(q, mirror_a, mirror_b, rung_a, rung_b, radius, float(t[0]))
+def wedge_sites(w: Wedge, node: np.ndarray) -> WedgeSites:
+    """The shared rows of a planned wedge or fan, the outer mirror images and the circle radii."""
+    t = w.rungs - 0.5 * w.ray_step  # q_k half a step before rung k along the ray
+    q = node + t[None, :, None] * w.rays[:, None, :]
+    n = w.gaps.size
+    radius = np.empty((n + 1, w.rungs.size))
+    for j in range(n + 1):  # every side: distance from its rung points to the q next to it
+        rung = node + (w.rungs / np.cos(w.tilt[j]))[:, None] * w.dirs[j]
+        rel = rung - q[min(j, n - 1)]
+        radius[j] = np.hypot(rel[:, 0], rel[:, 1])
+    first = _reflect(q[0], node, w.dirs[0]) if w.sides[0] >= 0 else None
+    last = _reflect(q[-1], node, w.dirs[-1]) if w.sides[-1] >= 0 else None
+    return WedgeSites(q, first, last, radius, node_radius(w))
 
 
 def _reflect(p: np.ndarray, origin: np.ndarray, unit: np.ndarray) -> np.ndarray:
