@@ -57,6 +57,7 @@ from scipy.spatial import cKDTree
 from ..connectivity import _cycle_rank, offsets
 from ..errors import GridError
 from ..grid import Cells, Faces, Grid, Nodes
+from ..reproducible import arctan2
 from .domain import Domain, _cross2
 from .lattice import Lattice, hybrid_ridges, plain_ridges, splice_ridges
 
@@ -655,8 +656,8 @@ def _successors(hc, ha, hb, nn, coords, sites, domain: Domain) -> np.ndarray:
         v = coords[hb[h_in]]
         back = coords[ha[h_in]] - v
         out = coords[hb[cand]] - v
-        ang_back = np.arctan2(back[:, 1], back[:, 0])
-        ang_out = np.arctan2(out[:, 1], out[:, 0])
+        ang_back = arctan2(back[:, 1], back[:, 0])
+        ang_out = arctan2(out[:, 1], out[:, 0])
         cw = np.mod(ang_back - ang_out, 2 * np.pi)
         cw = np.where(cw <= 0, 2 * np.pi, cw)
         o = np.lexsort((cw, h_in))

@@ -348,10 +348,11 @@ def _edge_pin(p: int, q: int, e: int, sites: np.ndarray, domain: Domain, tol: fl
     ``("corner", k, p)`` if that is (within ``tol``) the edge's corner k; None if it misses."""
     a, b = domain.edge_a[e], domain.edge_vec[e]
     w = sites[q] - sites[p]
-    den = float(b @ w)
+    den = float(b[0] * w[0] + b[1] * w[1])
     if den == 0.0:
         return None
-    t = float((0.5 * (sites[p] + sites[q]) - a) @ w) / den
+    m = 0.5 * (sites[p] + sites[q]) - a
+    t = float(m[0] * w[0] + m[1] * w[1]) / den
     eps = tol / float(domain.edge_len[e])
     if t < -eps or t > 1 + eps:
         return None
@@ -371,17 +372,18 @@ def _circle(con: tuple, sites: np.ndarray, domain: Domain) -> tuple[np.ndarray, 
         d = 2.0 * (u[0] * v[1] - u[1] * v[0])
         if d == 0.0:
             return None
-        uu, vv = u @ u, v @ v
+        uu, vv = u[0] * u[0] + u[1] * u[1], v[0] * v[0] + v[1] * v[1]
         centre = a + np.array([v[1] * uu - u[1] * vv, u[0] * vv - v[0] * uu]) / d
         return centre, float(np.hypot(*(a - centre)))
     if kind == "edge":
         p, q, e = sites[con[1]], sites[con[2]], con[3]
         a, b = domain.edge_a[e], domain.edge_vec[e]
         w = q - p
-        den = float(b @ w)
+        den = float(b[0] * w[0] + b[1] * w[1])
         if den == 0.0:
             return None
-        t = float((0.5 * (p + q) - a) @ w) / den
+        m = 0.5 * (p + q) - a
+        t = float(m[0] * w[0] + m[1] * w[1]) / den
         if not (1e-9 < t < 1 - 1e-9):  # off the edge: the corner case handles it
             return None
         centre = a + t * b

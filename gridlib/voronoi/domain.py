@@ -22,6 +22,7 @@ gridlib.errors.GridError: domain: the polygon's boundary intersects itself near 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -106,7 +107,7 @@ class Domain:
         lo, hi = xy.min(axis=0), xy.max(axis=0)
         extent = float(np.max(hi - lo))
         centre = 0.5 * (lo + hi)
-        quantum = 2.0 ** np.floor(np.log2(extent)) if extent > 0 else 1.0
+        quantum = math.ldexp(1.0, math.frexp(extent)[1] - 1) if extent > 0 else 1.0  # 2^floor(log2)
         self.origin = np.round(centre / quantum) * quantum  # x - origin exact for |x| >> extent
         local = xy - self.origin
         self.diameter = float(np.hypot(*(hi - lo)))

@@ -187,7 +187,8 @@ class _Cells:
         a = rest // self.shape[1] + self.lo[0]
         b = rest % self.shape[1] + self.lo[1]
         off = np.asarray(self.offset)[typ]
-        return self.lat.origin + self.lat.h * (np.column_stack([a, b]) @ self.basis() + off)
+        basis = self.basis()
+        return self.lat.origin + self.lat.h * (a[:, None] * basis[0] + b[:, None] * basis[1] + off)
 
     def present(self) -> np.ndarray:
         a, b = self.all_cells()

@@ -83,6 +83,7 @@ local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
 from __future__ import annotations
 
 import itertools
+import math
 import numbers
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -92,6 +93,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import GridError
 from ..grid import Grid
+from ..reproducible import arctan2
 from . import faults as _faults
 from .bounded import clipped_voronoi
 from .degenerate import CONTRACT, SHORT, Collapse, collapse_moves
@@ -254,7 +256,7 @@ def pebi_grid(
     faults = list(faults)
     wells = list(wells)
 
-    lay = _faults.layout(faults, dom, size, float(fault_ratio), notes, 2.0 ** -int(max_refinements))
+    lay = _faults.layout(faults, dom, size, float(fault_ratio), notes, math.ldexp(1.0, -int(max_refinements)))
     fault_labels = lay.net.labels if lay is not None else []
     room = None if lay is None else (lambda p: _faults.ring_room(lay, p))
     ws = build_wells(wells, dom, size, room, notes)
@@ -530,9 +532,9 @@ def _raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
     node = int(np.argmin(np.linalg.norm(net.nodes - where, axis=1)))
     arms = np.concatenate([net.edge_b[net.edge_a == node], net.edge_a[net.edge_b == node]])
     angle = ""
-    if arms.size >= 2 and np.linalg.norm(net.nodes[node] - where) <= 2.0 * float(fs.centre_step.max()):
+    if arms.size >= 2 and np.hypot(*(net.nodes[node] - where)) <= 2.0 * float(fs.centre_step.max()):
         v = net.nodes[arms] - net.nodes[node]
-        ang = np.sort(np.mod(np.arctan2(v[:, 1], v[:, 0]), 2 * np.pi))
+        ang = np.sort(np.mod(arctan2(v[:, 1], v[:, 0]), 2 * np.pi))
         gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
         angle = f" (they meet at {np.degrees(gaps.min()):.3g} degrees at {dom.fmt(net.nodes[node])})"
     raise GridError(

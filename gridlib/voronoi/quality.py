@@ -27,6 +27,7 @@ import numpy as np
 from ..errors import GridError
 from ..geometry import compute_geometry
 from ..grid import Grid
+from ..reproducible import arccos
 
 
 @dataclass(frozen=True)
@@ -74,7 +75,7 @@ class PebiQuality:
 
 def _angles(normals: np.ndarray, d: np.ndarray) -> np.ndarray:
     cosang = (normals * d).sum(axis=1) / (np.linalg.norm(normals, axis=1) * np.linalg.norm(d, axis=1))
-    return np.degrees(np.arccos(np.clip(cosang, -1.0, 1.0)))
+    return np.degrees(arccos(np.clip(cosang, -1.0, 1.0)))
 
 
 def grid_quality(obj: object) -> PebiQuality:

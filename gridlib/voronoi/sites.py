@@ -36,6 +36,7 @@ Padding (``padding=k`` rows, numeric cell size only)
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -44,6 +45,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..errors import GridError
+from ..reproducible import arctan2
 from .domain import Domain, _cross2
 
 SQRT3_2 = np.sqrt(3.0) / 2.0
@@ -130,7 +132,7 @@ def background_sites(
         while True:  # one pass per refinement level (a handful)
             s = h0 / 2**k
             act = np.flatnonzero(level == k)
-            xy = origin + s * (ij[act] @ basis)
+            xy = origin + s * _on_basis(ij[act], basis)
             inbox = np.all((xy >= lo - s) & (xy <= hi + s), axis=1)
             act, xy = act[inbox], xy[inbox]
             refine = act[size(xy) < s / np.sqrt(2)]
@@ -147,12 +149,12 @@ def background_sites(
             if ij.shape[0] > MAX_SITES:
                 raise GridError(f"pebi_grid: cell_size(x, y) gives more than {MAX_SITES:,d} sites")
             k += 1
-        scale = h0 / 2.0**k
-        xy = origin + scale * (ij @ basis)
-        spacing = h0 / 2.0**level
+        scale = h0 / math.ldexp(1.0, k)
+        xy = origin + scale * _on_basis(ij, basis)
+        spacing = h0 / np.ldexp(1.0, level)
         coarse = ij >> k  # exact where level == 0 (those indices were doubled k times)
     else:
-        xy = origin + h0 * (ij @ basis)
+        xy = origin + h0 * _on_basis(ij, basis)
         spacing = np.full(xy.shape[0], h0)
         coarse = ij
     kind = np.where(level == 0, LATTICE, FINER)
@@ -176,6 +178,11 @@ def background_sites(
         inner = domain.inner_buffer(clearance * s)
         keep[sel] = shapely.contains_xy(inner, xy[sel, 0], xy[sel, 1])
     return Background(xy[keep], spacing[keep], kind[keep], coarse[keep], origin, h0, pattern)
+
+
+def _on_basis(ij: np.ndarray, basis: np.ndarray) -> np.ndarray:
+    """Integer lattice coordinates (n, 2) times the basis rows (2, 2), elementwise (no BLAS)."""
+    return ij[:, :1] * basis[0] + ij[:, 1:2] * basis[1]
 
 
 def _probe(domain: Domain) -> np.ndarray:
@@ -211,8 +218,8 @@ def _padding_sites(domain: Domain, h: float, rows: int) -> np.ndarray:
     for v in reflex:  # loop over reflex corners
         n_in = inward[v - 1]
         n_out = inward[v]
-        a0 = np.arctan2(n_in[1], n_in[0])
-        a1 = np.arctan2(n_out[1], n_out[0])
+        a0 = float(arctan2(n_in[1], n_in[0]))
+        a1 = float(arctan2(n_out[1], n_out[0]))
         da = np.mod(a0 - a1, 2 * np.pi)  # clockwise from n_in to n_out
         for rho in off:
             nf = int(np.round(rho * da / h))

@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from ..errors import GridError
+from ..reproducible import exp, log, power
 from .domain import Domain
 
 
@@ -88,15 +89,15 @@ class Rings:
         if given == 3:
             raise GridError(f"{what}: give two of outer, growth and count, not all three")
         if outer is not None and growth is not None:
-            count = int(np.round(np.log(outer / inner) / np.log(growth))) + 1
+            count = int(np.round(log(outer / inner) / log(growth))) + 1
             return np.geomspace(inner, outer, max(count, 1)) if count > 1 else np.array([inner])
         if outer is not None and count is not None:
             return np.geomspace(inner, outer, count) if count > 1 else np.array([inner])
         if growth is not None and count is not None:
-            return inner * growth ** np.arange(count)
+            return inner * power(growth, np.arange(count, dtype=np.float64))
         if outer is not None:
-            g = np.exp(2 * np.pi / sectors)
-            count = int(np.round(np.log(outer / inner) / np.log(g))) + 1
+            g = float(exp(2 * np.pi / sectors))
+            count = int(np.round(log(outer / inner) / log(g))) + 1
             return np.geomspace(inner, outer, count) if count > 1 else np.array([inner])
         if count is not None and count == 1:
             return np.array([inner])
@@ -312,7 +313,7 @@ def _fit_rings(
         )
         return np.zeros(0)
     growth = float(radii[1] / radii[0]) if radii.size > 1 else max_outer / float(radii[0])
-    count = int(np.round(np.log(max_outer / radii[0]) / np.log(growth))) + 1 if growth > 1 else 1
+    count = int(np.round(log(max_outer / radii[0]) / log(growth))) + 1 if growth > 1 else 1
     fitted = np.geomspace(radii[0], max_outer, count) if count > 1 else radii[:1].copy()
     notes.append(
         f"{label}: rings shrunk to outer radius {fitted[-1]:.3g} m (from {radii[-1]:.3g} m; {fitted.size} "
@@ -333,7 +334,7 @@ def _ring_sizes(radii: np.ndarray, sectors: int, h: float) -> list[np.ndarray]:
     outer = np.concatenate([radii[1:], [last]])
     width = 0.5 * (outer - inner)
     arc = 2 * np.pi * radii / sectors
-    centre = 0.5 * radii[0] * np.sqrt(sectors * np.tan(np.pi / sectors))
+    centre = 0.5 * radii[0] * np.sqrt(sectors * np.sin(np.pi / sectors) / np.cos(np.pi / sectors))
     return [np.array([centre]), np.repeat(np.sqrt(arc * width), sectors)]
 
 
@@ -366,7 +367,7 @@ def _dist_to_polyline(p: np.ndarray, xy: np.ndarray) -> np.ndarray:
     for k in range(a.shape[0]):  # loop over path segments
         s = b[k] - a[k]
         rel = p - a[k]
-        t = np.clip(rel @ s / (s @ s), 0.0, 1.0)
+        t = np.clip((rel[:, 0] * s[0] + rel[:, 1] * s[1]) / (s[0] * s[0] + s[1] * s[1]), 0.0, 1.0)
         d = np.minimum(d, np.linalg.norm(rel - t[:, None] * s, axis=1))
     return d
 
