@@ -138,3 +138,31 @@ def flow_connection_factors(deck: Path, out: Path, step_days: float = 1.0) -> di
                 i, j, k = (int(v) - 1 for v in icon[w, c, 1:4])
                 factors[(name, i + nx * (j + ny * k))] = float(scon[w, c, 0])
     return factors
+
+
+# What Flow needs besides a grid to initialise (and briefly run) a model: two phases, simple
+# tables, equilibrium. One place for every test that completes a grid into a deck.
+PHASES = "OIL\nWATER\nTABDIMS\n 1 1 20 20 /\nEQLDIMS\n 1 /\nSTART\n 1 'JAN' 2020 /\n"
+PROPS_AND_SOLUTION = """PROPS
+SWOF
+ 0.0 0.0 1.0 0.0
+ 1.0 1.0 0.0 0.0 /
+PVTW
+ 200.0 1.0 3.0e-6 0.5 0.0 /
+PVDO
+ 100.0 1.01 1.0
+ 400.0 1.00 1.0 /
+DENSITY
+ 800 1000 1 /
+ROCK
+ 200.0 1.0e-6 /
+SOLUTION
+EQUIL
+ {datum} 200.0 {owc} 0 {datum} 0 /
+"""
+
+
+def rest_of_deck(datum: float, owc: float, schedule: str = "TSTEP\n 1 /\n") -> str:
+    """PROPS to END of a two-phase deck: equilibrium at ``datum`` (200 bar) with the oil-water
+    contact at ``owc`` (depths in the deck's length unit), then ``schedule``."""
+    return PROPS_AND_SOLUTION.format(datum=datum, owc=owc) + "SCHEDULE\n" + schedule + "END\n"

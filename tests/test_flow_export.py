@@ -7,13 +7,12 @@ Runs when ``flow`` (Debian ``libopm-simulators-bin``) is on the PATH; with
 
 from __future__ import annotations
 
-import os
-import shutil
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
+from flow_tools import flow_executable, rest_of_deck
 
 from gridlib import check_grid, compute_geometry
 from gridlib.cornerpoint.generators import make_model3, simple_grdecl
@@ -46,37 +45,7 @@ EQUALS
  'PERMY' 100.0 /
  'PERMZ' 10.0 /
 /
-PROPS
-SWOF
- 0.0 0.0 1.0 0.0
- 1.0 1.0 0.0 0.0 /
-PVTW
- 200.0 1.0 3.0e-6 0.5 0.0 /
-PVDO
- 100.0 1.01 1.0
- 400.0 1.00 1.0 /
-DENSITY
- 800 1000 1 /
-ROCK
- 200.0 1.0e-6 /
-SOLUTION
-EQUIL
- {datum} 200.0 {owc} 0 {datum} 0 /
-SCHEDULE
-TSTEP
- 1 /
-END
-"""
-
-
-def flow_executable() -> str:
-    """The ``flow`` command; skips the test without it, fails with GRIDLIB_REQUIRE_FLOW=1."""
-    exe = shutil.which("flow")
-    if exe is None:
-        if os.environ.get("GRIDLIB_REQUIRE_FLOW") == "1":
-            pytest.fail("GRIDLIB_REQUIRE_FLOW=1 but OPM Flow ('flow') is not on the PATH")
-        pytest.skip("OPM Flow ('flow') is not installed")
-    return exe
+{rest}"""
 
 
 @pytest.fixture(scope="module")
@@ -102,8 +71,7 @@ def run_flow_on_grdecl(
         nx=nx,
         ny=ny,
         nz=nz,
-        datum=finite.min(),
-        owc=finite.max() + 1,
+        rest=rest_of_deck(finite.min(), finite.max() + 1),
         units=units,
     ).replace("EQUALS\n 'PERMX'", extra + "EQUALS\n 'PERMX'")
     (workdir / "CASE.DATA").write_text(text)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from flow_tools import flow_connections, run_flow_dry
+from flow_tools import flow_connections, rest_of_deck, run_flow_dry
 
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.cornerpoint.process import FAULT, process_grdecl
@@ -28,27 +28,6 @@ from gridlib.transmissibility import NEIGHBOR, OTHER, deck_transmissibility
 from gridlib.units import METRIC
 
 DECKS = Path(__file__).parent / "data" / "decks"
-REST = """PROPS
-SWOF
- 0.0 0.0 1.0 0.0
- 1.0 1.0 0.0 0.0 /
-PVTW
- 200.0 1.0 3.0e-6 0.5 0.0 /
-PVDO
- 100.0 1.01 1.0
- 400.0 1.00 1.0 /
-DENSITY
- 800 1000 1 /
-ROCK
- 200.0 1.0e-6 /
-SOLUTION
-EQUIL
- {datum} 200.0 {owc} 0 {datum} 0 /
-SCHEDULE
-TSTEP
- 1 /
-END
-"""
 
 
 def flow_reference(deck_path: Path, out: Path) -> dict[tuple[int, int], float]:
@@ -144,7 +123,7 @@ def write_case(work: Path, deck, data, runspec=(), grid=(), edit=(), units="METR
     text += "INCLUDE\n 'grid.grdecl' /\n" + "\n".join(grid) + "\n"
     if edit:
         text += "EDIT\n" + "\n".join(edit) + "\n"
-    text += REST.format(datum=float(deck.zcorn.min()), owc=float(deck.zcorn.max()) + 1)
+    text += rest_of_deck(float(deck.zcorn.min()), float(deck.zcorn.max()) + 1)
     (work / "CASE.DATA").write_text(text)
     return work / "CASE.DATA"
 
@@ -410,7 +389,7 @@ def test_every_step_by_hand(tmp_path):
     assert any("EDITNNC: 1 pairs the grid does not join ignored" in n for n in c.notes)  # (1,1,1)-(3,2,1)
     runspec = "RUNSPEC\nOIL\nWATER\nTABDIMS\n 1 1 20 20 /\nEQLDIMS\n 1 /\nSTART\n 1 'JAN' 2020 /\n"
     text = HAND_DECK.replace("RUNSPEC\n", runspec).replace("GRID\n", "GRID\nINIT\nPORO\n 12*0.2 /\n", 1)
-    (tmp_path / "FLOW.DATA").write_text(text + REST.format(datum=1000.0, owc=1006.0))
+    (tmp_path / "FLOW.DATA").write_text(text + rest_of_deck(1000.0, 1006.0))
     _, flow = assert_same_as_flow(tmp_path / "FLOW.DATA", tmp_path / "out")
     assert flow == pytest.approx(t, rel=1e-12)
 

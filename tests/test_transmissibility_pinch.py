@@ -8,34 +8,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from flow_tools import flow_connections, run_flow_dry
+from flow_tools import PHASES, flow_connections, rest_of_deck, run_flow_dry
 
 from gridlib.io.grdecl import read_grdecl
 from gridlib.transmissibility import deck_transmissibility
 
 DECKS = Path(__file__).parent / "data" / "decks"
-RUNSPEC = "OIL\nWATER\nMETRIC\nTABDIMS\n 1 1 20 20 /\nEQLDIMS\n 1 /\nSTART\n 1 'JAN' 2020 /\n"
-REST = """PROPS
-SWOF
- 0.0 0.0 1.0 0.0
- 1.0 1.0 0.0 0.0 /
-PVTW
- 200.0 1.0 3.0e-6 0.5 0.0 /
-PVDO
- 100.0 1.01 1.0
- 400.0 1.00 1.0 /
-DENSITY
- 800 1000 1 /
-ROCK
- 200.0 1.0e-6 /
-SOLUTION
-EQUIL
- 0.5 200.0 10 0 0.5 0 /
-SCHEDULE
-TSTEP
- 1 /
-END
-"""
+RUNSPEC = "METRIC\n" + PHASES
+REST = rest_of_deck(0.5, 10.0)
 
 
 def assert_same_as_flow(deck_path: Path, out: Path) -> dict:

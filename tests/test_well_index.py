@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
-from flow_tools import flow_connection_factors
+from flow_tools import PROPS_AND_SOLUTION, flow_connection_factors
 
 import gridlib as gl
 from gridlib.cornerpoint.corners import corner_points
@@ -29,6 +29,7 @@ from gridlib.transmissibility.deck import rock_arrays
 from gridlib.transmissibility.wells import PEBI_RADIUS
 from gridlib.units import FIELD, METRIC
 
+PROPS_2010 = PROPS_AND_SOLUTION.format(datum=2010, owc=2100)  # equilibrium: datum 2010 m, contact 2100 m
 FLOAT32 = 1e-6
 
 # ------------------------------------------------------------------ Flow's factors, three decks
@@ -80,23 +81,7 @@ UNIFOUT
 GRID
 INCLUDE
  'grid.grdecl' /
-PROPS
-SWOF
- 0.0 0.0 1.0 0.0
- 1.0 1.0 0.0 0.0 /
-PVTW
- 200.0 1.0 3.0e-6 0.5 0.0 /
-PVDO
- 100.0 1.01 1.0
- 400.0 1.00 1.0 /
-DENSITY
- 800 1000 1 /
-ROCK
- 200.0 1.0e-6 /
-SOLUTION
-EQUIL
- 2010 200.0 2100 0 2010 0 /
-SCHEDULE
+{props}SCHEDULE
 WELSPECS
 {welspecs}/
 COMPDAT
@@ -151,7 +136,15 @@ def write_own_deck(folder: Path) -> Path:
     nx, ny, nz = deck.cart_dims
     path = folder / "OWN.DATA"
     path.write_text(
-        WRAPPER.format(nx=nx, ny=ny, nz=nz, welspecs=welspecs, compdat=compdat, wconprod=wconprod)
+        WRAPPER.format(
+            nx=nx,
+            ny=ny,
+            nz=nz,
+            welspecs=welspecs,
+            compdat=compdat,
+            wconprod=wconprod,
+            props=PROPS_AND_SOLUTION.format(datum=2010, owc=2100),
+        )
     )
     return path
 

@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 import xarray as xr
+from flow_tools import rest_of_deck
 from variants import other_machine, run_python
 
 import gridlib as gl
@@ -132,7 +133,8 @@ def test_the_report_zip_is_produced(workflow_run):
 
 
 def test_grdecl_outputs_are_read_by_opm_flow(workflow_run, tmp_path):
-    from test_flow_export import flow_executable, run_flow_on_grdecl
+    from flow_tools import flow_executable
+    from test_flow_export import run_flow_on_grdecl
 
     flow = flow_executable()
     for case in ("peaks", "anticline", "faulted_picks", "spe9"):
@@ -306,27 +308,7 @@ GRID
 INIT
 INCLUDE
  'rock.grdecl' /
-PROPS
-SWOF
- 0.0 0.0 1.0 0.0
- 1.0 1.0 0.0 0.0 /
-PVTW
- 200.0 1.0 3.0e-6 0.5 0.0 /
-PVDO
- 100.0 1.01 1.0
- 400.0 1.00 1.0 /
-DENSITY
- 800 1000 1 /
-ROCK
- 200.0 1.0e-6 /
-SOLUTION
-EQUIL
- {datum} 200.0 {owc} 0 {datum} 0 /
-SCHEDULE
-TSTEP
- 1 /
-END
-"""
+{rest}"""
 
 
 @pytest.mark.parametrize("case", ["anticline", "spe9"])
@@ -352,7 +334,9 @@ def test_corner_point_transmissibilities_equal_opm_flow(workflow_run, case, tmp_
         porv = ds["porv"].values
     finite = deck.zcorn[np.isfinite(deck.zcorn)]
     nx, ny, nz = deck.cart_dims
-    text = FLOW_DECK.format(nx=nx, ny=ny, nz=nz, units=units, datum=finite.min(), owc=finite.max() + 1)
+    text = FLOW_DECK.format(
+        nx=nx, ny=ny, nz=nz, units=units, rest=rest_of_deck(finite.min(), finite.max() + 1)
+    )
     (tmp_path / "CASE.DATA").write_text(text)
     result = run_flow_dry(tmp_path / "CASE.DATA", tmp_path / "out")
     flow = flow_connections(result)

@@ -28,6 +28,9 @@ from pathlib import Path
 import numpy as np
 import resfo
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # tests/: flow_tools
+from flow_tools import PHASES, rest_of_deck
+
 HERE = Path(__file__).parent
 DECKS = {
     "SPE9_CP": "spe9/SPE9_CP.DATA",
@@ -49,34 +52,8 @@ DECKS = {
     )
 }
 # OPM's PINCH/MINPV test decks have only RUNSPEC and GRID; Flow needs the rest of a deck.
-RUNSPEC_EXTRA = "OIL\nWATER\nMETRIC\nTABDIMS\n 1 1 20 20 /\nEQLDIMS\n 1 /\nSTART\n 1 'JAN' 2020 /\n"
-REST_OF_DECK = """
-EQUALS
- 'PERMX' 100 /
- 'PERMY' 100 /
- 'PERMZ' 100 /
-/
-PROPS
-SWOF
- 0.0 0.0 1.0 0.0
- 1.0 1.0 0.0 0.0 /
-PVTW
- 200.0 1.0 3.0e-6 0.5 0.0 /
-PVDO
- 100.0 1.01 1.0
- 400.0 1.00 1.0 /
-DENSITY
- 800 1000 1 /
-ROCK
- 200.0 1.0e-6 /
-SOLUTION
-EQUIL
- 0.5 200.0 10 0 0.5 0 /
-SCHEDULE
-TSTEP
- 1 /
-END
-"""
+RUNSPEC_EXTRA = "METRIC\n" + PHASES
+REST_OF_DECK = "\nEQUALS\n 'PERMX' 100 /\n 'PERMY' 100 /\n 'PERMZ' 100 /\n/\n" + rest_of_deck(0.5, 10.0)
 RB_IN_FT3 = 9702 / 1728  # 1 reservoir barrel = 5.6145833... ft3
 
 
