@@ -161,9 +161,8 @@ def print_by_kind(pg) -> None:
             )
 
 
-def extrusion(pg, faults, repeat: int) -> None:
-    """The 2.5D step: 10 layers between a domed top and a base 50-80 m below it, first with the
-    faults as tagged (conforming) faces only, then with every fault given a throw (8-17 m,
+def layered_horizons(pg, faults):
+    """The 2.5D case: a domed top, a base 50-80 m below it, and every fault's throw (8-17 m,
     hanging wall on its right, cells classified by their PEBI sites)."""
     areal = pg.grid
     x0, y0 = areal.nodes.coords.mean(axis=0)
@@ -176,11 +175,19 @@ def extrusion(pg, faults, repeat: int) -> None:
         return top(x, y) + 50.0 + 30.0 * (x - x0) / span
 
     throws = [FaultTrace(f.points, throw=8.0 + k, name=f.name) for k, f in enumerate(faults)]
+    return [top, base], throws
+
+
+def extrusion(pg, faults, repeat: int) -> None:
+    """The 2.5D step: 10 layers between the horizons of :func:`layered_horizons`, first with
+    the faults as tagged (conforming) faces only, then with every fault given a throw."""
+    areal = pg.grid
+    horizons, throws = layered_horizons(pg, faults)
     for label, traces in (("faults tagged, no throw", ()), ("every fault with a throw", throws)):
         times, geo_times = [], []
         for _ in range(repeat):
             t0 = time.perf_counter()
-            r = extrude(areal, [top, base], layers=10, faults=traces, centres=pg.sites)
+            r = extrude(areal, horizons, layers=10, faults=traces, centres=pg.sites)
             t1 = time.perf_counter()
             compute_geometry(r.grid)
             geo_times.append(time.perf_counter() - t1)

@@ -50,12 +50,12 @@ from gridlib.cornerpoint.generators import make_model3
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.grdecl import read_grdecl, write_grdecl
 from gridlib.stratigraphic.extrude import extrude
-from gridlib.stratigraphic.faults import FaultTrace
 from gridlib.transmissibility import NEIGHBOR, deck_transmissibility, transmissibility
 from gridlib.voronoi import pebi_grid
 
 sys.path.insert(0, str(Path(__file__).parent))
 from pebi import case as pebi_case
+from pebi import layered_horizons
 
 XTGEO = """
 import json, statistics, sys, time
@@ -213,17 +213,8 @@ def bench_pebi(args) -> None:
     domain, h, faults, wells = pebi_case(args.sites)
     pg = pebi_grid(domain, h, faults, wells)
     areal = pg.grid
-    x0, y0 = areal.nodes.coords.mean(axis=0)
-    span = float(np.ptp(areal.nodes.coords, axis=0).max())
-
-    def top(x, y):
-        return 2000.0 + 80.0 * np.exp(-(((x - x0) / span) ** 2 + ((y - y0) / span) ** 2) * 8.0)
-
-    def base(x, y):
-        return top(x, y) + 50.0 + 30.0 * (x - x0) / span
-
-    throws = [FaultTrace(f.points, throw=8.0 + k, name=f.name) for k, f in enumerate(faults)]
-    r = extrude(areal, [top, base], layers=10, faults=throws, centres=pg.sites)
+    horizons, throws = layered_horizons(pg, faults)
+    r = extrude(areal, horizons, layers=10, faults=throws, centres=pg.sites)
     grid = r.grid
     geo = compute_geometry(grid)
     rng = np.random.default_rng(1)
