@@ -1,4 +1,5 @@
-"""How many threads gridlib's blocked numpy loops may use (geometry, random fields).
+"""How many threads gridlib's blocked numpy loops may use (geometry, random fields,
+transmissibilities), and :func:`concurrently` to run independent steps on them.
 
 numpy releases the GIL inside its loops and products, so gridlib runs independent
 blocks of work on a few threads; every block writes its own rows, so results do
@@ -18,8 +19,12 @@ big stages of a large case two cores each).
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
+from typing import TypeVar
 
 from .errors import InputError
+
+T = TypeVar("T")
 
 ENV = "GRIDLIB_NUM_THREADS"
 
@@ -39,3 +44,21 @@ def num_threads(cap: int) -> int:
     else:  # pragma: no cover - macOS and Windows
         n = os.cpu_count() or 1
     return max(1, min(n, cap))
+
+
+def concurrently(*calls: Callable[[], T]) -> list[T]:
+    """The results of the zero-argument ``calls``, in order, computed on up to
+    :func:`num_threads` threads (numpy releases the GIL in its loops). Each call must
+    write only its own outputs, so the results never depend on the number of threads.
+
+    >>> concurrently(lambda: 1 + 1, lambda: "two")
+    [2, 'two']
+    """
+    workers = num_threads(len(calls))
+    if workers == 1:
+        return [call() for call in calls]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(workers) as pool:
+        futures = [pool.submit(call) for call in calls]
+        return [future.result() for future in futures]

@@ -30,6 +30,7 @@ from ..cornerpoint.corners import depth_sign
 from ..cornerpoint.deck import Deck
 from ..geometry import cross
 from ..grid import B, FloatArray, Grid, IntArray, T
+from ..threads import concurrently
 from ..units import MILLIDARCY, UnitSystem
 
 # Corners (a + 2b + 4c) of each logical face W, E, S, N, T, B (grid.W..grid.B)
@@ -222,29 +223,33 @@ def newtran_connections(
     layers are kept only with PINCH; MINPV connections are added (:mod:`.pinch`)."""
     nx, ny, _ = deck.cart_dims
     layer = nx * ny
+    nc = deck.num_cells
     glob = grid.cells.index_map
-    cell_of = np.full(deck.num_cells, -1, dtype=np.int64)
+    cell_of = np.full(nc, -1, dtype=np.int64)
     cell_of[glob] = np.arange(glob.size)
-    d, kdd, areas = structured_half_data(deck, perm, ntg)
+    strides = (1, nx, layer)
 
-    f, a, ta, b, tb = interior_half_faces(grid)
+    def faces_and_matches():
+        return interior_half_faces(grid), [_matched(deck, cell_of >= 0, axis).ravel() for axis in range(3)]
+
+    (d, kdd, areas), ((f, a, ta, b, tb), simple) = concurrently(
+        lambda: structured_half_data(deck, perm, ntg), faces_and_matches
+    )
     ga, gb = glob[a], glob[b]
     lo, step = np.minimum(ga, gb), np.abs(gb - ga)
-    simple = {axis: _matched(deck, cell_of >= 0, axis) for axis in range(3)}
-    strides = (1, nx, layer)
     is_simple = np.zeros(f.size, dtype=bool)
     face_of = []
     for axis, stride in enumerate(strides):
-        hit = (step == stride) & simple[axis].ravel()[lo] & ((ta >> 1) == axis)
+        hit = (step == stride) & simple[axis][lo] & ((ta >> 1) == axis)
         is_simple |= hit
-        lookup = np.full(deck.num_cells, -1, dtype=np.int64)
+        lookup = np.full(nc, -1, dtype=np.int64)
         lookup[lo[hit]] = f[hit]
         face_of.append(lookup)
 
-    parts = []
-    nc = deck.num_cells
-    for axis, stride in enumerate(strides):  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
-        plus, minus = 2 * axis + 1, 2 * axis
+    def simple_pairs(axis: int):
+        """The pairs of cells and their +axis neighbours whose shared corners coincide."""
+        stride = strides[axis]
+        plus, minus = 2 * axis + 1, 2 * axis  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
         low, high = slice(0, nc - stride), slice(stride, nc)  # every cell and its +axis neighbour
         area = areas[:, axis, low]
         t_all = combine(
@@ -252,11 +257,10 @@ def newtran_connections(
             half_transmissibilities(area, d[:, minus, high], kdd[minus, high]),
             units,
         )
-        g = np.flatnonzero(simple[axis].ravel()[low])
+        g = np.flatnonzero(simple[axis][low])
         n = g.size
         tags = (np.full(n, plus), np.full(n, minus))
-        row = (cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t_all[g])
-        parts.append(row)
+        return cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t_all[g]
 
     rest = ~is_simple
     f, a, ta, b, tb, ga, gb = (x[rest] for x in (f, a, ta, b, tb, ga, gb))
@@ -266,24 +270,31 @@ def newtran_connections(
         keep = ~across
         f, a, ta, b, tb, ga, gb, column = (x[keep] for x in (f, a, ta, b, tb, ga, gb, column))
         notes.append(f"{int(across.sum())} connections across zero-thickness layers left out (no PINCH)")
-    up, low = _minpv_pairs(deck, cell_of, parts, a, b, notes)
-    n = up.size
-    f = np.concatenate([f, np.full(n, -1)])
-    a, b = np.concatenate([a, up]), np.concatenate([b, low])
-    ta, tb = np.concatenate([ta, np.full(n, B)]), np.concatenate([tb, np.full(n, T)])
-    column = np.concatenate([column, np.ones(n, dtype=bool)])
-    ga, gb = glob[a], glob[b]
-    area = np.empty((3, f.size))
-    lateral = np.flatnonzero(~column)
-    area[:, lateral] = vector_areas(grid, f[lateral]).T
-    vertical = np.flatnonzero(column)
-    area[:, vertical] = areas[:, 2, np.where(ta == B, ga, gb)[vertical]]  # the upper cell's bottom quad
-    t = combine(
-        half_transmissibilities(area, d[:, ta, ga], kdd[ta, ga]),
-        half_transmissibilities(area, d[:, tb, gb], kdd[tb, gb]),
-        units,
-    )
-    parts.append((a, b, ta, tb, f, column, t))
+
+    def other_pairs(f, a, ta, b, tb, column):
+        """Fault faces, near-matching column faces, PINCH and MINPV connections: T from the
+        grid's face polygons (or the upper cell's bottom quad between cells of a column)."""
+        ga, gb = glob[a], glob[b]
+        area = np.empty((3, f.size))
+        lateral = np.flatnonzero(~column)
+        area[:, lateral] = vector_areas(grid, f[lateral]).T
+        vertical = np.flatnonzero(column)
+        area[:, vertical] = areas[:, 2, np.where(ta == B, ga, gb)[vertical]]  # the upper cell's bottom
+        t = combine(
+            half_transmissibilities(area, d[:, ta, ga], kdd[ta, ga]),
+            half_transmissibilities(area, d[:, tb, gb], kdd[tb, gb]),
+            units,
+        )
+        return a, b, ta, tb, f, column, t
+
+    tasks = [lambda axis=axis: simple_pairs(axis) for axis in range(3)]
+    parts = concurrently(*tasks, lambda: other_pairs(f, a, ta, b, tb, column))
+    up, low = _minpv_pairs(deck, cell_of, parts, notes)
+    if up.size:
+        n = up.size
+        parts.append(
+            other_pairs(np.full(n, -1), up, np.full(n, B), low, np.full(n, T), np.ones(n, dtype=bool))
+        )
     cols = list(zip(*parts, strict=True))
     return RawConnections(*(np.concatenate(c) for c in cols))
 
@@ -308,19 +319,16 @@ def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
     return out
 
 
-def _minpv_pairs(deck: Deck, cell_of: IntArray, parts, a: IntArray, b: IntArray, notes: list[str]):
+def _minpv_pairs(deck: Deck, cell_of: IntArray, parts, notes: list[str]):
     """Grid cells (upper, lower) of Flow's MINPV connections not already joined by a face
-    (the simple pairs in ``parts`` or the other face connections a, b)."""
+    (any of the connections in ``parts``)."""
     from .pinch import minpv_connections
 
     pairs = minpv_connections(deck)
     if pairs.size == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     n_cells = int(cell_of.max()) + 1
-    existing = np.concatenate(
-        [np.minimum(p[0], p[1]) * n_cells + np.maximum(p[0], p[1]) for p in parts]
-        + [np.minimum(a, b) * n_cells + np.maximum(a, b)]
-    )
+    existing = np.concatenate([np.minimum(p[0], p[1]) * n_cells + np.maximum(p[0], p[1]) for p in parts])
     up, low = cell_of[pairs[:, 0]], cell_of[pairs[:, 1]]
     ok = (up >= 0) & (low >= 0)
     key = np.minimum(up, low) * n_cells + np.maximum(up, low)
