@@ -71,3 +71,30 @@ show("geometry", geo.cell_volumes, geo.cell_centroids, geo.face_areas, geo.face_
 show("metis", gl.partition_metis(g, 12, face_weights=geo.face_areas, cell_weights=geo.cell_volumes))
 """
     )
+
+
+def test_transmissibilities_of_a_deck_and_of_a_pebi_grid():
+    """deck_transmissibility runs its steps concurrently on gridlib's threads; the NEWTRAN
+    and two-point values are elementwise: the same bits everywhere."""
+    same_output_everywhere(
+        PRELUDE
+        + """
+from gridlib.cornerpoint import make_model3, process_grdecl
+from gridlib.cornerpoint.deck import Deck
+from gridlib.transmissibility import deck_transmissibility, transmissibility
+from gridlib.voronoi import Fault, pebi_grid
+d = make_model3([30, 20, 6])
+rng = np.random.default_rng(3)
+data = {key: rng.uniform(10.0, 500.0, d.num_cells) for key in ("PERMX", "PERMY", "PERMZ")}
+data |= {"NTG": rng.uniform(0.5, 1.0, d.num_cells), "MULTX": rng.choice([1.0, 0.5], d.num_cells)}
+deck = Deck(d.cart_dims, d.coord, d.zcorn, d.actnum, data, source="model3")
+c = deck_transmissibility(deck)
+show("deck", c.cells, c.trans, c.kind, c.face)
+pg = pebi_grid(((0.0, 0.0), (1000.0, 700.0)), 40.0, faults=[Fault([(100.0, 80.0), (900.0, 640.0)])])
+g = gl.make_layered_grid(pg.grid, thickness=[2.0, 3.0])
+geo = gl.compute_geometry(g)
+centres = np.column_stack([pg.sites[g.layering.column], geo.cell_centroids[:, 2]])
+t = transmissibility(g, geo, rng.uniform(10.0, 500.0, g.num_cells), centres=centres, distance="normal")
+show("pebi", t.cells, t.trans)
+"""
+    )
