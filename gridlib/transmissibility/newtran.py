@@ -29,7 +29,7 @@ from ..connectivity import repeat_ids
 from ..cornerpoint.corners import depth_sign
 from ..cornerpoint.deck import Deck
 from ..geometry import cross
-from ..grid import B, FloatArray, Grid, IntArray, T
+from ..grid import B, E, FloatArray, Grid, IntArray, N, S, T, W
 from ..threads import concurrently
 from ..units import MILLIDARCY, UnitSystem
 
@@ -89,6 +89,25 @@ def interior_half_faces(grid: Grid) -> tuple[IntArray, IntArray, IntArray, IntAr
     return f, nb[f, 0], tag_of[f, 0], nb[f, 1], tag_of[f, 1]
 
 
+def interior_logical_faces(grid: Grid, dims: tuple[int, int, int]):
+    """:func:`interior_half_faces` of a processed corner-point grid, with the logical tags
+    read off the two cells' (i, j) columns instead of the half-face lists: every face of a
+    corner-point grid lies on a pillar pair (cells of columns i and i + 1, or j and j + 1:
+    E/W or N/S sides) or between two cells of one column (the upper cell's B, the lower's T)."""
+    nb = grid.faces.neighbors
+    f = np.flatnonzero((nb[:, 0] >= 0) & (nb[:, 1] >= 0))
+    a, b = nb[f, 0], nb[f, 1]
+    glob = grid.cells.index_map
+    nx, ny, _ = dims
+    ga, gb = glob[a], glob[b]
+    di = gb % nx - ga % nx
+    dj = (gb // nx) % ny - (ga // nx) % ny
+    below = gb // (nx * ny) > ga // (nx * ny)  # in one column: b under a
+    ta = np.select([di > 0, di < 0, dj > 0, dj < 0, below], [E, W, N, S, B], T)
+    tb = ta ^ 1  # the opposite side: W <-> E, S <-> N, T <-> B
+    return f, a, ta.astype(np.int64), b, tb.astype(np.int64)
+
+
 def half_transmissibilities(area: FloatArray, d: FloatArray, kdd: FloatArray) -> FloatArray:
     """K |A . d| / (d . d) per connection, from component-major area vectors and d (3, n)
     and K / (d . d) (n,) (:func:`structured_half_data`)."""
@@ -116,8 +135,6 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
 
 
 # -------------------------------------------------------------------------- every cell at once
-
-_LAYERS = 1  # layers of corner coordinates computed at a time (cache-sized temporaries)
 
 
 def structured_half_data(deck: Deck, perm: FloatArray, ntg: FloatArray):
@@ -230,7 +247,9 @@ def newtran_connections(
     strides = (1, nx, layer)
 
     def faces_and_matches():
-        return interior_half_faces(grid), [_matched(deck, cell_of >= 0, axis).ravel() for axis in range(3)]
+        return interior_logical_faces(grid, deck.cart_dims), [
+            _matched(deck, cell_of >= 0, axis).ravel() for axis in range(3)
+        ]
 
     (d, kdd, areas), ((f, a, ta, b, tb), simple) = concurrently(
         lambda: structured_half_data(deck, perm, ntg), faces_and_matches
