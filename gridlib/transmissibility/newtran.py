@@ -25,7 +25,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..connectivity import repeat_ids
 from ..cornerpoint.corners import depth_sign
 from ..cornerpoint.deck import Deck
 from ..geometry import cross
@@ -75,23 +74,10 @@ def vector_areas(grid: Grid, faces: IntArray) -> FloatArray:
     return out
 
 
-def interior_half_faces(grid: Grid) -> tuple[IntArray, IntArray, IntArray, IntArray, IntArray]:
-    """The interior faces f and, for each, its two cells and their logical face tags:
-    (f, cell_a, tag_a, cell_b, tag_b), a = neighbors[f, 0]."""
-    nb = grid.faces.neighbors
-    hf_cell = repeat_ids(grid.cells.face_pos)
-    hf_face = grid.cells.faces
-    tag = grid.cells.face_tag
-    first = hf_cell == nb[hf_face, 0]
-    tag_of = np.full((grid.num_faces, 2), -1, dtype=np.int64)
-    tag_of[hf_face, np.where(first, 0, 1)] = tag
-    f = np.flatnonzero((nb >= 0).all(axis=1))
-    return f, nb[f, 0], tag_of[f, 0], nb[f, 1], tag_of[f, 1]
-
-
 def interior_logical_faces(grid: Grid, dims: tuple[int, int, int]):
-    """:func:`interior_half_faces` of a processed corner-point grid, with the logical tags
-    read off the two cells' (i, j) columns instead of the half-face lists: every face of a
+    """The interior faces f of a processed corner-point grid, their two cells a, b
+    (``neighbors[f]``) and the logical side W, E, S, N, T, B each cell sees the face on:
+    (f, a, tag_a, b, tag_b). Read off the two cells' (i, j) columns: every face of a
     corner-point grid lies on a pillar pair (cells of columns i and i + 1, or j and j + 1:
     E/W or N/S sides) or between two cells of one column (the upper cell's B, the lower's T)."""
     nb = grid.faces.neighbors
