@@ -62,6 +62,31 @@ class Case:
     def has_coarsening(self) -> bool:
         return "coarsen" in self.data
 
+    @property
+    def is_3d(self) -> bool:
+        """The grid has depth: every type but 2-D cartesian and tensor grids."""
+        grid = self.data["grid"]
+        if grid["type"] == "cartesian":
+            return len(grid["dims"]) == 3
+        if grid["type"] == "tensor":
+            return "z" in grid
+        return True
+
+    @property
+    def has_simulation(self) -> bool:
+        """The case says what its OPM Flow deck simulates (wells, report steps)."""
+        return "simulation" in self.data
+
+    @property
+    def writes_flow_deck(self) -> bool:
+        """Cases with rock on a 3-D grid get an OPM Flow deck (flow/<NAME>.DATA)."""
+        return self.has_petrophysics and self.is_3d
+
+    @property
+    def flow_name(self) -> str:
+        """The deck's name: the case name in upper case (flow/<NAME>.DATA)."""
+        return self.name.upper()
+
     def provenance(self) -> dict[str, object]:
         """Attributes every output of this case carries."""
         from . import __version__
@@ -252,6 +277,52 @@ def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
         want = len(grid["dims"]) if kind == "cartesian" else (None if kind == "tensor" else 3)
         if want is not None and len(coarsen["dims"]) != want:
             return f"coarsen.dims: {len(coarsen['dims'])} values for a grid with {want} axes"
+    return _simulation_problem(data)
+
+
+WELL_NAME_LENGTH = 8  # ECLIPSE's well names
+
+
+def _simulation_problem(data: dict[str, Any]) -> str | None:
+    """The `simulation` section against the rest of the case: rock, depth, wells, days."""
+    sim = data.get("simulation")
+    if sim is None:
+        return None
+    grid = data["grid"]
+    if "petrophysics" not in data:
+        return "simulation: needs petrophysics (the deck's pore volumes and permeabilities)"
+    if (grid["type"] == "cartesian" and len(grid["dims"]) == 2) or (
+        grid["type"] == "tensor" and "z" not in grid
+    ):
+        return "simulation: a 2-D grid has no depth (give the grid a third axis or layers)"
+    days = sim["report_days"]
+    for k in range(1, len(days)):
+        if days[k] <= days[k - 1]:
+            return (
+                f"simulation.report_days[{k}]: {days[k]:g} does not come after {days[k - 1]:g} "
+                "(days must increase)"
+            )
+    if sim["fluid"] == "water" and "owc" in sim.get("initial", {}):
+        return "simulation.initial.owc: the water preset has no oil and no oil-water contact"
+    case_wells = {w["name"]: w for w in data.get("wells", [])}
+    seen: set[str] = set()
+    for k, well in enumerate(sim.get("wells", [])):
+        name = well["name"]
+        if name not in case_wells:
+            known = ", ".join(case_wells) or "none"
+            return f"simulation.wells[{k}].name: '{name}' is not among the case's wells (wells: {known})"
+        if name in seen:
+            return f"simulation.wells[{k}].name: well '{name}' is listed twice"
+        seen.add(name)
+        if len(name) > WELL_NAME_LENGTH or any(c in name for c in " '/"):
+            return (
+                f"simulation.wells[{k}].name: '{name}': a simulated well's name has at most "
+                f"{WELL_NAME_LENGTH} characters, without spaces, quotes or slashes"
+            )
+        if "point" not in case_wells[name]:
+            return (
+                f"simulation.wells[{k}].name: well '{name}' is a path; vertical wells (a point) are simulated"
+            )
     return None
 
 
@@ -281,6 +352,15 @@ def _features_outside(data: dict[str, Any], kind: str, horizons: dict[str, Any] 
     elif kind == "cornerpoint" and horizons is not None:
         (hx0, hx1), (hy0, hy1) = (_axis_range(horizons["lattice"][a]) for a in ("x", "y"))
         area = shapely.box(hx0, hy0, hx1, hy1)
+    elif kind == "cartesian":
+        spec = data["grid"]
+        dims = spec["dims"]
+        lengths = spec.get("lengths", [float(d) for d in dims])
+        x0, y0 = (spec.get("origin") or [0.0, 0.0])[:2]
+        area = shapely.box(x0, y0, x0 + lengths[0], y0 + lengths[1])
+    elif kind == "tensor":
+        (x0, x1), (y0, y1) = (_axis_range(data["grid"][a]) for a in ("x", "y"))
+        area = shapely.box(x0, y0, x1, y1)
     if area is None:
         return None
     for k, fault in enumerate(data.get("faults", [])):
