@@ -3,6 +3,8 @@
     gridlib build CASE.yaml OUTDIR   # every stage's artifacts (grid.nc, ..., CASE.vtu) in OUTDIR
     gridlib info FILE                # a deck (GRDECL/DATA), an EGRID or a gridlib netCDF file
     gridlib check FILE               # process (decks), compute the geometry, check every invariant
+    gridlib flow-deck RESULTS_DIR OUT_DIR [--form native|connections] [--case CASE.yaml]
+                                     # a built case's OPM Flow deck (<NAME>.DATA + includes)
 
 Errors in the input end with one message naming the file (and key, keyword or
 line) and exit status 2; a grid that fails ``check`` exits with status 1.
@@ -125,6 +127,16 @@ def build(case_file: Path, outdir: Path) -> str:
     return "\n".join(str(p) for p in run_case(case_file, outdir))
 
 
+def flow_deck(results_dir: Path, out_dir: Path, form: str | None, case: Path | None = None) -> str:
+    """Write the OPM Flow deck of the case built in ``results_dir`` into ``out_dir``."""
+    from .stages.flow_deck import flow_deck_from_results
+
+    deck = flow_deck_from_results(results_dir, out_dir, form, case)
+    lines = [str(p) for p in deck.files] + [f"note: {n}" for n in deck.notes]
+    form = "connection" if deck.form == "connections" else deck.form
+    return "\n".join([f"{form} form:", *lines])
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog="gridlib", description=__doc__, formatter_class=argparse.RawTextHelpFormatter
@@ -137,6 +149,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     i.add_argument("file", type=Path)
     c = sub.add_parser("check", help="process and check a deck or netCDF grid file")
     c.add_argument("file", type=Path)
+    f = sub.add_parser("flow-deck", help="write a built case's OPM Flow deck")
+    f.add_argument(
+        "results_dir", type=Path, help="the case's results folder (grid.nc, transmissibility.nc, ...)"
+    )
+    f.add_argument("out_dir", type=Path, help="where <NAME>.DATA and its includes go")
+    f.add_argument(
+        "--form",
+        choices=("native", "connections"),
+        help="native (corner-point and deck cases; their default) or connections (any case)",
+    )
+    f.add_argument("--case", type=Path, help="the case file (default: the one recorded in the artifacts)")
     args = parser.parse_args(argv)
 
     from .errors import GridError, InputError
@@ -146,6 +169,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             text = build(args.case, args.outdir)
         elif args.command == "info":
             text = info(args.file)
+        elif args.command == "flow-deck":
+            text = flow_deck(args.results_dir, args.out_dir, args.form, args.case)
         else:
             text = check(args.file)
     except InputError as exc:

@@ -1,4 +1,4 @@
-"""The gridlib command: build, info, check; errors are one line and a status."""
+"""The gridlib command: build, info, check, flow-deck; errors are one line and a status."""
 
 from __future__ import annotations
 
@@ -36,6 +36,30 @@ def test_build_then_info_and_check_of_the_netcdf(tmp_path, capsys):
     assert "case_name: honeycomb" in capsys.readouterr().out
     assert main(["check", str(tmp_path / "grid.nc")]) == 0
     assert "total volume: 80.5403626" in capsys.readouterr().out
+
+
+def test_flow_deck_of_a_built_case_in_either_form(tmp_path, capsys):
+    case = ROOT / "config" / "cases" / "peaks.yaml"
+    assert main(["build", str(case), str(tmp_path / "peaks")]) == 0
+    assert "form native" in (tmp_path / "peaks" / "flow" / "PEAKS.DATA").read_text()  # the build's own
+    capsys.readouterr()
+    assert main(["flow-deck", str(tmp_path / "peaks"), str(tmp_path / "deck"), "--form", "connections"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "connection form:" and out[1] == str(tmp_path / "deck" / "PEAKS.DATA")
+    assert sorted(p.name for p in (tmp_path / "deck").iterdir()) == [
+        "PEAKS.DATA",
+        "PEAKS_GRID.INC",
+        "PEAKS_NNC.INC",
+        "PEAKS_PORV.INC",
+    ]
+    assert main(["flow-deck", str(tmp_path / "peaks"), str(tmp_path / "native")]) == 0
+    assert capsys.readouterr().out.startswith("native form:")
+    other = ROOT / "config" / "cases" / "anticline.yaml"
+    assert main(["flow-deck", str(tmp_path / "peaks"), str(tmp_path / "x"), "--case", str(other)]) == 2
+    assert "case 'anticline', but" in capsys.readouterr().err
+    assert main(["flow-deck", str(tmp_path / "nothing"), str(tmp_path / "x")]) == 2
+    assert "grid.nc not found" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
 
 
 def test_errors_are_one_message_and_a_status(tmp_path, capsys):

@@ -8,10 +8,12 @@ from pathlib import Path
 from ..config import load_case
 from .coarsen import stage_coarsen
 from .export import stage_export
+from .flow_deck import stage_flow_deck
 from .geometry import stage_geometry
 from .grid import stage_grid
 from .horizons import stage_horizons
 from .petrophysics import stage_petrophysics
+from .simulate import stage_simulate
 from .transmissibility import has_transmissibility, stage_transmissibility
 
 
@@ -32,11 +34,16 @@ def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:
         "png": d / f"{name}.png",
         "histograms": d / f"{name}_histograms.png",
         "summary": d / "summary.json",
+        "flow_deck": d / "flow" / f"{name.upper()}.DATA",
+        "flow_summary": d / "flow" / "summary.json",
+        "flow_wells": d / "flow" / f"{name}_wells.png",
+        "flow_vtu": d / "flow" / f"{name}_flow.vtu",
     }
 
 
-def run_case(case_file: str | os.PathLike, folder: str | os.PathLike) -> list[Path]:
-    """Run every stage the case needs into ``folder``; returns the files written."""
+def run_case(case_file: str | os.PathLike, folder: str | os.PathLike, simulate: bool = False) -> list[Path]:
+    """Run every stage the case needs into ``folder``; returns the files written. With
+    ``simulate``, OPM Flow also runs the deck of a case with a ``simulation`` section."""
     case = load_case(case_file)
     out = case_outputs(case.name, folder)
     Path(folder).mkdir(parents=True, exist_ok=True)
@@ -69,4 +76,13 @@ def run_case(case_file: str | os.PathLike, folder: str | os.PathLike) -> list[Pa
     exports = {k: str(out[k]) for k in ("nc", "vtu", "faults", "png", "histograms", "summary")}
     stage_export(case_file, out["grid"], out["geometry"], exports, petro, coarse, trans)
     written += [Path(p) for p in exports.values()]
+    if case.writes_flow_deck:
+        deck = stage_flow_deck(
+            case_file, out["grid"], out["geometry"], petro, trans, out["flow_deck"], grdecl
+        )
+        written += list(deck.files)
+        if simulate and case.has_simulation:
+            results = {"summary": out["flow_summary"], "wells": out["flow_wells"], "vtu": out["flow_vtu"]}
+            stage_simulate(case_file, out["flow_deck"], out["grid"], trans, results)
+            written += list(results.values())
     return written

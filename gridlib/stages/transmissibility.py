@@ -51,6 +51,7 @@ import numpy as np
 import xarray as xr
 
 from ..config import Case, load_case
+from ..cornerpoint.deck import Deck
 from ..cornerpoint.process import CornerPointGrid
 from ..errors import InputError
 from ..geometry import Geometry
@@ -154,15 +155,7 @@ def _deck_case(
     if "bulk_volume" not in stored.cell_data:
         raise InputError(f"{grid_nc}: bulk_volume: missing (a cornerpoint or deck grid stores it)")
     index = grid.cells.index_map
-
-    def on_deck(values: np.ndarray) -> np.ndarray:
-        full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read
-        full[index] = values
-        return full
-
-    case_rock = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
-    cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in case_rock.items()}}
-    deck = replace(deck, cell_data=cell_data, units=system.name)
+    deck = deck_with_rock(deck, index, rock, system.name)
     extra = read_extra(grid_nc, ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face"))
     empty = np.zeros((0, 2), dtype=np.int64)
     nnc = NNC(
@@ -182,6 +175,23 @@ def _deck_case(
         porv = bulk * rock["poro"] * rock["ntg"] * multpv * _volume_unit(system)
     method = "deck_transmissibility (ECLIPSE NEWTRAN, MULT* and MULTFLT as OPM Flow 2022.10 computes them)"
     return conn, porv, method
+
+
+CASE_ROCK = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
+
+
+def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: str) -> Deck:
+    """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell)
+    on its cells ``index`` (0 on cells outside the grid, which Flow leaves inactive: no pore
+    volume), in ``units``; the deck's other keywords (multipliers) stay."""
+
+    def on_deck(values: np.ndarray) -> np.ndarray:
+        full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read
+        full[index] = values
+        return full
+
+    cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in CASE_ROCK.items()}}
+    return replace(deck, cell_data=cell_data, units=units)
 
 
 def _volume_unit(system: UnitSystem) -> float:

@@ -1,0 +1,307 @@
+"""Part of stage ``export``: the case's OPM Flow deck, ``flow/<NAME>.DATA`` (NAME: the case
+name in upper case) with its includes, written by :func:`gridlib.io.flow.write_flow_deck`.
+
+Which form (``form=None``, the workflow's choice): **native** for cornerpoint and deck
+cases (the case's ``grid.grdecl`` with the case's PORO, PERMX/Y/Z and NTG, its FAULTS
+and MULTFLT: Flow computes everything itself), the **connection form** for every other
+grid (``transmissibility.nc``'s pore volumes and connections; cell centre depths from
+``geometry.nc``). ``form="connections"`` also writes a corner-point case in the
+connection form: pore volumes and transmissibilities of ``transmissibility.nc`` (Flow's
+own, by construction), each cell's box between the mean depth of its 4 top and of its
+4 bottom corners (so its centre is Flow's), and well factors as Flow computes them
+(:func:`~gridlib.transmissibility.deck_well_index`): the two forms then give the same
+simulation.
+
+Cases get a deck when they have rock (``petrophysics``) on a 3-D grid: without rock
+there are no pore volumes or transmissibilities, and a 2-D grid has no depth and
+transmissibilities per metre of thickness; those cases get no deck.
+
+What the deck simulates comes from the case's ``simulation`` section (fluid preset,
+initial state, wells, report days), in the case's unit system (METRIC; a deck's own,
+e.g. FIELD). Without it, the deck has the oil-water preset and no wells and only
+initialises the model; defaults of the initial state: datum at the top of the model,
+pressure hydrostatic (the preset's water from 1 atm at the surface, to 0.01 bar or psi),
+oil-water contact at the base of the model (both rounded outwards to whole metres or
+feet). Wells are completed in every cell their vertical line
+crosses (:func:`~gridlib.completions.vertical_well_cells`), top down, with radius 0.1 m
+unless the case says. Their connection factors in the connection form: Peaceman's as
+Flow computes it for corner-point cases, :func:`~gridlib.transmissibility.well_index`
+(the PEBI form for vertical wells in PEBI cells) for the others.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..completions import vertical_well_cells
+from ..config import Case, load_case
+from ..cornerpoint.corners import corner_points
+from ..cornerpoint.deck import Deck
+from ..errors import InputError
+from ..fluids import conversion, water_gradient
+from ..geometry import Geometry
+from ..grid import Grid
+from ..io.flow import ConnectionGrid, FlowDeck, FlowWell, Simulation, write_flow_deck
+from ..io.grdecl import read_grdecl
+from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..transmissibility import deck_well_index, well_index
+from ..units import ATM, UnitSystem, unit_system
+from .common import log, read_attrs
+from .petrophysics import read_rock
+from .transmissibility import deck_with_rock, read_transmissibility
+
+WELL_RADIUS = 0.1  # m, the default well radius
+
+
+def deck_name(case: Case) -> str:
+    """The deck's file stem: the case name in upper case."""
+    return case.flow_name
+
+
+def stage_flow_deck(
+    case_file: str | os.PathLike,
+    grid_nc: str | os.PathLike,
+    geometry_nc: str | os.PathLike,
+    petrophysics_nc: str | os.PathLike,
+    transmissibility_nc: str | os.PathLike,
+    deck_out: str | os.PathLike,
+    grdecl: str | os.PathLike | None = None,
+    form: str | None = None,
+) -> FlowDeck:
+    """Write the case's OPM Flow deck ``deck_out`` (``<folder>/<NAME>.DATA``) and its includes
+    next to it; ``form``: "native", "connections" or None (native for cornerpoint and deck
+    cases, connections otherwise)."""
+    case = load_case(case_file)
+    if not case.writes_flow_deck:
+        raise InputError(f"{case.path}: petrophysics: an OPM Flow deck needs rock properties on a 3-D grid")
+    deck_out = Path(deck_out)
+    if deck_out.suffix != ".DATA" or deck_out.stem != case.flow_name:
+        raise InputError(f"{deck_out}: the deck of case '{case.name}' is named {case.flow_name}.DATA")
+    corner = case.writes_grdecl
+    form = form or ("native" if corner else "connections")
+    if form not in ("native", "connections"):
+        raise InputError(f"form: expected 'native' or 'connections', got {form!r}")
+    if form == "native" and not corner:
+        raise InputError(
+            f"{case.path}: grid.type: a {case.data['grid']['type']} grid has no native form "
+            "(Flow reads corner-point grids only): use the connection form"
+        )
+    if corner and grdecl is None:
+        raise InputError(
+            f"{case.path}: grid: a {case.data['grid']['type']} grid's deck needs its grid.grdecl"
+        )
+    stored = read_netcdf(grid_nc)
+    grid = stored.grid
+    geo = read_geometry_netcdf(geometry_nc)
+    rock = read_rock(petrophysics_nc)
+    variables, tattrs = read_transmissibility(transmissibility_nc)
+    for what, n in (("geometry", geo.cell_volumes.size), ("petrophysics", rock["poro"].size)):
+        if n != grid.num_cells:
+            raise InputError(f"{case.path}: {what} has {n} cells, but {grid_nc} has {grid.num_cells}")
+    if variables["porv"].size != grid.num_cells:
+        raise InputError(
+            f"{transmissibility_nc}: porv has {variables['porv'].size} cells, the grid {grid.num_cells}"
+        )
+    system = unit_system(str(tattrs["unit_system"]))
+    try:
+        conversion(system.name)
+    except InputError:
+        raise InputError(
+            f"{case.path}: grid.file: the deck is in {system.name} units; OPM Flow decks are written "
+            "for METRIC and FIELD cases"
+        ) from None
+    deck = None
+    if corner:
+        deck = deck_with_rock(read_grdecl(grdecl), grid.cells.index_map, rock, system.name)
+    flow_index = variables["cell_flow_index"].values
+    depth, thickness = _depths(grid, geo, deck)
+    sim = _simulation(case, grid, geo, rock, system, depth, thickness, deck, flow_index, form)
+    header = _header(case)
+    if form == "native":
+        written = write_flow_deck(
+            deck_out.parent, case.flow_name, deck, sim, units=system.name, header=header
+        )
+    else:
+        layout = ConnectionGrid(
+            dims=tuple(int(v) for v in tattrs["flow_dims"]),
+            index=flow_index,
+            porv=variables["porv"].values,
+            depth=depth,
+            thickness=thickness,
+            poro=rock["poro"],
+            permeability=np.column_stack([rock["permx"], rock["permy"], rock["permz"]]),
+            pairs=variables["connection_cells"].values,
+            trans=variables["trans"].values,
+            spacing=_spacing(geo.cell_volumes, thickness),
+        )
+        try:
+            written = write_flow_deck(
+                deck_out.parent, case.flow_name, layout, sim, units=system.name, header=header
+            )
+        except InputError as exc:
+            raise InputError(f"{case.path}: {exc}") from None
+    log.info("wrote %s (%s form, %d wells)", written.path, written.form, len(sim.wells))
+    for note in written.notes:
+        log.info("note: %s", note)
+    return written
+
+
+def _header(case: Case) -> list[str]:
+    from .. import __version__
+
+    return [
+        f"{case.flow_name}: OPM Flow deck of gridlib case '{case.name}', written by gridlib {__version__}",
+        f"case file {case.path}",
+        f"case sha256 {case.sha256}",
+    ]
+
+
+def _depths(grid: Grid, geo: Geometry, deck: Deck | None) -> tuple[np.ndarray, np.ndarray]:
+    """Centre depth and vertical extent of every cell: for a corner-point deck as Flow takes
+    them (the mean of the 8 corners; the mean depth of the 4 bottom minus the 4 top
+    corners), else the centroid's depth and the mean thickness V / A (A the horizontal
+    area, half the sum of |n_z| over the cell's faces)."""
+    if deck is not None:
+        p = corner_points(deck, grid.cells.index_map)[:, :, 2]
+        top = (((p[:, 0] + p[:, 1]) + p[:, 2]) + p[:, 3]) / 4.0
+        bottom = (((p[:, 4] + p[:, 5]) + p[:, 6]) + p[:, 7]) / 4.0
+        return (top + bottom) / 2.0, bottom - top
+    pos = grid.cells.face_pos
+    owner = np.repeat(np.arange(grid.num_cells), np.diff(pos))
+    plan = 0.5 * np.bincount(owner, np.abs(geo.face_normals[grid.cells.faces, 2]), grid.num_cells)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        thickness = np.where(plan > 0, geo.cell_volumes / plan, 0.0)
+    return geo.cell_centroids[:, 2].copy(), thickness
+
+
+def _spacing(volumes: np.ndarray, thickness: np.ndarray) -> float:
+    """The boxes' lateral size: the square root of the median horizontal cell area, rounded
+    to 3 significant digits (cosmetic: the connection form's boxes have no other use)."""
+    area = float(np.median(volumes / np.maximum(thickness, 1e-300)))
+    return float(f"{np.sqrt(area):.3g}") if area > 0 else 1.0
+
+
+def _simulation(
+    case: Case,
+    grid: Grid,
+    geo: Geometry,
+    rock: dict[str, np.ndarray],
+    system: UnitSystem,
+    depth: np.ndarray,
+    thickness: np.ndarray,
+    deck: Deck | None,
+    flow_index: np.ndarray,
+    form: str,
+) -> Simulation:
+    spec: dict[str, Any] = case.data.get("simulation", {})
+    fluid = spec.get("fluid", "oil-water")
+    initial = spec.get("initial", {})
+    top = float(np.floor((depth - thickness / 2.0).min()))  # whole length units: a deck a person reads
+    base = float(np.ceil((depth + thickness / 2.0).max()))
+    datum = float(initial.get("datum", top))
+    c = conversion(system.name)
+    hydrostatic = round(ATM / 1e5 * c.pressure + water_gradient(system.name) * datum, 2)
+    pressure = float(initial.get("pressure", hydrostatic))
+    owc = None if fluid == "water" else float(initial.get("owc", base))
+    case_wells = {w["name"]: w for w in case.data.get("wells", [])}
+    wells = []
+    for k, w in enumerate(spec.get("wells", [])):
+        key = f"{case.path}: simulation.wells[{k}]"
+        point = case_wells[w["name"]]["point"]
+        cells = vertical_well_cells(grid, geo, point)
+        if cells.size == 0:
+            raise InputError(
+                f"{key}.name: well '{w['name']}' at ({point[0]:g}, {point[1]:g}) lies outside every "
+                "active cell of the grid"
+            )
+        radius = float(w.get("radius", WELL_RADIUS * c.length))
+        skin = float(w.get("skin", 0.0))
+        factors = None
+        try:
+            if form == "connections":
+                if deck is not None:
+                    factors = deck_well_index(deck, grid.cells.index_map[cells], radius, skin)
+                else:
+                    perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])
+                    factors = well_index(
+                        grid, geo, perm, cells, radius, skin, ntg=rock["ntg"], units=system.name
+                    )
+        except InputError as exc:
+            raise InputError(f"{key}.radius: well '{w['name']}': {exc}") from None
+        wells.append(
+            FlowWell(
+                w["name"],
+                "injector" if w["type"] == "injector" else "producer",
+                flow_index[cells],
+                radius,
+                skin,
+                factors,
+                w.get("rate"),
+                w.get("bhp"),
+            )
+        )
+    return Simulation(
+        fluid, datum, pressure, owc, tuple(wells), tuple(float(d) for d in spec.get("report_days", ()))
+    )
+
+
+def results_paths(results_dir: str | os.PathLike) -> dict[str, Path]:
+    """The artifacts a deck is written from, in a case's results folder."""
+    d = Path(results_dir)
+    return {
+        "grid": d / "grid.nc",
+        "geometry": d / "geometry.nc",
+        "petrophysics": d / "petrophysics.nc",
+        "transmissibility": d / "transmissibility.nc",
+        "grdecl": d / "grid.grdecl",
+    }
+
+
+def flow_deck_from_results(
+    results_dir: str | os.PathLike,
+    out_dir: str | os.PathLike,
+    form: str | None = None,
+    case_file: str | os.PathLike | None = None,
+) -> FlowDeck:
+    """The deck of a built case (``gridlib flow-deck``): its artifacts in ``results_dir``, its
+    case file (default: the one recorded in them, as it was given to the build, relative to
+    the directory the build ran in), which must not have changed since; the deck goes to
+    ``out_dir``."""
+    paths = results_paths(results_dir)
+    for key in ("grid", "geometry", "petrophysics", "transmissibility"):
+        if not paths[key].is_file():
+            raise InputError(
+                f"{results_dir}: {paths[key].name} not found (a built case with petrophysics is needed)"
+            )
+    attrs = read_attrs(paths["transmissibility"])
+    if case_file is None:
+        case_file = Path(str(attrs.get("case_file", "")))
+        if not case_file.is_file():
+            raise InputError(
+                f"{paths['transmissibility']}: case_file: '{case_file}' not found (give the case file)"
+            )
+    case = load_case(case_file)
+    if case.name != attrs.get("case_name"):
+        raise InputError(
+            f"{case_file}: name: case '{case.name}', but {results_dir} holds case '{attrs.get('case_name')}'"
+        )
+    if case.sha256 != attrs.get("case_sha256"):
+        raise InputError(
+            f"{case_file}: changed since {results_dir} was built (its SHA-256 differs): build the case again"
+        )
+    grdecl = paths["grdecl"] if case.writes_grdecl else None
+    out = Path(out_dir) / f"{case.flow_name}.DATA"
+    return stage_flow_deck(
+        case_file,
+        paths["grid"],
+        paths["geometry"],
+        paths["petrophysics"],
+        paths["transmissibility"],
+        out,
+        grdecl,
+        form,
+    )

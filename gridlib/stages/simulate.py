@@ -1,0 +1,229 @@
+"""Stage ``simulate`` (optional): OPM Flow runs the case's deck ``flow/<NAME>.DATA``.
+
+Flow runs with one thread and its default tolerances into a temporary folder next to the
+deck; only a run that reaches the last report step has its files moved into ``flow/``
+(``<NAME>.PRT``, ``.SMSPEC``, ``.UNSMRY``, ``.EGRID``, ``.INIT``, ``.UNRST``: ResInsight
+opens them), then the stage writes, atomically:
+
+* ``summary`` (``flow/summary.json``): the field figures at the end of the run (totals,
+  in place, average pressure, water cut), the wells' end figures, and the last FIP report
+  of the PRT file;
+* ``wells`` (``flow/{case}_wells.png``): every well's surface rates and bottom-hole pressure
+  over time;
+* ``vtu`` (``flow/{case}_flow.vtu``): the grid (the case's own cells, not the connection
+  form's boxes) with Flow's pressure and water saturation at every report step
+  (``pressure_<days>d``, ``swat_<days>d``; through ``cell_flow_index``), for ParaView.
+
+A failed run leaves nothing behind and ends in an :class:`~gridlib.errors.InputError`
+naming the case file and quoting Flow's message. Units: the deck's (METRIC: sm3, sm3/day,
+bar; FIELD: stb, stb/day, psia).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..config import load_case
+from ..errors import InputError
+from ..io._atomic import atomic_path
+from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_restart_cells, read_summary
+from ..io.netcdf import read_netcdf
+from ..io.vtu import write_vtu
+from .common import log
+from .transmissibility import read_transmissibility
+
+FLOW_OUTPUTS = (".PRT", ".DBG", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST", ".INFOSTEP")
+FIELD_FIGURES = ("FOPT", "FWPT", "FWIT", "FOIP", "FWIP", "FPR", "FWCT")
+WELL_FIGURES = ("WOPT", "WWPT", "WWIT", "WBHP", "WWCT")
+
+
+def flow_command() -> str:
+    """The ``flow`` executable (OPM Flow); InputError if it is not on the PATH."""
+    exe = shutil.which("flow")
+    if exe is None:
+        raise InputError(
+            "OPM Flow ('flow') is not installed (Debian/Ubuntu: apt-get install libopm-simulators-bin)"
+        )
+    return exe
+
+
+def run_flow(deck: Path, out_dir: Path, options: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
+    """Flow on ``deck`` with its output in ``out_dir`` (one thread, ``options`` added), run in
+    the deck's folder."""
+    deck, out_dir = Path(deck).resolve(), Path(out_dir).resolve()
+    return subprocess.run(
+        [flow_command(), "--threads-per-process=1", *options, f"--output-dir={out_dir}", deck.name],
+        capture_output=True,
+        text=True,
+        cwd=deck.parent,
+    )
+
+
+_MESSAGE = re.compile(r"^(Error:|Problem:|Exception|Program threw|.*\b[Ee]xception\b)")
+
+
+def flow_message(result: subprocess.CompletedProcess, prt: Path) -> str:
+    """What Flow said went wrong: its error and exception lines (stdout, stderr, the PRT file),
+    else the last lines it printed; Open MPI's notes are left out."""
+    text = "\n".join([result.stdout or "", result.stderr or ""])
+    if prt.is_file():
+        text += "\n" + prt.read_text(errors="replace")
+    lines = [line.strip() for line in text.splitlines() if line.strip() and "MPI" not in line]
+    found = list(dict.fromkeys(line for line in lines if _MESSAGE.match(line)))
+    if not found:
+        found = lines[-3:] or [f"exit status {result.returncode}"]
+    return " | ".join(found[:4])
+
+
+def stage_simulate(
+    case_file: str | os.PathLike,
+    deck: str | os.PathLike,
+    grid_nc: str | os.PathLike,
+    transmissibility_nc: str | os.PathLike,
+    outputs: dict[str, str | os.PathLike],
+    options: tuple[str, ...] = (),
+) -> FlowSummary:
+    """Run Flow on ``deck``; write ``outputs`` (summary, wells, vtu); returns the summary."""
+    case = load_case(case_file)
+    deck = Path(deck)
+    if not deck.is_file():
+        raise InputError(f"{case.path}: simulation: the deck {deck} is missing (run the export first)")
+    days = list(case.data.get("simulation", {}).get("report_days", []))
+    name = deck.stem
+    try:
+        flow_command()
+    except InputError as exc:
+        raise InputError(f"{case.path}: simulation: {exc}") from None
+    tmp = Path(tempfile.mkdtemp(prefix=f".{name}.run-", dir=deck.parent))
+    try:
+        result = run_flow(deck, tmp, options)
+        base = tmp / name
+        if result.returncode != 0 or not Path(f"{base}.UNSMRY").is_file():
+            raise InputError(
+                f"{case.path}: simulation: OPM Flow failed on {deck.name}: "
+                f"{flow_message(result, Path(f'{base}.PRT'))}"
+            )
+        summary = read_summary(base)
+        end = float(summary.time[-1]) if summary.time.size else 0.0
+        if days and not np.isclose(end, days[-1], rtol=0.0, atol=1e-6):
+            raise InputError(
+                f"{case.path}: simulation.report_days: OPM Flow stopped at day {end:g} of {days[-1]:g}: "
+                f"{flow_message(result, Path(f'{base}.PRT'))}"
+            )
+        fip = read_fip_report(f"{base}.PRT")
+        for line in (result.stdout or "").splitlines():
+            if "time (seconds)" in line or line.startswith("Overall"):
+                log.info("flow: %s", line.strip())
+        for suffix in FLOW_OUTPUTS:
+            produced = Path(f"{base}{suffix}")
+            if produced.is_file():
+                os.replace(produced, deck.parent / produced.name)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    figures = simulation_figures(case, summary, fip, deck)
+    with atomic_path(outputs["summary"]) as path:
+        path.write_text(json.dumps(figures, indent=2) + "\n")
+    plot_wells(Path(outputs["wells"]), summary, f"{case.name}: wells ({figures['units']})")
+    if "vtu" in outputs:
+        write_result_vtu(Path(outputs["vtu"]), deck.parent / name, grid_nc, transmissibility_nc, summary)
+    log.info(
+        "simulated %s to day %g: %s",
+        case.name,
+        figures["simulated_days"],
+        ", ".join(f"{k} {figures['field'][k]:.6g}" for k in figures["field"]),
+    )
+    return summary
+
+
+def _figure(value: float) -> float:
+    return float(f"{float(value):.8g}")  # the file holds float32: 8 digits are all there is
+
+
+def simulation_figures(case, summary: FlowSummary, fip: dict, deck: Path) -> dict[str, Any]:
+    """The figures of ``flow/summary.json``: the field's and the wells' at the last step."""
+    units = {"METRIC": "METRIC (sm3, sm3/day, bar)", "FIELD": "FIELD (stb, stb/day, psia)"}
+    head = deck.read_text(errors="replace")[:4000]
+    system = "FIELD" if re.search(r"^FIELD\s*$", head, re.M) else "METRIC"
+    field = {k: _figure(summary[k][-1]) for k in FIELD_FIGURES if (k, "") in summary.values}
+    wells = {
+        w: {k: _figure(summary[(k, w)][-1]) for k in WELL_FIGURES if (k, w) in summary.values}
+        for w in summary.wells
+    }
+    out: dict[str, Any] = {
+        "case": case.name,
+        "case_sha256": case.sha256,
+        "deck": deck.name,
+        "units": units[system],
+        "simulated_days": _figure(summary.time[-1]) if summary.time.size else 0.0,
+        "report_days": [_figure(t) for t in summary.time[summary.report]],
+        "time_steps": int(summary.time.size),
+        "field": field,
+        "wells": wells,
+        "fip_report": fip,
+    }
+    if "FOPT" in field and "FOIP" in field:  # dead oil: what was there is what is left plus what came out
+        initial = summary["FOIP"][-1] + summary["FOPT"][-1]
+        out["oil_recovery"] = _figure(summary["FOPT"][-1] / initial) if initial > 0 else 0.0
+    return out
+
+
+def plot_wells(path: Path, summary: FlowSummary, title: str) -> None:
+    """Surface rates (left) and bottom-hole pressures (right) of every well over time."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (rates, bhp) = plt.subplots(1, 2, figsize=(12, 4.2))
+    t = summary.time
+    for well in summary.wells:
+        for key, label in (("WOPR", "oil"), ("WWPR", "water"), ("WWIR", "water injected")):
+            values = summary.values.get((key, well))
+            if values is not None and np.abs(values).max() > 0:
+                rates.plot(t, values, label=f"{well} {label}")
+        if ("WBHP", well) in summary.values:
+            bhp.plot(t, summary[("WBHP", well)], label=well)
+    rates.set_xlabel("days")
+    rates.set_ylabel("surface rate")
+    bhp.set_xlabel("days")
+    bhp.set_ylabel("bottom-hole pressure")
+    for ax in (rates, bhp):
+        if ax.has_data():
+            ax.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    tmp = path.with_name(f".{path.stem}.partial{path.suffix}")
+    try:
+        fig.savefig(tmp, dpi=100)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+        plt.close(fig)
+
+
+def write_result_vtu(
+    path: Path, case_base: Path, grid_nc: str | os.PathLike, transmissibility_nc: str | os.PathLike, summary
+) -> None:
+    """The case's grid with Flow's PRESSURE and SWAT of every report step, per grid cell."""
+    grid = read_netcdf(grid_nc).grid
+    variables, _ = read_transmissibility(transmissibility_nc)
+    position = active_positions(Path(f"{case_base}.EGRID"), variables["cell_flow_index"].values)
+    data: dict[str, np.ndarray] = {}
+    days = [0.0] + [float(t) for t in summary.time[summary.report]]
+    for key, label in (("PRESSURE", "pressure"), ("SWAT", "swat")):
+        try:
+            steps = read_restart_cells(case_base, key)
+        except InputError:
+            continue
+        for day, values in zip(days, steps, strict=False):
+            data[f"{label}_{day:g}d"] = values[position]
+    write_vtu(path, grid, data)
