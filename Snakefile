@@ -3,8 +3,9 @@
     snakemake --cores all --workflow-profile workflow/profiles/default
 
 Stages per case (wildcard {case}): horizons -> grid -> geometry -> petrophysics -> coarsen
-and transmissibility -> export, then summary.csv over all cases (see README.md). A report
-of the pictures:
+and transmissibility -> export (with flow_deck: the OPM Flow deck), then summary.csv over
+all cases (see README.md). OPM Flow runs the decks of the cases with a `simulation`
+section with `snakemake simulate` (or `--config simulate=true`). A report of the pictures:
 
     snakemake --report results/report.zip
 """
@@ -33,4 +34,5 @@ include: "workflow/rules/petrophysics.smk"
 include: "workflow/rules/coarsen.smk"
 include: "workflow/rules/transmissibility.smk"
 include: "workflow/rules/export.smk"
+include: "workflow/rules/flow.smk"
 include: "workflow/rules/summary.smk"

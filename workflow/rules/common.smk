@@ -5,6 +5,7 @@ case file is printed, one line each naming the file and the key, without a trace
 """
 
 import glob
+import shutil
 import sys
 from pathlib import Path
 
@@ -80,6 +81,9 @@ def _cases_where(test):
 WITH_GRDECL = _cases_where(lambda c: c.writes_grdecl)
 WITHOUT_GRDECL = _cases_where(lambda c: not c.writes_grdecl)
 WITH_TRANSMISSIBILITY = _cases_where(has_transmissibility)
+WITH_FLOW_DECK = _cases_where(lambda c: c.writes_flow_deck)
+WITH_SIMULATION = _cases_where(lambda c: c.writes_flow_deck and c.has_simulation)
+FLOW_NAMES = "|".join(sorted(c.flow_name for c in CASES.values())) or "(?!)"
 EXPORTS = ("nc", "vtu", "faults", "png", "histograms", "summary")
 
 
@@ -106,6 +110,32 @@ def out(name):
     }[name]
 
 
+def deck_of(wildcards):
+    """The case's OPM Flow deck: flow/<NAME>.DATA, NAME the case name in upper case."""
+    case = CASES[wildcards.case]
+    return f"{RESULTS}/{case.name}/flow/{case.flow_name}.DATA"
+
+
+def simulation_outputs():
+    """The targets of `snakemake simulate`: every case with a `simulation` section through OPM Flow;
+    nothing (with a warning) where `flow` is not installed."""
+    names = [
+        n for n, c in sorted(CASES.items()) if c.writes_flow_deck and c.has_simulation
+    ]
+    if names and shutil.which("flow") is None:
+        print(
+            "gridlib: simulate: OPM Flow ('flow') is not installed: no case is simulated "
+            "(Debian/Ubuntu: apt-get install libopm-simulators-bin)",
+            file=sys.stderr,
+        )
+        return []
+    return [
+        f"{RESULTS}/{n}/flow/{item}"
+        for n in names
+        for item in ("summary.json", f"{n}_wells.png", f"{n}_flow.vtu")
+    ]
+
+
 def optional(name, wanted):
     """An input function: the artifact ``name`` for cases where ``wanted(case)``, else nothing."""
 
@@ -125,4 +155,8 @@ def all_outputs():
             files.append(out("grdecl").format(case=name))
         if has_transmissibility(case):
             files.append(out("transmissibility").format(case=name))
+        if case.writes_flow_deck:
+            files.append(f"{RESULTS}/{name}/flow/{case.flow_name}.DATA")
+    if config.get("simulate", False):
+        files += simulation_outputs()
     return files
