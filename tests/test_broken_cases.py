@@ -53,6 +53,20 @@ BROKEN = {
         "wells[0].point: well 'P9' at (1500, 400) lies outside the domain",
     ),
     "zero_layers": (PEBI.replace("layers: 2", "layers: 0"), "grid.layers: 0 is less than the minimum of 1"),
+    "simulated_well_outside": (
+        "grid: {type: cartesian, dims: [4, 4, 2], lengths: [400, 400, 20], origin: [0, 0, 1000]}\n"
+        "petrophysics: {porosity: {constant: 0.2}, permeability: {constant: 100}}\n"
+        "wells:\n  - {name: W, point: [500, 100]}\n"
+        "simulation: {wells: [{name: W, type: producer, bhp: 50}], report_days: [10]}\n",
+        "wells[0].point: well 'W' at (500, 100) lies outside the domain",
+    ),
+    "simulated_well_unknown": (
+        PEBI
+        + "petrophysics: {porosity: {constant: 0.2}}\n"
+        + "wells:\n  - {name: P1, point: [500, 400]}\n"
+        + "simulation: {wells: [{name: P2, type: producer, bhp: 50}], report_days: [10]}\n",
+        "simulation.wells[0].name: 'P2' is not among the case's wells (wells: P1)",
+    ),
     "unknown_grid_type": (
         "grid: {type: hexahedral, dims: [2, 2]}\n",
         "grid.type: 'hexahedral' is not one of",

@@ -1,0 +1,236 @@
+"""OPM Flow runs the decks gridlib writes, and uses gridlib's numbers and nothing else.
+
+* the connection form of a faulted PEBI case and of a composite (radial + Cartesian) case,
+  through Flow's dry run: Flow's pore volume of every cell is ours (through
+  ``cell_flow_index``), and Flow's connections (TRANX/Y/Z, NNC/TRANNNC) are exactly ours,
+  with our values, and no other (1e-6: INIT holds float32);
+* a corner-point case simulated from its native deck (Flow's own transmissibilities, pore
+  volumes, depths and well factors) and from the connection form (ours) gives the same well
+  rates and pressures and field totals at every report step;
+* the PEBI sample case runs to its last report step and conserves water;
+* a failed run names the case file and quotes Flow, and leaves nothing behind.
+
+CI installs Flow (GRIDLIB_REQUIRE_FLOW=1 makes its absence a failure). The runs are small
+(about 1,000 to 5,000 cells): the module takes some 40 s.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import pyvista as pv
+import xarray as xr
+from flow_tools import flow_connections, flow_executable, read_keywords, run_flow_dry
+
+from gridlib.errors import InputError
+from gridlib.io.flow_results import read_fip_report, read_summary
+from gridlib.stages import run_case
+from gridlib.stages.flow_deck import flow_deck_from_results
+from gridlib.stages.simulate import run_flow, stage_simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+CASES = ROOT / "config" / "cases"
+# Tight solver tolerances where two runs are compared: the two forms' matrices are assembled in
+# different orders, and Flow's defaults (linear reduction 1e-2, CNV 1e-2) leave differences of
+# up to 6e-5 between runs of the same model; with these the runs agree to the last float32 bit.
+TIGHT = (
+    "--tolerance-cnv=1e-7",
+    "--tolerance-mb=1e-10",
+    "--linear-solver-reduction=1e-10",
+    "--linear-solver-max-iter=1000",
+    "--tolerance-wells=1e-9",
+)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """The sample cases the tests need, built once (run_case: the workflow's stages), and a
+    composite case: composite_wells with rock."""
+    flow_executable()
+    root = tmp_path_factory.mktemp("cases")
+    composite = root / "composite_rock.yaml"
+    text = (
+        (CASES / "composite_wells.yaml").read_text().replace("name: composite_wells", "name: composite_rock")
+    )
+    text += (
+        "petrophysics:\n"
+        "  porosity:\n"
+        "    field: {model: gaussian, len_scale: [3, 3, 1], mean: 0.25, std: 0.03, bounds: [0.1, 0.4]}\n"
+        "  permeability: {carman_kozeny: {}}\n"
+    )
+    composite.write_text(text)
+    folders = {}
+    for case in (
+        CASES / "faulted_pebi.yaml",
+        composite,
+        CASES / "waterflood_cp.yaml",
+        CASES / "waterflood_pebi.yaml",
+    ):
+        folders[case.stem] = root / case.stem
+        run_case(case, folders[case.stem])
+    return folders
+
+
+def prt_warnings(prt: Path) -> int:
+    """The count of warnings in Flow's error summary at the end of its PRT file."""
+    lines = [line.split() for line in prt.read_text().splitlines() if line.startswith("Warnings")]
+    return int(lines[-1][1])
+
+
+@pytest.mark.parametrize("case", ["faulted_pebi", "composite_rock"])
+def test_flow_takes_our_pore_volumes_and_exactly_our_connections(built, case, tmp_path):
+    folder = built[case]
+    deck = folder / "flow" / f"{case.upper()}.DATA"
+    text = deck.read_text()
+    assert "-- form connections" in text and f"gridlib case '{case}'" in text and "case sha256 " in text
+    result = run_flow_dry(deck, tmp_path / "dry")
+    assert prt_warnings(Path(f"{result}.PRT")) == 0  # nothing about our grid
+    with xr.open_dataset(folder / "transmissibility.nc") as ds:
+        index, porv = ds["cell_flow_index"].values, ds["porv"].values
+        cells, trans = ds["connection_cells"].values, ds["trans"].values
+        dims = tuple(int(v) for v in ds.attrs["flow_dims"])
+    init = read_keywords(Path(f"{result}.INIT"))
+    egrid = read_keywords(Path(f"{result}.EGRID"))
+    actnum = egrid["ACTNUM"] > 0 if "ACTNUM" in egrid else np.ones(int(np.prod(dims)), dtype=bool)
+    assert actnum.sum() == index.size and actnum[index].all()  # every cell of ours, and no other
+    flow_porv = init["PORV"].astype(np.float64)  # PORV is written for every cell of the box
+    np.testing.assert_allclose(flow_porv[index], porv, rtol=1e-6)
+    nx, ny, _ = dims
+    pairs = np.sort(index[cells], axis=1)
+    step = pairs[:, 1] - pairs[:, 0]
+    vanished = ~np.isin(step, [1, nx, nx * ny]) & (trans < 1e-6)  # Flow sets those to 0 (reported)
+    ours = dict(zip(map(tuple, pairs[~vanished].tolist()), trans[~vanished].tolist(), strict=True))
+    flow = flow_connections(result)
+    positive = {p: v for p, v in flow.items() if v > 0}
+    # a vanished NNC shows in TRANNNC as minus its value (Flow's zeroed total minus the NNC input)
+    assert {p for p, v in flow.items() if v < 0} == set(map(tuple, pairs[vanished].tolist()))
+    assert sorted(positive) == sorted(ours)
+    both = sorted(ours)
+    np.testing.assert_allclose([positive[p] for p in both], [ours[p] for p in both], rtol=1e-6)
+    print(
+        f"{case}: {len(ours)} connections equal to Flow's, {int(vanished.sum())} vanished, {index.size} cells"
+    )
+
+
+def _run(deck: Path, out: Path, options=()) -> Path:
+    result = run_flow(deck, out, tuple(options))
+    assert result.returncode == 0, result.stdout[-3000:]
+    return out / deck.stem
+
+
+def test_native_and_connection_forms_give_the_same_simulation(built, tmp_path):
+    """waterflood_cp: Flow's own numbers (native) against ours (connections): every well's rates
+    and bottom-hole pressure and the field oil and water totals, at every report step."""
+    folder = built["waterflood_cp"]
+    native = folder / "flow" / "WATERFLOOD_CP.DATA"
+    assert "-- form native" in native.read_text()
+    connections = flow_deck_from_results(folder, tmp_path / "connections", form="connections")
+    assert connections.form == "connections" and connections.vanished.size == 0
+    a = read_summary(_run(native, tmp_path / "native_out", TIGHT))
+    b = read_summary(_run(connections.path, tmp_path / "connections_out", TIGHT))
+    assert prt_warnings(tmp_path / "native_out" / "WATERFLOOD_CP.PRT") == 0
+    assert prt_warnings(tmp_path / "connections_out" / "WATERFLOOD_CP.PRT") == 0
+    np.testing.assert_array_equal(a.time[a.report], [90, 180, 360, 540, 720, 900])
+    np.testing.assert_array_equal(b.time[b.report], a.time[a.report])
+    keys = [("FOPT", ""), ("FWPT", ""), ("FWIT", ""), ("FOPR", ""), ("FWPR", "")]
+    keys += [(k, w) for w in ("INJ", "PROD") for k in ("WOPR", "WWPR", "WWIR", "WBHP")]
+    worst = 0.0
+    for key in keys:
+        x, y = a.values[key][a.report], b.values[key][b.report]
+        np.testing.assert_allclose(y, x, rtol=1e-5, atol=1e-9 * np.abs(x).max(), err_msg=str(key))
+        worst = max(worst, float(np.max(np.abs(y - x) / np.maximum(np.abs(x), 1e-30))))
+    assert a.values[("WWPR", "PROD")][a.report][-1] > 100  # the water has broken through: a real test
+    print(f"native vs connection form: largest relative difference {worst:.3g} over {len(keys)} vectors")
+
+
+def test_the_pebi_case_runs_to_its_end_and_conserves_water(built):
+    folder = built["waterflood_pebi"]
+    deck = folder / "flow" / "WATERFLOOD_PEBI.DATA"
+    outputs = {
+        "summary": folder / "flow" / "summary.json",
+        "wells": folder / "flow" / "waterflood_pebi_wells.png",
+        "vtu": folder / "flow" / "waterflood_pebi_flow.vtu",
+    }
+    summary = stage_simulate(
+        CASES / "waterflood_pebi.yaml", deck, folder / "grid.nc", folder / "transmissibility.nc", outputs
+    )
+    assert summary.time[-1] == 900.0
+    np.testing.assert_array_equal(summary.time[summary.report], [90, 180, 360, 540, 720, 900])
+    prt = folder / "flow" / "WATERFLOOD_PEBI.PRT"
+    assert prt_warnings(prt) == 0
+    assert not list((folder / "flow").glob(".WATERFLOOD_PEBI.run-*"))
+    # Flow 2022.10's "Originally in place" is the state after its first time step (summary row 0)
+    fip = read_fip_report(prt)
+    assert fip["days"] == 900.0
+    first = 0
+    np.testing.assert_allclose(summary["FWIP"][first], fip["original"]["water"], atol=0.5)
+    injected = summary["FWIT"][-1] - summary["FWIT"][first]
+    produced = summary["FWPT"][-1] - summary["FWPT"][first]
+    change = fip["current"]["water"] - fip["original"]["water"]
+    assert change > 1e5
+    assert abs((injected - produced) - change) <= 1e-4 * change, (injected, produced, change)
+    figures = json.loads(outputs["summary"].read_text())
+    assert figures["simulated_days"] == 900.0 and figures["field"]["FWIT"] == 1500.0 * 900
+    assert set(figures["wells"]) == {"INJ", "PROD"} and 0 < figures["oil_recovery"] < 1
+    assert outputs["wells"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    mesh = pv.read(outputs["vtu"])
+    assert mesh.n_cells == json.loads((folder / "summary.json").read_text())["cells"]
+    swat = mesh.cell_data["swat_900d"]
+    assert swat.max() > 0.5 and abs(swat.min() - 0.2) < 1e-3  # flooded near the injector, connate elsewhere
+    np.testing.assert_allclose(mesh.cell_data["swat_0d"][mesh.cell_data["pressure_0d"] > 0].min(), 0.2)
+    print(f"water injected - produced {injected - produced:.1f} sm3, change in place {change:.0f} sm3")
+
+
+def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
+    folder = tmp_path / "broken"
+    shutil.copytree(built["waterflood_pebi"] / "flow", folder)
+    for produced in folder.glob("WATERFLOOD_PEBI.[!D]*"):  # leave the deck and its includes only
+        if produced.suffix != ".INC":
+            produced.unlink()
+    deck = folder / "WATERFLOOD_PEBI.DATA"
+    deck.write_text(deck.read_text().replace("\nPVTW\n", "\nPVTX\n 1 2 /\nPVTW\n"))  # a misspelt keyword
+    outputs = {k: folder / f"out.{k}" for k in ("summary", "wells", "vtu")}
+    before = sorted(p.name for p in folder.iterdir())
+    with pytest.raises(InputError) as exc:
+        stage_simulate(CASES / "waterflood_pebi.yaml", deck, "unused", "unused", outputs)
+    message = str(exc.value)
+    assert message.startswith(
+        f"{CASES / 'waterflood_pebi.yaml'}: simulation: OPM Flow failed on WATERFLOOD_PEBI.DATA"
+    )
+    assert "Unknown keyword: PVTX" in message, message
+    assert sorted(p.name for p in folder.iterdir()) == before  # nothing left behind
+
+
+def test_connections_below_flows_threshold_vanish_as_reported(tmp_path):
+    """A synthetic connection form (cells missing from the box, boxes overlapping their
+    neighbours before they are shrunk, tiny transmissibilities): Flow keeps every connection
+    but the reported ones, and warns about nothing."""
+    from test_flow_deck import SIM, layered_connection_grid
+
+    from gridlib.io.flow import write_flow_deck
+
+    flow_executable()
+    from gridlib.io.flow import ConnectionGrid
+
+    grid = layered_connection_grid(np.random.default_rng(8))
+    pairs = np.sort(grid.index[grid.pairs], axis=1)
+    neighbours = np.isin(pairs[:, 1] - pairs[:, 0], [1, grid.dims[0]])
+    trans = grid.trans.copy()
+    trans[np.flatnonzero(neighbours)[:3]] = 1e-9  # tiny, but between logical neighbours: kept
+    grid = ConnectionGrid(**{**grid.__dict__, "trans": trans})
+    deck = write_flow_deck(tmp_path, "synthetic", grid, SIM)
+    vanished = np.zeros(trans.size, dtype=bool)
+    vanished[deck.vanished] = True
+    np.testing.assert_array_equal(vanished, (trans < 1e-6) & ~neighbours)
+    assert vanished.sum() >= 3 and ((trans < 1e-6) & neighbours).sum() == 3
+    result = run_flow_dry(deck.path, tmp_path / "dry")
+    assert prt_warnings(Path(f"{result}.PRT")) == 0
+    flow = flow_connections(result)
+    assert {p for p, v in flow.items() if v > 0} == set(map(tuple, pairs[~vanished].tolist()))
+    assert {p for p, v in flow.items() if v < 0} == set(map(tuple, pairs[vanished].tolist()))
+    porv = read_keywords(Path(f"{result}.INIT"))["PORV"].astype(np.float64)
+    np.testing.assert_allclose(porv[grid.index], grid.porv, rtol=1e-6)
