@@ -32,6 +32,7 @@ Flow computes it for corner-point cases, :func:`~gridlib.transmissibility.well_i
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -117,6 +118,7 @@ def stage_flow_deck(
     deck = None
     if corner:
         deck = deck_with_rock(read_grdecl(grdecl), grid.cells.index_map, rock, system.name)
+        deck = replace(deck, source=f"grid.grdecl of case '{case.name}' with its rock")  # no path
     flow_index = variables["cell_flow_index"].values
     depth, thickness = _depths(grid, geo, deck)
     sim = _simulation(case, grid, geo, rock, system, depth, thickness, deck, flow_index, form)
