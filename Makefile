@@ -46,6 +46,7 @@ bench: $(VENV)/.installed-run
 	$(BIN)/python bench/petrophysics.py
 	$(BIN)/python bench/coarsen.py
 	$(BIN)/python bench/transmissibility.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
+	$(BIN)/python bench/flow_deck.py
 
 golden: $(VENV)/.installed-run
 	$(BIN)/python tests/regression/update_golden.py

@@ -166,6 +166,51 @@ def test_second_run_does_nothing_and_an_edited_case_reruns_only_itself(workflow_
     assert len(case_jobs) == 3  # grid, geometry and export of that case (and the summary table)
 
 
+def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(workflow_run):
+    """Every case with rock on a 3-D grid has flow/<NAME>.DATA (native for corner-point and deck
+    grids, the connection form otherwise) with its provenance; `snakemake simulate` runs OPM
+    Flow on the cases with a `simulation` section, with a log and a benchmark, and a second
+    run does nothing."""
+    from flow_tools import flow_executable
+
+    for case, sample in SAMPLES.items():
+        folder = workflow_run / "results" / case
+        deck = folder / "flow" / f"{case.upper()}.DATA"
+        assert deck.is_file() == sample.writes_flow_deck, case
+        if not deck.is_file():
+            continue
+        text = deck.read_text()
+        summary = json.loads((folder / "summary.json").read_text())
+        assert f"case sha256 {summary['case_sha256']}" in text and f"gridlib {gl.__version__}" in text
+        form = "native" if sample.writes_grdecl else "connections"
+        assert f"-- form {form}" in text, case
+        assert (workflow_run / "results" / "logs" / case / f"flow_deck.{case.upper()}.log").is_file()
+    flow_executable()
+    config = ["--config", f"cases={workflow_run / 'config' / 'cases'}/*.yaml"]
+    result = _snakemake(workflow_run, "simulate", *config)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    simulated = [case for case, sample in SAMPLES.items() if sample.has_simulation]
+    assert sorted(simulated) == ["waterflood_cp", "waterflood_pebi"]
+    for case in simulated:
+        folder = workflow_run / "results" / case / "flow"
+        figures = json.loads((folder / "summary.json").read_text())
+        days = SAMPLES[case].data["simulation"]["report_days"]
+        assert figures["simulated_days"] == days[-1] and figures["report_days"] == days
+        assert figures["field"]["FOPT"] > 0 and figures["case_sha256"] == SAMPLES[case].sha256
+        assert (folder / f"{case}_wells.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert (
+            pv.read(folder / f"{case}_flow.vtu").n_cells
+            == read_netcdf(folder.parent / "grid.nc").grid.num_cells
+        )
+        for suffix in (".PRT", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST"):
+            assert (folder / f"{case.upper()}{suffix}").is_file(), suffix
+        assert (workflow_run / "results" / "logs" / case / "simulate.log").is_file()
+        assert (workflow_run / "results" / "benchmarks" / case / "simulate.tsv").is_file()
+        assert not list(folder.glob(".*.run-*"))
+    again = _snakemake(workflow_run, "simulate", *config, "--dry-run")
+    assert "Nothing to be done" in again.stdout + again.stderr
+
+
 # Cases whose numbers go through random fields, fault throws, PEBI sites, well rings, formula
 # horizons and METIS: the places where BLAS, SIMD code or threads could change a bit.
 DETERMINISM_CASES = ("anticline", "composite_wells", "faulted_pebi", "faulted_picks", "peaks")
@@ -190,6 +235,10 @@ def test_same_case_and_seed_give_identical_files_on_another_machine(workflow_run
         names = sorted(p.name for p in first.iterdir() if p.suffix in COMPARED_SUFFIXES)
         assert names == sorted(p.name for p in second.iterdir() if p.suffix in COMPARED_SUFFIXES)
         assert {"grid.nc", "geometry.nc", f"{case}.nc", f"{case}.vtu", "summary.json"} <= set(names)
+        decks = sorted(p.name for p in (first / "flow").glob("*") if p.suffix in (".DATA", ".INC"))
+        if SAMPLES[case].writes_flow_deck:  # the OPM Flow deck and its includes, byte for byte
+            assert decks and decks == sorted(p.name for p in (second / "flow").iterdir())
+            names += [f"flow/{name}" for name in decks]
         for name in names:
             where = f"{case}/{name}"
             if name.endswith(".nc"):
