@@ -28,6 +28,7 @@ from flow_tools import flow_connections, flow_executable, read_keywords, run_flo
 
 from gridlib.errors import InputError
 from gridlib.io.flow_results import read_fip_report, read_summary
+from gridlib.io.netcdf import read_geometry_netcdf
 from gridlib.stages import run_case
 from gridlib.stages.flow_deck import flow_deck_from_results
 from gridlib.stages.simulate import run_flow, stage_simulate
@@ -99,6 +100,10 @@ def test_flow_takes_our_pore_volumes_and_exactly_our_connections(built, case, tm
     assert actnum.sum() == index.size and actnum[index].all()  # every cell of ours, and no other
     flow_porv = init["PORV"].astype(np.float64)  # PORV is written for every cell of the box
     np.testing.assert_allclose(flow_porv[index], porv, rtol=1e-6)
+    # Flow's cell centre depth (gravity, equilibration, wells) is ours: the centroid's depth
+    depth = read_geometry_netcdf(folder / "geometry.nc").cell_centroids[:, 2]
+    position = np.cumsum(actnum)[index] - 1  # INIT's DEPTH is per active cell
+    np.testing.assert_allclose(init["DEPTH"].astype(np.float64)[position], depth, rtol=1e-7)  # float32
     nx, ny, _ = dims
     pairs = np.sort(index[cells], axis=1)
     step = pairs[:, 1] - pairs[:, 0]
@@ -232,5 +237,8 @@ def test_connections_below_flows_threshold_vanish_as_reported(tmp_path):
     flow = flow_connections(result)
     assert {p for p, v in flow.items() if v > 0} == set(map(tuple, pairs[~vanished].tolist()))
     assert {p for p, v in flow.items() if v < 0} == set(map(tuple, pairs[vanished].tolist()))
-    porv = read_keywords(Path(f"{result}.INIT"))["PORV"].astype(np.float64)
-    np.testing.assert_allclose(porv[grid.index], grid.porv, rtol=1e-6)
+    init = read_keywords(Path(f"{result}.INIT"))
+    np.testing.assert_allclose(init["PORV"].astype(np.float64)[grid.index], grid.porv, rtol=1e-6)
+    # the boxes overlapped before they were shrunk: Flow would have moved them down silently
+    order = np.argsort(grid.index)  # INIT's DEPTH is per active cell, in index order
+    np.testing.assert_allclose(init["DEPTH"].astype(np.float64), grid.depth[order], rtol=1e-7)

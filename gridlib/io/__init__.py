@@ -1,7 +1,9 @@
 """File formats, one module per format behind one registry (as meshio).
 
 ``write(path, grid, ...)`` and ``read(path)`` pick the format from the file
-suffix; the per-format functions are also importable directly.
+suffix; the per-format functions are also importable directly. OPM Flow decks, which
+are folders of files rather than one grid file: :func:`write_flow_deck`
+(:mod:`gridlib.io.flow`).
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
+from .flow import write_flow_deck
 from .netcdf import (
     GridDataset,
     grid_to_dataset,
@@ -51,6 +54,7 @@ __all__ = [
     "read_geometry_netcdf",
     "read_netcdf",
     "write",
+    "write_flow_deck",
     "write_geometry_netcdf",
     "write_netcdf",
     "write_vtu",

@@ -7,13 +7,15 @@ Two forms, one writer:
   :func:`~gridlib.io.grdecl.write_grdecl` into ``<NAME>_GRID.INC``): Flow computes its
   own pore volumes, transmissibilities and well connection factors.
 * **connections** (any grid, :class:`ConnectionGrid`): Flow gets our numbers and nothing
-  else. Every cell is a box of the logical grid ``dims`` at the cell ``index`` of
-  ``cell_flow_index`` (DX, DY: ``spacing``; TOPS, DZ: the cell's own depth range, so its
-  centre, the mean of its 8 corners, which Flow uses for gravity, equilibration and the
-  well connections, is the cell's centre depth); cells of one logical column are
-  stacked in depth without overlap (a box is shrunk about its centre where it would
-  reach into the next one), so Flow never has to adjust ZCORN. MULTX, MULTY and MULTZ
-  are 0 in every cell: whatever this layout makes Flow connect by itself (logical
+  else. Every cell is a flat box of the logical grid ``dims``, at the cell ``index``
+  (``cell_flow_index``): COORD has vertical pillars ``spacing`` apart, ZCORN puts the box
+  over the cell's own depth range, so that its centre, the mean of its 8 corners, which
+  Flow uses for gravity, equilibration and the well connections, is the cell's centre
+  depth. The boxes of one logical column are stacked without overlap (a box is shrunk
+  about its centre where it would reach into the next one): Flow 2022.10 silently pushes
+  a box that overlaps the one above it down, which would move its centre; and it reads
+  TOPS for the top layer only, so explicit corners, not DZ and TOPS. MULTX, MULTY and
+  MULTZ are 0 in every cell: whatever this layout makes Flow connect by itself (logical
   neighbours, and the fault overlaps of boxes at different depths) has transmissibility
   0. Every connection of the grid is an NNC record with our transmissibility
   (``<NAME>_NNC.INC``; the NNC keyword's value is added to the 0 of a connection the
@@ -345,6 +347,27 @@ def box_depths(grid: ConnectionGrid) -> tuple[FloatArray, FloatArray]:
     return t.ravel(), (b - t).ravel()
 
 
+def box_corners(grid: ConnectionGrid) -> tuple[FloatArray, FloatArray]:
+    """COORD and ZCORN of the boxes (:func:`box_depths`): vertical pillars on a square lattice
+    of ``spacing``, every box flat. Explicit corners, not DZ and TOPS: Flow 2022.10 takes
+    TOPS from the top layer only and stacks the others on it by DZ."""
+    nx, ny, nz = grid.dims
+    tops, dz = box_depths(grid)
+    top = tops.reshape(nz, ny, nx)
+    bottom = (tops + dz).reshape(nz, ny, nx)
+    z = np.stack([top, bottom], axis=1)  # (nz, 2, ny, nx)
+    zcorn = np.repeat(np.repeat(z, 2, axis=2), 2, axis=3)  # (nz, 2, 2ny, 2nx): i fastest
+    h = float(grid.spacing)
+    y, x = np.meshgrid(np.arange(ny + 1) * h, np.arange(nx + 1) * h, indexing="ij")
+    z_top, z_bottom = float(tops.min()), float((tops + dz).max())
+    if z_bottom <= z_top:
+        z_bottom = z_top + 1.0
+    coord = np.stack(
+        [x, y, np.full_like(x, z_top), x, y, np.full_like(x, z_bottom)], axis=-1
+    )  # (ny + 1, nx + 1, 6)
+    return coord.ravel(), zcorn.ravel()
+
+
 def _keyword(name: str, values: np.ndarray, comment: str = "", integer: bool = False) -> Iterator[bytes]:
     yield (f"{name}\n" + (f"-- {comment}\n" if comment else "")).encode("ascii")
     yield from _format_values(values, integer)
@@ -361,21 +384,22 @@ def _connection_grid_text(grid: ConnectionGrid) -> Iterator[bytes]:
         out[index] = values
         return out
 
-    tops, dz = box_depths(grid)
+    coord, zcorn = box_corners(grid)
     actnum = np.zeros(total, dtype=np.int64)
     actnum[index] = 1
     perm = np.asarray(grid.permeability, dtype=np.float64)
     yield (
-        "-- The connection form's grid (gridlib): each cell of the grid is a box of this logical\n"
-        f"-- grid, {nx} x {ny} x {nz}, at its true depth (its centre, the mean of its corners, is the\n"
-        "-- cell's centre depth); boxes of one logical column are stacked without overlap.\n"
-        "-- MULTX, MULTY, MULTZ = 0: the connections Flow would make between these boxes are\n"
-        "-- switched off; every real connection is an NNC record with gridlib's transmissibility.\n\n"
+        "-- The connection form's grid (gridlib): each cell of the grid is a flat box of this\n"
+        f"-- logical grid, {nx} x {ny} x {nz}, at its true depth (its centre, the mean of its 8\n"
+        "-- corners, is the cell's centre depth); boxes of one logical column are stacked without\n"
+        "-- overlap. MULTX, MULTY, MULTZ = 0: the connections Flow would make between these boxes\n"
+        "-- are switched off; every real connection is an NNC record with gridlib's transmissibility.\n\n"
+        f"SPECGRID\n {nx} {ny} {nz} 1 F /\n\n"
     ).encode("ascii")
-    yield from _keyword("DX", np.full(total, float(grid.spacing)), "box width along x (cosmetic)")
-    yield from _keyword("DY", np.full(total, float(grid.spacing)), "box width along y (cosmetic)")
-    yield from _keyword("DZ", dz, "box height: the cell's vertical extent (0 where the box has no cell)")
-    yield from _keyword("TOPS", tops, "depth of the box's top")
+    yield from _keyword(
+        "COORD", coord, f"vertical pillars {grid.spacing!r} apart (the lateral layout is cosmetic)"
+    )
+    yield from _keyword("ZCORN", zcorn, "each box from its top to its bottom (no cell: zero thickness)")
     yield from _keyword("ACTNUM", actnum, "1: a cell of the grid", integer=True)
     yield from _keyword("PORO", full(grid.poro), "porosity (the pore volumes are PORV in EDIT)")
     for axis, key in enumerate(("PERMX", "PERMY", "PERMZ")):
