@@ -166,12 +166,12 @@ def test_second_run_does_nothing_and_an_edited_case_reruns_only_itself(workflow_
     assert len(case_jobs) == 3  # grid, geometry and export of that case (and the summary table)
 
 
-def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(workflow_run):
+def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(workflow_run, tmp_path):
     """Every case with rock on a 3-D grid has flow/<NAME>.DATA (native for corner-point and deck
-    grids, the connection form otherwise) with its provenance; `snakemake simulate` runs OPM
-    Flow on the cases with a `simulation` section, with a log and a benchmark, and a second
-    run does nothing."""
-    from flow_tools import flow_executable
+    grids, the connection form otherwise) with its provenance, which Flow's dry run reads without
+    a warning, with our pore volumes; `snakemake simulate` runs OPM Flow on the cases with a
+    `simulation` section, with a log and a benchmark, and a second run does nothing."""
+    from flow_tools import flow_executable, read_keywords, run_flow_dry
 
     for case, sample in SAMPLES.items():
         folder = workflow_run / "results" / case
@@ -186,6 +186,17 @@ def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(w
         assert f"-- form {form}" in text, case
         assert (workflow_run / "results" / "logs" / case / f"flow_deck.{case.upper()}.log").is_file()
     flow_executable()
+    for case, sample in SAMPLES.items():  # Flow reads every deck, warns about nothing, has our PORV
+        if not sample.writes_flow_deck:
+            continue
+        folder = workflow_run / "results" / case
+        result = run_flow_dry(folder / "flow" / f"{case.upper()}.DATA", tmp_path / case)
+        prt = Path(f"{result}.PRT").read_text()
+        assert [line.split()[1] for line in prt.splitlines() if line.startswith("Warnings")][-1] == "0", case
+        with xr.open_dataset(folder / "transmissibility.nc") as ds:
+            index, porv = ds["cell_flow_index"].values, ds["porv"].values
+        flow_porv = read_keywords(Path(f"{result}.INIT"))["PORV"].astype(np.float64)
+        np.testing.assert_allclose(flow_porv[index], porv, rtol=1e-6, err_msg=case)
     config = ["--config", f"cases={workflow_run / 'config' / 'cases'}/*.yaml"]
     result = _snakemake(workflow_run, "simulate", *config)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
