@@ -314,10 +314,10 @@ def _simulation_problem(data: dict[str, Any]) -> str | None:
         if name in seen:
             return f"simulation.wells[{k}].name: well '{name}' is listed twice"
         seen.add(name)
-        if len(name) > WELL_NAME_LENGTH or any(c in name for c in " '/"):
+        if len(name) > WELL_NAME_LENGTH or not name.isascii() or any(c in name for c in " '/"):
             return (
                 f"simulation.wells[{k}].name: '{name}': a simulated well's name has at most "
-                f"{WELL_NAME_LENGTH} characters, without spaces, quotes or slashes"
+                f"{WELL_NAME_LENGTH} ASCII characters, without spaces, quotes or slashes"
             )
         if "point" not in case_wells[name]:
             return (

@@ -242,3 +242,33 @@ def test_connections_below_flows_threshold_vanish_as_reported(tmp_path):
     # the boxes overlapped before they were shrunk: Flow would have moved them down silently
     order = np.argsort(grid.index)  # INIT's DEPTH is per active cell, in index order
     np.testing.assert_allclose(init["DEPTH"].astype(np.float64), grid.depth[order], rtol=1e-7)
+
+
+def test_the_water_preset_runs_single_phase(tmp_path):
+    """The `water` preset: one phase, an injector at a rate and a producer at a BHP on a
+    synthetic connection form; Flow runs it to the end and conserves water."""
+    from test_flow_deck import layered_connection_grid
+
+    from gridlib.io.flow import FlowWell, Simulation, write_flow_deck
+
+    flow_executable()
+    grid = layered_connection_grid(np.random.default_rng(3), missing=0)
+    ncol = grid.dims[0]
+    wells = (
+        FlowWell("INJ", "injector", [0, ncol, 2 * ncol], 0.1, 0.0, [5.0, 5.0, 5.0], rate=50.0, bhp=400.0),
+        FlowWell("PROD", "producer", [ncol - 1, 2 * ncol - 1], 0.1, 0.0, [5.0, 5.0], bhp=150.0),
+    )
+    sim = Simulation("water", 2000.0, 200.0, None, wells, (10.0, 20.0))
+    deck = write_flow_deck(tmp_path, "water", grid, sim)
+    text = deck.path.read_text()
+    assert "\nWATER\n" in text and "\nOIL\n" not in text and "SWOF" not in text
+    base = _run(deck.path, tmp_path / "out")
+    assert prt_warnings(Path(f"{base}.PRT")) == 0
+    summary = read_summary(base)
+    assert summary.time[-1] == 20.0 and ("FOPT", "") not in summary.values
+    fip = read_fip_report(Path(f"{base}.PRT"))
+    injected = summary["FWIT"][-1] - summary["FWIT"][0]
+    produced = summary["FWPT"][-1] - summary["FWPT"][0]
+    change = fip["current"]["water"] - fip["original"]["water"]
+    assert summary["FWIT"][-1] == 1000.0 and produced > 0
+    assert abs((injected - produced) - change) <= 2.0  # the PRT's integers

@@ -266,8 +266,15 @@ def _check_simulation(sim: Simulation, dims: tuple[int, ...], active: np.ndarray
     names = [w.name for w in sim.wells]
     for k, well in enumerate(sim.wells):
         where = f"wells[{k}] ({well.name!r})"
-        if not well.name or len(well.name) > 8 or any(c in well.name for c in " '/"):
-            raise InputError(f"{where}: a well name has 1 to 8 characters, no spaces, quotes or slashes")
+        if (
+            not well.name
+            or len(well.name) > 8
+            or not well.name.isascii()
+            or any(c in well.name for c in " '/")
+        ):
+            raise InputError(
+                f"{where}: a well name has 1 to 8 ASCII characters, no spaces, quotes or slashes"
+            )
         if names.count(well.name) > 1:
             raise InputError(f"{where}: the name is used twice")
         if well.kind not in WELL_KINDS:
@@ -484,7 +491,7 @@ def _deck_text(
         "connections": "connections: gridlib's pore volumes, transmissibilities and well factors, "
         "every connection an NNC",
     }[form]
-    out = [f"-- {line}" for line in header]
+    out = [f"-- {line.encode('ascii', 'replace').decode('ascii')}" for line in header]  # decks are ASCII
     out += [
         f"-- form {how}",
         f"-- units {_UNIT_TEXT.get(units, units)}",

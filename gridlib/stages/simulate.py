@@ -97,7 +97,9 @@ def stage_simulate(
     deck = Path(deck)
     if not deck.is_file():
         raise InputError(f"{case.path}: simulation: the deck {deck} is missing (run the export first)")
-    days = list(case.data.get("simulation", {}).get("report_days", []))
+    if not case.has_simulation:
+        raise InputError(f"{case.path}: simulation: the case has no simulation section (nothing to run)")
+    days = list(case.data["simulation"]["report_days"])
     name = deck.stem
     try:
         flow_command()
