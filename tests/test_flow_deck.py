@@ -180,7 +180,7 @@ def test_bad_input_is_refused_before_any_file(tmp_path):
                 None,
                 (FlowWell("TOOLONGNAME", "producer", grid.index[:1], 0.1, 0, [1.0], 1.0),),
             ),
-            "1 to 8 characters",
+            "1 to 8 ASCII characters",
         ),
     ]
     for layout, sim, message in cases:
