@@ -15,10 +15,12 @@ munge``), as root, with its configuration, state and logs in one folder:
   (``jobcomp/filetxt``: JobId, JobState, Name, NodeList...), and ``MinJobAge=3600`` keeps
   finished jobs in ``squeue`` and ``scontrol`` for an hour;
 - no cgroups: ``ProctrackType=proctrack/linuxproc``, ``TaskPlugin=task/none`` and
-  ``JobAcctGatherType=jobacct_gather/none``. Without systemd (containers, this project's VMs)
-  nothing delegates a cgroup to slurmd and the cgroup plugins do not start; linuxproc tracks a
-  job's processes by their parent chain. Memory and CPU limits are then not enforced: fine for
-  tests, not for a production cluster;
+  ``JobAcctGatherType=jobacct_gather/none``: linuxproc tracks a job's processes by their parent
+  chain and works on any Linux. The cgroup plugins depend on how the machine mounts cgroups:
+  on the project's VMs (no systemd; the cgroup v1 controllers mounted under /sys/fs/cgroup)
+  ``proctrack/cgroup`` and ``task/cgroup`` work too and enforce memory limits, but under the
+  unified v2 hierarchy Slurm 22.05 wants systemd to delegate a subtree to slurmd. Without
+  them a job's memory and CPUs are not enforced: fine for these tests, not for production;
 - ``slurmctld -D`` with that file and ``slurmd -D`` *configless* (``--conf-server``): slurmd
   fetches the configuration from slurmctld and links its copy at ``/run/slurm/conf``, where SLURM
   commands look when neither ``SLURM_CONF`` nor ``/etc/slurm/slurm.conf`` is there. This is what
@@ -27,7 +29,9 @@ munge``), as root, with its configuration, state and logs in one folder:
   in a standard place. (The reason munged uses its default socket: configless slurmd asks munge
   before it has a configuration that could name another socket.)
 
-Start-up takes about a second on the project's VM. Every failure raises :class:`ClusterError`
+One such cluster per host: ``/run/slurm/conf`` and munge's socket are the host's (a second test
+session finds the first one's cluster running and uses it). Start-up takes about a second on
+the project's VM. Every failure raises :class:`ClusterError`
 with one message saying what failed and which log to read. :meth:`SlurmCluster.stop` cancels
 the cluster's jobs, ends the daemons that were started and removes ``/run/slurm/conf``.
 
@@ -263,8 +267,8 @@ SlurmctldLogFile={logs / "slurmctld.log"}
 SlurmdLogFile={logs / "slurmd.log"}
 SlurmctldDebug=info
 SlurmdDebug=info
-# No cgroups (nothing delegates one without systemd): processes tracked by their parents,
-# memory and CPU limits not enforced.
+# No cgroups (they depend on the machine's cgroup mounts): processes tracked by their
+# parents, memory and CPU limits not enforced.
 ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 JobAcctGatherType=jobacct_gather/none
@@ -278,6 +282,7 @@ SchedulerType=sched/backfill
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core_Memory
 MpiDefault=none
+MailProg=/bin/true
 ReturnToService=2
 KillWait=5
 {node_line(node)} State=UNKNOWN
