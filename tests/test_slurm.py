@@ -11,7 +11,6 @@ files and summary.json. The wall times per case are printed beside each other.
 
 from __future__ import annotations
 
-import json
 import re
 import shutil
 import subprocess
@@ -19,14 +18,13 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
-import xarray as xr
+from artifacts import assert_same_files
 
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = ROOT / "workflow" / "profiles" / "slurm"
 CASES = ("ellipsoid", "twisted")
-COMPARED_SUFFIXES = (".nc", ".grdecl", ".vtu", ".vtp", ".json")
+
 SUBMITTED = re.compile(r"submitted with SLURM jobid (\d+)")
 
 
@@ -75,34 +73,10 @@ def test_every_job_ran_as_a_completed_slurm_job(runs, slurm_cluster):
     assert re.findall(r"^localrule (\w+):", log, re.MULTILINE) == ["all"]
 
 
-def _assert_same_files(first: Path, second: Path) -> None:
-    """Every variable and attribute of every netCDF file, and the other files, identical."""
-    names = sorted(p.name for p in first.iterdir() if p.suffix in COMPARED_SUFFIXES)
-    assert names == sorted(p.name for p in second.iterdir() if p.suffix in COMPARED_SUFFIXES)
-    for name in names:
-        where = f"{first.name}/{name}"
-        if name.endswith(".nc"):
-            with xr.open_dataset(first / name) as a, xr.open_dataset(second / name) as b:
-                assert sorted(a.variables) == sorted(b.variables), where
-                assert a.attrs.keys() == b.attrs.keys(), where
-                for key, value in a.attrs.items():
-                    assert np.array_equal(value, b.attrs[key]), f"{where}: attribute {key}"
-                for var in a.variables:
-                    u, v = a[var].values, b[var].values
-                    assert u.dtype == v.dtype and u.shape == v.shape, f"{where}: {var}"
-                    same = u.tobytes() == v.tobytes() if u.dtype.kind != "O" else np.array_equal(u, v)
-                    assert same, f"{where}: {var}: {np.count_nonzero(u != v)} of {u.size} values differ"
-                    assert a[var].attrs.keys() == b[var].attrs.keys(), f"{where}: {var}"
-        elif name.endswith(".json"):
-            assert json.loads((first / name).read_text()) == json.loads((second / name).read_text()), where
-        else:
-            assert (first / name).read_bytes() == (second / name).read_bytes(), where
-
-
 @pytest.mark.parametrize("case", CASES)
 def test_slurm_results_equal_the_local_ones_bit_for_bit(runs, case):
     local, on_slurm = runs
-    _assert_same_files(local["results"] / case, on_slurm["results"] / case)
+    assert_same_files(local["results"] / case, on_slurm["results"] / case)
     assert (local["results"] / "summary.csv").read_text() == (on_slurm["results"] / "summary.csv").read_text()
 
 

@@ -1,0 +1,49 @@
+"""Comparing two builds of a case: every variable and attribute of every netCDF file, the
+GRDECL, VTU and VTP files, summary.json and the OPM Flow deck with its includes (flow/*.DATA,
+flow/*.INC) must be identical (bit for bit)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+COMPARED_SUFFIXES = (".nc", ".grdecl", ".vtu", ".vtp", ".json")
+DECK_SUFFIXES = (".DATA", ".INC")
+
+
+def compared_files(folder: Path) -> list[str]:
+    """The case folder's artifacts and its Flow deck files, as paths relative to the folder."""
+    names = [p.name for p in folder.iterdir() if p.suffix in COMPARED_SUFFIXES]
+    if (folder / "flow").is_dir():
+        names += [f"flow/{p.name}" for p in (folder / "flow").iterdir() if p.suffix in DECK_SUFFIXES]
+    return sorted(names)
+
+
+def assert_same_files(first: Path, second: Path) -> list[str]:
+    """Assert that the two case folders hold the same files with identical contents; returns
+    the names compared."""
+    names = compared_files(first)
+    assert names == compared_files(second), (first, second)
+    for name in names:
+        where = f"{first.name}/{name}"
+        if name.endswith(".nc"):
+            with xr.open_dataset(first / name) as a, xr.open_dataset(second / name) as b:
+                assert sorted(a.variables) == sorted(b.variables), where
+                assert a.attrs.keys() == b.attrs.keys(), where
+                for key, value in a.attrs.items():
+                    assert np.array_equal(value, b.attrs[key]), f"{where}: attribute {key}"
+                for var in a.variables:
+                    u, v = a[var].values, b[var].values
+                    assert u.dtype == v.dtype and u.shape == v.shape, f"{where}: {var}"
+                    same = u.tobytes() == v.tobytes() if u.dtype.kind != "O" else np.array_equal(u, v)
+                    assert same, f"{where}: {var}: {np.count_nonzero(u != v)} of {u.size} values differ"
+                    assert a[var].attrs.keys() == b[var].attrs.keys(), f"{where}: {var}"
+        elif name.endswith(".json"):
+            one, two = (json.loads((folder / name).read_text()) for folder in (first, second))
+            assert one == two, where
+        else:
+            assert (first / name).read_bytes() == (second / name).read_bytes(), where
+    return names
