@@ -92,8 +92,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .errors import InputError
 from .grid import Grid
-from .io._atomic import atomic_path
-from .io._dataset import load_dataset
+from .io._dataset import load_dataset, save_dataset
 from .reproducible import exp, matmul
 from .threads import num_threads
 
@@ -885,6 +884,4 @@ def write_property_cube(
     }
     data = {name: (("z", "y", "x"), v) for name, v in cube.values.items()}
     ds = xr.Dataset(data, coords=coords, attrs={"title": "gridlib property cube", **dict(attrs or {})})
-    with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
-    return Path(path)
+    return save_dataset(path, ds)

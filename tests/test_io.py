@@ -190,3 +190,66 @@ def test_stage_attributes_decode_json_and_keep_other_text(tmp_path):
     got = read_attrs(path)
     assert got["fault_names"] == ["F1", "F2"] and got["map"] == {"a": 1}
     assert got["note"] == "[not json" and int(got["n"]) == 3
+
+
+def _awkward_values(n: int, rng: np.random.Generator) -> np.ndarray:
+    """Doubles a lossy or sloppy codec would change: NaN, infinities, -0.0, subnormals, extremes."""
+    values = rng.standard_normal(n) * 10.0 ** rng.integers(-300, 300, n)
+    special = [np.nan, np.inf, -np.inf, -0.0, 5e-324, -2.2e-308, np.finfo(float).max, np.finfo(float).tiny]
+    values[: len(special)] = special
+    return values
+
+
+@pytest.mark.parametrize(
+    ("policy", "filters"),
+    [
+        (None, {"zstd"}),  # the default where netCDF4 has Zstandard (the PyPI wheels do)
+        ({"zlib": True, "complevel": 1, "shuffle": True}, {"zlib", "shuffle"}),  # the fallback
+    ],
+    ids=["default", "deflate"],
+)
+def test_netcdf_variables_are_compressed_and_read_back_bit_for_bit(tmp_path, monkeypatch, policy, filters):
+    from gridlib.io import _dataset
+
+    if policy is not None:
+        monkeypatch.setattr(_dataset, "COMPRESSION", policy)
+    g = gl.cart_grid([60, 50, 40])  # 1.2e5 cells: many HDF5 chunks per variable
+    rng = np.random.default_rng(11)
+    cell = {
+        "awkward": _awkward_values(g.num_cells, rng),
+        "facies": rng.integers(-(2**62), 2**62, g.num_cells),
+        "flag": rng.integers(0, 2, g.num_cells).astype(np.int8),
+    }
+    path = write_netcdf(tmp_path / "g.nc", g, cell_data=cell)
+    back = read_netcdf(path)
+    for key, values in cell.items():
+        got = back.cell_data[key]
+        assert got.dtype == values.dtype and got.tobytes() == values.tobytes(), key
+    _same_grid(g, back.grid)
+    with xr.open_dataset(path) as ds:
+        numeric = [name for name in ds.variables if ds[name].dtype.kind in "biuf" and ds[name].size > 0]
+        assert numeric and all(ds[name].encoding[f] for name in numeric for f in filters)
+        assert ds["awkward"].encoding["complevel"] == 1
+    raw = sum(v.nbytes for v in cell.values()) + g.faces.nodes.nbytes + g.cells.faces.nbytes
+    assert path.stat().st_size < raw  # the regular topology deflates far below its raw size
+
+
+def test_vtu_is_zlib_compressed_and_reads_back_bit_for_bit(tmp_path):
+    # 131,072 cells: a float64 cell array is exactly one full 1 MiB block, the points several
+    g = gl.cart_grid([64, 64, 32])
+    rng = np.random.default_rng(12)
+    data = {
+        "awkward": _awkward_values(g.num_cells, rng),
+        "layer": np.repeat(np.arange(32), 64 * 64).astype(np.int32),
+        "vector": rng.uniform(size=(g.num_cells, 3)),
+    }
+    packed = write_vtu(tmp_path / "z.vtu", g, data)
+    plain = write_vtu(tmp_path / "raw.vtu", g, data, compress=False)
+    assert b'compressor="vtkZLibDataCompressor"' in packed.read_bytes()[:400]
+    assert packed.stat().st_size < plain.stat().st_size / 2
+    a, b = pv.read(packed), pv.read(plain)
+    for key, values in data.items():
+        assert a.cell_data[key].tobytes() == values.tobytes(), key
+    assert np.asarray(a.points).tobytes() == np.asarray(b.points).tobytes()
+    assert np.array_equal(a.celltypes, b.celltypes) and a.n_cells == g.num_cells
+    assert np.array_equal(a.cell_connectivity, b.cell_connectivity)

@@ -14,8 +14,7 @@ from numpy.typing import ArrayLike
 
 from ..cornerpoint.horizons import Horizon
 from ..errors import InputError
-from ..io._atomic import atomic_path
-from ..io._dataset import load_dataset
+from ..io._dataset import load_dataset, save_dataset
 from .ordering import _names, _stack, order_horizons
 
 
@@ -105,9 +104,7 @@ def write_horizons(path: str | os.PathLike, ds: xr.Dataset) -> Path:
     encoding = {"depth": {"_FillValue": np.nan}}
     if "block" in ds:
         encoding["block"] = {"_FillValue": None}
-    with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
-    return Path(path)
+    return save_dataset(path, ds, encoding)
 
 
 def read_horizons(path: str | os.PathLike) -> xr.Dataset:

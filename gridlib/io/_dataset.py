@@ -1,13 +1,39 @@
-"""Open a netCDF file as a loaded xarray Dataset, or fail with one message naming the file."""
+"""netCDF files of xarray Datasets: opened with one message naming the file on failure, and
+written atomically and losslessly compressed by one routine that every gridlib writer uses.
+
+Compression (:data:`COMPRESSION`): every numeric variable is stored in netCDF-4's default
+chunks with Zstandard at level 1; where the netCDF4 library has no Zstandard filter, with
+HDF5's shuffle and deflate (zlib) at level 1 instead. Both are lossless: every value reads
+back bit for bit. Measured on a 1e6-cell grid with its geometry (464 MiB raw) on the
+project's 2-core VM: Zstandard writes 236 MiB in about 2 s (raw: 0.5-1.9 s), deflate with
+shuffle 175 MiB in about 6 s. (netCDF4 applies its shuffle to deflate only; the Blosc filter,
+which shuffles for Zstandard, fails on chunks it cannot shrink.) Reading needs the filter:
+the netCDF4 wheels from PyPI (which xarray uses) carry it, as do conda-forge's libnetcdf and
+netCDF-C >= 4.9 built with its plugins; h5py users add ``hdf5plugin``.
+"""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import xarray as xr
 
 from ..errors import InputError
+from ._atomic import atomic_path
+
+
+def _compression() -> dict[str, Any]:
+    import netCDF4
+
+    if getattr(netCDF4, "__has_zstandard_support__", False):
+        return {"compression": "zstd", "complevel": 1}
+    return {"zlib": True, "complevel": 1, "shuffle": True}
+
+
+COMPRESSION: dict[str, Any] = _compression()
 
 
 def load_dataset(path: str | os.PathLike) -> xr.Dataset:
@@ -20,3 +46,29 @@ def load_dataset(path: str | os.PathLike) -> xr.Dataset:
             return handle.load()
     except (OSError, ValueError) as exc:
         raise InputError(f"{p}: cannot read as netCDF ({exc})") from exc
+
+
+def compressed_encoding(
+    ds: xr.Dataset, encoding: Mapping[str, Mapping[str, Any]] | None = None
+) -> dict[str, dict[str, Any]]:
+    """``encoding`` (per variable) with :data:`COMPRESSION` added to every non-empty numeric
+    variable; strings and empty variables are stored as they are."""
+    given = dict(encoding or {})
+    result: dict[str, dict[str, Any]] = {}
+    for name, variable in ds.variables.items():
+        own = dict(given.get(str(name), {}))
+        if variable.dtype.kind in "biuf" and variable.ndim > 0 and variable.size > 0:
+            own = {**COMPRESSION, **own}
+        if own:
+            result[str(name)] = own
+    return result
+
+
+def save_dataset(
+    path: str | os.PathLike, ds: xr.Dataset, encoding: Mapping[str, Mapping[str, Any]] | None = None
+) -> Path:
+    """Write ``ds`` to ``path`` as netCDF-4, compressed losslessly (:data:`COMPRESSION`), atomically:
+    on any error no file is left at ``path``. ``encoding`` adds per-variable settings (fill values)."""
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=compressed_encoding(ds, encoding))
+    return Path(path)

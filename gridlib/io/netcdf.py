@@ -37,8 +37,7 @@ from ..connectivity import cell_node_cycles_2d
 from ..errors import GridError, InputError
 from ..geometry import Geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
-from ._atomic import atomic_path
-from ._dataset import load_dataset
+from ._dataset import load_dataset, save_dataset
 
 _AXES = ("x", "y", "z")
 
@@ -259,9 +258,7 @@ def write_netcdf(
     encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iu"}
     if "mesh2d_face_nodes" in ds:
         encoding["mesh2d_face_nodes"] = {"_FillValue": np.int64(-1)}
-    with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
-    return Path(path)
+    return save_dataset(path, ds, encoding)
 
 
 def _read_grid(ds: xr.Dataset, prefix: str, path: str) -> Grid:
@@ -367,9 +364,7 @@ def write_geometry_netcdf(
         "min_face_area": float(geo.face_areas.min()),
     }
     user = {k: _attr_value(k, v) for k, v in (attrs or {}).items()}
-    with atomic_path(path) as tmp:
-        xr.Dataset(variables, attrs={**user, **summary}).to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
-    return Path(path)
+    return save_dataset(path, xr.Dataset(variables, attrs={**user, **summary}))
 
 
 def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:

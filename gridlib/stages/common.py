@@ -21,7 +21,7 @@ import xarray as xr
 from ..errors import GridError, InputError
 from ..geometry import Geometry
 from ..grid import Grid
-from ..io._atomic import atomic_path
+from ..io._dataset import save_dataset
 from ..io.netcdf import grid_to_dataset, read_netcdf
 from ..threads import ENV
 
@@ -61,9 +61,7 @@ def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:
     encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iub"}
     if "mesh2d_face_nodes" in ds:
         encoding["mesh2d_face_nodes"] = {"_FillValue": np.int64(-1)}
-    with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding)
-    return Path(path)
+    return save_dataset(path, ds, encoding)
 
 
 def write_grid_file(
