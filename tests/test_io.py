@@ -253,3 +253,23 @@ def test_vtu_is_zlib_compressed_and_reads_back_bit_for_bit(tmp_path):
     assert np.asarray(a.points).tobytes() == np.asarray(b.points).tobytes()
     assert np.array_equal(a.celltypes, b.celltypes) and a.n_cells == g.num_cells
     assert np.array_equal(a.cell_connectivity, b.cell_connectivity)
+
+
+@pytest.mark.parametrize("compress", [True, False])
+def test_vtu_written_in_cell_blocks_is_the_same_file(tmp_path, monkeypatch, compress):
+    """Cells laid out a few at a time (ragged blocks, split polyhedra streams and offsets)
+    give exactly the bytes of one block of all cells."""
+    from gridlib.io import vtu
+
+    g = gl.remove_cells(gl.make_layered_grid(gl.pebi(gl.triangle_grid(honeycomb_points())), 3), [4, 50])
+    data = {
+        "a": np.arange(g.num_cells, dtype=float),
+        "v": np.ones((g.num_cells, 3)),
+        "k": np.ones(g.num_cells, bool),
+    }
+    whole = write_vtu(tmp_path / "whole.vtu", g, data, compress=compress).read_bytes()
+    monkeypatch.setattr(vtu, "BLOCK_CELLS", 7)
+    assert write_vtu(tmp_path / "blocks.vtu", g, data, compress=compress).read_bytes() == whole
+    monkeypatch.setattr(vtu, "BLOCK_BYTES", 100)  # many zlib blocks, a partial last one
+    mesh = pv.read(write_vtu(tmp_path / "small.vtu", g, data, compress=compress))
+    assert mesh.cell_data["a"].tobytes() == data["a"].tobytes() and mesh.n_cells == g.num_cells

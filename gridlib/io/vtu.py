@@ -25,7 +25,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ..connectivity import cell_node_cycles_2d, half_face_cells, offsets, ragged_arange
+from ..connectivity import cell_node_cycles_2d, offsets, ragged_arange
 from ..errors import GridError
 from ..grid import Grid
 from ..threads import concurrently
@@ -35,6 +35,7 @@ VTK_POLYGON = 7
 VTK_POLYHEDRON = 42
 BLOCK_BYTES = 1 << 20  # uncompressed bytes per zlib block (VTK's own writer uses 32 KiB)
 ZLIB_LEVEL = 1
+BLOCK_CELLS = 1 << 17  # cells laid out at a time: bounds the temporaries of the polyhedron streams
 
 _VTK_TYPES = {
     np.dtype(np.float64): "Float64",
@@ -51,28 +52,39 @@ _VTK_TYPES = {
 
 def polyhedron_streams(grid: Grid) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(connectivity, offsets, faces, faceoffsets) of the legacy VTK polyhedron layout."""
-    cf = grid.cells.faces
-    hc = half_face_cells(grid)
+    return polyhedron_block(grid, 0, grid.num_cells)
+
+
+def polyhedron_block(
+    grid: Grid, first: int, stop: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The polyhedron streams of cells ``first`` to ``stop - 1`` alone: (connectivity, its end
+    offsets, faces, their end offsets), the offsets counted from the block's start."""
+    fp = grid.cells.face_pos
+    h0, h1 = int(fp[first]), int(fp[stop])
+    cf = grid.cells.faces[h0:h1]
+    count = stop - first
+    hc = np.repeat(np.arange(count, dtype=np.int64), np.diff(fp[first : stop + 1]))  # block-local cell
     npos = grid.faces.node_pos
-    n = np.diff(npos)[cf]  # nodes per half-face
-    outward = grid.faces.neighbors[cf, 0] == hc
+    n = npos[cf + 1] - npos[cf]  # nodes per half-face
+    outward = grid.faces.neighbors[cf, 0] == hc + first
     # Face stream: per cell 1 + sum(1 + n) entries.
-    cell_len = 1 + np.bincount(hc, 1 + n, grid.num_cells).astype(np.int64)
+    cell_len = 1 + np.bincount(hc, 1 + n, count).astype(np.int64)
     cell_start = offsets(cell_len)
-    hf_len = 1 + n
     # Offset of each half-face inside its cell block: 1 + lengths of earlier half-faces.
-    cum = offsets(hf_len)
-    hf_off = 1 + cum[:-1] - cum[grid.cells.face_pos[hc]]
+    cum = offsets(1 + n)
+    hf_off = 1 + cum[:-1] - cum[fp[first:stop][hc] - h0]
     stream = np.empty(int(cell_start[-1]), dtype=np.int64)
-    stream[cell_start[:-1]] = grid.cells.num_faces
+    stream[cell_start[:-1]] = np.diff(fp[first : stop + 1])
     count_at = cell_start[hc] + hf_off
     stream[count_at] = n
     local = ragged_arange(np.zeros(cf.size, dtype=np.int64), n)
     hf_rep = np.repeat(np.arange(cf.size), n)
     fwd = np.repeat(outward, n)
     src = npos[cf][hf_rep] + np.where(fwd, local, n[hf_rep] - 1 - local)
-    stream[np.repeat(count_at + 1, n) + local] = grid.faces.nodes[src]
-    conn, conn_off = _cell_points(grid.faces.nodes[src], np.bincount(hc, n, grid.num_cells).astype(np.int64))
+    nodes = grid.faces.nodes[src]
+    stream[np.repeat(count_at + 1, n) + local] = nodes
+    conn, conn_off = _cell_points(nodes, np.bincount(hc, n, count).astype(np.int64))
     return conn, conn_off, stream, cell_start[1:]
 
 
@@ -98,16 +110,43 @@ def _cell_points(entries: np.ndarray, per_cell: np.ndarray) -> tuple[np.ndarray,
     return conn, end
 
 
-def _zlib_blocks(raw: bytes) -> bytes:
-    """``raw`` as VTK's zlib compressor stores it: the UInt64 header (number of blocks,
-    block size, size of the last block, compressed size of each block), then the blocks."""
-    view = memoryview(raw)
-    blocks = (view[i : i + BLOCK_BYTES] for i in range(0, len(raw), BLOCK_BYTES))
-    # zlib releases the GIL and every block is deflated on its own: the same bytes on any thread count
-    chunks = concurrently(*(partial(zlib.compress, block, ZLIB_LEVEL) for block in blocks))
-    last = len(raw) - (len(chunks) - 1) * BLOCK_BYTES if chunks else 0
-    header = np.array([len(chunks), BLOCK_BYTES, last, *map(len, chunks)], dtype="<u8")
-    return header.tobytes() + b"".join(chunks)
+class _AppendedArray:
+    """One DataArray of the appended block, fed in pieces: raw (UInt64 byte count, then the
+    bytes) or as VTK's zlib compressor stores it (UInt64 header: number of blocks, block size,
+    size of the last block, compressed size of each block; then the blocks). Only the
+    compressed blocks are kept; each 1 MiB block is deflated on its own, on gridlib's
+    threads, so the bytes never depend on the number of threads or on the pieces."""
+
+    def __init__(self, compress: bool) -> None:
+        self.compress = compress
+        self.parts: list[bytes] = []
+        self.pending = b""
+        self.nbytes = 0
+
+    def add(self, values: np.ndarray) -> None:
+        raw = np.ascontiguousarray(values, dtype=values.dtype.newbyteorder("<")).tobytes()
+        self.nbytes += len(raw)
+        if not self.compress:
+            self.parts.append(raw)
+            return
+        data = self.pending + raw if self.pending else raw
+        full = len(data) // BLOCK_BYTES * BLOCK_BYTES
+        self._deflate(memoryview(data)[:full])
+        self.pending = data[full:]
+
+    def _deflate(self, data: memoryview) -> None:
+        blocks = [data[i : i + BLOCK_BYTES] for i in range(0, len(data), BLOCK_BYTES)]
+        self.parts += concurrently(*(partial(zlib.compress, block, ZLIB_LEVEL) for block in blocks))
+
+    def finish(self) -> list[bytes]:
+        """The array's bytes in the appended block (header first)."""
+        if not self.compress:
+            return [np.uint64(self.nbytes).tobytes(), *self.parts]
+        if self.pending:
+            self._deflate(memoryview(self.pending))
+        last = self.nbytes - (len(self.parts) - 1) * BLOCK_BYTES if self.parts else 0
+        header = np.array([len(self.parts), BLOCK_BYTES, last, *map(len, self.parts)], dtype="<u8")
+        return [header.tobytes(), *self.parts]
 
 
 def write_vtu(
@@ -118,27 +157,9 @@ def write_vtu(
     compress: bool = True,
 ) -> Path:
     """Write ``grid`` with its cell data to a .vtu file (atomically), zlib-compressed unless
-    ``compress`` is False."""
-    coords = grid.nodes.coords
-    points = coords if coords.shape[1] == 3 else np.column_stack([coords, np.zeros(len(coords))])
-    arrays: list[tuple[str, str, np.ndarray, int]] = []  # (section, name, data, ncomp)
-    arrays.append(("Points", "Points", points, 3))
-    if grid.griddim == 3:
-        conn, off, faces, faceoff = polyhedron_streams(grid)
-        types = np.full(grid.num_cells, VTK_POLYHEDRON, dtype=np.uint8)
-        cells = [
-            ("connectivity", conn),
-            ("offsets", off),
-            ("types", types),
-            ("faces", faces),
-            ("faceoffsets", faceoff),
-        ]
-    else:
-        pos, cyc = cell_node_cycles_2d(grid)
-        types = np.full(grid.num_cells, VTK_POLYGON, dtype=np.uint8)
-        cells = [("connectivity", cyc), ("offsets", pos[1:]), ("types", types)]
-    for name, data in cells:
-        arrays.append(("Cells", name, np.ascontiguousarray(data), 1))
+    ``compress`` is False. Polyhedra are laid out block of cells by block of cells, and only
+    the compressed arrays are held: the memory beyond the grid is about the compressed file."""
+    data = {}
     for name, values in (cell_data or {}).items():
         arr = np.asarray(values)
         if arr.dtype == bool:
@@ -147,15 +168,59 @@ def write_vtu(
             raise GridError(f"write_vtu: cell data '{name}' must have shape ({grid.num_cells},) or (nc, k)")
         if arr.dtype not in _VTK_TYPES:
             raise GridError(f"write_vtu: cell data '{name}' has unsupported type {arr.dtype}")
-        arrays.append(("CellData", name, np.ascontiguousarray(arr), 1 if arr.ndim == 1 else arr.shape[1]))
+        data[name] = arr
+    coords = grid.nodes.coords
+    points = coords if coords.shape[1] == 3 else np.column_stack([coords, np.zeros(len(coords))])
+    # (section, name, VTK type, components, bytes)
+    arrays: list[tuple[str, str, str, int, list[bytes]]] = []
 
-    header, blobs, offset = [], [], 0
-    for section, name, data, ncomp in arrays:
-        raw = np.ascontiguousarray(data, dtype=data.dtype.newbyteorder("<")).tobytes()
-        blob = _zlib_blocks(raw) if compress else np.uint64(len(raw)).tobytes() + raw
-        blobs.append(blob)
-        header.append((section, name, _VTK_TYPES[np.dtype(data.dtype)], ncomp, offset))
-        offset += len(blob)
+    def add(section: str, name: str, dtype: type, ncomp: int, pieces) -> None:
+        appended = _AppendedArray(compress)
+        for piece in pieces:
+            appended.add(np.asarray(piece, dtype=dtype))
+        arrays.append((section, name, _VTK_TYPES[np.dtype(dtype)], ncomp, appended.finish()))
+
+    add("Points", "Points", np.float64, 3, _row_blocks(points, BLOCK_CELLS * 8))
+    if grid.griddim == 3:
+        streams = {
+            key: _AppendedArray(compress) for key in ("connectivity", "offsets", "faces", "faceoffsets")
+        }
+        ends = np.zeros(2, dtype=np.int64)  # connectivity and faces written so far
+        for first in range(0, grid.num_cells, BLOCK_CELLS):
+            stop = min(first + BLOCK_CELLS, grid.num_cells)
+            conn, conn_end, faces, face_end = polyhedron_block(grid, first, stop)
+            for key, values in (
+                ("connectivity", conn),
+                ("offsets", conn_end + ends[0]),
+                ("faces", faces),
+                ("faceoffsets", face_end + ends[1]),
+            ):
+                streams[key].add(values)
+            ends += (conn.size, faces.size)
+        types = np.full(grid.num_cells, VTK_POLYHEDRON, dtype=np.uint8)
+        for key in ("connectivity", "offsets"):
+            arrays.append(("Cells", key, "Int64", 1, streams[key].finish()))
+        add("Cells", "types", np.uint8, 1, [types])
+        for key in ("faces", "faceoffsets"):
+            arrays.append(("Cells", key, "Int64", 1, streams[key].finish()))
+    else:
+        pos, cyc = cell_node_cycles_2d(grid)
+        add("Cells", "connectivity", np.int64, 1, [cyc])
+        add("Cells", "offsets", np.int64, 1, [pos[1:]])
+        add("Cells", "types", np.uint8, 1, [np.full(grid.num_cells, VTK_POLYGON, dtype=np.uint8)])
+    for name, arr in data.items():
+        add(
+            "CellData",
+            name,
+            arr.dtype.type,
+            1 if arr.ndim == 1 else arr.shape[1],
+            _row_blocks(arr, BLOCK_CELLS),
+        )
+
+    header, offset = [], 0
+    for section, name, vtk_type, ncomp, parts in arrays:
+        header.append((section, name, vtk_type, ncomp, offset))
+        offset += sum(map(len, parts))
 
     def tags(section: str) -> str:
         return "\n".join(
@@ -180,7 +245,13 @@ def write_vtu(
     )
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         fh.write(xml.encode())
-        for blob in blobs:
-            fh.write(blob)
+        for *_, parts in arrays:
+            fh.writelines(parts)
         fh.write(b"\n</AppendedData>\n</VTKFile>\n")
     return Path(path)
+
+
+def _row_blocks(values: np.ndarray, rows: int):
+    """``values`` in blocks of ``rows`` rows (views, no copies)."""
+    for first in range(0, max(len(values), 1), rows):
+        yield values[first : first + rows]
