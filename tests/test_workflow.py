@@ -118,6 +118,26 @@ def test_the_ugrid_footprint_opens_with_xugrid(workflow_run):
     assert twisted.ugrid.grid.n_face == 600
 
 
+@pytest.mark.parametrize("case", ["anticline", "faulted_pebi"])
+def test_every_netcdf_artifact_is_compressed_and_opens_lazily(workflow_run, case):
+    """chunks={}: dask arrays in the file's compressed chunks, equal to an eager read."""
+    paths = sorted((workflow_run / "results" / case).glob("*.nc"))
+    assert {p.name for p in paths} >= {"grid.nc", "geometry.nc", "petrophysics.nc", f"{case}.nc"}
+    for path in paths:
+        with xr.open_dataset(path, chunks={}) as lazy, xr.open_dataset(path) as eager:
+            for name in eager.variables:
+                variable = lazy[name].variable
+                if eager[name].dtype.kind in "biuf" and eager[name].ndim and eager[name].size:
+                    assert variable.encoding.get("zstd") or variable.encoding.get("zlib"), (path.name, name)
+                    if name not in lazy.indexes:
+                        assert type(variable.data).__module__.startswith("dask"), (path.name, name)
+                        row = eager[name].dtype.itemsize * int(np.prod(eager[name].shape[1:]))
+                        assert variable.data.chunks[0][0] * row <= 1 << 20, (path.name, name)
+                floats = eager[name].dtype.kind == "f"
+                same = np.array_equal(lazy[name].values, eager[name].values, equal_nan=floats)
+                assert same, (path.name, name)
+
+
 def test_the_summary_table_lists_every_case(workflow_run):
     lines = (workflow_run / "results" / "summary.csv").read_text().splitlines()
     assert lines[0].startswith("case,grid_type,griddim,cells")
