@@ -195,10 +195,12 @@ def _relocate_files(data: dict[str, Any], base_dir: Path, folder: Path) -> None:
         visit(data, keys)
 
 
-def load_study(path: str | os.PathLike, results: str | os.PathLike = "results") -> Study:
+def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", check: bool = True) -> Study:
     """Read and validate a study file and every variant of it (as a case that would live in
     ``results/<study>/<variant>/``). Problems raise one InputError line naming the study file
-    and the key (and the variant, for a value that makes a variant invalid)."""
+    and the key (and the variant, for a value that makes a variant invalid). ``check=False``
+    skips validating the base case and each variant as a case (a job's process: the process
+    that planned the run has checked them)."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: study file not found")
@@ -215,7 +217,8 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results") 
     if not isinstance(base_data, dict):
         raise InputError(f"{p}: base: {base} is not a case (a mapping of keys)")
     try:
-        check_case_data(base_data, base, str(base))
+        if check:
+            check_case_data(base_data, base, str(base))
     except InputError as exc:
         raise InputError(f"{p}: base: {exc}") from None
 
@@ -264,7 +267,7 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results") 
                 _set(data, key, value)
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)
-            checked = _check_variant(data, folder / f"{name}.yaml", p, keys, name)
+            checked = _check_variant(data, folder / f"{name}.yaml", p, keys, name) if check else data
             plain = {k: v for k, (_, v) in values.items()}
             variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
     kinds = {v.artifacts for v in variants}
@@ -314,14 +317,16 @@ def _check_variant(
         raise InputError(f"{study}: {key}: variant '{name}': {message}") from None
 
 
-def load_studies(paths: list[str | os.PathLike], results: str | os.PathLike = "results") -> dict[str, Study]:
+def load_studies(
+    paths: list[str | os.PathLike], results: str | os.PathLike = "results", check: bool = True
+) -> dict[str, Study]:
     """Every study file read and validated, keyed by name; one InputError with one line per
-    problem (as :func:`gridlib.config.load_cases`)."""
+    problem (as :func:`gridlib.config.load_cases`); ``check`` as :func:`load_study`."""
     studies: dict[str, Study] = {}
     problems: list[str] = []
     for path in paths:
         try:
-            study = load_study(path, results)
+            study = load_study(path, results, check)
         except InputError as exc:
             problems.append(" ".join(str(exc).split("\n")))
             continue

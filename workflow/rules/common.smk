@@ -161,7 +161,9 @@ def discover_studies(spec):
     else:
         paths = [p if Path(p).is_absolute() else str(base / p) for p in spec]
     try:
-        studies = load_studies(paths, RESULTS)
+        # A job's process (spawned, or on a cluster node) trusts the checks of the process
+        # that planned the run: parsing then costs little more with many variants.
+        studies = load_studies(paths, RESULTS, check=workflow.is_main_process)
     except InputError as exc:
         problems = str(exc).splitlines()
         stop(
@@ -174,8 +176,9 @@ def discover_studies(spec):
                 f"{study.path}: name: '{name}' is taken by a case or by {RESULTS}/{name}; "
                 "nothing was run"
             )
-    for study in studies.values():
-        materialise(study, RESULTS)
+    if workflow.is_main_process:
+        for study in studies.values():
+            materialise(study, RESULTS)
     return studies
 
 
