@@ -107,6 +107,12 @@ class Case:
         }
 
 
+def has_transmissibility(case: Case) -> bool:
+    """Whether the transmissibility stage runs for ``case``: it needs the case's rock properties
+    (here, not in gridlib.stages.transmissibility, so that the workflow's parse imports little)."""
+    return case.has_petrophysics
+
+
 def _key_path(error: jsonschema.ValidationError) -> str:
     parts = []
     for p in error.absolute_path:

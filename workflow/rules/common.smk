@@ -16,7 +16,7 @@ from snakemake.utils import validate
 from gridlib.config import load_cases
 from gridlib.config import validate as check_schema
 from gridlib.errors import InputError
-from gridlib.stages.transmissibility import has_transmissibility
+from gridlib.config import has_transmissibility
 from gridlib.study import load_studies, materialise
 
 
