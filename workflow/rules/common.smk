@@ -218,6 +218,17 @@ def build_variant(case_file, summary, log_file):
         run_in_process(case_file, folder, log_file)
 
 
+def study_variant_files(name):
+    """The outputs of a variant of study ``name`` (its study_<name> jobs): the variant's
+    artifacts, the OPM Flow deck as the folder flow/ (the deck is named after the variant in
+    upper case, which a pattern cannot say)."""
+    artifacts = STUDY_ARTIFACTS[name]
+    files = {k: variant_out(k) for k in artifacts if k != "flow"}
+    if "flow" in artifacts:
+        files["flow"] = directory(variant_out("flow"))
+    return files
+
+
 def study_variant_outputs(name):
     """Every declared artifact of every variant of the study ``name``."""
     study = STUDIES[name]

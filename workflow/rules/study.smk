@@ -8,15 +8,6 @@
 # (--force-use-threads, set by workflow/profiles/default); else in the job's own process.
 
 
-def _study_rule(study):
-    """The rule building one variant of ``study``: one job (one process) per variant."""
-    artifacts = STUDY_ARTIFACTS[study.name]
-    files = {k: variant_out(k) for k in artifacts if k != "flow"}
-    if "flow" in artifacts:
-        files["flow"] = directory(variant_out("flow"))
-    return files
-
-
 for _name, _study in sorted(STUDIES.items()):
 
     rule:
@@ -25,7 +16,7 @@ for _name, _study in sorted(STUDIES.items()):
         input:
             case=f"{RESULTS}/{{study}}/{{variant}}/{{variant}}.yaml",
         output:
-            **_study_rule(_study),
+            **study_variant_files(_name),
         log:
             f"{RESULTS}/logs/{{study}}/{{variant}}.log",
         wildcard_constraints:
