@@ -149,6 +149,12 @@ def optional(name, wanted):
     return inputs
 
 
+def rule_name(study):
+    """The name of a study's variant rule: study_<study>, other characters than letters,
+    digits and _ as _."""
+    return re.sub(r"\W", "_", study)
+
+
 def discover_studies(spec):
     """Validated studies keyed by name, from a glob (no match: no study) or a list of study
     files; each variant's case file (and the study's variants.yaml) written under
@@ -170,11 +176,18 @@ def discover_studies(spec):
             "\n".join(problems)
             + f"\n{len(problems)} problem(s) in the study files; nothing was run"
         )
+    rules = {}
     for name, study in studies.items():
         if name in CASES or name in ("logs", "benchmarks", "summary.csv", "report"):
             stop(
                 f"{study.path}: name: '{name}' is taken by a case or by {RESULTS}/{name}; "
                 "nothing was run"
+            )
+        other = rules.setdefault(rule_name(name), study)
+        if other is not study:
+            stop(
+                f"{study.path}: name: '{name}' and '{other.name}' give the same rule "
+                f"study_{rule_name(name)}; rename one; nothing was run"
             )
     if workflow.is_main_process:
         for study in studies.values():
@@ -185,12 +198,6 @@ def discover_studies(spec):
 STUDIES = discover_studies(config.get("studies", "config/studies/*.yaml"))
 STUDY_NAMES = "|".join(re.escape(n) for n in sorted(STUDIES)) or "(?!)"
 STUDY_ARTIFACTS = {n: s.variants[0].artifacts for n, s in STUDIES.items()}
-
-
-def rule_name(study):
-    """The name of a study's variant rule: study_<study>, other characters than letters,
-    digits and _ as _."""
-    return re.sub(r"\W", "_", study)
 
 
 def variant_out(name):
