@@ -94,7 +94,7 @@ class Study:
         return self.folder(results) / variant / f"{variant}.yaml"
 
 
-def _read_yaml(path: Path, what: str) -> Any:
+def _read_yaml(path: Path) -> Any:
     try:
         return yaml.safe_load(path.read_bytes())
     except yaml.YAMLError as exc:
@@ -204,7 +204,7 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: study file not found")
-    spec = _read_yaml(p, "study")
+    spec = _read_yaml(p)
     if not isinstance(spec, dict):
         raise InputError(f"{p}: a study must be a mapping of keys (name, base, vary, ...)")
     validate(spec, _parsed_schema(STUDY_SCHEMA), str(p))
@@ -213,7 +213,7 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
     base = p.parent / spec["base"]
     if not base.is_file():
         raise InputError(f"{p}: base: case file '{spec['base']}' not found (looked for {base})")
-    base_data = _read_yaml(base, "case")
+    base_data = _read_yaml(base)
     if not isinstance(base_data, dict):
         raise InputError(f"{p}: base: {base} is not a case (a mapping of keys)")
     try:
