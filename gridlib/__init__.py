@@ -13,45 +13,70 @@ z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
 >>> gl.check_grid(g, geo)
 """
 
+from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 
-from .checks import check_grid
-from .coarsen import (
-    CoarseGrid,
-    coarse_grid,
-    compress_partition,
-    partition_metis,
-    partition_ui,
-    process_partition,
-    upscale_ntg,
-    upscale_permeability,
-    upscale_porosity,
-)
-from .cornerpoint import (
-    CornerPointGrid,
-    Deck,
-    FaultSegment,
-    FaultTrace,
-    Horizon,
-    cut_grdecl,
-    horizons_to_grdecl,
-    make_model3,
-    process_grdecl,
-    simple_grdecl,
-)
-from .errors import GridError, InputError
-from .geometry import Geometry, compute_geometry
-from .glue import glue_2d
-from .grid import Cells, Faces, Grid, Layering, Nodes
-from .io.egrid import read_egrid
-from .io.grdecl import DeckError, read_grdecl, write_grdecl
-from .layered import make_layered_grid
-from .stratigraphic.columns import ColumnGrid, extrude_columns
-from .stratigraphic.extrude import ExtrudedGrid, extrude
-from .structured import cart_grid, tensor_grid, translate_grid, twister
-from .subgrid import Subgrid, extract_subgrid, remove_cells
-from .unstructured import tessellation_grid, tetrahedral_grid, triangle_grid
-from .voronoi import Fault, PebiGrid, Rings, Well, grid_quality, pebi, pebi_grid, rectangle
+# The public names, imported on first use (PEP 562): `import gridlib` and the workflow's
+# `import gridlib.config` stay cheap, and a stage imports only the modules it uses.
+_EXPORTS: dict[str, str] = {
+    "check_grid": ".checks",
+    "CoarseGrid": ".coarsen",
+    "coarse_grid": ".coarsen",
+    "compress_partition": ".coarsen",
+    "partition_metis": ".coarsen",
+    "partition_ui": ".coarsen",
+    "process_partition": ".coarsen",
+    "upscale_ntg": ".coarsen",
+    "upscale_permeability": ".coarsen",
+    "upscale_porosity": ".coarsen",
+    "CornerPointGrid": ".cornerpoint",
+    "Deck": ".cornerpoint",
+    "FaultSegment": ".cornerpoint",
+    "FaultTrace": ".cornerpoint",
+    "Horizon": ".cornerpoint",
+    "cut_grdecl": ".cornerpoint",
+    "horizons_to_grdecl": ".cornerpoint",
+    "make_model3": ".cornerpoint",
+    "process_grdecl": ".cornerpoint",
+    "simple_grdecl": ".cornerpoint",
+    "GridError": ".errors",
+    "InputError": ".errors",
+    "Geometry": ".geometry",
+    "compute_geometry": ".geometry",
+    "glue_2d": ".glue",
+    "Cells": ".grid",
+    "Faces": ".grid",
+    "Grid": ".grid",
+    "Layering": ".grid",
+    "Nodes": ".grid",
+    "read_egrid": ".io.egrid",
+    "DeckError": ".io.grdecl",
+    "read_grdecl": ".io.grdecl",
+    "write_grdecl": ".io.grdecl",
+    "make_layered_grid": ".layered",
+    "ColumnGrid": ".stratigraphic.columns",
+    "extrude_columns": ".stratigraphic.columns",
+    "ExtrudedGrid": ".stratigraphic.extrude",
+    "extrude": ".stratigraphic.extrude",
+    "cart_grid": ".structured",
+    "tensor_grid": ".structured",
+    "translate_grid": ".structured",
+    "twister": ".structured",
+    "Subgrid": ".subgrid",
+    "extract_subgrid": ".subgrid",
+    "remove_cells": ".subgrid",
+    "tessellation_grid": ".unstructured",
+    "tetrahedral_grid": ".unstructured",
+    "triangle_grid": ".unstructured",
+    "Fault": ".voronoi",
+    "PebiGrid": ".voronoi",
+    "Rings": ".voronoi",
+    "Well": ".voronoi",
+    "grid_quality": ".voronoi",
+    "pebi": ".voronoi",
+    "pebi_grid": ".voronoi",
+    "rectangle": ".voronoi",
+}
 
 try:
     __version__ = version("gridlib")
@@ -118,3 +143,16 @@ __all__ = [
     "upscale_porosity",
     "write_grdecl",
 ]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'gridlib' has no attribute {name!r}")
+    value = getattr(import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -10,6 +10,7 @@ than the minimum of 1``.
 from __future__ import annotations
 
 import copy
+import functools
 import hashlib
 import os
 from collections.abc import Sequence
@@ -27,9 +28,15 @@ SCHEMA_FILE = "case.schema.yaml"
 
 
 def load_schema(name: str = SCHEMA_FILE) -> dict[str, Any]:
-    """The JSON schema shipped with gridlib (as a dict)."""
+    """The JSON schema shipped with gridlib (as a dict; a copy of the one parsed per process)."""
+    return copy.deepcopy(_parsed_schema(name))
+
+
+@functools.cache
+def _parsed_schema(name: str) -> dict[str, Any]:
+    """Parsed once per process: a study validates every variant, and each stage its case."""
     text = resources.files("gridlib").joinpath("schemas", name).read_text(encoding="utf-8")
-    return yaml.safe_load(text)
+    return yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 
 
 @dataclass(frozen=True)
@@ -100,6 +107,12 @@ class Case:
         }
 
 
+def has_transmissibility(case: Case) -> bool:
+    """Whether the transmissibility stage runs for ``case``: it needs the case's rock properties
+    (here, not in gridlib.stages.transmissibility, so that the workflow's parse imports little)."""
+    return case.has_petrophysics
+
+
 def _key_path(error: jsonschema.ValidationError) -> str:
     parts = []
     for p in error.absolute_path:
@@ -165,15 +178,23 @@ def load_case(path: str | os.PathLike) -> Case:
         raise InputError(f"{p}:{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from exc
     if not isinstance(data, dict):
         raise InputError(f"{p}: a case must be a mapping of keys (name, grid, ...)")
+    checked = check_case_data(data, p, str(p))
+    return Case(name=data["name"], path=p, sha256=hashlib.sha256(raw).hexdigest(), data=checked)
+
+
+def check_case_data(data: dict[str, Any], path: Path, source: str) -> dict[str, Any]:
+    """A case's data validated as :func:`load_case` does, as if read from ``path`` (the file
+    name must be the case's name; files are looked for beside it); returns a copy with the
+    defaults filled in. Problems raise an InputError starting with ``source``."""
     schema = load_schema()
-    validate(data, schema, str(p))
-    if data["name"] != p.stem:
-        raise InputError(f"{p}: name: '{data['name']}' must equal the file name '{p.stem}'")
+    validate(data, schema, source)
+    if data["name"] != path.stem:
+        raise InputError(f"{source}: name: '{data['name']}' must equal the file name '{path.stem}'")
     data = _fill_defaults(copy.deepcopy(data), schema, schema)
-    problem = _consistency_problem(data, p)
+    problem = _consistency_problem(data, path)
     if problem is not None:
-        raise InputError(f"{p}: {problem}")
-    return Case(name=data["name"], path=p, sha256=hashlib.sha256(raw).hexdigest(), data=data)
+        raise InputError(f"{source}: {problem}")
+    return data
 
 
 def load_cases(paths: Sequence[str | os.PathLike]) -> dict[str, Case]:

@@ -110,11 +110,13 @@ def test_config_readme_documents_every_key_of_the_schema():
 
     readme = (CASES.parent / "README.md").read_text()
     schema_keys = _schema_keys(load_schema(), set())
+    study_keys = _schema_keys(load_schema("study.schema.yaml"), set())
     documented = set(re.findall(r"`([a-z_0-9]+)`", readme))
-    missing = sorted(schema_keys - documented)
+    missing = sorted((schema_keys | study_keys) - documented)
     assert not missing, f"config/README.md does not mention {missing}"
     table_keys = set(re.findall(r"^\| `([a-z_0-9]+)` \|", readme, flags=re.M))
-    config_keys = {"cases", "results", "simulate"}  # config.yaml's own keys
+    schema_keys |= study_keys
+    config_keys = {"cases", "studies", "results", "simulate"}  # config.yaml's own keys
     unknown = sorted(table_keys - schema_keys - config_keys)
     assert not unknown, f"config/README.md documents keys the schema does not have: {unknown}"
 

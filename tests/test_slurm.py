@@ -1,12 +1,14 @@
 """The workflow on a real SLURM cluster, through workflow/profiles/slurm as shipped.
 
-Two small sample cases run once locally (two cores) and once on the cluster of the
-``slurm_cluster`` fixture (a single-node SLURM started for the session, tests/slurm_cluster.py),
-from the same case files. The SLURM run must have submitted its jobs to SLURM (their ids in
-Snakemake's log, each COMPLETED in the cluster's job completion log), one job per case (the
-profile groups a case's stages) and one for the summary table, and its results must equal
+Two small sample cases and a small study (two variants of one of them) run once locally (two
+cores) and once on the cluster of the ``slurm_cluster`` fixture (a single-node SLURM started for
+the session, tests/slurm_cluster.py), from the same case and study files. The SLURM run must
+have submitted its jobs to SLURM (their ids in Snakemake's log, each COMPLETED in the cluster's
+job completion log), one job per case (the profile groups a case's stages), one for the summary
+table, one per variant of the study and one for the study's table, and its results must equal
 the local run's bit for bit: every variable and attribute of every netCDF file, the VTU/VTP
-files and summary.json. The wall times per case are printed beside each other.
+files and summary.json, study.csv and study.nc. The wall times per case and per variant are
+printed beside each other.
 """
 
 from __future__ import annotations
@@ -24,6 +26,9 @@ from artifacts import assert_same_files
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = ROOT / "workflow" / "profiles" / "slurm"
 CASES = ("ellipsoid", "twisted")
+# A study of the twisted case: two values of MRST's twister perturbation (one realisation each).
+STUDY = "{name: twist, base: ../cases/twisted.yaml, vary: {grid.twist: [0.01, 0.05]}}\n"
+VARIANTS = ("twist-0.01_r0", "twist-0.05_r0")
 
 SUBMITTED = re.compile(r"submitted with SLURM jobid (\d+)")
 
@@ -33,7 +38,7 @@ def _snakemake(workdir: Path, cases: Path, *args: str, env: dict[str, str] | Non
     start = time.time()
     res = subprocess.run(
         [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(workdir)]
-        + ["--config", f"cases={cases}/*.yaml", *args],
+        + ["--config", f"cases={cases}/*.yaml", f"studies={cases.parent / 'studies'}/*.yaml", *args],
         capture_output=True,
         text=True,
         env=env,
@@ -44,6 +49,8 @@ def _snakemake(workdir: Path, cases: Path, *args: str, env: dict[str, str] | Non
     (workdir / "snakemake.log").write_text(log)
     assert res.returncode == 0, f"snakemake failed, log {workdir / 'snakemake.log'}:\n{log[-4000:]}"
     done = {case: (workdir / "results" / case / "summary.json").stat().st_mtime - start for case in CASES}
+    study = workdir / "results" / "twist"
+    done |= {v: (study / v / "summary.json").stat().st_mtime - start for v in VARIANTS}
     return {"log": log, "wall": wall, "done": done, "results": workdir / "results"}
 
 
@@ -54,7 +61,9 @@ def runs(slurm_cluster, tmp_path_factory):
     cases.mkdir()
     for case in CASES:
         shutil.copy(ROOT / "config" / "cases" / f"{case}.yaml", cases)
-    local = _snakemake(base / "local", cases, "--cores", "2")
+    (base / "studies").mkdir()
+    (base / "studies" / "twist.yaml").write_text(STUDY)
+    local = _snakemake(base / "local", cases, "--cores", "2", "--force-use-threads")
     on_slurm = _snakemake(base / "slurm", cases, "--workflow-profile", str(PROFILE), env=slurm_cluster.env)
     return local, on_slurm
 
@@ -63,8 +72,10 @@ def test_every_job_ran_as_a_completed_slurm_job(runs, slurm_cluster):
     _, on_slurm = runs
     log = on_slurm["log"]
     ids = SUBMITTED.findall(log)
-    # The profile groups each case's stages into one job; the summary table is one more.
-    assert len(ids) == len(CASES) + 1, log[-3000:]
+    # The profile groups each case's stages into one job; the summary table is one more; each
+    # variant of the study is one job (all its stages in one process), its table one more.
+    assert len(ids) == len(CASES) + 1 + len(VARIANTS) + 1, log[-3000:]
+    assert len(re.findall(r"^\s*rule study_twist:", log, re.MULTILINE)) == len(VARIANTS), log[-3000:]
     assert "group_case_" in log
     states = slurm_cluster.job_states(ids)
     where = slurm_cluster.log("jobcomp") if slurm_cluster.started else "scontrol show job"
@@ -73,11 +84,13 @@ def test_every_job_ran_as_a_completed_slurm_job(runs, slurm_cluster):
     assert re.findall(r"^localrule (\w+):", log, re.MULTILINE) == ["all"]
 
 
-@pytest.mark.parametrize("case", CASES)
+@pytest.mark.parametrize("case", CASES + tuple(f"twist/{v}" for v in VARIANTS))
 def test_slurm_results_equal_the_local_ones_bit_for_bit(runs, case):
     local, on_slurm = runs
     assert_same_files(local["results"] / case, on_slurm["results"] / case)
-    assert (local["results"] / "summary.csv").read_text() == (on_slurm["results"] / "summary.csv").read_text()
+    for table in ("summary.csv", "twist/study.csv"):
+        assert (local["results"] / table).read_text() == (on_slurm["results"] / table).read_text()
+    assert_same_files(local["results"] / "twist", on_slurm["results"] / "twist")  # study.nc
 
 
 def test_wall_times_local_and_on_slurm(runs, slurm_cluster, capsys):
@@ -86,10 +99,12 @@ def test_wall_times_local_and_on_slurm(runs, slurm_cluster, capsys):
     jobs = len(SUBMITTED.findall(on_slurm["log"]))
     lines = [
         f"SLURM cluster {cluster}; {jobs} SLURM jobs through {PROFILE.relative_to(ROOT)}",
-        f"{'case':<12}{'local (s)':>11}{'SLURM (s)':>11}   (from the run's start to the case's summary.json)",
+        f"{'':<14}{'local (s)':>11}{'SLURM (s)':>11}   (from the run's start to the summary.json)",
     ]
-    lines += [f"{case:<12}{local['done'][case]:>11.1f}{on_slurm['done'][case]:>11.1f}" for case in CASES]
-    lines.append(f"{'whole run':<12}{local['wall']:>11.1f}{on_slurm['wall']:>11.1f}")
+    lines += [
+        f"{case:<14}{local['done'][case]:>11.1f}{on_slurm['done'][case]:>11.1f}" for case in local["done"]
+    ]
+    lines.append(f"{'whole run':<14}{local['wall']:>11.1f}{on_slurm['wall']:>11.1f}")
     with capsys.disabled():
         print("\n" + "\n".join(lines))
     assert all(t > 0 for t in on_slurm["done"].values())

@@ -42,7 +42,9 @@ RTOL = 1e-9
 
 def _snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", *args],
+        # --force-use-threads as workflow/profiles/default (make run): the sample study's variants
+        # (config/studies/) run in warm worker processes.
+        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", "--force-use-threads", *args],
         capture_output=True,
         text=True,
         timeout=900,
@@ -142,6 +144,18 @@ def test_the_summary_table_lists_every_case(workflow_run):
     lines = (workflow_run / "results" / "summary.csv").read_text().splitlines()
     assert lines[0].startswith("case,grid_type,griddim,cells")
     assert [line.split(",")[0] for line in lines[1:]] == CASES
+
+
+def test_the_sample_study_is_built(workflow_run):
+    """config/studies/waterflood_throw.yaml: 2 throws x 2 realisations of waterflood_pebi."""
+    study = workflow_run / "results" / "waterflood_throw"
+    lines = (study / "study.csv").read_text().splitlines()
+    assert lines[0].startswith("variant,faults.0.throw,realisation,seed,")
+    variants = [f"throw-{t}_r{r}" for t in (0, 30) for r in (0, 1)]
+    assert [line.split(",")[0] for line in lines[1:]] == variants
+    assert (study / "throw-30_r1" / "flow" / "THROW-30_R1.DATA").is_file()
+    with xr.open_dataset(study / "study.nc") as ds:
+        assert dict(ds.sizes) == {"faults.0.throw": 2, "realisation": 2}
 
 
 def test_the_report_zip_is_produced(workflow_run):

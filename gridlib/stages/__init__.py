@@ -10,18 +10,25 @@ transmissibility -> export (with the OPM Flow deck, :mod:`.flow_deck`), then sum
 over all cases; optionally simulate (OPM Flow runs the deck).
 """
 
-from .coarsen import stage_coarsen
-from .common import run_logged
-from .export import stage_export
-from .flow_deck import stage_flow_deck
-from .geometry import stage_geometry
-from .grid import stage_grid
-from .horizons import stage_horizons
-from .petrophysics import stage_petrophysics
-from .pipeline import case_outputs, run_case
-from .simulate import stage_simulate
-from .summary import stage_summary
-from .transmissibility import stage_transmissibility
+from importlib import import_module
+
+# The stages, imported on first use (PEP 562): a stage's script imports only its own module
+# and what that uses (not xarray for the table, not gstools for the export, ...).
+_EXPORTS: dict[str, str] = {
+    "case_outputs": ".pipeline",
+    "run_case": ".pipeline",
+    "run_logged": ".common",
+    "stage_coarsen": ".coarsen",
+    "stage_export": ".export",
+    "stage_flow_deck": ".flow_deck",
+    "stage_geometry": ".geometry",
+    "stage_grid": ".grid",
+    "stage_horizons": ".horizons",
+    "stage_petrophysics": ".petrophysics",
+    "stage_simulate": ".simulate",
+    "stage_summary": ".summary",
+    "stage_transmissibility": ".transmissibility",
+}
 
 __all__ = [
     "case_outputs",
@@ -38,3 +45,16 @@ __all__ = [
     "stage_summary",
     "stage_transmissibility",
 ]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'gridlib.stages' has no attribute {name!r}")
+    value = getattr(import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..config import Case, load_case
+from ..config import Case, has_transmissibility, load_case  # noqa: F401 (has_transmissibility: re-exported)
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.process import CornerPointGrid
 from ..errors import InputError
@@ -67,11 +67,6 @@ from .petrophysics import read_rock
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
 CELL_VARS = ("porv", "cell_flow_index")
 VOLUME_LABELS = {"METRIC": "rm3", "FIELD": "rb", "LAB": "rcc", "PVT-M": "rm3"}
-
-
-def has_transmissibility(case: Case) -> bool:
-    """Whether the stage runs for ``case``: it needs the case's rock properties."""
-    return case.has_petrophysics
 
 
 def stage_transmissibility(

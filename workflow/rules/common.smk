@@ -5,6 +5,7 @@ case file is printed, one line each naming the file and the key, without a trace
 """
 
 import glob
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -15,7 +16,8 @@ from snakemake.utils import validate
 from gridlib.config import load_cases
 from gridlib.config import validate as check_schema
 from gridlib.errors import InputError
-from gridlib.stages.transmissibility import has_transmissibility
+from gridlib.config import has_transmissibility
+from gridlib.study import load_studies, materialise
 
 
 def check_config(data, source):
@@ -54,7 +56,7 @@ def discover_cases(spec):
         paths = sorted(glob.glob(pattern))
     else:
         paths = [p if Path(p).is_absolute() else str(base / p) for p in spec]
-    if not paths:
+    if not paths and isinstance(spec, str):
         stop(f"config: cases: no case file matches {spec!r}")
     try:
         return load_cases(paths)
@@ -70,7 +72,7 @@ CASES = discover_cases(config["cases"])
 
 
 wildcard_constraints:
-    case="|".join(sorted(CASES)),
+    case="|".join(sorted(CASES)) or "(?!)",
 
 
 def _cases_where(test):
@@ -147,8 +149,118 @@ def optional(name, wanted):
     return inputs
 
 
+def rule_name(study):
+    """The name of a study's variant rule: study_<study>, other characters than letters,
+    digits and _ as _."""
+    return re.sub(r"\W", "_", study)
+
+
+def discover_studies(spec):
+    """Validated studies keyed by name, from a glob (no match: no study) or a list of study
+    files; each variant's case file (and the study's variants.yaml) written under
+    results/<study>/ where its content changed, so that Snakemake reruns only the variants a
+    change of the study file adds or changes."""
+    base = Path(workflow.basedir)
+    if isinstance(spec, str):
+        pattern = spec if Path(spec).is_absolute() else str(base / spec)
+        paths = sorted(glob.glob(pattern))
+    else:
+        paths = [p if Path(p).is_absolute() else str(base / p) for p in spec]
+    try:
+        # A job's process (spawned, or on a cluster node) trusts the checks of the process
+        # that planned the run: parsing then costs little more with many variants.
+        studies = load_studies(paths, RESULTS, check=workflow.is_main_process)
+    except InputError as exc:
+        problems = str(exc).splitlines()
+        stop(
+            "\n".join(problems)
+            + f"\n{len(problems)} problem(s) in the study files; nothing was run"
+        )
+    rules = {}
+    for name, study in studies.items():
+        if name in CASES or name in ("logs", "benchmarks", "summary.csv", "report"):
+            stop(
+                f"{study.path}: name: '{name}' is taken by a case or by {RESULTS}/{name}; "
+                "nothing was run"
+            )
+        other = rules.setdefault(rule_name(name), study)
+        if other is not study:
+            stop(
+                f"{study.path}: name: '{name}' and '{other.name}' give the same rule "
+                f"study_{rule_name(name)}; rename one; nothing was run"
+            )
+    if workflow.is_main_process:
+        for study in studies.values():
+            materialise(study, RESULTS)
+    return studies
+
+
+STUDIES = discover_studies(config.get("studies", "config/studies/*.yaml"))
+STUDY_NAMES = "|".join(re.escape(n) for n in sorted(STUDIES)) or "(?!)"
+STUDY_ARTIFACTS = {n: s.variants[0].artifacts for n, s in STUDIES.items()}
+
+
+def variant_out(name):
+    """The path pattern of a variant's artifact: the case layout under results/<study>/<variant>/."""
+    if name == "flow":
+        return f"{RESULTS}/{{study}}/{{variant}}/flow"
+    return (
+        out(name)
+        .replace("{case}/", "{study}/{variant}/")
+        .replace("{case}", "{variant}")
+    )
+
+
+def build_variant(case_file, summary, log_file):
+    """Build a variant (every stage, gridlib.stages.run_case) into the folder of ``summary``:
+    in the Snakemake process that parsed the workflow (run: jobs in its threads), in a pool
+    of warm worker processes, one per core; in a job's own process (a spawned or cluster
+    job) right there."""
+    from gridlib.stages.workers import run_in_process, run_in_worker
+
+    folder = Path(summary).parent
+    if workflow.is_main_process:
+        run_in_worker(case_file, folder, log_file, workflow.cores or 1)
+    else:
+        run_in_process(case_file, folder, log_file)
+
+
+def study_variant_files(name):
+    """The outputs of a variant of study ``name`` (its study_<name> jobs): the variant's
+    artifacts, the OPM Flow deck as the folder flow/ (the deck is named after the variant in
+    upper case, which a pattern cannot say)."""
+    artifacts = STUDY_ARTIFACTS[name]
+    files = {k: variant_out(k) for k in artifacts if k != "flow"}
+    if "flow" in artifacts:
+        files["flow"] = directory(variant_out("flow"))
+    return files
+
+
+def study_variant_outputs(name):
+    """Every declared artifact of every variant of the study ``name``."""
+    study = STUDIES[name]
+    return [
+        variant_out(k).format(study=name, variant=v.name)
+        for v in study.variants
+        for k in STUDY_ARTIFACTS[name]
+    ]
+
+
+def study_table_inputs(wildcards):
+    study = STUDIES[wildcards.study]
+    return {
+        "manifest": f"{RESULTS}/{study.name}/variants.yaml",
+        "summaries": [
+            f"{RESULTS}/{study.name}/{v.name}/summary.json" for v in study.variants
+        ],
+    }
+
+
 def all_outputs():
-    files = [f"{RESULTS}/summary.csv"]
+    files = [f"{RESULTS}/summary.csv"] if CASES else []  # cases: [] builds studies only
+    for name in sorted(STUDIES):
+        files += study_variant_outputs(name)
+        files += [f"{RESULTS}/{name}/study.{ext}" for ext in ("csv", "nc", "png")]
     for name, case in sorted(CASES.items()):
         files += [out(k).format(case=name) for k in EXPORTS]
         if case.writes_grdecl:

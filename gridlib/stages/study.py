@@ -1,0 +1,163 @@
+"""Stage ``study``: a study's variants as one table (``study.csv``), one xarray Dataset
+(``study.nc``, one dimension per varied key plus ``realisation``) and one picture
+(``study.png``: the main figures against each varied key, realisations as points with
+their spread).
+
+The table's columns: ``variant``, one per varied key (its dotted name), ``realisation``,
+``seed``, then every figure of the variants' ``summary.json`` (the columns of
+``results/summary.csv`` first, then any other number the summaries hold; the lists of
+fault and well names and the case's hash are left out).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from ..io._atomic import atomic_path
+from .common import log
+from .summary import COLUMNS
+
+NOT_FIGURES = ("case", "seed", "case_sha256")
+# The figures study.png draws against every varied key (those the variants have).
+PLOTTED = ("cells", "fault_connections", "pore_volume", "mean_porosity", "median_trans")
+
+
+def _scalar(value: Any) -> Any:
+    """A value as a table cell: numbers, text and booleans as they are, others as JSON."""
+    return value if isinstance(value, int | float | str | bool) else json.dumps(value)
+
+
+def study_rows(
+    manifest: Mapping[str, Any], summaries: Sequence[Mapping[str, Any]]
+) -> tuple[list[str], list[dict]]:
+    """The table's columns and its rows, in the manifest's order of the variants."""
+    keys = list(manifest["keys"])
+    by_name = {s["case"]: s for s in summaries}
+    figures = [c for c in COLUMNS if c not in NOT_FIGURES]
+    for s in summaries:
+        for name, value in s.items():
+            if (
+                name not in figures
+                and name not in NOT_FIGURES
+                and isinstance(value, int | float | str | bool)
+            ):
+                figures.append(name)
+    present = [f for f in figures if any(f in s for s in summaries)]
+    rows = []
+    for v in manifest["variants"]:
+        summary = by_name[v["name"]]
+        row = {"variant": v["name"]}
+        row |= {k: _scalar(v["values"][k]) for k in keys}
+        row |= {"realisation": v["realisation"], "seed": v["seed"]}
+        row |= {f: summary.get(f, "") for f in present}
+        rows.append(row)
+    return ["variant", *keys, "realisation", "seed", *present], rows
+
+
+def write_csv(path: str | os.PathLike, columns: list[str], rows: list[dict]) -> None:
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    with atomic_path(path) as tmp:
+        tmp.write_text(buffer.getvalue())
+
+
+def study_dataset(manifest: Mapping[str, Any], columns: list[str], rows: list[dict]):
+    """The table as an xarray Dataset over one dimension per varied key plus ``realisation``
+    (a zipped study fills the combinations it does not have with NaN, or "" for text)."""
+    import pandas as pd
+
+    keys = list(manifest["keys"])
+    frame = pd.DataFrame(rows, columns=columns)
+    for name in columns:
+        if frame[name].dtype == object and name not in keys:
+            frame[name] = frame[name].replace("", float("nan"))
+            numeric = pd.to_numeric(frame[name], errors="coerce")
+            if numeric.notna().sum() == frame[name].notna().sum():
+                frame[name] = numeric
+    ds = frame.set_index([*keys, "realisation"]).to_xarray()
+    for name in ds.data_vars:
+        if ds[name].dtype == object:
+            ds[name] = ds[name].fillna("").astype(str)
+    ds.attrs = {"study": manifest["study"], "combine": manifest["combine"], "varied_keys": json.dumps(keys)}
+    return ds
+
+
+def _positions(values: list[Any]) -> tuple[list[float], list[str]]:
+    """x positions of a key's values: the numbers themselves, else their order."""
+    if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
+        return [float(v) for v in values], [str(v) for v in values]
+    return [float(i) for i in range(len(values))], [str(v) for v in values]
+
+
+def plot_study(path: str | os.PathLike, manifest: Mapping[str, Any], rows: list[dict]) -> None:
+    """For each varied key (columns) the main figures (rows) against its values: every variant a
+    point, the mean over the other keys' values and the realisations as a line, the spread of
+    the realisations (min to max per value) as a bar."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    keys = list(manifest["keys"])
+    figures = [f for f in PLOTTED if any(isinstance(r.get(f), int | float) for r in rows)]
+    fig, axes = plt.subplots(
+        len(figures), len(keys), figsize=(3.6 * len(keys), 2.4 * len(figures)), squeeze=False
+    )
+    for j, key in enumerate(keys):
+        values = list(dict.fromkeys(r[key] for r in rows))
+        xs, ticks = _positions(values)
+        where = dict(zip(values, xs, strict=True))
+        for i, figure in enumerate(figures):
+            ax = axes[i][j]
+            pts = [(where[r[key]], float(r[figure])) for r in rows if isinstance(r.get(figure), int | float)]
+            x, y = np.array(pts).T
+            ax.plot(x, y, "o", ms=3, alpha=0.6, color="tab:blue", label="variants")
+            mean = [y[x == p].mean() for p in xs]
+            low = [y[x == p].min() for p in xs]
+            high = [y[x == p].max() for p in xs]
+            ax.errorbar(
+                xs, mean, yerr=[np.subtract(mean, low), np.subtract(high, mean)], color="k", capsize=3, lw=1
+            )
+            ax.set_xticks(xs, ticks, fontsize=7)
+            if i == len(figures) - 1:
+                ax.set_xlabel(key)
+            if j == 0:
+                ax.set_ylabel(figure.replace("_", " "), fontsize=8)
+            ax.tick_params(labelsize=7)
+    fig.suptitle(f"study {manifest['study']}: {len(rows)} variants", fontsize=10)
+    fig.tight_layout()
+    target = Path(path)
+    tmp = target.with_name(f".{target.stem}.partial{target.suffix}")
+    try:
+        fig.savefig(tmp, dpi=100)
+        os.replace(tmp, target)
+    finally:
+        tmp.unlink(missing_ok=True)
+        plt.close(fig)
+
+
+def stage_study(
+    manifest_file: str | os.PathLike, summaries: Sequence[str | os.PathLike], outputs: Mapping[str, str]
+) -> None:
+    """study.csv, study.nc and study.png (``outputs`` keys ``csv``, ``nc``, ``png``) from the
+    study's manifest (results/<study>/variants.yaml) and its variants' summary.json files."""
+    from .common import write_dataset
+
+    manifest = yaml.safe_load(Path(manifest_file).read_text(encoding="utf-8"))
+    loaded = [json.loads(Path(p).read_text(encoding="utf-8")) for p in summaries]
+    columns, rows = study_rows(manifest, loaded)
+    write_csv(outputs["csv"], columns, rows)
+    write_dataset(outputs["nc"], study_dataset(manifest, columns, rows))
+    plot_study(outputs["png"], manifest, rows)
+    log.info("wrote the table of study %s (%d variants)", manifest["study"], len(rows))

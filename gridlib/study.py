@@ -1,0 +1,381 @@
+"""Studies: variants of one base case, built like cases (``config/studies/<study>.yaml``).
+
+A study file names a base case, dotted keys into it with lists of values (``vary``),
+how the lists combine (``product`` or ``zip``), and how many random-field realisations
+each combination gets::
+
+    name: throw_sweep
+    base: ../cases/faulted_pebi.yaml    # relative to the study file
+    vary:
+      faults.0.throw: [0, 10, 20, 40]   # list items by their 0-based index
+      grid.cell_size: [50, 80]
+    combine: product
+    realisations: 3
+    seed: 5
+
+Every variant is the base case with its values, its own name and seed, validated like a
+case; a problem is one InputError line naming the study file, the key and the variant.
+
+**Variant names** (:func:`variant_name`): for each varied key its label (the last
+component of the dotted key that is not an index; the whole dotted key where two keys
+share it), a ``-``, the value (integers as written, other numbers as Python's ``repr``,
+strings as they are; the value's position in its list, ``#0``, ``#1``..., written ``v0``,
+``v1``..., where the text would hold other characters than letters, digits, ``.``, ``_``
+and ``-``), joined by ``_``; then ``_r`` and the realisation: ``throw-10_cell_size-50_r0``.
+
+**Seeds**: realisation ``r`` (0-based) of every combination gets the case seed
+``seed + 3 r``: a case's random fields use its seed (porosity), seed + 1 (permeability)
+and seed + 2 (NTG), so realisations never share a field's seed, and the combinations of
+one realisation share theirs (differences between combinations come from the values,
+not from the noise). ``seed`` defaults to the base case's.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .config import Case, _parsed_schema, check_case_data, validate
+from .errors import InputError
+
+STUDY_SCHEMA = "study.schema.yaml"
+SEED_STEP = 3  # a case's fields use seed, seed + 1, seed + 2
+_SAFE = re.compile(r"^[A-Za-z0-9._-]+$")
+# Keys of a case that name files relative to the case file (rewritten for the variant's folder).
+_FILE_KEYS = (
+    ("horizons", "surfaces", "*", "points"),
+    ("horizons", "surfaces", "*", "surface"),
+    ("grid", "file"),
+)
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One variant: the base case with ``values`` (dotted key -> value), in realisation
+    ``realisation`` with case seed ``seed``; ``data`` is its case (as written to its file)."""
+
+    name: str
+    values: dict[str, Any]
+    realisation: int
+    seed: int
+    data: dict[str, Any] = field(repr=False)
+    artifacts: tuple[str, ...] = ()
+
+    def case_text(self) -> str:
+        """The variant's case file (YAML)."""
+        return yaml.safe_dump(self.data, sort_keys=False, default_flow_style=None, width=100)
+
+
+@dataclass(frozen=True)
+class Study:
+    """A validated study: its base case file, the varied keys and every variant."""
+
+    name: str
+    path: Path
+    base: Path
+    keys: tuple[str, ...]
+    combine: str
+    realisations: int
+    seed: int
+    variants: tuple[Variant, ...]
+
+    def folder(self, results: str | os.PathLike) -> Path:
+        return Path(results) / self.name
+
+    def case_file(self, results: str | os.PathLike, variant: str) -> Path:
+        """``results/<study>/<variant>/<variant>.yaml``: the variant's case file."""
+        return self.folder(results) / variant / f"{variant}.yaml"
+
+
+def _read_yaml(path: Path) -> Any:
+    try:
+        return yaml.safe_load(path.read_bytes())
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" line {mark.line + 1}" if mark is not None else ""
+        raise InputError(f"{path}:{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from exc
+
+
+def _parts(key: str) -> list[str | int]:
+    return [int(p) if p.isdigit() else p for p in key.split(".")]
+
+
+def _bracketed(key: str) -> str:
+    """``faults.0.throw`` as the case validation names it: ``faults[0].throw``."""
+    return "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in _parts(key)).lstrip(".")
+
+
+def _lookup_problem(data: Any, key: str) -> str | None:
+    """Why ``key`` does not name a value of the base case, or None."""
+    node, walked = data, []
+    for part in _parts(key):
+        here = ".".join(walked) or "the case"
+        if isinstance(part, int):
+            if not isinstance(node, list):
+                return f"{here} is not a list (no item {part})"
+            if part >= len(node):
+                return f"{here} has {len(node)} item(s), no item {part}"
+        else:
+            if not isinstance(node, dict):
+                return f"{here} is not a mapping (no key '{part}')"
+            if part not in node:
+                known = ", ".join(sorted(map(str, node))) or "none"
+                return f"the base case has no key '{part}' in {here} (keys: {known})"
+        node = node[part]
+        walked.append(str(part))
+    return None
+
+
+def _set(data: Any, key: str, value: Any) -> None:
+    *head, last = _parts(key)
+    node = data
+    for part in head:
+        node = node[part]
+    node[last] = copy.deepcopy(value)
+
+
+def _labels(keys: list[str]) -> dict[str, str]:
+    """Each key's label in variant names: its last non-index component, unless shared."""
+    short = {k: next(str(p) for p in reversed(_parts(k)) if isinstance(p, str)) for k in keys}
+    counts = {label: list(short.values()).count(label) for label in short.values()}
+    return {k: (label if counts[label] == 1 else k) for k, label in short.items()}
+
+
+def _value_text(value: Any, position: int) -> str:
+    if isinstance(value, bool):
+        text = str(value).lower()
+    elif isinstance(value, int):
+        text = str(value)
+    elif isinstance(value, float):
+        text = repr(value)
+    elif isinstance(value, str):
+        text = value
+    else:
+        text = ""
+    return text if _SAFE.match(text) else f"v{position}"
+
+
+def variant_name(labels: dict[str, str], values: dict[str, tuple[int, Any]], realisation: int) -> str:
+    """``<label>-<value>_..._r<realisation>`` (see the module's docstring); ``values``: key ->
+    (position in its list, value)."""
+    parts = [f"{labels[k]}-{_value_text(v, i)}" for k, (i, v) in values.items()]
+    return "_".join(parts + [f"r{realisation}"])
+
+
+def _relocate_files(data: dict[str, Any], base_dir: Path, folder: Path) -> None:
+    """Rewrite the base case's file references (relative to the base case file) relative to
+    ``folder``, where the variant's case file lives."""
+
+    def visit(node: Any, path: tuple[str, ...]) -> None:
+        if not path:
+            return
+        head, rest = path[0], path[1:]
+        items = (node if isinstance(node, list) else []) if head == "*" else None
+        if items is not None:
+            for item in items:
+                visit(item, rest)
+            return
+        if not isinstance(node, dict) or head not in node:
+            return
+        if not rest:
+            target = Path(node[head])
+            if not target.is_absolute():
+                node[head] = os.path.relpath(base_dir / target, folder)
+            return
+        visit(node[head], rest)
+
+    for keys in _FILE_KEYS:
+        visit(data, keys)
+
+
+def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", check: bool = True) -> Study:
+    """Read and validate a study file and every variant of it (as a case that would live in
+    ``results/<study>/<variant>/``). Problems raise one InputError line naming the study file
+    and the key (and the variant, for a value that makes a variant invalid). ``check=False``
+    skips validating the base case and each variant as a case (a job's process: the process
+    that planned the run has checked them)."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: study file not found")
+    spec = _read_yaml(p)
+    if not isinstance(spec, dict):
+        raise InputError(f"{p}: a study must be a mapping of keys (name, base, vary, ...)")
+    validate(spec, _parsed_schema(STUDY_SCHEMA), str(p))
+    if spec["name"] != p.stem:
+        raise InputError(f"{p}: name: '{spec['name']}' must equal the file name '{p.stem}'")
+    base = p.parent / spec["base"]
+    if not base.is_file():
+        raise InputError(f"{p}: base: case file '{spec['base']}' not found (looked for {base})")
+    base_data = _read_yaml(base)
+    if not isinstance(base_data, dict):
+        raise InputError(f"{p}: base: {base} is not a case (a mapping of keys)")
+    try:
+        if check:
+            check_case_data(base_data, base, str(base))
+    except InputError as exc:
+        raise InputError(f"{p}: base: {exc}") from None
+
+    vary: dict[str, list[Any]] = spec["vary"]
+    keys = list(vary)
+    for key in keys:
+        if key in ("name", "seed"):
+            raise InputError(
+                f"{p}: vary.{key}: not varied by a study (variants are named by it; seeds by realisations)"
+            )
+        problem = _lookup_problem(base_data, key)
+        if problem is not None:
+            raise InputError(f"{p}: vary.{key}: {problem}")
+    combine = spec.get("combine", "product")
+    lists = [list(enumerate(vary[k])) for k in keys]
+    if combine == "zip":
+        lengths = {k: len(vary[k]) for k in keys}
+        if len(set(lengths.values())) > 1:
+            sizes = ", ".join(f"{k} has {n}" for k, n in lengths.items())
+            raise InputError(f"{p}: combine: zip needs lists of equal length ({sizes})")
+        combos = list(zip(*lists, strict=True))
+    else:
+        combos = list(itertools.product(*lists))
+    realisations = int(spec.get("realisations", 1))
+    seed = int(spec["seed"]) if "seed" in spec else int(base_data.get("seed", 0))
+    labels = _labels(keys)
+    results_dir = Path(results) / spec["name"]
+
+    variants: list[Variant] = []
+    seen: dict[str, str] = {}
+    for combo in combos:
+        values = dict(zip(keys, combo, strict=True))
+        for r in range(realisations):
+            name = variant_name(labels, values, r)
+            if name in seen:
+                plain = {k: v for k, (_, v) in values.items()}
+                raise InputError(
+                    f"{p}: vary: variants {seen[name]} and {plain} share the name '{name}' "
+                    "(a value listed twice?)"
+                )
+            seen[name] = str({k: v for k, (_, v) in values.items()})
+            data = copy.deepcopy(base_data)
+            data["name"] = name
+            data["seed"] = seed + SEED_STEP * r
+            for key, (_, value) in values.items():
+                _set(data, key, value)
+            folder = results_dir / name
+            _relocate_files(data, base.parent, folder)
+            checked = _check_variant(data, folder / f"{name}.yaml", p, keys, name) if check else data
+            plain = {k: v for k, (_, v) in values.items()}
+            variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
+    kinds = {v.artifacts for v in variants}
+    if len(kinds) > 1:
+        first, other = variants[0], next(v for v in variants if v.artifacts != variants[0].artifacts)
+        raise InputError(
+            f"{p}: vary: variants '{first.name}' and '{other.name}' have different artifacts "
+            f"({', '.join(first.artifacts)} / {', '.join(other.artifacts)}); a study's variants share theirs"
+        )
+    return Study(
+        name=spec["name"],
+        path=p,
+        base=base,
+        keys=tuple(keys),
+        combine=combine,
+        realisations=realisations,
+        seed=seed,
+        variants=tuple(variants),
+    )
+
+
+def artifacts_of(data: dict[str, Any]) -> tuple[str, ...]:
+    """The artifacts a case with (validated) ``data`` has, as named by
+    :func:`gridlib.stages.case_outputs` (``flow``: the folder of its OPM Flow deck)."""
+    case = Case(name=data["name"], path=Path(f"{data['name']}.yaml"), sha256="", data=data)
+    names = ["horizons"] if case.has_horizons else []
+    names += ["grid"] + (["grdecl"] if case.writes_grdecl else []) + ["geometry"]
+    names += ["petrophysics"] if case.has_petrophysics else []
+    names += ["coarse"] if case.has_coarsening else []
+    names += ["transmissibility"] if case.has_petrophysics else []
+    names += ["nc", "vtu", "faults", "png", "histograms", "summary"]
+    names += ["flow"] if case.writes_flow_deck else []
+    return tuple(names)
+
+
+def _check_variant(
+    data: dict[str, Any], where: Path, study: Path, keys: list[str], name: str
+) -> dict[str, Any]:
+    """The variant's case validated like a case file at ``where``; a problem names the study
+    file, the varied key it concerns (all of them where it is not one key's) and the variant."""
+    try:
+        return check_case_data(data, where, "")
+    except InputError as exc:
+        message = str(exc).removeprefix(": ")
+        concerned = [k for k in keys if message.startswith(_bracketed(k)) or message.startswith(k)]
+        key = f"vary.{concerned[0]}" if concerned else "vary"
+        raise InputError(f"{study}: {key}: variant '{name}': {message}") from None
+
+
+def load_studies(
+    paths: list[str | os.PathLike], results: str | os.PathLike = "results", check: bool = True
+) -> dict[str, Study]:
+    """Every study file read and validated, keyed by name; one InputError with one line per
+    problem (as :func:`gridlib.config.load_cases`); ``check`` as :func:`load_study`."""
+    studies: dict[str, Study] = {}
+    problems: list[str] = []
+    for path in paths:
+        try:
+            study = load_study(path, results, check)
+        except InputError as exc:
+            problems.append(" ".join(str(exc).split("\n")))
+            continue
+        if study.name in studies:
+            problems.append(f"{path}: name: '{study.name}' is also used by {studies[study.name].path}")
+            continue
+        studies[study.name] = study
+    if problems:
+        raise InputError("\n".join(problems))
+    return studies
+
+
+def write_if_changed(path: str | os.PathLike, text: str) -> bool:
+    """Write ``text`` to ``path`` atomically unless it already holds it (its mtime then stays,
+    so Snakemake reruns only what a changed file feeds). True if written."""
+    from .io._atomic import atomic_path
+
+    target = Path(path)
+    if target.is_file() and target.read_text(encoding="utf-8") == text:
+        return False
+    with atomic_path(target) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return True
+
+
+def manifest_text(study: Study) -> str:
+    """The study's variant table (YAML): name, values, realisation and seed of each variant,
+    in order; the input of the study's table (study.csv, study.nc, study.png)."""
+    doc = {
+        "study": study.name,
+        "keys": list(study.keys),
+        "combine": study.combine,
+        "variants": [
+            {"name": v.name, "values": v.values, "realisation": v.realisation, "seed": v.seed}
+            for v in study.variants
+        ],
+    }
+    return yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100)
+
+
+def materialise(study: Study, results: str | os.PathLike) -> list[Path]:
+    """Write each variant's case file and the study's manifest under ``results/<study>/``
+    where their content changed; returns the files written."""
+    written = []
+    for v in study.variants:
+        target = study.case_file(results, v.name)
+        if write_if_changed(target, v.case_text()):
+            written.append(target)
+    manifest = study.folder(results) / "variants.yaml"
+    if write_if_changed(manifest, manifest_text(study)):
+        written.append(manifest)
+    return written

@@ -1,0 +1,64 @@
+# Studies (config/studies/*.yaml): each variant is built like a case, all of its stages in one
+# job (gridlib.stages.run_case writes the same staged artifacts as the per-stage rules), from
+# its case file results/<study>/<variant>/<variant>.yaml, which common.smk rewrites at parse time
+# only when its content changes; then one table over the study's variants.
+#
+# A variant's job runs in warm worker processes of the Snakemake process (see build_variant
+# and gridlib/stages/workers.py) when Snakemake runs `run:` jobs in its own threads
+# (--force-use-threads, set by workflow/profiles/default); else in the job's own process.
+
+
+for _name, _study in sorted(STUDIES.items()):
+
+    rule:
+        name:
+            f"study_{rule_name(_name)}"
+        input:
+            case=f"{RESULTS}/{{study}}/{{variant}}/{{variant}}.yaml",
+        output:
+            **study_variant_files(_name),
+        log:
+            f"{RESULTS}/logs/{{study}}/{{variant}}.log",
+        wildcard_constraints:
+            study=re.escape(_name),
+            variant="|".join(re.escape(v.name) for v in _study.variants),
+        group:
+            "study"
+        threads: 1
+        resources:
+            mem_mb=4000,
+        run:
+            build_variant(input.case, output.summary, log[0])
+
+
+rule study_table:
+    """A study's variants in one table (study.csv, study.nc) and one picture (study.png)."""
+    input:
+        unpack(study_table_inputs),
+    output:
+        csv=report(
+            f"{RESULTS}/{{study}}/study.csv",
+            caption="../report/study_table.rst",
+            category="Studies",
+            subcategory="{study}",
+        ),
+        nc=f"{RESULTS}/{{study}}/study.nc",
+        png=report(
+            f"{RESULTS}/{{study}}/study.png",
+            caption="../report/study.rst",
+            category="Studies",
+            subcategory="{study}",
+        ),
+    log:
+        f"{RESULTS}/logs/{{study}}/study.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/{{study}}/study.tsv"
+    wildcard_constraints:
+        study=STUDY_NAMES,
+    conda:
+        "../envs/gridlib.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+    script:
+        "../scripts/study_table.py"
