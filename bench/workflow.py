@@ -48,6 +48,7 @@ def main() -> None:
             str(args.cores),
             "--config",
             f"cases={case}",
+            "studies=[]",  # the case alone, not the sample studies
             "--quiet",
         ]
         t0 = time.perf_counter()

@@ -94,6 +94,7 @@ def test_a_broken_case_fails_clearly_and_leaves_nothing(tmp_path, name):
             "1",
             "--config",
             f"cases=[{case}]",
+            "studies=[]",
         ],
         capture_output=True,
         text=True,
@@ -123,7 +124,7 @@ def test_every_broken_case_of_a_run_is_named_in_that_run(tmp_path):
     cases = ",".join(str(p) for p in sorted([good, *(f for f, _ in files.values())]))
     result = subprocess.run(
         [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(tmp_path),
-         "--cores", "1", "--config", f"cases=[{cases}]"],
+         "--cores", "1", "--config", f"cases=[{cases}]", "studies=[]"],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     out = result.stdout + result.stderr
