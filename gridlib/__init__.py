@@ -13,8 +13,9 @@ z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
 >>> gl.check_grid(g, geo)
 """
 
-from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
+
+from ._lazy import lazy_exports
 
 # The public names, imported on first use (PEP 562): `import gridlib` and the workflow's
 # `import gridlib.config` stay cheap, and a stage imports only the modules it uses.
@@ -145,14 +146,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'gridlib' has no attribute {name!r}")
-    value = getattr(import_module(module, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

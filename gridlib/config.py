@@ -13,28 +13,31 @@ import copy
 import functools
 import hashlib
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import jsonschema
 import yaml
 
 from .errors import InputError
 
+T = TypeVar("T")
+
 SCHEMA_FILE = "case.schema.yaml"
 
 
 def load_schema(name: str = SCHEMA_FILE) -> dict[str, Any]:
     """The JSON schema shipped with gridlib (as a dict; a copy of the one parsed per process)."""
-    return copy.deepcopy(_parsed_schema(name))
+    return copy.deepcopy(shared_schema(name))
 
 
 @functools.cache
-def _parsed_schema(name: str) -> dict[str, Any]:
-    """Parsed once per process: a study validates every variant, and each stage its case."""
+def shared_schema(name: str) -> dict[str, Any]:
+    """The schema parsed once per process and shared (do not modify it; :func:`load_schema`
+    gives a copy): a study validates every variant, and each stage its case."""
     text = resources.files("gridlib").joinpath("schemas", name).read_text(encoding="utf-8")
     return yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 
@@ -210,21 +213,28 @@ def load_cases(paths: Sequence[str | os.PathLike]) -> dict[str, Case]:
     gridlib.errors.InputError: no/such/a.yaml: case file not found
     no/such/b.yaml: case file not found
     """
-    cases: dict[str, Case] = {}
+    return load_named(paths, load_case)
+
+
+def load_named(paths: Sequence[str | os.PathLike], load: Callable[[str | os.PathLike], T]) -> dict[str, T]:
+    """``load(path)`` of every path (a value with ``name`` and ``path``), keyed by name: one
+    InputError with one line per problem (a broken file, a name used twice), all files read."""
+    loaded: dict[str, T] = {}
     problems: list[str] = []
     for path in paths:
         try:
-            case = load_case(path)
+            value = load(path)
         except InputError as exc:
             problems.append(" ".join(str(exc).split("\n")))
             continue
-        if case.name in cases:
-            problems.append(f"{path}: name: '{case.name}' is also used by {cases[case.name].path}")
+        name = value.name  # type: ignore[attr-defined]
+        if name in loaded:
+            problems.append(f"{path}: name: '{name}' is also used by {loaded[name].path}")  # type: ignore[attr-defined]
             continue
-        cases[case.name] = case
+        loaded[name] = value
     if problems:
         raise InputError("\n".join(problems))
-    return cases
+    return loaded
 
 
 def _axis_range(spec: Any) -> tuple[float, float]:

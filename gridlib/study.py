@@ -42,7 +42,7 @@ from typing import Any
 
 import yaml
 
-from .config import Case, _parsed_schema, check_case_data, validate
+from .config import Case, check_case_data, load_named, shared_schema, validate
 from .errors import InputError
 
 STUDY_SCHEMA = "study.schema.yaml"
@@ -207,7 +207,7 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
     spec = _read_yaml(p)
     if not isinstance(spec, dict):
         raise InputError(f"{p}: a study must be a mapping of keys (name, base, vary, ...)")
-    validate(spec, _parsed_schema(STUDY_SCHEMA), str(p))
+    validate(spec, shared_schema(STUDY_SCHEMA), str(p))
     if spec["name"] != p.stem:
         raise InputError(f"{p}: name: '{spec['name']}' must equal the file name '{p.stem}'")
     base = p.parent / spec["base"]
@@ -322,21 +322,7 @@ def load_studies(
 ) -> dict[str, Study]:
     """Every study file read and validated, keyed by name; one InputError with one line per
     problem (as :func:`gridlib.config.load_cases`); ``check`` as :func:`load_study`."""
-    studies: dict[str, Study] = {}
-    problems: list[str] = []
-    for path in paths:
-        try:
-            study = load_study(path, results, check)
-        except InputError as exc:
-            problems.append(" ".join(str(exc).split("\n")))
-            continue
-        if study.name in studies:
-            problems.append(f"{path}: name: '{study.name}' is also used by {studies[study.name].path}")
-            continue
-        studies[study.name] = study
-    if problems:
-        raise InputError("\n".join(problems))
-    return studies
+    return load_named(paths, lambda path: load_study(path, results, check))
 
 
 def write_if_changed(path: str | os.PathLike, text: str) -> bool:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import os
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 
@@ -28,4 +28,17 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         os.replace(tmp_path, target)
     except BaseException:
         tmp_path.unlink(missing_ok=True)
+        raise
+
+
+def write_keeping_suffix(path: str | os.PathLike, write: Callable[[Path], object]) -> None:
+    """``write(tmp)`` to a temporary file beside ``path`` that keeps its suffix (VTK and
+    matplotlib pick their writer by it), then rename it to ``path``; on error it is removed."""
+    target = Path(path)
+    tmp = target.with_name(f".{target.stem}.partial{target.suffix}")
+    try:
+        write(tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
         raise

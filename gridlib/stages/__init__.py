@@ -10,7 +10,7 @@ transmissibility -> export (with the OPM Flow deck, :mod:`.flow_deck`), then sum
 over all cases; optionally simulate (OPM Flow runs the deck).
 """
 
-from importlib import import_module
+from .._lazy import lazy_exports
 
 # The stages, imported on first use (PEP 562): a stage's script imports only its own module
 # and what that uses (not xarray for the table, not gstools for the export, ...).
@@ -47,14 +47,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'gridlib.stages' has no attribute {name!r}")
-    value = getattr(import_module(module, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -34,11 +34,11 @@ from ..connectivity import offsets, ragged_arange
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
-from ..io._atomic import atomic_path
+from ..io._atomic import atomic_path, write_keeping_suffix
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..io.vtu import write_vtu
 from ..reproducible import log10
-from .common import log, nnc_variables, read_attrs, read_extra, write_grid_file
+from .common import log, nnc_variables, read_attrs, read_extra, save_figure, write_grid_file
 from .petrophysics import read_rock
 from .transmissibility import CONNECTION_VARS, face_connections, read_transmissibility
 
@@ -53,17 +53,6 @@ class _Stored:
         self.global_cells = extra["nnc_global_cells"]
         self.kind = extra["nnc_kind"]
         self.face = extra["nnc_face"]
-
-
-def _atomic_with_suffix(target: Path, write) -> None:
-    """Write through a temporary file that keeps ``target``'s suffix (VTK picks writers by it)."""
-    tmp = target.with_name(f".{target.stem}.partial{target.suffix}")
-    try:
-        write(tmp)
-        os.replace(tmp, target)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
 
 
 def write_fault_faces(path: Path, grid: Grid, names: list[str], face_trans: np.ndarray | None = None) -> int:
@@ -88,7 +77,7 @@ def write_fault_faces(path: Path, grid: Grid, names: list[str], face_trans: np.n
     if face_trans is not None:
         mesh.cell_data["trans"] = np.asarray(face_trans, dtype=np.float64)[faces]
     mesh.field_data["fault_names"] = np.array(names if names else [""])
-    _atomic_with_suffix(path, lambda p: mesh.save(p))
+    write_keeping_suffix(path, lambda p: mesh.save(p))
     return int(faces.size)
 
 
@@ -149,7 +138,7 @@ def _render(path: Path, grid: Grid, values: np.ndarray, faults_vtp: Path, scalar
         plotter.view_xy()
     else:
         plotter.view_isometric()
-    _atomic_with_suffix(path, lambda p: plotter.screenshot(str(p)))
+    write_keeping_suffix(path, lambda p: plotter.screenshot(str(p)))
     plotter.close()
 
 
@@ -195,8 +184,7 @@ def _histograms(
         ax.set_ylabel("count")
     fig.suptitle(title)
     fig.tight_layout()
-    _atomic_with_suffix(path, lambda p: fig.savefig(p, dpi=100))
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def _transmissibility(path: str | os.PathLike, num_cells: int):

@@ -38,7 +38,7 @@ from ..io._atomic import atomic_path
 from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_restart_cells, read_summary
 from ..io.netcdf import read_netcdf
 from ..io.vtu import write_vtu
-from .common import log
+from .common import log, save_figure
 from .transmissibility import read_transmissibility
 
 FLOW_OUTPUTS = (".PRT", ".DBG", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST", ".INFOSTEP")
@@ -203,13 +203,7 @@ def plot_wells(path: Path, summary: FlowSummary, title: str) -> None:
             ax.legend(fontsize=8)
     fig.suptitle(title)
     fig.tight_layout()
-    tmp = path.with_name(f".{path.stem}.partial{path.suffix}")
-    try:
-        fig.savefig(tmp, dpi=100)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-        plt.close(fig)
+    save_figure(fig, path)
 
 
 def write_result_vtu(

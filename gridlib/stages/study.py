@@ -22,7 +22,7 @@ from typing import Any
 import yaml
 
 from ..io._atomic import atomic_path
-from .common import log
+from .common import log, save_figure
 from .summary import COLUMNS
 
 NOT_FIGURES = ("case", "seed", "case_sha256")
@@ -137,14 +137,7 @@ def plot_study(path: str | os.PathLike, manifest: Mapping[str, Any], rows: list[
             ax.tick_params(labelsize=7)
     fig.suptitle(f"study {manifest['study']}: {len(rows)} variants", fontsize=10)
     fig.tight_layout()
-    target = Path(path)
-    tmp = target.with_name(f".{target.stem}.partial{target.suffix}")
-    try:
-        fig.savefig(tmp, dpi=100)
-        os.replace(tmp, target)
-    finally:
-        tmp.unlink(missing_ok=True)
-        plt.close(fig)
+    save_figure(fig, path)
 
 
 def stage_study(
