@@ -18,10 +18,64 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-STAGES = ("horizons", "grid", "geometry", "petrophysics", "coarsen", "export")
+STAGES = (
+    "horizons",
+    "grid",
+    "geometry",
+    "petrophysics",
+    "coarsen",
+    "transmissibility",
+    "export",
+    "flow_deck",
+)
+
+
+@dataclass(frozen=True)
+class WorkflowRun:
+    """One case through every stage: wall time, each rule's (seconds, peak RSS in MiB) and
+    the artifacts' sizes in bytes (files of the case folder and of its flow/ deck)."""
+
+    name: str
+    wall: float
+    rules: dict[str, tuple[float, float]]
+    sizes: dict[str, int]
+
+
+def run_workflow(case: Path, work: Path, cores: int = 2) -> WorkflowRun:
+    """``snakemake --cores`` on ``case`` alone in ``work`` (the repository's Snakefile)."""
+    command = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "-s",
+        str(ROOT / "Snakefile"),
+        "--directory",
+        str(work),
+        "--cores",
+        str(cores),
+        "--config",
+        f"cases={case}",
+        "studies=[]",  # the case alone, not the sample studies
+        "--quiet",
+    ]
+    t0 = time.perf_counter()
+    run = subprocess.run(command, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    if run.returncode != 0:
+        sys.exit(f"snakemake failed:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
+    name = _case_name(case)
+    rules = {}
+    for tsv in sorted((work / "results" / "benchmarks" / name).glob("*.tsv"), key=_stage_order):
+        with tsv.open() as f:
+            row = next(csv.DictReader(f, delimiter="\t"))
+        rules[tsv.stem.split(".")[0]] = (float(row["s"]), float(row["max_rss"]))
+    folder = work / "results" / name
+    sizes = {str(p.relative_to(folder)): p.stat().st_size for p in sorted(folder.rglob("*")) if p.is_file()}
+    return WorkflowRun(name, wall, rules, sizes)
 
 
 def main() -> None:
@@ -32,44 +86,18 @@ def main() -> None:
     parser.add_argument("--cores", type=int, default=2)
     parser.add_argument("--keep", type=Path, help="run in this folder and keep the results")
     args = parser.parse_args()
-    case = args.case.resolve()
     with tempfile.TemporaryDirectory() as tmp:
         work = args.keep.resolve() if args.keep else Path(tmp)
         work.mkdir(parents=True, exist_ok=True)
-        command = [
-            sys.executable,
-            "-m",
-            "snakemake",
-            "-s",
-            str(ROOT / "Snakefile"),
-            "--directory",
-            str(work),
-            "--cores",
-            str(args.cores),
-            "--config",
-            f"cases={case}",
-            "studies=[]",  # the case alone, not the sample studies
-            "--quiet",
-        ]
-        t0 = time.perf_counter()
-        run = subprocess.run(command, capture_output=True, text=True)
-        wall = time.perf_counter() - t0
-        if run.returncode != 0:
-            sys.exit(f"snakemake failed:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
-        name = _case_name(case)
-        print(f"{name}: snakemake --cores {args.cores}, every stage: {wall:.1f} s wall (includes start-up)")
-        bench = work / "results" / "benchmarks" / name
-        total = 0.0
-        for tsv in sorted(bench.glob("*.tsv"), key=_stage_order):
-            with tsv.open() as f:
-                row = next(csv.DictReader(f, delimiter="\t"))
-            seconds = float(row["s"])
-            total += seconds
-            print(f"  {tsv.stem:13s} {seconds:7.2f} s   max_rss {float(row['max_rss']):7.0f} MiB")
-        print(f"  {'sum of rules':13s} {total:7.2f} s")
-        folder = work / "results" / name
-        sizes = ", ".join(f"{p.name} {p.stat().st_size / 2**20:.1f} MiB" for p in sorted(folder.iterdir()))
-        print(f"  artifacts: {sizes}")
+        run = run_workflow(args.case.resolve(), work, args.cores)
+    print(
+        f"{run.name}: snakemake --cores {args.cores}, every stage: {run.wall:.1f} s wall (includes start-up)"
+    )
+    for rule, (seconds, rss) in run.rules.items():
+        print(f"  {rule:16s} {seconds:7.2f} s   max_rss {rss:7.0f} MiB")
+    print(f"  {'sum of rules':16s} {sum(s for s, _ in run.rules.values()):7.2f} s")
+    sizes = ", ".join(f"{name} {size / 2**20:.1f} MiB" for name, size in run.sizes.items())
+    print(f"  artifacts ({sum(run.sizes.values()) / 2**20:.0f} MiB): {sizes}")
 
 
 def _case_name(path: Path) -> str:
@@ -79,7 +107,8 @@ def _case_name(path: Path) -> str:
 
 
 def _stage_order(path: Path) -> int:
-    return STAGES.index(path.stem) if path.stem in STAGES else len(STAGES)
+    stage = path.stem.split(".")[0]
+    return STAGES.index(stage) if stage in STAGES else len(STAGES)
 
 
 if __name__ == "__main__":
