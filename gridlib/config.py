@@ -167,18 +167,23 @@ def _fill_defaults(data: Any, schema: dict[str, Any], root: dict[str, Any]) -> A
     return data
 
 
+def parse_yaml(raw: bytes, path: Path) -> Any:
+    """The YAML document ``raw`` read from ``path``; InputError naming the file and line."""
+    try:
+        return yaml.safe_load(raw)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" line {mark.line + 1}" if mark is not None else ""
+        raise InputError(f"{path}:{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from exc
+
+
 def load_case(path: str | os.PathLike) -> Case:
     """Read and validate a case file; defaults are filled in."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: case file not found")
     raw = p.read_bytes()
-    try:
-        data = yaml.safe_load(raw)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" line {mark.line + 1}" if mark is not None else ""
-        raise InputError(f"{p}:{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from exc
+    data = parse_yaml(raw, p)
     if not isinstance(data, dict):
         raise InputError(f"{p}: a case must be a mapping of keys (name, grid, ...)")
     checked = check_case_data(data, p, str(p))

@@ -42,7 +42,7 @@ from typing import Any
 
 import yaml
 
-from .config import Case, check_case_data, load_named, shared_schema, validate
+from .config import Case, check_case_data, load_named, parse_yaml, shared_schema, validate
 from .errors import InputError
 
 STUDY_SCHEMA = "study.schema.yaml"
@@ -95,12 +95,7 @@ class Study:
 
 
 def _read_yaml(path: Path) -> Any:
-    try:
-        return yaml.safe_load(path.read_bytes())
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" line {mark.line + 1}" if mark is not None else ""
-        raise InputError(f"{path}:{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from exc
+    return parse_yaml(path.read_bytes(), path)
 
 
 def _parts(key: str) -> list[str | int]:
@@ -251,15 +246,15 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
     seen: dict[str, str] = {}
     for combo in combos:
         values = dict(zip(keys, combo, strict=True))
+        plain = {k: v for k, (_, v) in values.items()}
         for r in range(realisations):
             name = variant_name(labels, values, r)
             if name in seen:
-                plain = {k: v for k, (_, v) in values.items()}
                 raise InputError(
                     f"{p}: vary: variants {seen[name]} and {plain} share the name '{name}' "
                     "(a value listed twice?)"
                 )
-            seen[name] = str({k: v for k, (_, v) in values.items()})
+            seen[name] = str(plain)
             data = copy.deepcopy(base_data)
             data["name"] = name
             data["seed"] = seed + SEED_STEP * r
@@ -268,7 +263,6 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)
             checked = _check_variant(data, folder / f"{name}.yaml", p, keys, name) if check else data
-            plain = {k: v for k, (_, v) in values.items()}
             variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
     kinds = {v.artifacts for v in variants}
     if len(kinds) > 1:
