@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ..config import load_case
+from ..config import has_transmissibility, load_case
 from .coarsen import stage_coarsen
 from .export import stage_export
 from .flow_deck import stage_flow_deck
@@ -14,7 +14,7 @@ from .grid import stage_grid
 from .horizons import stage_horizons
 from .petrophysics import stage_petrophysics
 from .simulate import stage_simulate
-from .transmissibility import has_transmissibility, stage_transmissibility
+from .transmissibility import stage_transmissibility
 
 
 def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:

@@ -11,8 +11,6 @@ fault and well names and the case's hash are left out).
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import os
 from collections.abc import Mapping, Sequence
@@ -21,9 +19,8 @@ from typing import Any
 
 import yaml
 
-from ..io._atomic import atomic_path
 from .common import log, save_figure
-from .summary import COLUMNS
+from .summary import COLUMNS, write_csv
 
 NOT_FIGURES = ("case", "seed", "case_sha256")
 # The figures study.png draws against every varied key (those the variants have).
@@ -60,15 +57,6 @@ def study_rows(
         row |= {f: summary.get(f, "") for f in present}
         rows.append(row)
     return ["variant", *keys, "realisation", "seed", *present], rows
-
-
-def write_csv(path: str | os.PathLike, columns: list[str], rows: list[dict]) -> None:
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    with atomic_path(path) as tmp:
-        tmp.write_text(buffer.getvalue())
 
 
 def study_dataset(manifest: Mapping[str, Any], columns: list[str], rows: list[dict]):

@@ -6,7 +6,8 @@ import csv
 import io
 import json
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 from ..io._atomic import atomic_path
 from .common import log
@@ -44,10 +45,15 @@ def stage_summary(summaries: Sequence[str | os.PathLike], csv_out: str | os.Path
     """One row per case (sorted by name), the columns of COLUMNS (empty where not applicable)."""
     rows = [json.loads(open(p, encoding="utf-8").read()) for p in summaries]
     rows.sort(key=lambda r: r["case"])
+    write_csv(csv_out, COLUMNS, rows)
+    log.info("wrote %s (%d cases)", csv_out, len(rows))
+
+
+def write_csv(path: str | os.PathLike, columns: Sequence[str], rows: Sequence[Mapping[str, Any]]) -> None:
+    """``rows`` as a CSV table of ``columns`` (other keys left out, missing ones empty), atomically."""
     buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
+    writer = csv.DictWriter(buffer, fieldnames=list(columns), extrasaction="ignore", lineterminator="\n")
     writer.writeheader()
     writer.writerows(rows)
-    with atomic_path(csv_out) as tmp:
+    with atomic_path(path) as tmp:
         tmp.write_text(buffer.getvalue())
-    log.info("wrote %s (%d cases)", csv_out, len(rows))

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..config import Case, has_transmissibility, load_case  # noqa: F401 (has_transmissibility: re-exported)
+from ..config import Case, load_case
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.process import CornerPointGrid
 from ..errors import InputError
