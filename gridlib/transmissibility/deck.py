@@ -31,7 +31,7 @@ from ..errors import InputError
 from ..grid import B, E, N, S, T, W
 from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
-from .edits import apply_deck_edits
+from .edits import apply_deck_edits, logical_neighbors
 from .multipliers import directional_multipliers
 from .newtran import newtran_connections
 from .region_multipliers import region_multipliers
@@ -72,13 +72,6 @@ def rock_arrays(deck: Deck) -> tuple[np.ndarray, np.ndarray]:
 def _ijk(deck: Deck, g: int) -> str:
     nx, ny, _ = deck.cart_dims
     return f"({g % nx + 1}, {g // nx % ny + 1}, {g // (nx * ny) + 1})"
-
-
-def logical_neighbors(g1: np.ndarray, g2: np.ndarray, dims: tuple[int, int, int]) -> np.ndarray:
-    """Whether linear indices differ by 1, nx or nx ny (Flow's test for a neighbour pair)."""
-    nx, ny, _ = dims
-    step = np.abs(g2 - g1)
-    return (step == 1) | (step == nx) | (step == nx * ny)
 
 
 def deck_transmissibility(

@@ -66,6 +66,13 @@ def per_pair(
     return cells[starts], total, kmin, face[starts]
 
 
+def logical_neighbors(g1: np.ndarray, g2: np.ndarray, dims: tuple[int, int, int]) -> np.ndarray:
+    """Whether linear indices differ by 1, nx or nx ny (Flow's test for a neighbour pair)."""
+    nx, ny, _ = dims
+    step = np.abs(g2 - g1)
+    return (step == 1) | (step == nx) | (step == nx * ny)
+
+
 def _keys(lo: IntArray, hi: IntArray, n: int) -> IntArray:
     return np.asarray(lo, dtype=np.int64) * n + np.asarray(hi, dtype=np.int64)
 
@@ -213,9 +220,8 @@ def _edited(deck, cells, trans, kind, face, index_map, notes):
 
 def _drop_small(deck, cells, trans, kind, face, index_map, notes, unit_label):
     """Step 5: non-neighbour pairs whose total is below the threshold set to 0."""
-    nx, ny, _ = deck.cart_dims
-    lo, hi = _ordered(index_map[cells])
-    far = np.flatnonzero(~np.isin(hi - lo, [1, nx, nx * ny]))
+    g = index_map[cells]
+    far = np.flatnonzero(~logical_neighbors(g[:, 0], g[:, 1], deck.cart_dims))
     if far.size:
         sub = np.sort(cells[far], axis=1)
         _, group = np.unique(_keys(sub[:, 0], sub[:, 1], index_map.size), return_inverse=True)

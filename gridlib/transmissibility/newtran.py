@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..cornerpoint.corners import depth_sign
+from ..cornerpoint.corners import corner_points, depth_sign
 from ..cornerpoint.deck import Deck
 from ..geometry import cross
 from ..grid import B, E, FloatArray, Grid, IntArray, N, S, T, W
@@ -34,10 +34,14 @@ from ..units import MILLIDARCY, UnitSystem
 
 # Corners (a + 2b + 4c) of each logical face W, E, S, N, T, B (grid.W..grid.B)
 FACE_CORNERS = np.array([[0, 2, 4, 6], [1, 3, 5, 7], [0, 1, 4, 5], [2, 3, 6, 7], [0, 1, 2, 3], [4, 5, 6, 7]])
+# Each face's area vector is ½ (p[q0] - p[q1]) x (p[q2] - p[q3]) for its row q here: its two
+# diagonals, taken so that the two cells of a matching face compute the same bits.
+AREA_DIAGONALS = np.array(
+    [[0, 6, 2, 4], [1, 7, 3, 5], [0, 5, 4, 1], [2, 7, 6, 3], [0, 3, 1, 2], [4, 7, 5, 6]]
+)
 HALF_MINIMUM = 1e-30  # m3: below this a half-transmissibility makes the connection 0 (Flow)
-_BLOCK = 1 << 16  # cells per block of corner coordinates
-
-
+_BLOCK = 1 << 16  # faces per block of vector_areas
+_LAYER_TASKS = 4  # blocks of layers of structured_halves, shared out among the threads
 _AXIS_OF_FACE = np.array([0, 0, 1, 1, 2, 2])  # W, E -> x; S, N -> y; T, B -> z
 
 
@@ -96,7 +100,7 @@ def interior_logical_faces(grid: Grid, dims: tuple[int, int, int]):
 
 def half_transmissibilities(area: FloatArray, d: FloatArray, kdd: FloatArray) -> FloatArray:
     """K |A . d| / (d . d) per connection, from component-major area vectors and d (3, n)
-    and K / (d . d) (n,) (:func:`structured_half_data`)."""
+    and K / (d . d) (n,) (:func:`centre_to_faces`)."""
     dot = area[0] * d[0]
     dot += area[1] * d[1]
     dot += area[2] * d[2]
@@ -123,58 +127,89 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
 # -------------------------------------------------------------------------- every cell at once
 
 
-def structured_half_data(deck: Deck, perm: FloatArray, ntg: FloatArray):
-    """What the half-transmissibilities need for every cell of the deck (linear ijk order),
-    component-major: d (3, 6, nc) from the cell's centre to each logical face's centre
-    (W, E, S, N, T, B), K / (d . d) (6, nc) (NTG on W, E, S, N) and the area vectors
-    (3, 3, nc) of each cell's E, N and B faces. Computed on the (k, c, j, b, i, a) layout
-    of ZCORN layer by layer, without gathers. Inactive cells get whatever their corners
-    give (never used)."""
+def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray) -> FloatArray:
+    """The half-transmissibility K |A . d| / (d . d) (mD x deck length) of every logical
+    face W, E, S, N, T, B (rows) of every cell of the deck (linear ijk order, columns),
+    with A the area vector of the cell's own quadrilateral face (:data:`AREA_DIAGONALS`):
+    what a connection between two cells needs where their shared face is that whole
+    quadrilateral. Computed on the (k, c, j, b, i, a) layout of ZCORN layer by layer,
+    without gathers, in blocks of layers on the threads; inactive cells get whatever
+    their corners give (never used)."""
     nx, ny, nz = deck.cart_dims
-    nc = nx * ny * nz
     layer = nx * ny
-    sign = depth_sign(deck)
-    pil = deck.pillars()  # (ny+1, nx+1, 2, 3)
+    corners = _LayerCorners(deck)
+    k_face = _face_permeability(perm, ntg)
+    halves = np.empty((6, nx * ny * nz))
 
-    def corner_columns(end: int, comp: int) -> FloatArray:  # (8 corners a + 2b, layer) per c
-        return np.stack([pil[b : b + ny, a : a + nx, end, comp].ravel() for b in (0, 1) for a in (0, 1)])
+    def layers(ks: range) -> None:
+        p = np.empty((3, 8, layer))
+        for k in ks:
+            cells = slice(k * layer, (k + 1) * layer)
+            corners.fill(k, p)
+            d, kdd = centre_to_faces(p, k_face[:, cells])
+            for f in range(6):
+                halves[f, cells] = half_transmissibilities(face_area(p, f), d[:, f], kdd[f])
 
-    top = [corner_columns(0, c) for c in range(3)]  # (4, layer): corner a + 2b of each column
-    bot = [corner_columns(1, c) for c in range(3)]
-    span = bot[2] - top[2]
-    flat = span == 0.0
-    span = np.where(flat, 1.0, span)
-    dxy = [bot[0] - top[0], bot[1] - top[1]]
-    d = np.empty((3, 6, nc))
-    kdd = np.empty((6, nc))
-    areas = np.empty((3, 3, nc))
-    k_face = np.empty((6, nc))
-    for f, axis in enumerate(_AXIS_OF_FACE):
-        k_face[f] = perm[:, axis] * ntg if f < 4 else perm[:, axis]
-    zc = deck.zcorn_array()
-    p = np.empty((3, 8, layer))
-    for k in range(nz):
-        z = zc[2 * k : 2 * k + 2].reshape(2, ny, 2, nx, 2).transpose(0, 2, 4, 1, 3).reshape(2, 4, layer)
+    chunks = [c for c in np.array_split(np.arange(nz), min(nz, _LAYER_TASKS)) if c.size]
+    concurrently(*(lambda ks=range(c[0], c[-1] + 1): layers(ks) for c in chunks))
+    return halves
+
+
+class _LayerCorners:
+    """The corner coordinates of the cells of one layer at a time, (3, 8 corners, nx ny) in
+    the frame of :func:`~gridlib.cornerpoint.corners.corner_points` (the same bits)."""
+
+    def __init__(self, deck: Deck) -> None:
+        self.nx, self.ny, _ = deck.cart_dims
+        self.sign = depth_sign(deck)
+        self.zcorn = deck.zcorn_array()
+        pil = deck.pillars()  # (ny+1, nx+1, 2, 3)
+        nx, ny = self.nx, self.ny
+
+        def corner_columns(end: int, comp: int) -> FloatArray:  # (4 corners a + 2b, layer)
+            return np.stack([pil[b : b + ny, a : a + nx, end, comp].ravel() for b in (0, 1) for a in (0, 1)])
+
+        self.top = [corner_columns(0, c) for c in range(3)]
+        bot = [corner_columns(1, c) for c in range(3)]
+        span = bot[2] - self.top[2]
+        self.flat = span == 0.0
+        self.span = np.where(self.flat, 1.0, span)
+        self.dxy = [bot[0] - self.top[0], bot[1] - self.top[1]]
+
+    def fill(self, k: int, p: FloatArray) -> None:
+        nx, ny = self.nx, self.ny
+        z = self.zcorn[2 * k : 2 * k + 2].reshape(2, ny, 2, nx, 2).transpose(0, 2, 4, 1, 3).reshape(2, 4, -1)
+        top = self.top
         with np.errstate(invalid="ignore", over="ignore"):
             for c in (0, 1):  # top, bottom corners: slots 4 c + (a + 2b)
-                t = np.where(flat, 0.0, (z[c] - top[2]) / span)
+                t = np.where(self.flat, 0.0, (z[c] - top[2]) / self.span)
                 rows = slice(4 * c, 4 * c + 4)
-                np.multiply(t, dxy[0], out=p[0, rows])
+                np.multiply(t, self.dxy[0], out=p[0, rows])
                 p[0, rows] += top[0]
-                np.multiply(t, dxy[1], out=p[1, rows])
+                np.multiply(t, self.dxy[1], out=p[1, rows])
                 p[1, rows] += top[1]
-                np.multiply(z[c], sign, out=p[2, rows])
-            cells = slice(k * layer, (k + 1) * layer)
-            _fill_half_data(p, k_face[:, cells], d[:, :, cells], kdd[:, cells], areas[:, :, cells])
-    return d, kdd, areas
+                np.multiply(z[c], self.sign, out=p[2, rows])
 
 
-def _fill_half_data(p, k_face, d, kdd, areas):
-    """d, K / (d . d) and the E, N, B area vectors of cells with corners p (3, 8, m)."""
+def _face_permeability(perm: FloatArray, ntg: FloatArray) -> FloatArray:
+    """(6, nc): the permeability each logical face's half uses; NTG on W, E, S, N."""
+    k_face = np.empty((6, perm.shape[0]))
+    for f, axis in enumerate(_AXIS_OF_FACE):
+        if f < 4:
+            np.multiply(perm[:, axis], ntg, out=k_face[f])
+        else:
+            k_face[f] = perm[:, axis]
+    return k_face
+
+
+def centre_to_faces(p: FloatArray, k_face: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """d (3, 6, m) from the centre of each cell with corners p (3, 8, m) to the centres of
+    its faces W, E, S, N, T, B, and K / (d . d) (6, m) (0 where d . d is not positive)."""
     centre = p[:, 0].copy()
     for c in range(1, 8):
         centre += p[:, c]
     centre /= 8.0
+    d = np.empty((3, 6, p.shape[2]))
     for f, (a, b, c, e) in enumerate(FACE_CORNERS):
         v = d[:, f]
         np.add(p[:, a], p[:, b], out=v)
@@ -185,12 +220,29 @@ def _fill_half_data(p, k_face, d, kdd, areas):
     dd = d[0] * d[0]
     dd += d[1] * d[1]
     dd += d[2] * d[2]
+    kdd = np.empty_like(dd)
     with np.errstate(divide="ignore", invalid="ignore"):
         np.divide(k_face, dd, out=kdd)
     kdd[~(dd > 0.0)] = 0.0
-    areas[:, 0] = 0.5 * cross(p[:, 1] - p[:, 7], p[:, 3] - p[:, 5])  # E: corners 1 3 7 5
-    areas[:, 1] = 0.5 * cross(p[:, 2] - p[:, 7], p[:, 6] - p[:, 3])  # N: corners 2 6 7 3
-    areas[:, 2] = 0.5 * cross(p[:, 4] - p[:, 7], p[:, 5] - p[:, 6])  # B: corners 4 5 7 6
+    return d, kdd
+
+
+def face_area(p: FloatArray, f: int) -> FloatArray:
+    """The area vector (3, m) of logical face f of cells with corners p (3, 8, m):
+    ½ of the cross product of its diagonals (:data:`AREA_DIAGONALS`)."""
+    a, b, c, e = AREA_DIAGONALS[f]
+    return 0.5 * cross(p[:, a] - p[:, b], p[:, c] - p[:, e])
+
+
+def gathered_half_data(deck: Deck, cells: IntArray, perm: FloatArray, ntg: FloatArray):
+    """For ``cells`` (linear ijk indices): d (3, 6, m), K / (d . d) (6, m) and the area
+    vector of the bottom face (3, m), from their corners gathered one by one
+    (:func:`~gridlib.cornerpoint.corners.corner_points`: the same bits as the layers of
+    :func:`structured_halves`)."""
+    p = np.ascontiguousarray(corner_points(deck, cells).transpose(2, 1, 0))
+    k_face = _face_permeability(perm[cells], ntg[cells])
+    d, kdd = centre_to_faces(p, k_face)
+    return d, kdd, face_area(p, B)
 
 
 @dataclass(frozen=True, eq=False)
@@ -232,14 +284,12 @@ def newtran_connections(
     cell_of[glob] = np.arange(glob.size)
     strides = (1, nx, layer)
 
-    def faces_and_matches():
-        return interior_logical_faces(grid, deck.cart_dims), [
-            _matched(deck, cell_of >= 0, axis).ravel() for axis in range(3)
-        ]
-
-    (d, kdd, areas), ((f, a, ta, b, tb), simple) = concurrently(
-        lambda: structured_half_data(deck, perm, ntg), faces_and_matches
+    in_grid = cell_of >= 0
+    (f, a, ta, b, tb), *simple = concurrently(
+        lambda: interior_logical_faces(grid, deck.cart_dims),
+        *(lambda axis=axis: _matched(deck, in_grid, axis).ravel() for axis in range(3)),
     )
+    halves = structured_halves(deck, perm, ntg)
     ga, gb = glob[a], glob[b]
     lo, step = np.minimum(ga, gb), np.abs(gb - ga)
     is_simple = np.zeros(f.size, dtype=bool)
@@ -252,20 +302,15 @@ def newtran_connections(
         face_of.append(lookup)
 
     def simple_pairs(axis: int):
-        """The pairs of cells and their +axis neighbours whose shared corners coincide."""
+        """The pairs of cells and their +axis neighbours whose shared corners coincide: each
+        half from its own cell's face (the same quadrilateral, the same bits)."""
         stride = strides[axis]
         plus, minus = 2 * axis + 1, 2 * axis  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
-        low, high = slice(0, nc - stride), slice(stride, nc)  # every cell and its +axis neighbour
-        area = areas[:, axis, low]
-        t_all = combine(
-            half_transmissibilities(area, d[:, plus, low], kdd[plus, low]),
-            half_transmissibilities(area, d[:, minus, high], kdd[minus, high]),
-            units,
-        )
-        g = np.flatnonzero(simple[axis][low])
+        g = np.flatnonzero(simple[axis])
+        t = combine(halves[plus, g], halves[minus, g + stride], units)
         n = g.size
         tags = (np.full(n, plus), np.full(n, minus))
-        return cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t_all[g]
+        return cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t
 
     rest = ~is_simple
     f, a, ta, b, tb, ga, gb = (x[rest] for x in (f, a, ta, b, tb, ga, gb))
@@ -280,14 +325,17 @@ def newtran_connections(
         """Fault faces, near-matching column faces, PINCH and MINPV connections: T from the
         grid's face polygons (or the upper cell's bottom quad between cells of a column)."""
         ga, gb = glob[a], glob[b]
+        involved = np.unique(np.concatenate([ga, gb]))
+        d, kdd, bottom = gathered_half_data(deck, involved, perm, ntg)
+        ia, ib = np.searchsorted(involved, ga), np.searchsorted(involved, gb)
         area = np.empty((3, f.size))
         lateral = np.flatnonzero(~column)
         area[:, lateral] = vector_areas(grid, f[lateral]).T
         vertical = np.flatnonzero(column)
-        area[:, vertical] = areas[:, 2, np.where(ta == B, ga, gb)[vertical]]  # the upper cell's bottom
+        area[:, vertical] = bottom[:, np.where(ta == B, ia, ib)[vertical]]  # the upper cell's bottom
         t = combine(
-            half_transmissibilities(area, d[:, ta, ga], kdd[ta, ga]),
-            half_transmissibilities(area, d[:, tb, gb], kdd[tb, gb]),
+            half_transmissibilities(area, d[:, ta, ia], kdd[ta, ia]),
+            half_transmissibilities(area, d[:, tb, ib], kdd[tb, ib]),
             units,
         )
         return a, b, ta, tb, f, column, t
