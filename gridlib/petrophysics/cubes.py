@@ -1,0 +1,185 @@
+"""Property cubes: properties on a regular grid of cells, read from and written to netCDF and
+sampled at cell centroids or at depositional coordinates."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import InputError
+from ..grid import FloatArray, IntArray
+from ..io._dataset import load_dataset, save_dataset
+from .depositional import Depositional
+
+__all__ = ["PropertyCube", "read_property_cube", "sample_cube", "write_property_cube"]
+
+
+@dataclass(frozen=True, eq=False)
+class PropertyCube:
+    """Properties on a regular grid of cells: centres ``x`` (nx,), ``y`` (ny,), ``z`` (nz,)
+    (m, increasing; z is depth) and ``values``: name -> (nz, ny, nx) array."""
+
+    x: FloatArray
+    y: FloatArray
+    z: FloatArray
+    values: Mapping[str, FloatArray] = field(default_factory=dict)
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        label = self.source or "property cube"
+        axes = []
+        for key in ("x", "y", "z"):
+            a = np.array(getattr(self, key), dtype=np.float64)
+            if a.ndim != 1 or a.size < 1 or not np.isfinite(a).all():
+                raise InputError(f"{label}: coordinate {key} must be a finite 1-D axis")
+            if a.size > 1:
+                d = np.diff(a)
+                inc = (a[-1] - a[0]) / (a.size - 1)
+                if not (d > 0).all() or np.abs(d - inc).max() > 1e-6 * inc:
+                    raise InputError(f"{label}: coordinate {key} must be increasing and regularly spaced")
+            a.flags.writeable = False
+            object.__setattr__(self, key, a)
+            axes.append(a.size)
+        shape = (axes[2], axes[1], axes[0])
+        vals = {}
+        for name, v in dict(self.values).items():
+            arr = np.array(v, dtype=np.float64)
+            if arr.shape != shape:
+                raise InputError(f"{label}: '{name}' has shape {arr.shape}, expected (nz, ny, nx) = {shape}")
+            arr.flags.writeable = False
+            vals[str(name)] = arr
+        if not vals:
+            raise InputError(f"{label}: no property values")
+        object.__setattr__(self, "values", vals)
+
+
+def _spacing(a: FloatArray) -> float:
+    return float((a[-1] - a[0]) / (a.size - 1)) if a.size > 1 else 1.0
+
+
+def sample_cube(
+    cube: PropertyCube,
+    where: Depositional | ArrayLike,
+    *,
+    names: Sequence[str] | None = None,
+    outside: str = "clip",
+) -> dict[str, FloatArray]:
+    """Values of the cube's cells at every position, by index (piecewise constant).
+
+    ``where``: points (n, 3) (m, z depth; e.g. physical cell centroids): the
+    cube cell containing each point; or :class:`Depositional` coordinates:
+    (x_r, y_r) as points, and the layer's w normalised by the reference
+    column's thickness onto the cube's depth range, k_cube = floor(w / W nz),
+    so the cube's layers follow the grid's layers through every fault.
+    ``outside``: ``"clip"`` (the nearest cell of the cube) or ``"nan"``.
+
+    >>> cube = PropertyCube([5.0, 15.0], [5.0], [1.0, 3.0], {"poro": [[[0.1, 0.2]], [[0.3, 0.4]]]})
+    >>> sample_cube(cube, [[4.0, 5.0, 2.5], [14.0, 5.0, 0.1]])["poro"].tolist()
+    [0.3, 0.2]
+    """
+    if outside not in ("clip", "nan"):
+        raise InputError(f"sample_cube: outside must be 'clip' or 'nan', got {outside!r}")
+    chosen = list(cube.values) if names is None else list(names)
+    missing = [n for n in chosen if n not in cube.values]
+    if missing:
+        raise InputError(
+            f"sample_cube: no property {missing[0]!r} in the cube (has {', '.join(cube.values)})"
+        )
+    nz, ny, nx = len(cube.z), len(cube.y), len(cube.x)
+
+    def index(coord: FloatArray, axis: FloatArray) -> tuple[IntArray, np.ndarray]:
+        h = _spacing(axis)
+        i = np.floor((coord - (axis[0] - h / 2)) / h)
+        out = (i < 0) | (i > axis.size - 1)
+        return np.clip(i, 0, axis.size - 1).astype(np.int64), out
+
+    if isinstance(where, Depositional):
+        xy = where.column_xy[where.column]
+        i, out_i = index(xy[:, 0], cube.x)
+        j, out_j = index(xy[:, 1], cube.y)
+        frac = where.layer_w[where.layer] / where.w_edges[-1]
+        k = np.minimum(np.floor(frac * nz).astype(np.int64), nz - 1)
+        out = out_i | out_j
+    else:
+        pts = np.asarray(where, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 3 or not np.isfinite(pts).all():
+            raise InputError(f"sample_cube: positions must be a finite (n, 3) array, got shape {pts.shape}")
+        i, out_i = index(pts[:, 0], cube.x)
+        j, out_j = index(pts[:, 1], cube.y)
+        k, out_k = index(pts[:, 2], cube.z)
+        out = out_i | out_j | out_k
+    flat = (k * ny + j) * nx + i
+    result = {}
+    for name in chosen:
+        v = cube.values[name].ravel()[flat]
+        if outside == "nan":
+            v = np.where(out, np.nan, v)
+        result[name] = v
+    return result
+
+
+def read_property_cube(path: str | os.PathLike, variables: Sequence[str] | None = None) -> PropertyCube:
+    """A :class:`PropertyCube` from netCDF: 3-D variables over (z, y, x) (x last) with regular 1-D
+    coordinate variables of cell centres (m). A vertical coordinate with ``positive = "up"`` is
+    an elevation and is negated to depth. ``variables``: which (default: every 3-D variable)."""
+
+    p = Path(path)
+    ds = load_dataset(p)
+    names = [str(k) for k, v in ds.data_vars.items() if v.ndim == 3] if variables is None else list(variables)
+    if not names:
+        raise InputError(f"{p}: no 3-D variable (z, y, x) in the file")
+    dims = None
+    for name in names:
+        if name not in ds.data_vars:
+            raise InputError(f"{p}: no variable '{name}' (has {', '.join(map(str, ds.data_vars))})")
+        if ds[name].ndim != 3:
+            raise InputError(f"{p}: '{name}' must be 3-D (z, y, x), has dims {ds[name].dims}")
+        if dims is None:
+            dims = ds[name].dims
+        elif ds[name].dims != dims:
+            raise InputError(f"{p}: '{name}' has dims {ds[name].dims}, the others {dims}")
+    assert dims is not None
+    axes = {}
+    for dim in dims:
+        if dim not in ds.variables:
+            raise InputError(f"{p}: dimension '{dim}' has no coordinate variable")
+        axes[dim] = np.asarray(ds[dim].values, dtype=np.float64)
+    zdim, ydim, xdim = dims
+    flips = []
+    zc = axes[zdim]
+    if str(ds[zdim].attrs.get("positive", "down")).lower() == "up":
+        zc = -zc
+    x, y = axes[xdim], axes[ydim]
+    values = {}
+    for name in names:
+        v = np.asarray(ds[name].values, dtype=np.float64)
+        for axis, a in ((0, zc), (1, y), (2, x)):
+            if a.size > 1 and a[1] < a[0]:
+                v = np.flip(v, axis=axis)
+        values[name] = v
+    for a in (zc, y, x):
+        flips.append(a[::-1] if a.size > 1 and a[1] < a[0] else a)
+    zc, y, x = flips
+    return PropertyCube(x, y, zc, values, source=str(p))
+
+
+def write_property_cube(
+    path: str | os.PathLike, cube: PropertyCube, attrs: Mapping[str, Any] | None = None
+) -> Path:
+    """Write a :class:`PropertyCube` as netCDF-4 (z, y, x), atomically."""
+    import xarray as xr
+
+    coords = {
+        "z": ("z", cube.z, {"units": "m", "positive": "down", "long_name": "depth of the cell centres"}),
+        "y": ("y", cube.y, {"units": "m", "standard_name": "projection_y_coordinate"}),
+        "x": ("x", cube.x, {"units": "m", "standard_name": "projection_x_coordinate"}),
+    }
+    data = {name: (("z", "y", "x"), v) for name, v in cube.values.items()}
+    ds = xr.Dataset(data, coords=coords, attrs={"title": "gridlib property cube", **dict(attrs or {})})
+    return save_dataset(path, ds)
