@@ -398,3 +398,61 @@ def test_undefined_corners_of_inactive_cells_are_written_finite(tmp_path):
     bad = dataclasses.replace(deck, zcorn=np.where(mask.ravel(), deck.zcorn, np.nan))
     with pytest.raises(DeckError, match="active cells have undefined"):
         write_grdecl(tmp_path / "bad.grdecl", bad)
+
+
+# The sha256 of write_grdecl's files of vendored decks, as written by the single-module writer
+# (gridlib/io/grdecl.py at 934490c) before the reader and the writer were split and the value
+# table was formatted in blocks: the split writer must give the same bytes.
+WRITTEN_SHA256 = {
+    "spe9/SPE9.GRDECL": "3ec1b491aa59e077ece8db94d32266902bcbbe5943d0ac3b11551d7f389f08c7",
+    "reek/reek_sim_grid.grdecl": "ee989dad40e664ddf7c80a2a105dbf92394790b3440b50025c7bab408b528262",
+}
+
+
+@pytest.mark.parametrize("name", sorted(WRITTEN_SHA256))
+def test_written_sample_decks_keep_their_bytes(tmp_path, decks_dir, name):
+    import hashlib
+
+    deck = dataclasses.replace(read_grdecl(decks_dir / name), source=name)  # the header names it
+    path = write_grdecl(tmp_path / "out.grdecl", deck)
+    assert hashlib.sha256(path.read_bytes()).hexdigest() == WRITTEN_SHA256[name]
+
+
+def _plain_text(values: np.ndarray, integer: bool) -> bytes:
+    """What format_values writes, one token at a time: runs of bit-identical values (equal ones
+    with ``integer``; NaN never repeated) as n*v, as many per line as the widest token allows."""
+    v = np.asarray(values, dtype=np.float64).ravel()
+    keys = (v + 0.0 if integer else v).view(np.uint64)
+    tokens, i = [], 0
+    while i < v.size:
+        j = i + 1
+        while j < v.size and keys[j] == keys[i] and (integer or not np.isnan(v[i])):
+            j += 1
+        text = str(int(v[i])) if integer else repr(float(v[i]))
+        tokens.append(f"{j - i}*{text}" if j - i > 1 else text)
+        i = j
+    per_line = max(1, min(6, 132 // (max(map(len, tokens)) + 1)))
+    lines = [" ".join(tokens[k : k + per_line]) for k in range(0, len(tokens), per_line)]
+    return ("\n".join(lines) + "\n").encode("ascii")
+
+
+@pytest.mark.parametrize("integer", [False, True])
+def test_format_values_in_small_blocks_is_the_plain_text(monkeypatch, integer):
+    """Small blocks (values formatted 5 at a time, 12 runs a block) give the text of one go."""
+    from gridlib.io import eclipse_text
+
+    rng = np.random.default_rng(7)
+    v = np.round(rng.normal(1000.0, 5.0, 402), 1)
+    v[::3] = v[1::3]  # runs
+    v[50:90] = -1.2345678901234567e-100  # long tokens: fewer per line
+    if integer:
+        v = np.round(v)
+        v[5], v[6] = 0.0, -0.0
+    else:
+        v[10:13] = np.nan
+        v[20], v[21] = 0.0, -0.0
+    expected = _plain_text(v, integer)
+    assert b"".join(eclipse_text.format_values(v, integer)) == expected
+    monkeypatch.setattr(eclipse_text, "_TABLE_BLOCK", 5)
+    monkeypatch.setattr(eclipse_text, "_CHUNK_RUNS", 12)
+    assert b"".join(eclipse_text.format_values(v, integer)) == expected

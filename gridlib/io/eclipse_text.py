@@ -1,4 +1,5 @@
-"""Lexing ECLIPSE keyword files: keywords, ``/``-terminated records, bulk numbers.
+"""Lexing ECLIPSE keyword files: keywords, ``/``-terminated records, bulk numbers; and writing
+arrays back as exact text (:func:`format_values`, for GRDECL files and Flow decks).
 
 The syntax (ECLIPSE reference manual, "data file overview"):
 
@@ -17,6 +18,13 @@ bit-identical). Repeat counts become a second column. Anything the fast path
 cannot read goes to a token-by-token path that reads what is valid (Fortran
 ``D`` exponents, ``nan``) and otherwise raises an error naming the file, the
 line, the keyword and the offending token.
+
+Writing: :func:`format_values` gives the text of an array in blocks, with the
+shortest text that reads back to the same float64 (Python's ``repr``) and runs
+of bit-identical values as ``n*v``, at most ``VALUES_PER_LINE`` values and
+``MAX_LINE`` characters a line; :func:`text_table` is its table of the text of
+each distinct value (fixed-width NUL-padded rows), formatted a block of values
+at a time, so that neither the values' text nor the array's is ever one string.
 """
 
 from __future__ import annotations
@@ -24,6 +32,7 @@ from __future__ import annotations
 import csv
 import io
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -327,3 +336,114 @@ def _slow_numbers(src: Source, pos: int, end: int, keyword: str, limit: int | No
     d = np.array(defaulted, dtype=bool)
     out = np.repeat(np.array(values, dtype=np.float64), c)
     return Numbers(out, np.repeat(d, c) if d.any() else None)
+
+
+# --------------------------------------------------------------------------- writing
+
+VALUES_PER_LINE = 6
+MAX_LINE = 131  # ECLIPSE reads 132 characters a line; stay below
+_CHUNK_RUNS = 1 << 16  # runs formatted per block: a few MiB of scratch, whatever the array size
+_TABLE_BLOCK = 1 << 16  # distinct values formatted per block (a bounded string at a time)
+_DIRECT_COUNTS = 1 << 16  # runs up to this long index the prefix table by their length
+_SPACE, _NEWLINE = ord(" "), ord("\n")
+
+
+def text_table(values: list, integer: bool) -> np.ndarray:
+    """Fixed-width ASCII table (one row per value, NUL-padded) of ``repr`` (or ``%d``) of each value.
+
+    ``repr`` of a float is the shortest text that reads back to the same
+    float64. One ``%`` formatting of all values, then a vectorised split,
+    costs less than a Python string per value.
+    """
+    if not values:
+        return np.zeros((0, 1), np.uint8)
+    text = np.frombuffer(
+        (("%d\n" if integer else "%r\n") * len(values) % tuple(values)).encode("ascii"), np.uint8
+    )
+    ends = np.flatnonzero(text == _NEWLINE)
+    lengths = np.diff(ends, prepend=-1) - 1
+    table = np.zeros((len(values), int(lengths.max())), np.uint8)
+    table[np.arange(table.shape[1]) < lengths[:, None]] = text[text != _NEWLINE]
+    return table
+
+
+def _value_table(distinct: np.ndarray, integer: bool) -> np.ndarray:
+    """:func:`text_table` of ``distinct``, formatted ``_TABLE_BLOCK`` values at a time (the same rows:
+    each block's rows are NUL-padded to the widest text of all)."""
+    blocks = [
+        text_table(distinct[lo : lo + _TABLE_BLOCK].tolist(), integer)
+        for lo in range(0, distinct.size, _TABLE_BLOCK)
+    ]
+    if len(blocks) == 1:
+        return blocks[0]
+    table = np.zeros((distinct.size, max(b.shape[1] for b in blocks)), np.uint8)
+    for i, b in enumerate(blocks):
+        table[i * _TABLE_BLOCK : i * _TABLE_BLOCK + b.shape[0], : b.shape[1]] = b
+    return table
+
+
+def format_values(values: np.ndarray, integer: bool = False) -> Iterator[bytes]:
+    """Round-trip exact ASCII text of an array, in blocks: runs of equal values as ``n*v``.
+
+    Runs are of bit-identical values (so ``-0.0`` next to ``0.0`` stays
+    itself; with ``integer`` they are equal values), and a NaN is never
+    repeated. Each distinct value and each distinct repeat count is formatted
+    once; the tokens are gathered from those tables as fixed-width byte rows,
+    with a space or line break after each, and the NUL padding dropped. At
+    most ``VALUES_PER_LINE`` tokens go on a line, fewer when the longest
+    token would make a line longer than ``MAX_LINE``. The text ends with a
+    line break.
+    """
+    v = np.ascontiguousarray(values).ravel()
+    if v.size == 0:
+        yield b"\n"
+        return
+    floating = v.dtype.kind == "f"
+    if floating:
+        v = v.astype(np.float64, copy=False)
+        key = (v + 0.0 if integer else v).view(np.uint64)  # integer: -0.0 is 0
+    else:
+        key = v.astype(np.int64, copy=False)
+    same = key[1:] == key[:-1]
+    if floating and not integer:
+        same &= ~np.isnan(v[1:])  # the reader does not take "n*nan"
+    starts = np.flatnonzero(np.concatenate([[True], ~same]))
+    counts = np.diff(starts, append=v.size)
+    codes, distinct = pd.factorize(key[starts], sort=False)
+    distinct = np.asarray(distinct)
+    value_table = _value_table(distinct.view(np.float64) if floating else distinct, integer)
+    if counts.max() <= _DIRECT_COUNTS:  # the usual case: a prefix for every count up to the longest run
+        count_codes, distinct_counts = counts, range(int(counts.max()) + 1)
+    else:
+        count_codes, distinct_counts = pd.factorize(counts, sort=False)
+    prefixes = [f"{n}*" if n > 1 else "" for n in list(distinct_counts)]
+    width = max(1, *map(len, prefixes))
+    prefix_table = np.array(prefixes, dtype=f"S{width}").view(np.uint8).reshape(len(prefixes), width)
+    widest = int(((prefix_table != 0).sum(1)[count_codes] + (value_table != 0).sum(1)[codes]).max())
+    per_line = max(1, min(VALUES_PER_LINE, (MAX_LINE + 1) // (widest + 1)))
+    wp, wv = prefix_table.shape[1], value_table.shape[1]
+    chunk = _CHUNK_RUNS - _CHUNK_RUNS % per_line  # whole lines per block
+    block = np.empty((chunk, wp + wv + 1), np.uint8)
+    for lo in range(0, starts.size, chunk):
+        hi = min(lo + chunk, starts.size)
+        rows = block[: hi - lo]
+        # The codes are in range; mode="clip" lets take write into the strided columns unbuffered.
+        np.take(prefix_table, count_codes[lo:hi], axis=0, out=rows[:, :wp], mode="clip")
+        np.take(value_table, codes[lo:hi], axis=0, out=rows[:, wp:-1], mode="clip")
+        rows[:, -1] = _SPACE
+        rows[per_line - 1 :: per_line, -1] = _NEWLINE
+        if hi == starts.size:
+            rows[-1, -1] = _NEWLINE
+        yield rows[rows != 0].tobytes()
+
+
+def keyword_text(name: str, values: np.ndarray, comment: str = "", integer: bool = False) -> Iterator[bytes]:
+    """A keyword with an array, in blocks: the keyword's line, an optional ``--`` comment line,
+    :func:`format_values` of ``values`` and the ``/`` ending it, then a blank line.
+
+    >>> b"".join(keyword_text("PORO", np.array([0.2, 0.2, 0.25]), "fraction"))
+    b'PORO\\n-- fraction\\n2*0.2 0.25\\n/\\n\\n'
+    """
+    yield (f"{name}\n" + (f"-- {comment}\n" if comment else "")).encode("ascii")
+    yield from format_values(values, integer)
+    yield b"/\n\n"

@@ -1,0 +1,574 @@
+"""The GRDECL reader's keyword loop (:func:`read_file`) and one handler per keyword it reads.
+
+Each handler takes the reader's state, the source, the position after the
+keyword, the keyword and the INCLUDE depth, stores what the keyword says in the
+state and returns the position after its data. INCLUDE reads the included file
+with :func:`read_file` again, one level deeper.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ...cornerpoint.connection_keywords import TRAN_KEYWORDS, TranEdit
+from ...cornerpoint.deck import FAULT_FACES, PINCH_DEFAULTS, FaultSegment
+from ..connection_records import cell_pair_record, gridopts_record, multregt_record
+from ..eclipse_text import (
+    DeckError,
+    Item,
+    Source,
+    looks_like_keyword_line,
+    read_keyword,
+    read_numbers,
+    read_record,
+    read_records,
+    skip_blank,
+    skip_unknown,
+)
+from ..egrid import read_egrid
+from .state import ReaderState
+
+__all__ = ["SECTIONS", "UNITS", "read_file"]
+
+UNITS = ("METRIC", "FIELD", "LAB", "PVT-M")
+SECTIONS = ("RUNSPEC", "GRID", "EDIT", "PROPS", "REGIONS", "SOLUTION", "SUMMARY", "SCHEDULE", "OPTIMIZE")
+_STOP_SECTIONS = ("PROPS", "REGIONS", "SOLUTION", "SUMMARY", "SCHEDULE", "OPTIMIZE")
+_NO_DATA = frozenset(
+    """ECHO NOECHO INIT NONNC NEWTRAN OLDTRAN UNIFOUT UNIFIN FMTOUT FMTIN MULTOUT MULTIN NOSIM
+    NOINSPEC NORSSPEC IMPES FULLIMP OIL WATER GAS DISGAS VAPOIL BRINE SOLVENT POLYMER TEMP THERMAL
+    CO2STORE H2STORE MONITOR NOMONITO NOWARN WARN NOGGF NOCASC DUALPORO DUALPERM SKIP100 SKIP300
+    ENDSKIP""".split()
+)
+# Cell keywords with a default value (used when EQUALS/ADD/... touch them before they are set).
+_MULTIPLIER_KEYWORDS = frozenset(f"MULT{d}{s}" for d in "XYZ" for s in ("", "-"))
+_DEFAULTS = {"ACTNUM": 1.0, "NTG": 1.0, "MULTPV": 1.0, "MULTNUM": 1.0}
+_DEFAULTS |= dict.fromkeys(_MULTIPLIER_KEYWORDS, 1.0)
+# Cell keywords we know; others with one value per cell are kept too.
+_CELL_KEYWORDS = frozenset(
+    """ACTNUM PORO NTG PERMX PERMY PERMZ PERMXY PERMYZ PERMZX MULTX MULTY MULTZ MULTX- MULTY- MULTZ-
+    MULTPV PORV DX DY DZ TOPS SATNUM FIPNUM EQLNUM PVTNUM IMBNUM ROCKNUM MINPVV SWATINIT
+    DEPTH SWL SWCR SWU SGL SGCR SGU SOWCR SOGCR KRW KRO KRG PCW PCG MULTNUM FLUXNUM OPERNUM
+    DIFFX DIFFY DIFFZ THCONR HEATCR PRESSURE SWAT SGAS RS RV""".split()
+)
+_MAX_INCLUDE_DEPTH = 32
+
+
+def read_file(state: ReaderState, src: Source, depth: int) -> None:
+    pos = 0
+    while not state.stopped:
+        found = read_keyword(src, pos)
+        if found is None:
+            return
+        name, pos = found
+        at = pos
+        if name in SECTIONS:
+            state.section = name
+            if name in _STOP_SECTIONS:
+                state.stopped = True
+                state.notes.append(
+                    f"{src.path}:{src.line(at)}: stopped at {name}: later sections are not read"
+                )
+            continue
+        if name == "END":
+            state.stopped = True
+            return
+        if name == "ENDINC":
+            return
+        if name in UNITS:
+            state.units = name
+            continue
+        if name in _NO_DATA:
+            continue
+        handler = _HANDLERS.get(name)
+        if handler is not None:
+            pos = handler(state, src, pos, name, depth)
+        elif name in _CELL_KEYWORDS:
+            pos = _cell_array(state, src, pos, name)
+        else:
+            pos = _unknown(state, src, pos, name)
+
+
+# --- handlers ---------------------------------------------------------------------------------
+
+
+def _need_dims(state: ReaderState, src: Source, pos: int, name: str) -> tuple[int, int, int]:
+    if state.dims is None:
+        raise src.error(
+            pos, name, "the grid dimensions are not known yet (DIMENS or SPECGRID must come first)"
+        )
+    return state.dims
+
+
+def _ints(src: Source, at: int, name: str, items: list[Item], n: int, what: str) -> list[int | None]:
+    out: list[int | None] = []
+    for v in items[:n]:
+        if v is None:
+            out.append(None)
+            continue
+        try:
+            out.append(int(v))
+        except ValueError:
+            raise src.error(at, name, f"{what}: {v!r} is not an integer") from None
+    return out + [None] * (n - len(out))
+
+
+def _float_item(src: Source, at: int, name: str, value: Item, what: str) -> float | None:
+    if value is None:
+        return None
+    try:
+        return float(value.replace("D", "E").replace("d", "e"))
+    except ValueError:
+        raise src.error(at, name, f"{what}: {value!r} is not a number") from None
+
+
+def _dims_keyword(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    nx, ny, nz = _ints(src, at, name, items, 3, "dimensions")
+    if None in (nx, ny, nz) or min(nx, ny, nz) < 1:
+        raise src.error(at, name, f"needs three positive integers (NX NY NZ), got {items[:3]}")
+    if name == "SPECGRID" and len(items) >= 5 and items[4] is not None and items[4].upper().startswith("T"):
+        raise src.error(at, name, "radial (cylindrical) grids are not supported")
+    dims = (nx, ny, nz)
+    if state.dims is not None and state.dims != dims:
+        raise src.error(at, name, f"dimensions {dims} differ from {state.dims} given earlier")
+    state.dims = dims  # type: ignore[assignment]
+    return pos
+
+
+def _title(state, src, pos, name, depth):
+    """TITLE: the next line is free text (no '/')."""
+    data = src.data
+    line_end = data.find(b"\n", pos)
+    if line_end < 0:
+        return len(data)
+    if data[pos:line_end].strip():  # the title is on the keyword's own line
+        return line_end + 1
+    title_end = data.find(b"\n", line_end + 1)
+    return len(data) if title_end < 0 else title_end + 1
+
+
+def _coord(state, src, pos, name, depth):
+    nx, ny, _ = _need_dims(state, src, pos, name)
+    numbers, pos = read_numbers(src, pos, name, expected=6 * (nx + 1) * (ny + 1))
+    _no_defaults(src, pos, name, numbers)
+    state.coord = numbers.values
+    return pos
+
+
+def _zcorn(state, src, pos, name, depth):
+    _need_dims(state, src, pos, name)
+    numbers, pos = read_numbers(src, pos, name, expected=8 * state.num_cells)
+    _no_defaults(src, pos, name, numbers)
+    state.zcorn = numbers.values
+    return pos
+
+
+def _no_defaults(src, pos, name, numbers):
+    if numbers.defaulted is not None:
+        raise src.error(pos, name, "values cannot be defaulted (n*) here")
+
+
+def _vector(state, src, pos, name, depth):
+    nx, ny, nz = _need_dims(state, src, pos, name)
+    n = {"DXV": nx, "DYV": ny, "DZV": nz, "DEPTHZ": (nx + 1) * (ny + 1)}[name]
+    numbers, pos = read_numbers(src, pos, name, expected=n)
+    _no_defaults(src, pos, name, numbers)
+    state.vectors[name] = numbers.values
+    return pos
+
+
+def _box_cells(state: ReaderState, box: tuple[int, ...] | None) -> np.ndarray | slice:
+    """Linear cell indices (i fastest) of a 0-based inclusive box, or all cells."""
+    if box is None:
+        return slice(None)
+    nx, ny, _ = state.dims  # type: ignore[misc]
+    i1, i2, j1, j2, k1, k2 = box
+    k, j, i = np.meshgrid(np.arange(k1, k2 + 1), np.arange(j1, j2 + 1), np.arange(i1, i2 + 1), indexing="ij")
+    return (i + nx * (j + ny * k)).ravel()
+
+
+def _box_size(state: ReaderState, box: tuple[int, ...] | None) -> int:
+    if box is None:
+        return state.num_cells
+    i1, i2, j1, j2, k1, k2 = box
+    return (i2 - i1 + 1) * (j2 - j1 + 1) * (k2 - k1 + 1)
+
+
+def _array(state: ReaderState, name: str) -> np.ndarray:
+    if name not in state.arrays:
+        state.arrays[name] = np.full(state.num_cells, _DEFAULTS.get(name, np.nan))
+    return state.arrays[name]
+
+
+def _cell_array(state, src, pos, name, depth=0):
+    nx, ny, _ = _need_dims(state, src, pos, name)
+    box = state.box
+    expected = _box_size(state, box)
+    if name == "TOPS" and box is None:
+        numbers, end = read_numbers(src, pos, name, at_most=state.num_cells)
+        if numbers.values.size not in (nx * ny, state.num_cells):
+            raise src.error(
+                skip_blank(src.data, pos),
+                name,
+                f"has {numbers.values.size} values, expected {nx * ny} (top layer) or {state.num_cells}",
+            )
+        expected = numbers.values.size
+    else:
+        numbers, end = read_numbers(src, pos, name, expected=expected)
+    multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
+    _store(state, name, numbers, box, expected, multiply)
+    return end
+
+
+def _store(state, name, numbers, box, expected, multiply=False):
+    target = _array(state, name)
+    cells = _box_cells(state, box) if expected == _box_size(state, box) else np.arange(expected)
+    values = numbers.values
+    if multiply:
+        values = target[cells] * values
+    if numbers.defaulted is not None:  # n* leaves the values as they were
+        values = np.where(numbers.defaulted, target[cells], values)
+    target[cells] = values
+
+
+def _full_box(state: ReaderState, box: tuple[int, ...] | None) -> tuple[int, int, int, int, int, int]:
+    nx, ny, nz = state.dims  # type: ignore[misc]
+    return tuple(box) if box is not None else (0, nx - 1, 0, ny - 1, 0, nz - 1)  # type: ignore[return-value]
+
+
+def _tran_array(state, src, pos, name, depth):
+    """TRANX, TRANY, TRANZ: values the simulator computes, replaced in the EDIT section."""
+    _need_dims(state, src, pos, name)
+    at = skip_blank(src.data, pos)
+    numbers, end = read_numbers(src, pos, name, expected=_box_size(state, state.box))
+    where = f"{src.path.name}:{src.line(at)}"
+    if state.section != "EDIT":
+        state.notes.append(f"{where}: {name} outside the EDIT section ignored (as OPM Flow does)")
+        return end
+    values = numbers.values
+    if numbers.defaulted is not None:
+        values = np.where(numbers.defaulted, np.nan, values)
+    state.tran_edits.append(TranEdit(name, "SET", _full_box(state, state.box), values=values, source=where))
+    return end
+
+
+def _unknown(state, src, pos, name):
+    """A keyword we do not know: keep it if it is one number per cell, else skip it."""
+    where = f"{src.path.name}:{src.line(pos)}"
+    if looks_like_keyword_line(src.data, pos):
+        state.skipped.setdefault(name, where)
+        return pos
+    if state.section not in ("RUNSPEC",) and state.dims is not None:
+        start = pos
+        try:
+            numbers, end = read_numbers(src, pos, name, at_most=state.num_cells)
+        except DeckError:
+            numbers = None
+        if numbers is not None and numbers.values.size == _box_size(state, state.box):
+            _store(state, name, numbers, state.box, numbers.values.size)
+            state.notes.append(f"{where}: {name} read as a cell keyword (one value per cell)")
+            return end
+        pos = start
+    state.skipped.setdefault(name, where)
+    return skip_unknown(src, pos, name)
+
+
+def _include(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    if not items or items[0] is None:
+        raise src.error(at, name, "needs a file name")
+    path = _resolve(state, src, at, name, items[0])
+    if depth + 1 > _MAX_INCLUDE_DEPTH:
+        raise src.error(at, name, f"includes nested more than {_MAX_INCLUDE_DEPTH} deep (a cycle?)")
+    read_file(state, Source.open(path), depth + 1)
+    return pos
+
+
+def _resolve(state: ReaderState, src: Source, at: int, name: str, text: str) -> Path:
+    for alias, value in state.paths.items():
+        text = text.replace(f"${alias}", value)
+    path = Path(text)
+    if not path.is_absolute():
+        path = src.path.parent / path
+    if not path.is_file():
+        raise src.error(at, name, f"file {text!r} not found (looked for {path})")
+    return path
+
+
+def _paths(state, src, pos, name, depth):
+    records, pos = read_records(src, pos, name)
+    for items, _ in records:
+        if len(items) >= 2 and items[0] and items[1]:
+            state.paths[items[0]] = items[1]
+    return pos
+
+
+def _gdfile(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    if not items or items[0] is None:
+        raise src.error(at, name, "needs a file name")
+    path = _resolve(state, src, at, name, items[0])
+    state.gdfile = read_egrid(path)
+    if state.dims is None:
+        state.dims = state.gdfile.cart_dims
+    elif state.dims != state.gdfile.cart_dims:
+        raise src.error(
+            at, name, f"{path.name} has dimensions {state.gdfile.cart_dims}, the deck {state.dims}"
+        )
+    return pos
+
+
+def _box(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    state.box = _read_box(state, src, at, name, items, None)
+    return pos
+
+
+def _read_box(state, src, at, name, items, default) -> tuple[int, ...] | None:
+    """A 1-based inclusive box (six items, any defaulted) as a 0-based tuple, or None = all cells."""
+    nx, ny, nz = _need_dims(state, src, at, name)
+    values = _ints(src, at, name, items, 6, "box")
+    if all(v is None for v in values):
+        return default
+    base = default if default is not None else (0, nx - 1, 0, ny - 1, 0, nz - 1)
+    box = tuple(base[a] if v is None else v - 1 for a, v in enumerate(values))
+    i1, i2, j1, j2, k1, k2 = box
+    if not (0 <= i1 <= i2 < nx and 0 <= j1 <= j2 < ny and 0 <= k1 <= k2 < nz):
+        shown = " ".join(str(b + 1) for b in box)
+        raise src.error(at, name, f"box {shown} is not inside the {nx}x{ny}x{nz} grid")
+    return box
+
+
+def _endbox(state, src, pos, name, depth):
+    state.box = None
+    return pos
+
+
+def _operator(state, src, pos, name, depth):
+    """EQUALS, ADD, MULTIPLY, MINVALUE, MAXVALUE (name value box) and COPY (from to box)."""
+    _need_dims(state, src, pos, name)
+    records, pos = read_records(src, pos, name)
+    for items, at in records:
+        if len(items) < 2 or items[0] is None or items[1] is None:
+            raise src.error(
+                at, name, f"a record needs a keyword and a {'target' if name == 'COPY' else 'value'}"
+            )
+        target = items[0].upper()
+        box = _read_box(state, src, at, name, items[2:8], state.box)
+        if target in TRAN_KEYWORDS or (name == "COPY" and items[1].upper() in TRAN_KEYWORDS):
+            _tran_operation(state, src, at, name, items, box)
+            continue
+        cells = _box_cells(state, box)
+        if name == "COPY":
+            dest = items[1].upper()
+            if target not in state.arrays and target not in _DEFAULTS:
+                raise src.error(at, name, f"cannot copy {target}: it is not defined")
+            _array(state, dest)[cells] = _array(state, target)[cells]
+            continue
+        value = _float_item(src, at, name, items[1], target)
+        if name == "EQUALS":
+            _array(state, target)[cells] = value
+            continue
+        if target not in state.arrays and target not in _DEFAULTS:
+            raise src.error(at, name, f"{target} is not defined")
+        arr = _array(state, target)
+        if name == "ADD":
+            arr[cells] += value
+        elif name == "MULTIPLY":
+            arr[cells] *= value
+        elif name == "MINVALUE":
+            arr[cells] = np.maximum(arr[cells], value)
+        else:  # MAXVALUE
+            arr[cells] = np.minimum(arr[cells], value)
+    return pos
+
+
+def _tran_operation(state, src, at, name, items, box) -> None:
+    """EQUALS/MULTIPLY/ADD/MINVALUE/MAXVALUE on TRANX/TRANY/TRANZ (EDIT only), or COPY."""
+    where = f"{src.path.name}:{src.line(at)}"
+    if name == "COPY":
+        source, dest = items[0].upper(), items[1].upper()
+        if source not in TRAN_KEYWORDS:  # as Flow: a copy from TRAN* is skipped, one into it fails
+            raise src.error(at, name, f"cannot copy into {dest}: a transmissibility the simulator computes")
+        state.notes.append(f"{where}: COPY {source} {dest} ignored (as OPM Flow 2022.10 does)")
+        return
+    keyword = items[0].upper()
+    if state.section != "EDIT":
+        if state.section == "GRID":
+            raise src.error(at, name, f"{keyword} can only be modified in the EDIT section")
+        state.notes.append(f"{where}: {name} {keyword} outside the EDIT section ignored")
+        return
+    value = _float_item(src, at, name, items[1], keyword)
+    if value is None or not np.isfinite(value):
+        raise src.error(at, name, f"{keyword}: needs one finite value, got {items[1]!r}")
+    state.tran_edits.append(TranEdit(keyword, name, _full_box(state, box), value=value, source=where))
+
+
+def _multregt(state, src, pos, name, depth):
+    records, pos = read_records(src, pos, name)
+    state.multregt.extend(multregt_record(src, at, name, items) for items, at in records)
+    return pos
+
+
+def _gridopts(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    state.gridopts = gridopts_record(src, at, name, items)
+    return pos
+
+
+def _cell_pairs(state, src, pos, name, depth):
+    """NNC (I1 J1 K1 I2 J2 K2 TRAN ...) and EDITNNC (... multiplier ...) records."""
+    dims = _need_dims(state, src, pos, name)
+    records, pos = read_records(src, pos, name)
+    rows = state.cell_pairs.setdefault(name, [])
+    unused = 0
+    for items, at in records:
+        g1, g2, value, extra = cell_pair_record(src, at, name, items, dims)
+        default = 0.0 if name == "NNC" else 1.0
+        rows.append((g1, g2, default if value is None else value, f"{src.path.name}:{src.line(at)}"))
+        unused += extra
+    if unused:
+        state.notes.append(
+            f"{src.path.name}:{src.line(records[0][1])}: {name}: items after item 7 are not used "
+            f"({unused} records give some)"
+        )
+    return pos
+
+
+def _faults(state, src, pos, name, depth):
+    _need_dims(state, src, pos, name)
+    records, pos = read_records(src, pos, name)
+    for items, at in records:
+        if len(items) < 8 or items[0] is None or items[7] is None:
+            raise src.error(at, name, "a record needs: name I1 I2 J1 J2 K1 K2 face")
+        box = _read_box(state, src, at, name, items[1:7], None)
+        face = items[7].upper().replace("I", "X").replace("J", "Y").replace("K", "Z")
+        if face not in FAULT_FACES:
+            raise src.error(
+                at, name, f"face {items[7]!r} of fault {items[0]!r} is not one of X, Y, Z, X-, Y-, Z-"
+            )
+        assert box is not None
+        i1, i2, j1, j2, k1, k2 = box
+        state.faults.append(FaultSegment(items[0], i1, i2, j1, j2, k1, k2, face))
+    return pos
+
+
+def _multflt(state, src, pos, name, depth):
+    records, pos = read_records(src, pos, name)
+    for items, at in records:
+        if len(items) < 2 or items[0] is None:
+            raise src.error(at, name, "a record needs: fault name and multiplier")
+        state.multflt[items[0]] = _float_item(src, at, name, items[1], "multiplier")
+        state.multflt_sources[items[0]] = f"{src.path.name}:{src.line(at)}"
+    return pos
+
+
+def _mapaxes(state, src, pos, name, depth):
+    numbers, pos = read_numbers(src, pos, name, expected=6)
+    state.mapaxes = numbers.values
+    return pos
+
+
+def _string_keyword(state, src, pos, name, depth):
+    items, pos, _ = read_record(src, pos, name)
+    text = " ".join(i for i in items if i)
+    if name == "MAPUNITS":
+        state.mapunits = text or None
+    else:
+        state.gridunit = items[0] if items and items[0] else None
+    return pos
+
+
+def _pinch(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    threshold = _float_item(src, at, name, items[0] if items else None, "threshold")
+    max_gap = _float_item(src, at, name, items[2] if len(items) > 2 else None, "maximum gap")
+    state.pinch = (0.001 if threshold is None else threshold, 1e20 if max_gap is None else max_gap)
+    chosen = []
+    choices = (("GAP", "NOGAP"), ("TOPBOT", "ALL"), ("TOP", "ALL"))
+    for item, allowed, default in zip((1, 3, 4), choices, PINCH_DEFAULTS, strict=True):
+        value = items[item].upper() if len(items) > item and items[item] else default
+        if value not in allowed:
+            raise DeckError(
+                f"{src.path}:{src.line(at)}: PINCH: item {item + 1} must be {' or '.join(allowed)}, "
+                f"got {value!r}"
+            )
+        chosen.append(value)
+    state.pinch_options = tuple(chosen)
+    return pos
+
+
+def _minpv(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    state.minpv = _float_item(src, at, name, items[0] if items else None, "minimum pore volume")
+    return pos
+
+
+def _skip_block(end_keyword: str, what: str):
+    def handler(state, src, pos, name, depth):
+        data = src.data
+        search = pos
+        while True:
+            hit = data.find(end_keyword.encode(), search)
+            if hit < 0:
+                raise src.error(pos, name, f"no {end_keyword} closes it")
+            line_start = data.rfind(b"\n", 0, hit) + 1
+            if data[line_start:hit].strip() == b"":
+                break
+            search = hit + 1
+        state.notes.append(f"{src.path.name}:{src.line(pos)}: {what} ({name} ... {end_keyword}) ignored")
+        return hit + len(end_keyword)
+
+    return handler
+
+
+def _single_record_note(state, src, pos, name, depth):
+    items, pos, at = read_record(src, pos, name)
+    state.notes.append(f"{src.path.name}:{src.line(at)}: {name} {' '.join(i or '*' for i in items)} ignored")
+    return pos
+
+
+_HANDLERS = {
+    "DIMENS": _dims_keyword,
+    "SPECGRID": _dims_keyword,
+    "TITLE": _title,
+    "COORD": _coord,
+    "ZCORN": _zcorn,
+    "DXV": _vector,
+    "DYV": _vector,
+    "DZV": _vector,
+    "DEPTHZ": _vector,
+    "INCLUDE": _include,
+    "PATHS": _paths,
+    "GDFILE": _gdfile,
+    "BOX": _box,
+    "ENDBOX": _endbox,
+    "EQUALS": _operator,
+    "COPY": _operator,
+    "ADD": _operator,
+    "MULTIPLY": _operator,
+    "MINVALUE": _operator,
+    "MAXVALUE": _operator,
+    "FAULTS": _faults,
+    "MULTFLT": _multflt,
+    "MAPAXES": _mapaxes,
+    "MAPUNITS": _string_keyword,
+    "GRIDUNIT": _string_keyword,
+    "PINCH": _pinch,
+    "MINPV": _minpv,
+    "SKIP": _skip_block("ENDSKIP", "skipped block"),
+    "CARFIN": _skip_block("ENDFIN", "local grid refinement"),
+    "RADFIN": _skip_block("ENDFIN", "local grid refinement"),
+    "RADFIN4": _skip_block("ENDFIN", "local grid refinement"),
+    "GDORIENT": _single_record_note,
+    "COORDSYS": _single_record_note,
+    "NNC": _cell_pairs,
+    "EDITNNC": _cell_pairs,
+    "MULTREGT": _multregt,
+    "GRIDOPTS": _gridopts,
+    "TRANX": _tran_array,
+    "TRANY": _tran_array,
+    "TRANZ": _tran_array,
+}

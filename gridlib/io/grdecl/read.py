@@ -1,0 +1,156 @@
+"""``read_grdecl``: the keywords of a deck read into a :class:`~gridlib.cornerpoint.deck.Deck`.
+
+The keywords are read by :mod:`gridlib.io.grdecl.keywords` into a
+:class:`~gridlib.io.grdecl.state.ReaderState`; here the state is checked and
+assembled into the deck, with COORD/ZCORN from GDFILE or, for a Cartesian
+deck (DX/DY/DZ or DXV/DYV/DZV, TOPS or DEPTHZ), from
+:func:`gridlib.cornerpoint.cartesian.cartesian_to_cornerpoint`.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ...cornerpoint.cartesian import cartesian_to_cornerpoint
+from ...cornerpoint.connection_keywords import CellPairs
+from ...cornerpoint.deck import Deck
+from ..eclipse_text import DeckError, Source
+from .keywords import read_file
+from .state import ReaderState
+
+__all__ = ["read_grdecl"]
+
+_GEOMETRY_KEYWORDS = ("DX", "DY", "DZ", "TOPS")
+
+
+def read_grdecl(path: str | os.PathLike) -> Deck:
+    """Read the grid of an ECLIPSE deck (GRDECL or DATA file).
+
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "box.grdecl"
+    >>> _ = p.write_text("DIMENS\\n 2 1 1 /\\nDX\\n 2*10 /\\nDY\\n 2*5 /\\nDZ\\n 2*2 /\\nTOPS\\n 2*1000 /\\n")
+    >>> deck = read_grdecl(p)
+    >>> deck.cart_dims, float(deck.zcorn.min()), float(deck.zcorn.max())
+    ((2, 1, 1), 1000.0, 1002.0)
+    """
+    main = Path(path)
+    if not main.is_file():
+        raise DeckError(f"{main}: no such file")
+    state = ReaderState(main)
+    read_file(state, Source.open(main), 0)
+    return _deck(state)
+
+
+def _deck(state: ReaderState) -> Deck:
+    where = str(state.main)
+    if state.dims is None:
+        raise DeckError(f"{where}: no grid dimensions (DIMENS or SPECGRID)")
+    nx, ny, nz = state.dims
+    arrays = dict(state.arrays)
+    notes = list(state.notes)
+    coord, zcorn = state.coord, state.zcorn
+    if (coord is None) != (zcorn is None):
+        missing = "ZCORN" if zcorn is None else "COORD"
+        raise DeckError(f"{where}: {missing} is missing (COORD and ZCORN come together)")
+    if coord is None:
+        if state.gdfile is not None:
+            coord, zcorn = state.gdfile.coord, state.gdfile.zcorn
+            if "ACTNUM" not in arrays and state.gdfile.actnum is not None:
+                arrays["ACTNUM"] = state.gdfile.actnum.astype(np.float64)
+            if state.mapaxes is None:
+                state.mapaxes = state.gdfile.mapaxes
+            notes.append(f"grid geometry from GDFILE {state.gdfile.source}")
+        else:
+            coord, zcorn = _cartesian_geometry(state, arrays, where)
+            notes.append("COORD and ZCORN built from the Cartesian keywords (DX, DY, DZ, TOPS)")
+    for name in _GEOMETRY_KEYWORDS:
+        arrays.pop(name, None)
+    actnum = arrays.pop("ACTNUM", None)
+    if actnum is not None:
+        undefined = np.isnan(actnum)
+        if undefined.any():
+            actnum = np.where(undefined, 1.0, actnum)
+        if np.any((actnum < 0) | (actnum != np.floor(actnum))):
+            raise DeckError(f"{where}: ACTNUM values must be non-negative integers")
+    for name, values in arrays.items():
+        n_undefined = int(np.isnan(values).sum())
+        if n_undefined:
+            notes.append(f"{name} is undefined in {n_undefined} of {values.size} cells (NaN)")
+    if state.skipped:
+        shown = ", ".join(f"{k} ({v})" for k, v in state.skipped.items())
+        notes.append(f"skipped keywords not needed for the grid: {shown}")
+    fault_names = {seg.name for seg in state.faults}
+    for name, at in state.multflt_sources.items():
+        if name not in fault_names:
+            notes.append(f"{at}: MULTFLT of fault {name!r} ignored: FAULTS does not define it (Flow stops)")
+    pairs = {}
+    for keyword, rows in state.cell_pairs.items():
+        g1, g2, values, sources = zip(*rows, strict=True) if rows else ((), (), (), ())
+        pairs[keyword] = CellPairs(np.column_stack([g1, g2]).reshape(-1, 2), values, sources)
+    return Deck(
+        (nx, ny, nz),
+        coord,
+        zcorn,
+        None if actnum is None else actnum.astype(np.int32),
+        arrays,
+        tuple(state.faults),
+        dict(state.multflt),
+        state.mapaxes,
+        state.mapunits,
+        state.gridunit,
+        state.units,
+        state.pinch,
+        state.minpv,
+        where,
+        tuple(notes),
+        pinch_options=state.pinch_options,
+        nnc_keyword=pairs.get("NNC"),
+        editnnc=pairs.get("EDITNNC"),
+        multregt=tuple(state.multregt),
+        gridopts=state.gridopts,
+        tran_edits=tuple(state.tran_edits),
+    )
+
+
+def _cartesian_geometry(state: ReaderState, arrays: dict, where: str) -> tuple[np.ndarray, np.ndarray]:
+    """COORD/ZCORN of a block-centred grid from DX/DY/DZ (or DXV/DYV/DZV) and TOPS (or DEPTHZ).
+
+    The keywords are checked and gathered here (a cell size per cell, the depths
+    of the top layer's corners); TOPS below the first layer default to the
+    bottom of the cell above, and the boxes become pillars and corner depths in
+    :func:`~gridlib.cornerpoint.cartesian.cartesian_to_cornerpoint`.
+    """
+    nx, ny, nz = state.dims  # type: ignore[misc]
+    shape = (nz, ny, nx)
+    sizes = {}
+    for axis, name in enumerate(("DX", "DY", "DZ")):
+        vec = state.vectors.get(name + "V")
+        if name in arrays:
+            sizes[name] = arrays[name].reshape(shape)
+        elif vec is not None:
+            sizes[name] = np.broadcast_to(vec.reshape([-1 if a == 2 - axis else 1 for a in range(3)]), shape)
+        else:
+            raise DeckError(
+                f"{where}: no grid geometry: COORD/ZCORN, GDFILE, or DX/DY/DZ with TOPS are needed"
+            )
+        if np.isnan(sizes[name]).any():
+            raise DeckError(f"{where}: {name} is undefined in some cells")
+        if np.any(sizes[name] < 0):
+            raise DeckError(f"{where}: {name} has negative values")
+    top = np.full((nz, ny, nx, 2, 2), np.nan)  # per cell: the depths of its 4 top corners
+    if "TOPS" in arrays:
+        tops = arrays["TOPS"].reshape(shape)
+        top[:] = tops[..., None, None]
+    elif "DEPTHZ" in state.vectors:
+        d = state.vectors["DEPTHZ"].reshape(ny + 1, nx + 1)
+        top[0] = np.stack(
+            [np.stack([d[:-1, :-1], d[:-1, 1:]], -1), np.stack([d[1:, :-1], d[1:, 1:]], -1)], -2
+        )
+    else:
+        raise DeckError(f"{where}: TOPS (or DEPTHZ) is missing: the Cartesian grid has no depth")
+    if np.isnan(top[0]).any():
+        raise DeckError(f"{where}: TOPS is undefined for some cells of the top layer")
+    return cartesian_to_cornerpoint(sizes["DX"], sizes["DY"], sizes["DZ"], top)

@@ -1,0 +1,125 @@
+"""``write_grdecl``: a :class:`~gridlib.cornerpoint.deck.Deck` written as a GRDECL file, exactly.
+
+Arrays are written by :func:`gridlib.io.eclipse_text.keyword_text`, block by
+block, straight into the file: the text of a 1e7-cell ZCORN is never held in
+memory at once.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ...cornerpoint.deck import Deck
+from .._atomic import atomic_path
+from ..eclipse_text import MAX_LINE, DeckError, keyword_text
+
+__all__ = ["write_grdecl"]
+
+
+def _finite_zcorn(deck: Deck) -> np.ndarray:
+    """ZCORN with the undefined (NaN) corners of inactive cells filled, for simulators.
+
+    Each undefined corner takes the depth of the nearest defined corner above
+    it on its pillar (below it at the top), so the filled cells are collapsed
+    and the order along the pillar is kept; a corner column with no defined
+    depth takes the deck's shallowest depth.
+    """
+    z = deck.zcorn_array()
+    undefined = np.isnan(z)
+    if not undefined.any():
+        return deck.zcorn
+    nx, ny, nz = deck.cart_dims
+    active = np.repeat(np.repeat(np.repeat(deck.active.reshape(nz, ny, nx), 2, 0), 2, 1), 2, 2)
+    if np.any(undefined & active):
+        raise DeckError(f"write_grdecl: {deck.source}: active cells have undefined (NaN) corner depths")
+    if undefined.all():
+        raise DeckError(f"write_grdecl: {deck.source}: ZCORN is undefined everywhere")
+    rows = np.arange(z.shape[0])[:, None, None]
+    above = np.maximum.accumulate(np.where(undefined, -1, rows), axis=0)
+    below = np.minimum.accumulate(np.where(undefined, z.shape[0], rows)[::-1], axis=0)[::-1]
+    source = np.where(above >= 0, above, below)
+    filled = np.take_along_axis(z, np.minimum(source, z.shape[0] - 1), axis=0)
+    filled = np.where(source < z.shape[0], filled, np.nanmin(z))
+    return np.where(undefined, filled, z).ravel()
+
+
+def _ijk_text(g: int, nx: int, ny: int) -> str:
+    """1-based "I J K" of linear cell index ``g``."""
+    return f"{g % nx + 1} {g // nx % ny + 1} {g // (nx * ny) + 1}"
+
+
+def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = None) -> Path:
+    """Write ``deck`` (and extra per-cell ``cell_data``) as a GRDECL file, atomically.
+
+    The file holds SPECGRID, MAPUNITS/MAPAXES/GRIDUNIT when known, COORD,
+    ZCORN, ACTNUM, every cell keyword, FAULTS, MULTFLT, PINCH, MINPV, MULTREGT
+    and NNC; it can be INCLUDEd in the GRID section of a DATA deck. Values are
+    exact: ``read_grdecl`` gives back bit-identical arrays. GRIDOPTS (RUNSPEC),
+    EDITNNC and the TRANX/TRANY/TRANZ operations (EDIT) belong to other sections
+    and are not written.
+    """
+    nx, ny, nz = deck.cart_dims
+    data = dict(deck.cell_data)
+    for name, values in (cell_data or {}).items():
+        arr = np.asarray(values, dtype=np.float64).ravel()
+        if arr.size != deck.num_cells:
+            raise DeckError(f"write_grdecl: {name} has {arr.size} values, expected {deck.num_cells}")
+        data[name.upper()] = arr
+    parts = [f"-- written by gridlib from {deck.source}", "", "SPECGRID", f" {nx} {ny} {nz} 1 F /", ""]
+    if deck.mapunits:
+        parts += ["MAPUNITS", f" '{deck.mapunits}' /", ""]
+    if deck.mapaxes is not None:
+        axes = [repr(float(v)) for v in deck.mapaxes]
+        line = " " + " ".join(axes) + " /"
+        if len(line) > MAX_LINE:  # three points, one a line
+            line = "\n".join(" " + " ".join(axes[i : i + 2]) for i in range(0, len(axes), 2)) + " /"
+        parts += ["MAPAXES", line, ""]
+    if deck.gridunit:
+        parts += ["GRIDUNIT", f" '{deck.gridunit}' /", ""]
+    arrays: list[tuple[str, np.ndarray, bool]] = [("COORD", deck.coord, False)]
+    arrays.append(("ZCORN", _finite_zcorn(deck), False))
+    if deck.actnum is not None:
+        arrays.append(("ACTNUM", deck.actnum, True))
+    for name, values in data.items():
+        if np.isnan(values).any():
+            raise DeckError(f"write_grdecl: {name} has undefined (NaN) values; ECLIPSE cannot read them")
+        integer = bool(np.all(values == np.round(values))) and name.endswith("NUM")
+        arrays.append((name, values, integer))
+    tail: list[str] = []
+    if deck.faults:
+        tail.append("FAULTS")
+        for seg in deck.faults:
+            box = (seg.i1 + 1, seg.i2 + 1, seg.j1 + 1, seg.j2 + 1, seg.k1 + 1, seg.k2 + 1)
+            tail.append(f" '{seg.name}' " + " ".join(map(str, box)) + f" {seg.face} /")
+        tail += ["/", ""]
+    if deck.multflt:
+        tail.append("MULTFLT")
+        tail += [f" '{name}' {value!r} /" for name, value in deck.multflt.items()]
+        tail += ["/", ""]
+    if deck.pinch is not None:
+        gap, pinchout, multz = deck.pinch_options
+        tail += ["PINCH", f" {deck.pinch[0]!r} {gap} {deck.pinch[1]!r} {pinchout} {multz} /", ""]
+    if deck.minpv is not None:
+        tail += ["MINPV", f" {deck.minpv!r} /", ""]
+    if deck.multregt:
+        tail.append("MULTREGT")
+        for r in deck.multregt:
+            items = (r.region1, r.region2, repr(r.multiplier), r.directions, r.nnc_option, r.region_set)
+            tail.append(" " + " ".join("1*" if v is None else str(v) for v in items) + " /")
+        tail += ["/", ""]
+    if deck.nnc_keyword is not None and deck.nnc_keyword.num:
+        tail.append("NNC")
+        records = zip(deck.nnc_keyword.cells.tolist(), deck.nnc_keyword.values.tolist(), strict=True)
+        tail += [f" {_ijk_text(g1, nx, ny)} {_ijk_text(g2, nx, ny)} {t!r} /" for (g1, g2), t in records]
+        tail += ["/", ""]
+    target = Path(path)
+    with atomic_path(target) as tmp, open(tmp, "wb") as f:
+        f.write(("\n".join(parts) + "\n").encode("ascii"))
+        for name, values, integer in arrays:
+            for block in keyword_text(name, values, integer=integer):
+                f.write(block)
+        f.write(("\n".join(tail) + "\n").encode("ascii") if tail else b"")
+    return target
