@@ -1,4 +1,6 @@
-"""``check_grid``: the invariants every valid grid satisfies (ALGORITHMS.md §7).
+"""``check_grid``: the invariants every valid grid satisfies, whatever built it (structured,
+corner-point, PEBI, layered, glued); a :class:`~gridlib.errors.GridError` names each violated
+invariant and its first offending cells, faces or nodes.
 
 Topology (any grid):
   * indices in range: cell faces in [0, nf), face nodes in [0, nn), neighbours

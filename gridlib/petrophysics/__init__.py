@@ -1,8 +1,8 @@
 """Petrophysics: porosity, permeability and net-to-gross per cell, in depositional coordinates.
 
-ALGORITHMS.md §6. Sampling a field at *physical* cell centroids shifts it by
-the throw across every fault, so layers deposited together get uncorrelated
-values (the MRST book's exercise 3.5.1). Here fields are sampled at
+Why depositional coordinates: a field sampled at *physical* cell centroids is
+shifted by the throw across every fault, so layers deposited together get
+uncorrelated values (the MRST book's exercise 3.5.1). Here fields are sampled at
 **depositional coordinates** u = (x_r, y_r, w) (:func:`depositional_coordinates`):
 
 * (x_r, y_r), the areal position before faulting, is the position of the
@@ -25,6 +25,14 @@ which is w measured from the zone's conformable surface as long as the
 layering was built from it.
 
 Functions are pure (arrays in, arrays out); a :class:`Rock` holds the result.
+The package, one concept a module: :mod:`~gridlib.petrophysics.variogram`
+(:class:`Variogram`), :mod:`~gridlib.petrophysics.depositional` (:class:`Depositional`,
+:func:`depositional_coordinates`, :func:`layer_index`),
+:mod:`~gridlib.petrophysics.random_fields` (:func:`gaussian_field`),
+:mod:`~gridlib.petrophysics.rock` (the transforms and :class:`Rock`) and
+:mod:`~gridlib.petrophysics.cubes` (:class:`PropertyCube`); every public name is
+importable from ``gridlib.petrophysics``.
+
 Units: metres, **z is depth (positive down)**, porosity and NTG as fractions,
 permeability in **millidarcy** (mD; 1 mD = 9.869233e-16 m2).
 
