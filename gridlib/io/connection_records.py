@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..cornerpoint.connection_keywords import GridOptions, MultregtRecord
 from ..errors import InputError
-from .eclipse_text import DeckError, Item, Source
+from .eclipse_text import DeckError, Item, Source, float_item, int_item
 
 MULTREGT_ITEMS = "region1 region2 multiplier directions NNC-option region-set"
 NNC_ITEMS = 17  # I1 J1 K1 I2 J2 K2 TRAN, then ten items gridlib does not use (tables, diffusivity, ...)
@@ -20,24 +20,6 @@ EDITNNC_ITEMS = 14  # I1 J1 K1 I2 J2 K2 multiplier, then seven items gridlib doe
 
 def _where(src: Source, at: int) -> str:
     return f"{src.path.name}:{src.line(at)}"
-
-
-def _int(src: Source, at: int, keyword: str, value: Item, what: str) -> int | None:
-    if value is None:
-        return None
-    try:
-        return int(value)
-    except ValueError:
-        raise src.error(at, keyword, f"{what}: {value!r} is not an integer") from None
-
-
-def _float(src: Source, at: int, keyword: str, value: Item, what: str) -> float | None:
-    if value is None:
-        return None
-    try:
-        return float(value.replace("D", "E").replace("d", "e"))
-    except ValueError:
-        raise src.error(at, keyword, f"{what}: {value!r} is not a number") from None
 
 
 def _too_many(src: Source, at: int, keyword: str, items: list[Item], limit: int, layout: str) -> None:
@@ -49,9 +31,9 @@ def multregt_record(src: Source, at: int, keyword: str, items: list[Item]) -> Mu
     """One MULTREGT record: region1 region2 multiplier [directions [NNC-option [region-set]]]."""
     _too_many(src, at, keyword, items, 6, MULTREGT_ITEMS)
     items = items + [None] * (6 - len(items))
-    r1 = _int(src, at, keyword, items[0], "region 1")
-    r2 = _int(src, at, keyword, items[1], "region 2")
-    multiplier = _float(src, at, keyword, items[2], "multiplier")
+    r1 = int_item(src, at, keyword, items[0], "region 1")
+    r2 = int_item(src, at, keyword, items[1], "region 2")
+    multiplier = float_item(src, at, keyword, items[2], "multiplier")
     if multiplier is None:
         raise src.error(at, keyword, f"a record needs a multiplier (items: {MULTREGT_ITEMS})")
     text = [None if v is None else v.upper() for v in items[3:6]]
@@ -76,7 +58,7 @@ def gridopts_record(src: Source, at: int, keyword: str, items: list[Item]) -> Gr
     tranmult = (items[0] or "NO").upper()
     if tranmult not in ("YES", "NO"):
         raise src.error(at, keyword, f"TRANMULT must be YES or NO, got {items[0]!r}")
-    counts = [_int(src, at, keyword, items[n], what) for n, what in ((1, "NRMULT"), (2, "NRPINC"))]
+    counts = [int_item(src, at, keyword, items[n], what) for n, what in ((1, "NRMULT"), (2, "NRPINC"))]
     if any(c is not None and c < 0 for c in counts):
         raise src.error(at, keyword, f"NRMULT and NRPINC must be >= 0, got {items[1:]}")
     return GridOptions(tranmult == "YES", counts[0] or 0, counts[1] or 0)
@@ -90,7 +72,7 @@ def cell_pair_record(
     limit = NNC_ITEMS if keyword == "NNC" else EDITNNC_ITEMS
     what = "transmissibility" if keyword == "NNC" else "multiplier"
     _too_many(src, at, keyword, items, limit, f"I1 J1 K1 I2 J2 K2 {what} ...")
-    ijk = [_int(src, at, keyword, v, "cell index") for v in items[:6]]
+    ijk = [int_item(src, at, keyword, v, "cell index") for v in items[:6]]
     if len(ijk) < 6 or any(v is None for v in ijk):
         raise src.error(at, keyword, f"a record needs six cell indices I1 J1 K1 I2 J2 K2, got {items[:6]}")
     nx, ny, nz = dims
@@ -101,7 +83,7 @@ def cell_pair_record(
         cells.append(i - 1 + nx * (j - 1 + ny * (k - 1)))
     if cells[0] == cells[1]:
         raise src.error(at, keyword, f"cell ({ijk[0]}, {ijk[1]}, {ijk[2]}) is joined to itself")
-    value = _float(src, at, keyword, items[6] if len(items) > 6 else None, what)
+    value = float_item(src, at, keyword, items[6] if len(items) > 6 else None, what)
     if value is not None and (value != value or abs(value) == float("inf")):
         raise src.error(at, keyword, f"{what} must be finite, got {items[6]!r}")
     if keyword == "EDITNNC" and value is not None and value < 0:

@@ -162,6 +162,35 @@ def read_record(src: Source, pos: int, keyword: str) -> tuple[list[Item], int, i
                 items.append(word.decode("latin-1"))
 
 
+def int_item(src: Source, at: int, keyword: str, value: Item, what: str) -> int | None:
+    """The integer of a record's item (None where defaulted); an error names ``what`` otherwise.
+
+    >>> src = Source(Path("deck.grdecl"), b"BOX\\n 1 x /\\n")
+    >>> int_item(src, 4, "BOX", "3", "box"), int_item(src, 4, "BOX", None, "box")
+    (3, None)
+    """
+    if value is None:
+        return None
+    try:
+        return int(value)
+    except ValueError:
+        raise src.error(at, keyword, f"{what}: {value!r} is not an integer") from None
+
+
+def float_item(src: Source, at: int, keyword: str, value: Item, what: str) -> float | None:
+    """The number of a record's item (Fortran ``D`` exponents too; None where defaulted).
+
+    >>> float_item(Source(Path("deck.grdecl"), b""), 0, "MINPV", "1.5D3", "minimum pore volume")
+    1500.0
+    """
+    if value is None:
+        return None
+    try:
+        return float(value.replace("D", "E").replace("d", "e"))
+    except ValueError:
+        raise src.error(at, keyword, f"{what}: {value!r} is not a number") from None
+
+
 def read_records(src: Source, pos: int, keyword: str) -> tuple[list[tuple[list[Item], int]], int]:
     """Records up to the empty record that ends a multi-record keyword; with their start positions."""
     records = []

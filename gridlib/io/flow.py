@@ -439,25 +439,32 @@ def _schedule(sim: Simulation, dims: tuple[int, ...]) -> list[str]:
                 rest = f"{_num(2.0 * w.radius)} 1* {_num(w.skin)} 1* 'Z'"
                 out.append(f" '{w.name}' {i} {j} {k} {k} 'OPEN' 1* {item} {rest} /")
         out += ["/", ""]
-        out += _controls(
-            [w for w in sim.wells if w.kind == "injector"],
-            "WCONINJE",
-            "-- name, phase, status, control, surface rate, reservoir rate, BHP limit",
-            "RATE",
-            " '{name}' 'WATER' 'OPEN' '{control}' {rate} 1* {bhp} /",
-        )
-        out += _controls(
-            [w for w in sim.wells if w.kind == "producer"],
-            "WCONPROD",
-            "-- name, status, control, oil, water, gas, liquid, reservoir rates, BHP",
-            "LRAT",
-            " '{name}' 'OPEN' '{control}' 3* {rate} 1* {bhp} /",
-        )
+        for kind, keyword, comment, rate_control, record in _CONTROLS:
+            out += _controls([w for w in sim.wells if w.kind == kind], keyword, comment, rate_control, record)
     if sim.report_days:
         steps = np.diff(np.concatenate([[0.0], np.asarray(sim.report_days, dtype=np.float64)]))
         out += ["TSTEP", "-- report steps (days): " + " ".join(_num(d) for d in sim.report_days)]
         out += [" " + " ".join(_num(s) for s in steps) + " /", ""]
     return out
+
+
+# Per kind of well: its control keyword, the keyword's comment, the control by rate, a record.
+_CONTROLS = (
+    (
+        "injector",
+        "WCONINJE",
+        "-- name, phase, status, control, surface rate, reservoir rate, BHP limit",
+        "RATE",
+        " '{name}' 'WATER' 'OPEN' '{control}' {rate} 1* {bhp} /",
+    ),
+    (
+        "producer",
+        "WCONPROD",
+        "-- name, status, control, oil, water, gas, liquid, reservoir rates, BHP",
+        "LRAT",
+        " '{name}' 'OPEN' '{control}' 3* {rate} 1* {bhp} /",
+    ),
+)
 
 
 def _controls(wells: list[FlowWell], keyword: str, comment: str, rate_control: str, record: str) -> list[str]:

@@ -19,6 +19,8 @@ from ..eclipse_text import (
     DeckError,
     Item,
     Source,
+    float_item,
+    int_item,
     looks_like_keyword_line,
     read_keyword,
     read_numbers,
@@ -102,25 +104,8 @@ def _need_dims(state: ReaderState, src: Source, pos: int, name: str) -> tuple[in
 
 
 def _ints(src: Source, at: int, name: str, items: list[Item], n: int, what: str) -> list[int | None]:
-    out: list[int | None] = []
-    for v in items[:n]:
-        if v is None:
-            out.append(None)
-            continue
-        try:
-            out.append(int(v))
-        except ValueError:
-            raise src.error(at, name, f"{what}: {v!r} is not an integer") from None
+    out = [int_item(src, at, name, v, what) for v in items[:n]]
     return out + [None] * (n - len(out))
-
-
-def _float_item(src: Source, at: int, name: str, value: Item, what: str) -> float | None:
-    if value is None:
-        return None
-    try:
-        return float(value.replace("D", "E").replace("d", "e"))
-    except ValueError:
-        raise src.error(at, name, f"{what}: {value!r} is not a number") from None
 
 
 def _dims_keyword(state, src, pos, name, depth):
@@ -367,7 +352,7 @@ def _operator(state, src, pos, name, depth):
                 raise src.error(at, name, f"cannot copy {target}: it is not defined")
             _array(state, dest)[cells] = _array(state, target)[cells]
             continue
-        value = _float_item(src, at, name, items[1], target)
+        value = float_item(src, at, name, items[1], target)
         if name == "EQUALS":
             _array(state, target)[cells] = value
             continue
@@ -400,7 +385,7 @@ def _tran_operation(state, src, at, name, items, box) -> None:
             raise src.error(at, name, f"{keyword} can only be modified in the EDIT section")
         state.notes.append(f"{where}: {name} {keyword} outside the EDIT section ignored")
         return
-    value = _float_item(src, at, name, items[1], keyword)
+    value = float_item(src, at, name, items[1], keyword)
     if value is None or not np.isfinite(value):
         raise src.error(at, name, f"{keyword}: needs one finite value, got {items[1]!r}")
     state.tran_edits.append(TranEdit(keyword, name, _full_box(state, box), value=value, source=where))
@@ -460,7 +445,7 @@ def _multflt(state, src, pos, name, depth):
     for items, at in records:
         if len(items) < 2 or items[0] is None:
             raise src.error(at, name, "a record needs: fault name and multiplier")
-        state.multflt[items[0]] = _float_item(src, at, name, items[1], "multiplier")
+        state.multflt[items[0]] = float_item(src, at, name, items[1], "multiplier")
         state.multflt_sources[items[0]] = f"{src.path.name}:{src.line(at)}"
     return pos
 
@@ -483,8 +468,8 @@ def _string_keyword(state, src, pos, name, depth):
 
 def _pinch(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
-    threshold = _float_item(src, at, name, items[0] if items else None, "threshold")
-    max_gap = _float_item(src, at, name, items[2] if len(items) > 2 else None, "maximum gap")
+    threshold = float_item(src, at, name, items[0] if items else None, "threshold")
+    max_gap = float_item(src, at, name, items[2] if len(items) > 2 else None, "maximum gap")
     state.pinch = (0.001 if threshold is None else threshold, 1e20 if max_gap is None else max_gap)
     chosen = []
     choices = (("GAP", "NOGAP"), ("TOPBOT", "ALL"), ("TOP", "ALL"))
@@ -502,7 +487,7 @@ def _pinch(state, src, pos, name, depth):
 
 def _minpv(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
-    state.minpv = _float_item(src, at, name, items[0] if items else None, "minimum pore volume")
+    state.minpv = float_item(src, at, name, items[0] if items else None, "minimum pore volume")
     return pos
 
 
