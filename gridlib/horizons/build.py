@@ -14,10 +14,11 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..grid import FloatArray
+from ._constants import check_choice
 from .analytic import dome, peaks, plane
-from .blocks import _extent, fault_blocks
+from .blocks import bounding_box, fault_blocks
 from .dataset import horizon_dataset
-from .interpolate import _check_choice, interpolate_points
+from .interpolate import interpolate_points
 from .lattice import Surface, read_surface_netcdf
 from .points import read_points
 
@@ -93,7 +94,7 @@ def build_horizons(
     extent = None
     if faulted:  # one area for every horizon, so that all see the same blocks
         point_sets = [item.data for item in loaded if item.kind == "points"]
-        extent = _extent(X, Y, *(c for pts in point_sets for c in (pts[:, 0], pts[:, 1])))
+        extent = bounding_box(X, Y, *(c for pts in point_sets for c in (pts[:, 0], pts[:, 1])))
     depths, notes = [], []
     for item in loaded:
         try:
@@ -256,7 +257,7 @@ def _make_one(item: _Loaded, X, Y, xa, ya, faults, extent, notes: list[str]) -> 
             name=label,
             notes=notes,
         )
-    method = _check_choice(spec.get("method", "linear"), ("linear", "nearest"), f"{label}: method")
+    method = check_choice(spec.get("method", "linear"), ("linear", "nearest"), f"{label}: method")
     z = data.sample(X, Y, method=method)
     if np.isnan(z).all():
         raise InputError(

@@ -12,10 +12,10 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..cornerpoint.horizons import Horizon
 from ..errors import InputError
 from ..io._dataset import load_dataset, save_dataset
-from .ordering import _names, _stack, order_horizons
+from ..stratigraphic.horizon_maps import Horizon
+from .ordering import depth_stack, horizon_names, order_horizons
 
 
 def horizon_dataset(
@@ -44,10 +44,10 @@ def horizon_dataset(
     """
     from .. import __version__
 
-    H, xa, ya = _stack(np.asarray(depth, dtype=np.float64), x, y)
+    H, xa, ya = depth_stack(np.asarray(depth, dtype=np.float64), x, y)
     if H.shape[0] < 1:
         raise InputError("horizons: the stack is empty")
-    label = _names(names, H.shape[0])
+    label = horizon_names(names, H.shape[0])
     for k in range(H.shape[0]):
         if np.isnan(H[k]).all():
             raise InputError(f"horizon '{label[k]}': undefined (NaN) everywhere on the lattice")

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..cornerpoint.horizons import Horizon
 from ..errors import InputError
 from ..grid import FloatArray
 from ..io._dataset import load_dataset
+from ..stratigraphic.horizon_maps import Horizon
 
 
 @dataclass(frozen=True, eq=False)

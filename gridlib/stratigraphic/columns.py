@@ -154,13 +154,13 @@ def extrude_columns(
     >>> compute_geometry(r.grid).cell_volumes.tolist()
     [10.0, 12.0, 10.0, 8.0]
     """
-    return _extrude_columns(areal, _Corners.of(areal), z, pillars, active, edge_tag, fault_names)
+    return extrude_column_corners(areal, ColumnCorners.of(areal), z, pillars, active, edge_tag, fault_names)
 
 
-def _extrude_columns(
+def extrude_column_corners(
     areal, corners, z, pillars, active, edge_tag, fault_names, step: str = "extrude_columns"
 ) -> ColumnGrid:
-    """:func:`extrude_columns` with the areal corners already known (``_Corners.of(areal)``);
+    """:func:`extrude_columns` with the areal corners already known (``ColumnCorners.of(areal)``);
     ``step`` is the entry the grid's history gets after the areal grid's."""
     pos2, owner = corners.pos, corners.owner
     nc2, nn2 = areal.num_cells, areal.num_nodes
@@ -168,7 +168,7 @@ def _extrude_columns(
     n_levels = z.shape[0]
     nl = n_levels - 1
     act = _active(active, nl, nc2)
-    lines = _pillar_lines(pillars, nn2)
+    lines = pillar_lines(pillars, nn2)
     etag = _edge_tags(edge_tag, areal)
     names = _names(fault_names, etag)
     notes: list[str] = []
@@ -205,7 +205,7 @@ def _extrude_columns(
     cell_id = np.full((nl, nc2), -1, dtype=np.int64)
     cell_id[kept] = np.arange(n_cells)
 
-    pairs = _Pairs.of(areal, corners, reverse)
+    pairs = PillarPairs.of(areal, corners, reverse)
     ver, h_nodes = _vertical(node_of, kept, cell_id, pos2)
     xy = areal.nodes.coords[:, :2]
     lat = _lateral(pairs, node_of, kept, cell_id, pts, _NodeCoords(pts, xy, lines))
@@ -296,7 +296,7 @@ def _in_background(fn, *args):
 
 
 @dataclass(frozen=True, eq=False)
-class _Corners:
+class ColumnCorners:
     """The corners of the areal cells: ring ``pos``/``ring``, the cell of every corner, and for
     every areal half-face (entry h of ``cells.faces``) the corner of its first and second node
     walking with the cell on the left; ``perm`` maps corners to the caller's order."""
@@ -309,7 +309,7 @@ class _Corners:
     perm: IntArray | None = None
 
     @classmethod
-    def of(cls, areal: Grid) -> _Corners:
+    def of(cls, areal: Grid) -> ColumnCorners:
         if not isinstance(areal, Grid) or areal.griddim != 2:
             areal_corners(areal)  # raises
         start, slot = half_face_cycle_slots(areal)
@@ -325,11 +325,11 @@ class _Corners:
     def num(self) -> int:
         return self.ring.size
 
-    def reversed(self) -> _Corners:
+    def reversed(self) -> ColumnCorners:
         """Every ring walked backwards (a reversal within each cell is its own inverse)."""
         local = np.arange(self.num) - self.pos[self.owner]
         perm = self.pos[self.owner] + (np.diff(self.pos)[self.owner] - 1 - local)
-        return _Corners(
+        return ColumnCorners(
             self.pos, self.ring[perm], self.owner, perm[self.hf_first], perm[self.hf_second], perm
         )
 
@@ -363,7 +363,7 @@ def _active(active: ArrayLike | None, nl: int, nc2: int) -> np.ndarray:
     return arr
 
 
-def _pillar_lines(pillars: ArrayLike | None, nn2: int) -> FloatArray | None:
+def pillar_lines(pillars: ArrayLike | None, nn2: int) -> FloatArray | None:
     if pillars is None:
         return None
     try:
@@ -404,7 +404,7 @@ def _names(fault_names, etag: IntArray) -> list[str]:
     return names
 
 
-def _clockwise(areal: Grid, corners: _Corners) -> bool:
+def _clockwise(areal: Grid, corners: ColumnCorners) -> bool:
     """Whether every ring turns clockwise in plan view (raises if some do and some do not)."""
     pos2, ring = corners.pos, corners.ring
     xy = areal.nodes.coords[:, :2]
@@ -617,7 +617,7 @@ def _number_points(
 
 
 @dataclass(frozen=True, eq=False)
-class _Pairs:
+class PillarPairs:
     """Every areal edge as a pillar pair: p1, p2, the columns on sides A (left) and B, and the
     corner of each side's column on p1 and on p2 (-1 where a side has no column)."""
 
@@ -631,7 +631,7 @@ class _Pairs:
     hf_side: IntArray  # and its side (0 = A)
 
     @classmethod
-    def of(cls, areal: Grid, corners: _Corners, reverse: bool) -> _Pairs:
+    def of(cls, areal: Grid, corners: ColumnCorners, reverse: bool) -> PillarPairs:
         e = areal.faces.nodes.reshape(-1, 2)
         p1, p2 = (e[:, 1], e[:, 0]) if reverse else (e[:, 0], e[:, 1])
         nb = areal.faces.neighbors
@@ -743,7 +743,7 @@ def _blocks(n: int):
 
 
 def _lateral(
-    pairs: _Pairs, node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pts: _Points, node_xyz
+    pairs: PillarPairs, node_of: IntArray, kept: np.ndarray, cell_id: IntArray, pts: _Points, node_xyz
 ) -> _Lateral:
     """Quads of the simple pairs, general pieces of the others (see ``structured_lateral``).
 
@@ -792,7 +792,7 @@ def _lateral(
     )
 
 
-def _compare_sides(pairs: _Pairs, node_of: IntArray, kept_ext: np.ndarray):
+def _compare_sides(pairs: PillarPairs, node_of: IntArray, kept_ext: np.ndarray):
     """Per (layer, pair) and side, the kept cell not pinched there (``ex``) and the cell collapsed
     on a pillar (``thin``); per (level, pair), both sides' corners on the same nodes (``eq``,
     junk where a side has no column). A level at a time, gathering the corners' nodes."""
@@ -1115,7 +1115,9 @@ class _FaceList:
         return self.pos.size - 1
 
     @classmethod
-    def join(cls, ver: _Vertical, h_nodes, insert, lat: _Lateral, node_of, etag, pairs: _Pairs) -> _FaceList:
+    def join(
+        cls, ver: _Vertical, h_nodes, insert, lat: _Lateral, node_of, etag, pairs: PillarPairs
+    ) -> _FaceList:
         """Top/bottom faces (``ver``, nodes ``h_nodes`` with the crossing nodes ``insert`` = (slots,
         nodes) of :func:`insert_after`, or None), then the quads, then the general pieces (arrays
         filled once, in place)."""
@@ -1211,7 +1213,9 @@ class _FaceList:
         return NNC(cells, index_map[cells], self.nnc_kind[face], face)
 
 
-def _fault_names(faces: _FaceList, names: list[str], lat: _Lateral, pairs: _Pairs, etag) -> tuple[str, ...]:
+def _fault_names(
+    faces: _FaceList, names: list[str], lat: _Lateral, pairs: PillarPairs, etag
+) -> tuple[str, ...]:
     """Tag the faults no edge tag names (faulted pairs, one id per connected trace), in place."""
     fp = np.flatnonzero(lat.faulted & (etag == 0))
     if fp.size == 0:
