@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import json
-import os
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -13,7 +11,6 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..io._dataset import load_dataset, save_dataset
 from ..stratigraphic.horizon_maps import Horizon
 from .ordering import depth_stack, horizon_names, order_horizons
 
@@ -95,28 +92,6 @@ def horizon_dataset(
             value = json.dumps(value)
         ds_attrs[str(key)] = value
     return xr.Dataset(data, coords=coords, attrs=ds_attrs)
-
-
-def write_horizons(path: str | os.PathLike, ds: xr.Dataset) -> Path:
-    """Write a horizons Dataset (:func:`horizon_dataset`) as netCDF-4, atomically (``horizons.nc``)."""
-    if "depth" not in ds or ds["depth"].dims != ("horizon", "y", "x"):
-        raise InputError(f"{path}: write_horizons needs a Dataset with depth (horizon, y, x)")
-    encoding = {"depth": {"_FillValue": np.nan}}
-    if "block" in ds:
-        encoding["block"] = {"_FillValue": None}
-    return save_dataset(path, ds, encoding)
-
-
-def read_horizons(path: str | os.PathLike) -> xr.Dataset:
-    """Read a ``horizons.nc`` written by :func:`write_horizons` (checked: depth (horizon, y, x))."""
-    p = Path(path)
-    ds = load_dataset(p)
-    if "depth" not in ds or ds["depth"].dims != ("horizon", "y", "x"):
-        raise InputError(f"{p}: not a horizons file (needs a variable depth over (horizon, y, x))")
-    for key in ("x", "y", "horizon"):
-        if key not in ds.coords:
-            raise InputError(f"{p}: not a horizons file (coordinate '{key}' is missing)")
-    return ds
 
 
 def to_horizons(ds: xr.Dataset) -> list[Horizon]:
