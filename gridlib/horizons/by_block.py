@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.horizons import horizons_to_grdecl
 from ..errors import InputError
-from ..stratigraphic.faults import FaultTrace
+from ..stratigraphic.fault_traces import FaultTrace
 from ..stratigraphic.horizon_maps import Horizon
 from .blocks import FaultBlocks, fault_blocks
 

@@ -14,7 +14,7 @@ The 2.5D front end of the pillar engine (ALGORITHMS.md §3.4), the twin of
   ``layers`` layers, dz = (z_{h+1} - z_h) / n at every pillar; zero-thickness
   layers become collapsed cells, which the engine removes (the cells above and
   below then share a face, a PINCH connection when they are layers apart);
-* :class:`~gridlib.stratigraphic.faults.FaultTrace` s displace the hanging wall
+* :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s displace the hanging wall
   exactly as in ``horizons_to_grdecl``: every areal cell is classified by its
   centre (its centroid, or ``centres``), and the corners of hanging-wall cells
   move down by the throw at their pillar, tapering to tips; the two columns of
@@ -43,7 +43,7 @@ from ..errors import GridError, InputError
 from ..grid import FloatArray, Grid, IntArray
 from ..threads import num_threads
 from .columns import ColumnCorners, PillarPairs, extrude_column_corners, pillar_lines
-from .faults import FaultTrace, cell_displacement, fault_displacement
+from .fault_traces import FaultTrace, cell_displacement, fault_displacement
 from .horizon_maps import Horizon, check_horizon, interpolate_horizon
 from .nnc import NNC
 from .ordering import ORDERINGS, order_depths
@@ -99,7 +99,7 @@ def extrude(
     horizon must be defined (finite) at every node of the active cells of the
     zones it bounds.
     ``layers``: layers per zone, one int for all or one per zone.
-    ``faults``: :class:`~gridlib.stratigraphic.faults.FaultTrace` s; an end
+    ``faults``: :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s; an end
     point strictly inside the areal grid's domain is a tip.
     ``pillars``: None for vertical pillars through the areal nodes, or
     (n_areal_nodes, 2, 3) straight pillars (top and bottom points, as COORD):
