@@ -129,17 +129,8 @@ def horizons_to_grdecl(
         raise InputError(
             f"horizons_to_grdecl: ordering must be one of {', '.join(ORDERINGS)}, got {ordering!r}"
         )
-    xmin = min(s[0][0] for s in surfaces)
-    xmax = max(s[0][-1] for s in surfaces)
-    ymin = min(s[1][0] for s in surfaces)
-    ymax = max(s[1][-1] for s in surfaces)
-    if dims is None:
-        nx = max(s[0].size for s in surfaces) - 1
-        ny = max(s[1].size for s in surfaces) - 1
-    else:
-        nx, ny = _check_dims(dims)
-    px = np.linspace(xmin, xmax, nx + 1)
-    py = np.linspace(ymin, ymax, ny + 1)
+    box, px, py = _pillar_lattice(surfaces, dims)
+    nx, ny = px.size - 1, py.size - 1
     PX, PY = np.meshgrid(px, py)  # (ny + 1, nx + 1), i fastest
 
     H = np.stack([_interpolate(xa, ya, z, px, py) for xa, ya, z in surfaces])
@@ -149,25 +140,51 @@ def horizons_to_grdecl(
     Zn = layer_levels(H, nlay)  # node depths (nz + 1, ny + 1, nx + 1): proportional layers per zone
     nz = Zn.shape[0] - 1
     zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
+    segments = _apply_faults(faults, zc, PX, PY, box, notes) if faults else []
+    return _deck(zc, PX, PY, box, segments, notes)
 
+
+def _pillar_lattice(surfaces, dims) -> tuple[tuple[float, float, float, float], np.ndarray, np.ndarray]:
+    """The grid's rectangle (xmin, xmax, ymin, ymax), the smallest holding every horizon's box, and
+    the pillars' x (nx + 1,) and y (ny + 1,) axes meshing it with ``dims`` cells (default: the most
+    nodes of any horizon along each axis, minus one)."""
+    xmin = min(s[0][0] for s in surfaces)
+    xmax = max(s[0][-1] for s in surfaces)
+    ymin = min(s[1][0] for s in surfaces)
+    ymax = max(s[1][-1] for s in surfaces)
+    if dims is None:
+        nx = max(s[0].size for s in surfaces) - 1
+        ny = max(s[1].size for s in surfaces) - 1
+    else:
+        nx, ny = _check_dims(dims)
+    return (xmin, xmax, ymin, ymax), np.linspace(xmin, xmax, nx + 1), np.linspace(ymin, ymax, ny + 1)
+
+
+def _apply_faults(faults, zc: np.ndarray, PX, PY, box, notes: list[str]) -> list[FaultSegment]:
+    """Displace the corners ``zc`` (2 nz, 2 ny, 2 nx) of the hanging wall of every fault, in place;
+    the FAULTS segments of the cell edges each offsets."""
+    if isinstance(faults, FaultTrace):
+        raise InputError("horizons_to_grdecl: faults must be a sequence of FaultTrace, got one FaultTrace")
+    nz, ny, nx = (n // 2 for n in zc.shape)
     segments: list[FaultSegment] = []
-    if faults:
-        if isinstance(faults, FaultTrace):
-            raise InputError(
-                "horizons_to_grdecl: faults must be a sequence of FaultTrace, got one FaultTrace"
-            )
-        box = (xmin, xmax, ymin, ymax)
-        for f, trace in enumerate(faults):
-            if not isinstance(trace, FaultTrace):
-                raise InputError(f"faults[{f}]: expected a FaultTrace, got {type(trace).__name__}")
-            name = trace.name if trace.name is not None else f"F{f + 1}"
-            disp = _fault_displacement(trace, f, name, PX, PY, box)
-            zc += disp.transpose(0, 2, 1, 3).reshape(2 * ny, 2 * nx)[None]
-            segs = _fault_segments(disp, name, nz)
-            if not segs:
-                notes.append(f"fault '{name}' offsets no cell edge of the grid")
-            segments += segs
+    for f, trace in enumerate(faults):
+        if not isinstance(trace, FaultTrace):
+            raise InputError(f"faults[{f}]: expected a FaultTrace, got {type(trace).__name__}")
+        name = trace.name if trace.name is not None else f"F{f + 1}"
+        disp = _fault_displacement(trace, f, name, PX, PY, box)
+        zc += disp.transpose(0, 2, 1, 3).reshape(2 * ny, 2 * nx)[None]
+        segs = _fault_segments(disp, name, nz)
+        if not segs:
+            notes.append(f"fault '{name}' offsets no cell edge of the grid")
+        segments += segs
+    return segments
 
+
+def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list[str]) -> Deck:
+    """The deck of the corners ``zc``: cells with an undefined corner inactive, vertical pillars
+    through the pillar nodes spanning every defined depth."""
+    nz, ny, nx = (n // 2 for n in zc.shape)
+    xmin, xmax, ymin, ymax = box
     with np.errstate(invalid="ignore"):
         active = np.isfinite(zc).reshape(nz, 2, ny, 2, nx, 2).all(axis=(1, 3, 5))
     if not active.any():
