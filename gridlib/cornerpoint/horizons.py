@@ -1,7 +1,7 @@
 """``horizons_to_grdecl``: a corner-point deck between gridded horizons, with faults.
 
 In the spirit of MRST's ``convertHorizonsToGrid`` (MRST book §3.5, Figs. 3.18 and
-3.19), written from the description in ALGORITHMS.md §4:
+3.19); ``docs/pillar-grids.md`` says how the resulting deck becomes a grid:
 
 * every horizon is a depth map on its own rectilinear mesh; the grid covers the
   smallest rectangle holding all of them, meshed with ``dims`` cells and

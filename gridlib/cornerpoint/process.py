@@ -1,5 +1,6 @@
 """``process_grdecl``: a corner-point deck to an unstructured grid (the pillar engine's
-Cartesian front end; ALGORITHMS.md §1).
+Cartesian front end; ``docs/pillar-grids.md`` describes the engine, its pinch-outs, zero-area
+faces and the two volume conventions).
 
 Steps, all vectorised over cells, corners and pillar pairs:
 

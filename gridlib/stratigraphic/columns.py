@@ -2,12 +2,12 @@
 
 The areal grid's cells (polygons of any sizes: Voronoi/PEBI cells, triangles,
 quadrilaterals) are the *columns*, its nodes the *pillars* and every areal edge
-a *pillar pair* with at most two columns (ALGORITHMS.md §3.4, "a cleaner design
-for us"). A *corner* is a (cell, position in its node ring) pair, the ring being
+a *pillar pair* with at most two columns (``docs/pillar-grids.md`` describes the
+engine as a whole). A *corner* is a (cell, position in its node ring) pair, the ring being
 :func:`areal_corners`' cycle; each corner has a depth at every layer interface
 (level): the top of layer k is level k, its bottom level k + 1, within a column.
 Across a fault edge the two columns carry different depths on the same pillar.
-From there on everything is the corner-point engine (ALGORITHMS.md §1):
+From there on everything is the corner-point engine, as ``process_grdecl`` runs it on decks:
 
 1. cells masked by ``active`` are removed before anything else: their corners
    (possibly junk) are never read; the used corners must be finite, and no
@@ -29,6 +29,11 @@ From there on everything is the corner-point engine (ALGORITHMS.md §1):
    the crossing nodes inserted into their edges (every cell watertight);
 6. with inclined pillars, faces of zero area (on pillars that coincide, a
    pair of no width) are removed; then cells with fewer than four faces.
+
+The phases live in :mod:`~gridlib.stratigraphic.column_inputs` (1),
+:mod:`~gridlib.stratigraphic.column_nodes` (2), :mod:`~gridlib.stratigraphic.column_lateral` (4),
+:mod:`~gridlib.stratigraphic.column_top_bottom` (5) and
+:mod:`~gridlib.stratigraphic.column_assembly` (6); this module runs them.
 
 Orientation: the column on the left of an areal edge p1 -> p2 (in plan view,
 x right and y up) is side A, as the lower-i column of an i-pair in

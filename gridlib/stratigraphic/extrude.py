@@ -1,6 +1,6 @@
 """``extrude``: layers between horizons below any areal 2-D grid, with faults, through the pillar engine.
 
-The 2.5D front end of the pillar engine (ALGORITHMS.md §3.4), the twin of
+The 2.5D front end of the pillar engine (``docs/pillar-grids.md``), the twin of
 ``horizons_to_grdecl`` + ``process_grdecl`` for areal grids of any polygons
 (Voronoi/PEBI cells, triangles, quadrilaterals):
 
