@@ -10,6 +10,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from .. import __version__
 from ..errors import InputError
 from ..stratigraphic.horizon_maps import Horizon
 from .ordering import depth_stack, horizon_names, order_horizons
@@ -39,8 +40,6 @@ def horizon_dataset(
     >>> ds.depth.dims, ds.depth.attrs["units"], [h.z[0, 0] for h in to_horizons(ds)]
     (('horizon', 'y', 'x'), 'm', [np.float64(1000.0), np.float64(1020.0)])
     """
-    from .. import __version__
-
     H, xa, ya = depth_stack(np.asarray(depth, dtype=np.float64), x, y)
     if H.shape[0] < 1:
         raise InputError("horizons: the stack is empty")

@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import GridError, InputError
+from ..geometry import compute_geometry
 from ..grid import FloatArray, Grid, IntArray
 from ..threads import num_threads
 from .columns import ColumnCorners, PillarPairs, extrude_column_corners, pillar_lines
@@ -318,8 +319,6 @@ def _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes) ->
     if isinstance(faults, FaultTrace) or not isinstance(faults, Sequence):
         raise InputError(f"extrude: faults must be a sequence of FaultTrace, got {type(faults).__name__}")
     if centres is None:
-        from ..geometry import compute_geometry
-
         centre_xy = compute_geometry(areal).cell_centroids[:, :2]
     else:
         centre_xy = np.asarray(centres, dtype=np.float64)
