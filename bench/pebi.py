@@ -31,7 +31,7 @@ import numpy as np
 
 from gridlib import compute_geometry
 from gridlib.stratigraphic.extrude import extrude
-from gridlib.stratigraphic.faults import FaultTrace
+from gridlib.stratigraphic.fault_traces import FaultTrace
 from gridlib.voronoi import Fault, Rings, Well, grid_quality, pebi_grid
 
 OFFSET = np.array([5.3e5, 6.7e6])

@@ -11,7 +11,7 @@ gridlib objects here:
 
 * a fault's ``trace`` and ``throw`` (a number, or ``{start, end}`` varying
   linearly along the trace) and ``side`` give a
-  :class:`~gridlib.stratigraphic.faults.FaultTrace` (both grid builders apply
+  :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` (both grid builders apply
   it to the restored horizons), and for pebi grids also a
   :class:`~gridlib.voronoi.Fault` the cell faces follow;
 * a well's ``point`` + ``rings`` or ``path`` give a :class:`~gridlib.voronoi.Well`.
@@ -34,7 +34,7 @@ from .cornerpoint.process import process_grdecl
 from .errors import GridError, InputError
 from .grid import Grid
 from .stratigraphic.extrude import extrude
-from .stratigraphic.faults import FaultTrace
+from .stratigraphic.fault_traces import FaultTrace
 from .stratigraphic.nnc import NNC
 from .voronoi import Fault, Rings, Well, pebi_grid, rectangle
 

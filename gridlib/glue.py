@@ -37,14 +37,7 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
         if g.griddim != 2 or g.dim != 2:
             raise GridError(f"glue_2d: {name} must be a planar 2-D grid")
     coords = np.concatenate([g1.nodes.coords, g2.nodes.coords])
-    if tol is None:
-        tol = 1e-9 * float(np.ptp(coords, axis=0).max())
-    try:
-        tol = float(tol)
-    except (TypeError, ValueError) as exc:
-        raise GridError(f"glue_2d: tol must be a number, got {tol!r}") from exc
-    if not tol > 0:
-        raise GridError(f"glue_2d: tol must be positive, got {tol}")
+    tol = _tolerance(tol, coords)
     nn1, nf1, nc1 = g1.num_nodes, g1.num_faces, g1.num_cells
 
     # Concatenate the two grids.
@@ -62,6 +55,46 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
 
     # 1. Split boundary edges at boundary nodes of the other grid lying inside them.
     bf = np.concatenate([boundary_faces(g1), boundary_faces(g2) + nf1])
+    edge, node, t = _nodes_inside_edges(coords, e, bf, grid_of_face, grid_of_node, tol)
+    e, nb, ftag, cpos, cfaces, ctag = _split_edges(e, nb, ftag, cpos, cfaces, ctag, edge, node, t)
+    # 2. Merge coincident boundary nodes of the two grids (the lowest index survives).
+    e = _merged_nodes(coords, e, nb, grid_of_node, tol)
+    # 3. Boundary edges of g1 and g2 with the same end nodes become one interior face.
+    e, nb, ftag, cfaces = _joined_edges(e, nb, ftag, cfaces, coords.shape[0])
+
+    used = np.zeros(coords.shape[0], dtype=bool)
+    used[e.ravel()] = True
+    new_node = np.cumsum(used) - 1
+    nf = len(nb)
+    grid = Grid(
+        cells=Cells(cpos, cfaces, ctag),
+        faces=Faces(np.arange(0, 2 * nf + 1, 2), new_node[e].ravel(), nb, ftag),
+        nodes=Nodes(coords[used]),
+        griddim=2,
+        history=("glue_2d",),
+    )
+    try:
+        return order_cell_faces_2d(grid)
+    except GridError as exc:
+        raise GridError(f"glue_2d: the grids overlap or do not fit together ({exc})") from exc
+
+
+def _tolerance(tol, coords: np.ndarray) -> float:
+    """``tol`` checked (positive), default 1e-9 times the largest side of the nodes' bounding box."""
+    if tol is None:
+        tol = 1e-9 * float(np.ptp(coords, axis=0).max())
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError) as exc:
+        raise GridError(f"glue_2d: tol must be a number, got {tol!r}") from exc
+    if not tol > 0:
+        raise GridError(f"glue_2d: tol must be positive, got {tol}")
+    return tol
+
+
+def _nodes_inside_edges(coords, e, bf, grid_of_face, grid_of_node, tol: float):
+    """The boundary nodes of one grid lying inside (not at the ends of) a boundary edge ``bf`` of the
+    other: (the edge, the node, its position t in (0, 1) along the edge)."""
     bnodes = np.unique(e[bf].ravel())
     pa, pb = coords[e[bf, 0]], coords[e[bf, 1]]
     seg = pb - pa
@@ -82,11 +115,12 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
     dist = np.abs(rel[:, 0] * seg[cand_edge, 1] - rel[:, 1] * seg[cand_edge, 0]) / length[cand_edge]
     inner = (dist <= tol) & (t * length[cand_edge] > tol) & ((1 - t) * length[cand_edge] > tol)
     cand_edge, cand_node, t = cand_edge[inner], cand_node[inner], t[inner]
-    e, nb, ftag, cpos, cfaces, ctag = _split_edges(
-        e, nb, ftag, cpos, cfaces, ctag, bf[cand_edge], cand_node, t
-    )
+    return bf[cand_edge], cand_node, t
 
-    # 2. Merge coincident boundary nodes of the two grids (the lowest index survives).
+
+def _merged_nodes(coords, e, nb, grid_of_node, tol: float):
+    """The edges' nodes with the coincident boundary nodes of the two grids merged (the lowest index
+    survives)."""
     bnodes = np.unique(e[(nb < 0).any(axis=1)].ravel())
     pairs = bnodes[cKDTree(coords[bnodes]).query_pairs(tol, output_type="ndarray")].reshape(-1, 2)
     pairs = pairs[grid_of_node[pairs[:, 0]] != grid_of_node[pairs[:, 1]]]
@@ -94,9 +128,12 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
     graph = sparse.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(nn, nn))
     _, label = csgraph.connected_components(graph, directed=False)
     _, lowest = np.unique(label, return_index=True)
-    e = lowest[label][e]
+    return lowest[label][e]
 
-    # 3. Boundary edges of g1 and g2 with the same end nodes become one interior face.
+
+def _joined_edges(e, nb, ftag, cfaces, nn: int):
+    """Boundary edges with the same end nodes joined into one interior face (the first keeps its
+    index, the second is dropped): the edges, neighbours, tags and the cells' faces renumbered."""
     bnd = (nb < 0).any(axis=1)
     key = np.sort(e, axis=1)
     kk = key[:, 0] * nn + key[:, 1]
@@ -115,23 +152,7 @@ def glue_2d(g1: Grid, g2: Grid, tol: float | None = None) -> Grid:
     remap[second] = first
     new_face = np.cumsum(~drop) - 1
     cfaces = new_face[remap[cfaces]]
-    e, nb, ftag = e[~drop], nb[~drop], ftag[~drop]
-
-    used = np.zeros(nn, dtype=bool)
-    used[e.ravel()] = True
-    new_node = np.cumsum(used) - 1
-    nf = len(nb)
-    grid = Grid(
-        cells=Cells(cpos, cfaces, ctag),
-        faces=Faces(np.arange(0, 2 * nf + 1, 2), new_node[e].ravel(), nb, ftag),
-        nodes=Nodes(coords[used]),
-        griddim=2,
-        history=("glue_2d",),
-    )
-    try:
-        return order_cell_faces_2d(grid)
-    except GridError as exc:
-        raise GridError(f"glue_2d: the grids overlap or do not fit together ({exc})") from exc
+    return e[~drop], nb[~drop], ftag[~drop], cfaces
 
 
 def _split_edges(e, nb, ftag, cpos, cfaces, ctag, edge, node, t):

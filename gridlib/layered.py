@@ -53,74 +53,18 @@ def make_layered_grid(
     given = [v is not None for v in (num_layers, thickness, depths)]
     if sum(given) != 1:
         raise GridError("make_layered_grid: give exactly one of num_layers, thickness, depths")
-    nn2, nc2, nf2 = grid.num_nodes, grid.num_cells, grid.num_faces
+    nn2, nc2 = grid.num_nodes, grid.num_cells
     top = grid.nodes.coords[:, 2] if grid.dim == 3 else np.zeros(nn2)
     z = _interface_depths(num_layers, thickness, depths, top, nn2)
     nl = z.shape[0] - 1
 
-    pos2, cyc = cell_node_cycles_2d(grid)
+    pos2, cyc, reverse = _counter_clockwise_cycles(grid)
     xy = grid.nodes.coords[:, :2]
-    owner = repeat_ids(pos2)
-    nxt = np.arange(cyc.size) + 1
-    nxt[pos2[1:] - 1] = pos2[:-1]
-    local = xy - xy.mean(axis=0)  # shoelace products lose digits at UTM sizes
-    a, b = local[cyc], local[cyc[nxt]]
-    plan_area = np.bincount(owner, a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1], nc2)
-    if np.any(plan_area == 0):
-        c = int(np.flatnonzero(plan_area == 0)[0])
-        raise GridError(f"make_layered_grid: areal cell {c} has zero area in plan view")
-    flip = plan_area < 0
-    if flip.any() and not flip.all():
-        raise GridError("make_layered_grid: the areal grid folds over itself in plan view")
-    reverse = bool(flip[0])
-    if reverse:  # orient cycles counter-clockwise in (x, y): top-face normals point down
-        local = np.arange(cyc.size) - pos2[owner]
-        cyc = cyc[pos2[owner] + (np.diff(pos2)[owner] - 1 - local)]
-
-    k_nodes = np.arange(nl + 1)[:, None] * nn2
-    # Layer-interface faces.
-    h_nodes = (cyc[None, :] + k_nodes).ravel()
-    h_count = np.tile(np.diff(pos2), nl + 1)
-    cell_id = np.arange(nc2)
-    upper = np.concatenate([np.full(nc2, -1), (np.arange(nl)[:, None] * nc2 + cell_id).ravel()])
-    lower = np.concatenate([(np.arange(nl)[:, None] * nc2 + cell_id).ravel(), np.full(nc2, -1)])
+    node_pos, face_nodes, neighbors = _faces(grid, pos2, cyc, reverse, nl)
     n_h = (nl + 1) * nc2
-
-    # Lateral faces.
-    e = grid.faces.nodes.reshape(-1, 2)
-    if reverse:
-        e = e[:, ::-1]
-    k_lat = np.arange(nl)[:, None]
-    n0 = e[None, :, 0] + k_lat * nn2
-    n1 = e[None, :, 1] + k_lat * nn2
-    l_nodes = np.stack([n0, n1, n1 + nn2, n0 + nn2], axis=-1).reshape(-1)
-    nb2 = grid.faces.neighbors
-    l_nb = np.where(nb2[None, :, :] >= 0, nb2[None, :, :] + k_lat[:, :, None] * nc2, -1).reshape(-1, 2)
-
-    neighbors = np.concatenate([np.column_stack([upper, lower]), l_nb])
-    node_pos = offsets(np.concatenate([h_count, np.full(nl * nf2, 4)]))
-    face_nodes = np.concatenate([h_nodes, l_nodes])
-
-    # Cell faces: top, bottom, then the lateral faces in increasing face order.
-    hc2 = repeat_ids(grid.cells.face_pos)
-    order2 = np.lexsort((grid.cells.faces, hc2))
+    face_pos, cell_faces, face_tag = _cell_faces(grid, nl, n_h)
+    cell_id = np.arange(nc2)
     k_cells = np.arange(nl)
-    face_pos = offsets(np.tile(grid.cells.num_faces + 2, nl))
-    starts = face_pos[:-1]
-    tops = (k_cells[:, None] * nc2 + cell_id).ravel()
-    cell_faces = np.empty(int(face_pos[-1]), dtype=np.int64)
-    cell_faces[starts] = tops
-    cell_faces[starts + 1] = tops + nc2
-    owner_lat = np.tile(hc2, nl) + np.repeat(k_cells, hc2.size) * nc2
-    slot_lat = face_pos[owner_lat] + 2 + np.tile(np.arange(hc2.size) - grid.cells.face_pos[hc2], nl)
-    cell_faces[slot_lat] = (n_h + k_cells[:, None] * nf2 + grid.cells.faces[order2][None, :]).ravel()
-
-    face_tag = None
-    if grid.cells.face_tag is not None:
-        face_tag = np.empty(cell_faces.size, dtype=np.int8)
-        face_tag[starts] = T
-        face_tag[starts + 1] = B
-        face_tag[slot_lat] = np.tile(grid.cells.face_tag[order2], nl)
 
     cart_dims, index_map = None, None
     if grid.cart_dims is not None and len(grid.cart_dims) == 2:
@@ -144,6 +88,86 @@ def make_layered_grid(
         history=(*grid.history, "make_layered_grid"),
         layering=Layering(grid, np.tile(cell_id, nl), np.repeat(k_cells, nc2), nl),
     )
+
+
+def _counter_clockwise_cycles(grid: Grid) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The areal cells' node cycles (``pos2``, ``cyc``) turned counter-clockwise in (x, y), so that
+    top-face normals point down, and whether they had to be reversed."""
+    nc2 = grid.num_cells
+    pos2, cyc = cell_node_cycles_2d(grid)
+    xy = grid.nodes.coords[:, :2]
+    owner = repeat_ids(pos2)
+    nxt = np.arange(cyc.size) + 1
+    nxt[pos2[1:] - 1] = pos2[:-1]
+    local = xy - xy.mean(axis=0)  # shoelace products lose digits at UTM sizes
+    a, b = local[cyc], local[cyc[nxt]]
+    plan_area = np.bincount(owner, a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1], nc2)
+    if np.any(plan_area == 0):
+        c = int(np.flatnonzero(plan_area == 0)[0])
+        raise GridError(f"make_layered_grid: areal cell {c} has zero area in plan view")
+    flip = plan_area < 0
+    if flip.any() and not flip.all():
+        raise GridError("make_layered_grid: the areal grid folds over itself in plan view")
+    reverse = bool(flip[0])
+    if reverse:  # orient cycles counter-clockwise in (x, y): top-face normals point down
+        local = np.arange(cyc.size) - pos2[owner]
+        cyc = cyc[pos2[owner] + (np.diff(pos2)[owner] - 1 - local)]
+    return pos2, cyc, reverse
+
+
+def _faces(grid: Grid, pos2, cyc, reverse: bool, nl: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The faces' node offsets, nodes and neighbours: the layer interfaces, then the lateral faces."""
+    nn2, nc2, nf2 = grid.num_nodes, grid.num_cells, grid.num_faces
+    k_nodes = np.arange(nl + 1)[:, None] * nn2
+    # Layer-interface faces.
+    h_nodes = (cyc[None, :] + k_nodes).ravel()
+    h_count = np.tile(np.diff(pos2), nl + 1)
+    cell_id = np.arange(nc2)
+    upper = np.concatenate([np.full(nc2, -1), (np.arange(nl)[:, None] * nc2 + cell_id).ravel()])
+    lower = np.concatenate([(np.arange(nl)[:, None] * nc2 + cell_id).ravel(), np.full(nc2, -1)])
+
+    # Lateral faces.
+    e = grid.faces.nodes.reshape(-1, 2)
+    if reverse:
+        e = e[:, ::-1]
+    k_lat = np.arange(nl)[:, None]
+    n0 = e[None, :, 0] + k_lat * nn2
+    n1 = e[None, :, 1] + k_lat * nn2
+    l_nodes = np.stack([n0, n1, n1 + nn2, n0 + nn2], axis=-1).reshape(-1)
+    nb2 = grid.faces.neighbors
+    l_nb = np.where(nb2[None, :, :] >= 0, nb2[None, :, :] + k_lat[:, :, None] * nc2, -1).reshape(-1, 2)
+
+    neighbors = np.concatenate([np.column_stack([upper, lower]), l_nb])
+    node_pos = offsets(np.concatenate([h_count, np.full(nl * nf2, 4)]))
+    face_nodes = np.concatenate([h_nodes, l_nodes])
+    return node_pos, face_nodes, neighbors
+
+
+def _cell_faces(grid: Grid, nl: int, n_h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Every cell's faces (top, bottom, then the lateral faces in increasing face order) and their
+    half-face tags (None if the areal grid has none)."""
+    nc2, nf2 = grid.num_cells, grid.num_faces
+    cell_id = np.arange(nc2)
+    hc2 = repeat_ids(grid.cells.face_pos)
+    order2 = np.lexsort((grid.cells.faces, hc2))
+    k_cells = np.arange(nl)
+    face_pos = offsets(np.tile(grid.cells.num_faces + 2, nl))
+    starts = face_pos[:-1]
+    tops = (k_cells[:, None] * nc2 + cell_id).ravel()
+    cell_faces = np.empty(int(face_pos[-1]), dtype=np.int64)
+    cell_faces[starts] = tops
+    cell_faces[starts + 1] = tops + nc2
+    owner_lat = np.tile(hc2, nl) + np.repeat(k_cells, hc2.size) * nc2
+    slot_lat = face_pos[owner_lat] + 2 + np.tile(np.arange(hc2.size) - grid.cells.face_pos[hc2], nl)
+    cell_faces[slot_lat] = (n_h + k_cells[:, None] * nf2 + grid.cells.faces[order2][None, :]).ravel()
+
+    face_tag = None
+    if grid.cells.face_tag is not None:
+        face_tag = np.empty(cell_faces.size, dtype=np.int8)
+        face_tag[starts] = T
+        face_tag[starts + 1] = B
+        face_tag[slot_lat] = np.tile(grid.cells.face_tag[order2], nl)
+    return face_pos, cell_faces, face_tag
 
 
 def _interface_depths(num_layers, thickness, depths, top, nn2) -> np.ndarray:

@@ -10,7 +10,6 @@ from gridlib.cornerpoint import FaultTrace, Horizon
 from gridlib.horizons import (
     HorizonCrossingError,
     Surface,
-    build_horizons,
     fault_blocks,
     find_crossings,
     horizon_dataset,
@@ -19,10 +18,13 @@ from gridlib.horizons import (
     order_horizons,
     peaks,
     plane,
+    to_horizons,
+)
+from gridlib.io.horizon_files import (
+    build_horizons,
     read_horizons,
     read_points,
     read_surface_netcdf,
-    to_horizons,
     write_horizons,
 )
 from gridlib.io.irap import IRAP_UNDEFINED, read_irap, write_irap

@@ -1,7 +1,7 @@
 """``horizons_to_grdecl``: a corner-point deck between gridded horizons, with faults.
 
 In the spirit of MRST's ``convertHorizonsToGrid`` (MRST book §3.5, Figs. 3.18 and
-3.19), written from the description in ALGORITHMS.md §4:
+3.19); ``docs/pillar-grids.md`` says how the resulting deck becomes a grid:
 
 * every horizon is a depth map on its own rectilinear mesh; the grid covers the
   smallest rectangle holding all of them, meshed with ``dims`` cells and
@@ -18,7 +18,7 @@ In the spirit of MRST's ``convertHorizonsToGrid`` (MRST book §3.5, Figs. 3.18 a
   displaced by its throw; the pillars on the trace then carry different depths
   on its two sides, which is what a fault is in a corner-point grid. The faults
   are recorded as FAULTS segments so that ``process_grdecl`` tags their faces by
-  name. (The displacement rules live in ``gridlib.stratigraphic.faults``, shared
+  name. (The displacement rules live in ``gridlib.stratigraphic.fault_traces``, shared
   with the 2.5D front end ``gridlib.stratigraphic.extrude``.)
 
 Units are metres; z is depth, positive downwards.
@@ -26,46 +26,20 @@ Units are metres; z is depth, positive downwards.
 
 from __future__ import annotations
 
-import numbers
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..stratigraphic.faults import FaultTrace, fault_displacement
+from ..stratigraphic.fault_traces import FaultTrace, fault_displacement
+from ..stratigraphic.horizon_maps import Horizon, check_horizon, interpolate_horizon
+from ..stratigraphic.ordering import ORDERINGS, order_depths
+from ..stratigraphic.zones import check_layers, is_integer, layer_levels
 from .deck import Deck, FaultSegment
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
-
-ORDERINGS = ("error", "erode", "onlap")
-
-
-@dataclass(frozen=True, eq=False)
-class Horizon:
-    """A depth map on a rectilinear mesh (m; z is depth, positive down, NaN = undefined).
-
-    ``x`` and ``y`` are either the 1-D axes (then ``z[j, i]`` is the depth at
-    ``(x[i], y[j])``) or 2-D meshgrid arrays of ``z``'s shape, with x varying
-    along one axis and y along the other (MATLAB's ``meshgrid``/``peaks`` or
-    ``ndgrid`` layout). The arrays are copied; they are checked by
-    :func:`horizons_to_grdecl`, which can name the horizon at fault.
-    """
-
-    x: NDArray[np.float64]
-    y: NDArray[np.float64]
-    z: NDArray[np.float64]
-
-    def __post_init__(self) -> None:
-        for name in ("x", "y", "z"):
-            try:
-                arr = np.array(getattr(self, name), dtype=np.float64)
-            except (TypeError, ValueError) as exc:
-                raise InputError(f"Horizon: {name} is not an array of numbers ({exc})") from exc
-            arr.flags.writeable = False
-            object.__setattr__(self, name, arr)
 
 
 def horizons_to_grdecl(
@@ -150,11 +124,30 @@ def horizons_to_grdecl(
     """
     surfaces = _check_horizons(horizons)
     n_zones = len(surfaces) - 1
-    nlay = _check_layers(layers, n_zones)
+    nlay = check_layers(layers, n_zones)
     if ordering not in ORDERINGS:
         raise InputError(
             f"horizons_to_grdecl: ordering must be one of {', '.join(ORDERINGS)}, got {ordering!r}"
         )
+    box, px, py = _pillar_lattice(surfaces, dims)
+    nx, ny = px.size - 1, py.size - 1
+    PX, PY = np.meshgrid(px, py)  # (ny + 1, nx + 1), i fastest
+
+    H = np.stack([_interpolate(xa, ya, z, px, py) for xa, ya, z in surfaces])
+    notes: list[str] = []
+    H = order_depths(H, ordering, PX, PY, notes)
+
+    Zn = layer_levels(H, nlay)  # node depths (nz + 1, ny + 1, nx + 1): proportional layers per zone
+    nz = Zn.shape[0] - 1
+    zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
+    segments = _apply_faults(faults, zc, PX, PY, box, notes) if faults else []
+    return _deck(zc, PX, PY, box, segments, notes)
+
+
+def _pillar_lattice(surfaces, dims) -> tuple[tuple[float, float, float, float], np.ndarray, np.ndarray]:
+    """The grid's rectangle (xmin, xmax, ymin, ymax), the smallest holding every horizon's box, and
+    the pillars' x (nx + 1,) and y (ny + 1,) axes meshing it with ``dims`` cells (default: the most
+    nodes of any horizon along each axis, minus one)."""
     xmin = min(s[0][0] for s in surfaces)
     xmax = max(s[0][-1] for s in surfaces)
     ymin = min(s[1][0] for s in surfaces)
@@ -164,44 +157,34 @@ def horizons_to_grdecl(
         ny = max(s[1].size for s in surfaces) - 1
     else:
         nx, ny = _check_dims(dims)
-    px = np.linspace(xmin, xmax, nx + 1)
-    py = np.linspace(ymin, ymax, ny + 1)
-    PX, PY = np.meshgrid(px, py)  # (ny + 1, nx + 1), i fastest
+    return (xmin, xmax, ymin, ymax), np.linspace(xmin, xmax, nx + 1), np.linspace(ymin, ymax, ny + 1)
 
-    H = np.stack([_interpolate(xa, ya, z, px, py) for xa, ya, z in surfaces])
-    notes: list[str] = []
-    H = _order(H, ordering, PX, PY, notes)
 
-    # Node depths (nz + 1, ny + 1, nx + 1): proportional layers in every zone.
-    levels = []
-    for h in range(n_zones):
-        t = np.arange(nlay[h]) / nlay[h]
-        lev = H[h][None] + t[:, None, None] * (H[h + 1] - H[h])[None]
-        lev[0] = H[h]  # exactly the horizon, even where the next one is undefined
-        levels.append(lev)
-    levels.append(H[-1][None])
-    Zn = np.concatenate(levels)
-    nz = Zn.shape[0] - 1
-    zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
-
+def _apply_faults(faults, zc: np.ndarray, PX, PY, box, notes: list[str]) -> list[FaultSegment]:
+    """Displace the corners ``zc`` (2 nz, 2 ny, 2 nx) of the hanging wall of every fault, in place;
+    the FAULTS segments of the cell edges each offsets."""
+    if isinstance(faults, FaultTrace):
+        raise InputError("horizons_to_grdecl: faults must be a sequence of FaultTrace, got one FaultTrace")
+    nz, ny, nx = (n // 2 for n in zc.shape)
     segments: list[FaultSegment] = []
-    if faults:
-        if isinstance(faults, FaultTrace):
-            raise InputError(
-                "horizons_to_grdecl: faults must be a sequence of FaultTrace, got one FaultTrace"
-            )
-        box = (xmin, xmax, ymin, ymax)
-        for f, trace in enumerate(faults):
-            if not isinstance(trace, FaultTrace):
-                raise InputError(f"faults[{f}]: expected a FaultTrace, got {type(trace).__name__}")
-            name = trace.name if trace.name is not None else f"F{f + 1}"
-            disp = _fault_displacement(trace, f, name, PX, PY, box)
-            zc += disp.transpose(0, 2, 1, 3).reshape(2 * ny, 2 * nx)[None]
-            segs = _fault_segments(disp, name, nz)
-            if not segs:
-                notes.append(f"fault '{name}' offsets no cell edge of the grid")
-            segments += segs
+    for f, trace in enumerate(faults):
+        if not isinstance(trace, FaultTrace):
+            raise InputError(f"faults[{f}]: expected a FaultTrace, got {type(trace).__name__}")
+        name = trace.name if trace.name is not None else f"F{f + 1}"
+        disp = _fault_displacement(trace, f, name, PX, PY, box)
+        zc += disp.transpose(0, 2, 1, 3).reshape(2 * ny, 2 * nx)[None]
+        segs = _fault_segments(disp, name, nz)
+        if not segs:
+            notes.append(f"fault '{name}' offsets no cell edge of the grid")
+        segments += segs
+    return segments
 
+
+def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list[str]) -> Deck:
+    """The deck of the corners ``zc``: cells with an undefined corner inactive, vertical pillars
+    through the pillar nodes spanning every defined depth."""
+    nz, ny, nx = (n // 2 for n in zc.shape)
+    xmin, xmax, ymin, ymax = box
     with np.errstate(invalid="ignore"):
         active = np.isfinite(zc).reshape(nz, 2, ny, 2, nx, 2).all(axis=(1, 3, 5))
     if not active.any():
@@ -236,69 +219,17 @@ def _corner_index(n: int) -> np.ndarray:
     return np.arange(1, 2 * n + 1) // 2
 
 
-def _is_int(v: Any) -> bool:
-    """An integer value: an int (not a bool) or an integral float, numpy's included."""
-    if isinstance(v, bool | np.bool_):
-        return False
-    if isinstance(v, numbers.Integral):
-        return True
-    return isinstance(v, numbers.Real) and float(v).is_integer()
-
-
 def _check_dims(dims: Sequence[int]) -> tuple[int, int]:
     try:
         d = tuple(dims)
     except TypeError:
         d = (dims,)
-    if len(d) != 2 or not all(_is_int(v) for v in d):
+    if len(d) != 2 or not all(is_integer(v) for v in d):
         raise InputError(f"horizons_to_grdecl: dims must be two positive integers (nx, ny), got {dims!r}")
     nx, ny = (int(v) for v in d)
     if min(nx, ny) < 1:
         raise InputError(f"horizons_to_grdecl: dims must be positive, got {dims!r}")
     return nx, ny
-
-
-def _check_layers(layers: int | Sequence[int], n_zones: int, who: str = "horizons_to_grdecl") -> list[int]:
-    what = f"{who}: layers must be a positive integer or one per zone ({n_zones} zones)"
-    if _is_int(layers):
-        values = [int(layers)] * n_zones  # type: ignore[arg-type]
-    else:
-        try:
-            values = list(layers)  # type: ignore[arg-type]
-        except TypeError:
-            raise InputError(f"{what}, got {layers!r}") from None
-        if len(values) != n_zones:
-            raise InputError(f"{what}, got {len(values)} values: {layers!r}")
-        if not all(_is_int(v) for v in values):
-            raise InputError(f"{what}, got {layers!r}")
-        values = [int(v) for v in values]
-    bad = [z for z, v in enumerate(values) if v < 1]
-    if bad:
-        raise InputError(f"{what}; zone {bad[0]} has {values[bad[0]]}")
-    return values
-
-
-def _field(h: Any, key: str, index: int) -> Any:
-    if isinstance(h, Mapping):
-        if key not in h:
-            raise InputError(f"horizon {index}: missing '{key}' (a horizon needs x, y and z)")
-        return h[key]
-    if not hasattr(h, key):
-        raise InputError(
-            f"horizon {index}: {type(h).__name__} has no '{key}' (a horizon needs x, y and z: "
-            "a Horizon or a mapping)"
-        )
-    return getattr(h, key)
-
-
-def _axis(a: np.ndarray, name: str, index: int) -> tuple[np.ndarray, bool]:
-    """A strictly monotone axis as increasing, and whether it was reversed."""
-    d = np.diff(a)
-    if np.all(d > 0):
-        return a, False
-    if np.all(d < 0):
-        return a[::-1], True
-    raise InputError(f"horizon {index}: {name} is not strictly monotone (values must increase or decrease)")
 
 
 def _check_horizons(horizons: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
@@ -313,65 +244,6 @@ def _check_horizons(horizons: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndar
     return [check_horizon(hz, h) for h, hz in enumerate(horizons)]
 
 
-def check_horizon(hz: Any, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One gridded horizon (a :class:`Horizon`, a mapping or an object with ``x``, ``y``, ``z``)
-    as an increasing x axis (nx,), an increasing y axis (ny,) and depths z[j, i] (ny, nx);
-    errors name it ``horizon {h}``."""
-    arrays = {}
-    for key in ("x", "y", "z"):
-        try:
-            arrays[key] = np.asarray(_field(hz, key, h), dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"horizon {h}: {key} is not an array of numbers ({exc})") from exc
-    x, y, z = arrays["x"], arrays["y"], arrays["z"]
-    if z.ndim != 2 or min(z.shape) < 2:
-        raise InputError(f"horizon {h}: z must be a 2-D array of at least 2 x 2 nodes, got shape {z.shape}")
-    if x.ndim != y.ndim or x.ndim not in (1, 2):
-        raise InputError(
-            f"horizon {h}: x and y must both be 1-D axes or both 2-D mesh arrays, "
-            f"got shapes {x.shape} and {y.shape}"
-        )
-    if not (np.isfinite(x).all() and np.isfinite(y).all()):
-        raise InputError(f"horizon {h}: x and y must be finite")
-    if x.ndim == 1:
-        if z.shape != (y.size, x.size):
-            raise InputError(
-                f"horizon {h}: z has shape {z.shape}, expected (len(y), len(x)) = ({y.size}, {x.size})"
-            )
-        xa, ya = x, y
-    else:
-        if x.shape != z.shape or y.shape != z.shape:
-            raise InputError(
-                f"horizon {h}: x, y and z must have the same shape, got {x.shape}, {y.shape} and {z.shape}"
-            )
-        tol = 1e-10 * max(1.0, float(np.abs(x).max()), float(np.abs(y).max()))
-
-        def const(a: np.ndarray, axis: int, tol: float = tol) -> bool:
-            ref = a[:1, :] if axis == 0 else a[:, :1]
-            return bool(np.all(np.abs(a - ref) <= tol))
-
-        if const(x, 0) and const(y, 1) and not const(x, 1):  # meshgrid layout: x along columns
-            xa, ya = x[0], y[:, 0]
-        elif const(x, 1) and const(y, 0) and not const(x, 0):  # ndgrid layout: x along rows
-            xa, ya, z = x[:, 0], y[0], z.T
-        else:
-            raise InputError(
-                f"horizon {h}: x and y are not a rectilinear mesh (x must be constant along one "
-                "axis and y along the other, as meshgrid gives)"
-            )
-    xa, flip_x = _axis(xa, "x", h)
-    ya, flip_y = _axis(ya, "y", h)
-    if flip_x:
-        z = z[:, ::-1]
-    if flip_y:
-        z = z[::-1, :]
-    if np.isinf(z).any():
-        raise InputError(f"horizon {h}: z has infinite values (use NaN for undefined depths)")
-    if np.isnan(z).all():
-        raise InputError(f"horizon {h}: z is undefined (NaN) everywhere")
-    return np.ascontiguousarray(xa), np.ascontiguousarray(ya), np.ascontiguousarray(z)
-
-
 # --------------------------------------------------------------------------- horizons
 
 
@@ -382,73 +254,12 @@ def _interpolate(xa: np.ndarray, ya: np.ndarray, z: np.ndarray, px: np.ndarray, 
     return interpolate_horizon(xa, ya, z, QX, QY)
 
 
-def interpolate_horizon(xa: np.ndarray, ya: np.ndarray, z: np.ndarray, qx: np.ndarray, qy: np.ndarray):
-    """Bilinear depths of the horizon (``check_horizon``'s axes and z) at the points (qx, qy), any
-    shape; NaN outside its box (round-off at the box edges counts as inside) and wherever one of
-    its NaN nodes has a non-zero weight."""
-    from scipy.interpolate import RegularGridInterpolator  # slow to import (0.5 s): only when used
-
-    undefined = np.isnan(z)
-    values = np.stack([np.where(undefined, 0.0, z), undefined.astype(np.float64)], axis=-1)
-    interp = RegularGridInterpolator((ya, xa), values, method="linear", bounds_error=False, fill_value=np.nan)
-
-    def snap(p: np.ndarray, a: np.ndarray) -> np.ndarray:  # round-off at the box edges counts as inside
-        tol = 1e-10 * (a[-1] - a[0])
-        p = np.where((p < a[0]) & (p >= a[0] - tol), a[0], p)
-        return np.where((p > a[-1]) & (p <= a[-1] + tol), a[-1], p)
-
-    out = interp(np.stack([snap(qy, ya), snap(qx, xa)], axis=-1))
-    return np.where(out[..., 1] > 0, np.nan, out[..., 0])
-
-
-def _order(
-    H: np.ndarray,
-    ordering: str,
-    PX: np.ndarray,
-    PY: np.ndarray,
-    notes: list[str],
-    who: str = "horizons_to_grdecl",
-    where: str = "pillar nodes",
-) -> np.ndarray:
-    """Check or repair the depth order of the horizons at the pillar nodes (ALGORITHMS.md §4);
-    ``who`` and ``where`` name the caller and the points in messages."""
-    defined = np.isfinite(H)
-    with np.errstate(invalid="ignore"):
-        crossing = defined[1:] & defined[:-1] & (H[1:] < H[:-1])
-    if ordering == "error":
-        if crossing.any():
-            parts = []
-            for h in np.flatnonzero(crossing.reshape(crossing.shape[0], -1).any(axis=1)):
-                first = int(np.flatnonzero(crossing[h])[0])
-                parts.append(
-                    f"horizons {h} and {h + 1} cross at {int(crossing[h].sum())} {where} "
-                    f"(horizon {h + 1} above horizon {h}), first at (x, y) = "
-                    f"({PX.flat[first]:g}, {PY.flat[first]:g})"
-                )
-            raise InputError(f"{who}: " + "; ".join(parts) + "; pass ordering='erode' or 'onlap' to repair")
-        return H
-    if ordering == "erode":  # younger wins: top-down running maximum over the defined horizons
-        fixed = np.fmax.accumulate(H, axis=0)
-    else:  # onlap, older wins: bottom-up running minimum
-        fixed = np.fmin.accumulate(H[::-1], axis=0)[::-1]
-    fixed = np.where(defined, fixed, np.nan)
-    changed = defined & (fixed != H)
-    if changed.any():
-        for h in np.flatnonzero(changed.reshape(changed.shape[0], -1).any(axis=1)):
-            notes.append(
-                f"ordering='{ordering}': horizon {h} was moved to the "
-                f"{'horizon above' if ordering == 'erode' else 'horizon below'} it at "
-                f"{int(changed[h].sum())} {where}"
-            )
-    return fixed
-
-
 # --------------------------------------------------------------------------- faults
 
 
 def _fault_displacement(trace: FaultTrace, index: int, name: str, PX, PY, box) -> np.ndarray:
     """Downward displacement of every cell corner (ny, nx, 2, 2) = [j, i, b, a] by one fault
-    (:func:`~gridlib.stratigraphic.faults.fault_displacement` on the pillar lattice)."""
+    (:func:`~gridlib.stratigraphic.fault_traces.fault_displacement` on the pillar lattice)."""
     xmin, xmax, ymin, ymax = box
     verts = trace.points
     ny, nx = PX.shape[0] - 1, PX.shape[1] - 1

@@ -1,5 +1,6 @@
 """``process_grdecl``: a corner-point deck to an unstructured grid (the pillar engine's
-Cartesian front end; ALGORITHMS.md §1).
+Cartesian front end; ``docs/pillar-grids.md`` describes the engine, its pinch-outs, zero-area
+faces and the two volume conventions).
 
 Steps, all vectorised over cells, corners and pillar pairs:
 
@@ -11,7 +12,7 @@ Steps, all vectorised over cells, corners and pillar pairs:
 3. the distinct depths on every pillar are numbered (``tolerance`` > 0 rounds
    them to multiples of it first) and corners become integer ranks; depths
    equal up to rounding (within the pillar's depth resolution, 64 units in the
-   last place of its largest depth: :mod:`~gridlib.stratigraphic.points`) are
+   last place of its largest depth: :mod:`~gridlib.stratigraphic.pillar_points`) are
    one point, so that the exact rank tests never make a face of zero area
    (nodes collinear up to rounding) nor a connection between cells that do
    not touch;

@@ -1,30 +1,32 @@
 """Horizons: depth surfaces from points, grids or formulas, per fault block, ordered, as a Dataset.
 
-The horizons stage of a case (ALGORITHMS.md §4): every horizon becomes a depth
+The horizons stage of a case: every horizon becomes a depth
 map on one areal lattice, the stack is checked or repaired so that depths never
 decrease downwards, and the result is an :class:`xarray.Dataset` with dims
 ``(horizon, y, x)`` written as ``horizons.nc``. Each horizon of it is a
-:class:`~gridlib.cornerpoint.horizons.Horizon` for ``horizons_to_grdecl``
-(:func:`to_horizons`).
+:class:`~gridlib.stratigraphic.horizon_maps.Horizon` for ``horizons_to_grdecl``
+(:func:`to_horizons`). Files are read and written by :mod:`gridlib.io.horizon_files`
+(and :mod:`gridlib.io.irap`), which sit above this package.
 
 Conventions: x, y and z in metres; **z is depth, positive downwards**; NaN means
 undefined (no data there). A lattice is given by its increasing 1-D axes ``x``
 (nx,) and ``y`` (ny,) and maps are ``z[j, i]`` at ``(x[i], y[j])``.
 
-Picks of already-faulted surfaces (the throw is in them): ``build_horizons(...,
-faults=..., per_block=True)`` interpolates every fault block from its own picks
+Picks of already-faulted surfaces (the throw is in them):
+:func:`gridlib.io.horizon_files.build_horizons` with ``faults=...,
+per_block=True`` interpolates every fault block from its own picks
 over the whole lattice, and :func:`horizons_to_grdecl_by_block` gives each
 corner-point cell the corners of its own block, so the offset is exact at the
 trace (:mod:`.by_block`).
 
 Inputs
 ------
-* scattered picks: :func:`read_points` (CSV or whitespace x y z text), then
+* scattered picks: :func:`~gridlib.io.horizon_files.read_points` (CSV or whitespace x y z text), then
   :func:`interpolate_points` (onto a lattice) or :func:`interpolate_points_at`
   (at any points, e.g. the areal nodes of a PEBI grid);
 * gridded surfaces: :class:`Surface` (a regular, possibly rotated lattice), read
   from IRAP classic ASCII (:func:`gridlib.io.irap.read_irap`) or netCDF
-  (:func:`read_surface_netcdf`) and resampled with :meth:`Surface.sample`;
+  (:func:`~gridlib.io.horizon_files.read_surface_netcdf`) and resampled with :meth:`Surface.sample`;
 * formulas: :func:`plane` (dip and azimuth), :func:`dome`, :func:`peaks`
   (MATLAB's, as in the MRST book's ``convertHorizonsToGrid`` example).
 
@@ -88,13 +90,12 @@ negative. Never by sorting, which moves volume between zones.
 from ._constants import EXTRAPOLATIONS, METHODS, ORDERINGS
 from .analytic import dome, peaks, plane
 from .blocks import FaultBlocks, fault_blocks
-from .build import build_horizons
+from .build import HorizonSource, check_lattice, horizons_from_sources
 from .by_block import block_horizons, horizons_to_grdecl_by_block
-from .dataset import horizon_dataset, read_horizons, to_horizons, write_horizons
+from .dataset import horizon_dataset, to_horizons
 from .interpolate import interpolate_points, interpolate_points_at
-from .lattice import Surface, read_surface_netcdf
 from .ordering import Crossing, HorizonCrossingError, find_crossings, order_horizons
-from .points import read_points
+from .surface import Surface
 
 __all__ = [
     "EXTRAPOLATIONS",
@@ -103,22 +104,20 @@ __all__ = [
     "Crossing",
     "FaultBlocks",
     "HorizonCrossingError",
+    "HorizonSource",
     "Surface",
     "block_horizons",
-    "build_horizons",
+    "check_lattice",
     "dome",
     "fault_blocks",
     "find_crossings",
     "horizon_dataset",
+    "horizons_from_sources",
     "horizons_to_grdecl_by_block",
     "interpolate_points",
     "interpolate_points_at",
     "order_horizons",
     "peaks",
     "plane",
-    "read_horizons",
-    "read_points",
-    "read_surface_netcdf",
     "to_horizons",
-    "write_horizons",
 ]

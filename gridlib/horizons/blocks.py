@@ -10,9 +10,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..cornerpoint.horizons import FaultTrace
 from ..errors import InputError
 from ..grid import FloatArray
+from ..stratigraphic.fault_traces import FaultTrace
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,7 +64,7 @@ class FaultBlocks:
         return ids.reshape(px.shape)
 
 
-def _extent(*coords: ArrayLike) -> tuple[float, float, float, float]:
+def bounding_box(*coords: ArrayLike) -> tuple[float, float, float, float]:
     """The bounding box (xmin, xmax, ymin, ymax) of x, y arrays given in pairs; a degenerate side is
     widened by 1e-9 of the other (or by 1 m)."""
     xs = np.concatenate([np.ravel(c) for c in coords[0::2]])

@@ -26,8 +26,10 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..cornerpoint.deck import Deck
-from ..cornerpoint.horizons import FaultTrace, Horizon, horizons_to_grdecl
+from ..cornerpoint.horizons import horizons_to_grdecl
 from ..errors import InputError
+from ..stratigraphic.fault_traces import FaultTrace
+from ..stratigraphic.horizon_maps import Horizon
 from .blocks import FaultBlocks, fault_blocks
 
 

@@ -3,19 +3,17 @@
 from __future__ import annotations
 
 import json
-import os
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..cornerpoint.horizons import Horizon
+from .. import __version__
 from ..errors import InputError
-from ..io._dataset import load_dataset, save_dataset
-from .ordering import _names, _stack, order_horizons
+from ..stratigraphic.horizon_maps import Horizon
+from .ordering import depth_stack, horizon_names, order_horizons
 
 
 def horizon_dataset(
@@ -42,12 +40,10 @@ def horizon_dataset(
     >>> ds.depth.dims, ds.depth.attrs["units"], [h.z[0, 0] for h in to_horizons(ds)]
     (('horizon', 'y', 'x'), 'm', [np.float64(1000.0), np.float64(1020.0)])
     """
-    from .. import __version__
-
-    H, xa, ya = _stack(np.asarray(depth, dtype=np.float64), x, y)
+    H, xa, ya = depth_stack(np.asarray(depth, dtype=np.float64), x, y)
     if H.shape[0] < 1:
         raise InputError("horizons: the stack is empty")
-    label = _names(names, H.shape[0])
+    label = horizon_names(names, H.shape[0])
     for k in range(H.shape[0]):
         if np.isnan(H[k]).all():
             raise InputError(f"horizon '{label[k]}': undefined (NaN) everywhere on the lattice")
@@ -95,28 +91,6 @@ def horizon_dataset(
             value = json.dumps(value)
         ds_attrs[str(key)] = value
     return xr.Dataset(data, coords=coords, attrs=ds_attrs)
-
-
-def write_horizons(path: str | os.PathLike, ds: xr.Dataset) -> Path:
-    """Write a horizons Dataset (:func:`horizon_dataset`) as netCDF-4, atomically (``horizons.nc``)."""
-    if "depth" not in ds or ds["depth"].dims != ("horizon", "y", "x"):
-        raise InputError(f"{path}: write_horizons needs a Dataset with depth (horizon, y, x)")
-    encoding = {"depth": {"_FillValue": np.nan}}
-    if "block" in ds:
-        encoding["block"] = {"_FillValue": None}
-    return save_dataset(path, ds, encoding)
-
-
-def read_horizons(path: str | os.PathLike) -> xr.Dataset:
-    """Read a ``horizons.nc`` written by :func:`write_horizons` (checked: depth (horizon, y, x))."""
-    p = Path(path)
-    ds = load_dataset(p)
-    if "depth" not in ds or ds["depth"].dims != ("horizon", "y", "x"):
-        raise InputError(f"{p}: not a horizons file (needs a variable depth over (horizon, y, x))")
-    for key in ("x", "y", "horizon"):
-        if key not in ds.coords:
-            raise InputError(f"{p}: not a horizons file (coordinate '{key}' is missing)")
-    return ds
 
 
 def to_horizons(ds: xr.Dataset) -> list[Horizon]:

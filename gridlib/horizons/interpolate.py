@@ -11,15 +11,9 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ._constants import EXTRAPOLATIONS, METHODS, RBF_GLOBAL_MAX, RBF_NEIGHBORS
-from .blocks import _extent, fault_blocks
+from ._constants import EXTRAPOLATIONS, METHODS, RBF_GLOBAL_MAX, RBF_NEIGHBORS, check_choice
+from .blocks import bounding_box, fault_blocks
 from .rbf import thin_plate_spline
-
-
-def _check_choice(value: Any, choices: Sequence[str], option: str) -> str:
-    if not isinstance(value, str) or value not in choices:
-        raise InputError(f"{option}: unknown value {value!r}; expected one of {', '.join(choices)}")
-    return value
 
 
 def interpolate_points(
@@ -102,8 +96,8 @@ def interpolate_points_at(
     A block with fewer than three non-collinear points gets no values (NaN);
     a result that is NaN everywhere is an :class:`~gridlib.errors.InputError`.
     """
-    method = _check_choice(method, METHODS, f"{name}: method")
-    extrapolation = _check_choice(extrapolation, EXTRAPOLATIONS, f"{name}: extrapolation")
+    method = check_choice(method, METHODS, f"{name}: method")
+    extrapolation = check_choice(extrapolation, EXTRAPOLATIONS, f"{name}: extrapolation")
     if isinstance(smoothing, bool) or not isinstance(smoothing, int | float) or not smoothing >= 0:
         raise InputError(f"{name}: smoothing must be a number >= 0, got {smoothing!r}")
     if smoothing and method != "rbf":
@@ -138,7 +132,7 @@ def interpolate_points_at(
         groups = [(np.arange(pts.shape[0]), np.arange(qx.size), f"{name}")]
     else:
         if extent is None:
-            extent = _extent(pts[:, 0], pts[:, 1], qx, qy)
+            extent = bounding_box(pts[:, 0], pts[:, 1], qx, qy)
         blocks = fault_blocks(faults, extent)
         notes.extend(f"{name}: {n}" for n in blocks.notes)
         p_block = blocks.classify(pts[:, 0], pts[:, 1], on_trace="none")

@@ -10,8 +10,8 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ._constants import ORDERINGS
-from .interpolate import _check_choice
+from ..stratigraphic.ordering import ORDERINGS, repair_order
+from ._constants import check_choice
 
 
 @dataclass(frozen=True)
@@ -54,7 +54,8 @@ def _tributary(a: FloatArray) -> FloatArray:
     return np.concatenate([[d[0] / 2], (d[:-1] + d[1:]) / 2, [d[-1] / 2]])
 
 
-def _names(names: Sequence[str] | None, n: int) -> list[str]:
+def horizon_names(names: Sequence[str] | None, n: int) -> list[str]:
+    """The names of ``n`` horizons: ``names`` checked (distinct, one per horizon) or ``horizon_<k>``."""
     if names is None:
         return [f"horizon_{k}" for k in range(n)]
     out = [str(v) for v in names]
@@ -65,7 +66,8 @@ def _names(names: Sequence[str] | None, n: int) -> list[str]:
     return out
 
 
-def _stack(depth: ArrayLike, x: ArrayLike, y: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+def depth_stack(depth: ArrayLike, x: ArrayLike, y: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """A stack of depth maps (horizons, len(y), len(x)) and its axes as float arrays, checked."""
     H = np.asarray(depth, dtype=np.float64)
     xa, ya = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
     if H.ndim != 3 or H.shape[1:] != (ya.size, xa.size):
@@ -89,8 +91,8 @@ def find_crossings(
     >>> print(find_crossings([1000.0 + 0.02 * X, np.full_like(X, 1010.0)], x, y, ["top", "base"])[0])
     horizons 'top' and 'base' cross at 30 nodes (225000 m2), first at (x, y) = (600, 0), by up to 10 m
     """
-    H, xa, ya = _stack(depth, x, y)
-    label = _names(names, H.shape[0])
+    H, xa, ya = depth_stack(depth, x, y)
+    label = horizon_names(names, H.shape[0])
     defined = np.isfinite(H)
     idx = np.where(defined, np.arange(H.shape[0])[:, None, None], -1)
     last = np.maximum.accumulate(idx, axis=0)  # nearest defined horizon at or above
@@ -138,9 +140,9 @@ def order_horizons(
     >>> float((H[1] - H[0]).min()), notes[0]
     (0.0, "ordering 'erode': horizon 'horizon_1' moved down to a horizon above it at 30 nodes")
     """
-    ordering = _check_choice(ordering, ORDERINGS, "ordering")
-    H, xa, ya = _stack(depth, x, y)
-    label = _names(names, H.shape[0])
+    ordering = check_choice(ordering, ORDERINGS, "ordering")
+    H, xa, ya = depth_stack(depth, x, y)
+    label = horizon_names(names, H.shape[0])
     crossings = find_crossings(H, xa, ya, label)
     if not crossings:
         return H.copy(), ()
@@ -151,15 +153,10 @@ def order_horizons(
             + " (set ordering to 'erode' or 'onlap' to repair)",
             crossings,
         )
-    defined = np.isfinite(H)
-    if ordering == "erode":
-        fixed = np.fmax.accumulate(H, axis=0)
-    else:
-        fixed = np.fmin.accumulate(H[::-1], axis=0)[::-1]
-    fixed = np.where(defined, fixed, np.nan)
+    fixed, moved_nodes = repair_order(H, ordering)
     notes = []
     for k in range(H.shape[0]):
-        moved = int((defined[k] & (fixed[k] != H[k])).sum())
+        moved = int(moved_nodes[k])
         if moved:
             where = "down to a horizon above" if ordering == "erode" else "up to a horizon below"
             notes.append(f"ordering '{ordering}': horizon '{label[k]}' moved {where} it at {moved} nodes")

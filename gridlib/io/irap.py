@@ -29,7 +29,7 @@ Units are those of the file (metres for gridlib); the values are read as they
 are: depth (positive down) unless ``elevation=True`` negates them.
 
 >>> import numpy as np, tempfile, os
->>> from gridlib.horizons import Surface
+>>> from gridlib.horizons.surface import Surface
 >>> s = Surface(np.array([[1000.0, 1001.5, np.nan], [1002.0, 1003.0, 1004.25]]), 0.0, 0.0, 50.0, 25.0)
 >>> path = os.path.join(tempfile.mkdtemp(), "top.irap")
 >>> _ = write_irap(path, s)
@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..horizons.surface import Surface
 from ._atomic import atomic_path
 
 __all__ = ["IRAP_UNDEFINED", "read_irap", "write_irap"]
@@ -73,15 +74,13 @@ def _line_of_token(text: str, index: int) -> int:
     return number if text else 1
 
 
-def read_irap(path: str | os.PathLike, *, elevation: bool = False, name: str | None = None):
-    """Read an IRAP classic ASCII surface into a :class:`~gridlib.horizons.Surface`.
+def read_irap(path: str | os.PathLike, *, elevation: bool = False, name: str | None = None) -> Surface:
+    """Read an IRAP classic ASCII surface into a :class:`~gridlib.horizons.surface.Surface`.
 
     ``elevation``: the file holds elevations (positive up), negated to depths.
     ``name``: the surface's name (default: the file's stem). Every problem is
     an :class:`~gridlib.errors.InputError` naming the file (and the line).
     """
-    from ..horizons import Surface  # the surface model lives with the horizons
-
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: no such file")
@@ -156,7 +155,7 @@ def _is_float(token: str) -> bool:
 
 
 def write_irap(path: str | os.PathLike, surface, *, elevation: bool = False) -> Path:
-    """Write a :class:`~gridlib.horizons.Surface` as IRAP classic ASCII, atomically.
+    """Write a :class:`~gridlib.horizons.surface.Surface` as IRAP classic ASCII, atomically.
 
     NaN nodes are written as 9999900.0; every number as its shortest exact
     repr, six values per line. ``elevation``: write elevations (negated

@@ -16,8 +16,8 @@ import os
 from ..case_grid import CaseGrid, build_case_grid
 from ..checks import check_grid
 from ..config import load_case
-from ..horizons import read_horizons
 from ..io.grdecl import write_grdecl
+from ..io.horizon_files import read_horizons
 from ..units import unit_system
 from .common import log, nnc_variables, write_grid_file
 

@@ -9,7 +9,7 @@ import numpy as np
 from ..build import _axis
 from ..config import load_case
 from ..errors import InputError
-from ..horizons import build_horizons, write_horizons
+from ..io.horizon_files import build_horizons, write_horizons
 from .common import log
 
 

@@ -1,6 +1,6 @@
 """``extrude``: layers between horizons below any areal 2-D grid, with faults, through the pillar engine.
 
-The 2.5D front end of the pillar engine (ALGORITHMS.md §3.4), the twin of
+The 2.5D front end of the pillar engine (``docs/pillar-grids.md``), the twin of
 ``horizons_to_grdecl`` + ``process_grdecl`` for areal grids of any polygons
 (Voronoi/PEBI cells, triangles, quadrilaterals):
 
@@ -14,7 +14,7 @@ The 2.5D front end of the pillar engine (ALGORITHMS.md §3.4), the twin of
   ``layers`` layers, dz = (z_{h+1} - z_h) / n at every pillar; zero-thickness
   layers become collapsed cells, which the engine removes (the cells above and
   below then share a face, a PINCH connection when they are layers apart);
-* :class:`~gridlib.stratigraphic.faults.FaultTrace` s displace the hanging wall
+* :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s displace the hanging wall
   exactly as in ``horizons_to_grdecl``: every areal cell is classified by its
   centre (its centroid, or ``centres``), and the corners of hanging-wall cells
   move down by the throw at their pillar, tapering to tips; the two columns of
@@ -39,20 +39,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..cornerpoint.horizons import (
-    ORDERINGS,
-    Horizon,
-    _check_layers,
-    _order,
-    check_horizon,
-    interpolate_horizon,
-)
 from ..errors import GridError, InputError
+from ..geometry import compute_geometry
 from ..grid import FloatArray, Grid, IntArray
 from ..threads import num_threads
-from .columns import _Corners, _extrude_columns, _Pairs, _pillar_lines
-from .faults import FaultTrace, cell_displacement, fault_displacement
+from .columns import ColumnCorners, PillarPairs, extrude_column_corners, pillar_lines
+from .fault_traces import FaultTrace, cell_displacement, fault_displacement
+from .horizon_maps import Horizon, check_horizon, interpolate_horizon
 from .nnc import NNC
+from .ordering import ORDERINGS, order_depths
+from .zones import check_layers, layer_levels
 
 __all__ = ["ExtrudedGrid", "extrude"]
 
@@ -104,7 +100,7 @@ def extrude(
     horizon must be defined (finite) at every node of the active cells of the
     zones it bounds.
     ``layers``: layers per zone, one int for all or one per zone.
-    ``faults``: :class:`~gridlib.stratigraphic.faults.FaultTrace` s; an end
+    ``faults``: :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s; an end
     point strictly inside the areal grid's domain is a tip.
     ``pillars``: None for vertical pillars through the areal nodes, or
     (n_areal_nodes, 2, 3) straight pillars (top and bottom points, as COORD):
@@ -146,20 +142,20 @@ def extrude(
     if len(horizons) < 2:
         raise InputError(f"extrude: need at least two horizons (top first), got {len(horizons)}")
     n_zones = len(horizons) - 1
-    nlay = _check_layers(layers, n_zones, who="extrude")
+    nlay = check_layers(layers, n_zones, who="extrude")
     nl = sum(nlay)
-    corners = _Corners.of(areal)
+    corners = ColumnCorners.of(areal)
     pos, ring, owner = corners.pos, corners.ring, corners.owner
     nn2, nc2 = areal.num_nodes, areal.num_cells
     xy = areal.nodes.coords[:, :2]
-    lines = _pillar_lines(pillars, nn2)
+    lines = pillar_lines(pillars, nn2)
     act = _active(active, nl, nc2)
     zone_of_layer = np.repeat(np.arange(n_zones), nlay)
     notes: list[str] = []
 
     H = np.stack([_evaluate(hz, h, xy, lines) for h, hz in enumerate(horizons)])
     _check_defined(H, act, zone_of_layer, pos, ring, owner, xy)
-    H = _order(H, ordering, xy[:, 0], xy[:, 1], notes, who="extrude", where="areal nodes")
+    H = order_depths(H, ordering, xy[:, 0], xy[:, 1], notes, who="extrude", where="areal nodes")
     H.flags.writeable = False
 
     etag = np.asarray(areal.faces.tag, dtype=np.int64).copy()
@@ -174,7 +170,7 @@ def extrude(
 
     # The depths go to the engine as a temporary (nothing here keeps them): it drops them, the size
     # of the grid's nodes several times over, once they are ranks. etag and names are then final.
-    r = _extrude_columns(areal, corners, corner_depths(), lines, act, etag, tuple(names), "extrude")
+    r = extrude_column_corners(areal, corners, corner_depths(), lines, act, etag, tuple(names), "extrude")
     grid = r.grid
     zone = zone_of_layer[grid.layering.layer]
     zone.flags.writeable = False
@@ -205,15 +201,7 @@ def _active(active: ArrayLike | None, nl: int, nc2: int) -> np.ndarray:
 def _corner_depths(H: FloatArray, nlay: Sequence[int], ring: IntArray) -> FloatArray:
     """Depths (n_levels, n_corners) of the layer interfaces at every corner: proportional layers in
     every zone, dz = (z_{h+1} - z_h) / n at every pillar (``H``: the horizons at the pillars)."""
-    levels = []
-    for h in range(H.shape[0] - 1):
-        t = np.arange(nlay[h]) / nlay[h]
-        with np.errstate(invalid="ignore"):
-            lev = H[h][None] + t[:, None] * (H[h + 1] - H[h])[None]
-        lev[0] = H[h]  # exactly the horizon
-        levels.append(lev)
-    levels.append(H[-1][None])
-    return np.take(np.concatenate(levels), ring, axis=1)
+    return np.take(layer_levels(H, nlay), ring, axis=1)
 
 
 def _evaluate(hz: Any, h: int, xy: FloatArray, lines: FloatArray | None) -> FloatArray:
@@ -331,8 +319,6 @@ def _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes) ->
     if isinstance(faults, FaultTrace) or not isinstance(faults, Sequence):
         raise InputError(f"extrude: faults must be a sequence of FaultTrace, got {type(faults).__name__}")
     if centres is None:
-        from ..geometry import compute_geometry
-
         centre_xy = compute_geometry(areal).cell_centroids[:, :2]
     else:
         centre_xy = np.asarray(centres, dtype=np.float64)
@@ -341,7 +327,7 @@ def _apply_faults(faults, areal, centres, corners, xy, z, etag, names, notes) ->
                 f"extrude: centres must be ({areal.num_cells}, 2) finite x, y, got shape {centre_xy.shape}"
             )
     # The corners of both columns of every interior edge, on its two nodes.
-    pairs = _Pairs.of(areal, corners, False)
+    pairs = PillarPairs.of(areal, corners, False)
     inner = np.flatnonzero((areal.faces.neighbors >= 0).all(axis=1))
     qa1, qa2 = pairs.q1[0][inner], pairs.q2[0][inner]
     qb1, qb2 = pairs.q1[1][inner], pairs.q2[1][inner]

@@ -17,7 +17,7 @@ All tests run on integer ranks (node ids along a pillar grow with depth):
   zero thickness on both pillars are dropped). This is also the zero-area
   criterion: a piece is degenerate (its corners collinear) exactly when the
   test fails, so none is made. Because depths equal up to rounding are one
-  point (:mod:`~gridlib.stratigraphic.points`), a rounding difference never
+  point (:mod:`~gridlib.stratigraphic.pillar_points`), a rounding difference never
   passes for an overlap or a crossing: a fault whose throw varies along the
   trace and meets another layer's depth at a pillar touches it there, it does
   not leave a triangle of ~1e-33 m² and a connection between cells that do
@@ -132,26 +132,7 @@ def general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz) 
     stride = max_rank + 3  # keys: rank r -> r + 1, sentinel -1 -> 0, big -> max_rank + 2
     A = _side_intervals(cells, 0, n_pairs, big)
     B = _side_intervals(cells, 1, n_pairs, big)
-
-    def key(iv: _Intervals, ranks: IntArray) -> IntArray:
-        return iv.pair * stride + ranks + 1
-
-    lo = np.minimum(
-        np.searchsorted(key(B, B.b1), key(A, A.t1), "right"),
-        np.searchsorted(key(B, B.b2), key(A, A.t2), "right"),
-    )
-    hi = (
-        np.maximum(
-            np.searchsorted(key(B, B.t1), key(A, A.b1), "left"),
-            np.searchsorted(key(B, B.t2), key(A, A.b2), "left"),
-        )
-        - 1
-    )
-    count = np.maximum(hi - lo + 1, 0)
-    ia = np.repeat(np.arange(A.pair.size), count)
-    ib = ragged_arange(lo, count)
-    keep = (A.cell[ia] >= 0) | (B.cell[ib] >= 0)
-    ia, ib = ia[keep], ib[keep]
+    ia, ib = _candidates(A, B, stride)
 
     tA1, bA1, tA2, bA2 = A.t1[ia], A.b1[ia], A.t2[ia], A.b2[ia]
     tB1, bB1, tB2, bB2 = B.t1[ib], B.b1[ib], B.t2[ib], B.b2[ib]
@@ -194,27 +175,7 @@ def general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz) 
         bot = tuple(np.where(a_deeper, lines["bB"][i], lines["bA"][i]) for i in range(2))
         requests.append((slot, no_ov, top, bot))
 
-    first_crossing = points.num_nodes
-    cross_rows, cross_slots, keys = [], [], []
-    for slot, mask, line_l, line_m in requests:
-        rows = np.flatnonzero(mask)
-        la = np.column_stack([line_l[0][rows], line_l[1][rows]])
-        lb = np.column_stack([line_m[0][rows], line_m[1][rows]])
-        swap = (la[:, 0] > lb[:, 0]) | ((la[:, 0] == lb[:, 0]) & (la[:, 1] > lb[:, 1]))
-        first, second = np.where(swap[:, None], lb, la), np.where(swap[:, None], la, lb)
-        keys.append(np.column_stack([pair[rows], first, second]))
-        cross_rows.append(rows)
-        cross_slots.append(np.full(rows.size, slot))
-    keys_all = np.concatenate(keys) if keys else np.zeros((0, 5), np.int64)
-    if keys_all.shape[0]:
-        uniq, inverse = np.unique(keys_all, axis=0, return_inverse=True)
-        inverse = inverse.reshape(-1)
-        slots[np.concatenate(cross_rows), np.concatenate(cross_slots)] = first_crossing + inverse
-        crossing_coords = _crossing_points(uniq[:, 1:3], uniq[:, 3:5], node_xyz)
-        crossing_lines = uniq[:, 1:5].reshape(-1, 2, 2)
-    else:
-        crossing_coords = np.zeros((0, 3))
-        crossing_lines = np.zeros((0, 2, 2), np.int64)
+    crossing_coords, crossing_lines = _crossing_nodes(slots, pair, requests, points.num_nodes, node_xyz)
 
     node_pos, nodes, good = _piece_cycles(slots, reverse[pair])
     mismatch = (tA1 != tB1) | (bA1 != bB1) | (tA2 != tB2) | (bA2 != bB2)
@@ -230,6 +191,55 @@ def general_pieces(cells, n_pairs, pair_p1, pair_p2, reverse, points, node_xyz) 
         crossing_coords,
         crossing_lines,
     )
+
+
+def _candidates(A: _Intervals, B: _Intervals, stride: int) -> tuple[IntArray, IntArray]:
+    """The pairs (ia, ib) of intervals of sides A and B of one pillar pair that may overlap (by their
+    sorted keys ``pair * stride + rank + 1``), with a cell on at least one side."""
+
+    def key(iv: _Intervals, ranks: IntArray) -> IntArray:
+        return iv.pair * stride + ranks + 1
+
+    lo = np.minimum(
+        np.searchsorted(key(B, B.b1), key(A, A.t1), "right"),
+        np.searchsorted(key(B, B.b2), key(A, A.t2), "right"),
+    )
+    hi = (
+        np.maximum(
+            np.searchsorted(key(B, B.t1), key(A, A.b1), "left"),
+            np.searchsorted(key(B, B.t2), key(A, A.b2), "left"),
+        )
+        - 1
+    )
+    count = np.maximum(hi - lo + 1, 0)
+    ia = np.repeat(np.arange(A.pair.size), count)
+    ib = ragged_arange(lo, count)
+    keep = (A.cell[ia] >= 0) | (B.cell[ib] >= 0)
+    return ia[keep], ib[keep]
+
+
+def _crossing_nodes(slots: IntArray, pair: IntArray, requests, first_crossing: int, node_xyz):
+    """The crossing nodes the pieces ask for: ``requests`` are (slot, which pieces, line L, line M),
+    the lines as (node on p1, node on p2). Each distinct crossing of two lines of a pair becomes one
+    node, numbered from ``first_crossing`` and written into ``slots`` (in place); returns their
+    coordinates and their two lines (n, 2, 2)."""
+    cross_rows, cross_slots, keys = [], [], []
+    for slot, mask, line_l, line_m in requests:
+        rows = np.flatnonzero(mask)
+        la = np.column_stack([line_l[0][rows], line_l[1][rows]])
+        lb = np.column_stack([line_m[0][rows], line_m[1][rows]])
+        swap = (la[:, 0] > lb[:, 0]) | ((la[:, 0] == lb[:, 0]) & (la[:, 1] > lb[:, 1]))
+        first, second = np.where(swap[:, None], lb, la), np.where(swap[:, None], la, lb)
+        keys.append(np.column_stack([pair[rows], first, second]))
+        cross_rows.append(rows)
+        cross_slots.append(np.full(rows.size, slot))
+    keys_all = np.concatenate(keys) if keys else np.zeros((0, 5), np.int64)
+    if not keys_all.shape[0]:
+        return np.zeros((0, 3)), np.zeros((0, 2, 2), np.int64)
+    uniq, inverse = np.unique(keys_all, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    slots[np.concatenate(cross_rows), np.concatenate(cross_slots)] = first_crossing + inverse
+    return _crossing_points(uniq[:, 1:3], uniq[:, 3:5], node_xyz), uniq[:, 1:5].reshape(-1, 2, 2)
 
 
 def _crossing_points(line_u: IntArray, line_v: IntArray, xyz: FloatArray) -> FloatArray:

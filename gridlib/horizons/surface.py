@@ -1,19 +1,17 @@
-"""Gridded surfaces: a regular (optionally rotated) lattice of depths, read from netCDF."""
+"""Gridded surfaces: a regular (optionally rotated) lattice of depths (read by :mod:`gridlib.io.irap`
+and :func:`gridlib.io.horizon_files.read_surface_netcdf`)."""
 
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..cornerpoint.horizons import Horizon
 from ..errors import InputError
 from ..grid import FloatArray
-from ..io._dataset import load_dataset
+from ..stratigraphic.horizon_maps import Horizon
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,7 +76,7 @@ class Surface:
         for key, a in (("x", xa), ("y", ya)):
             if a.ndim != 1 or a.size < 1 or not np.isfinite(a).all():
                 raise InputError(f"{label}: {key} must be a finite 1-D axis")
-            incs.append(_regular_increment(a, f"{label}: {key}"))
+            incs.append(regular_increment(a, f"{label}: {key}"))
         return cls(z, float(xa[0]), float(ya[0]), incs[0], incs[1], name=name, source=source)
 
     @property
@@ -169,8 +167,8 @@ def _cell(u: FloatArray, n: int) -> tuple[NDArray[np.int64], FloatArray]:
     return i0, u - i0
 
 
-def _regular_increment(a: FloatArray, label: str) -> float:
-    """The spacing of a regular increasing axis (1.0 for a single node)."""
+def regular_increment(a: FloatArray, label: str) -> float:
+    """The spacing of a regular increasing axis (1.0 for a single node); errors name ``label``."""
     if a.size == 1:
         return 1.0
     d = np.diff(a)
@@ -180,78 +178,3 @@ def _regular_increment(a: FloatArray, label: str) -> float:
     if np.abs(d - inc).max() > 1e-6 * inc:
         raise InputError(f"{label}: is not regularly spaced (spacings {d.min():g} to {d.max():g})")
     return float(inc)
-
-
-def read_surface_netcdf(
-    path: str | os.PathLike,
-    *,
-    variable: str | None = None,
-    horizon: str | int | None = None,
-    elevation: bool = False,
-    name: str | None = None,
-) -> Surface:
-    """A :class:`Surface` from a netCDF grid: a 2-D variable over (y, x) (the last dimension is x)
-    with 1-D coordinate variables of those dimensions, regularly spaced (either direction).
-
-    ``variable``: default ``depth``, else ``z``, else the only 2-D (or 3-D) variable. A
-    variable with a ``horizon`` dimension (a ``horizons.nc``) needs ``horizon`` (a name or an
-    index). ``elevation``: the values are elevations (positive up), negated to depths.
-    """
-    p = Path(path)
-    ds = load_dataset(p)
-    if variable is None:
-        for candidate in ("depth", "z"):
-            if candidate in ds.data_vars:
-                variable = candidate
-                break
-        else:
-            grids = [str(k) for k, v in ds.data_vars.items() if v.ndim >= 2]
-            if len(grids) != 1:
-                raise InputError(
-                    f"{p}: which variable is the surface? pass variable= one of "
-                    f"{', '.join(grids) or '(none)'}"
-                )
-            variable = grids[0]
-    if variable not in ds.data_vars:
-        raise InputError(f"{p}: no variable '{variable}' (has {', '.join(map(str, ds.data_vars)) or 'none'})")
-    da = ds[variable]
-    if "horizon" in da.dims:
-        names = [str(v) for v in ds["horizon"].values] if "horizon" in ds.coords else []
-        if horizon is None:
-            raise InputError(f"{p}: '{variable}' holds several horizons; pass horizon= one of {names}")
-        if isinstance(horizon, str):
-            if horizon not in names:
-                raise InputError(f"{p}: no horizon '{horizon}' (has {', '.join(names)})")
-            da = da.isel(horizon=names.index(horizon))
-        else:
-            if not -da.sizes["horizon"] <= int(horizon) < da.sizes["horizon"]:
-                raise InputError(
-                    f"{p}: horizon index {horizon} out of range ({da.sizes['horizon']} horizons)"
-                )
-            da = da.isel(horizon=int(horizon))
-        label_name = str(horizon) if isinstance(horizon, str) else names[int(horizon)] if names else ""
-    else:
-        label_name = ""
-    if da.ndim != 2:
-        raise InputError(f"{p}: '{variable}' must be 2-D (y, x), has dims {da.dims}")
-    ydim, xdim = da.dims
-    axes = []
-    for dim in (xdim, ydim):
-        if dim not in ds.coords and dim not in ds.variables:
-            raise InputError(f"{p}: dimension '{dim}' of '{variable}' has no coordinate variable")
-        a = np.asarray(ds[dim].values, dtype=np.float64)
-        if a.ndim != 1 or not np.isfinite(a).all():
-            raise InputError(f"{p}: coordinate '{dim}' must be a finite 1-D axis")
-        axes.append(a)
-    x, y = axes
-    z = np.asarray(da.values, dtype=np.float64)
-    if x.size > 1 and x[1] < x[0]:
-        x, z = x[::-1], z[:, ::-1]
-    if y.size > 1 and y[1] < y[0]:
-        y, z = y[::-1], z[::-1, :]
-    if elevation:
-        z = -z
-    label = name if name is not None else (label_name or p.stem)
-    xinc = _regular_increment(x, f"{p}: coordinate '{xdim}'")
-    yinc = _regular_increment(y, f"{p}: coordinate '{ydim}'")
-    return Surface(z, float(x[0]), float(y[0]), xinc, yinc, name=label, source=str(p))
