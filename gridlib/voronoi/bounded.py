@@ -54,11 +54,12 @@ from scipy import sparse
 from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
-from ..connectivity import _cycle_rank, offsets
+from ..connectivity import cycle_rank, offsets
 from ..errors import GridError
 from ..grid import Cells, Faces, Grid, Nodes
+from ..planar import cross2
 from ..reproducible import arctan2
-from .domain import Domain, _cross2
+from .domain import Domain
 from .lattice import Lattice, hybrid_ridges, plain_ridges, splice_ridges
 
 WORK_RADIUS = 5.0  # after the first round, moves are looked at within this many local sizes
@@ -612,11 +613,11 @@ def _cells(coords, faces, neighbors, n, sites, domain: Domain):
     _, cyc = csgraph.connected_components(graph, directed=True, connection="weak")
     pair = np.unique(hc.astype(np.int64) * (nh + 1) + cyc)
     cycles_per_cell = np.bincount(pair // (nh + 1), minlength=n)
-    area_h = 0.5 * _cross2(coords[ha], coords[hb])
+    area_h = 0.5 * cross2(coords[ha], coords[hb])
     if np.any(cycles_per_cell > 1):
         extra = _extra_pieces(np.flatnonzero(cycles_per_cell > 1), hc, ha, cyc, succ, coords, sites, domain)
         return pos, hf, np.bincount(hc, area_h, n), extra
-    rank = _cycle_rank(succ, pos, hc)
+    rank = cycle_rank(succ, pos, hc)
     cell_faces = np.empty(nh, dtype=np.int64)
     cell_faces[pos[hc] + rank] = hf
     areas = np.bincount(hc, area_h, n)

@@ -47,10 +47,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
-from scipy import sparse
-from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
+from ..planar import group_pairs
 from .domain import Domain
 
 SHORT = 0.05  # faces shorter than this fraction of the local size are collapsed
@@ -126,12 +125,7 @@ def collapse_moves(
         va, vb = inv[: va.size], inv[va.size :]
     nv = coords.shape[0]
     # Vertices joined by zero-length ridges are one vertex (co-circular sites).
-    if zero.any():
-        graph = sparse.coo_matrix((np.ones(int(zero.sum())), (va[zero], vb[zero])), shape=(nv, nv))
-        label = csgraph.connected_components(graph, directed=False)[1].astype(np.int64)
-    else:
-        label = np.arange(nv)
-    _, first = np.unique(label, return_index=True)
+    first, label = group_pairs(nv, np.column_stack([va[zero], vb[zero]]))
     gxy = coords[first]
     ga, gb = label[va], label[vb]
     h_ridge = np.minimum(size[cp], size[cq])

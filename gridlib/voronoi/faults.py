@@ -71,9 +71,10 @@ from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
 from ..errors import GridError
+from ..planar import cross2, group_pairs, merge_close_points
 from ..reproducible import arccos, arctan2
 from . import wedges as _wedges
-from .domain import Domain, _cross2
+from .domain import Domain
 
 GROWTH = 0.3  # at most 30 % longer steps per step length away from a short one
 KEY_ANGLE = np.radians(90.0)  # a bend sharper than this (inner angle) is handled as a junction
@@ -309,9 +310,7 @@ def _contract_short_edges(net: _Network, domain: Domain, size: Callable, fractio
         pairs = pairs[gap < np.minimum(reach[pairs[:, 0]], reach[pairs[:, 1]])]
     if pairs.size == 0:
         return net
-    graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(nn, nn))
-    _, label = csgraph.connected_components(graph, directed=False)
-    _, first, new_of = np.unique(label, return_index=True, return_inverse=True)
+    first, new_of = group_pairs(nn, pairs)
     count = np.bincount(new_of)
     merged = np.column_stack([np.bincount(new_of, nodes[:, k]) for k in range(2)]) / count[:, None]
     on_bnd = np.bincount(new_of, net.on_boundary.astype(np.float64)) > 0
@@ -417,11 +416,11 @@ def _clip_polyline(xy: np.ndarray, domain: Domain, label: str) -> list[tuple[np.
 def _ray_hits(origin: np.ndarray, d: np.ndarray, a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:
     """Distances along the unit ray origin + s d (s > tol) to the segments a -> b (inf if missed)."""
     s_vec = b - a
-    den = _cross2(d[None, :], s_vec)
+    den = cross2(d[None, :], s_vec)
     q = a - origin
     with np.errstate(divide="ignore", invalid="ignore"):
-        s = _cross2(q, s_vec) / den
-        u = _cross2(q, d[None, :]) / den
+        s = cross2(q, s_vec) / den
+        u = cross2(q, d[None, :]) / den
     ok = (den != 0) & (s > tol) & (u >= -1e-12) & (u <= 1 + 1e-12)
     return np.where(ok, s, np.inf)
 
@@ -514,12 +513,12 @@ def _split_into_graph(pieces, domain: Domain, spacing, labels) -> _Network:
     s = seg_b[j] - seg_a[j]
     q = seg_a[j] - seg_a[i]
     rl, sl = np.linalg.norm(r, axis=1), np.linalg.norm(s, axis=1)
-    den = _cross2(r, s)
+    den = cross2(r, s)
     par = np.abs(den) <= 1e-12 * rl * sl
     # Collinear overlaps are errors; parallel segments sharing an end point are joined by the nodes.
     if par.any():
         pi_, pj_ = i[par], j[par]
-        off = np.abs(_cross2(q[par], r[par])) / rl[par]
+        off = np.abs(cross2(q[par], r[par])) / rl[par]
         coll = off <= tol
         if coll.any():
             ri = r[par][coll]
@@ -537,8 +536,8 @@ def _split_into_graph(pieces, domain: Domain, spacing, labels) -> _Network:
                 )
     ok = ~par
     i, j, r, s, q, rl, sl, den = i[ok], j[ok], r[ok], s[ok], q[ok], rl[ok], sl[ok], den[ok]
-    t = _cross2(q, s) / den
-    u = _cross2(q, r) / den
+    t = cross2(q, s) / den
+    u = cross2(q, r) / den
     et, eu = tol / rl, tol / sl
     hit = (t >= -et) & (t <= 1 + et) & (u >= -eu) & (u <= 1 + eu)
     i, j, t, u, r, et, eu = i[hit], j[hit], t[hit], u[hit], r[hit], et[hit], eu[hit]
@@ -574,15 +573,7 @@ def _split_into_graph(pieces, domain: Domain, spacing, labels) -> _Network:
     nxt_x[tail] = seg_b[all_seg[tail]]
     e_fault = seg_fault[all_seg]
     pts = np.concatenate([all_x, nxt_x])
-    tree2 = cKDTree(pts)
-    pairs = tree2.query_pairs(tol, output_type="ndarray")
-    npt = pts.shape[0]
-    if pairs.size:
-        graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(npt, npt))
-        _, label = csgraph.connected_components(graph, directed=False)
-    else:
-        label = np.arange(npt)
-    _, first, node_of = np.unique(label, return_index=True, return_inverse=True)
+    first, node_of = merge_close_points(pts, tol)
     nodes = pts[first]
     ea, eb = node_of[: all_x.shape[0]], node_of[all_x.shape[0] :]
     keep = ea != eb
@@ -866,14 +857,7 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     is_tip = np.concatenate([np.zeros(2 * ns_, dtype=bool), np.ones(tip_nodes.size, dtype=bool)])
     # Coinciding inner sites (merged at sharp junctions) become one.
     tiny = 1e-7 * float(slen.min())
-    pairs = cKDTree(all_sites).query_pairs(tiny, output_type="ndarray")
-    ntot = all_sites.shape[0]
-    if pairs.size:
-        graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(ntot, ntot))
-        _, lab = csgraph.connected_components(graph, directed=False)
-    else:
-        lab = np.arange(ntot)
-    _, first, rep = np.unique(lab, return_index=True, return_inverse=True)
+    first, rep = merge_close_points(all_sites, tiny)
     sites = all_sites[first]
     pair_idx = np.column_stack([rep[:ns_], rep[ns_ : 2 * ns_]])
     return FaultSites(
@@ -962,7 +946,7 @@ def _boundary_room(net: _Network, dom: Domain, v: int, u: np.ndarray) -> float:
     for pts, share in ((dom.xy, 1.0), (net.nodes[net.on_boundary], 0.5)):
         rel = pts - x
         along = rel[:, 0] * u[0] + rel[:, 1] * u[1]
-        off = np.abs(_cross2(u[None, :], rel))
+        off = np.abs(cross2(u[None, :], rel))
         ahead = (along > dom.tol) & (off <= 1e-7 * np.maximum(along, dom.tol))
         if ahead.any():
             best = min(best, share * float(along[ahead].min()))

@@ -42,7 +42,8 @@ from scipy.sparse import csgraph
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ..errors import GridError
-from .domain import Domain, _cross2
+from ..planar import circumcentres, cross2
+from .domain import Domain
 
 SQRT3 = np.sqrt(3.0)
 
@@ -75,7 +76,7 @@ def triangulate(pts: np.ndarray, domain: Domain) -> tuple[np.ndarray, np.ndarray
         )
     tri = dl.simplices.astype(np.int64)
     nbr = dl.neighbors.astype(np.int64)
-    orient = _cross2(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    orient = cross2(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
     flip = orient < 0
     if flip.any():
         tri[flip] = tri[flip][:, [0, 2, 1]]
@@ -85,18 +86,6 @@ def triangulate(pts: np.ndarray, domain: Domain) -> tuple[np.ndarray, np.ndarray
         t = int(np.flatnonzero(~np.isfinite(centre).all(axis=1))[0])
         raise GridError(f"pebi_grid: points {tri[t].tolist()} are collinear in a Delaunay triangle")
     return tri, nbr, centre
-
-
-def circumcentres(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    a = xy[tri[:, 0]]
-    b = xy[tri[:, 1]] - a
-    c = xy[tri[:, 2]] - a
-    d = 2.0 * _cross2(b, c)
-    b2, c2 = (b * b).sum(axis=1), (c * c).sum(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ux = (c[:, 1] * b2 - b[:, 1] * c2) / d
-        uy = (b[:, 0] * c2 - c[:, 0] * b2) / d
-    return a + np.column_stack([ux, uy])
 
 
 def edges_of(tri: np.ndarray, nbr: np.ndarray):
