@@ -31,6 +31,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import GridError
 from ..planar import cross2
+from ..reproducible import arctan2
 
 
 def rectangle(xmin: float, ymin: float, xmax: float, ymax: float) -> np.ndarray:
@@ -192,6 +193,20 @@ class Domain:
         u = np.clip((rel * self.edge_unit[edge]).sum(axis=1) / self.edge_len[edge], 0.0, 1.0)
         foot = self.edge_a[edge] + u[:, None] * self.edge_vec[edge]
         return np.linalg.norm(p - foot, axis=1), edge.astype(np.int64), u
+
+    def boundary_rays(self, p: np.ndarray) -> list[float]:
+        """Directions (angles) of the domain boundary leaving a boundary point."""
+        _, edge, u = self.nearest_boundary(p[None, :])
+        e, uu = int(edge[0]), float(u[0])
+        m = self.num_vertices
+        eps = self.tol / self.edge_len[e]
+        if uu <= eps:
+            d1, d2 = self.edge_unit[e], -self.edge_unit[(e - 1) % m]
+        elif uu >= 1 - eps:
+            d1, d2 = self.edge_unit[(e + 1) % m], -self.edge_unit[e]
+        else:
+            d1, d2 = self.edge_unit[e], -self.edge_unit[e]
+        return [float(arctan2(d1[1], d1[0])), float(arctan2(d2[1], d2[0]))]
 
     def perimeter_param(self, edge: np.ndarray, u: np.ndarray) -> np.ndarray:
         return self.cum[edge] + u * self.edge_len[edge]

@@ -2,7 +2,7 @@
 
 The generating points ("sites") are, in this order of precedence:
 
-* **fault sites** (:mod:`.faults`): mirrored pairs along every fault trace, so
+* **fault sites** (:mod:`.fault_sites`): mirrored pairs along every fault trace, so
   that Voronoi edges lie exactly on the trace, plus tip sites beyond free ends;
 * **well sites** (:mod:`.wells`): a centre and radial rings for vertical wells,
   a row of sites along well paths;
@@ -94,11 +94,13 @@ from scipy.spatial import cKDTree
 from ..errors import GridError
 from ..grid import Grid
 from ..reproducible import arctan2
-from . import faults as _faults
 from .bounded import clipped_voronoi
 from .degenerate import CONTRACT, SHORT, Collapse, collapse_moves
 from .domain import Domain
-from .faults import FITTED, Fault
+from .fault_junctions import FITTED
+from .fault_layout import layout, ring_room
+from .fault_network import Fault
+from .fault_sites import FaultSites, build_sites, circle_violations
 from .lattice import Lattice
 from .sites import PADDING, background_sites
 from .size_notes import KIND_NAMES, size_notes
@@ -256,9 +258,9 @@ def pebi_grid(
     faults = list(faults)
     wells = list(wells)
 
-    lay = _faults.layout(faults, dom, size, float(fault_ratio), notes, math.ldexp(1.0, -int(max_refinements)))
+    lay = layout(faults, dom, size, float(fault_ratio), notes, math.ldexp(1.0, -int(max_refinements)))
     fault_labels = lay.net.labels if lay is not None else []
-    room = None if lay is None else (lambda p: _faults.ring_room(lay, p))
+    room = None if lay is None else (lambda p: ring_room(lay, p))
     ws = build_wells(wells, dom, size, room, notes)
     check_clearances(ws)
     back = background_sites(dom, size, constant, pattern, padding, float(boundary_clearance))
@@ -274,7 +276,7 @@ def pebi_grid(
         """Fault sites meeting the empty-circle condition with everything else, the fault steps
         refined where they do not (from round ``attempt`` on)."""
         while True:  # rebuild the fault sites where they conflict
-            fs = _faults.build_sites(lay) if lay is not None else _faults.FaultSites.empty()
+            fs = build_sites(lay) if lay is not None else FaultSites.empty()
             keep = bg_keep.copy()
             if bg_tree is not None and fs.centres.shape[0]:
                 hits = bg_tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
@@ -329,7 +331,7 @@ def pebi_grid(
             """New positions of background sites: outside every fault circle."""
             ok = np.ones(xy.shape[0], dtype=bool)
             if fs.centres.shape[0]:
-                ok[_faults.circle_violations(fs, xy)[1]] = False
+                ok[circle_violations(fs, xy)[1]] = False
             return ok
 
         for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
@@ -366,7 +368,7 @@ def pebi_grid(
                 )
             extra = vor.extra_points
             if fs.centres.shape[0]:
-                c, k = _faults.circle_violations(fs, extra)
+                c, k = circle_violations(fs, extra)
                 if c.size and attempt < max_refinements:  # the piece lies by a fault: smaller steps there
                     rel = extra[k] - fs.centres[c]
                     scale = _refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
@@ -470,10 +472,10 @@ def _fault_problems(
     out: list[tuple[np.ndarray, float]] = []
     if fs.centres.shape[0] == 0:
         return out
-    c, s = _faults.circle_violations(fs, sites[n_bg:])
+    c, s = circle_violations(fs, sites[n_bg:])
     s = s + n_bg
     if bg_tree is not None:
-        cb, sb = _faults.circle_violations(fs, None, bg_tree)
+        cb, sb = circle_violations(fs, None, bg_tree)
         kept = keep[sb]
         position = np.cumsum(keep) - 1
         c, s = np.concatenate([cb[kept], c]), np.concatenate([position[sb[kept]], s])
