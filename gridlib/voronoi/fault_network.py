@@ -419,6 +419,8 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes, min_
 
 
 def _split_into_graph(pieces, domain: Domain, spacing, labels) -> FaultNetwork:
+    """The pieces of trace as one planar graph: split at every crossing and touching point, nodes
+    within the domain's tolerance made one, nodes on the boundary marked."""
     tol = domain.tol
     seg_a = np.concatenate([p["xy"][:-1] for p in pieces])
     seg_b = np.concatenate([p["xy"][1:] for p in pieces])
@@ -426,59 +428,7 @@ def _split_into_graph(pieces, domain: Domain, spacing, labels) -> FaultNetwork:
     seg_k = np.concatenate([np.arange(p["xy"].shape[0] - 1) for p in pieces])
     seg_fault = np.array([pieces[k]["fault"] for k in seg_piece], dtype=np.int64)
     ns = seg_a.shape[0]
-    tree = shapely.STRtree(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
-    i, j = tree.query(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
-    sel = i < j
-    i, j = i[sel], j[sel]
-    adjacent = (seg_piece[i] == seg_piece[j]) & (np.abs(seg_k[i] - seg_k[j]) == 1)
-    i, j = i[~adjacent], j[~adjacent]
-    r = seg_b[i] - seg_a[i]
-    s = seg_b[j] - seg_a[j]
-    q = seg_a[j] - seg_a[i]
-    rl, sl = np.linalg.norm(r, axis=1), np.linalg.norm(s, axis=1)
-    den = cross2(r, s)
-    par = np.abs(den) <= 1e-12 * rl * sl
-    # Collinear overlaps are errors; parallel segments sharing an end point are joined by the nodes.
-    if par.any():
-        pi_, pj_ = i[par], j[par]
-        off = np.abs(cross2(q[par], r[par])) / rl[par]
-        coll = off <= tol
-        if coll.any():
-            ri = r[par][coll]
-            ui = ri / rl[par][coll][:, None]
-            p0 = ((seg_a[pj_[coll]] - seg_a[pi_[coll]]) * ui).sum(axis=1)
-            p1 = ((seg_b[pj_[coll]] - seg_a[pi_[coll]]) * ui).sum(axis=1)
-            lo_, hi_ = np.maximum(np.minimum(p0, p1), 0.0), np.minimum(np.maximum(p0, p1), rl[par][coll])
-            over = hi_ - lo_ > tol
-            if over.any():
-                k = int(np.flatnonzero(over)[0])
-                a_, b_ = pi_[coll][k], pj_[coll][k]
-                raise GridError(
-                    f"{labels[seg_fault[a_] - 1]} and {labels[seg_fault[b_] - 1]} overlap near "
-                    f"{domain.fmt(seg_a[b_])}: faults may cross or touch, not run along each other"
-                )
-    ok = ~par
-    i, j, r, s, q, rl, sl, den = i[ok], j[ok], r[ok], s[ok], q[ok], rl[ok], sl[ok], den[ok]
-    t = cross2(q, s) / den
-    u = cross2(q, r) / den
-    et, eu = tol / rl, tol / sl
-    hit = (t >= -et) & (t <= 1 + et) & (u >= -eu) & (u <= 1 + eu)
-    i, j, t, u, r, et, eu = i[hit], j[hit], t[hit], u[hit], r[hit], et[hit], eu[hit]
-    t = np.where(t <= et, 0.0, np.where(t >= 1 - et, 1.0, t))
-    u = np.where(u <= eu, 0.0, np.where(u >= 1 - eu, 1.0, u))
-    x = seg_a[i] + t[:, None] * r
-    x = np.where((t == 0)[:, None], seg_a[i], np.where((t == 1)[:, None], seg_b[i], x))
-    x = np.where((u == 0)[:, None], seg_a[j], np.where((u == 1)[:, None], seg_b[j], x))
-    # Same-fault self-contacts after clipping/extension are errors too.
-    same = (seg_fault[i] == seg_fault[j]) & (seg_piece[i] == seg_piece[j])
-    if same.any():
-        k = int(np.flatnonzero(same)[0])
-        raise GridError(f"{labels[seg_fault[i[k]] - 1]}: the trace touches itself near {domain.fmt(x[k])}")
-    ins_seg = np.concatenate([i, j])
-    ins_t = np.concatenate([t, u])
-    ins_x = np.concatenate([x, x])
-    inner = (ins_t > 0) & (ins_t < 1)
-    ins_seg, ins_t, ins_x = ins_seg[inner], ins_t[inner], ins_x[inner]
+    ins_seg, ins_t, ins_x = _crossings(seg_a, seg_b, seg_piece, seg_k, seg_fault, domain, labels)
     # Vertices of every segment: its start, inserted points; then the last end of each piece.
     all_seg = np.concatenate([np.arange(ns), ins_seg])
     all_t = np.concatenate([np.zeros(ns), ins_t])
@@ -517,3 +467,72 @@ def _split_into_graph(pieces, domain: Domain, spacing, labels) -> FaultNetwork:
     near = domain.boundary_distance(nodes) <= tol
     on_bnd |= near
     return FaultNetwork(nodes, ea, eb, e_fault, on_bnd, spacing, labels)
+
+
+def _crossings(seg_a, seg_b, seg_piece, seg_k, seg_fault, domain: Domain, labels) -> tuple[np.ndarray, ...]:
+    """Where segments of the traces cross or touch (within the domain's tolerance), as points
+    inserted into segments: (segment, parameter along it in (0, 1), point). Overlaps and a trace
+    touching itself are errors."""
+    tol = domain.tol
+    tree = shapely.STRtree(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
+    i, j = tree.query(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
+    sel = i < j
+    i, j = i[sel], j[sel]
+    adjacent = (seg_piece[i] == seg_piece[j]) & (np.abs(seg_k[i] - seg_k[j]) == 1)
+    i, j = i[~adjacent], j[~adjacent]
+    r = seg_b[i] - seg_a[i]
+    s = seg_b[j] - seg_a[j]
+    q = seg_a[j] - seg_a[i]
+    rl, sl = np.linalg.norm(r, axis=1), np.linalg.norm(s, axis=1)
+    den = cross2(r, s)
+    par = np.abs(den) <= 1e-12 * rl * sl
+    # Collinear overlaps are errors; parallel segments sharing an end point are joined by the nodes.
+    _reject_overlaps(i[par], j[par], r[par], q[par], rl[par], seg_a, seg_b, seg_fault, domain, labels)
+    ok = ~par
+    i, j, r, s, q, rl, sl, den = i[ok], j[ok], r[ok], s[ok], q[ok], rl[ok], sl[ok], den[ok]
+    t = cross2(q, s) / den
+    u = cross2(q, r) / den
+    et, eu = tol / rl, tol / sl
+    hit = (t >= -et) & (t <= 1 + et) & (u >= -eu) & (u <= 1 + eu)
+    i, j, t, u, r, et, eu = i[hit], j[hit], t[hit], u[hit], r[hit], et[hit], eu[hit]
+    t = np.where(t <= et, 0.0, np.where(t >= 1 - et, 1.0, t))
+    u = np.where(u <= eu, 0.0, np.where(u >= 1 - eu, 1.0, u))
+    x = seg_a[i] + t[:, None] * r
+    x = np.where((t == 0)[:, None], seg_a[i], np.where((t == 1)[:, None], seg_b[i], x))
+    x = np.where((u == 0)[:, None], seg_a[j], np.where((u == 1)[:, None], seg_b[j], x))
+    # Same-fault self-contacts after clipping/extension are errors too.
+    same = (seg_fault[i] == seg_fault[j]) & (seg_piece[i] == seg_piece[j])
+    if same.any():
+        k = int(np.flatnonzero(same)[0])
+        raise GridError(f"{labels[seg_fault[i[k]] - 1]}: the trace touches itself near {domain.fmt(x[k])}")
+    ins_seg = np.concatenate([i, j])
+    ins_t = np.concatenate([t, u])
+    ins_x = np.concatenate([x, x])
+    inner = (ins_t > 0) & (ins_t < 1)
+    ins_seg, ins_t, ins_x = ins_seg[inner], ins_t[inner], ins_x[inner]
+    return ins_seg, ins_t, ins_x
+
+
+def _reject_overlaps(pi_, pj_, r, q, rl, seg_a, seg_b, seg_fault, domain: Domain, labels) -> None:
+    """Raise if parallel segment pairs (``pi_``, ``pj_``; ``r`` = the first's vector, ``q`` from
+    its start to the second's start, ``rl`` = the first's length) run along each other for more
+    than the domain's tolerance."""
+    if pi_.size == 0:
+        return
+    tol = domain.tol
+    off = np.abs(cross2(q, r)) / rl
+    coll = off <= tol
+    if coll.any():
+        ri = r[coll]
+        ui = ri / rl[coll][:, None]
+        p0 = ((seg_a[pj_[coll]] - seg_a[pi_[coll]]) * ui).sum(axis=1)
+        p1 = ((seg_b[pj_[coll]] - seg_a[pi_[coll]]) * ui).sum(axis=1)
+        lo_, hi_ = np.maximum(np.minimum(p0, p1), 0.0), np.minimum(np.maximum(p0, p1), rl[coll])
+        over = hi_ - lo_ > tol
+        if over.any():
+            k = int(np.flatnonzero(over)[0])
+            a_, b_ = pi_[coll][k], pj_[coll][k]
+            raise GridError(
+                f"{labels[seg_fault[a_] - 1]} and {labels[seg_fault[b_] - 1]} overlap near "
+                f"{domain.fmt(seg_a[b_])}: faults may cross or touch, not run along each other"
+            )

@@ -98,21 +98,9 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     net, ch = lay.net, lay.ch
     nodes = net.nodes
     nn = nodes.shape[0]
-    ea, eb, ef = net.edge_a, net.edge_b, net.edge_fault
+    ea, eb = net.edge_a, net.edge_b
     elen = np.linalg.norm(nodes[eb] - nodes[ea], axis=1)
-    # Size at nodes: the fault spacing, capped by adjacent segment lengths, then graded.
-    node_fault = np.zeros(nn, dtype=np.int64)
-    node_fault[ea] = ef
-    node_fault[eb] = ef
-    hv = step_length(lay, nodes, node_fault)
-    np.minimum.at(hv, ea, elen)
-    np.minimum.at(hv, eb, elen)
-    for _ in range(nn):  # Lipschitz grading along the network, vectorised over edges
-        before = hv.copy()
-        np.minimum.at(hv, ea, hv[eb] + GROWTH * elen)
-        np.minimum.at(hv, eb, hv[ea] + GROWTH * elen)
-        if np.array_equal(before, hv):
-            break
+    node_fault, hv = _node_steps(lay, elen)
     # At a constrained node (junction, sharp bend, boundary point) every arm starts with the same
     # step L0, and an edge needs a step of its own next to each constrained end; an acute wedge
     # (wedges.py) fixes the first centres of its arms at its rungs instead.
@@ -127,7 +115,61 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     lead, wedge_ends = _leads(wedge_list, ea, eb, l0, constrained)
     wedge_node = np.zeros(nn, dtype=bool)
     wedge_node[[w.node for w in wedge_list]] = True
-    # Steps per edge.
+    n_steps, params = _steps_per_edge(lay, elen, hv, lead, wedge_ends, wedge_node)
+    n_steps = np.maximum(n_steps, ends_c + 1)
+    centres, centre_fault, sa, sb, sf, wedge_steps = _centres(
+        net, node_fault, elen, n_steps, params, lead, wedge_ends
+    )
+    # Radii: ``ratio`` x the mean of a centre's two steps, then fitted at junctions and wedges.
+    slen = np.linalg.norm(centres[sb] - centres[sa], axis=1)
+    nc = centres.shape[0]
+    cnt = np.bincount(sa, minlength=nc) + np.bincount(sb, minlength=nc)
+    tot = np.bincount(sa, slen, nc) + np.bincount(sb, slen, nc)
+    radii = local_ratio(lay, centres, l0, constrained & ~wedge_node) * tot / np.maximum(cnt, 1)
+    cmin = np.full(nc, np.inf)
+    np.minimum.at(cmin, sa, slen)
+    np.minimum.at(cmin, sb, slen)
+    fixed = np.zeros(nc, dtype=bool)
+    shared = _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed)
+    problems: list[tuple[int, str]] = []
+    junction_radii(
+        lay, centres, radii, sa, sb, slen, constrained, problems, tot / np.maximum(cnt, 1), wedge_node, fixed
+    )
+    pairs = _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems)
+    fs = _with_tips(ch.tip, centres, centre_fault, radii, cmin, (sa, sb, sf, slen), pairs)
+    fs.problems = problems
+    fs.wedges = [_describe_wedge(w, lay) for w in wedge_list]
+    return fs
+
+
+def _node_steps(lay: FaultLayout, elen: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The fault of every network node and its step: the fault spacing, capped by the lengths of
+    the adjacent segments, then graded along the network (at most ``GROWTH`` per metre)."""
+    net = lay.net
+    nodes = net.nodes
+    nn = nodes.shape[0]
+    ea, eb, ef = net.edge_a, net.edge_b, net.edge_fault
+    node_fault = np.zeros(nn, dtype=np.int64)
+    node_fault[ea] = ef
+    node_fault[eb] = ef
+    hv = step_length(lay, nodes, node_fault)
+    np.minimum.at(hv, ea, elen)
+    np.minimum.at(hv, eb, elen)
+    for _ in range(nn):  # Lipschitz grading along the network, vectorised over edges
+        before = hv.copy()
+        np.minimum.at(hv, ea, hv[eb] + GROWTH * elen)
+        np.minimum.at(hv, eb, hv[ea] + GROWTH * elen)
+        if np.array_equal(before, hv):
+            break
+    return node_fault, hv
+
+
+def _steps_per_edge(lay: FaultLayout, elen, hv, lead, wedge_ends, wedge_node) -> tuple[np.ndarray, list]:
+    """How many steps every edge gets, and (t, cumulative step count) samples along it for
+    placing them: the target step is sampled finely enough (8 samples per step), capped by the
+    grading away from the edge's ends and from the acute wedges next to it."""
+    net = lay.net
+    nodes, ea, eb, ef = net.nodes, net.edge_a, net.edge_b, net.edge_fault
     ne = ea.size
     n_steps = np.zeros(ne, dtype=np.int64)
     params: list[np.ndarray] = [None] * ne  # type: ignore[list-item]
@@ -156,15 +198,21 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         cum = np.concatenate([[0.0], np.cumsum(0.5 * (dens[1:] + dens[:-1]) * np.diff(tt))])
         n_steps[e] = max(1, int(np.round(cum[-1])))
         params[e] = (tt, cum)
-    n_steps = np.maximum(n_steps, ends_c + 1)
-    # Centres: network nodes first, then the interior points of every edge.
+    return n_steps, params
+
+
+def _centres(net: FaultNetwork, node_fault, elen, n_steps, params, lead, wedge_ends) -> tuple:
+    """Circle centres (network nodes first, then the interior points of every edge), their
+    faults, the steps between consecutive centres (sa, sb, fault) and, for every edge end at an
+    acute wedge, its steps counted from that end."""
+    nodes, ea, eb, ef = net.nodes, net.edge_a, net.edge_b, net.edge_fault
     cen = [nodes]
     cen_fault = [node_fault]
     step_a, step_b, step_f = [], [], []
-    n_cen = nn
+    n_cen = nodes.shape[0]
     n_step = 0
     wedge_steps: dict[tuple[int, int], np.ndarray] = {}  # (edge, end) -> its steps, from that end
-    for e in range(ne):  # loop over polyline segments
+    for e in range(ea.size):  # loop over polyline segments
         tt, cum = params[e]
         la, lb = lead[e]
         t_a, t_b = la / elen[e], 1.0 - lb[::-1] / elen[e]
@@ -192,21 +240,12 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     centres = np.concatenate(cen)
     centre_fault = np.concatenate(cen_fault)
     sa, sb, sf = np.concatenate(step_a), np.concatenate(step_b), np.concatenate(step_f)
-    slen = np.linalg.norm(centres[sb] - centres[sa], axis=1)
-    nc = centres.shape[0]
-    cnt = np.bincount(sa, minlength=nc) + np.bincount(sb, minlength=nc)
-    tot = np.bincount(sa, slen, nc) + np.bincount(sb, slen, nc)
-    radii = local_ratio(lay, centres, l0, constrained & ~wedge_node) * tot / np.maximum(cnt, 1)
-    cmin = np.full(nc, np.inf)
-    np.minimum.at(cmin, sa, slen)
-    np.minimum.at(cmin, sb, slen)
-    fixed = np.zeros(nc, dtype=bool)
-    shared = _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed)
-    problems: list[tuple[int, str]] = []
-    junction_radii(
-        lay, centres, radii, sa, sb, slen, constrained, problems, tot / np.maximum(cnt, 1), wedge_node, fixed
-    )
-    # Mirrored pairs.
+    return centres, centre_fault, sa, sb, sf, wedge_steps
+
+
+def _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems) -> tuple[np.ndarray, ...]:
+    """The two sites of every step, where its circles intersect (left, right of the step), or the
+    shared sites of an acute wedge; the size and wedge (or -1) of every step."""
     ra, rb = radii[sa], radii[sb]
     uvec = (centres[sb] - centres[sa]) / slen[:, None]
     nvec = np.column_stack([-uvec[:, 1], uvec[:, 0]])
@@ -227,9 +266,17 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         right[steps] = np.where(on_left[:, None], other, one)
         step_size[steps] = size
         step_wedge[steps] = w
+    return left, right, step_size, step_wedge
+
+
+def _with_tips(tip, centres, centre_fault, radii, cmin, steps, pairs) -> FaultSites:
+    """The fault sites: the mirrored pairs, one site straight ahead of every free end (``tip``)
+    on its circle, coinciding sites (merged at sharp junctions) made one."""
+    sa, sb, sf, slen = steps
+    left, right, step_size, step_wedge = pairs
     ns_ = sa.size
-    # Tips: one site straight ahead of every free end, on its circle.
-    tip_nodes = np.flatnonzero(ch.tip)
+    nc = centres.shape[0]
+    tip_nodes = np.flatnonzero(tip)
     first_step = np.full(nc, -1, dtype=np.int64)
     first_step[sb[::-1]] = np.arange(sb.size)[::-1]
     first_step[sa[::-1]] = np.arange(sa.size)[::-1]
@@ -269,9 +316,7 @@ def build_sites(lay: FaultLayout) -> FaultSites:
         trace_a=centres[sa],
         trace_b=centres[sb],
         trace_fault=sf,
-        problems=problems,
         site_wedge=np.concatenate([step_wedge, step_wedge, np.full(tip_nodes.size, -1)])[first],
-        wedges=[_describe_wedge(w, lay) for w in wedge_list],
     )
 
 
