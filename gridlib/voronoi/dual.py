@@ -188,42 +188,14 @@ class _Triangulation:
 
 
 def _clipped_voronoi(t: _Triangulation, corners: np.ndarray, tol: float):
+    """The Voronoi diagram of the points clipped to their convex hull (``corners``): vertex
+    coordinates and faces (two vertices, the cells either side, -1 outside)."""
     xy = t.xy
-    nt = t.tri.shape[0]
     side_dir = np.roll(corners, -1, axis=0) - corners
     inward = np.column_stack([-side_dir[:, 1], side_dir[:, 0]])
     inward /= np.linalg.norm(inward, axis=1, keepdims=True)
     eps = tol * t.h
-
-    # Segments: interior edges (from the right triangle's centre to the left one's),
-    # then rays: one per boundary edge, from the centre outwards across the edge.
-    ea, eb = t.ea.ravel(), t.eb.ravel()
-    tri_of = np.repeat(np.arange(nt), 3)
-    left, right = t.hf_left, t.hf_right
-    seg_a = t.centre[tri_of[right]]
-    seg_d = t.centre[tri_of[left]] - seg_a
-    normal = xy[eb[left]] - xy[ea[left]]
-    across = np.column_stack([-normal[:, 1], normal[:, 0]])  # left of v -> w
-    reversed_ = (seg_d * across).sum(axis=1) < -eps * np.linalg.norm(across, axis=1)
-    if np.any(reversed_):
-        i = int(np.flatnonzero(reversed_)[0])
-        raise GridError(
-            f"pebi: the triangulation is not Delaunay at edge ({ea[left[i]]}, {eb[left[i]]}); "
-            "use the Delaunay triangulation of the points"
-        )
-    bnd = np.flatnonzero(t.on_boundary.ravel())
-    ray_a = t.centre[tri_of[bnd]]
-    out_dir = xy[eb[bnd]] - xy[ea[bnd]]
-    ray_d = np.column_stack([out_dir[:, 1], -out_dir[:, 0]])  # right of v -> w: outside
-    ray_d *= 4.0 * np.ptp(xy, axis=0).max() / np.linalg.norm(ray_d, axis=1, keepdims=True)
-
-    A = np.concatenate([seg_a, ray_a])
-    D = np.concatenate([seg_d, ray_d])
-    B = np.concatenate([t.centre[tri_of[left]], ray_a + ray_d])
-    # A segment runs to the left of v -> w, so its normal points from v to w; a
-    # ray runs to the right (outwards), so its normal points from w to v.
-    cells_a = np.concatenate([ea[left], eb[bnd]])
-    cells_b = np.concatenate([eb[left], ea[bnd]])
+    A, D, B, cells_a, cells_b = _segments_and_rays(t, eps)
     s_lo, s_hi, side_lo, side_hi = _clip_to_convex(A, D, corners, inward)
     length = np.linalg.norm(D, axis=1)
     keep = (s_hi - s_lo) * length > eps
@@ -288,6 +260,44 @@ def _clipped_voronoi(t: _Triangulation, corners: np.ndarray, tol: float):
     ca = np.concatenate([cells_a, owner])
     cb = np.concatenate([cells_b, np.full(owner.size, -1)])
     return coords, fa, fb, ca, cb
+
+
+def _segments_and_rays(t: _Triangulation, eps: float) -> tuple[np.ndarray, ...]:
+    """The unclipped Voronoi edges: start A, direction D, end B and the cells either side.
+
+    Segments: interior edges (from the right triangle's centre to the left one's), then rays:
+    one per boundary edge, from the centre outwards across the edge.
+    """
+    xy = t.xy
+    nt = t.tri.shape[0]
+    ea, eb = t.ea.ravel(), t.eb.ravel()
+    tri_of = np.repeat(np.arange(nt), 3)
+    left, right = t.hf_left, t.hf_right
+    seg_a = t.centre[tri_of[right]]
+    seg_d = t.centre[tri_of[left]] - seg_a
+    normal = xy[eb[left]] - xy[ea[left]]
+    across = np.column_stack([-normal[:, 1], normal[:, 0]])  # left of v -> w
+    reversed_ = (seg_d * across).sum(axis=1) < -eps * np.linalg.norm(across, axis=1)
+    if np.any(reversed_):
+        i = int(np.flatnonzero(reversed_)[0])
+        raise GridError(
+            f"pebi: the triangulation is not Delaunay at edge ({ea[left[i]]}, {eb[left[i]]}); "
+            "use the Delaunay triangulation of the points"
+        )
+    bnd = np.flatnonzero(t.on_boundary.ravel())
+    ray_a = t.centre[tri_of[bnd]]
+    out_dir = xy[eb[bnd]] - xy[ea[bnd]]
+    ray_d = np.column_stack([out_dir[:, 1], -out_dir[:, 0]])  # right of v -> w: outside
+    ray_d *= 4.0 * np.ptp(xy, axis=0).max() / np.linalg.norm(ray_d, axis=1, keepdims=True)
+
+    A = np.concatenate([seg_a, ray_a])
+    D = np.concatenate([seg_d, ray_d])
+    B = np.concatenate([t.centre[tri_of[left]], ray_a + ray_d])
+    # A segment runs to the left of v -> w, so its normal points from v to w; a
+    # ray runs to the right (outwards), so its normal points from w to v.
+    cells_a = np.concatenate([ea[left], eb[bnd]])
+    cells_b = np.concatenate([eb[left], ea[bnd]])
+    return A, D, B, cells_a, cells_b
 
 
 def _clip_to_convex(A, D, corners, inward):
