@@ -1,6 +1,6 @@
 """The Voronoi diagram of a set of sites clipped to a polygon, as a gridlib :class:`Grid`.
 
-Method (ALGORITHMS.md §3.1), all in the domain's local frame:
+Method, all in the domain's local frame (docs/pebi.md puts it in the context of the whole grid):
 
 1. Ridges: every Delaunay edge between two sites is a ridge (a face) from the
    circumcentre of the triangle on one side to that of the other. The

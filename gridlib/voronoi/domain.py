@@ -3,9 +3,11 @@
 Every computation of :func:`~gridlib.voronoi.pebi_grid.pebi_grid` happens in a
 local frame: the input coordinates minus an origin near the centre of the
 domain's bounding box, a multiple of a power of two close to the domain's size
-(so that at UTM magnitudes the subtraction is exact). Qhull and circle
-intersections lose digits at UTM magnitudes (ALGORITHMS.md §3.1); in the local
-frame they do not.
+(so that at UTM magnitudes the subtraction is exact). Qhull and the formulas for
+circumcentres and circle intersections lose digits when the coordinates are large
+(500 km from the origin a coordinate is resolved to about 1e-10 m, and these formulas
+take differences of products of coordinates, which cancel most of the digits left); in
+the local frame, whose coordinates are of the domain's size, they do not.
 
 Units are metres; x, y in plan view. The polygon may be given in either
 orientation and is closed implicitly (a repeated first vertex is dropped); it is
