@@ -113,7 +113,7 @@ def half_face_cycle_slots(grid: Grid) -> tuple[IntArray, IntArray]:
     a = np.where(forward, fnodes[cf, 0], fnodes[cf, 1])
     b = np.where(forward, fnodes[cf, 1], fnodes[cf, 0])
     succ = _successors_in_cycles(hc, a, b, grid.num_nodes, "cell")
-    rank = _cycle_rank(succ, grid.cells.face_pos, hc)
+    rank = cycle_rank(succ, grid.cells.face_pos, hc)
     return a, grid.cells.face_pos[hc] + rank
 
 
@@ -141,7 +141,7 @@ def _successors_in_cycles(
     return order[loc]
 
 
-def _cycle_rank(succ: IntArray, pos: IntArray, owner: IntArray) -> IntArray:
+def cycle_rank(succ: IntArray, pos: IntArray, owner: IntArray) -> IntArray:
     """Position of each edge along its owner's cycle, starting at the owner's first edge.
 
     List ranking by pointer jumping: O(n log L) for cycles of length L.

@@ -7,7 +7,7 @@ function and ``import gridlib.voronoi.dual`` works.
 
 from .domain import rectangle
 from .dual import pebi
-from .faults import Fault
+from .fault_network import Fault
 from .pebi_grid import PebiGrid, pebi_grid
 from .quality import PebiQuality, grid_quality
 from .wells import Rings, Well

@@ -47,10 +47,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
-from scipy import sparse
-from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
+from ..planar import group_pairs
 from .domain import Domain
 
 SHORT = 0.05  # faces shorter than this fraction of the local size are collapsed
@@ -110,40 +109,16 @@ def collapse_moves(
     zero = length <= tol
     full_zero = zero
     if focus is not None:  # only the ridges at the vertices of the focus (and their co-circular groups)
-        if state.pending.size:
-            pend = np.zeros(n, dtype=bool)
-            pend[state.pending] = True
-            focus = focus | pend[cp] | pend[cq]
-        vmask = np.zeros(coords.shape[0], dtype=bool)
-        vmask[va[focus]] = vmask[vb[focus]] = True
-        for _ in range(4):
-            z = zero & (vmask[va] | vmask[vb])
-            vmask[va[z]] = vmask[vb[z]] = True
-        keep = vmask[va] | vmask[vb]
-        va, vb, cp, cq, length, zero = (x[keep] for x in (va, vb, cp, cq, length, zero))
-        used, inv = np.unique(np.concatenate([va, vb]), return_inverse=True)
-        coords = coords[used]
-        va, vb = inv[: va.size], inv[va.size :]
+        coords, va, vb, cp, cq, length, zero = _around_focus(
+            focus, state, n, coords, va, vb, cp, cq, length, zero
+        )
     nv = coords.shape[0]
     # Vertices joined by zero-length ridges are one vertex (co-circular sites).
-    if zero.any():
-        graph = sparse.coo_matrix((np.ones(int(zero.sum())), (va[zero], vb[zero])), shape=(nv, nv))
-        label = csgraph.connected_components(graph, directed=False)[1].astype(np.int64)
-    else:
-        label = np.arange(nv)
-    _, first = np.unique(label, return_index=True)
+    first, label = group_pairs(nv, np.column_stack([va[zero], vb[zero]]))
     gxy = coords[first]
     ga, gb = label[va], label[vb]
     h_ridge = np.minimum(size[cp], size[cq])
-    raw: list[tuple] = []  # (site, target circle, feature length, lockset, feature id, pin or None)
-    features: list[tuple] = []  # the lockset of every short face found
-
-    def add(x: int, circle, feature: float, lock: tuple, pin: tuple | None = None) -> None:
-        if not features or features[-1] is not lock:
-            features.append(lock)
-        if movable[x] and circle is not None:
-            raw.append((int(x), circle, feature, lock, len(features) - 1, pin))
-
+    found = _Found(movable)
     # Interior: short ridges with a part inside the domain (or touching it).
     sr = np.flatnonzero(~zero & (length < short * h_ridge) & (ga != gb))
     if sr.size:
@@ -157,89 +132,157 @@ def collapse_moves(
     need = np.zeros(gxy.shape[0], dtype=bool)
     need[ga[sr]] = need[gb[sr]] = True
     need |= band
-    sel = np.flatnonzero(need[ga] | need[gb])
-    # Sites of every vertex involved (from the ridges at it).
+    sites_of = _sites_at_vertices(ga, gb, cp, cq, np.flatnonzero(need[ga] | need[gb]), n, gxy.shape[0])
+    for r in sr.tolist():  # a few hundred short ridges
+        _short_ridge_moves(found, r, ga, gb, cp, cq, length, gxy, sites_of, sites, domain)
+    _boundary_moves(found, np.flatnonzero(band), gxy, sites_of, sites, size, domain, tol, short)
+    wr = np.flatnonzero((wide[ga] | wide[gb]) & ~zero)
+    if wr.size:
+        ends = coords[va[wr]], coords[vb[wr]]
+        _corner_moves(found, wr, ends, cp, cq, h_ridge, sites, size, domain, tol, short)
+    if not found.raw:
+        state.pending = state.involved = _sites_of_features(found.features, set())
+        return none
+    return _chosen_moves(found, full, full_zero, sites, size, domain, state, tol, short, allowed)
+
+
+class _Found:
+    """The moves found for the short faces: (site, target circle, feature length, lockset,
+    feature id, pin or None) in ``raw``, and the lockset of every short face in ``features``."""
+
+    def __init__(self, movable: np.ndarray) -> None:
+        self.movable = movable
+        self.raw: list[tuple] = []
+        self.features: list[tuple] = []
+
+    def add(self, x: int, circle, feature: float, lock: tuple, pin: tuple | None = None) -> None:
+        if not self.features or self.features[-1] is not lock:
+            self.features.append(lock)
+        if self.movable[x] and circle is not None:
+            self.raw.append((int(x), circle, feature, lock, len(self.features) - 1, pin))
+
+
+def _around_focus(focus, state: Collapse, n: int, coords, va, vb, cp, cq, length, zero) -> tuple:
+    """The ridges at the vertices of the ``focus`` ridges and of the sites still pending (and
+    their co-circular groups), their vertices renumbered."""
+    if state.pending.size:
+        pend = np.zeros(n, dtype=bool)
+        pend[state.pending] = True
+        focus = focus | pend[cp] | pend[cq]
+    vmask = np.zeros(coords.shape[0], dtype=bool)
+    vmask[va[focus]] = vmask[vb[focus]] = True
+    for _ in range(4):
+        z = zero & (vmask[va] | vmask[vb])
+        vmask[va[z]] = vmask[vb[z]] = True
+    keep = vmask[va] | vmask[vb]
+    va, vb, cp, cq, length, zero = (x[keep] for x in (va, vb, cp, cq, length, zero))
+    used, inv = np.unique(np.concatenate([va, vb]), return_inverse=True)
+    return coords[used], inv[: va.size], inv[va.size :], cp, cq, length, zero
+
+
+def _sites_at_vertices(ga, gb, cp, cq, sel, n: int, ng: int) -> Callable[[int], np.ndarray]:
+    """The sites of every (grouped) vertex involved, from the ridges ``sel`` at it."""
     gs_g = np.concatenate([ga[sel], ga[sel], gb[sel], gb[sel]])
     gs_s = np.concatenate([cp[sel], cq[sel], cp[sel], cq[sel]])
     key = np.unique(gs_g * n + gs_s)
     kg, ks = key // n, key % n
-    start = np.searchsorted(kg, np.arange(gxy.shape[0] + 1))
+    start = np.searchsorted(kg, np.arange(ng + 1))
 
     def sites_of(g: int) -> np.ndarray:
         return ks[start[g] : start[g + 1]]
 
-    for r in sr.tolist():  # a few hundred short ridges
-        g1, g2 = int(ga[r]), int(gb[r])
-        s1, s2 = sites_of(g1), sites_of(g2)
-        lock = tuple(np.union1d(s1, s2).tolist())
-        only1, only2 = np.setdiff1d(s1, s2), np.setdiff1d(s2, s1)
-        for g_at, others in ((g1, only2), (g2, only1)):
-            if others.size != 1:  # one site moved onto the circle of the other vertex
-                continue
-            centre = gxy[g_at]
-            add(int(others[0]), (centre, float(np.hypot(*(sites[cp[r]] - centre)))), float(length[r]), lock)
-        if only1.size == 1 and only2.size == 1:  # or a site of the ridge onto the circle of the other three
-            for x, y in ((int(cp[r]), int(cq[r])), (int(cq[r]), int(cp[r]))):
-                add(
-                    x,
-                    _circle(("circle", y, int(only1[0]), int(only2[0])), sites, domain),
-                    float(length[r]),
-                    lock,
-                )
+    return sites_of
 
-    bnd = np.flatnonzero(band)
-    if bnd.size:
-        dist, edge, _ = domain.nearest_boundary(gxy[bnd])
-        for g, d, e in zip(bnd.tolist(), dist.tolist(), edge.tolist(), strict=True):
-            s = sites_of(g)
-            if s.size != 3 or d <= tol or d >= short * float(size[s].min()):
-                continue
-            lock = tuple(s.tolist())
-            nm = domain.num_vertices
-            # next to a corner, the vertex must go to the corner (else a piece of boundary between
-            # them stays): once a ridge passes through it (the corner case below), a third site moves
-            at_corner = float(np.hypot(*(domain.xy[[e, (e + 1) % nm]] - gxy[g]).T).min()) < short * float(
-                size[s].min()
+
+def _short_ridge_moves(found: _Found, r: int, ga, gb, cp, cq, length, gxy, sites_of, sites, domain) -> None:
+    """Moves collapsing the short ridge ``r``: the one site of a vertex not at the other onto the
+    other vertex's circle, or a site of the ridge onto the circle of the other three."""
+    g1, g2 = int(ga[r]), int(gb[r])
+    s1, s2 = sites_of(g1), sites_of(g2)
+    lock = tuple(np.union1d(s1, s2).tolist())
+    only1, only2 = np.setdiff1d(s1, s2), np.setdiff1d(s2, s1)
+    for g_at, others in ((g1, only2), (g2, only1)):
+        if others.size != 1:  # one site moved onto the circle of the other vertex
+            continue
+        centre = gxy[g_at]
+        found.add(int(others[0]), (centre, float(np.hypot(*(sites[cp[r]] - centre)))), float(length[r]), lock)
+    if only1.size == 1 and only2.size == 1:  # or a site of the ridge onto the circle of the other three
+        for x, y in ((int(cp[r]), int(cq[r])), (int(cq[r]), int(cp[r]))):
+            found.add(
+                x,
+                _circle(("circle", y, int(only1[0]), int(only2[0])), sites, domain),
+                float(length[r]),
+                lock,
             )
-            for m in range(3):  # the third site moves; the bisector of the other two meets the edge at X
-                p, q, x = int(s[(m + 1) % 3]), int(s[(m + 2) % 3]), int(s[m])
-                for ee in (int(e), (int(e) - 1) % nm, (int(e) + 1) % nm):  # near a corner: either edge
-                    pin = _edge_pin(p, q, ee, sites, domain, tol)
-                    if pin is not None and (pin[0] == "corner" or not at_corner):
-                        add(x, _circle(pin, sites, domain), d, lock, pin)
 
-    wr = np.flatnonzero((wide[ga] | wide[gb]) & ~zero)
-    if wr.size:
-        corners = domain.xy
-        kt = cKDTree(corners)
-        a, b = coords[va[wr]], coords[vb[wr]]
-        best = np.full(wr.size, np.inf)
-        which = np.zeros(wr.size, dtype=np.int64)
-        for pt in (a, b, 0.5 * (a + b)):
-            _, k = kt.query(pt)
-            d = _point_segment(corners[k], a, b)
-            better = d < best
-            best[better], which[better] = d[better], k[better]
-        reflex = domain.reflex
-        hit = np.flatnonzero(((best > tol) | reflex[which]) & (best < short * h_ridge[wr]))
-        for i in hit.tolist():
-            r = int(wr[i])
-            p, q = int(cp[r]), int(cq[r])
-            k = corners[which[i]]
-            if reflex[which[i]]:  # push the ridge off a re-entrant corner (see _push_off)
-                for x, y in ((p, q), (q, p)):
-                    margin = short * float(min(size[x], size[y]))
-                    add(x, _push_off(k, sites[x], sites[y], margin), max(float(best[i]), margin), (p, q))
-                continue
-            if abs(np.hypot(*(sites[p] - k)) - np.hypot(*(sites[q] - k))) <= tol:
-                continue  # their bisector passes through the corner already (the ridge ends short of it)
+
+def _boundary_moves(found: _Found, bnd, gxy, sites_of, sites, size, domain: Domain, tol, short) -> None:
+    """Moves putting a vertex of three sites near the boundary (``bnd``) onto it: one site onto
+    the circle, through the other two, centred where their bisector meets the edge (next to a
+    corner: only at the corner)."""
+    if not bnd.size:
+        return
+    dist, edge, _ = domain.nearest_boundary(gxy[bnd])
+    for g, d, e in zip(bnd.tolist(), dist.tolist(), edge.tolist(), strict=True):
+        s = sites_of(g)
+        if s.size != 3 or d <= tol or d >= short * float(size[s].min()):
+            continue
+        lock = tuple(s.tolist())
+        nm = domain.num_vertices
+        # next to a corner, the vertex must go to the corner (else a piece of boundary between
+        # them stays): once a ridge passes through it (the corner case below), a third site moves
+        at_corner = float(np.hypot(*(domain.xy[[e, (e + 1) % nm]] - gxy[g]).T).min()) < short * float(
+            size[s].min()
+        )
+        for m in range(3):  # the third site moves; the bisector of the other two meets the edge at X
+            p, q, x = int(s[(m + 1) % 3]), int(s[(m + 2) % 3]), int(s[m])
+            for ee in (int(e), (int(e) - 1) % nm, (int(e) + 1) % nm):  # near a corner: either edge
+                pin = _edge_pin(p, q, ee, sites, domain, tol)
+                if pin is not None and (pin[0] == "corner" or not at_corner):
+                    found.add(x, _circle(pin, sites, domain), d, lock, pin)
+
+
+def _corner_moves(found: _Found, wr, ends, cp, cq, h_ridge, sites, size, domain: Domain, tol, short) -> None:
+    """Moves for ridges ``wr`` (ends ``ends``) passing close to a corner of the domain: through
+    the corner (a site onto the circle centred on it through the other), or, at a re-entrant
+    corner, off it."""
+    corners = domain.xy
+    kt = cKDTree(corners)
+    a, b = ends
+    best = np.full(wr.size, np.inf)
+    which = np.zeros(wr.size, dtype=np.int64)
+    for pt in (a, b, 0.5 * (a + b)):
+        _, k = kt.query(pt)
+        d = _point_segment(corners[k], a, b)
+        better = d < best
+        best[better], which[better] = d[better], k[better]
+    reflex = domain.reflex
+    hit = np.flatnonzero(((best > tol) | reflex[which]) & (best < short * h_ridge[wr]))
+    for i in hit.tolist():
+        r = int(wr[i])
+        p, q = int(cp[r]), int(cq[r])
+        k = corners[which[i]]
+        if reflex[which[i]]:  # push the ridge off a re-entrant corner (see _push_off)
             for x, y in ((p, q), (q, p)):
-                pin = ("corner", int(which[i]), y)
-                add(x, _circle(pin, sites, domain), float(best[i]), (p, q), pin)
+                margin = short * float(min(size[x], size[y]))
+                found.add(x, _push_off(k, sites[x], sites[y], margin), max(float(best[i]), margin), (p, q))
+            continue
+        if abs(np.hypot(*(sites[p] - k)) - np.hypot(*(sites[q] - k))) <= tol:
+            continue  # their bisector passes through the corner already (the ridge ends short of it)
+        for x, y in ((p, q), (q, p)):
+            pin = ("corner", int(which[i]), y)
+            found.add(x, _circle(pin, sites, domain), float(best[i]), (p, q), pin)
 
-    if not raw:
-        state.pending = state.involved = _sites_of_features(features, set())
-        return none
+
+def _chosen_moves(
+    found: _Found, full, full_zero, sites, size, domain: Domain, state: Collapse, tol, short, allowed
+):
+    """The moves made: each site onto its circle (or where it meets a circle the site is on
+    already), smallest moves first, inside the domain and ``allowed``, at most one per short
+    face and none touching the sites of a face already collapsed; ``state`` updated."""
+    n = sites.shape[0]
+    none = np.zeros(0, dtype=np.int64), np.zeros((0, 2))
+    raw, features = found.raw, found.features
     pins = _pins(np.unique([c[0] for c in raw]), full, full_zero, sites, domain, state, tol)
     cand = []
     for x, circle, feature, lock, fid, pin in raw:

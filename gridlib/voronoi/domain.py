@@ -3,9 +3,11 @@
 Every computation of :func:`~gridlib.voronoi.pebi_grid.pebi_grid` happens in a
 local frame: the input coordinates minus an origin near the centre of the
 domain's bounding box, a multiple of a power of two close to the domain's size
-(so that at UTM magnitudes the subtraction is exact). Qhull and circle
-intersections lose digits at UTM magnitudes (ALGORITHMS.md §3.1); in the local
-frame they do not.
+(so that at UTM magnitudes the subtraction is exact). Qhull and the formulas for
+circumcentres and circle intersections lose digits when the coordinates are large
+(500 km from the origin a coordinate is resolved to about 1e-10 m, and these formulas
+take differences of products of coordinates, which cancel most of the digits left); in
+the local frame, whose coordinates are of the domain's size, they do not.
 
 Units are metres; x, y in plan view. The polygon may be given in either
 orientation and is closed implicitly (a repeated first vertex is dropped); it is
@@ -30,6 +32,8 @@ import shapely
 from numpy.typing import ArrayLike
 
 from ..errors import GridError
+from ..planar import cross2
+from ..reproducible import arctan2
 
 
 def rectangle(xmin: float, ymin: float, xmax: float, ymax: float) -> np.ndarray:
@@ -43,10 +47,6 @@ def rectangle(xmin: float, ymin: float, xmax: float, ymax: float) -> np.ndarray:
             f"rectangle: need xmin < xmax and ymin < ymax, got ({xmin}, {ymin}), ({xmax}, {ymax})"
         )
     return np.array([[xmin, ymin], [xmax, ymin], [xmax, ymax], [xmin, ymax]], dtype=np.float64)
-
-
-def _cross2(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
 def polygon_vertices(domain: object, what: str = "domain") -> np.ndarray:
@@ -97,7 +97,7 @@ class Domain:
         if xy.shape[0] < 3:
             raise GridError(f"{what}: a polygon needs at least 3 distinct vertices, got {xy.shape[0]}")
         rel = xy - xy[0]
-        if np.all(np.abs(_cross2(rel, rel[-1 if np.any(rel[-1]) else 1])) <= 1e-12 * np.abs(rel).max() ** 2):
+        if np.all(np.abs(cross2(rel, rel[-1 if np.any(rel[-1]) else 1])) <= 1e-12 * np.abs(rel).max() ** 2):
             raise GridError(f"{what}: the polygon encloses no area (its vertices are collinear)")
         if not shapely.LinearRing(xy).is_simple:
             p = _self_intersection(xy)
@@ -111,7 +111,7 @@ class Domain:
         self.origin = np.round(centre / quantum) * quantum  # x - origin exact for |x| >> extent
         local = xy - self.origin
         self.diameter = float(np.hypot(*(hi - lo)))
-        area2 = float(_cross2(local, np.roll(local, -1, axis=0)).sum())
+        area2 = float(cross2(local, np.roll(local, -1, axis=0)).sum())
         if not abs(area2) > 1e-12 * self.diameter**2:
             raise GridError(f"{what}: the polygon encloses no area (are its vertices collinear?)")
         if area2 < 0:
@@ -120,7 +120,7 @@ class Domain:
         # Drop vertices where the boundary goes straight on (they carry no corner).
         prev, nxt = np.roll(local, 1, axis=0), np.roll(local, -1, axis=0)
         d_in, d_out = local - prev, nxt - local
-        turn = _cross2(d_in, d_out)
+        turn = cross2(d_in, d_out)
         straight = (np.abs(turn) <= 1e-12 * np.linalg.norm(d_in, axis=1) * np.linalg.norm(d_out, axis=1)) & (
             (d_in * d_out).sum(axis=1) > 0
         )
@@ -143,7 +143,7 @@ class Domain:
         self.edge_len = np.linalg.norm(self.edge_vec, axis=1)
         self.edge_unit = self.edge_vec / self.edge_len[:, None]
         d_in = self.edge_unit[np.arange(local.shape[0]) - 1]
-        self.reflex = _cross2(d_in, self.edge_unit) < 0  # re-entrant corners: the boundary turns clockwise
+        self.reflex = cross2(d_in, self.edge_unit) < 0  # re-entrant corners: the boundary turns clockwise
         self.cum = np.concatenate([[0.0], np.cumsum(self.edge_len)])
         self.perimeter = float(self.cum[-1])
         self._edge_tree = shapely.STRtree(shapely.linestrings(np.stack([self.edge_a, self.edge_b], axis=1)))
@@ -195,6 +195,20 @@ class Domain:
         u = np.clip((rel * self.edge_unit[edge]).sum(axis=1) / self.edge_len[edge], 0.0, 1.0)
         foot = self.edge_a[edge] + u[:, None] * self.edge_vec[edge]
         return np.linalg.norm(p - foot, axis=1), edge.astype(np.int64), u
+
+    def boundary_rays(self, p: np.ndarray) -> list[float]:
+        """Directions (angles) of the domain boundary leaving a boundary point."""
+        _, edge, u = self.nearest_boundary(p[None, :])
+        e, uu = int(edge[0]), float(u[0])
+        m = self.num_vertices
+        eps = self.tol / self.edge_len[e]
+        if uu <= eps:
+            d1, d2 = self.edge_unit[e], -self.edge_unit[(e - 1) % m]
+        elif uu >= 1 - eps:
+            d1, d2 = self.edge_unit[(e + 1) % m], -self.edge_unit[e]
+        else:
+            d1, d2 = self.edge_unit[e], -self.edge_unit[e]
+        return [float(arctan2(d1[1], d1[0])), float(arctan2(d2[1], d2[0]))]
 
     def perimeter_param(self, edge: np.ndarray, u: np.ndarray) -> np.ndarray:
         return self.cum[edge] + u * self.edge_len[edge]
@@ -278,9 +292,9 @@ def _self_intersection(xy: np.ndarray) -> np.ndarray:
     adjacent = (j == i + 1) | ((i == 0) & (j == n - 1))
     i, j = i[~adjacent], j[~adjacent]
     r, s, q = b[i] - a[i], b[j] - a[j], a[j] - a[i]
-    den = _cross2(r, s)
+    den = cross2(r, s)
     with np.errstate(divide="ignore", invalid="ignore"):
-        t, u = _cross2(q, s) / den, _cross2(q, r) / den
+        t, u = cross2(q, s) / den, cross2(q, r) / den
     hit = (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1) & (den != 0)
     if hit.any():
         k = int(np.flatnonzero(hit)[0])

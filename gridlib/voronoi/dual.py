@@ -36,6 +36,7 @@ from scipy.spatial import ConvexHull, cKDTree
 from ..connectivity import cell_faces_from_neighbors, cell_node_cycles_2d, order_cell_faces_2d
 from ..errors import GridError
 from ..grid import Cells, Faces, Grid, Nodes
+from ..planar import circumcentres, cross2, merge_close_points
 
 
 def pebi(tri_grid: Grid, tol: float = 1e-9) -> Grid:
@@ -132,7 +133,7 @@ class _Triangulation:
 
     def __init__(self, xy: np.ndarray, tri: np.ndarray) -> None:
         self.xy, self.tri = xy, tri
-        if np.any(_cross2(xy[tri[:, 1]] - xy[tri[:, 0]], xy[tri[:, 2]] - xy[tri[:, 0]]) <= 0):
+        if np.any(cross2(xy[tri[:, 1]] - xy[tri[:, 0]], xy[tri[:, 2]] - xy[tri[:, 0]]) <= 0):
             raise GridError("pebi: the triangle grid has inverted or degenerate triangles")
         nn = xy.shape[0]
         self.ea, self.eb = tri, np.roll(tri, -1, axis=1)  # edge k: tri[k] -> tri[k+1]
@@ -143,7 +144,7 @@ class _Triangulation:
         if np.any(uses > 2):
             raise GridError("pebi: an edge is shared by more than two triangles")
         self.on_boundary = (uses == 1)[self.edge_of]  # per (triangle, local edge)
-        self.centre = _circumcentres(xy, tri)
+        self.centre = circumcentres(xy, tri)
         self.h = float(np.median(np.linalg.norm(xy[self.eb] - xy[self.ea], axis=2)))
         flat = self.edge_of.ravel()
         order = np.argsort(flat, kind="stable")
@@ -174,55 +175,27 @@ class _Triangulation:
         prev[end] = start
         d_in = self.xy[start] - self.xy[prev[start]]
         d_out = self.xy[end] - self.xy[start]
-        turn = _cross2(d_in, d_out)
+        turn = cross2(d_in, d_out)
         scale = np.linalg.norm(d_in, axis=1) * np.linalg.norm(d_out, axis=1)
         if np.any(turn < -1e-6 * scale):
             return None
         hull = self.xy[start][ConvexHull(self.xy[start]).vertices]  # counter-clockwise
         d_in = hull - np.roll(hull, 1, axis=0)
         d_out = np.roll(hull, -1, axis=0) - hull
-        turn = _cross2(d_in, d_out)
+        turn = cross2(d_in, d_out)
         scale = np.linalg.norm(d_in, axis=1) * np.linalg.norm(d_out, axis=1)
         return hull[turn > tol * scale]
 
 
 def _clipped_voronoi(t: _Triangulation, corners: np.ndarray, tol: float):
+    """The Voronoi diagram of the points clipped to their convex hull (``corners``): vertex
+    coordinates and faces (two vertices, the cells either side, -1 outside)."""
     xy = t.xy
-    nt = t.tri.shape[0]
     side_dir = np.roll(corners, -1, axis=0) - corners
     inward = np.column_stack([-side_dir[:, 1], side_dir[:, 0]])
     inward /= np.linalg.norm(inward, axis=1, keepdims=True)
     eps = tol * t.h
-
-    # Segments: interior edges (from the right triangle's centre to the left one's),
-    # then rays: one per boundary edge, from the centre outwards across the edge.
-    ea, eb = t.ea.ravel(), t.eb.ravel()
-    tri_of = np.repeat(np.arange(nt), 3)
-    left, right = t.hf_left, t.hf_right
-    seg_a = t.centre[tri_of[right]]
-    seg_d = t.centre[tri_of[left]] - seg_a
-    normal = xy[eb[left]] - xy[ea[left]]
-    across = np.column_stack([-normal[:, 1], normal[:, 0]])  # left of v -> w
-    reversed_ = (seg_d * across).sum(axis=1) < -eps * np.linalg.norm(across, axis=1)
-    if np.any(reversed_):
-        i = int(np.flatnonzero(reversed_)[0])
-        raise GridError(
-            f"pebi: the triangulation is not Delaunay at edge ({ea[left[i]]}, {eb[left[i]]}); "
-            "use the Delaunay triangulation of the points"
-        )
-    bnd = np.flatnonzero(t.on_boundary.ravel())
-    ray_a = t.centre[tri_of[bnd]]
-    out_dir = xy[eb[bnd]] - xy[ea[bnd]]
-    ray_d = np.column_stack([out_dir[:, 1], -out_dir[:, 0]])  # right of v -> w: outside
-    ray_d *= 4.0 * np.ptp(xy, axis=0).max() / np.linalg.norm(ray_d, axis=1, keepdims=True)
-
-    A = np.concatenate([seg_a, ray_a])
-    D = np.concatenate([seg_d, ray_d])
-    B = np.concatenate([t.centre[tri_of[left]], ray_a + ray_d])
-    # A segment runs to the left of v -> w, so its normal points from v to w; a
-    # ray runs to the right (outwards), so its normal points from w to v.
-    cells_a = np.concatenate([ea[left], eb[bnd]])
-    cells_b = np.concatenate([eb[left], ea[bnd]])
+    A, D, B, cells_a, cells_b = _segments_and_rays(t, eps)
     s_lo, s_hi, side_lo, side_hi = _clip_to_convex(A, D, corners, inward)
     length = np.linalg.norm(D, axis=1)
     keep = (s_hi - s_lo) * length > eps
@@ -289,6 +262,44 @@ def _clipped_voronoi(t: _Triangulation, corners: np.ndarray, tol: float):
     return coords, fa, fb, ca, cb
 
 
+def _segments_and_rays(t: _Triangulation, eps: float) -> tuple[np.ndarray, ...]:
+    """The unclipped Voronoi edges: start A, direction D, end B and the cells either side.
+
+    Segments: interior edges (from the right triangle's centre to the left one's), then rays:
+    one per boundary edge, from the centre outwards across the edge.
+    """
+    xy = t.xy
+    nt = t.tri.shape[0]
+    ea, eb = t.ea.ravel(), t.eb.ravel()
+    tri_of = np.repeat(np.arange(nt), 3)
+    left, right = t.hf_left, t.hf_right
+    seg_a = t.centre[tri_of[right]]
+    seg_d = t.centre[tri_of[left]] - seg_a
+    normal = xy[eb[left]] - xy[ea[left]]
+    across = np.column_stack([-normal[:, 1], normal[:, 0]])  # left of v -> w
+    reversed_ = (seg_d * across).sum(axis=1) < -eps * np.linalg.norm(across, axis=1)
+    if np.any(reversed_):
+        i = int(np.flatnonzero(reversed_)[0])
+        raise GridError(
+            f"pebi: the triangulation is not Delaunay at edge ({ea[left[i]]}, {eb[left[i]]}); "
+            "use the Delaunay triangulation of the points"
+        )
+    bnd = np.flatnonzero(t.on_boundary.ravel())
+    ray_a = t.centre[tri_of[bnd]]
+    out_dir = xy[eb[bnd]] - xy[ea[bnd]]
+    ray_d = np.column_stack([out_dir[:, 1], -out_dir[:, 0]])  # right of v -> w: outside
+    ray_d *= 4.0 * np.ptp(xy, axis=0).max() / np.linalg.norm(ray_d, axis=1, keepdims=True)
+
+    A = np.concatenate([seg_a, ray_a])
+    D = np.concatenate([seg_d, ray_d])
+    B = np.concatenate([t.centre[tri_of[left]], ray_a + ray_d])
+    # A segment runs to the left of v -> w, so its normal points from v to w; a
+    # ray runs to the right (outwards), so its normal points from w to v.
+    cells_a = np.concatenate([ea[left], eb[bnd]])
+    cells_b = np.concatenate([eb[left], ea[bnd]])
+    return A, D, B, cells_a, cells_b
+
+
 def _clip_to_convex(A, D, corners, inward):
     """Cyrus-Beck: parameter range [s_lo, s_hi] in [0, 1] of A + s D inside the polygon."""
     n = A.shape[0]
@@ -337,7 +348,7 @@ def _mrst_dual(t: _Triangulation, tol: float):
     xy, tri, nn = t.xy, t.tri, t.xy.shape[0]
     nt = tri.shape[0]
     ea, eb = t.ea.ravel(), t.eb.ravel()
-    side = _cross2(xy[t.eb] - xy[t.ea], t.centre[:, None, :] - xy[t.ea])
+    side = cross2(xy[t.eb] - xy[t.ea], t.centre[:, None, :] - xy[t.ea])
     bad_edge = (side < -tol * t.h * t.h) & t.on_boundary
     if np.any(bad_edge.sum(axis=1) > 1):
         raise GridError("pebi: a triangle's circumcentre lies outside two of its edges")
@@ -426,22 +437,7 @@ def _cell_areas(grid: Grid) -> np.ndarray:
     owner = np.repeat(np.arange(grid.num_cells), np.diff(pos))
     nxt = np.arange(cyc.size) + 1
     nxt[pos[1:] - 1] = pos[:-1]
-    return 0.5 * np.bincount(owner, _cross2(p, p[nxt]), grid.num_cells)
-
-
-def _cross2(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-
-
-def _circumcentres(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    a = xy[tri[:, 0]]
-    b = xy[tri[:, 1]] - a
-    c = xy[tri[:, 2]] - a
-    d = 2.0 * _cross2(b, c)
-    b2, c2 = (b * b).sum(axis=1), (c * c).sum(axis=1)
-    ux = (c[:, 1] * b2 - b[:, 1] * c2) / d
-    uy = (b[:, 0] * c2 - c[:, 0] * b2) / d
-    return a + np.column_stack([ux, uy])
+    return 0.5 * np.bincount(owner, cross2(p, p[nxt]), grid.num_cells)
 
 
 def _bisector_on_line(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -466,7 +462,7 @@ def _merge_collinear_boundary(coords, fa, fb, ca, cb, bnode_vertices, tol):
         raise GridError("pebi: the triangulation's boundary is not a simple closed curve")
     d1 = coords[fb[inc]] - coords[fa[inc]]
     d2 = coords[fb[out]] - coords[fa[out]]
-    cross = np.abs(_cross2(d1, d2))
+    cross = np.abs(cross2(d1, d2))
     scale = np.linalg.norm(d1, axis=1) * np.linalg.norm(d2, axis=1)
     straight = (cross <= tol * scale) & ((d1 * d2).sum(axis=1) > 0)
     fb = fb.copy()
@@ -478,14 +474,8 @@ def _merge_collinear_boundary(coords, fa, fb, ca, cb, bnode_vertices, tol):
 
 def _representatives(coords: np.ndarray, radius: float) -> np.ndarray:
     """For every vertex, the lowest-numbered vertex within a chain of ``radius`` of it."""
-    pairs = cKDTree(coords).query_pairs(radius, output_type="ndarray")
-    n = coords.shape[0]
-    if pairs.size == 0:
-        return np.arange(n)
-    graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = csgraph.connected_components(graph, directed=False)
-    _, lowest = np.unique(label, return_index=True)  # first occurrence = lowest id
-    return lowest[label]
+    lowest, group = merge_close_points(coords, radius)
+    return lowest[group]
 
 
 def _merge_close_vertices(coords, fa, fb, radius):

@@ -37,12 +37,11 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse import csgraph
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ..errors import GridError
-from .domain import Domain, _cross2
+from ..planar import circumcentres, cross2, merge_close_points
+from .domain import Domain
 
 SQRT3 = np.sqrt(3.0)
 
@@ -75,7 +74,7 @@ def triangulate(pts: np.ndarray, domain: Domain) -> tuple[np.ndarray, np.ndarray
         )
     tri = dl.simplices.astype(np.int64)
     nbr = dl.neighbors.astype(np.int64)
-    orient = _cross2(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    orient = cross2(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
     flip = orient < 0
     if flip.any():
         tri[flip] = tri[flip][:, [0, 2, 1]]
@@ -85,18 +84,6 @@ def triangulate(pts: np.ndarray, domain: Domain) -> tuple[np.ndarray, np.ndarray
         t = int(np.flatnonzero(~np.isfinite(centre).all(axis=1))[0])
         raise GridError(f"pebi_grid: points {tri[t].tolist()} are collinear in a Delaunay triangle")
     return tri, nbr, centre
-
-
-def circumcentres(xy: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    a = xy[tri[:, 0]]
-    b = xy[tri[:, 1]] - a
-    c = xy[tri[:, 2]] - a
-    d = 2.0 * _cross2(b, c)
-    b2, c2 = (b * b).sum(axis=1), (c * c).sum(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ux = (c[:, 1] * b2 - b[:, 1] * c2) / d
-        uy = (b[:, 0] * c2 - c[:, 0] * b2) / d
-    return a + np.column_stack([ux, uy])
 
 
 def edges_of(tri: np.ndarray, nbr: np.ndarray):
@@ -225,34 +212,9 @@ class _Cells:
 
 def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
     """As :func:`plain_ridges`, with Qhull only around the irregular sites (see the module docstring)."""
-    n = sites.shape[0]
-    nl = lat.ij.shape[0]
     cells = _Cells(lat)
-    clean = cells.present()
-    foreign = sites[nl:] if lat.active is None else np.concatenate([sites[:nl][~lat.active], sites[nl:]])
-    if foreign.shape[0]:
-        pt, cid = cells.near(foreign)
-        close = np.linalg.norm(cells.centres(cid) - foreign[pt], axis=1) < cells.radius * (1 + 1e-6)
-        clean[cid[close]] = False
+    clean, regular, irregular, buffer = _irregular_sites(sites, lat, cells)
     i, j = lat.ij[:, 0], lat.ij[:, 1]
-    regular = np.ones(nl, dtype=bool)
-    for typ, da, db in cells.around:
-        cid = cells.cell_id(typ, i + da, j + db)
-        regular &= (cid >= 0) & clean[np.maximum(cid, 0)]
-    irregular = np.concatenate([~regular, np.ones(n - nl, dtype=bool)])
-    # Buffer: regular lattice sites next to irregular ones.
-    buffer = np.zeros(n, dtype=bool)
-    nb_offsets = (
-        [(1, 0), (-1, 0), (0, 1), (0, -1), (1, -1), (-1, 1)]
-        if cells.hex
-        else [(1, 0), (-1, 0), (0, 1), (0, -1)]
-    )
-    irr_l = np.flatnonzero(~regular)
-    for di, dj in nb_offsets:
-        k = cells.site_at(i[irr_l] + di, j[irr_l] + dj)
-        k = k[k >= 0]
-        buffer[k] = True
-    buffer &= ~irregular
     if not irregular.any():
         irregular[0] = True  # pragma: no cover - a domain without boundary sites does not exist
     tree = None
@@ -280,26 +242,7 @@ def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
     else:  # pragma: no cover
         raise GridError("pebi_grid: the Delaunay buffer around irregular sites does not converge")
 
-    # Qhull triangles that are clean lattice cells get the cell's id.
-    nt = tri.shape[0]
-    vid = cells.n + np.arange(nt)
-    corner = glob[tri]
-    lat_tri = np.all((corner >= 0) & (corner < nl), axis=1)
-    lt = np.flatnonzero(lat_tri)
-    if lt.size:
-        ci = lat.ij[corner[lt]]  # (k, 3, 2)
-        for typ, da, db in cells.around:  # a cell around the first corner holding the other two
-            a = ci[:, 0, 0] + da
-            b = ci[:, 0, 1] + db
-            cid = cells.cell_id(typ, a, b)
-            ok = (cid >= 0) & clean[np.maximum(cid, 0)]
-            cand = np.zeros((lt.size, len(cells.corners[typ])), dtype=np.int64)
-            for m, (ca, cb) in enumerate(cells.corners[typ]):
-                cand[:, m] = cells.site_at(a + ca, b + cb)
-            inside1 = (cand == corner[lt, 1][:, None]).any(axis=1)
-            inside2 = (cand == corner[lt, 2][:, None]).any(axis=1)
-            hit = ok & inside1 & inside2 & (vid[lt] >= cells.n)
-            vid[lt[hit]] = cid[hit]
+    vid = _vertex_ids(cells, lat, clean, glob[tri])
     t, u, p, q = edges_of(tri, nbr)
     gp, gq = glob[p], glob[q]
     real = (gp >= 0) & (gq >= 0)
@@ -329,6 +272,65 @@ def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
     coords[~in_cells] = centre[used[~in_cells] - cells.n]
     inv = inv.reshape(-1)
     return coords, inv[: va.size], inv[va.size :], np.concatenate(cp), np.concatenate(cq)
+
+
+def _irregular_sites(sites: np.ndarray, lat: Lattice, cells: _Cells) -> tuple[np.ndarray, ...]:
+    """Which lattice cells are clean (all corners present, no other site in their circle),
+    which lattice sites are regular (all cells around them clean), which sites are irregular
+    (the others and all sites off the lattice) and the buffer: regular lattice sites next to
+    irregular ones."""
+    n = sites.shape[0]
+    nl = lat.ij.shape[0]
+    clean = cells.present()
+    foreign = sites[nl:] if lat.active is None else np.concatenate([sites[:nl][~lat.active], sites[nl:]])
+    if foreign.shape[0]:
+        pt, cid = cells.near(foreign)
+        close = np.linalg.norm(cells.centres(cid) - foreign[pt], axis=1) < cells.radius * (1 + 1e-6)
+        clean[cid[close]] = False
+    i, j = lat.ij[:, 0], lat.ij[:, 1]
+    regular = np.ones(nl, dtype=bool)
+    for typ, da, db in cells.around:
+        cid = cells.cell_id(typ, i + da, j + db)
+        regular &= (cid >= 0) & clean[np.maximum(cid, 0)]
+    irregular = np.concatenate([~regular, np.ones(n - nl, dtype=bool)])
+    # Buffer: regular lattice sites next to irregular ones.
+    buffer = np.zeros(n, dtype=bool)
+    nb_offsets = (
+        [(1, 0), (-1, 0), (0, 1), (0, -1), (1, -1), (-1, 1)]
+        if cells.hex
+        else [(1, 0), (-1, 0), (0, 1), (0, -1)]
+    )
+    irr_l = np.flatnonzero(~regular)
+    for di, dj in nb_offsets:
+        k = cells.site_at(i[irr_l] + di, j[irr_l] + dj)
+        k = k[k >= 0]
+        buffer[k] = True
+    buffer &= ~irregular
+    return clean, regular, irregular, buffer
+
+
+def _vertex_ids(cells: _Cells, lat: Lattice, clean: np.ndarray, corner: np.ndarray) -> np.ndarray:
+    """Vertex ids of Qhull triangles (``corner``: their sites, -1 for frame points): the cell's
+    id for a triangle that is a clean lattice cell, ``cells.n`` + the triangle's index otherwise."""
+    nl = lat.ij.shape[0]
+    vid = cells.n + np.arange(corner.shape[0])
+    lat_tri = np.all((corner >= 0) & (corner < nl), axis=1)
+    lt = np.flatnonzero(lat_tri)
+    if lt.size:
+        ci = lat.ij[corner[lt]]  # (k, 3, 2)
+        for typ, da, db in cells.around:  # a cell around the first corner holding the other two
+            a = ci[:, 0, 0] + da
+            b = ci[:, 0, 1] + db
+            cid = cells.cell_id(typ, a, b)
+            ok = (cid >= 0) & clean[np.maximum(cid, 0)]
+            cand = np.zeros((lt.size, len(cells.corners[typ])), dtype=np.int64)
+            for m, (ca, cb) in enumerate(cells.corners[typ]):
+                cand[:, m] = cells.site_at(a + ca, b + cb)
+            inside1 = (cand == corner[lt, 1][:, None]).any(axis=1)
+            inside2 = (cand == corner[lt, 2][:, None]).any(axis=1)
+            hit = ok & inside1 & inside2 & (vid[lt] >= cells.n)
+            vid[lt[hit]] = cid[hit]
+    return vid
 
 
 def splice_ridges(
@@ -362,8 +364,55 @@ def splice_ridges(
     ``inside`` (mask of sites): the ridges given are all the ridges of these sites (a
     part of the diagram); A and its neighbours must be among them.
     """
-    n = sites.shape[0]
     nv = coords.shape[0]
+    patch = _patch(coords, va, vb, cp, cq, sites, moved, domain, tree, stale, inside)
+    if patch is None:
+        return None
+    A, tri, nbr, centre, glob = patch
+    t, u, p, q = edges_of(tri, nbr)
+    gp, gq = glob[p], glob[q]
+    take = (gp >= 0) & (gq >= 0) & (A[np.maximum(gp, 0)] | A[np.maximum(gq, 0)])
+    t, u, gp, gq = t[take], u[take], gp[take], gq[take]
+    used, inv = np.unique(np.concatenate([u, t]), return_inverse=True)
+    inv = inv.reshape(-1)
+    new_va, new_vb = nv + inv[: u.size], nv + inv[u.size :]
+    new_xy = centre[used]
+    kept = ~(A[cp] | A[cq])
+    # Vertices of kept ridges that dropped ridges also used: the new ones at the same place.
+    in_kept = np.zeros(nv, dtype=bool)
+    in_kept[va[kept]] = in_kept[vb[kept]] = True
+    in_dropped = np.zeros(nv, dtype=bool)
+    in_dropped[va[~kept]] = in_dropped[vb[~kept]] = True
+    seam = np.flatnonzero(in_kept & in_dropped)
+    remap = np.arange(nv + new_xy.shape[0])
+    if seam.size:
+        d, _ = cKDTree(new_xy).query(coords[seam])
+        if np.any(d > tol):
+            return None
+        # every seam vertex and new vertex at one place becomes one (co-circular sites can be
+        # triangulated either way: the two triangulations need not share their vertices)
+        ids = np.concatenate([seam, nv + np.arange(new_xy.shape[0])])
+        first, group = merge_close_points(np.concatenate([coords[seam], new_xy]), tol)
+        remap[ids] = ids[first[group]]  # the first id of each group
+    out_va = remap[np.concatenate([va[kept], new_va])]
+    out_vb = remap[np.concatenate([vb[kept], new_vb])]
+    fresh = np.concatenate([np.zeros(int(kept.sum()), dtype=bool), np.ones(gp.size, dtype=bool)])
+    return (
+        np.concatenate([coords, new_xy]),
+        out_va,
+        out_vb,
+        np.concatenate([cp[kept], gp]),
+        np.concatenate([cq[kept], gq]),
+        fresh,
+    )
+
+
+def _patch(coords, va, vb, cp, cq, sites, moved, domain: Domain, tree, stale, inside):
+    """The set A of sites whose ridges are recomputed (the moved sites and their neighbours,
+    grown until the check passes) and the Qhull triangulation of the patch around it
+    (triangles, neighbours, circumcentres, the site of every point or -1 for frame points);
+    None where the patch leaves the ``inside`` sites or does not settle."""
+    n = sites.shape[0]
 
     def grow(mask: np.ndarray) -> np.ndarray:
         """The sites of the mask and their Delaunay neighbours."""
@@ -408,69 +457,31 @@ def splice_ridges(
             hits = stale_tree.query_ball_point(centre[check], rad, return_sorted=False)
             bad = np.union1d(bad, stale_idx[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)])
         bad = bad[~P[bad]]
-        # kept vertices next to the patch must stay empty of the moved sites
-        kept = ~(A[cp] | A[cq])
-        near = kept & (P[cp] | P[cq])
-        kv = np.unique(np.concatenate([va[near], vb[near]]))
-        if kv.size:
-            first = np.full(nv, -1, dtype=np.int64)
-            rv = np.flatnonzero(near)
-            first[va[rv]] = cp[rv]
-            first[vb[rv]] = cp[rv]
-            kr = np.linalg.norm(coords[kv] - sites[first[kv]], axis=1) * (1 - 1e-9)
-            mt = cKDTree(sites[moved])
-            invaded = mt.query_ball_point(coords[kv], kr, return_sorted=False)
-            lens = np.fromiter((len(h) for h in invaded), dtype=np.int64, count=kv.size)
-            spoilt = kv[lens > 0]
-        else:
-            spoilt = np.zeros(0, dtype=np.int64)
+        spoilt = _spoilt_vertices(coords, va, vb, cp, cq, sites, moved, A, P)
         if bad.size == 0 and spoilt.size == 0:
-            break
+            return A, tri, nbr, centre, glob
         A[bad] = True
         if spoilt.size:
             sv = np.isin(va, spoilt) | np.isin(vb, spoilt)
             A[cp[sv]] = A[cq[sv]] = True
-    else:
-        return None
-    t, u, p, q = edges_of(tri, nbr)
-    gp, gq = glob[p], glob[q]
-    take = (gp >= 0) & (gq >= 0) & (A[np.maximum(gp, 0)] | A[np.maximum(gq, 0)])
-    t, u, gp, gq = t[take], u[take], gp[take], gq[take]
-    used, inv = np.unique(np.concatenate([u, t]), return_inverse=True)
-    inv = inv.reshape(-1)
-    new_va, new_vb = nv + inv[: u.size], nv + inv[u.size :]
-    new_xy = centre[used]
+    return None
+
+
+def _spoilt_vertices(coords, va, vb, cp, cq, sites, moved, A, P) -> np.ndarray:
+    """Vertices of kept ridges (no site of A) next to the patch ``P`` that a moved site now
+    lies strictly inside the circle of: they must go too."""
+    nv = coords.shape[0]
     kept = ~(A[cp] | A[cq])
-    # Vertices of kept ridges that dropped ridges also used: the new ones at the same place.
-    in_kept = np.zeros(nv, dtype=bool)
-    in_kept[va[kept]] = in_kept[vb[kept]] = True
-    in_dropped = np.zeros(nv, dtype=bool)
-    in_dropped[va[~kept]] = in_dropped[vb[~kept]] = True
-    seam = np.flatnonzero(in_kept & in_dropped)
-    remap = np.arange(nv + new_xy.shape[0])
-    if seam.size:
-        d, _ = cKDTree(new_xy).query(coords[seam])
-        if np.any(d > tol):
-            return None
-        # every seam vertex and new vertex at one place becomes one (co-circular sites can be
-        # triangulated either way: the two triangulations need not share their vertices)
-        ids = np.concatenate([seam, nv + np.arange(new_xy.shape[0])])
-        pairs = cKDTree(np.concatenate([coords[seam], new_xy])).query_pairs(tol, output_type="ndarray")
-        if pairs.size:
-            m = ids.size
-            graph = sparse.coo_matrix((np.ones(pairs.shape[0]), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
-            lab = csgraph.connected_components(graph, directed=False)[1]
-            rep = np.full(lab.max() + 1, -1, dtype=np.int64)
-            rep[lab[::-1]] = ids[::-1]  # the first id of each group
-            remap[ids] = rep[lab]
-    out_va = remap[np.concatenate([va[kept], new_va])]
-    out_vb = remap[np.concatenate([vb[kept], new_vb])]
-    fresh = np.concatenate([np.zeros(int(kept.sum()), dtype=bool), np.ones(gp.size, dtype=bool)])
-    return (
-        np.concatenate([coords, new_xy]),
-        out_va,
-        out_vb,
-        np.concatenate([cp[kept], gp]),
-        np.concatenate([cq[kept], gq]),
-        fresh,
-    )
+    near = kept & (P[cp] | P[cq])
+    kv = np.unique(np.concatenate([va[near], vb[near]]))
+    if kv.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    first = np.full(nv, -1, dtype=np.int64)
+    rv = np.flatnonzero(near)
+    first[va[rv]] = cp[rv]
+    first[vb[rv]] = cp[rv]
+    kr = np.linalg.norm(coords[kv] - sites[first[kv]], axis=1) * (1 - 1e-9)
+    mt = cKDTree(sites[moved])
+    invaded = mt.query_ball_point(coords[kv], kr, return_sorted=False)
+    lens = np.fromiter((len(h) for h in invaded), dtype=np.int64, count=kv.size)
+    return kv[lens > 0]

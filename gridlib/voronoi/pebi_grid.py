@@ -2,7 +2,7 @@
 
 The generating points ("sites") are, in this order of precedence:
 
-* **fault sites** (:mod:`.faults`): mirrored pairs along every fault trace, so
+* **fault sites** (:mod:`.fault_sites`): mirrored pairs along every fault trace, so
   that Voronoi edges lie exactly on the trace, plus tip sites beyond free ends;
 * **well sites** (:mod:`.wells`): a centre and radial rings for vertical wells,
   a row of sites along well paths;
@@ -93,14 +93,23 @@ from scipy.spatial import cKDTree
 
 from ..errors import GridError
 from ..grid import Grid
-from ..reproducible import arctan2
-from . import faults as _faults
 from .bounded import clipped_voronoi
+from .conformity import (
+    fault_problems,
+    problem_kinds,
+    raise_fault_problem,
+    refine_factor,
+    snap_to_traces,
+    verify,
+)
 from .degenerate import CONTRACT, SHORT, Collapse, collapse_moves
 from .domain import Domain
-from .faults import FITTED, Fault
+from .fault_junctions import FITTED
+from .fault_layout import layout, ring_room
+from .fault_network import Fault
+from .fault_sites import FaultSites, build_sites, circle_violations
 from .lattice import Lattice
-from .sites import PADDING, background_sites
+from .sites import PADDING, Background, background_sites
 from .size_notes import KIND_NAMES, size_notes
 from .wells import Well, build_wells, check_clearances, removal_mask
 
@@ -236,6 +245,58 @@ def pebi_grid(
     notes: list[str] = []
     dom = Domain(domain)
     size, constant = _size_function(cell_size, dom)
+    pattern = _check_options(pattern, padding, constant, fault_ratio, max_refinements, boundary_clearance)
+    faults = list(faults)
+    wells = list(wells)
+
+    lay = layout(faults, dom, size, float(fault_ratio), notes, math.ldexp(1.0, -int(max_refinements)))
+    fault_labels = lay.net.labels if lay is not None else []
+    room = None if lay is None else (lambda p: ring_room(lay, p))
+    ws = build_wells(wells, dom, size, room, notes)
+    check_clearances(ws)
+    bg = _background(dom, size, constant, pattern, padding, boundary_clearance, ws)
+    attempt = 0
+    for _ in range(max_refinements + 1):  # a site added for a cut-off piece may ask for smaller fault steps
+        fs, keep, sites, n_bg, attempt = _conforming_fault_sites(
+            lay, bg, size, dom, ws, fault_labels, attempt, max_refinements
+        )
+        if sites.shape[0] == 0:  # a domain smaller than one cell: one cell
+            keep, sites, n_bg = _one_cell(bg, dom, notes)
+        vor, sites, site_size, moved, n_extra, attempt, retry = _clip_rounds(
+            sites, n_bg, keep, bg, fs, ws, dom, size, lay, attempt, max_refinements, fault_labels
+        )
+        if not retry:
+            break
+    _add_notes(notes, fs, attempt, bg, keep, n_extra, moved, vor)
+
+    n_f = fs.sites.shape[0]
+    n_sites = sites.shape[0]
+    tags = _fault_tags(vor, fs, n_bg, n_sites)
+    grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
+    cell_well = np.zeros(n_sites, dtype=np.int64)
+    cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.site_well
+    if ws.absorbed.shape[0]:  # the cells holding the points of well paths given no site (fault cells)
+        holder = cKDTree(sites).query(ws.absorbed)[1]
+        free = cell_well[holder] == 0
+        cell_well[holder[free]] = ws.absorbed_well[free]
+    site_kind = np.full(n_sites, ADDED, dtype=np.int8)
+    site_kind[:n_bg] = np.where(bg.padding[keep], PADDING_SITE, BACKGROUND)
+    site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)
+    site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
+    site_size = np.concatenate([site_size, size(sites[site_size.size :])])  # and the added sites
+    verify(vor, dom, tags, fs, fault_labels, ws, cell_well)
+    notes.extend(_size_notes(vor, site_size, site_kind, fs, n_bg, dom))
+    names_f = tuple((f.name or f"F{i + 1}") for i, f in enumerate(faults))
+    names_w = tuple((w.name or f"W{i + 1}") for i, w in enumerate(wells))
+    site_xy = sites + dom.origin
+    traces = _honoured_traces(lay, len(faults), dom)
+    for a in (cell_well, site_xy, site_kind, site_size, *traces):
+        a.flags.writeable = False
+    return PebiGrid(grid, cell_well, names_f, names_w, site_xy, tuple(notes), site_kind, site_size, traces)
+
+
+def _check_options(pattern, padding, constant, fault_ratio, max_refinements, boundary_clearance) -> str:
+    """Raise on an invalid option of :func:`pebi_grid`; the lattice pattern by its canonical name."""
     if pattern == "square":
         pattern = "cartesian"
     if pattern not in ("hexagonal", "cartesian"):
@@ -253,14 +314,25 @@ def pebi_grid(
         raise GridError(f"pebi_grid: max_refinements must be an integer >= 0, got {max_refinements!r}")
     if not (isinstance(boundary_clearance, numbers.Real) and 0 <= boundary_clearance < 0.5):
         raise GridError(f"pebi_grid: boundary_clearance must lie in [0, 0.5), got {boundary_clearance!r}")
-    faults = list(faults)
-    wells = list(wells)
+    return pattern
 
-    lay = _faults.layout(faults, dom, size, float(fault_ratio), notes, math.ldexp(1.0, -int(max_refinements)))
-    fault_labels = lay.net.labels if lay is not None else []
-    room = None if lay is None else (lambda p: _faults.ring_room(lay, p))
-    ws = build_wells(wells, dom, size, room, notes)
-    check_clearances(ws)
+
+@dataclass
+class _Background:
+    """The background sites, lattice sites first (see lattice.py): positions, spacing, lattice
+    index, on the lattice, in the padding rows; their tree and which are clear of the wells."""
+
+    back: Background
+    xy: np.ndarray
+    spacing: np.ndarray
+    ij: np.ndarray
+    on_lattice: np.ndarray
+    padding: np.ndarray
+    tree: cKDTree | None
+    keep: np.ndarray
+
+
+def _background(dom: Domain, size, constant, pattern, padding, boundary_clearance, ws) -> _Background:
     back = background_sites(dom, size, constant, pattern, padding, float(boundary_clearance))
     order = np.argsort(~back.on_lattice, kind="stable")  # lattice sites first (see lattice.py)
     bg, bg_spacing, bg_ij = back.xy[order], back.spacing[order], back.ij[order]
@@ -269,132 +341,143 @@ def pebi_grid(
     bg_keep = np.ones(bg.shape[0], dtype=bool)
     if bg_tree is not None:
         bg_keep &= ~removal_mask(ws, bg, bg_tree)
+    return _Background(back, bg, bg_spacing, bg_ij, bg_lattice, bg_padding, bg_tree, bg_keep)
 
-    def conforming_fault_sites(attempt: int):
-        """Fault sites meeting the empty-circle condition with everything else, the fault steps
-        refined where they do not (from round ``attempt`` on)."""
-        while True:  # rebuild the fault sites where they conflict
-            fs = _faults.build_sites(lay) if lay is not None else _faults.FaultSites.empty()
-            keep = bg_keep.copy()
-            if bg_tree is not None and fs.centres.shape[0]:
-                hits = bg_tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
-                keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
-                near = 0.5 * np.maximum(fs.site_step, size(fs.sites))
-                hits = bg_tree.query_ball_point(fs.sites, near, return_sorted=False)
-                keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
-            sites = np.concatenate([bg[keep], fs.sites, ws.sites])
-            n_bg = int(keep.sum())
-            problems = _fault_problems(
-                fs, sites, n_bg, fs.sites.shape[0], dom, ws, fault_labels, bg_tree, keep
-            )
-            if not problems:
+
+def _conforming_fault_sites(
+    lay, bg: _Background, size, dom: Domain, ws, fault_labels, attempt, max_refinements
+):
+    """Fault sites meeting the empty-circle condition with everything else, the fault steps
+    refined where they do not (from round ``attempt`` on): the fault sites, which background
+    sites are kept, all sites (background, fault, well), the number of background sites and
+    the round reached."""
+    while True:  # rebuild the fault sites where they conflict
+        fs = build_sites(lay) if lay is not None else FaultSites.empty()
+        keep = bg.keep.copy()
+        if bg.tree is not None and fs.centres.shape[0]:
+            hits = bg.tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
+            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+            near = 0.5 * np.maximum(fs.site_step, size(fs.sites))
+            hits = bg.tree.query_ball_point(fs.sites, near, return_sorted=False)
+            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+        sites = np.concatenate([bg.xy[keep], fs.sites, ws.sites])
+        n_bg = int(keep.sum())
+        problems = fault_problems(fs, sites, n_bg, fs.sites.shape[0], dom, ws, fault_labels, bg.tree, keep)
+        if not problems:
+            return fs, keep, sites, n_bg, attempt
+        if attempt == max_refinements:
+            kinds = problem_kinds(problems, fs)
+            hard = [p for p, why in zip(problems, kinds, strict=True) if why != FITTED]
+            if not hard:  # only junctions whose arms were fitted to them: the sites conform
                 return fs, keep, sites, n_bg, attempt
-            if attempt == max_refinements:
-                kinds = _problem_kinds(problems, fs)
-                hard = [p for p, why in zip(problems, kinds, strict=True) if why != FITTED]
-                if not hard:  # only junctions whose arms were fitted to them: the sites conform
-                    return fs, keep, sites, n_bg, attempt
-                _raise_fault_problem(hard, fs, dom, lay, max_refinements)
-            for where, step in problems:
-                lay.refine.append((float(where[0]), float(where[1]), step))
-            attempt += 1
+            raise_fault_problem(hard, fs, dom, lay, max_refinements)
+        for where, step in problems:
+            lay.refine.append((float(where[0]), float(where[1]), step))
+        attempt += 1
 
-    attempt = 0
-    for _ in range(max_refinements + 1):  # a site added for a cut-off piece may ask for smaller fault steps
-        fs, keep, sites, n_bg, attempt = conforming_fault_sites(attempt)
-        n_f = fs.sites.shape[0]
-        if sites.shape[0] == 0:  # a domain smaller than one cell: one cell
-            rp = dom.polygon.point_on_surface()
-            bg = np.array([[rp.x, rp.y]])
-            bg_spacing, bg_lattice, bg_padding = (
-                np.array([dom.diameter]),
-                np.zeros(1, bool),
-                np.zeros(1, bool),
+
+def _one_cell(bg: _Background, dom: Domain, notes: list[str]):
+    """A domain smaller than one cell: one background site at a point inside it (``bg`` updated);
+    which background sites are kept, all sites, the number of background sites."""
+    rp = dom.polygon.point_on_surface()
+    bg.xy = np.array([[rp.x, rp.y]])
+    bg.spacing, bg.on_lattice, bg.padding = np.array([dom.diameter]), np.zeros(1, bool), np.zeros(1, bool)
+    bg.ij = np.zeros((1, 2), dtype=np.int64)
+    notes.append("the domain is smaller than one cell: one site at a point inside it")
+    return np.ones(1, dtype=bool), bg.xy.copy(), 1
+
+
+def _clip_rounds(
+    sites, n_bg, keep, bg: _Background, fs, ws, dom: Domain, size, lay, attempt, max_refinements, labels
+):
+    """The clipped Voronoi diagram of the sites, short faces repaired (background sites moved,
+    :mod:`.degenerate`; faces contracted), a site added for every piece of a cell a concave
+    boundary cuts off, until none is. Returns the diagram, the sites, their target sizes, the
+    background sites moved, the number of sites added, the refinement round and whether the
+    fault steps were refined (a piece cut off by a fault: start again)."""
+    tol = _merge_tolerance(dom, bg.spacing, fs, ws)
+    back = bg.back
+    on_lat = keep & bg.on_lattice
+    lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg.ij[on_lat])
+    n_lat = int(on_lat.sum())
+    kind_extra = n_extra = 0
+    moved = np.zeros(0, dtype=np.int64)
+    collapse = Collapse()
+    site_size = np.concatenate([bg.spacing[keep], fs.site_step, ws.site_size])
+    retry = False
+
+    def allowed(xy: np.ndarray, fs=fs) -> np.ndarray:
+        """New positions of background sites: outside every fault circle."""
+        ok = np.ones(xy.shape[0], dtype=bool)
+        if fs.centres.shape[0]:
+            ok[circle_violations(fs, xy)[1]] = False
+        return ok
+
+    for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
+        movable = np.zeros(sites.shape[0], dtype=bool)
+        movable[:n_bg] = True
+        size_now = np.concatenate([site_size, size(sites[site_size.size :])])
+
+        def adjust(s, coords, va, vb, cp, cq, fresh, state=(movable, size_now, tol, collapse)):
+            movable, size_now, tol, collapse = state
+            idx, xy = collapse_moves(
+                coords, va, vb, cp, cq, s, size_now, movable, dom, tol, collapse, allowed, fresh
             )
-            bg_ij = np.zeros((1, 2), dtype=np.int64)
-            keep = np.ones(1, dtype=bool)
-            sites, n_bg = bg.copy(), 1
-            notes.append("the domain is smaller than one cell: one site at a point inside it")
-        tol = _merge_tolerance(dom, bg_spacing, fs, ws)
-        on_lat = keep & bg_lattice
-        lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat])
-        n_lat = int(on_lat.sum())
-        kind_extra = n_extra = 0
-        moved = np.zeros(0, dtype=np.int64)
-        collapse = Collapse()
-        site_size = np.concatenate([bg_spacing[keep], fs.site_step, ws.site_size])
-        retry = False
+            return idx, xy, collapse.involved
 
-        def allowed(xy: np.ndarray, fs=fs) -> np.ndarray:
-            """New positions of background sites: outside every fault circle."""
-            ok = np.ones(xy.shape[0], dtype=bool)
-            if fs.centres.shape[0]:
-                ok[_faults.circle_violations(fs, xy)[1]] = False
-            return ok
-
-        for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
-            movable = np.zeros(sites.shape[0], dtype=bool)
-            movable[:n_bg] = True
-            size_now = np.concatenate([site_size, size(sites[site_size.size :])])
-
-            def adjust(s, coords, va, vb, cp, cq, fresh, state=(movable, size_now, tol, collapse)):
-                movable, size_now, tol, collapse = state
-                idx, xy = collapse_moves(
-                    coords, va, vb, cp, cq, s, size_now, movable, dom, tol, collapse, allowed, fresh
-                )
-                return idx, xy, collapse.involved
-
-            protect = fs.pairs + n_bg
-            vor = clipped_voronoi(sites, dom, tol, lattice, adjust, contract=(size_now, protect, CONTRACT))
-            changed = np.flatnonzero(np.any(vor.sites != sites, axis=1))
-            if changed.size:
-                moved = np.union1d(moved, changed)
-                sites = vor.sites
-                if n_lat:
-                    active = np.ones(n_lat, dtype=bool)
-                    active[moved[moved < n_lat]] = False
-                    lattice = Lattice(
-                        back.pattern, back.lattice_origin, back.lattice_h, bg_ij[on_lat], active
-                    )
-            if vor.extra_points.shape[0] == 0:
-                break
-            if kind_extra == MAX_EXTRA_ROUNDS:
-                raise GridError(
-                    f"pebi_grid: the domain is too narrow for the cell size near "
-                    f"{dom.fmt(vor.extra_points[0])}: Voronoi regions keep falling apart there; use a "
-                    "smaller cell_size"
-                )
-            extra = vor.extra_points
-            if fs.centres.shape[0]:
-                c, k = _faults.circle_violations(fs, extra)
-                if c.size and attempt < max_refinements:  # the piece lies by a fault: smaller steps there
-                    rel = extra[k] - fs.centres[c]
-                    scale = _refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
-                    for ci, f in zip(c.tolist(), scale.tolist(), strict=True):
-                        where = fs.centres[ci]
-                        lay.refine.append((float(where[0]), float(where[1]), f * float(fs.centre_step[ci])))
-                    attempt += 1
-                    retry = True
-                    break
-                if c.size:
-                    raise GridError(
-                        f"{fault_labels[fs.centre_fault[c[0]] - 1]} runs through a part of the domain "
-                        f"narrower than the cell size near {dom.fmt(fs.centres[c[0]])}; use a smaller "
-                        "cell_size"
-                    )
-            sites = np.concatenate([sites, extra])
-            kind_extra += 1
-            n_extra += extra.shape[0]
-        if not retry:
+        protect = fs.pairs + n_bg
+        vor = clipped_voronoi(sites, dom, tol, lattice, adjust, contract=(size_now, protect, CONTRACT))
+        changed = np.flatnonzero(np.any(vor.sites != sites, axis=1))
+        if changed.size:
+            moved = np.union1d(moved, changed)
+            sites = vor.sites
+            if n_lat:
+                active = np.ones(n_lat, dtype=bool)
+                active[moved[moved < n_lat]] = False
+                lattice = Lattice(back.pattern, back.lattice_origin, back.lattice_h, bg.ij[on_lat], active)
+        if vor.extra_points.shape[0] == 0:
             break
+        if kind_extra == MAX_EXTRA_ROUNDS:
+            raise GridError(
+                f"pebi_grid: the domain is too narrow for the cell size near "
+                f"{dom.fmt(vor.extra_points[0])}: Voronoi regions keep falling apart there; use a "
+                "smaller cell_size"
+            )
+        extra = vor.extra_points
+        if fs.centres.shape[0]:
+            c, k = circle_violations(fs, extra)
+            if c.size and attempt < max_refinements:  # the piece lies by a fault: smaller steps there
+                rel = extra[k] - fs.centres[c]
+                scale = refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
+                for ci, f in zip(c.tolist(), scale.tolist(), strict=True):
+                    where = fs.centres[ci]
+                    lay.refine.append((float(where[0]), float(where[1]), f * float(fs.centre_step[ci])))
+                attempt += 1
+                retry = True
+                break
+            if c.size:
+                raise GridError(
+                    f"{labels[fs.centre_fault[c[0]] - 1]} runs through a part of the domain "
+                    f"narrower than the cell size near {dom.fmt(fs.centres[c[0]])}; use a smaller "
+                    "cell_size"
+                )
+        sites = np.concatenate([sites, extra])
+        kind_extra += 1
+        n_extra += extra.shape[0]
+    return vor, sites, site_size, moved, n_extra, attempt, retry
+
+
+def _add_notes(notes: list[str], fs, attempt: int, bg: _Background, keep, n_extra: int, moved, vor) -> None:
+    """Notes on what was adjusted: acute wedges, refinements, sites removed, added and moved,
+    faces contracted."""
     notes.extend(fs.wedges)
     if attempt:
         notes.append(f"fault spacing refined locally {attempt} time(s) to keep the empty-circle condition")
-    dropped = int(bg_keep.sum() - keep.sum())
+    dropped = int(bg.keep.sum() - keep.sum())
     if dropped:
         notes.append(f"{dropped} background sites removed inside fault circles or next to fault sites")
-    if (~bg_keep).any():
-        notes.append(f"{int((~bg_keep).sum())} background sites removed around wells")
+    if (~bg.keep).any():
+        notes.append(f"{int((~bg.keep).sum())} background sites removed around wells")
     if n_extra:
         notes.append(f"{n_extra} site(s) added where the concave boundary cut a cell in two")
     if moved.size:
@@ -408,7 +491,10 @@ def pebi_grid(
             "site to move there; the faces next to them are orthogonal to within a degree or so)"
         )
 
-    n_sites = sites.shape[0]
+
+def _fault_tags(vor, fs, n_bg: int, n_sites: int) -> np.ndarray:
+    """Face tags: the fault id on the faces between the two sites of a fault step, 0 elsewhere.
+    The vertices of fault faces are snapped to the exact trace points."""
     nb = vor.neighbors
     tags = np.zeros(nb.shape[0], dtype=np.int32)
     if fs.pairs.shape[0]:
@@ -422,28 +508,8 @@ def pebi_grid(
         loc = np.minimum(np.searchsorted(pkey, fkey), pkey.size - 1)
         hit = pkey[loc] == fkey
         tags[inner[hit]] = fs.pair_fault[order[loc[hit]]]
-        _snap_to_traces(vor.coords, vor.face_nodes[tags > 0], fs)
-    grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
-    cell_well = np.zeros(n_sites, dtype=np.int64)
-    cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.site_well
-    if ws.absorbed.shape[0]:  # the cells holding the points of well paths given no site (fault cells)
-        holder = cKDTree(sites).query(ws.absorbed)[1]
-        free = cell_well[holder] == 0
-        cell_well[holder[free]] = ws.absorbed_well[free]
-    site_kind = np.full(n_sites, ADDED, dtype=np.int8)
-    site_kind[:n_bg] = np.where(bg_padding[keep], PADDING_SITE, BACKGROUND)
-    site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)
-    site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
-    site_size = np.concatenate([site_size, size(sites[site_size.size :])])  # and the added sites
-    _verify(vor, dom, tags, fs, fault_labels, ws, cell_well)
-    notes.extend(_size_notes(vor, site_size, site_kind, fs, n_bg, dom))
-    names_f = tuple((f.name or f"F{i + 1}") for i, f in enumerate(faults))
-    names_w = tuple((w.name or f"W{i + 1}") for i, w in enumerate(wells))
-    site_xy = sites + dom.origin
-    traces = _honoured_traces(lay, len(faults), dom)
-    for a in (cell_well, site_xy, site_kind, site_size, *traces):
-        a.flags.writeable = False
-    return PebiGrid(grid, cell_well, names_f, names_w, site_xy, tuple(notes), site_kind, site_size, traces)
+        snap_to_traces(vor.coords, vor.face_nodes[tags > 0], fs)
+    return tags
 
 
 def _honoured_traces(lay, n_faults: int, dom: Domain) -> tuple[np.ndarray, ...]:
@@ -453,96 +519,6 @@ def _honoured_traces(lay, n_faults: int, dom: Domain) -> tuple[np.ndarray, ...]:
     net = lay.net
     seg = np.stack([net.nodes[net.edge_a], net.nodes[net.edge_b]], axis=1) + dom.origin
     return tuple(np.ascontiguousarray(seg[net.edge_fault == k + 1]) for k in range(n_faults))
-
-
-def _fault_problems(
-    fs, sites, n_bg, n_f, dom: Domain, ws, labels, bg_tree, keep
-) -> list[tuple[np.ndarray, float]]:
-    """Where fault sites break conformity: (location, step wanted there, m) to refine.
-
-    Every site is checked against every fault circle: the kept background sites through
-    the tree of all background sites, the fault and well sites through a tree of their own;
-    and every fault site for lying inside the domain. The step wanted is the local step
-    scaled by what the geometry needs (circles and sites scale with the step): a circle
-    holding a site at distance d from its centre shrinks below d, a site outside the domain
-    comes closer to its trace than the boundary is; at least halved, at most by 20.
-    """
-    out: list[tuple[np.ndarray, float]] = []
-    if fs.centres.shape[0] == 0:
-        return out
-    c, s = _faults.circle_violations(fs, sites[n_bg:])
-    s = s + n_bg
-    if bg_tree is not None:
-        cb, sb = _faults.circle_violations(fs, None, bg_tree)
-        kept = keep[sb]
-        position = np.cumsum(keep) - 1
-        c, s = np.concatenate([cb[kept], c]), np.concatenate([position[sb[kept]], s])
-    if c.size:  # a site in a fault circle (a background, fault or well site): smaller steps there
-        c, s = c[:200], s[:200]
-        rel = sites[s] - fs.centres[c]
-        scale = _refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
-        for ci, si, f in zip(c.tolist(), s.tolist(), scale.tolist(), strict=True):
-            out.append((fs.centres[ci], f * float(fs.centre_step[ci])))
-            if n_bg <= si < n_bg + n_f:
-                out.append((fs.sites[si - n_bg], f * float(fs.site_step[si - n_bg])))
-    outside = np.flatnonzero(~dom.inside(fs.sites))[:200]
-    if outside.size:  # closer to the trace than the boundary is
-        foot = fs.site_foot[outside]
-        rel = fs.sites[outside] - foot
-        room = np.where(dom.inside(foot), dom.boundary_distance(foot), 0.0)
-        scale = _refine_factor(0.8 * room / np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-300))
-        for k, f in zip(outside.tolist(), scale.tolist(), strict=True):
-            out.append((fs.sites[k], f * float(fs.site_step[k])))
-    for ci, _why in fs.problems[:200]:
-        out.append((fs.centres[ci], 0.5 * float(fs.centre_step[ci])))
-    return out
-
-
-def _problem_kinds(problems: list, fs) -> list[str]:
-    """The reason of each problem from :func:`_fault_problems`: ``FITTED`` for the junctions listed
-    last whose arms were fitted to them (smaller steps are tried first, but they conform as they
-    are), "" for the others."""
-    kinds = [""] * len(problems)
-    tail = fs.problems[:200]
-    for k, (_, why) in enumerate(tail):
-        kinds[len(problems) - len(tail) + k] = why
-    return kinds
-
-
-def _refine_factor(need: np.ndarray) -> np.ndarray:
-    """How much a local step is scaled for a refinement: what is needed, at least halving."""
-    return np.clip(need, 0.05, 0.5)
-
-
-def _raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
-    labels = lay.net.labels
-    where = problems[0][0]
-    d = np.linalg.norm(fs.centres - where, axis=1)
-    near = np.flatnonzero(d <= 2.0 * d.min() + 2.0 * float(fs.centre_step.max()))
-    ids = sorted(set(fs.centre_fault[near].tolist()))
-    names = " and ".join(labels[i - 1] for i in ids[:2])
-    outside = ~dom.inside(where[None, :])[0]
-    if outside:
-        raise GridError(
-            f"{names}: its sites leave the domain near {dom.fmt(where)} even after refining the fault steps "
-            f"{times} times; the fault runs too close to the boundary there for max_refinements={times}"
-        )
-    # the sharpest angle between traces at the nearest junction or bend, if there is one close by
-    net = lay.net
-    node = int(np.argmin(np.linalg.norm(net.nodes - where, axis=1)))
-    arms = np.concatenate([net.edge_b[net.edge_a == node], net.edge_a[net.edge_b == node]])
-    angle = ""
-    if arms.size >= 2 and np.hypot(*(net.nodes[node] - where)) <= 2.0 * float(fs.centre_step.max()):
-        v = net.nodes[arms] - net.nodes[node]
-        ang = np.sort(np.mod(arctan2(v[:, 1], v[:, 0]), 2 * np.pi))
-        gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
-        angle = f" (they meet at {np.degrees(gaps.min()):.3g} degrees at {dom.fmt(net.nodes[node])})"
-    raise GridError(
-        f"{names}: no conforming PEBI sites near {dom.fmt(where)} even after refining the fault steps "
-        f"{times} times: a site falls inside a fault circle (the empty-circle condition), because the traces "
-        f"meet at too sharp an angle or run too close to each other or to a well{angle}; allow more "
-        "max_refinements, or widen the angle or the separation"
-    )
 
 
 def _size_notes(vor, site_size: np.ndarray, site_kind: np.ndarray, fs, n_bg: int, dom: Domain) -> list[str]:
@@ -575,40 +551,3 @@ def _merge_tolerance(dom: Domain, bg_spacing, fs, ws) -> float:
         smallest.append(float(d[:, 1].min()))
     h = min(smallest) if smallest else dom.diameter
     return max(1e-7 * h, 1e-12 * dom.diameter)
-
-
-def _snap_to_traces(coords: np.ndarray, fault_faces: np.ndarray, fs) -> None:
-    """Voronoi vertices of fault faces are circle centres: give them the exact trace points."""
-    nodes = np.unique(fault_faces)
-    if nodes.size == 0:
-        return
-    d, k = cKDTree(fs.centres).query(coords[nodes])
-    close = d <= 1e-6 * fs.centre_step[k]
-    coords[nodes[close]] = fs.centres[k[close]]
-
-
-def _verify(vor, dom: Domain, tags, fs, labels, ws, cell_well) -> None:
-    """Cheap end-to-end checks: areas add up, fault faces cover the traces, wells own cells."""
-    total = float(vor.areas.sum())
-    if not abs(total - dom.area) <= 1e-9 * dom.area:
-        raise GridError(
-            f"pebi_grid: internal error: cell areas sum to {total!r}, the domain's area is {dom.area!r}"
-        )
-    if fs.trace_a.shape[0]:
-        e = vor.face_nodes
-        length = np.linalg.norm(vor.coords[e[:, 1]] - vor.coords[e[:, 0]], axis=1)
-        got = np.bincount(tags, length, minlength=len(labels) + 1)[1:]
-        want = np.bincount(fs.trace_fault, np.linalg.norm(fs.trace_b - fs.trace_a, axis=1), len(labels) + 1)[
-            1:
-        ]
-        bad = np.abs(got - want) > 1e-9 * np.maximum(want, dom.tol)
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise GridError(
-                f"pebi_grid: internal error: the faces of {labels[k]} cover {got[k]:.9g} m of its "
-                f"{want[k]:.9g} m trace"
-            )
-    counts = np.bincount(cell_well, minlength=ws.count + 1)[1:]
-    if np.any(counts == 0):  # pragma: no cover
-        k = int(np.flatnonzero(counts == 0)[0])
-        raise GridError(f"pebi_grid: internal error: {ws.labels[k]} has no cell")

@@ -45,8 +45,9 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..errors import GridError
+from ..planar import cross2
 from ..reproducible import arctan2
-from .domain import Domain, _cross2
+from .domain import Domain
 
 SQRT3_2 = np.sqrt(3.0) / 2.0
 _HEX_NEIGHBOURS = np.array([[1, 0], [-1, 0], [0, 1], [0, -1], [1, -1], [-1, 1]], dtype=np.int64)
@@ -214,7 +215,7 @@ def _padding_sites(domain: Domain, h: float, rows: int) -> np.ndarray:
     # fans around reflex corners (the boundary turns clockwise there)
     d_in = domain.edge_unit[np.arange(m) - 1]
     d_out = domain.edge_unit
-    reflex = np.flatnonzero(_cross2(d_in, d_out) < 0)
+    reflex = np.flatnonzero(cross2(d_in, d_out) < 0)
     for v in reflex:  # loop over reflex corners
         n_in = inward[v - 1]
         n_out = inward[v]

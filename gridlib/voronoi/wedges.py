@@ -47,8 +47,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..planar import cross2
 from ..reproducible import arctan2
-from .domain import Domain, _cross2
+from .domain import Domain
 
 ACUTE = np.radians(40.0)  # wedges narrower than this get a row of shared sites
 SPLIT = 1.3  # the rows end where every wedge is this many steps wide
@@ -313,4 +314,4 @@ def _reflect(p: np.ndarray, origin: np.ndarray, unit: np.ndarray) -> np.ndarray:
 
 def side_of(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """+1 where p lies left of the directed segment a -> b, -1 right (0 on it)."""
-    return np.sign(_cross2(b - a, p - a))
+    return np.sign(cross2(b - a, p - a))

@@ -170,7 +170,6 @@ def build_wells(
     absorbed: list[np.ndarray] = []
     absorbed_well: list[np.ndarray] = []
     labels = []
-    tol = domain.tol
     for i, well in enumerate(wells):  # loop over wells
         if not isinstance(well, Well):
             raise GridError(f"wells[{i}]: expected a Well, got {type(well).__name__}")
@@ -179,105 +178,22 @@ def build_wells(
         if (well.point is None) == (well.path is None):
             raise GridError(f"{label}: give either a point or a path")
         if well.point is not None:
-            p = _points(well.point, label, "point").reshape(-1)
-            if p.size != 2:
-                raise GridError(f"{label}: point must be one (x, y) pair, got {well.point!r}")
-            c = domain.to_local(p)
-            if not domain.inside(c[None, :])[0]:
-                raise GridError(f"{label}: its point ({p[0]:.6g}, {p[1]:.6g}) lies outside the domain")
-            if well.spacing is not None:
-                raise GridError(f"{label}: spacing applies to well paths; a point well has rings")
-            h = float(size(c[None, :])[0])
-            pts = [c[None, :]]
-            sizes = [np.array([h])]
-            radius = 0.0
-            if well.rings is not None:
-                if not isinstance(well.rings, Rings):
-                    raise GridError(f"{label}: rings must be a Rings, got {type(well.rings).__name__}")
-                r0 = well.rings
-                outer_guess = r0.outer
-                if r0.sectors is not None:
-                    if not (isinstance(r0.sectors, int | np.integer) and r0.sectors >= 3):
-                        raise GridError(f"{label}: rings.sectors must be an integer >= 3, got {r0.sectors!r}")
-                    sectors = int(r0.sectors)
-                else:
-                    if outer_guess is None:
-                        probe = r0.radii(16, f"{label}: rings")
-                        outer_guess = float(probe[-1])
-                    sectors = max(6, int(np.round(2 * np.pi * outer_guess / h)))
-                radii = r0.radii(sectors, f"{label}: rings")
-                if fault_room is not None:
-                    room, by, dist = fault_room(c)
-                    radii = _fit_rings(radii, float(room[0]), by[0], float(dist[0]), label, notes)
-            if well.rings is not None and radii.size:
-                theta = float(r0.angle) + 2 * np.pi * np.arange(sectors) / sectors
-                ring = radii[:, None, None] * np.stack([np.cos(theta), np.sin(theta)], axis=-1)[None]
-                ring = ring.reshape(-1, 2) + c
-                inside = domain.covers(ring)
-                if not inside.all():
-                    raise GridError(
-                        f"{label}: its rings (outer radius {radii[-1]:.6g} m) reach outside the domain "
-                        f"near {domain.fmt(ring[np.flatnonzero(~inside)[0]])}; "
-                        "reduce rings.outer or move the well"
-                    )
-                pts.append(ring)
-                sizes = _ring_sizes(radii, sectors, h)
-                radius = float(radii[-1])
-            xy = np.concatenate(pts)
+            xy, sizes, c, radius, h = _point_well_sites(well, label, domain, size, fault_room, notes)
             sites.append(xy)
             site_well.append(np.full(xy.shape[0], i + 1))
-            site_size.append(np.concatenate(sizes))
+            site_size.append(sizes)
             dc.append(c)
             dr.append(radius)
             dm.append(0.5 * h)
             dw.append(i + 1)
         else:
-            if well.rings is not None:
-                raise GridError(f"{label}: rings apply to a vertical well (point), not to a path")
-            xy = domain.to_local(_points(well.path, label, "path"))
-            if xy.ndim != 2 or xy.shape[0] < 2:
-                raise GridError(f"{label}: a path needs at least 2 (x, y) points")
-            seg = np.linalg.norm(np.diff(xy, axis=0), axis=1)
-            if np.any(seg <= tol):
-                raise GridError(
-                    f"{label}: path points {int(np.argmin(seg))} and {int(np.argmin(seg)) + 1} coincide"
-                )
-            if not shapely.LineString(xy).is_simple:
-                raise GridError(f"{label}: the path crosses itself")
-            out = ~domain.covers(xy)
-            if out.any() or not shapely.LineString(xy).within(domain.polygon.buffer(tol)):
-                k = int(np.flatnonzero(out)[0]) if out.any() else 0
-                raise GridError(f"{label}: the path leaves the domain (near {domain.fmt(xy[k])})")
-            if well.spacing is not None:
-                sp = np.full(seg.size, _positive(well.spacing, f"{label}: spacing"))
-            else:
-                sp = size(0.5 * (xy[1:] + xy[:-1]))
-            n = np.maximum(1, np.round(seg / sp).astype(np.int64))
-            pts = [xy[:1]]
-            for k in range(seg.size):  # loop over path segments
-                t = np.arange(1, n[k] + 1) / n[k]
-                pts.append(xy[k] + t[:, None] * (xy[k + 1] - xy[k]))
-            ps = np.concatenate(pts)
-            step = seg / n
-            ps_size = np.concatenate([step[:1], np.repeat(step, n)])
-            if fault_room is not None:  # sites on or next to a fault trace: the fault's cells serve
-                room, by, _ = fault_room(ps)
-                gone = room < 0
-                if gone.any():
-                    fine = _resample(xy, 0.125 * float(step.min()))  # the path through those cells
-                    absorbed.append(fine[fault_room(fine)[0] < 0])
-                    absorbed_well.append(np.full(absorbed[-1].shape[0], i + 1))
-                    names = ", ".join(dict.fromkeys(b for b, g in zip(by, gone.tolist(), strict=True) if g))
-                    (notes if notes is not None else []).append(
-                        f"{label}: {int(gone.sum())} of its {ps.shape[0]} sites would lie in the circles of "
-                        f"{names}; the fault cells it runs through there are the well's"
-                    )
-                    ps, ps_size = ps[~gone], ps_size[~gone]
+            ps, ps_size, gone, xy, half = _path_well_sites(well, label, domain, size, fault_room, notes)
+            if gone is not None:
+                absorbed.append(gone)
+                absorbed_well.append(np.full(gone.shape[0], i + 1))
             sites.append(ps)
             site_well.append(np.full(ps.shape[0], i + 1))
             site_size.append(ps_size)
-            h = float(np.max(size(xy)))
-            half = 0.5 * max(float(np.max(seg / n)), h)
             paths.append((i + 1, xy, half))
     empty = np.zeros((0, 2))
     if not absorbed:
@@ -295,6 +211,106 @@ def build_wells(
         absorbed=np.concatenate(absorbed),
         absorbed_well=np.concatenate(absorbed_well),
     )
+
+
+def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fault_room, notes):
+    """The sites of a vertical well: its centre and its rings (shrunk to the room the faults
+    leave), their target sizes, the centre (local frame), the outer radius (0 without rings)
+    and the cell size there."""
+    p = _points(well.point, label, "point").reshape(-1)
+    if p.size != 2:
+        raise GridError(f"{label}: point must be one (x, y) pair, got {well.point!r}")
+    c = domain.to_local(p)
+    if not domain.inside(c[None, :])[0]:
+        raise GridError(f"{label}: its point ({p[0]:.6g}, {p[1]:.6g}) lies outside the domain")
+    if well.spacing is not None:
+        raise GridError(f"{label}: spacing applies to well paths; a point well has rings")
+    h = float(size(c[None, :])[0])
+    pts = [c[None, :]]
+    sizes = [np.array([h])]
+    radius = 0.0
+    if well.rings is not None:
+        if not isinstance(well.rings, Rings):
+            raise GridError(f"{label}: rings must be a Rings, got {type(well.rings).__name__}")
+        r0 = well.rings
+        outer_guess = r0.outer
+        if r0.sectors is not None:
+            if not (isinstance(r0.sectors, int | np.integer) and r0.sectors >= 3):
+                raise GridError(f"{label}: rings.sectors must be an integer >= 3, got {r0.sectors!r}")
+            sectors = int(r0.sectors)
+        else:
+            if outer_guess is None:
+                probe = r0.radii(16, f"{label}: rings")
+                outer_guess = float(probe[-1])
+            sectors = max(6, int(np.round(2 * np.pi * outer_guess / h)))
+        radii = r0.radii(sectors, f"{label}: rings")
+        if fault_room is not None:
+            room, by, dist = fault_room(c)
+            radii = _fit_rings(radii, float(room[0]), by[0], float(dist[0]), label, notes)
+    if well.rings is not None and radii.size:
+        theta = float(r0.angle) + 2 * np.pi * np.arange(sectors) / sectors
+        ring = radii[:, None, None] * np.stack([np.cos(theta), np.sin(theta)], axis=-1)[None]
+        ring = ring.reshape(-1, 2) + c
+        inside = domain.covers(ring)
+        if not inside.all():
+            raise GridError(
+                f"{label}: its rings (outer radius {radii[-1]:.6g} m) reach outside the domain "
+                f"near {domain.fmt(ring[np.flatnonzero(~inside)[0]])}; "
+                "reduce rings.outer or move the well"
+            )
+        pts.append(ring)
+        sizes = _ring_sizes(radii, sectors, h)
+        radius = float(radii[-1])
+    return np.concatenate(pts), np.concatenate(sizes), c, radius, h
+
+
+def _path_well_sites(well: Well, label: str, domain: Domain, size: Callable, fault_room, notes):
+    """The sites of a well path: a row along it at its spacing (those with no room next to a
+    fault dropped), their target sizes, the points of the path given to the fault cells (or
+    None), the path (local frame) and half the width of its clearance band."""
+    tol = domain.tol
+    if well.rings is not None:
+        raise GridError(f"{label}: rings apply to a vertical well (point), not to a path")
+    xy = domain.to_local(_points(well.path, label, "path"))
+    if xy.ndim != 2 or xy.shape[0] < 2:
+        raise GridError(f"{label}: a path needs at least 2 (x, y) points")
+    seg = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+    if np.any(seg <= tol):
+        raise GridError(f"{label}: path points {int(np.argmin(seg))} and {int(np.argmin(seg)) + 1} coincide")
+    if not shapely.LineString(xy).is_simple:
+        raise GridError(f"{label}: the path crosses itself")
+    out = ~domain.covers(xy)
+    if out.any() or not shapely.LineString(xy).within(domain.polygon.buffer(tol)):
+        k = int(np.flatnonzero(out)[0]) if out.any() else 0
+        raise GridError(f"{label}: the path leaves the domain (near {domain.fmt(xy[k])})")
+    if well.spacing is not None:
+        sp = np.full(seg.size, _positive(well.spacing, f"{label}: spacing"))
+    else:
+        sp = size(0.5 * (xy[1:] + xy[:-1]))
+    n = np.maximum(1, np.round(seg / sp).astype(np.int64))
+    pts = [xy[:1]]
+    for k in range(seg.size):  # loop over path segments
+        t = np.arange(1, n[k] + 1) / n[k]
+        pts.append(xy[k] + t[:, None] * (xy[k + 1] - xy[k]))
+    ps = np.concatenate(pts)
+    step = seg / n
+    ps_size = np.concatenate([step[:1], np.repeat(step, n)])
+    absorbed = None
+    if fault_room is not None:  # sites on or next to a fault trace: the fault's cells serve
+        room, by, _ = fault_room(ps)
+        gone = room < 0
+        if gone.any():
+            fine = _resample(xy, 0.125 * float(step.min()))  # the path through those cells
+            absorbed = fine[fault_room(fine)[0] < 0]
+            names = ", ".join(dict.fromkeys(b for b, g in zip(by, gone.tolist(), strict=True) if g))
+            (notes if notes is not None else []).append(
+                f"{label}: {int(gone.sum())} of its {ps.shape[0]} sites would lie in the circles of "
+                f"{names}; the fault cells it runs through there are the well's"
+            )
+            ps, ps_size = ps[~gone], ps_size[~gone]
+    h = float(np.max(size(xy)))
+    half = 0.5 * max(float(np.max(seg / n)), h)
+    return ps, ps_size, absorbed, xy, half
 
 
 def _fit_rings(

@@ -1,0 +1,147 @@
+"""Checks of a PEBI grid's sites and of the finished grid.
+
+Fault sites *conform* when no site lies strictly inside a fault circle (the empty-circle
+condition: then the Voronoi face between the two sites of a step is the step itself) and every
+fault site lies inside the domain. :func:`fault_problems` lists where either fails, with the
+smaller fault step wanted there, for :func:`~.pebi_grid.pebi_grid` to refine and rebuild;
+:func:`raise_fault_problem` names the faults and the place once the refinements run out.
+:func:`verify` checks the finished grid end to end: cell areas sum to the domain's area, the
+fault faces cover the traces, every well owns cells.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import GridError
+from ..reproducible import arctan2
+from .domain import Domain
+from .fault_sites import circle_violations
+
+
+def fault_problems(
+    fs, sites, n_bg, n_f, dom: Domain, ws, labels, bg_tree, keep
+) -> list[tuple[np.ndarray, float]]:
+    """Where fault sites break conformity: (location, step wanted there, m) to refine.
+
+    Every site is checked against every fault circle: the kept background sites through
+    the tree of all background sites, the fault and well sites through a tree of their own;
+    and every fault site for lying inside the domain. The step wanted is the local step
+    scaled by what the geometry needs (circles and sites scale with the step): a circle
+    holding a site at distance d from its centre shrinks below d, a site outside the domain
+    comes closer to its trace than the boundary is; at least halved, at most by 20.
+    """
+    out: list[tuple[np.ndarray, float]] = []
+    if fs.centres.shape[0] == 0:
+        return out
+    c, s = circle_violations(fs, sites[n_bg:])
+    s = s + n_bg
+    if bg_tree is not None:
+        cb, sb = circle_violations(fs, None, bg_tree)
+        kept = keep[sb]
+        position = np.cumsum(keep) - 1
+        c, s = np.concatenate([cb[kept], c]), np.concatenate([position[sb[kept]], s])
+    if c.size:  # a site in a fault circle (a background, fault or well site): smaller steps there
+        c, s = c[:200], s[:200]
+        rel = sites[s] - fs.centres[c]
+        scale = refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
+        for ci, si, f in zip(c.tolist(), s.tolist(), scale.tolist(), strict=True):
+            out.append((fs.centres[ci], f * float(fs.centre_step[ci])))
+            if n_bg <= si < n_bg + n_f:
+                out.append((fs.sites[si - n_bg], f * float(fs.site_step[si - n_bg])))
+    outside = np.flatnonzero(~dom.inside(fs.sites))[:200]
+    if outside.size:  # closer to the trace than the boundary is
+        foot = fs.site_foot[outside]
+        rel = fs.sites[outside] - foot
+        room = np.where(dom.inside(foot), dom.boundary_distance(foot), 0.0)
+        scale = refine_factor(0.8 * room / np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-300))
+        for k, f in zip(outside.tolist(), scale.tolist(), strict=True):
+            out.append((fs.sites[k], f * float(fs.site_step[k])))
+    for ci, _why in fs.problems[:200]:
+        out.append((fs.centres[ci], 0.5 * float(fs.centre_step[ci])))
+    return out
+
+
+def problem_kinds(problems: list, fs) -> list[str]:
+    """The reason of each problem from :func:`fault_problems`: ``FITTED`` for the junctions listed
+    last whose arms were fitted to them (smaller steps are tried first, but they conform as they
+    are), "" for the others."""
+    kinds = [""] * len(problems)
+    tail = fs.problems[:200]
+    for k, (_, why) in enumerate(tail):
+        kinds[len(problems) - len(tail) + k] = why
+    return kinds
+
+
+def refine_factor(need: np.ndarray) -> np.ndarray:
+    """How much a local step is scaled for a refinement: what is needed, at least halving."""
+    return np.clip(need, 0.05, 0.5)
+
+
+def raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
+    labels = lay.net.labels
+    where = problems[0][0]
+    d = np.linalg.norm(fs.centres - where, axis=1)
+    near = np.flatnonzero(d <= 2.0 * d.min() + 2.0 * float(fs.centre_step.max()))
+    ids = sorted(set(fs.centre_fault[near].tolist()))
+    names = " and ".join(labels[i - 1] for i in ids[:2])
+    outside = ~dom.inside(where[None, :])[0]
+    if outside:
+        raise GridError(
+            f"{names}: its sites leave the domain near {dom.fmt(where)} even after refining the fault steps "
+            f"{times} times; the fault runs too close to the boundary there for max_refinements={times}"
+        )
+    # the sharpest angle between traces at the nearest junction or bend, if there is one close by
+    net = lay.net
+    node = int(np.argmin(np.linalg.norm(net.nodes - where, axis=1)))
+    arms = np.concatenate([net.edge_b[net.edge_a == node], net.edge_a[net.edge_b == node]])
+    angle = ""
+    if arms.size >= 2 and np.hypot(*(net.nodes[node] - where)) <= 2.0 * float(fs.centre_step.max()):
+        v = net.nodes[arms] - net.nodes[node]
+        ang = np.sort(np.mod(arctan2(v[:, 1], v[:, 0]), 2 * np.pi))
+        gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
+        angle = f" (they meet at {np.degrees(gaps.min()):.3g} degrees at {dom.fmt(net.nodes[node])})"
+    raise GridError(
+        f"{names}: no conforming PEBI sites near {dom.fmt(where)} even after refining the fault steps "
+        f"{times} times: a site falls inside a fault circle (the empty-circle condition), because the traces "
+        f"meet at too sharp an angle or run too close to each other or to a well{angle}; allow more "
+        "max_refinements, or widen the angle or the separation"
+    )
+
+
+def snap_to_traces(coords: np.ndarray, fault_faces: np.ndarray, fs) -> None:
+    """Voronoi vertices of fault faces are circle centres: give them the exact trace points."""
+    nodes = np.unique(fault_faces)
+    if nodes.size == 0:
+        return
+    d, k = cKDTree(fs.centres).query(coords[nodes])
+    close = d <= 1e-6 * fs.centre_step[k]
+    coords[nodes[close]] = fs.centres[k[close]]
+
+
+def verify(vor, dom: Domain, tags, fs, labels, ws, cell_well) -> None:
+    """Cheap end-to-end checks: areas add up, fault faces cover the traces, wells own cells."""
+    total = float(vor.areas.sum())
+    if not abs(total - dom.area) <= 1e-9 * dom.area:
+        raise GridError(
+            f"pebi_grid: internal error: cell areas sum to {total!r}, the domain's area is {dom.area!r}"
+        )
+    if fs.trace_a.shape[0]:
+        e = vor.face_nodes
+        length = np.linalg.norm(vor.coords[e[:, 1]] - vor.coords[e[:, 0]], axis=1)
+        got = np.bincount(tags, length, minlength=len(labels) + 1)[1:]
+        want = np.bincount(fs.trace_fault, np.linalg.norm(fs.trace_b - fs.trace_a, axis=1), len(labels) + 1)[
+            1:
+        ]
+        bad = np.abs(got - want) > 1e-9 * np.maximum(want, dom.tol)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise GridError(
+                f"pebi_grid: internal error: the faces of {labels[k]} cover {got[k]:.9g} m of its "
+                f"{want[k]:.9g} m trace"
+            )
+    counts = np.bincount(cell_well, minlength=ws.count + 1)[1:]
+    if np.any(counts == 0):  # pragma: no cover
+        k = int(np.flatnonzero(counts == 0)[0])
+        raise GridError(f"pebi_grid: internal error: {ws.labels[k]} has no cell")

@@ -1,0 +1,130 @@
+"""The fault layout: the fault network, which of its nodes are constrained, and the target
+step along the traces.
+
+A node is *constrained* (a "key" node) where the sites around it cannot simply follow one
+trace: a junction of three or more arms, a point where two faults meet end to end, a bend
+sharper than 90 degrees, a boundary point. A free end (degree 1, not on the boundary) is a
+*tip*. The step along a trace is the fault's ``spacing`` where given, else the local cell
+size, made smaller around local refinements (``refine``: points with a step, growing by
+``GROWTH`` per metre away from them). Sites are rebuilt from the layout at every
+refinement (:mod:`.fault_sites`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse import csgraph
+
+from .domain import Domain
+from .fault_network import Fault, FaultNetwork, build_network
+
+GROWTH = 0.3  # at most 30 % longer steps per step length away from a short one
+KEY_ANGLE = np.radians(90.0)  # a bend sharper than this (inner angle) is handled as a junction
+RING_GAP = 0.25  # a well's rings end this many fault steps outside the fault circles
+
+
+@dataclass
+class _Chains:
+    """Which network nodes are constrained ("key": junctions, boundary points, fault changes,
+    sharp bends) and which are free ends (tips)."""
+
+    key: np.ndarray  # (nn,) bool
+    tip: np.ndarray  # (nn,) bool
+
+
+def _chains(net: FaultNetwork) -> _Chains:
+    nn = net.nodes.shape[0]
+    deg = np.bincount(net.edge_a, minlength=nn) + np.bincount(net.edge_b, minlength=nn)
+    fault_min = np.full(nn, np.iinfo(np.int64).max)
+    fault_max = np.zeros(nn, dtype=np.int64)
+    for end in (net.edge_a, net.edge_b):
+        np.minimum.at(fault_min, end, net.edge_fault)
+        np.maximum.at(fault_max, end, net.edge_fault)
+    key = (deg != 2) | net.on_boundary | (fault_min != fault_max)
+    # Sharp bends: the inner angle at a degree-2 node.
+    two = np.flatnonzero((deg == 2) & ~key)
+    if two.size:
+        order = np.argsort(np.concatenate([net.edge_a, net.edge_b]), kind="stable")
+        other = np.concatenate([net.edge_b, net.edge_a])[order]
+        start = np.searchsorted(np.concatenate([net.edge_a, net.edge_b])[order], np.arange(nn))
+        o1, o2 = other[start[two]], other[start[two] + 1]
+        d1, d2 = net.nodes[o1] - net.nodes[two], net.nodes[o2] - net.nodes[two]
+        cosang = (d1 * d2).sum(axis=1) / (np.linalg.norm(d1, axis=1) * np.linalg.norm(d2, axis=1))
+        key[two[cosang > np.cos(KEY_ANGLE)]] = True
+    # A closed loop of degree-2 nodes (not possible from simple open traces) gets one key node.
+    graph = sparse.coo_matrix((np.ones(net.edge_a.size), (net.edge_a, net.edge_b)), shape=(nn, nn))
+    _, comp = csgraph.connected_components(graph, directed=False)
+    has_key = np.zeros(comp.max() + 1, dtype=bool)
+    has_key[comp[key]] = True
+    _, first = np.unique(comp, return_index=True)
+    key[first[~has_key]] = True
+    return _Chains(key, (deg == 1) & ~net.on_boundary)
+
+
+@dataclass
+class FaultLayout:
+    """The network and its constrained nodes; sites are rebuilt from it for every refinement."""
+
+    net: FaultNetwork
+    ch: _Chains
+    size: Callable
+    ratio: float
+    domain: Domain
+    refine: list[tuple[float, float, float]] = field(default_factory=list)
+
+
+def layout(
+    faults: Sequence[Fault],
+    domain: Domain,
+    size: Callable,
+    ratio: float,
+    notes: list[str],
+    min_feature: float = 0.0,
+):
+    net = build_network(faults, domain, size, notes, min_feature)
+    if net is None:
+        return None
+    return FaultLayout(net, _chains(net), size, ratio, domain)
+
+
+def ring_room(lay: FaultLayout, points: np.ndarray) -> tuple[np.ndarray, list[str], np.ndarray]:
+    """How far (m) well sites may reach from ``points`` (k, 2; local frame) and stay clear of the faults.
+
+    A fault circle reaches ``ratio`` x the step from its trace (a little more at
+    junctions; the refinement takes care of those): rings end ``RING_GAP`` steps short
+    of that, and a path's sites with no room at all are dropped. Also returns, per
+    point, the label of the fault that limits it and its distance (m) to that trace.
+    """
+    net = lay.net
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    a, b = net.nodes[net.edge_a], net.nodes[net.edge_b]
+    ab = b - a
+    rel = points[:, None, :] - a[None, :, :]
+    t = (rel[..., 0] * ab[:, 0] + rel[..., 1] * ab[:, 1]) / (ab[:, 0] ** 2 + ab[:, 1] ** 2)
+    foot = a + np.clip(t, 0.0, 1.0)[..., None] * ab
+    dist = np.hypot(points[:, None, 0] - foot[..., 0], points[:, None, 1] - foot[..., 1])
+    step = step_length(lay, foot.reshape(-1, 2), np.tile(net.edge_fault, points.shape[0])).reshape(dist.shape)
+    room = dist - (lay.ratio + RING_GAP) * step
+    k = np.argmin(room, axis=1)
+    rows = np.arange(points.shape[0])
+    return room[rows, k], [net.labels[f - 1] for f in net.edge_fault[k].tolist()], dist[rows, k]
+
+
+def step_length(lay: FaultLayout, xy: np.ndarray, fault: np.ndarray) -> np.ndarray:
+    """Target step length at points of the given faults (m)."""
+    sp = lay.net.spacing[fault - 1]
+    out = np.where(np.isfinite(sp), sp, 0.0)
+    need = ~np.isfinite(sp)
+    if need.any():
+        out[need] = lay.size(xy[need])
+    if lay.refine:
+        ref = np.asarray(lay.refine)
+        for start in range(0, xy.shape[0], 4096):
+            sl = slice(start, start + 4096)
+            dist = np.linalg.norm(xy[sl, None, :] - ref[None, :, :2], axis=2)
+            out[sl] = np.minimum(out[sl], (ref[None, :, 2] + GROWTH * dist).min(axis=1))
+    return out
