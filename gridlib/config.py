@@ -73,6 +73,11 @@ class Case:
         return "coarsen" in self.data
 
     @property
+    def keeps_stage_files(self) -> bool:
+        """``outputs.stage_files``: the per-stage netCDF files stay beside ``{case}.nc``."""
+        return bool(self.data.get("outputs", {}).get("stage_files", True))
+
+    @property
     def is_3d(self) -> bool:
         """The grid has depth: every type but 2-D cartesian and tensor grids."""
         grid = self.data["grid"]

@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 import xarray as xr
+import yaml
 from artifacts import assert_same_files
 from flow_tools import rest_of_deck
 from variants import other_machine, run_python
@@ -445,3 +446,50 @@ def test_pebi_lateral_transmissibility_is_k_area_over_site_distance(workflow_run
     np.testing.assert_allclose(trans[lateral], expected, rtol=1e-12)
     away = np.hypot(*(geo.cell_centroids[:, :2] - site).T)  # centroids would not do: cells off their site
     assert (away[a[lateral]] > 1e-3 * d).sum() > 100
+
+
+def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workflow_run, tmp_path):
+    """outputs.stage_files: false: the per-stage files are gone after the run, a second run does
+    nothing, and {case}.nc gives every reader the same arrays the stage files held (the
+    geometry's face vectors recomputed from the grid, to the bit)."""
+    from gridlib.stages.petrophysics import read_rock
+    from gridlib.stages.transmissibility import CELL_VARS, CONNECTION_VARS, read_transmissibility
+
+    cases = tmp_path / "config" / "cases"
+    cases.mkdir(parents=True)
+    data = yaml.safe_load((ROOT / "config" / "cases" / "anticline.yaml").read_text())
+    data["outputs"] = {"stage_files": False}
+    (cases / "anticline.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    config = ["--config", f"cases={cases}/*.yaml", "studies=[]"]
+    result = _snakemake(tmp_path, *config)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    folder, kept = tmp_path / "results" / "anticline", workflow_run / "results" / "anticline"
+    stage_files = (
+        "horizons.nc",
+        "grid.nc",
+        "geometry.nc",
+        "petrophysics.nc",
+        "coarse.nc",
+        "transmissibility.nc",
+    )
+    assert [name for name in stage_files if (folder / name).exists()] == []
+    assert all((kept / name).exists() for name in stage_files)
+    assert (folder / "grid.grdecl").exists() and (folder / "flow" / "ANTICLINE.DATA").exists()
+    assert "Nothing to be done" in (lambda r: r.stdout + r.stderr)(_snakemake(tmp_path, *config, "--dry-run"))
+
+    one = folder / "anticline.nc"
+    with xr.open_dataset(one) as ds:
+        assert "face_normal" not in ds and "face_centroid" not in ds and "face_area" in ds
+    with xr.open_dataset(one) as ds, xr.open_dataset(kept / "grid.nc") as grid_ds:
+        assert all(np.array_equal(ds[n].values, grid_ds[n].values) for n in grid_ds.data_vars), "grid.nc"
+    stored = read_netcdf(one)
+    geo = read_geometry(kept / "geometry.nc")
+    for field in ("cell_volumes", "cell_centroids", "face_areas", "face_normals", "face_centroids"):
+        assert np.array_equal(getattr(stored.geometry, field), getattr(geo, field)), field
+    rock, rock_one = read_rock(kept / "petrophysics.nc"), read_rock(one)
+    assert rock.keys() == rock_one.keys() and all(np.array_equal(rock[k], rock_one[k]) for k in rock)
+    names = CONNECTION_VARS + CELL_VARS
+    t, t_one = read_transmissibility(kept / "transmissibility.nc")[0], read_transmissibility(one)[0]
+    assert all(np.array_equal(t[n].values, t_one[n].values) for n in names)
+    with xr.open_dataset(kept / "coarse.nc") as coarse:
+        assert np.array_equal(stored.cell_data["block"], coarse["partition"].values)

@@ -228,6 +228,27 @@ def depth_sign(deck: Deck) -> int:
     return _depth_sign(deck.zcorn_array(), deck.active.reshape(nz, ny, nx), deck.source)
 
 
+def corner_depths(deck: Deck, cells: IntArray, sign: int | None = None) -> FloatArray:
+    """Depths (n, 8) of the eight corners ``a + 2b + 4c`` of ``cells`` (linear ijk indices):
+    the z of :func:`corner_points` (the same bits) without the x, y it would compute.
+
+    >>> from gridlib.cornerpoint.generators import simple_grdecl
+    >>> corner_depths(simple_grdecl([2, 1, 1]), [1])[0, [4, 7]].round(6).tolist()
+    [0.5, 0.45]
+    """
+    nx, ny, nz = deck.cart_dims
+    g = np.asarray(cells, dtype=np.int64).ravel()
+    i, j, k = g % nx, (g // nx) % ny, g // (nx * ny)
+    zc = deck.zcorn_array()
+    if sign is None:
+        sign = _depth_sign(zc, deck.active.reshape(nz, ny, nx), deck.source)
+    out = np.empty((g.size, 8))
+    for corner in range(8):
+        a, b, c = corner & 1, (corner >> 1) & 1, corner >> 2
+        out[:, corner] = sign * zc[2 * k + c, 2 * j + b, 2 * i + a]
+    return out
+
+
 def corner_points(deck: Deck, cells: IntArray, sign: int | None = None) -> FloatArray:
     """Coordinates (n, 8, 3) of the eight corners of ``cells`` (linear ijk indices, i fastest),
     in the frame of :func:`~gridlib.cornerpoint.process_grdecl` (z is depth: z-up decks are

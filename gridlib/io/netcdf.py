@@ -10,7 +10,10 @@ bit for bit:
   ``cell_face_tag`` (W, E, S, N, T, B = 0..5) and ``cell_index_map``;
 * node coordinates ``node_x``, ``node_y`` (and ``node_z``, depth, ``positive = "down"``);
 * geometry (optional): ``cell_volume``, ``cell_centroid``, ``face_area``,
-  ``face_normal``, ``face_centroid`` (vectors on a ``xyz`` dimension);
+  ``face_normal``, ``face_centroid`` (vectors on a ``xyz`` dimension); a file may
+  leave out the two face vectors (``face_vectors=False``: a case's ``{case}.nc``
+  does, they are 40 % of its bytes), and :func:`read_netcdf` then recomputes them
+  from the grid (:func:`~gridlib.geometry.compute_geometry`, the same bits);
 * any number of cell variables (dimension of the cells) and face variables;
 * global attributes ``gridlib_griddim``, ``gridlib_cart_dims``,
   ``gridlib_history`` (JSON) and any user attributes (provenance).
@@ -35,7 +38,7 @@ import xarray as xr
 
 from ..connectivity import cell_node_cycles_2d
 from ..errors import GridError, InputError
-from ..geometry import Geometry
+from ..geometry import Geometry, compute_geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
 from ._dataset import load_dataset, save_dataset
 
@@ -138,19 +141,25 @@ def _ugrid_mesh(areal: Grid, dims: dict[str, str]) -> dict[str, xr.Variable]:
     }
 
 
-def _geometry_vars(geo: Geometry, dims: dict[str, str], d: int) -> dict[str, xr.Variable]:
+FACE_VECTORS = ("face_normal", "face_centroid")  # the geometry a file may leave out
+
+
+def _geometry_vars(
+    geo: Geometry, dims: dict[str, str], d: int, face_vectors: bool = True
+) -> dict[str, xr.Variable]:
     c, f = dims["cell"], dims["face"]
     out = {
         "cell_volume": xr.Variable(c, geo.cell_volumes, {"units": "m3" if d == 3 else "m2"}),
         "cell_centroid": xr.Variable((c, "xyz"), geo.cell_centroids, {"units": "m"}),
         "face_area": xr.Variable(f, geo.face_areas, {"units": "m2" if d == 3 else "m"}),
-        "face_normal": xr.Variable(
+    }
+    if face_vectors:
+        out["face_normal"] = xr.Variable(
             (f, "xyz"),
             geo.face_normals,
             {"units": "m2" if d == 3 else "m", "long_name": "area-weighted normal"},
-        ),
-        "face_centroid": xr.Variable((f, "xyz"), geo.face_centroids, {"units": "m"}),
-    }
+        )
+        out["face_centroid"] = xr.Variable((f, "xyz"), geo.face_centroids, {"units": "m"})
     if geo.cell_normals is not None:
         out["cell_normal"] = xr.Variable((c, "xyz3"), geo.cell_normals, {"units": "m2"})
     return out
@@ -191,8 +200,11 @@ def grid_to_dataset(
     cell_data: dict[str, np.ndarray] | None = None,
     face_data: dict[str, np.ndarray] | None = None,
     attrs: dict[str, object] | None = None,
+    *,
+    face_vectors: bool = True,
 ) -> xr.Dataset:
-    """The xarray Dataset that :func:`write_netcdf` writes."""
+    """The xarray Dataset that :func:`write_netcdf` writes; ``face_vectors=False`` leaves the
+    geometry's face normals and centroids out (readers recompute them)."""
     dims = _dims(grid)
     variables = _topology_vars(grid, "", dims)
     ds_attrs: dict[str, object] = {"Conventions": "CF-1.11", "title": "gridlib grid"}
@@ -200,7 +212,7 @@ def grid_to_dataset(
     if geometry is not None:
         if geometry.cell_volumes.shape != (grid.num_cells,) or geometry.face_areas.shape != (grid.num_faces,):
             raise GridError("write_netcdf: the geometry does not belong to this grid (sizes differ)")
-        variables.update(_geometry_vars(geometry, dims, grid.griddim))
+        variables.update(_geometry_vars(geometry, dims, grid.griddim, face_vectors))
     derived: dict[str, xr.Variable] = {}
     if grid.griddim == 2 and grid.dim == 2:
         derived.update(_ugrid_mesh(grid, dims))
@@ -317,7 +329,7 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
             grid.history,
             Layering(areal, ds["cell_column"].values, ds["cell_layer"].values, n_layers),
         )
-    geometry = _geometry_from(ds) if "cell_volume" in ds else None
+    geometry = _geometry_from(ds, grid) if "cell_volume" in ds else None
     dims = _dims(grid)
     cell_data, face_data = {}, {}
     own = _RESERVED | set(json.loads(ds.attrs.get("gridlib_variables", "[]")))
@@ -339,13 +351,20 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
     return GridDataset(grid, geometry, cell_data, face_data, attrs)
 
 
-def _geometry_from(ds: xr.Dataset) -> Geometry:
+def _geometry_from(ds: xr.Dataset, grid: Grid | None = None) -> Geometry:
+    """The stored geometry; face normals and centroids recomputed from ``grid`` where the
+    file leaves them out."""
+    if all(name in ds for name in FACE_VECTORS):
+        normals, centroids = ds["face_normal"].values, ds["face_centroid"].values
+    else:
+        full = compute_geometry(grid)
+        normals, centroids = full.face_normals, full.face_centroids
     return Geometry(
         ds["cell_volume"].values,
         ds["cell_centroid"].values,
         ds["face_area"].values,
-        ds["face_normal"].values,
-        ds["face_centroid"].values,
+        normals,
+        centroids,
         ds["cell_normal"].values if "cell_normal" in ds else None,
     )
 

@@ -74,12 +74,14 @@ def write_grid_file(
     extra: Mapping[str, xr.DataArray] | None = None,
     attrs: Mapping[str, Any] | None = None,
     var_attrs: Mapping[str, Mapping[str, Any]] | None = None,
+    face_vectors: bool = True,
 ) -> Path:
     """A gridlib netCDF grid file plus ``extra`` variables with dimensions of their own
     (e.g. the NNC list, a partition of the fine cells); list-valued attributes as JSON;
-    ``var_attrs``: attributes (units, long names) of cell data variables, by name."""
+    ``var_attrs``: attributes (units, long names) of cell data variables, by name;
+    ``face_vectors=False``: the geometry's face normals and centroids left out."""
     flat = {k: (json.dumps(v) if isinstance(v, list | tuple | dict) else v) for k, v in (attrs or {}).items()}
-    ds = grid_to_dataset(grid, geometry, dict(cell_data or {}), None, flat)
+    ds = grid_to_dataset(grid, geometry, dict(cell_data or {}), None, flat, face_vectors=face_vectors)
     for name, var in (extra or {}).items():
         ds[name] = var
     for name, meta in (var_attrs or {}).items():
@@ -111,6 +113,15 @@ def read_extra(path: str | os.PathLike, names: tuple[str, ...]) -> dict[str, np.
     """The variables ``names`` present in a netCDF file (missing ones are left out)."""
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return {n: ds[n].values for n in names if n in ds.variables}
+
+
+def length_of(path: str | os.PathLike, name: str) -> int:
+    """The first dimension's length of variable ``name`` of a netCDF file, without reading it
+    (an InputError naming the file if the variable is missing)."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        if name not in ds.variables:
+            raise InputError(f"{path}: {name}: missing")
+        return int(ds[name].shape[0])
 
 
 def read_attrs(path: str | os.PathLike) -> dict[str, Any]:

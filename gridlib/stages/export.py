@@ -1,6 +1,8 @@
 """Stage ``export``: everything about a case in the formats people open.
 
-* ``{case}.nc``: one self-describing netCDF file: grid, geometry, the builder's
+* ``{case}.nc``: one self-describing netCDF file: grid, cell geometry and face
+  areas (face normals and centroids are left out: :func:`gridlib.io.netcdf.read_netcdf`
+  recomputes them from the grid), the builder's
   cell data (bulk volume, well, zone, layer), rock properties, the coarse block
   of every cell, pore volume, the NNC list, and the variables of
   ``transmissibility.nc`` (connections with their T, ``porv`` and
@@ -35,7 +37,7 @@ from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io._atomic import atomic_path, write_keeping_suffix
-from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.netcdf import read_netcdf
 from ..io.vtu import write_vtu
 from ..reproducible import log10
 from .common import log, nnc_variables, read_attrs, read_extra, save_figure, write_grid_file
@@ -202,6 +204,26 @@ def _face_trans(grid: Grid, variables) -> np.ndarray:
     return np.where(conn >= 0, t[np.maximum(conn, 0)] if t.size else 0.0, 0.0)
 
 
+def cell_geometry(geometry_nc: str | os.PathLike) -> Geometry:
+    """What the exports use of ``geometry.nc``: cell volumes and centroids and face areas,
+    read alone; the face normals and centroids (most of the file) are left empty: they are
+    not written to ``{case}.nc`` (its readers recompute them from the grid)."""
+    arrays = read_extra(geometry_nc, ("cell_volume", "cell_centroid", "face_area", "cell_normal"))
+    missing = [n for n in ("cell_volume", "cell_centroid", "face_area") if n not in arrays]
+    if missing:
+        raise InputError(f"{geometry_nc}: not a gridlib geometry file (missing {', '.join(missing)})")
+    d = arrays["cell_centroid"].shape[1]
+    empty = np.zeros((0, d))
+    return Geometry(
+        arrays["cell_volume"],
+        arrays["cell_centroid"],
+        arrays["face_area"],
+        empty,
+        empty,
+        arrays.get("cell_normal"),
+    )
+
+
 def transmissibility_figures(variables, attrs) -> dict[str, Any]:
     """The summary's figures of the connections: counts by kind, min/median/max T, total porv."""
     t = variables["trans"].values
@@ -238,7 +260,7 @@ def stage_export(
     case = load_case(case_file)
     stored = read_netcdf(grid_nc)
     grid, attrs = stored.grid, read_attrs(grid_nc)
-    geo = read_geometry_netcdf(geometry_nc)
+    geo = cell_geometry(geometry_nc)
     if geo.cell_volumes.size != grid.num_cells:
         raise InputError(f"{geometry_nc}: {geo.cell_volumes.size} cells, but {grid_nc} has {grid.num_cells}")
     fault_names = list(attrs.get("fault_names", []))
@@ -284,6 +306,7 @@ def stage_export(
         extra=extra,
         attrs=provenance,
         var_attrs=var_attrs,
+        face_vectors=False,
     )
     vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **cell_data}
     if grid.layering is not None:

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..completions import vertical_well_cells
 from ..config import Case, load_case
-from ..cornerpoint.corners import corner_points
+from ..cornerpoint.corners import corner_depths
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
 from ..fluids import conversion, water_gradient
@@ -51,9 +51,9 @@ from ..io.grdecl import read_grdecl
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
-from .common import log, read_attrs
+from .common import length_of, log, read_attrs
 from .petrophysics import read_rock
-from .transmissibility import deck_with_rock, read_transmissibility
+from .transmissibility import CELL_VARS, CONNECTION_VARS, deck_with_rock, read_transmissibility
 
 WELL_RADIUS = 0.1  # m, the default well radius
 
@@ -97,10 +97,16 @@ def stage_flow_deck(
         )
     stored = read_netcdf(grid_nc)
     grid = stored.grid
-    geo = read_geometry_netcdf(geometry_nc)
+    # What is read is what the deck's form needs: a corner-point deck's depths come from its
+    # corners and its T are Flow's own, so geometry only for wells, connections only for
+    # the connection form.
+    wells = bool(case.data.get("simulation", {}).get("wells"))
+    geo = read_geometry_netcdf(geometry_nc) if (not corner or wells) else None
     rock = read_rock(petrophysics_nc)
-    variables, tattrs = read_transmissibility(transmissibility_nc)
-    for what, n in (("geometry", geo.cell_volumes.size), ("petrophysics", rock["poro"].size)):
+    names = CONNECTION_VARS + CELL_VARS if form == "connections" else CELL_VARS
+    variables, tattrs = read_transmissibility(transmissibility_nc, names)
+    geo_cells = length_of(geometry_nc, "cell_volume")
+    for what, n in (("geometry", geo_cells), ("petrophysics", rock["poro"].size)):
         if n != grid.num_cells:
             raise InputError(f"{case.path}: {what} has {n} cells, but {grid_nc} has {grid.num_cells}")
     if variables["porv"].size != grid.num_cells:
@@ -162,13 +168,13 @@ def _header(case: Case) -> list[str]:
     ]
 
 
-def _depths(grid: Grid, geo: Geometry, deck: Deck | None) -> tuple[np.ndarray, np.ndarray]:
+def _depths(grid: Grid, geo: Geometry | None, deck: Deck | None) -> tuple[np.ndarray, np.ndarray]:
     """Centre depth and vertical extent of every cell: for a corner-point deck as Flow takes
     them (the mean of the 8 corners; the mean depth of the 4 bottom minus the 4 top
     corners), else the centroid's depth and the mean thickness V / A (A the horizontal
     area, half the sum of |n_z| over the cell's faces)."""
     if deck is not None:
-        p = corner_points(deck, grid.cells.index_map)[:, :, 2]
+        p = corner_depths(deck, grid.cells.index_map)
         top = (((p[:, 0] + p[:, 1]) + p[:, 2]) + p[:, 3]) / 4.0
         bottom = (((p[:, 4] + p[:, 5]) + p[:, 6]) + p[:, 7]) / 4.0
         return (top + bottom) / 2.0, bottom - top
@@ -190,7 +196,7 @@ def _spacing(volumes: np.ndarray, thickness: np.ndarray) -> float:
 def _simulation(
     case: Case,
     grid: Grid,
-    geo: Geometry,
+    geo: Geometry | None,
     rock: dict[str, np.ndarray],
     system: UnitSystem,
     depth: np.ndarray,

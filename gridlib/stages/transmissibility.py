@@ -61,7 +61,7 @@ from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf
 from ..stratigraphic.nnc import NNC
 from ..transmissibility import KIND_NAMES, Connections, deck_transmissibility, transmissibility
 from ..units import UnitSystem, unit_system
-from .common import log, read_attrs, read_extra, write_dataset
+from .common import length_of, log, read_attrs, read_extra, write_dataset
 from .petrophysics import read_rock
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
@@ -83,9 +83,9 @@ def stage_transmissibility(
     case = load_case(case_file)
     stored = read_netcdf(grid_nc)
     grid = stored.grid
-    geo = read_geometry_netcdf(geometry_nc)
-    if geo.cell_volumes.size != grid.num_cells:
-        raise InputError(f"{geometry_nc}: {geo.cell_volumes.size} cells, but {grid_nc} has {grid.num_cells}")
+    geo_cells = length_of(geometry_nc, "cell_volume")
+    if geo_cells != grid.num_cells:
+        raise InputError(f"{geometry_nc}: {geo_cells} cells, but {grid_nc} has {grid.num_cells}")
     rock = read_rock(petrophysics_nc)
     if rock["poro"].size != grid.num_cells:
         raise InputError(f"{petrophysics_nc}: {rock['poro'].size} cells, but {grid_nc} has {grid.num_cells}")
@@ -102,7 +102,8 @@ def stage_transmissibility(
             )
         conn, porv, method = _deck_case(grid_nc, stored, attrs, rock, Path(grdecl), system)
         flow_index, flow_dims = grid.cells.index_map, tuple(grid.cart_dims)
-    else:
+    else:  # a deck's T need no geometry of ours; any other grid's need all of it
+        geo = read_geometry_netcdf(geometry_nc)
         conn, centres = _grid_case(case, grid_nc, stored, geo, rock, system)
         porv = geo.cell_volumes * rock["poro"] * rock["ntg"] * _volume_unit(system)
         method = f"transmissibility (two-point flux, cell centres: {centres})"
@@ -294,13 +295,16 @@ def connections_dataset(
     return xr.Dataset(data, attrs=attrs)
 
 
-def read_transmissibility(path: str | os.PathLike) -> tuple[dict[str, xr.DataArray], dict[str, Any]]:
-    """The variables (loaded, with their attributes) and global attributes of ``transmissibility.nc``."""
+def read_transmissibility(
+    path: str | os.PathLike, names: tuple[str, ...] = CONNECTION_VARS + CELL_VARS
+) -> tuple[dict[str, xr.DataArray], dict[str, Any]]:
+    """The variables ``names`` (default: all; loaded, with their attributes) and the global
+    attributes of ``transmissibility.nc`` (or of a ``{case}.nc`` that holds them)."""
     with xr.open_dataset(path, engine="netcdf4") as ds:
         missing = [n for n in CONNECTION_VARS + CELL_VARS if n not in ds.variables]
         if missing:
             raise InputError(f"{path}: not a transmissibility file (missing {', '.join(missing)})")
-        return {n: ds[n].load() for n in CONNECTION_VARS + CELL_VARS}, dict(ds.attrs)
+        return {n: ds[n].load() for n in names}, dict(ds.attrs)
 
 
 def face_connections(neighbors: np.ndarray, cells: np.ndarray) -> np.ndarray:

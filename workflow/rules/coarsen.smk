@@ -11,6 +11,8 @@ rule coarsen:
         f"{RESULTS}/logs/{{case}}/coarsen.log",
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/coarsen.tsv"
+    wildcard_constraints:
+        case=KEPT,
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -18,3 +20,10 @@ rule coarsen:
         mem_mb=4000,
     script:
         "../scripts/coarsen.py"
+
+
+use rule coarsen as coarsen_temp with:
+    output:
+        coarse=temp(out("coarse")),
+    wildcard_constraints:
+        case=DROPPED,

@@ -80,11 +80,19 @@ def _cases_where(test):
     return "|".join(names) if names else "(?!)"  # (?!) matches nothing
 
 
-WITH_GRDECL = _cases_where(lambda c: c.writes_grdecl)
-WITHOUT_GRDECL = _cases_where(lambda c: not c.writes_grdecl)
-WITH_TRANSMISSIBILITY = _cases_where(has_transmissibility)
 WITH_FLOW_DECK = _cases_where(lambda c: c.writes_flow_deck)
 WITH_SIMULATION = _cases_where(lambda c: c.writes_flow_deck and c.has_simulation)
+KEPT = _cases_where(
+    lambda c: c.keeps_stage_files
+)  # outputs.stage_files: true (default)
+DROPPED = _cases_where(lambda c: not c.keeps_stage_files)  # stage files are temp()
+
+
+def stage_cases(test, kept):
+    """The cases where ``test(case)`` whose stage files are kept (``kept``) or dropped."""
+    return _cases_where(lambda c: test(c) and c.keeps_stage_files == kept)
+
+
 FLOW_NAMES = "|".join(sorted(c.flow_name for c in CASES.values())) or "(?!)"
 EXPORTS = ("nc", "vtu", "faults", "png", "histograms", "summary")
 
@@ -265,7 +273,7 @@ def all_outputs():
         files += [out(k).format(case=name) for k in EXPORTS]
         if case.writes_grdecl:
             files.append(out("grdecl").format(case=name))
-        if has_transmissibility(case):
+        if has_transmissibility(case) and case.keeps_stage_files:
             files.append(out("transmissibility").format(case=name))
         if case.writes_flow_deck:
             files.append(f"{RESULTS}/{name}/flow/{case.flow_name}.DATA")

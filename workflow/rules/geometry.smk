@@ -9,6 +9,8 @@ rule geometry:
         f"{RESULTS}/logs/{{case}}/geometry.log",
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/geometry.tsv"
+    wildcard_constraints:
+        case=KEPT,
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -16,3 +18,10 @@ rule geometry:
         mem_mb=4000,
     script:
         "../scripts/geometry.py"
+
+
+use rule geometry as geometry_temp with:
+    output:
+        geometry=temp(out("geometry")),
+    wildcard_constraints:
+        case=DROPPED,

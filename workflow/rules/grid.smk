@@ -10,7 +10,7 @@ rule grid:
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/grid.tsv"
     wildcard_constraints:
-        case=WITHOUT_GRDECL,
+        case=stage_cases(lambda c: not c.writes_grdecl, True),
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -33,7 +33,7 @@ rule grid_grdecl:
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/grid.tsv"
     wildcard_constraints:
-        case=WITH_GRDECL,
+        case=stage_cases(lambda c: c.writes_grdecl, True),
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -41,3 +41,18 @@ rule grid_grdecl:
         mem_mb=4000,
     script:
         "../scripts/grid.py"
+
+
+use rule grid as grid_temp with:
+    output:
+        grid=temp(out("grid")),
+    wildcard_constraints:
+        case=stage_cases(lambda c: not c.writes_grdecl, False),
+
+
+use rule grid_grdecl as grid_grdecl_temp with:
+    output:
+        grid=temp(out("grid")),
+        grdecl=out("grdecl"),
+    wildcard_constraints:
+        case=stage_cases(lambda c: c.writes_grdecl, False),

@@ -8,6 +8,8 @@ rule horizons:
         f"{RESULTS}/logs/{{case}}/horizons.log",
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/horizons.tsv"
+    wildcard_constraints:
+        case=KEPT,
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -15,3 +17,10 @@ rule horizons:
         mem_mb=2000,
     script:
         "../scripts/horizons.py"
+
+
+use rule horizons as horizons_temp with:
+    output:
+        horizons=temp(out("horizons")),
+    wildcard_constraints:
+        case=DROPPED,

@@ -10,6 +10,8 @@ rule petrophysics:
         f"{RESULTS}/logs/{{case}}/petrophysics.log",
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/petrophysics.tsv"
+    wildcard_constraints:
+        case=KEPT,
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -17,3 +19,10 @@ rule petrophysics:
         mem_mb=4000,
     script:
         "../scripts/petrophysics.py"
+
+
+use rule petrophysics as petrophysics_temp with:
+    output:
+        petrophysics=temp(out("petrophysics")),
+    wildcard_constraints:
+        case=DROPPED,

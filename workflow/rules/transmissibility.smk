@@ -13,7 +13,7 @@ rule transmissibility:
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/transmissibility.tsv"
     wildcard_constraints:
-        case=WITH_TRANSMISSIBILITY,
+        case=stage_cases(has_transmissibility, True),
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -21,3 +21,10 @@ rule transmissibility:
         mem_mb=4000,
     script:
         "../scripts/transmissibility.py"
+
+
+use rule transmissibility as transmissibility_temp with:
+    output:
+        transmissibility=temp(out("transmissibility")),
+    wildcard_constraints:
+        case=stage_cases(has_transmissibility, False),
