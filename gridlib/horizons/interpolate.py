@@ -17,23 +17,12 @@ from .rbf import thin_plate_spline
 
 
 def interpolate_points(
-    points: ArrayLike,
-    x: ArrayLike,
-    y: ArrayLike,
-    *,
-    method: str = "linear",
-    extrapolation: str = "nan",
-    smoothing: float = 0.0,
-    neighbors: int | None = None,
-    faults: Sequence[Any] = (),
-    extent: Sequence[float] | None = None,
-    name: str = "surface",
-    notes: list[str] | None = None,
+    points: ArrayLike, x: ArrayLike, y: ArrayLike, *, name: str = "surface", **options: Any
 ) -> FloatArray:
     """Interpolate scattered picks ``(n, 3)`` = x, y, z (m, z depth) onto the lattice of axes
     ``x`` (nx,), ``y`` (ny,): the depth map ``z[j, i]`` (ny, nx), NaN where undefined.
 
-    See :func:`interpolate_points_at` for the options.
+    ``name`` and the keyword ``options`` are those of :func:`interpolate_points_at`.
 
     >>> from gridlib.horizons import plane
     >>> rng = np.random.default_rng(0)
@@ -49,19 +38,7 @@ def interpolate_points(
         if a.ndim != 1 or a.size < 1 or not np.isfinite(a).all() or (np.diff(a) <= 0).any():
             raise InputError(f"{name}: the lattice axis {key} must be finite, 1-D and strictly increasing")
     X, Y = np.meshgrid(xa, ya)
-    return interpolate_points_at(
-        points,
-        X,
-        Y,
-        method=method,
-        extrapolation=extrapolation,
-        smoothing=smoothing,
-        neighbors=neighbors,
-        faults=faults,
-        extent=extent,
-        name=name,
-        notes=notes,
-    )
+    return interpolate_points_at(points, X, Y, name=name, **options)
 
 
 def interpolate_points_at(

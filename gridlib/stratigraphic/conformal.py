@@ -29,37 +29,16 @@ def insert_edge_nodes(
     (node on p1, node on p2); ``crossing_ids`` its node id. A crossing is
     inserted into every face edge equal to one of its lines, ordered along the
     edge. (The faces of corner-point grids, all with m nodes; see
-    :func:`insert_edge_nodes_ragged` for faces of any sizes.)
+    :func:`edge_insertions` for faces of any sizes.)
     """
     nf, m = face_nodes.shape
-    return insert_edge_nodes_ragged(
-        np.arange(0, nf * m + 1, m), face_nodes.ravel(), crossing_lines, crossing_ids, coords
-    )
-
-
-def insert_edge_nodes_ragged(
-    face_pos: IntArray,
-    face_nodes: IntArray,
-    crossing_lines: IntArray,
-    crossing_ids: IntArray,
-    coords: FloatArray,
-) -> tuple[IntArray, IntArray]:
-    """:func:`insert_edge_nodes` for ragged faces (``face_pos`` offsets, flat ``face_nodes`` cycles).
-
-    >>> coords = np.array([[0.0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0], [1, 0, 0], [0, -1, 0], [2, 1, 0]])
-    >>> lines = np.array([[[0, 1], [5, 6]]])  # node 4: where the lines 0-1 and 5-6 cross
-    >>> pos, nodes = insert_edge_nodes_ragged(np.array([0, 4, 7]), np.array([0, 1, 2, 3, 3, 1, 0]), lines,
-    ...                                       np.array([4]), coords)
-    >>> pos.tolist(), nodes.tolist()  # a square and a triangle, both with an edge 0-1
-    ([0, 5, 9], [0, 4, 1, 2, 3, 3, 1, 4, 0])
-    """
-    slots, nodes = edge_insertions(face_pos, face_nodes, crossing_lines, crossing_ids, coords)
+    face_pos, flat = np.arange(0, nf * m + 1, m), face_nodes.ravel()
+    slots, nodes = edge_insertions(face_pos, flat, crossing_lines, crossing_ids, coords)
     if slots.size == 0:
-        return face_pos.copy(), face_nodes.copy()
-    nf = face_pos.size - 1
+        return face_pos.copy(), flat.copy()
     owner = np.searchsorted(face_pos, slots, "right") - 1  # the face of every insertion
     face_counts = np.diff(face_pos) + np.bincount(owner, minlength=nf)
-    return offsets(face_counts), insert_after(face_nodes, slots, nodes)
+    return offsets(face_counts), insert_after(flat, slots, nodes)
 
 
 def edge_insertions(
@@ -69,9 +48,20 @@ def edge_insertions(
     crossing_ids: IntArray,
     coords: FloatArray,
 ) -> tuple[IntArray, IntArray]:
-    """The crossings to insert into the edges of ragged faces (see :func:`insert_edge_nodes_ragged`):
-    ``(slots, nodes)``, ``nodes[i]`` to go right after ``face_nodes[slots[i]]`` (the edge from that
-    node to the next), sorted by slot and along the edge (see :func:`insert_after`)."""
+    """The crossings to insert into the edges of ragged faces (``face_pos`` offsets, flat ``face_nodes``
+    cycles; the crossings as in :func:`insert_edge_nodes`): ``(slots, nodes)``, ``nodes[i]`` to go right
+    after ``face_nodes[slots[i]]`` (the edge from that node to the next), sorted by slot and along the
+    edge (see :func:`insert_after`).
+
+    >>> coords = np.array([[0.0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0], [1, 0, 0], [0, -1, 0], [2, 1, 0]])
+    >>> lines = np.array([[[0, 1], [5, 6]]])  # node 4: where the lines 0-1 and 5-6 cross
+    >>> faces = np.array([0, 1, 2, 3, 3, 1, 0])  # a square and a triangle, both with an edge 0-1
+    >>> slots, nodes = edge_insertions(np.array([0, 4, 7]), faces, lines, np.array([4]), coords)
+    >>> slots.tolist(), nodes.tolist()
+    ([0, 5], [4, 4])
+    >>> insert_after(faces, slots, nodes).tolist()
+    [0, 4, 1, 2, 3, 3, 1, 4, 0]
+    """
     counts = np.diff(face_pos)
     a = face_nodes
     nxt = np.arange(1, a.size + 1)
