@@ -185,6 +185,7 @@ def write_vtu(
         streams = {
             key: _AppendedArray(compress) for key in ("connectivity", "offsets", "faces", "faceoffsets")
         }
+        index = _index_type(grid)
         ends = np.zeros(2, dtype=np.int64)  # connectivity and faces written so far
         for first in range(0, grid.num_cells, BLOCK_CELLS):
             stop = min(first + BLOCK_CELLS, grid.num_cells)
@@ -195,14 +196,15 @@ def write_vtu(
                 ("faces", faces),
                 ("faceoffsets", face_end + ends[1]),
             ):
-                streams[key].add(values)
+                streams[key].add(values.astype(index, copy=False))
             ends += (conn.size, faces.size)
         types = np.full(grid.num_cells, VTK_POLYHEDRON, dtype=np.uint8)
+        label = _VTK_TYPES[np.dtype(index)]
         for key in ("connectivity", "offsets"):
-            arrays.append(("Cells", key, "Int64", 1, streams[key].finish()))
+            arrays.append(("Cells", key, label, 1, streams[key].finish()))
         add("Cells", "types", np.uint8, 1, [types])
         for key in ("faces", "faceoffsets"):
-            arrays.append(("Cells", key, "Int64", 1, streams[key].finish()))
+            arrays.append(("Cells", key, label, 1, streams[key].finish()))
     else:
         pos, cyc = cell_node_cycles_2d(grid)
         add("Cells", "connectivity", np.int64, 1, [cyc])
@@ -249,6 +251,15 @@ def write_vtu(
             fh.writelines(parts)
         fh.write(b"\n</AppendedData>\n</VTKFile>\n")
     return Path(path)
+
+
+def _index_type(grid: Grid) -> type:
+    """Int32 for the polyhedra's index streams (half the bytes; VTK reads either) where every
+    index and offset fits, else Int64: the faces stream holds, per cell, its face count and
+    per face its node count and nodes."""
+    nodes_per_face = np.diff(grid.faces.node_pos)
+    faces_stream = grid.num_cells + grid.cells.faces.size + int(nodes_per_face[grid.cells.faces].sum())
+    return np.int32 if max(faces_stream, grid.num_nodes) < 2**31 else np.int64
 
 
 def _row_blocks(values: np.ndarray, rows: int):
