@@ -54,7 +54,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..horizons.surface import Surface
-from ._atomic import atomic_path
+from .atomic import atomic_path
 
 __all__ = ["IRAP_UNDEFINED", "read_irap", "write_irap"]
 

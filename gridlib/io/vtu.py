@@ -29,7 +29,7 @@ from ..connectivity import cell_node_cycles_2d, offsets, ragged_arange
 from ..errors import GridError
 from ..grid import Grid
 from ..threads import concurrently
-from ._atomic import atomic_path
+from .atomic import atomic_path
 
 VTK_POLYGON = 7
 VTK_POLYHEDRON = 42
