@@ -19,28 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-DECK_SUFFIXES = {".grdecl", ".data", ".inc", ".grd"}
-EGRID_SUFFIXES = {".egrid", ".fegrid"}
+from . import io
 
-
-def _kind(path: Path) -> str:
-    suffix = path.suffix.lower()
-    if suffix in DECK_SUFFIXES:
-        return "deck"
-    if suffix in EGRID_SUFFIXES:
-        return "egrid"
-    if suffix == ".nc":
-        return "netcdf"
-    from .errors import InputError
-
-    raise InputError(f"{path}: unknown file type '{path.suffix}' (expected .grdecl/.DATA, .EGRID or .nc)")
-
-
-def _read_deck(path: Path):
-    from .io.egrid import read_egrid
-    from .io.grdecl import read_grdecl
-
-    return read_egrid(path) if _kind(path) == "egrid" else read_grdecl(path)
+GRID_KINDS = (
+    "deck",
+    "grid",
+)  # what info and check read: a deck (GRDECL, DATA, EGRID) or a gridlib netCDF file
 
 
 def _describe_grid(grid, out: list[str]) -> None:
@@ -57,9 +41,9 @@ def _describe_grid(grid, out: list[str]) -> None:
 def info(path: Path) -> str:
     """A human-readable summary of a deck, EGRID or netCDF file."""
     out = [f"{path}"]
-    kind = _kind(path)
-    if kind in ("deck", "egrid"):
-        deck = _read_deck(path)
+    kind = io.kind_of(path, GRID_KINDS)
+    if kind == "deck":
+        deck = io.read(path, kind="deck")
         nx, ny, nz = deck.cart_dims
         active = int(deck.active.sum())
         out.append(f"corner-point deck: {nx} x {ny} x {nz} = {deck.num_cells:,d} cells, {active:,d} active")
@@ -76,9 +60,7 @@ def info(path: Path) -> str:
             out.append(f"depth range: {z.min():.6g} to {z.max():.6g}")
         out += [f"note: {n}" for n in deck.notes]
     else:
-        from .io.netcdf import read_netcdf
-
-        data = read_netcdf(path)
+        data = io.read(path, kind="grid")
         _describe_grid(data.grid, out)
         for key in ("case_name", "gridlib_version", "case_sha256", "seed"):
             if key in data.attrs:
@@ -94,19 +76,17 @@ def check(path: Path) -> str:
     from .geometry import compute_geometry
 
     out = [f"{path}"]
-    if _kind(path) in ("deck", "egrid"):
+    if io.kind_of(path, GRID_KINDS) == "deck":
         from .cornerpoint import process_grdecl
 
-        result = process_grdecl(_read_deck(path))
+        result = process_grdecl(io.read(path, kind="deck"))
         grid = result.grid
         _describe_grid(grid, out)
         out.append(f"non-neighbour connections: {result.nnc.num:,d}")
         out.append(f"bulk volume (ECLIPSE convention): {result.bulk_volumes.sum():.9g}")
         out += [f"note: {n}" for n in result.notes]
     else:
-        from .io.netcdf import read_netcdf
-
-        grid = read_netcdf(path).grid
+        grid = io.read(path, kind="grid").grid
         _describe_grid(grid, out)
     geo = compute_geometry(grid)
     check_grid(grid, geo)

@@ -7,8 +7,7 @@ from pathlib import Path
 from ..config import Case
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
-from ..io.egrid import read_egrid
-from ..io.grdecl import read_grdecl
+from ..io.registry import read
 
 
 def deck_path(case: Case) -> Path:
@@ -21,6 +20,5 @@ def deck_path(case: Case) -> Path:
 
 
 def read_case_deck(case: Case) -> Deck:
-    """The case's deck (GRDECL text or EGRID)."""
-    path = deck_path(case)
-    return read_egrid(path) if path.suffix.lower() in (".egrid", ".fegrid") else read_grdecl(path)
+    """The case's deck (GRDECL text, a DATA deck or EGRID, by the file's suffix)."""
+    return read(deck_path(case), kind="deck")

@@ -21,7 +21,7 @@ import xarray as xr
 from ..errors import GridError, InputError
 from ..geometry import Geometry
 from ..grid import Grid
-from ..io._dataset import save_dataset
+from ..io.datasets import save_dataset
 from ..io.netcdf import grid_to_dataset, read_netcdf
 from ..threads import ENV
 
