@@ -20,6 +20,12 @@ from pathlib import Path
 import numpy as np
 
 from . import io
+from .checks import check_grid
+from .cornerpoint import process_grdecl
+from .errors import GridError, InputError
+from .geometry import compute_geometry
+from .stages.flow_deck import flow_deck_from_results
+from .stages.pipeline import run_case
 
 GRID_KINDS = (
     "deck",
@@ -72,13 +78,9 @@ def info(path: Path) -> str:
 
 def check(path: Path) -> str:
     """Process (for decks), compute the geometry and check every invariant; raises GridError."""
-    from .checks import check_grid
-    from .geometry import compute_geometry
 
     out = [f"{path}"]
     if io.kind_of(path, GRID_KINDS) == "deck":
-        from .cornerpoint import process_grdecl
-
         result = process_grdecl(io.read(path, kind="deck"))
         grid = result.grid
         _describe_grid(grid, out)
@@ -102,15 +104,11 @@ def check(path: Path) -> str:
 def build(case_file: Path, outdir: Path) -> str:
     """Run every stage the case needs (horizons, grid, geometry, petrophysics, coarsen,
     export) into ``outdir``; returns the list of files written."""
-    from .stages import run_case
-
     return "\n".join(str(p) for p in run_case(case_file, outdir))
 
 
 def flow_deck(results_dir: Path, out_dir: Path, form: str | None, case: Path | None = None) -> str:
     """Write the OPM Flow deck of the case built in ``results_dir`` into ``out_dir``."""
-    from .stages.flow_deck import flow_deck_from_results
-
     deck = flow_deck_from_results(results_dir, out_dir, form, case)
     lines = [str(p) for p in deck.files] + [f"note: {n}" for n in deck.notes]
     form = "connection" if deck.form == "connections" else deck.form
@@ -141,8 +139,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     f.add_argument("--case", type=Path, help="the case file (default: the one recorded in the artifacts)")
     args = parser.parse_args(argv)
-
-    from .errors import GridError, InputError
 
     try:
         if args.command == "build":
