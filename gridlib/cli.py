@@ -19,28 +19,18 @@ from pathlib import Path
 
 import numpy as np
 
-DECK_SUFFIXES = {".grdecl", ".data", ".inc", ".grd"}
-EGRID_SUFFIXES = {".egrid", ".fegrid"}
+from . import io
+from .checks import check_grid
+from .cornerpoint import process_grdecl
+from .errors import GridError, InputError
+from .geometry import compute_geometry
+from .stages.flow_deck import flow_deck_from_results
+from .stages.pipeline import run_case
 
-
-def _kind(path: Path) -> str:
-    suffix = path.suffix.lower()
-    if suffix in DECK_SUFFIXES:
-        return "deck"
-    if suffix in EGRID_SUFFIXES:
-        return "egrid"
-    if suffix == ".nc":
-        return "netcdf"
-    from .errors import InputError
-
-    raise InputError(f"{path}: unknown file type '{path.suffix}' (expected .grdecl/.DATA, .EGRID or .nc)")
-
-
-def _read_deck(path: Path):
-    from .io.egrid import read_egrid
-    from .io.grdecl import read_grdecl
-
-    return read_egrid(path) if _kind(path) == "egrid" else read_grdecl(path)
+GRID_KINDS = (
+    "deck",
+    "grid",
+)  # what info and check read: a deck (GRDECL, DATA, EGRID) or a gridlib netCDF file
 
 
 def _describe_grid(grid, out: list[str]) -> None:
@@ -57,9 +47,9 @@ def _describe_grid(grid, out: list[str]) -> None:
 def info(path: Path) -> str:
     """A human-readable summary of a deck, EGRID or netCDF file."""
     out = [f"{path}"]
-    kind = _kind(path)
-    if kind in ("deck", "egrid"):
-        deck = _read_deck(path)
+    kind = io.kind_of(path, GRID_KINDS)
+    if kind == "deck":
+        deck = io.read(path, kind="deck")
         nx, ny, nz = deck.cart_dims
         active = int(deck.active.sum())
         out.append(f"corner-point deck: {nx} x {ny} x {nz} = {deck.num_cells:,d} cells, {active:,d} active")
@@ -76,9 +66,7 @@ def info(path: Path) -> str:
             out.append(f"depth range: {z.min():.6g} to {z.max():.6g}")
         out += [f"note: {n}" for n in deck.notes]
     else:
-        from .io.netcdf import read_netcdf
-
-        data = read_netcdf(path)
+        data = io.read(path, kind="grid")
         _describe_grid(data.grid, out)
         for key in ("case_name", "gridlib_version", "case_sha256", "seed"):
             if key in data.attrs:
@@ -90,23 +78,17 @@ def info(path: Path) -> str:
 
 def check(path: Path) -> str:
     """Process (for decks), compute the geometry and check every invariant; raises GridError."""
-    from .checks import check_grid
-    from .geometry import compute_geometry
 
     out = [f"{path}"]
-    if _kind(path) in ("deck", "egrid"):
-        from .cornerpoint import process_grdecl
-
-        result = process_grdecl(_read_deck(path))
+    if io.kind_of(path, GRID_KINDS) == "deck":
+        result = process_grdecl(io.read(path, kind="deck"))
         grid = result.grid
         _describe_grid(grid, out)
         out.append(f"non-neighbour connections: {result.nnc.num:,d}")
         out.append(f"bulk volume (ECLIPSE convention): {result.bulk_volumes.sum():.9g}")
         out += [f"note: {n}" for n in result.notes]
     else:
-        from .io.netcdf import read_netcdf
-
-        grid = read_netcdf(path).grid
+        grid = io.read(path, kind="grid").grid
         _describe_grid(grid, out)
     geo = compute_geometry(grid)
     check_grid(grid, geo)
@@ -122,15 +104,11 @@ def check(path: Path) -> str:
 def build(case_file: Path, outdir: Path) -> str:
     """Run every stage the case needs (horizons, grid, geometry, petrophysics, coarsen,
     export) into ``outdir``; returns the list of files written."""
-    from .stages import run_case
-
     return "\n".join(str(p) for p in run_case(case_file, outdir))
 
 
 def flow_deck(results_dir: Path, out_dir: Path, form: str | None, case: Path | None = None) -> str:
     """Write the OPM Flow deck of the case built in ``results_dir`` into ``out_dir``."""
-    from .stages.flow_deck import flow_deck_from_results
-
     deck = flow_deck_from_results(results_dir, out_dir, form, case)
     lines = [str(p) for p in deck.files] + [f"note: {n}" for n in deck.notes]
     form = "connection" if deck.form == "connections" else deck.form
@@ -161,8 +139,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     f.add_argument("--case", type=Path, help="the case file (default: the one recorded in the artifacts)")
     args = parser.parse_args(argv)
-
-    from .errors import GridError, InputError
 
     try:
         if args.command == "build":

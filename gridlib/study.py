@@ -322,7 +322,7 @@ def load_studies(
 def write_if_changed(path: str | os.PathLike, text: str) -> bool:
     """Write ``text`` to ``path`` atomically unless it already holds it (its mtime then stays,
     so Snakemake reruns only what a changed file feeds). True if written."""
-    from .io._atomic import atomic_path
+    from .io.atomic import atomic_path
 
     target = Path(path)
     if target.is_file() and target.read_text(encoding="utf-8") == text:

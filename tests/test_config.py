@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 import gridlib as gl
-from gridlib.build import build_grid
+from gridlib.case.simple_grids import build_grid
 from gridlib.config import load_case
 
 CASES = Path(__file__).resolve().parents[1] / "config" / "cases"

@@ -209,7 +209,7 @@ def _awkward_values(n: int, rng: np.random.Generator) -> np.ndarray:
     ids=["default", "deflate"],
 )
 def test_netcdf_variables_are_compressed_and_read_back_bit_for_bit(tmp_path, monkeypatch, policy, filters):
-    from gridlib.io import _dataset
+    from gridlib.io import datasets as _dataset
 
     if policy is not None:
         monkeypatch.setattr(_dataset, "COMPRESSION", policy)

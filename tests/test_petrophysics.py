@@ -10,6 +10,7 @@ import gridlib as gl
 from gridlib import InputError
 from gridlib.cornerpoint import FaultTrace, Horizon, horizons_to_grdecl, process_grdecl
 from gridlib.io import read_netcdf, write_netcdf
+from gridlib.io.cubes import read_property_cube, write_property_cube
 from gridlib.petrophysics import (
     MILLIDARCY,
     VARIOGRAM_MODELS,
@@ -24,9 +25,7 @@ from gridlib.petrophysics import (
     make_rock,
     normal_porosity,
     per_layer,
-    read_property_cube,
     sample_cube,
-    write_property_cube,
 )
 
 

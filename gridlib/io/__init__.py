@@ -1,18 +1,29 @@
-"""File formats, one module per format behind one registry (as meshio).
+"""File formats, one module per format behind one registry (as meshio's).
 
-``write(path, grid, ...)`` and ``read(path)`` pick the format from the file
-suffix; the per-format functions are also importable directly. OPM Flow decks, which
-are folders of files rather than one grid file: :func:`write_flow_deck`
-(:mod:`gridlib.io.flow`).
+Every format module registers, for each kind of object it reads or writes, its suffixes and
+its reader and writer (:mod:`gridlib.io.registry`); ``read(path, kind=...)`` and
+``write(path, obj, kind=...)`` pick the format from the kind (default ``grid``) and the file
+suffix, and an unknown suffix is one InputError naming the file:
+
+* ``grid``: gridlib netCDF (``.nc``; :mod:`.netcdf`), VTU (``.vtu``, write; :mod:`.vtu`);
+* ``geometry``: netCDF (``.nc``);
+* ``deck``: GRDECL text and DATA decks (``.grdecl``, ``.data``, ``.inc``, ``.grd``;
+  :mod:`.grdecl`), EGRID (``.egrid``, ``.fegrid``, read; :mod:`.egrid`);
+* ``surface``: netCDF (``.nc``, read), IRAP classic ASCII (any other suffix; :mod:`.irap`);
+* ``points``: CSV or whitespace-separated text (any suffix, read; :mod:`.horizon_files`);
+* ``horizons``: horizons datasets (``.nc``; :mod:`.horizon_files`);
+* ``cube``: property cubes (``.nc``; :mod:`.cubes`).
+
+The per-format functions are also importable directly. OPM Flow decks, which are folders of
+files rather than one file: :func:`write_flow_deck` (:mod:`gridlib.io.flow`); the fault faces
+as VTK PolyData: :mod:`.vtp`; pictures: :mod:`.pictures`; every writer writes atomically
+(:mod:`.atomic`).
 """
 
 from __future__ import annotations
 
-import os
-from collections.abc import Callable
-from pathlib import Path
-
-from ..errors import InputError
+# Every format module, imported here so that each has registered its formats.
+from . import cubes, egrid, grdecl, horizon_files, irap, netcdf, vtu  # noqa: F401
 from .flow import write_flow_deck
 from .netcdf import (
     GridDataset,
@@ -22,37 +33,20 @@ from .netcdf import (
     write_geometry_netcdf,
     write_netcdf,
 )
+from .registry import FORMATS, Format, find_format, kind_of, read, register_format, write
 from .vtu import write_vtu
 
-WRITERS: dict[str, Callable[..., Path]] = {".nc": write_netcdf, ".vtu": write_vtu}
-READERS: dict[str, Callable[..., GridDataset]] = {".nc": read_netcdf}
-
-
-def _suffix(path: str | os.PathLike, table: dict, what: str) -> str:
-    suffix = Path(path).suffix.lower()
-    if suffix not in table:
-        raise InputError(f"{path}: cannot {what} '{suffix}' files; known: {', '.join(sorted(table))}")
-    return suffix
-
-
-def write(path: str | os.PathLike, grid, *args, **kwargs) -> Path:
-    """Write ``grid`` in the format given by the suffix of ``path``."""
-    return WRITERS[_suffix(path, WRITERS, "write")](path, grid, *args, **kwargs)
-
-
-def read(path: str | os.PathLike) -> GridDataset:
-    """Read a grid file in the format given by its suffix."""
-    return READERS[_suffix(path, READERS, "read")](path)
-
-
 __all__ = [
-    "READERS",
-    "WRITERS",
+    "FORMATS",
+    "Format",
     "GridDataset",
+    "find_format",
     "grid_to_dataset",
+    "kind_of",
     "read",
     "read_geometry_netcdf",
     "read_netcdf",
+    "register_format",
     "write",
     "write_flow_deck",
     "write_geometry_netcdf",

@@ -59,7 +59,7 @@ from ..errors import InputError
 from ..fluids import FLUIDS, deck_tables
 from ..grid import FloatArray, IntArray
 from ..units import unit_system
-from ._atomic import atomic_path
+from .atomic import atomic_path
 from .flow_connections import (
     NNC_THRESHOLD,
     ConnectionGrid,

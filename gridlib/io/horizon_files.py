@@ -25,8 +25,8 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ..horizons.build import SOURCES, HorizonSource, check_lattice, horizons_from_sources
 from ..horizons.surface import Surface, regular_increment
-from ._dataset import load_dataset, save_dataset
-from .irap import read_irap
+from .datasets import load_dataset, save_dataset
+from .registry import ANY_SUFFIX, read, register_format
 
 __all__ = [
     "build_horizons",
@@ -129,8 +129,9 @@ def load_horizon_source(k: int, spec: Any, base: Path) -> HorizonSource:
     if kind == "points":
         if isinstance(src, str | os.PathLike):
             path = base / src
-            pts = read_points(
+            pts = read(
                 path,
+                kind="points",
                 columns=spec.get("columns"),
                 elevation=bool(spec.get("elevation", False)),
                 null=spec.get("null"),
@@ -147,12 +148,9 @@ def load_horizon_source(k: int, spec: Any, base: Path) -> HorizonSource:
         return HorizonSource(name, label, kind, src, spec, src.source or f"surface '{src.name}'")
     path = base / src
     elevation = bool(spec.get("elevation", False))
-    if path.suffix.lower() == ".nc":
-        surf = read_surface_netcdf(
-            path, variable=spec.get("variable"), horizon=spec.get("horizon"), elevation=elevation
-        )
-    else:
-        surf = read_irap(path, elevation=elevation)
+    surf = read(
+        path, kind="surface", variable=spec.get("variable"), horizon=spec.get("horizon"), elevation=elevation
+    )
     return HorizonSource(name, label, kind, surf, spec, str(path))
 
 
@@ -365,3 +363,9 @@ def read_horizons(path: str | os.PathLike) -> xr.Dataset:
         if key not in ds.coords:
             raise InputError(f"{p}: not a horizons file (coordinate '{key}' is missing)")
     return ds
+
+
+register_format("netcdf", "surface", (".nc",), read_surface_netcdf)
+register_format("netcdf", "horizons", (".nc",), read_horizons, write_horizons)
+# CSV or whitespace-separated text (.csv, .txt, .xyz, .dat, ...): any suffix
+register_format("text", "points", (ANY_SUFFIX,), read_points)

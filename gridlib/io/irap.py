@@ -54,7 +54,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..horizons.surface import Surface
-from ._atomic import atomic_path
+from .atomic import atomic_path
+from .registry import ANY_SUFFIX, register_format
 
 __all__ = ["IRAP_UNDEFINED", "read_irap", "write_irap"]
 
@@ -188,3 +189,21 @@ def write_irap(path: str | os.PathLike, surface, *, elevation: bool = False) -> 
     with atomic_path(path) as tmp:
         tmp.write_text(header + "\n".join(lines) + "\n", encoding="utf-8")
     return Path(path)
+
+
+def read_irap_surface(
+    path: str | os.PathLike,
+    *,
+    elevation: bool = False,
+    name: str | None = None,
+    variable: str | None = None,
+    horizon: str | int | None = None,
+) -> Surface:
+    """:func:`read_irap` with the options of every surface reader (``kind="surface"``): an IRAP
+    file holds one surface, so ``variable`` and ``horizon`` (which pick one of a netCDF file's)
+    do not apply."""
+    return read_irap(path, elevation=elevation, name=name)
+
+
+# IRAP classic ASCII has no fixed suffix (.irap, .gri, .txt, ...): every suffix no other surface format claims
+register_format("irap", "surface", (ANY_SUFFIX,), read_irap_surface, write_irap)

@@ -29,7 +29,8 @@ from ..connectivity import cell_node_cycles_2d, offsets, ragged_arange
 from ..errors import GridError
 from ..grid import Grid
 from ..threads import concurrently
-from ._atomic import atomic_path
+from .atomic import atomic_path
+from .registry import register_format
 
 VTK_POLYGON = 7
 VTK_POLYHEDRON = 42
@@ -266,3 +267,6 @@ def _row_blocks(values: np.ndarray, rows: int):
     """``values`` in blocks of ``rows`` rows (views, no copies)."""
     for first in range(0, max(len(values), 1), rows):
         yield values[first : first + rows]
+
+
+register_format("vtu", "grid", (".vtu",), writer=write_vtu)

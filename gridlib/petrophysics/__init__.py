@@ -69,8 +69,8 @@ Porosity and permeability
 phi^3 d^2 / (72 tau (1 - phi)^2) with grain diameter d = 10 micrometres and
 tortuosity factor tau = 0.81: 2.143e-14 m2 = 21.7 mD at phi = 0.2),
 :func:`per_layer` (constant, per layer or per zone values) and cubes on a
-regular grid (:class:`PropertyCube`, :func:`read_property_cube`,
-:func:`sample_cube`) sampled at centroids or at depositional coordinates.
+regular grid (:class:`PropertyCube`, :func:`sample_cube`) sampled at centroids or at
+depositional coordinates (their files: :mod:`gridlib.io.cubes`).
 
 >>> import gridlib as gl
 >>> import numpy as np
@@ -86,7 +86,7 @@ regular grid (:class:`PropertyCube`, :func:`read_property_cube`,
 21.72
 """
 
-from .cubes import PropertyCube, read_property_cube, sample_cube, write_property_cube
+from .cubes import PropertyCube, sample_cube
 from .depositional import Depositional, depositional_coordinates, layer_index
 from .random_fields import gaussian_field
 from .rock import (
@@ -115,7 +115,5 @@ __all__ = [
     "make_rock",
     "normal_porosity",
     "per_layer",
-    "read_property_cube",
     "sample_cube",
-    "write_property_cube",
 ]

@@ -14,33 +14,12 @@ import os
 import numpy as np
 import xarray as xr
 
-from ..coarsen import (
-    coarse_grid,
-    partition_metis,
-    partition_ui,
-    process_partition,
-    upscale_ntg,
-    upscale_permeability,
-    upscale_porosity,
-)
+from ..case.partition import case_partition
+from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_porosity
 from ..config import load_case
-from ..errors import InputError
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from .common import log, write_grid_file
 from .petrophysics import read_rock
-
-
-def case_partition(case, grid, geometry, rock) -> np.ndarray:
-    spec = case.data["coarsen"]
-    try:
-        if spec["method"] == "uniform":
-            return process_partition(grid, partition_ui(grid, spec["dims"], geometry))
-        weights = None
-        if rock is not None:
-            weights = np.maximum(rock["poro"] * geometry.cell_volumes, 1e-12)
-        return partition_metis(grid, int(spec["blocks"]), cell_weights=weights, seed=case.seed)
-    except InputError as exc:
-        raise InputError(f"{case.path}: coarsen: {exc}") from None
 
 
 def stage_coarsen(

@@ -21,8 +21,7 @@ import xarray as xr
 from ..errors import GridError, InputError
 from ..geometry import Geometry
 from ..grid import Grid
-from ..io._atomic import write_keeping_suffix
-from ..io._dataset import save_dataset
+from ..io.datasets import save_dataset
 from ..io.netcdf import grid_to_dataset, read_netcdf
 from ..threads import ENV
 
@@ -145,13 +144,3 @@ def _json_or_text(value: Any) -> Any:
 def read_grid(path: str | os.PathLike):
     """The GridDataset of a grid file (grid, geometry if stored, cell data, attributes)."""
     return read_netcdf(path)
-
-
-def save_figure(fig, path: str | os.PathLike, dpi: int = 100) -> None:
-    """Save a matplotlib figure atomically (PNG by the suffix of ``path``) and close it."""
-    import matplotlib.pyplot as plt
-
-    try:
-        write_keeping_suffix(path, lambda tmp: fig.savefig(tmp, dpi=dpi))
-    finally:
-        plt.close(fig)

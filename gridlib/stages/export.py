@@ -26,21 +26,22 @@ from __future__ import annotations
 
 import json
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..config import load_case
-from ..connectivity import offsets, ragged_arange
+from ..config import Case, load_case
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
-from ..io._atomic import atomic_path, write_keeping_suffix
-from ..io.netcdf import read_netcdf
+from ..io.atomic import atomic_path
+from ..io.netcdf import GridDataset, read_netcdf
+from ..io.pictures import plot_histograms, render_grid
+from ..io.vtp import write_fault_faces
 from ..io.vtu import write_vtu
-from ..reproducible import log10
-from .common import log, nnc_variables, read_attrs, read_extra, save_figure, write_grid_file
+from .common import log, nnc_variables, read_attrs, read_extra, write_grid_file
 from .petrophysics import read_rock
 from .transmissibility import CONNECTION_VARS, face_connections, read_transmissibility
 
@@ -55,138 +56,6 @@ class _Stored:
         self.global_cells = extra["nnc_global_cells"]
         self.kind = extra["nnc_kind"]
         self.face = extra["nnc_face"]
-
-
-def write_fault_faces(path: Path, grid: Grid, names: list[str], face_trans: np.ndarray | None = None) -> int:
-    """The fault faces of ``grid`` as a VTK PolyData file, with ``face_trans`` (per face of the
-    grid) as cell data ``trans`` if given; returns how many."""
-    import pyvista as pv
-
-    faces = np.flatnonzero(grid.faces.tag > 0)
-    counts = np.diff(grid.faces.node_pos)[faces]
-    nodes = grid.faces.nodes[ragged_arange(grid.faces.node_pos[:-1][faces], counts)]
-    used, local = np.unique(nodes, return_inverse=True)
-    coords = grid.nodes.coords[used]
-    if coords.shape[1] == 2:
-        coords = np.column_stack([coords, np.zeros(coords.shape[0])])
-    # VTK's cell arrays: [n, ids..., n, ids...]
-    cells = np.insert(local.reshape(-1), offsets(counts)[:-1], counts)
-    if grid.griddim == 2:
-        mesh = pv.PolyData(coords, lines=cells.astype(np.int64))
-    else:
-        mesh = pv.PolyData(coords, faces=cells.astype(np.int64))
-    mesh.cell_data["fault"] = grid.faces.tag[faces].astype(np.int32)
-    if face_trans is not None:
-        mesh.cell_data["trans"] = np.asarray(face_trans, dtype=np.float64)[faces]
-    mesh.field_data["fault_names"] = np.array(names if names else [""])
-    write_keeping_suffix(path, lambda p: mesh.save(p))
-    return int(faces.size)
-
-
-def _polydata(grid: Grid, values: np.ndarray, name: str):
-    """What a picture shows, as VTK PolyData with ``values`` as cell data: the outer boundary
-    faces of a 3-D grid (coloured by the cell inside; far smaller than the polyhedra), or the
-    cells of a 2-D grid as polygons."""
-    import pyvista as pv
-
-    if grid.griddim == 3:
-        nb = grid.faces.neighbors
-        faces = np.flatnonzero((nb < 0).any(axis=1))
-        owner = nb[faces].max(axis=1)
-        counts = np.diff(grid.faces.node_pos)[faces]
-        nodes = grid.faces.nodes[ragged_arange(grid.faces.node_pos[:-1][faces], counts)]
-    else:
-        from ..connectivity import cell_node_cycles_2d
-
-        pos, nodes = cell_node_cycles_2d(grid)
-        counts, owner = np.diff(pos), np.arange(grid.num_cells)
-    used, local = np.unique(nodes, return_inverse=True)
-    coords = grid.nodes.coords[used]
-    if coords.shape[1] == 2:
-        coords = np.column_stack([coords, np.zeros(coords.shape[0])])
-    cells = np.insert(local.reshape(-1), offsets(counts)[:-1], counts).astype(np.int64)
-    mesh = pv.PolyData(coords, faces=cells)
-    mesh.cell_data[name] = np.asarray(values)[owner]
-    return mesh
-
-
-def _render(path: Path, grid: Grid, values: np.ndarray, faults_vtp: Path, scalar: str, title: str) -> None:
-    """An off-screen picture of the grid coloured by ``scalar``, fault faces in red."""
-    import pyvista as pv
-    from vtkmodules.vtkCommonCore import vtkLogger
-
-    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)  # no X server here: VTK falls back, noisily
-    pv.OFF_SCREEN = True
-    griddim = grid.griddim
-    mesh = _polydata(grid, values, scalar)
-    faults = pv.read(faults_vtp)
-    span = np.ptp(mesh.points, axis=0)
-    lateral = max(span[0], span[1], 1e-12)
-    # z is depth: flip it for the picture, and exaggerate thin reservoirs to a third of their width.
-    exaggeration = 1.0 if griddim == 2 or span[2] == 0 else max(1.0, 0.3 * lateral / span[2])
-    scale = (1.0, 1.0, -exaggeration)
-    plotter = pv.Plotter(off_screen=True, window_size=(1200, 800))
-    plotter.add_mesh(
-        mesh.scale(scale, inplace=False),
-        scalars=scalar,
-        show_edges=grid.num_cells < 60_000,
-        cmap="viridis",
-        scalar_bar_args={"title": scalar},
-    )
-    if faults.n_cells:
-        plotter.add_mesh(faults.scale(scale, inplace=False), color="red", line_width=3, opacity=0.8)
-    plotter.add_text(title, font_size=12)
-    if griddim == 2 or span[2] == 0:
-        plotter.view_xy()
-    else:
-        plotter.view_isometric()
-    write_keeping_suffix(path, lambda p: plotter.screenshot(str(p)))
-    plotter.close()
-
-
-def _histograms(
-    path: Path,
-    geo: Geometry,
-    poro: np.ndarray | None,
-    griddim: int,
-    title: str,
-    trans: tuple[np.ndarray, str] | None = None,
-) -> None:
-    """Histograms of cell volumes, face areas, porosity and, with ``trans`` (T and its unit),
-    log10 T; logarithmic axes where values span more than two decades."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    panels = [("cell volumes (m3)" if griddim == 3 else "cell areas (m2)", geo.cell_volumes)]
-    panels.append(("face areas (m2)" if griddim == 3 else "face lengths (m)", geo.face_areas))
-    if poro is not None:
-        panels.append(("porosity", poro))
-    if trans is not None:
-        t, unit = trans
-        panels.append((f"log10 T, T in {unit}", log10(t[t > 0])))
-    linear = ("poro", "log10")
-    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 3.6))
-    for ax, (label, values) in zip(np.atleast_1d(axes), panels, strict=True):
-        plain = label.startswith(linear)
-        v = values if plain else values[np.isfinite(values) & (values > 0)]
-        if v.size and not plain and v.max() > 100 * v.min():
-            ax.hist(v, bins=np.geomspace(v.min(), v.max(), 50))
-            ax.set_xscale("log")
-        elif v.size and np.ptp(v) > 1e-9 * np.abs(v).max():
-            ax.hist(v, bins=50)
-        else:  # one value (a regular grid): one bar
-            ax.bar(
-                [float(v[0]) if v.size else 0.0],
-                [v.size],
-                width=1.0 if not v.size else 0.1 * abs(float(v[0])) or 1.0,
-            )
-        ax.set_xlabel(label)
-        ax.set_ylabel("count")
-    fig.suptitle(title)
-    fig.tight_layout()
-    save_figure(fig, path)
 
 
 def _transmissibility(path: str | os.PathLike, num_cells: int):
@@ -247,6 +116,27 @@ def _figure(value: float) -> float:
     return float(f"{value:.12g}")
 
 
+@dataclass
+class _Gathered:
+    """What the export writes: the grid, its geometry and every per-cell array, the NNC list
+    and connection variables, the file attributes, and what the pictures and summary need."""
+
+    grid: Grid
+    geo: Geometry
+    fault_names: list[str]
+    well_names: list[str]
+    cell_data: dict[str, np.ndarray]
+    var_attrs: dict[str, dict[str, Any]]
+    rock: dict[str, np.ndarray] | None
+    depth: np.ndarray | None
+    blocks: int | None
+    trans: tuple[dict[str, Any], dict[str, Any]] | None
+    nnc: _Stored | None
+    extra: dict[str, Any]
+    provenance: dict[str, Any]
+    face_trans: np.ndarray | None
+
+
 def stage_export(
     case_file: str | os.PathLike,
     grid_nc: str | os.PathLike,
@@ -258,6 +148,24 @@ def stage_export(
 ) -> None:
     """Write the case's exports; ``outputs`` maps nc, vtu, faults, png, histograms, summary to paths."""
     case = load_case(case_file)
+    g = _gather(case, grid_nc, geometry_nc, petrophysics_nc, coarse_nc, transmissibility_nc)
+    n_fault_faces = _write_files(outputs, g)
+    _pictures(outputs, case, g)
+    summary = _summary(case, g, n_fault_faces)
+    with atomic_path(outputs["summary"]) as tmp:
+        tmp.write_text(json.dumps(summary, indent=2) + "\n")
+    log.info("wrote the exports of %s (%d cells)", case.name, g.grid.num_cells)
+
+
+def _gather(
+    case: Case,
+    grid_nc: str | os.PathLike,
+    geometry_nc: str | os.PathLike,
+    petrophysics_nc: str | os.PathLike | None,
+    coarse_nc: str | os.PathLike | None,
+    transmissibility_nc: str | os.PathLike | None,
+) -> _Gathered:
+    """Read the artifacts and gather the cell data, NNCs, connection variables and attributes."""
     stored = read_netcdf(grid_nc)
     grid, attrs = stored.grid, read_attrs(grid_nc)
     geo = cell_geometry(geometry_nc)
@@ -265,17 +173,55 @@ def stage_export(
         raise InputError(f"{geometry_nc}: {geo.cell_volumes.size} cells, but {grid_nc} has {grid.num_cells}")
     fault_names = list(attrs.get("fault_names", []))
     well_names = list(attrs.get("well_names", []))
-    cell_data: dict[str, np.ndarray] = dict(stored.cell_data)
     rock = read_rock(petrophysics_nc) if petrophysics_nc else None
+    partition = read_extra(coarse_nc, ("partition",))["partition"] if coarse_nc else None
+    trans = _transmissibility(transmissibility_nc, grid.num_cells) if transmissibility_nc else None
+    cell_data, var_attrs, depth = _cell_data(stored, geo, rock, partition, trans)
+    blocks = None if partition is None else int(partition.max()) + 1
+    extra = read_extra(grid_nc, NNC_VARS)
+    nnc = _Stored(extra) if len(extra) == len(NNC_VARS) else None
+    provenance = {**case.provenance(), "fault_names": fault_names, "well_names": well_names}
+    extra = nnc_variables(nnc)
+    face_trans = None
+    if trans is not None:
+        variables, tattrs = trans
+        extra |= {name: variables[name] for name in CONNECTION_VARS}
+        provenance |= {k: tattrs[k] for k in ("unit_system", "trans_units", "porv_units", "flow_dims")}
+        face_trans = _face_trans(grid, variables)
+    return _Gathered(
+        grid,
+        geo,
+        fault_names,
+        well_names,
+        cell_data,
+        var_attrs,
+        rock,
+        depth,
+        blocks,
+        trans,
+        nnc,
+        extra,
+        provenance,
+        face_trans,
+    )
+
+
+def _cell_data(
+    stored: GridDataset,
+    geo: Geometry,
+    rock: dict[str, np.ndarray] | None,
+    partition: np.ndarray | None,
+    trans: tuple[dict[str, Any], dict[str, Any]] | None,
+) -> tuple[dict[str, np.ndarray], dict[str, dict[str, Any]], np.ndarray | None]:
+    """The per-cell arrays of the exports (the builder's, rock, pore volume, coarse block,
+    porv and cell_flow_index, index_map, depth), their variable attributes and the depths."""
+    grid = stored.grid
+    cell_data: dict[str, np.ndarray] = dict(stored.cell_data)
     if rock is not None:
         cell_data |= rock
         cell_data["pore_volume"] = geo.cell_volumes * rock["poro"] * rock["ntg"]
-    blocks = None
-    if coarse_nc:
-        partition = read_extra(coarse_nc, ("partition",))["partition"]
+    if partition is not None:
         cell_data["block"] = partition
-        blocks = int(partition.max()) + 1
-    trans = _transmissibility(transmissibility_nc, grid.num_cells) if transmissibility_nc else None
     var_attrs: dict[str, dict[str, Any]] = {}
     if trans is not None:
         variables, _ = trans
@@ -287,40 +233,44 @@ def stage_export(
     depth = geo.cell_centroids[:, -1] if grid.dim == 3 else None
     if depth is not None:
         cell_data["depth"] = depth
-    extra = read_extra(grid_nc, NNC_VARS)
-    nnc = _Stored(extra) if len(extra) == len(NNC_VARS) else None
-    provenance = {**case.provenance(), "fault_names": fault_names, "well_names": well_names}
-    extra = nnc_variables(nnc)
-    face_trans = None
-    if trans is not None:
-        variables, tattrs = trans
-        extra |= {name: variables[name] for name in CONNECTION_VARS}
-        provenance |= {k: tattrs[k] for k in ("unit_system", "trans_units", "porv_units", "flow_dims")}
-        face_trans = _face_trans(grid, variables)
+    return cell_data, var_attrs, depth
 
+
+def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
+    """``{case}.nc``, ``{case}.vtu`` and ``{case}_faults.vtp``; returns the number of fault faces."""
+    grid, geo = g.grid, g.geo
     write_grid_file(
         outputs["nc"],
         grid,
         geometry=geo,
-        cell_data=cell_data,
-        extra=extra,
-        attrs=provenance,
-        var_attrs=var_attrs,
+        cell_data=g.cell_data,
+        extra=g.extra,
+        attrs=g.provenance,
+        var_attrs=g.var_attrs,
         face_vectors=False,
     )
-    vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **cell_data}
+    vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **g.cell_data}
     if grid.layering is not None:
         vtu_data |= {"layer": grid.layering.layer, "column": grid.layering.column}
     write_vtu(outputs["vtu"], grid, vtu_data)
-    n_fault_faces = write_fault_faces(Path(outputs["faults"]), grid, fault_names, face_trans)
+    return write_fault_faces(Path(outputs["faults"]), grid, g.fault_names, g.face_trans)
+
+
+def _pictures(outputs: dict[str, str], case: Case, g: _Gathered) -> None:
+    """``{case}.png`` (coloured by porosity, else depth, else volume) and ``{case}_histograms.png``."""
+    grid, geo, rock, depth, trans = g.grid, g.geo, g.rock, g.depth, g.trans
     scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
     title = f"{case.name}: {grid.num_cells:,d} cells"
     values = rock[scalar] if rock is not None else (depth if depth is not None else geo.cell_volumes)
-    _render(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title)
+    render_grid(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title)
     t_panel = None if trans is None else (trans[0]["trans"].values, str(trans[1]["trans_units"]))
     poro = None if rock is None else rock["poro"]
-    _histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, t_panel)
+    plot_histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, t_panel)
 
+
+def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
+    """The case's figures for ``summary.json``."""
+    grid, geo, rock = g.grid, g.geo, g.rock
     summary: dict[str, Any] = {
         "case": case.name,
         "grid_type": case.data["grid"]["type"],
@@ -333,22 +283,20 @@ def stage_export(
         "max_cell_volume": _figure(geo.cell_volumes.max()),
         "total_face_area": _figure(geo.face_areas.sum()),
         "fault_faces": n_fault_faces,
-        "faults": fault_names,
-        "wells": well_names,
-        "nnc": 0 if nnc is None else int(nnc.cells.shape[0]),
+        "faults": g.fault_names,
+        "wells": g.well_names,
+        "nnc": 0 if g.nnc is None else int(g.nnc.cells.shape[0]),
         "seed": case.seed,
         "case_sha256": case.sha256,
     }
-    if "bulk_volume" in cell_data:
-        summary["total_bulk_volume"] = _figure(cell_data["bulk_volume"].sum())
+    if "bulk_volume" in g.cell_data:
+        summary["total_bulk_volume"] = _figure(g.cell_data["bulk_volume"].sum())
     if rock is not None:
-        summary["pore_volume"] = _figure(cell_data["pore_volume"].sum())
+        summary["pore_volume"] = _figure(g.cell_data["pore_volume"].sum())
         summary["mean_porosity"] = _figure(rock["poro"].mean())
         summary["mean_permx"] = _figure(rock["permx"].mean())
-    if blocks is not None:
-        summary["coarse_blocks"] = blocks
-    if trans is not None:
-        summary |= transmissibility_figures(*trans)
-    with atomic_path(outputs["summary"]) as tmp:
-        tmp.write_text(json.dumps(summary, indent=2) + "\n")
-    log.info("wrote the exports of %s (%d cells)", case.name, grid.num_cells)
+    if g.blocks is not None:
+        summary["coarse_blocks"] = g.blocks
+    if g.trans is not None:
+        summary |= transmissibility_figures(*g.trans)
+    return summary

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 
-from ..case_grid import CaseGrid, build_case_grid
+from ..case.grid import CaseGrid, build_case_grid
 from ..checks import check_grid
 from ..config import load_case
 from ..io.grdecl import write_grdecl

@@ -19,7 +19,8 @@ from typing import Any
 
 import yaml
 
-from .common import log, save_figure
+from ..io.pictures import save_figure
+from .common import log
 from .summary import COLUMNS, write_csv
 
 NOT_FIGURES = ("case", "seed", "case_sha256")

@@ -9,7 +9,7 @@ import os
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ..io._atomic import atomic_path
+from ..io.atomic import atomic_path
 from .common import log
 
 COLUMNS = (

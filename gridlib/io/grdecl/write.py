@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...cornerpoint.deck import Deck
-from .._atomic import atomic_path
+from ..atomic import atomic_path
 from ..eclipse_text import MAX_LINE, DeckError, keyword_text
 
 __all__ = ["write_grdecl"]

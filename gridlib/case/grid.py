@@ -26,17 +26,21 @@ from typing import Any
 
 import numpy as np
 
-from .build import build_grid
-from .config import Case
-from .cornerpoint.deck import Deck
-from .cornerpoint.horizons import horizons_to_grdecl
-from .cornerpoint.process import process_grdecl
-from .errors import GridError, InputError
-from .grid import Grid
-from .stratigraphic.extrude import extrude
-from .stratigraphic.fault_traces import FaultTrace
-from .stratigraphic.nnc import NNC
-from .voronoi import Fault, Rings, Well, pebi_grid, rectangle
+from ..config import Case
+from ..cornerpoint.deck import Deck
+from ..cornerpoint.horizons import horizons_to_grdecl
+from ..cornerpoint.process import process_grdecl
+from ..errors import GridError, InputError
+from ..grid import Grid
+from ..horizons import to_horizons
+from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
+from ..stratigraphic.extrude import extrude
+from ..stratigraphic.nnc import NNC
+from ..voronoi import Fault, pebi_grid, rectangle
+from .deck import read_case_deck
+from .faults import fault_traces
+from .simple_grids import build_grid
+from .wells import pebi_wells
 
 
 @dataclass(frozen=True, eq=False)
@@ -52,34 +56,8 @@ class CaseGrid:
     notes: tuple[str, ...] = ()
 
 
-def fault_traces(case: Case) -> list[FaultTrace]:
-    """The case's faults as FaultTraces (throw in m; 0 where none is given)."""
-    traces = []
-    for spec in case.data.get("faults", []):
-        throw = spec.get("throw", 0.0)
-        if isinstance(throw, dict):
-            start, end = float(throw["start"]), float(throw["end"])
-            value: Any = lambda s, a=start, b=end: a + (b - a) * np.asarray(s)  # noqa: E731
-        else:
-            value = float(throw)
-        side = spec.get("side", "right")
-        traces.append(FaultTrace(spec["trace"], throw=value, name=spec["name"], side=side))
-    return traces
-
-
-def pebi_wells(case: Case) -> list[Well]:
-    wells = []
-    for spec in case.data.get("wells", []):
-        rings = None
-        if "rings" in spec:
-            r = spec["rings"]
-            rings = Rings(r["inner"], r.get("outer"), r.get("growth"), r.get("count"), r.get("sectors"))
-        path, spacing = spec.get("path"), spec.get("spacing")
-        wells.append(Well(spec.get("point"), spec["name"], rings=rings, path=path, spacing=spacing))
-    return wells
-
-
 def pebi_domain(spec: dict[str, Any]):
+    """The areal domain of a pebi grid: ``{rectangle: [...]}`` or a polygon's vertices."""
     domain = spec["domain"]
     if isinstance(domain, dict):
         return rectangle(*domain["rectangle"])
@@ -110,16 +88,12 @@ def build_case_grid(case: Case, horizons=None) -> CaseGrid:
 
 
 def _horizon_list(case: Case, horizons):
-    from .horizons import to_horizons
-
     if horizons is None:
         raise InputError(f"{case.path}: grid: a {case.data['grid']['type']} grid needs the case's horizons")
     return to_horizons(horizons)
 
 
 def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
-    from .horizons.by_block import block_horizons, horizons_to_grdecl_by_block
-
     by_block = block_horizons(horizons) if horizons is not None else None
     ordering = case.data["horizons"].get("ordering", "error")
     if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
@@ -196,22 +170,6 @@ def _one_tag_per_fault(grid: Grid, names: tuple[str, ...], areal_names: tuple[st
     final_names = tuple(areal_names[k - 1] if k <= n_areal else names[k - 1] for k in kept)
     faces = replace(grid.faces, tag=tags)
     return replace(grid, faces=faces), final_names
-
-
-def deck_path(case: Case):
-    name = case.data["grid"]["file"]
-    path = case.path.parent / name
-    if not path.is_file():
-        raise InputError(f"{case.path}: grid.file: '{name}' not found (looked for {path})")
-    return path
-
-
-def read_case_deck(case: Case) -> Deck:
-    from .io.egrid import read_egrid
-    from .io.grdecl import read_grdecl
-
-    path = deck_path(case)
-    return read_egrid(path) if path.suffix.lower() in (".egrid", ".fegrid") else read_grdecl(path)
 
 
 def _deck(case: Case, spec: dict[str, Any]) -> CaseGrid:

@@ -27,7 +27,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import InputError
-from ._atomic import atomic_path
+from .atomic import atomic_path
 
 
 def _compression() -> dict[str, Any]:

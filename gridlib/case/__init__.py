@@ -1,0 +1,26 @@
+"""A case's YAML data turned into gridlib objects (the layer between the configuration and the
+stages): its grid (:mod:`.grid`, with :mod:`.simple_grids` for cartesian, tensor and layered
+grids, :mod:`.sites`, :mod:`.axes`), faults (:mod:`.faults`), wells (:mod:`.wells`), deck file
+(:mod:`.deck`), horizons (:mod:`.horizons`), rock (:mod:`.rock`) and coarse partition
+(:mod:`.partition`). The stages read artifacts, call these and write artifacts.
+
+Names are imported on first use, so that a stage pays only for the modules it uses.
+"""
+
+from .._lazy import lazy_exports
+
+_EXPORTS: dict[str, str] = {
+    "CaseGrid": ".grid",
+    "build_case_grid": ".grid",
+    "build_grid": ".simple_grids",
+    "case_horizons": ".horizons",
+    "case_partition": ".partition",
+    "case_rock": ".rock",
+    "fault_traces": ".faults",
+    "pebi_wells": ".wells",
+    "read_case_deck": ".deck",
+}
+
+__all__ = sorted(_EXPORTS)
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

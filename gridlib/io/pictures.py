@@ -1,0 +1,132 @@
+"""Pictures of a grid, written atomically as PNG: an off-screen rendering coloured by one cell
+value with the fault faces in red (pyvista), histograms of its geometry, porosity and
+transmissibilities (matplotlib), and :func:`save_figure` for any matplotlib figure."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ..connectivity import cell_node_cycles_2d, offsets, ragged_arange
+from ..geometry import Geometry
+from ..grid import Grid
+from ..reproducible import log10
+from .atomic import write_keeping_suffix
+
+
+def save_figure(fig, path: str | os.PathLike, dpi: int = 100) -> None:
+    """Save a matplotlib figure atomically (PNG by the suffix of ``path``) and close it."""
+    import matplotlib.pyplot as plt
+
+    try:
+        write_keeping_suffix(path, lambda tmp: fig.savefig(tmp, dpi=dpi))
+    finally:
+        plt.close(fig)
+
+
+def grid_polydata(grid: Grid, values: np.ndarray, name: str):
+    """What a picture shows, as VTK PolyData with ``values`` as cell data: the outer boundary
+    faces of a 3-D grid (coloured by the cell inside; far smaller than the polyhedra), or the
+    cells of a 2-D grid as polygons."""
+    import pyvista as pv
+
+    if grid.griddim == 3:
+        nb = grid.faces.neighbors
+        faces = np.flatnonzero((nb < 0).any(axis=1))
+        owner = nb[faces].max(axis=1)
+        counts = np.diff(grid.faces.node_pos)[faces]
+        nodes = grid.faces.nodes[ragged_arange(grid.faces.node_pos[:-1][faces], counts)]
+    else:
+        pos, nodes = cell_node_cycles_2d(grid)
+        counts, owner = np.diff(pos), np.arange(grid.num_cells)
+    used, local = np.unique(nodes, return_inverse=True)
+    coords = grid.nodes.coords[used]
+    if coords.shape[1] == 2:
+        coords = np.column_stack([coords, np.zeros(coords.shape[0])])
+    cells = np.insert(local.reshape(-1), offsets(counts)[:-1], counts).astype(np.int64)
+    mesh = pv.PolyData(coords, faces=cells)
+    mesh.cell_data[name] = np.asarray(values)[owner]
+    return mesh
+
+
+def render_grid(
+    path: Path, grid: Grid, values: np.ndarray, faults_vtp: Path, scalar: str, title: str
+) -> None:
+    """An off-screen picture of the grid coloured by ``scalar``, fault faces in red."""
+    import pyvista as pv
+    from vtkmodules.vtkCommonCore import vtkLogger
+
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)  # no X server here: VTK falls back, noisily
+    pv.OFF_SCREEN = True
+    griddim = grid.griddim
+    mesh = grid_polydata(grid, values, scalar)
+    faults = pv.read(faults_vtp)
+    span = np.ptp(mesh.points, axis=0)
+    lateral = max(span[0], span[1], 1e-12)
+    # z is depth: flip it for the picture, and exaggerate thin reservoirs to a third of their width.
+    exaggeration = 1.0 if griddim == 2 or span[2] == 0 else max(1.0, 0.3 * lateral / span[2])
+    scale = (1.0, 1.0, -exaggeration)
+    plotter = pv.Plotter(off_screen=True, window_size=(1200, 800))
+    plotter.add_mesh(
+        mesh.scale(scale, inplace=False),
+        scalars=scalar,
+        show_edges=grid.num_cells < 60_000,
+        cmap="viridis",
+        scalar_bar_args={"title": scalar},
+    )
+    if faults.n_cells:
+        plotter.add_mesh(faults.scale(scale, inplace=False), color="red", line_width=3, opacity=0.8)
+    plotter.add_text(title, font_size=12)
+    if griddim == 2 or span[2] == 0:
+        plotter.view_xy()
+    else:
+        plotter.view_isometric()
+    write_keeping_suffix(path, lambda p: plotter.screenshot(str(p)))
+    plotter.close()
+
+
+def plot_histograms(
+    path: Path,
+    geo: Geometry,
+    poro: np.ndarray | None,
+    griddim: int,
+    title: str,
+    trans: tuple[np.ndarray, str] | None = None,
+) -> None:
+    """Histograms of cell volumes, face areas, porosity and, with ``trans`` (T and its unit),
+    log10 T; logarithmic axes where values span more than two decades."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    panels = [("cell volumes (m3)" if griddim == 3 else "cell areas (m2)", geo.cell_volumes)]
+    panels.append(("face areas (m2)" if griddim == 3 else "face lengths (m)", geo.face_areas))
+    if poro is not None:
+        panels.append(("porosity", poro))
+    if trans is not None:
+        t, unit = trans
+        panels.append((f"log10 T, T in {unit}", log10(t[t > 0])))
+    linear = ("poro", "log10")
+    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 3.6))
+    for ax, (label, values) in zip(np.atleast_1d(axes), panels, strict=True):
+        plain = label.startswith(linear)
+        v = values if plain else values[np.isfinite(values) & (values > 0)]
+        if v.size and not plain and v.max() > 100 * v.min():
+            ax.hist(v, bins=np.geomspace(v.min(), v.max(), 50))
+            ax.set_xscale("log")
+        elif v.size and np.ptp(v) > 1e-9 * np.abs(v).max():
+            ax.hist(v, bins=50)
+        else:  # one value (a regular grid): one bar
+            ax.bar(
+                [float(v[0]) if v.size else 0.0],
+                [v.size],
+                width=1.0 if not v.size else 0.1 * abs(float(v[0])) or 1.0,
+            )
+        ax.set_xlabel(label)
+        ax.set_ylabel("count")
+    fig.suptitle(title)
+    fig.tight_layout()
+    save_figure(fig, path)

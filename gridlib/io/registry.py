@@ -1,0 +1,102 @@
+"""One registry of file formats, as meshio's: every format module registers, for each kind of
+object it reads or writes, its file suffixes and its reader and writer; :func:`read` and
+:func:`write` pick the format from the kind and the suffix of the path.
+
+Kinds: ``grid`` (a gridlib grid: netCDF, VTU), ``geometry`` (a grid's geometry, netCDF),
+``deck`` (a corner-point deck: GRDECL text, EGRID), ``surface`` (one horizon on a regular
+lattice: netCDF, IRAP classic ASCII), ``points`` (scattered picks: text), ``cube`` (a property
+cube, netCDF) and ``horizons`` (a horizons dataset, netCDF). IRAP and point files have no fixed
+suffix: their formats claim every suffix (``*``) that no other format of the kind claims.
+A suffix no format of the kind reads (or writes) is one InputError naming the file.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+
+ANY_SUFFIX = "*"
+
+
+@dataclass(frozen=True)
+class Format:
+    """A file format for one kind of object: its name, suffixes (lower case, with the dot, or
+    ``*``), and its reader ``reader(path, **options)`` and writer ``writer(path, obj, ...)``."""
+
+    name: str
+    kind: str
+    suffixes: tuple[str, ...]
+    reader: Callable[..., Any] | None = None
+    writer: Callable[..., Any] | None = None
+
+
+FORMATS: list[Format] = []
+
+
+def register_format(
+    name: str,
+    kind: str,
+    suffixes: Sequence[str],
+    reader: Callable[..., Any] | None = None,
+    writer: Callable[..., Any] | None = None,
+) -> Format:
+    """Register a format (called by the format modules when they are imported)."""
+    fmt = Format(name, kind, tuple(s.lower() for s in suffixes), reader, writer)
+    FORMATS[:] = [f for f in FORMATS if (f.name, f.kind) != (name, kind)] + [fmt]
+    return fmt
+
+
+def _suffix(path: str | os.PathLike) -> str:
+    return Path(path).suffix.lower()
+
+
+def find_format(path: str | os.PathLike, kind: str, mode: str = "read") -> Format:
+    """The format that reads (``mode="read"``) or writes ``kind`` from the suffix of ``path``.
+
+    >>> find_format("a/b.GRDECL", "deck").name
+    'grdecl'
+    >>> find_format("b.xyz", "grid", "write")
+    Traceback (most recent call last):
+    ...
+    gridlib.errors.InputError: b.xyz: unknown file type: cannot write '.xyz' files as grid (known: .nc, .vtu)
+    """
+    able = [f for f in FORMATS if f.kind == kind and (f.reader if mode == "read" else f.writer)]
+    suffix = _suffix(path)
+    claimed = any(suffix in f.suffixes for f in FORMATS if f.kind == kind)
+    for f in able:
+        if suffix in f.suffixes or (not claimed and ANY_SUFFIX in f.suffixes):
+            return f
+    known = ", ".join(sorted({s for f in able for s in f.suffixes})) or "none"
+    raise InputError(f"{path}: unknown file type: cannot {mode} '{suffix}' files as {kind} (known: {known})")
+
+
+def kind_of(path: str | os.PathLike, kinds: Sequence[str]) -> str:
+    """The first of ``kinds`` whose formats read the suffix of ``path`` (no ``*`` formats).
+
+    >>> kind_of("SPE9.DATA", ("deck", "grid")), kind_of("grid.nc", ("deck", "grid"))
+    ('deck', 'grid')
+    """
+    suffix = _suffix(path)
+    for kind in kinds:
+        if any(f.kind == kind and f.reader and suffix in f.suffixes for f in FORMATS):
+            return kind
+    known = ", ".join(sorted({s for f in FORMATS if f.kind in kinds and f.reader for s in f.suffixes}))
+    raise InputError(
+        f"{path}: unknown file type: cannot read '{suffix}' files as {' or '.join(kinds)} (known: {known})"
+    )
+
+
+def read(path: str | os.PathLike, kind: str = "grid", **options: Any) -> Any:
+    """The ``kind`` object in ``path``, read by the format its suffix names; ``options`` go to
+    the reader (e.g. ``elevation=True`` for surfaces)."""
+    return find_format(path, kind, "read").reader(path, **options)
+
+
+def write(path: str | os.PathLike, obj: Any, *args: Any, kind: str = "grid", **options: Any) -> Any:
+    """Write ``obj`` (a ``kind`` object) to ``path`` in the format its suffix names."""
+    return find_format(path, kind, "write").writer(path, obj, *args, **options)
