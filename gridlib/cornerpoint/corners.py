@@ -263,17 +263,17 @@ def corner_points(deck: Deck, cells: IntArray, sign: int | None = None) -> Float
     >>> corner_points(simple_grdecl([2, 1, 1]), [1])[0, [4, 7]].round(6).tolist()  # bottom corners
     [[0.5, 0.0, 0.5], [1.0, 1.0, 0.45]]
     """
-    nx, ny, nz = deck.cart_dims
+    nx, ny, _ = deck.cart_dims
     g = np.asarray(cells, dtype=np.int64).ravel()
-    i, j, k = g % nx, (g // nx) % ny, g // (nx * ny)
-    zc = deck.zcorn_array()
+    i, j = g % nx, (g // nx) % ny
     if sign is None:
-        sign = _depth_sign(zc, deck.active.reshape(nz, ny, nx), deck.source)
+        sign = depth_sign(deck)
+    depth = corner_depths(deck, g, sign)
     lines = deck.pillars().reshape(-1, 2, 3)
     out = np.empty((g.size, 8, 3))
     for corner in range(8):
-        a, b, c = corner & 1, (corner >> 1) & 1, corner >> 2
-        z = zc[2 * k + c, 2 * j + b, 2 * i + a]
+        a, b = corner & 1, (corner >> 1) & 1
+        z = sign * depth[:, corner]  # the deck's own z again (exactly: sign is +-1)
         line = lines[(j + b) * (nx + 1) + i + a]  # (n, 2, 3): top and bottom points
         top, bottom = line[:, 0], line[:, 1]
         span = bottom[:, 2] - top[:, 2]
@@ -281,5 +281,5 @@ def corner_points(deck: Deck, cells: IntArray, sign: int | None = None) -> Float
             t = np.where(span != 0.0, (z - top[:, 2]) / span, 0.0)
         out[:, corner, 0] = top[:, 0] + t * (bottom[:, 0] - top[:, 0])
         out[:, corner, 1] = top[:, 1] + t * (bottom[:, 1] - top[:, 1])
-        out[:, corner, 2] = sign * z
+        out[:, corner, 2] = depth[:, corner]
     return out

@@ -183,29 +183,7 @@ def write_vtu(
 
     add("Points", "Points", np.float64, 3, _row_blocks(points, BLOCK_CELLS * 8))
     if grid.griddim == 3:
-        streams = {
-            key: _AppendedArray(compress) for key in ("connectivity", "offsets", "faces", "faceoffsets")
-        }
-        index = _index_type(grid)
-        ends = np.zeros(2, dtype=np.int64)  # connectivity and faces written so far
-        for first in range(0, grid.num_cells, BLOCK_CELLS):
-            stop = min(first + BLOCK_CELLS, grid.num_cells)
-            conn, conn_end, faces, face_end = polyhedron_block(grid, first, stop)
-            for key, values in (
-                ("connectivity", conn),
-                ("offsets", conn_end + ends[0]),
-                ("faces", faces),
-                ("faceoffsets", face_end + ends[1]),
-            ):
-                streams[key].add(values.astype(index, copy=False))
-            ends += (conn.size, faces.size)
-        types = np.full(grid.num_cells, VTK_POLYHEDRON, dtype=np.uint8)
-        label = _VTK_TYPES[np.dtype(index)]
-        for key in ("connectivity", "offsets"):
-            arrays.append(("Cells", key, label, 1, streams[key].finish()))
-        add("Cells", "types", np.uint8, 1, [types])
-        for key in ("faces", "faceoffsets"):
-            arrays.append(("Cells", key, label, 1, streams[key].finish()))
+        arrays += _polyhedra(grid, compress)
     else:
         pos, cyc = cell_node_cycles_2d(grid)
         add("Cells", "connectivity", np.int64, 1, [cyc])
@@ -252,6 +230,35 @@ def write_vtu(
             fh.writelines(parts)
         fh.write(b"\n</AppendedData>\n</VTKFile>\n")
     return Path(path)
+
+
+def _polyhedra(grid: Grid, compress: bool) -> list[tuple[str, str, str, int, list[bytes]]]:
+    """The Cells arrays of a 3-D grid's polyhedra (connectivity, offsets, types, faces,
+    faceoffsets), built and compressed block of cells by block of cells."""
+    streams = {key: _AppendedArray(compress) for key in ("connectivity", "offsets", "faces", "faceoffsets")}
+    index = _index_type(grid)
+    ends = np.zeros(2, dtype=np.int64)  # connectivity and faces written so far
+    for first in range(0, grid.num_cells, BLOCK_CELLS):
+        stop = min(first + BLOCK_CELLS, grid.num_cells)
+        conn, conn_end, faces, face_end = polyhedron_block(grid, first, stop)
+        for key, values in (
+            ("connectivity", conn),
+            ("offsets", conn_end + ends[0]),
+            ("faces", faces),
+            ("faceoffsets", face_end + ends[1]),
+        ):
+            streams[key].add(values.astype(index, copy=False))
+        ends += (conn.size, faces.size)
+    types = _AppendedArray(compress)
+    types.add(np.full(grid.num_cells, VTK_POLYHEDRON, dtype=np.uint8))
+    label = _VTK_TYPES[np.dtype(index)]
+    return [
+        ("Cells", "connectivity", label, 1, streams["connectivity"].finish()),
+        ("Cells", "offsets", label, 1, streams["offsets"].finish()),
+        ("Cells", "types", "UInt8", 1, types.finish()),
+        ("Cells", "faces", label, 1, streams["faces"].finish()),
+        ("Cells", "faceoffsets", label, 1, streams["faceoffsets"].finish()),
+    ]
 
 
 def _index_type(grid: Grid) -> type:
