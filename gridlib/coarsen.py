@@ -222,11 +222,13 @@ def partition_metis(
         w = _metis_weights(fw[faces], log_weights, "face_weights")
     else:
         w = np.ones(faces.size, dtype=np.int64)
-    # The symmetric cell graph in CSR, faces joining the same two cells summed (in C, by scipy).
-    graph = sparse.coo_array(
-        (np.concatenate([w, w]).astype(np.float64), (np.concatenate([c0, c1]), np.concatenate([c1, c0]))),
-        shape=(n, n),
-    ).tocsr()
+    # The symmetric cell graph in CSR, faces joining the same two cells summed (in C, by scipy);
+    # 32-bit indices and integer weights (sums of at most a few thousand): what METIS takes.
+    index = np.int32 if n < 2**31 else np.int64
+    rows, cols = np.concatenate([c0, c1], dtype=index), np.concatenate([c1, c0], dtype=index)
+    del faces, c0, c1
+    graph = sparse.coo_array((np.concatenate([w, w], dtype=np.int32), (rows, cols)), shape=(n, n)).tocsr()
+    del rows, cols, w
     graph.sum_duplicates()
     kwargs = {}
     if cell_weights is not None:
@@ -245,7 +247,7 @@ def partition_metis(
     )
     p = np.asarray(result.vertex_part, dtype=np.int64)
     # Split what METIS left disconnected, on the same graph: drop the edges between blocks.
-    rows = np.repeat(np.arange(n), np.diff(graph.indptr))
+    rows = np.repeat(np.arange(n, dtype=index), np.diff(graph.indptr))
     within = sparse.csr_array(
         ((p[rows] == p[graph.indices]).astype(np.float64), graph.indices, graph.indptr), shape=(n, n)
     )

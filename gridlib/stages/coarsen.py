@@ -18,7 +18,7 @@ from ..case.partition import case_partition
 from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_porosity
 from ..config import load_case
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
-from .common import log, write_grid_file
+from .common import log, read_extra, write_grid_file
 from .petrophysics import read_rock
 
 
@@ -32,9 +32,17 @@ def stage_coarsen(
     """Partition the grid, build the coarse grid, upscale the rock; write ``coarse.nc``."""
     case = load_case(case_file)
     grid = read_netcdf(grid_nc).grid
-    geo = read_geometry_netcdf(geometry_nc)
     rock = read_rock(petrophysics_nc) if petrophysics_nc else None
-    partition = case_partition(case, grid, geo, rock)
+    # METIS needs only the cell volumes: the rest of the geometry is read after it, so that the
+    # two never meet at the peak of memory.
+    uniform = case.data["coarsen"]["method"] == "uniform"
+    geo = read_geometry_netcdf(geometry_nc) if uniform else None
+    volumes = (
+        geo.cell_volumes if geo is not None else read_extra(geometry_nc, ("cell_volume",))["cell_volume"]
+    )
+    partition = case_partition(case, grid, rock, cell_volumes=volumes, geometry=geo)
+    if geo is None:
+        geo = read_geometry_netcdf(geometry_nc)
     cg = coarse_grid(grid, partition, geo)
     data = {"volume": cg.geometry.cell_volumes}
     if rock is not None:
