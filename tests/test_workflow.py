@@ -493,3 +493,42 @@ def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workf
     assert all(np.array_equal(t[n].values, t_one[n].values) for n in names)
     with xr.open_dataset(kept / "coarse.nc") as coarse:
         assert np.array_equal(stored.cell_data["block"], coarse["partition"].values)
+
+
+def test_stages_read_uncompressed_artifacts_of_older_gridlib(workflow_run, tmp_path):
+    """Artifacts written before compression (contiguous, unfiltered netCDF-4) still feed the
+    stages: the transmissibility and export stages on uncompressed copies of anticline's stage
+    files give the same connections, {case}.nc variables and summary."""
+    from gridlib.stages import stage_export, stage_transmissibility
+
+    kept = workflow_run / "results" / "anticline"
+    old = tmp_path / "old"
+    old.mkdir()
+    for name in ("grid.nc", "geometry.nc", "petrophysics.nc", "coarse.nc"):
+        with xr.open_dataset(kept / name) as ds:
+            ds = ds.load()
+        for variable in ds.variables.values():
+            variable.encoding = {}  # contiguous, no filter: as gridlib wrote them before
+        ds.to_netcdf(old / name, engine="netcdf4")
+        with xr.open_dataset(old / name) as ds:
+            assert not any(ds[v].encoding.get(f) for v in ds.variables for f in ("zstd", "zlib", "shuffle"))
+    case = workflow_run / "config" / "cases" / "anticline.yaml"
+    trans = tmp_path / "transmissibility.nc"
+    stage_transmissibility(
+        case, old / "grid.nc", old / "geometry.nc", old / "petrophysics.nc", trans, kept / "grid.grdecl"
+    )
+    with xr.open_dataset(trans) as got, xr.open_dataset(kept / "transmissibility.nc") as want:
+        assert all(np.array_equal(got[v].values, want[v].values) for v in want.data_vars)
+    outputs = {k: str(tmp_path / f"out.{k}") for k in ("nc", "vtu", "faults", "png", "histograms", "summary")}
+    outputs |= {
+        "faults": str(tmp_path / "faults.vtp"),
+        "png": str(tmp_path / "a.png"),
+        "histograms": str(tmp_path / "h.png"),
+    }
+    stage_export(
+        case, old / "grid.nc", old / "geometry.nc", outputs, old / "petrophysics.nc", old / "coarse.nc", trans
+    )
+    with xr.open_dataset(outputs["nc"]) as got, xr.open_dataset(kept / "anticline.nc") as want:
+        assert set(got.data_vars) == set(want.data_vars)
+        assert all(np.array_equal(got[v].values, want[v].values) for v in want.data_vars)
+    assert json.loads(Path(outputs["summary"]).read_text()) == json.loads((kept / "summary.json").read_text())
