@@ -11,7 +11,8 @@ import json
 import logging
 import os
 import sys
-from collections.abc import Callable, Mapping
+import time
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -29,10 +30,15 @@ log = logging.getLogger("gridlib.stages")
 
 
 def run_logged(
-    log_file: str | os.PathLike, stage: Callable[..., None], *args: Any, threads: int | None = None
+    log_file: str | os.PathLike,
+    stage: Callable[..., None],
+    *args: Any,
+    threads: int | None = None,
+    outputs: Iterable[str | os.PathLike] = (),
 ) -> None:
     """Run a stage with gridlib's log (and any traceback) going to ``log_file``, on at most
-    ``threads`` threads (a rule's ``threads``; see :mod:`gridlib.threads`)."""
+    ``threads`` threads (a rule's ``threads``; see :mod:`gridlib.threads`); at the end the log
+    gets the stage's wall time, its peak memory and the size of each of ``outputs``."""
     if threads is not None:
         os.environ[ENV] = str(max(1, int(threads)))
     Path(log_file).parent.mkdir(parents=True, exist_ok=True)
@@ -41,8 +47,10 @@ def run_logged(
     root = logging.getLogger("gridlib")
     root.addHandler(handler)
     root.setLevel(logging.INFO)
+    start = time.perf_counter()
     try:
         stage(*args)
+        _log_costs(root, stage.__name__, time.perf_counter() - start, outputs)
     except (InputError, GridError) as exc:  # the user's input: one message, no traceback
         root.error("%s failed: %s", stage.__name__, exc)
         print(f"gridlib: {exc}", file=sys.stderr)
@@ -54,6 +62,17 @@ def run_logged(
     finally:
         root.removeHandler(handler)
         handler.close()
+
+
+def _log_costs(log: logging.Logger, name: str, seconds: float, outputs: Iterable[str | os.PathLike]) -> None:
+    """What a stage cost: wall time, peak resident memory, and the bytes it wrote."""
+    import resource
+
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: kibibytes
+    sizes = [(Path(p), Path(p).stat().st_size) for p in outputs if Path(p).is_file()]
+    log.info("%s: %.1f s, peak memory %.0f MiB", name, seconds, peak / 2**20)
+    for path, size in sizes:
+        log.info("  %s: %.1f MiB", path.name, size / 2**20)
 
 
 def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:

@@ -11,4 +11,5 @@ run_logged(
     snakemake.input.get("petrophysics"),
     snakemake.output.coarse,
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

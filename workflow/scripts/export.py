@@ -14,4 +14,5 @@ run_logged(
     snakemake.input.get("coarse"),
     snakemake.input.get("transmissibility"),
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

@@ -13,4 +13,5 @@ run_logged(
     snakemake.output.deck,
     snakemake.input.get("grdecl"),
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

@@ -9,4 +9,5 @@ run_logged(
     snakemake.input.grid,
     snakemake.output.geometry,
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

@@ -10,4 +10,5 @@ run_logged(
     snakemake.input.get("horizons"),
     snakemake.output.get("grdecl"),
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

@@ -8,4 +8,5 @@ run_logged(
     snakemake.input.case,
     snakemake.output.horizons,
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

@@ -10,4 +10,5 @@ run_logged(
     snakemake.input.geometry,
     snakemake.output.petrophysics,
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

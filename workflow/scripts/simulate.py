@@ -11,4 +11,5 @@ run_logged(
     snakemake.input.transmissibility,
     {key: snakemake.output[key] for key in ("summary", "wells", "vtu")},
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

@@ -10,4 +10,5 @@ run_logged(
     snakemake.input.summaries,
     snakemake.output,
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )

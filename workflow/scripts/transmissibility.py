@@ -12,4 +12,5 @@ run_logged(
     snakemake.output.transmissibility,
     snakemake.input.get("grdecl"),
     threads=snakemake.threads,
+    outputs=list(snakemake.output),
 )
