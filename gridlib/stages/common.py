@@ -56,6 +56,22 @@ def run_logged(
         handler.close()
 
 
+def artifact_paths(folder: str | os.PathLike) -> dict[str, Path]:
+    """The paths of the stage artifacts whose names do not depend on the case, in a case's
+    results folder (the workflow's results/{case}/ layout; :func:`gridlib.stages.case_outputs`
+    adds the files named after the case)."""
+    d = Path(folder)
+    return {
+        "horizons": d / "horizons.nc",
+        "grid": d / "grid.nc",
+        "grdecl": d / "grid.grdecl",
+        "geometry": d / "geometry.nc",
+        "petrophysics": d / "petrophysics.nc",
+        "coarse": d / "coarse.nc",
+        "transmissibility": d / "transmissibility.nc",
+    }
+
+
 def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:
     """Write an xarray Dataset as netCDF-4, atomically (integers without fill values)."""
     encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iub"}
