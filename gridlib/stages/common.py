@@ -11,7 +11,7 @@ import json
 import logging
 import os
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -19,10 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import GridError, InputError
-from ..geometry import Geometry
-from ..grid import Grid
-from ..io.datasets import save_dataset
-from ..io.netcdf import grid_to_dataset, read_netcdf
+from ..io.netcdf import read_netcdf, write_netcdf
 from ..threads import ENV
 
 log = logging.getLogger("gridlib.stages")
@@ -72,36 +69,8 @@ def artifact_paths(folder: str | os.PathLike) -> dict[str, Path]:
     }
 
 
-def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:
-    """Write an xarray Dataset as netCDF-4, atomically (integers without fill values)."""
-    encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iub"}
-    if "mesh2d_face_nodes" in ds:
-        encoding["mesh2d_face_nodes"] = {"_FillValue": np.int64(-1)}
-    return save_dataset(path, ds, encoding)
-
-
-def write_grid_file(
-    path: str | os.PathLike,
-    grid: Grid,
-    *,
-    geometry: Geometry | None = None,
-    cell_data: Mapping[str, np.ndarray] | None = None,
-    extra: Mapping[str, xr.DataArray] | None = None,
-    attrs: Mapping[str, Any] | None = None,
-    var_attrs: Mapping[str, Mapping[str, Any]] | None = None,
-    face_vectors: bool = True,
-) -> Path:
-    """A gridlib netCDF grid file plus ``extra`` variables with dimensions of their own
-    (e.g. the NNC list, a partition of the fine cells); list-valued attributes as JSON;
-    ``var_attrs``: attributes (units, long names) of cell data variables, by name;
-    ``face_vectors=False``: the geometry's face normals and centroids left out."""
-    flat = {k: (json.dumps(v) if isinstance(v, list | tuple | dict) else v) for k, v in (attrs or {}).items()}
-    ds = grid_to_dataset(grid, geometry, dict(cell_data or {}), None, flat, face_vectors=face_vectors)
-    for name, var in (extra or {}).items():
-        ds[name] = var
-    for name, meta in (var_attrs or {}).items():
-        ds[name].attrs.update(meta)
-    return write_dataset(path, ds)
+# stages/coarsen.py's name for :func:`gridlib.io.netcdf.write_netcdf` (until its import moves)
+write_grid_file = write_netcdf
 
 
 def nnc_variables(nnc) -> dict[str, xr.DataArray]:
