@@ -26,6 +26,7 @@ from ..grid import FloatArray
 from ..horizons.build import SOURCES, HorizonSource, check_lattice, horizons_from_sources
 from ..horizons.surface import Surface, regular_increment
 from .datasets import load_dataset, save_dataset
+from .irap import is_number
 from .registry import ANY_SUFFIX, read, register_format
 
 __all__ = [
@@ -192,7 +193,7 @@ def read_points(
         if sep is None and not rows and header is None:
             sep = "," if "," in line else ";" if ";" in line else ""
         fields = [f.strip() for f in line.split(sep)] if sep else line.split()
-        if not rows and header is None and not any(_is_number(f) for f in fields):
+        if not rows and header is None and not any(is_number(f) for f in fields):
             header = [f.lower() for f in fields]
             header_line = number
             continue
@@ -222,7 +223,7 @@ def read_points(
     except ValueError:
         for fields, number in zip(picked, line_no, strict=True):
             for k, f in enumerate(fields):
-                if not _is_number(f):
+                if not is_number(f):
                     raise InputError(
                         f"{p}:{number}: column {cols[k] + 1} ({'xyz'[k]}): {f!r} is not a number"
                     ) from None
@@ -238,14 +239,6 @@ def read_points(
     if elevation:
         xyz[:, 2] = -xyz[:, 2]
     return xyz
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _point_columns(columns: Sequence[Any], header: list[str] | None, width: int, p: Path) -> list[int]:

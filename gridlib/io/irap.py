@@ -57,7 +57,7 @@ from ..horizons.surface import Surface
 from .atomic import atomic_path
 from .registry import ANY_SUFFIX, register_format
 
-__all__ = ["IRAP_UNDEFINED", "read_irap", "write_irap"]
+__all__ = ["IRAP_UNDEFINED", "is_number", "read_irap", "write_irap"]
 
 IRAP_UNDEFINED = 9999900.0  # the format's null value; values >= it are undefined
 _HEADER = 19
@@ -98,7 +98,7 @@ def read_irap(path: str | os.PathLike, *, elevation: bool = False, name: str | N
     try:
         head = [float(t) for t in tokens[:_HEADER]]
     except ValueError:
-        bad = next(i for i, t in enumerate(tokens[:_HEADER]) if not _is_float(t))
+        bad = next(i for i, t in enumerate(tokens[:_HEADER]) if not is_number(t))
         raise InputError(
             f"{p}:{_line_of_token(text, bad)}: IRAP header: {tokens[bad]!r} is not a number"
         ) from None
@@ -127,7 +127,7 @@ def read_irap(path: str | os.PathLike, *, elevation: bool = False, name: str | N
     try:
         values = np.array(body, dtype=np.float64)
     except ValueError:
-        bad = next(i for i, t in enumerate(body) if not _is_float(t))
+        bad = next(i for i, t in enumerate(body) if not is_number(t))
         raise InputError(
             f"{p}:{_line_of_token(text, _HEADER + bad)}: {body[bad]!r} is not a number"
         ) from None
@@ -147,7 +147,12 @@ def read_irap(path: str | os.PathLike, *, elevation: bool = False, name: str | N
     )
 
 
-def _is_float(token: str) -> bool:
+def is_number(token: str) -> bool:
+    """Whether a text token reads as a float (``"1e3"``, ``"-0.5"``, ``"nan"``; not ``"x"``).
+
+    >>> is_number("1e3"), is_number("x")
+    (True, False)
+    """
     try:
         float(token)
     except ValueError:

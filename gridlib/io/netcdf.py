@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -200,7 +201,7 @@ def grid_to_dataset(
     geometry: Geometry | None = None,
     cell_data: dict[str, np.ndarray] | None = None,
     face_data: dict[str, np.ndarray] | None = None,
-    attrs: dict[str, object] | None = None,
+    attrs: Mapping[str, object] | None = None,
     *,
     face_vectors: bool = True,
 ) -> xr.Dataset:
@@ -261,14 +262,32 @@ def write_netcdf(
     geometry: Geometry | None = None,
     cell_data: dict[str, np.ndarray] | None = None,
     face_data: dict[str, np.ndarray] | None = None,
-    attrs: dict[str, object] | None = None,
+    attrs: Mapping[str, object] | None = None,
+    *,
+    extra: Mapping[str, xr.DataArray] | None = None,
+    var_attrs: Mapping[str, Mapping[str, object]] | None = None,
+    face_vectors: bool = True,
 ) -> Path:
     """Write a grid (and optionally geometry, cell/face data, attributes) to netCDF-4.
 
-    The write is atomic: on any error no file is left at ``path``.
+    ``extra``: variables with dimensions of their own (e.g. the NNC list, a partition of the
+    fine cells); ``var_attrs``: attributes (units, long names) of data variables, by name;
+    ``face_vectors=False``: the geometry's face normals and centroids left out (see
+    :func:`grid_to_dataset`). The write is atomic: on any error no file is left at ``path``.
     """
-    ds = grid_to_dataset(grid, geometry, cell_data, face_data, attrs)
-    encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iu"}
+    ds = grid_to_dataset(grid, geometry, cell_data, face_data, attrs, face_vectors=face_vectors)
+    for name, var in (extra or {}).items():
+        ds[name] = var
+    for name, meta in (var_attrs or {}).items():
+        ds[name].attrs.update(meta)
+    return write_dataset(path, ds)
+
+
+def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:
+    """Write an xarray Dataset (a grid's from :func:`grid_to_dataset`, or any other) as
+    netCDF-4, atomically: integers and booleans without fill values, the UGRID face-node
+    table padded with -1 (its ``_FillValue``)."""
+    encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iub"}
     if "mesh2d_face_nodes" in ds:
         encoding["mesh2d_face_nodes"] = {"_FillValue": np.int64(-1)}
     return save_dataset(path, ds, encoding)

@@ -17,8 +17,8 @@ import xarray as xr
 from ..case.partition import case_partition
 from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_porosity
 from ..config import load_case
-from ..io.netcdf import read_geometry_netcdf, read_netcdf
-from .common import log, read_extra, write_grid_file
+from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_netcdf
+from .common import log, read_extra
 from .petrophysics import read_rock
 
 
@@ -63,5 +63,5 @@ def stage_coarsen(
         )
     }
     attrs = {**case.provenance(), "num_blocks": int(cg.num_blocks), "coarse_faces": int(cg.faces.num)}
-    write_grid_file(coarse_out, cg.grid, cell_data=data, extra=extra, attrs=attrs)
+    write_netcdf(coarse_out, cg.grid, cell_data=data, extra=extra, attrs=attrs)
     log.info("wrote %s: %d blocks, %d coarse faces", coarse_out, cg.num_blocks, cg.faces.num)

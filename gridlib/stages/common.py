@@ -12,7 +12,7 @@ import logging
 import os
 import sys
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
@@ -20,10 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import GridError, InputError
-from ..geometry import Geometry
-from ..grid import Grid
-from ..io.datasets import save_dataset
-from ..io.netcdf import grid_to_dataset, read_netcdf
+from ..io.netcdf import read_netcdf
 from ..threads import ENV
 
 log = logging.getLogger("gridlib.stages")
@@ -75,36 +72,20 @@ def _log_costs(log: logging.Logger, name: str, seconds: float, outputs: Iterable
         log.info("  %s: %.1f MiB", path.name, size / 2**20)
 
 
-def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:
-    """Write an xarray Dataset as netCDF-4, atomically (integers without fill values)."""
-    encoding = {name: {"_FillValue": None} for name in ds.variables if ds[name].dtype.kind in "iub"}
-    if "mesh2d_face_nodes" in ds:
-        encoding["mesh2d_face_nodes"] = {"_FillValue": np.int64(-1)}
-    return save_dataset(path, ds, encoding)
-
-
-def write_grid_file(
-    path: str | os.PathLike,
-    grid: Grid,
-    *,
-    geometry: Geometry | None = None,
-    cell_data: Mapping[str, np.ndarray] | None = None,
-    extra: Mapping[str, xr.DataArray] | None = None,
-    attrs: Mapping[str, Any] | None = None,
-    var_attrs: Mapping[str, Mapping[str, Any]] | None = None,
-    face_vectors: bool = True,
-) -> Path:
-    """A gridlib netCDF grid file plus ``extra`` variables with dimensions of their own
-    (e.g. the NNC list, a partition of the fine cells); list-valued attributes as JSON;
-    ``var_attrs``: attributes (units, long names) of cell data variables, by name;
-    ``face_vectors=False``: the geometry's face normals and centroids left out."""
-    flat = {k: (json.dumps(v) if isinstance(v, list | tuple | dict) else v) for k, v in (attrs or {}).items()}
-    ds = grid_to_dataset(grid, geometry, dict(cell_data or {}), None, flat, face_vectors=face_vectors)
-    for name, var in (extra or {}).items():
-        ds[name] = var
-    for name, meta in (var_attrs or {}).items():
-        ds[name].attrs.update(meta)
-    return write_dataset(path, ds)
+def artifact_paths(folder: str | os.PathLike) -> dict[str, Path]:
+    """The paths of the stage artifacts whose names do not depend on the case, in a case's
+    results folder (the workflow's results/{case}/ layout; :func:`gridlib.stages.case_outputs`
+    adds the files named after the case)."""
+    d = Path(folder)
+    return {
+        "horizons": d / "horizons.nc",
+        "grid": d / "grid.nc",
+        "grdecl": d / "grid.grdecl",
+        "geometry": d / "geometry.nc",
+        "petrophysics": d / "petrophysics.nc",
+        "coarse": d / "coarse.nc",
+        "transmissibility": d / "transmissibility.nc",
+    }
 
 
 def nnc_variables(nnc) -> dict[str, xr.DataArray]:

@@ -37,11 +37,11 @@ from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.atomic import atomic_path
-from ..io.netcdf import GridDataset, read_netcdf
+from ..io.netcdf import GridDataset, read_netcdf, write_netcdf
 from ..io.pictures import plot_histograms, render_grid
 from ..io.vtp import write_fault_faces
 from ..io.vtu import write_vtu
-from .common import log, nnc_variables, read_attrs, read_extra, write_grid_file
+from .common import log, nnc_variables, read_attrs, read_extra
 from .petrophysics import read_rock
 from .transmissibility import CONNECTION_VARS, face_connections, read_transmissibility
 
@@ -239,7 +239,7 @@ def _cell_data(
 def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
     """``{case}.nc``, ``{case}.vtu`` and ``{case}_faults.vtp``; returns the number of fault faces."""
     grid, geo = g.grid, g.geo
-    write_grid_file(
+    write_netcdf(
         outputs["nc"],
         grid,
         geometry=geo,

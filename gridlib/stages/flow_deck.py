@@ -51,7 +51,7 @@ from ..io.grdecl import read_grdecl
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
-from .common import length_of, log, read_attrs
+from .common import artifact_paths, length_of, log, read_attrs, read_extra
 from .petrophysics import read_rock
 from .transmissibility import CELL_VARS, CONNECTION_VARS, deck_with_rock, read_transmissibility
 
@@ -134,6 +134,9 @@ def stage_flow_deck(
             deck_out.parent, case.flow_name, deck, sim, units=system.name, header=header
         )
     else:
+        cell_volumes = (
+            geo.cell_volumes if geo is not None else read_extra(geometry_nc, ("cell_volume",))["cell_volume"]
+        )
         layout = ConnectionGrid(
             dims=tuple(int(v) for v in tattrs["flow_dims"]),
             index=flow_index,
@@ -144,7 +147,7 @@ def stage_flow_deck(
             permeability=np.column_stack([rock["permx"], rock["permy"], rock["permz"]]),
             pairs=variables["connection_cells"].values,
             trans=variables["trans"].values,
-            spacing=_spacing(geo.cell_volumes, thickness),
+            spacing=_spacing(cell_volumes, thickness),
         )
         try:
             written = write_flow_deck(
@@ -257,18 +260,6 @@ def _simulation(
     )
 
 
-def results_paths(results_dir: str | os.PathLike) -> dict[str, Path]:
-    """The artifacts a deck is written from, in a case's results folder."""
-    d = Path(results_dir)
-    return {
-        "grid": d / "grid.nc",
-        "geometry": d / "geometry.nc",
-        "petrophysics": d / "petrophysics.nc",
-        "transmissibility": d / "transmissibility.nc",
-        "grdecl": d / "grid.grdecl",
-    }
-
-
 def flow_deck_from_results(
     results_dir: str | os.PathLike,
     out_dir: str | os.PathLike,
@@ -279,7 +270,7 @@ def flow_deck_from_results(
     case file (default: the one recorded in them, as it was given to the build, relative to
     the directory the build ran in), which must not have changed since; the deck goes to
     ``out_dir``."""
-    paths = results_paths(results_dir)
+    paths = artifact_paths(results_dir)
     for key in ("grid", "geometry", "petrophysics", "transmissibility"):
         if not paths[key].is_file():
             raise InputError(

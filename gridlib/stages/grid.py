@@ -18,8 +18,9 @@ from ..checks import check_grid
 from ..config import load_case
 from ..io.grdecl import write_grdecl
 from ..io.horizon_files import read_horizons
+from ..io.netcdf import write_netcdf
 from ..units import unit_system
-from .common import log, nnc_variables, write_grid_file
+from .common import log, nnc_variables
 
 
 def grid_unit_system(built: CaseGrid) -> str:
@@ -48,9 +49,7 @@ def stage_grid(
         "well_names": list(built.well_names),
         "unit_system": grid_unit_system(built),
     }
-    write_grid_file(
-        grid_out, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs
-    )
+    write_netcdf(grid_out, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs)
     log.info("wrote %s: %r", grid_out, built.grid)
     if grdecl_out is not None:
         if built.deck is None:

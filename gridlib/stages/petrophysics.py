@@ -18,8 +18,8 @@ import xarray as xr
 
 from ..case.rock import case_rock
 from ..config import load_case
-from ..io.netcdf import read_geometry_netcdf, read_netcdf
-from .common import log, write_dataset
+from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_dataset
+from .common import log
 
 PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
 UNITS = {"poro": "1", "permx": "mD", "permy": "mD", "permz": "mD", "ntg": "1"}

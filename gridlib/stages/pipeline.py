@@ -7,6 +7,7 @@ from pathlib import Path
 
 from ..config import has_transmissibility, load_case
 from .coarsen import stage_coarsen
+from .common import artifact_paths
 from .export import stage_export
 from .flow_deck import stage_flow_deck
 from .geometry import stage_geometry
@@ -21,13 +22,7 @@ def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:
     """The paths of a case's artifacts in ``folder`` (the workflow's results/{case}/ layout)."""
     d = Path(folder)
     return {
-        "horizons": d / "horizons.nc",
-        "grid": d / "grid.nc",
-        "grdecl": d / "grid.grdecl",
-        "geometry": d / "geometry.nc",
-        "petrophysics": d / "petrophysics.nc",
-        "coarse": d / "coarse.nc",
-        "transmissibility": d / "transmissibility.nc",
+        **artifact_paths(d),
         "nc": d / f"{name}.nc",
         "vtu": d / f"{name}.vtu",
         "faults": d / f"{name}_faults.vtp",

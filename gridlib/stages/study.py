@@ -134,7 +134,7 @@ def stage_study(
 ) -> None:
     """study.csv, study.nc and study.png (``outputs`` keys ``csv``, ``nc``, ``png``) from the
     study's manifest (results/<study>/variants.yaml) and its variants' summary.json files."""
-    from .common import write_dataset
+    from ..io.netcdf import write_dataset
 
     manifest = yaml.safe_load(Path(manifest_file).read_text(encoding="utf-8"))
     loaded = [json.loads(Path(p).read_text(encoding="utf-8")) for p in summaries]

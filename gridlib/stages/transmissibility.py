@@ -57,11 +57,11 @@ from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.grdecl import read_grdecl
-from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf
+from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf, write_dataset
 from ..stratigraphic.nnc import NNC
 from ..transmissibility import KIND_NAMES, Connections, deck_transmissibility, transmissibility
 from ..units import UnitSystem, unit_system
-from .common import length_of, log, read_attrs, read_extra, write_dataset
+from .common import length_of, log, read_attrs, read_extra
 from .petrophysics import read_rock
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")

@@ -425,19 +425,24 @@ def _cell_pairs(state, src, pos, name, depth):
 def _faults(state, src, pos, name, depth):
     _need_dims(state, src, pos, name)
     records, pos = read_records(src, pos, name)
-    for items, at in records:
-        if len(items) < 8 or items[0] is None or items[7] is None:
-            raise src.error(at, name, "a record needs: name I1 I2 J1 J2 K1 K2 face")
-        box = _read_box(state, src, at, name, items[1:7], None)
-        face = items[7].upper().replace("I", "X").replace("J", "Y").replace("K", "Z")
-        if face not in FAULT_FACES:
-            raise src.error(
-                at, name, f"face {items[7]!r} of fault {items[0]!r} is not one of X, Y, Z, X-, Y-, Z-"
-            )
-        assert box is not None
-        i1, i2, j1, j2, k1, k2 = box
-        state.faults.append(FaultSegment(items[0], i1, i2, j1, j2, k1, k2, face))
+    state.faults.extend(_fault_segment(state, src, at, name, items) for items, at in records)
     return pos
+
+
+def _fault_segment(state, src, at, name, items) -> FaultSegment:
+    """One FAULTS record: name I1 I2 J1 J2 K1 K2 face (a box of the grid, a face X, Y, Z,
+    X-, Y- or Z-; I, J, K accepted for X, Y, Z)."""
+    if len(items) < 8 or items[0] is None or items[7] is None:
+        raise src.error(at, name, "a record needs: name I1 I2 J1 J2 K1 K2 face")
+    box = _read_box(state, src, at, name, items[1:7], None)
+    face = items[7].upper().replace("I", "X").replace("J", "Y").replace("K", "Z")
+    if face not in FAULT_FACES:
+        raise src.error(
+            at, name, f"face {items[7]!r} of fault {items[0]!r} is not one of X, Y, Z, X-, Y-, Z-"
+        )
+    assert box is not None
+    i1, i2, j1, j2, k1, k2 = box
+    return FaultSegment(items[0], i1, i2, j1, j2, k1, k2, face)
 
 
 def _multflt(state, src, pos, name, depth):
