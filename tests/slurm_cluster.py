@@ -35,7 +35,7 @@ the project's VM. Every failure raises :class:`ClusterError`
 with one message saying what failed and which log to read. :meth:`SlurmCluster.stop` cancels
 the cluster's jobs, ends the daemons that were started and removes ``/run/slurm/conf``.
 
-Used by the session fixture ``slurm_cluster`` (tests/conftest.py); by hand, as root::
+Used by the session fixture ``slurm_cluster`` (tests/workflow/conftest.py); by hand, as root::
 
     python tests/slurm_cluster.py start /tmp/gridlib-slurm   # prints: export SLURM_CONF=...
     python tests/slurm_cluster.py stop /tmp/gridlib-slurm

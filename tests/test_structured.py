@@ -175,3 +175,12 @@ def test_extract_subgrid_maps_back_to_parent():
     np.testing.assert_array_equal(sg.face_centroids, pg.face_centroids[sub.faces])
     np.testing.assert_array_equal(sub.grid.nodes.coords, parent.nodes.coords[sub.nodes])
     gl.check_grid(sub.grid)
+
+
+def test_translate_moves_the_footprint_and_twister_drops_it():
+    g = gl.make_layered_grid(gl.cart_grid([2, 2], [100.0, 100.0]), 2)
+    moved = gl.translate_grid(g, [5.3e5, 6.7e6, 1000.0])
+    np.testing.assert_allclose(
+        moved.layering.areal.nodes.coords, g.layering.areal.nodes.coords + [5.3e5, 6.7e6]
+    )
+    assert gl.twister(g).layering is None

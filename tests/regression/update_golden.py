@@ -2,7 +2,7 @@
 
 Every case in config/cases is run through all its stages (gridlib.stages.run_case, the same
 code the workflow runs) in a temporary folder; its summary.json, without the case file's
-hash, becomes tests/regression/<case>.json. tests/test_workflow.py compares every figure of
+hash, becomes tests/regression/<case>.json. tests/workflow/test_workflow.py compares every figure of
 a workflow run with these files.
 """
 

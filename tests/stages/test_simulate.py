@@ -33,7 +33,7 @@ from gridlib.stages import run_case
 from gridlib.stages.flow_deck import flow_deck_from_results
 from gridlib.stages.simulate import run_flow, stage_simulate
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "config" / "cases"
 # Tight solver tolerances where two runs are compared: the two forms' matrices are assembled in
 # different orders, and Flow's defaults (linear reduction 1e-2, CNV 1e-2) leave differences of

@@ -25,7 +25,7 @@ from gridlib.errors import InputError
 from gridlib.stages import run_case
 from gridlib.study import SEED_STEP, load_study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]
 
 # A small version of config/cases/faulted_pebi.yaml: 1 x 0.75 km, 100 m thick in 2 layers (170 and

@@ -32,7 +32,7 @@ from gridlib.io.grdecl import read_grdecl
 from gridlib.stratigraphic.extrude import extrude
 from gridlib.stratigraphic.pillar_points import depth_resolution, unique_points, unique_points_rows
 
-DECKS = Path(__file__).parent / "data" / "decks"
+DECKS = Path(__file__).parents[1] / "data" / "decks"
 DECK_FILES = sorted(
     str(p.relative_to(DECKS)) for p in DECKS.glob("*/*.DATA") if "RUNSPEC" in p.read_text(errors="replace")
 ) + ["seed/simple_grdecl_4x2x3_flat_drop012.grdecl"]

@@ -31,7 +31,7 @@ from gridlib.config import load_case
 from gridlib.io import read_geometry_netcdf as read_geometry
 from gridlib.io import read_netcdf
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]
 GOLDEN = ROOT / "tests" / "regression"
 CASES = sorted(p.stem for p in (ROOT / "config" / "cases").glob("*.yaml"))

@@ -13,7 +13,7 @@ from flow_tools import PHASES, flow_connections, rest_of_deck, run_flow_dry
 from gridlib.io.grdecl import read_grdecl
 from gridlib.transmissibility import deck_transmissibility
 
-DECKS = Path(__file__).parent / "data" / "decks"
+DECKS = Path(__file__).parents[1] / "data" / "decks"
 RUNSPEC = "METRIC\n" + PHASES
 REST = rest_of_deck(0.5, 10.0)
 

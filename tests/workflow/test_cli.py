@@ -11,7 +11,7 @@ import pytest
 
 from gridlib.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_info_of_a_deck(decks_dir, capsys):

@@ -27,7 +27,7 @@ from gridlib.voronoi import Fault, Rings, Well, pebi_grid
 
 H = 10.0  # m: the cell size of every layout
 UTM = np.array([5.3e5, 6.7e6])
-MIN_AREA = 0.1  # x h^2, as tests/test_pebi_grid_property.py
+MIN_AREA = 0.1  # x h^2, as tests/voronoi/test_pebi_grid_property.py
 MIN_FACE = 0.01  # x h
 N_LAYOUTS = 300
 SCENARIOS = ("reflex", "acute", "parallel", "boundary", "kink", "well_fault")

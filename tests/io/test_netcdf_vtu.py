@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import os
-import stat
-
 import numpy as np
 import pytest
 import pyvista as pv
@@ -12,7 +9,7 @@ import xarray as xr
 from seed_points import honeycomb_points
 
 import gridlib as gl
-from gridlib.io import read, read_netcdf, write, write_netcdf, write_vtu
+from gridlib.io import read_netcdf, write_netcdf, write_vtu
 
 
 def _grids():
@@ -103,23 +100,6 @@ def test_vtu_read_by_pyvista_has_our_volumes(tmp_path, name):
     np.testing.assert_allclose(vtk_measure, geo.cell_volumes, rtol=1e-9)
 
 
-def test_registry_dispatches_on_suffix(tmp_path):
-    g = gl.cart_grid([2, 2])
-    write(tmp_path / "a.nc", g)
-    assert read(tmp_path / "a.nc").grid.num_cells == 4
-    with pytest.raises(gl.InputError, match=r"cannot write '\.xyz'"):
-        write(tmp_path / "a.xyz", g)
-
-
-def test_failed_write_leaves_no_file(tmp_path):
-    g = gl.cart_grid([2, 2])
-    with pytest.raises(gl.GridError, match="cell data 'poro' has shape"):
-        write_netcdf(tmp_path / "bad.nc", g, cell_data={"poro": np.ones(3)})
-    with pytest.raises(gl.GridError, match="cell data 'poro' must have shape"):
-        write_vtu(tmp_path / "bad.vtu", g, {"poro": np.ones(3)})
-    assert list(tmp_path.iterdir()) == []
-
-
 def test_reading_bad_files_names_the_file(tmp_path):
     with pytest.raises(gl.InputError, match=r"missing\.nc: no such file"):
         read_netcdf(tmp_path / "missing.nc")
@@ -129,17 +109,6 @@ def test_reading_bad_files_names_the_file(tmp_path):
     xr.Dataset({"x": ("n", np.arange(3))}).to_netcdf(tmp_path / "other.nc")
     with pytest.raises(gl.InputError, match=r"other\.nc: .*gridlib_griddim"):
         read_netcdf(tmp_path / "other.nc")
-
-
-def test_written_files_get_the_usual_permissions(tmp_path):
-    umask = os.umask(0o022)
-    try:
-        write_netcdf(tmp_path / "a.nc", gl.cart_grid([2, 2]))
-        write_vtu(tmp_path / "a.vtu", gl.cart_grid([2, 2]))
-    finally:
-        os.umask(umask)
-    for name in ("a.nc", "a.vtu"):
-        assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644
 
 
 def test_layering_of_a_grid_extruded_from_a_surface_round_trips(tmp_path):
@@ -176,20 +145,6 @@ def test_vtu_escapes_data_names(tmp_path):
     write_vtu(tmp_path / "e.vtu", g, {'perm x&y <"k">': np.arange(8.0)})
     mesh = pv.read(tmp_path / "e.vtu")
     np.testing.assert_array_equal(mesh.cell_data['perm x&y <"k">'], np.arange(8.0))
-
-
-def test_stage_attributes_decode_json_and_keep_other_text(tmp_path):
-    """read_attrs decodes JSON lists and mappings; text that only starts with a bracket stays text."""
-    import xarray as xr
-
-    from gridlib.stages.common import read_attrs
-
-    path = tmp_path / "a.nc"
-    attrs = {"fault_names": '["F1", "F2"]', "note": "[not json", "map": '{"a": 1}', "n": 3}
-    xr.Dataset(attrs=attrs).to_netcdf(path, engine="netcdf4")
-    got = read_attrs(path)
-    assert got["fault_names"] == ["F1", "F2"] and got["map"] == {"a": 1}
-    assert got["note"] == "[not json" and int(got["n"]) == 3
 
 
 def _awkward_values(n: int, rng: np.random.Generator) -> np.ndarray:

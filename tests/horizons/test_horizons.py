@@ -1,4 +1,5 @@
-"""Horizons (gridlib.horizons, gridlib.io.irap): interpolation, fault blocks, ordering, files."""
+"""Horizons (gridlib.horizons): interpolation, fault blocks, surfaces, the Dataset and the stage
+(ordering: test_ordering.py; IRAP and points files: tests/io/)."""
 
 from __future__ import annotations
 
@@ -8,14 +9,11 @@ import pytest
 from gridlib import InputError, compute_geometry, horizons_to_grdecl, process_grdecl
 from gridlib.cornerpoint import FaultTrace, Horizon
 from gridlib.horizons import (
-    HorizonCrossingError,
     Surface,
     fault_blocks,
-    find_crossings,
     horizon_dataset,
     interpolate_points,
     interpolate_points_at,
-    order_horizons,
     peaks,
     plane,
     to_horizons,
@@ -23,11 +21,10 @@ from gridlib.horizons import (
 from gridlib.io.horizon_files import (
     build_horizons,
     read_horizons,
-    read_points,
     read_surface_netcdf,
     write_horizons,
 )
-from gridlib.io.irap import IRAP_UNDEFINED, read_irap, write_irap
+from gridlib.io.irap import write_irap
 
 X_AXIS = np.linspace(0.0, 1000.0, 51)  # 20 m spacing
 Y_AXIS = np.linspace(0.0, 800.0, 41)
@@ -150,127 +147,7 @@ def test_fault_blocks_classify_and_report_dangling_traces():
         fault_blocks([[(0.0, 0.0)]], (0, 1, 0, 1))
 
 
-# --------------------------------------------------------------------------- ordering
-
-
-def crossing_stack():
-    x, y = np.linspace(0.0, 1000.0, 11), np.linspace(0.0, 500.0, 6)  # 100 m spacing
-    X, _ = np.meshgrid(x, y)
-    return x, y, np.stack([1000.0 + 0.02 * X, np.full_like(X, 1010.0)])  # cross where x > 500
-
-
-def test_crossing_horizons_are_reported_with_their_size():
-    x, y, H = crossing_stack()
-    (c,) = find_crossings(H, x, y, ["top", "base"])
-    # nodes x = 600..1000 in all 6 rows; tributary widths 4 x 100 + 50 m in x, 500 m in y
-    assert (c.upper, c.lower, c.nodes, c.area, c.x, c.y, c.max_overlap) == (
-        "top",
-        "base",
-        30,
-        225000.0,
-        600.0,
-        0.0,
-        pytest.approx(10.0, abs=1e-9),
-    )
-    with pytest.raises(HorizonCrossingError) as err:
-        horizon_dataset(H, x, y, names=["top", "base"])
-    msg = str(err.value)
-    assert "horizons 'top' and 'base' cross at 30 nodes (225000 m2), first at (x, y) = (600, 0)" in msg
-    assert "ordering to 'erode' or 'onlap'" in msg
-    assert isinstance(err.value, InputError) and err.value.crossings == (c,)
-
-
-def test_erode_and_onlap_repair_crossings():
-    x, y, H = crossing_stack()
-    cross = H[1] < H[0]
-    eroded, notes = order_horizons(H, x, y, ordering="erode", names=["top", "base"])
-    assert (np.diff(eroded, axis=0) >= 0).all()
-    assert np.array_equal(eroded[0], H[0])  # the younger horizon cuts: top unchanged
-    assert np.array_equal(eroded[1][cross], H[0][cross]) and np.array_equal(eroded[1][~cross], H[1][~cross])
-    assert notes == ("ordering 'erode': horizon 'base' moved down to a horizon above it at 30 nodes",)
-    onlapped, _ = order_horizons(H, x, y, ordering="onlap")
-    assert (np.diff(onlapped, axis=0) >= 0).all()
-    assert np.array_equal(onlapped[1], H[1])  # the older horizon wins: base unchanged
-    assert np.array_equal(onlapped[0][cross], H[1][cross])
-    ds = horizon_dataset(H, x, y, names=["top", "base"], ordering="erode")
-    assert float((ds.depth.sel(horizon="base") - ds.depth.sel(horizon="top")).min()) == 0.0
-    deck = horizons_to_grdecl(to_horizons(ds), layers=2)  # the corner-point builder takes it as it is
-    cp = process_grdecl(deck)
-    assert cp.grid.num_cells < 2 * 10 * 5  # the eroded half has zero thickness: collapsed cells removed
-    assert (compute_geometry(cp.grid).cell_volumes > 0).all()
-
-
-def test_undefined_nodes_are_skipped_by_the_ordering():
-    x, y = np.array([0.0, 1.0]), np.array([0.0, 1.0])
-    H = np.array([[[10.0, 10.0], [10.0, 10.0]], [[np.nan, 20.0], [20.0, 20.0]], [[5.0, 30.0], [30.0, 30.0]]])
-    (c,) = find_crossings(H, x, y)
-    assert (c.upper, c.lower, c.nodes) == ("horizon_0", "horizon_2", 1)  # against the nearest defined above
-    fixed, _ = order_horizons(H, x, y, ordering="erode")
-    assert np.isnan(fixed[1, 0, 0]) and fixed[2, 0, 0] == 10.0
-
-
-# --------------------------------------------------------------------------- files
-
-
-def irap_surface():
-    rng = np.random.default_rng(5)
-    z = 1500.0 + rng.standard_normal((7, 9)) * 13.7
-    z[0, 0] = z[3, 4] = z[6, 8] = np.nan
-    return Surface(z, 456_789.123, 6_789_012.0625, 12.5, 25.0 / 3.0, rotation=30.0, name="top")
-
-
-def test_irap_round_trip_is_exact(tmp_path):
-    s = irap_surface()
-    path = write_irap(tmp_path / "top.irap", s)
-    text = path.read_text()
-    assert text.startswith("-996 7 12.5 8.333333333333334\n456789.123 456889.123 6789012.0625 ")
-    assert text.count(repr(IRAP_UNDEFINED)) == 3
-    t = read_irap(path)
-    assert np.array_equal(t.z, s.z, equal_nan=True)  # bit-identical, undefined nodes included
-    assert (t.xori, t.yori, t.xinc, t.yinc, t.rotation, t.name) == (
-        s.xori,
-        s.yori,
-        s.xinc,
-        s.yinc,
-        30.0,
-        "top",
-    )
-    write_irap(tmp_path / "again.irap", t)
-    assert (tmp_path / "again.irap").read_bytes() == path.read_bytes()
-
-
-def test_irap_reads_other_writers_layout(tmp_path):
-    f = tmp_path / "rms.irap"
-    f.write_text(
-        "-996   2   50.000000   25.000000\n 0.000000   100.000000   0.000000   25.000000\n"
-        "3   0.000000   0.000000   0.000000\n0  0  0  0  0  0  0\n"
-        "1000.000000  9999900.000000  1002.5\n 1003.0 1004.0\n 1005.0\n"
-    )
-    s = read_irap(f)
-    assert s.z.tolist()[0][:1] == [1000.0] and np.isnan(s.z[0, 1])
-    assert s.z[1].tolist() == [1003.0, 1004.0, 1005.0]
-    assert s.sample(75.0, 25.0).item() == 1004.5
-    assert read_irap(f, elevation=True).z[1, 0] == -1003.0
-
-
-@pytest.mark.parametrize(
-    ("text", "message"),
-    [
-        ("-995 2 1 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2 3 4\n", r"bad\.irap:1: not an IRAP classic"),
-        (
-            "-996 2 1 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2 3\n",
-            r"2 x 2 nodes needs 4 values, the file has 3",
-        ),
-        ("-996 2 1 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2\n3 x\n", r"bad\.irap:6: 'x' is not a number"),
-        ("-996 2 0 1\n0 1 0 1\n2 0 0 0\n0 0 0 0 0 0 0\n1 2 3 4\n", r"bad\.irap:1: IRAP header: xinc must be"),
-        ("-996 2 1 1\n0 1 0 1\n", r"the header needs 19 numbers"),
-    ],
-)
-def test_irap_bad_input_names_the_file_and_line(tmp_path, text, message):
-    f = tmp_path / "bad.irap"
-    f.write_text(text)
-    with pytest.raises(InputError, match=message):
-        read_irap(f)
+# --------------------------------------------------------------------------- surfaces
 
 
 def test_surface_sampling_with_rotation():
@@ -281,35 +158,6 @@ def test_surface_sampling_with_rotation():
     assert np.isnan(s.sample(110.0, 205.0))  # outside the rotated lattice
     with pytest.raises(InputError, match="rotated by 90 degrees"):
         s.to_horizon()
-
-
-def test_points_files(tmp_path):
-    csv = tmp_path / "top.csv"
-    csv.write_text("# picks\nX,Y,Z,well\n0,0,1000,A\n100,0,1010,B\n0,100,1000,C\n")
-    pts = read_points(csv, columns=["x", "y", "z"])
-    assert pts.tolist() == [[0.0, 0.0, 1000.0], [100.0, 0.0, 1010.0], [0.0, 100.0, 1000.0]]
-    txt = tmp_path / "top.xyz"
-    txt.write_text("0 0 -1000\n100 0 -1010   # comment\n\n0 100 -999\n5 5 -999.25\n")
-    assert read_points(txt, elevation=True, null=-999.0)[:, 2].tolist() == [1000.0, 1010.0, 999.25]
-
-
-@pytest.mark.parametrize(
-    ("text", "kwargs", "message"),
-    [
-        ("0,0,1000\n1,2\n", {}, r"top\.csv:2: expected 3 columns \(x, y, z\), found 2"),
-        ("x,y,z,w\n0,0,1000,1\n", {}, r"top\.csv:1: expected 3 columns \(x, y, z\), found 4; pass columns="),
-        ("0,0,1000\n1,2,abc\n", {}, r"top\.csv:2: column 3 \(z\): 'abc' is not a number"),
-        ("1,2,abc\n0,0,1000\n", {}, r"top\.csv:1: column 3 \(z\): 'abc' is not a number"),  # no header
-        ("0,0,1000\n1,2,nan\n", {}, r"top\.csv:2: x, y and z must be finite"),
-        ("# nothing\n", {}, r"top\.csv: no data lines"),
-        ("x,y,z\n0,0,1\n", {"columns": ["x", "y", "depth"]}, r"top\.csv: no column 'depth' in the header"),
-    ],
-)
-def test_points_file_errors_name_the_file_and_line(tmp_path, text, kwargs, message):
-    f = tmp_path / "top.csv"
-    f.write_text(text)
-    with pytest.raises(InputError, match=message):
-        read_points(f, **kwargs)
 
 
 def test_bad_options_and_undefined_surfaces(tmp_path):

@@ -23,7 +23,7 @@ from pathlib import Path
 import pytest
 from artifacts import assert_same_files
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PROFILE = ROOT / "workflow" / "profiles" / "slurm"
 CASES = ("ellipsoid", "twisted")
 # A study of the twisted case: two values of MRST's twister perturbation (one realisation each).

@@ -11,6 +11,7 @@ from gridlib import io
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.horizons import horizon_dataset
 from gridlib.horizons.surface import Surface
+from gridlib.io import read, write
 from gridlib.petrophysics import PropertyCube
 
 
@@ -107,3 +108,11 @@ def test_unknown_suffix_is_one_error_naming_the_file(tmp_path):
         io.kind_of(tmp_path / "a.txt", ("deck", "grid"))
     assert io.kind_of(tmp_path / "A.EGRID", ("deck", "grid")) == "deck"
     assert list(tmp_path.iterdir()) == []
+
+
+def test_registry_dispatches_on_suffix(tmp_path):
+    g = gl.cart_grid([2, 2])
+    write(tmp_path / "a.nc", g)
+    assert read(tmp_path / "a.nc").grid.num_cells == 4
+    with pytest.raises(gl.InputError, match=r"cannot write '\.xyz'"):
+        write(tmp_path / "a.xyz", g)

@@ -27,7 +27,7 @@ from gridlib.io.grdecl import DeckError, read_grdecl, write_grdecl
 from gridlib.transmissibility import NEIGHBOR, OTHER, deck_transmissibility
 from gridlib.units import METRIC
 
-DECKS = Path(__file__).parent / "data" / "decks"
+DECKS = Path(__file__).parents[1] / "data" / "decks"
 
 
 def flow_reference(deck_path: Path, out: Path) -> dict[tuple[int, int], float]:
