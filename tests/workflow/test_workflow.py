@@ -474,7 +474,9 @@ def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workf
     )
     assert [name for name in stage_files if (folder / name).exists()] == []
     assert all((kept / name).exists() for name in stage_files)
-    assert (folder / "grid.grdecl").exists() and (folder / "flow" / "ANTICLINE.DATA").exists()
+    # the Flow deck's GRID include holds the grid: grid.grdecl is a stage file here
+    assert not (folder / "grid.grdecl").exists() and (folder / "flow" / "ANTICLINE_GRID.INC").exists()
+    assert (kept / "grid.grdecl").exists() and (folder / "flow" / "ANTICLINE.DATA").exists()
     assert "Nothing to be done" in (lambda r: r.stdout + r.stderr)(_snakemake(tmp_path, *config, "--dry-run"))
 
     one = folder / "anticline.nc"

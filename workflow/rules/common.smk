@@ -271,7 +271,7 @@ def all_outputs():
         files += [f"{RESULTS}/{name}/study.{ext}" for ext in ("csv", "nc", "png")]
     for name, case in sorted(CASES.items()):
         files += [out(k).format(case=name) for k in EXPORTS]
-        if case.writes_grdecl:
+        if case.writes_grdecl and (case.keeps_stage_files or not case.writes_flow_deck):
             files.append(out("grdecl").format(case=name))
         if has_transmissibility(case) and case.keeps_stage_files:
             files.append(out("transmissibility").format(case=name))

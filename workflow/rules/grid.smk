@@ -55,4 +55,13 @@ use rule grid_grdecl as grid_grdecl_temp with:
         grid=temp(out("grid")),
         grdecl=out("grdecl"),
     wildcard_constraints:
-        case=stage_cases(lambda c: c.writes_grdecl, False),
+        case=stage_cases(lambda c: c.writes_grdecl and not c.writes_flow_deck, False),
+
+
+# The Flow deck's GRID include holds the same grid (with the rock): grid.grdecl is a stage file.
+use rule grid_grdecl as grid_grdecl_deck_temp with:
+    output:
+        grid=temp(out("grid")),
+        grdecl=temp(out("grdecl")),
+    wildcard_constraints:
+        case=stage_cases(lambda c: c.writes_grdecl and c.writes_flow_deck, False),
