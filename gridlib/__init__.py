@@ -13,9 +13,8 @@ z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
 >>> gl.check_grid(g, geo)
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
 from ._lazy import lazy_exports
+from .version import __version__
 
 # The public names, imported on first use (PEP 562): `import gridlib` and the workflow's
 # `import gridlib.config` stay cheap, and a stage imports only the modules it uses.
@@ -79,10 +78,6 @@ _EXPORTS: dict[str, str] = {
     "rectangle": ".voronoi",
 }
 
-try:
-    __version__ = version("gridlib")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0+unknown"
 
 __all__ = [
     "Cells",

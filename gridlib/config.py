@@ -23,6 +23,7 @@ import jsonschema
 import yaml
 
 from .errors import InputError
+from .version import __version__
 
 T = TypeVar("T")
 
@@ -104,8 +105,6 @@ class Case:
 
     def provenance(self) -> dict[str, object]:
         """Attributes every output of this case carries."""
-        from . import __version__
-
         return {
             "gridlib_version": __version__,
             "case_name": self.name,

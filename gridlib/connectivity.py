@@ -6,11 +6,13 @@ offset arrays, ``np.repeat``, ``bincount``, sorting and pointer jumping.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .errors import GridError
-from .grid import Grid, IntArray
+from .grid import Cells, Grid, IntArray
 
 
 def offsets(counts: ArrayLike) -> IntArray:
@@ -177,10 +179,6 @@ def order_cell_faces_2d(grid: Grid) -> Grid:
     The order follows the cell's boundary with the cell on the left
     (counter-clockwise for planar grids), starting at its first half-face.
     """
-    from dataclasses import replace
-
-    from .grid import Cells
-
     _, slot = half_face_cycle_slots(grid)
     cf = grid.cells.faces
     faces = np.empty_like(cf)

@@ -10,9 +10,9 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from .. import __version__
 from ..errors import InputError
 from ..stratigraphic.horizon_maps import Horizon
+from ..version import __version__
 from .ordering import depth_stack, horizon_names, order_horizons
 
 

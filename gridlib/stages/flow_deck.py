@@ -51,6 +51,7 @@ from ..io.grdecl import read_grdecl
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
+from ..version import __version__
 from .common import artifact_paths, length_of, log, read_attrs, read_extra
 from .petrophysics import read_rock
 from .transmissibility import CELL_VARS, CONNECTION_VARS, deck_with_rock, read_transmissibility
@@ -162,8 +163,6 @@ def stage_flow_deck(
 
 
 def _header(case: Case) -> list[str]:
-    from .. import __version__
-
     return [
         f"{case.flow_name}: OPM Flow deck of gridlib case '{case.name}', written by gridlib {__version__}",
         f"case file {case.path}",

@@ -19,6 +19,7 @@ from typing import Any
 
 import yaml
 
+from ..io.netcdf import write_dataset
 from ..io.pictures import save_figure
 from .common import log
 from .summary import COLUMNS, write_csv
@@ -134,8 +135,6 @@ def stage_study(
 ) -> None:
     """study.csv, study.nc and study.png (``outputs`` keys ``csv``, ``nc``, ``png``) from the
     study's manifest (results/<study>/variants.yaml) and its variants' summary.json files."""
-    from ..io.netcdf import write_dataset
-
     manifest = yaml.safe_load(Path(manifest_file).read_text(encoding="utf-8"))
     loaded = [json.loads(Path(p).read_text(encoding="utf-8")) for p in summaries]
     columns, rows = study_rows(manifest, loaded)

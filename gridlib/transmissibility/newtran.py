@@ -31,6 +31,7 @@ from ..geometry import cross
 from ..grid import B, E, FloatArray, Grid, IntArray, N, S, T, W
 from ..threads import concurrently
 from ..units import MILLIDARCY, UnitSystem
+from .pinch import minpv_connections
 
 # Corners (a + 2b + 4c) of each logical face W, E, S, N, T, B (grid.W..grid.B)
 FACE_CORNERS = np.array([[0, 2, 4, 6], [1, 3, 5, 7], [0, 1, 4, 5], [2, 3, 6, 7], [0, 1, 2, 3], [4, 5, 6, 7]])
@@ -375,8 +376,6 @@ def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
 def _minpv_pairs(deck: Deck, cell_of: IntArray, parts, notes: list[str]):
     """Grid cells (upper, lower) of Flow's MINPV connections not already joined by a face
     (any of the connections in ``parts``)."""
-    from .pinch import minpv_connections
-
     pairs = minpv_connections(deck)
     if pairs.size == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)

@@ -28,6 +28,7 @@ from ..errors import GridError
 from ..geometry import compute_geometry
 from ..grid import Grid
 from ..reproducible import arccos
+from .pebi_result import PebiGrid
 
 
 @dataclass(frozen=True)
@@ -80,8 +81,6 @@ def _angles(normals: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 def grid_quality(obj: object) -> PebiQuality:
     """Quality figures of a :class:`PebiGrid` or of a planar 2-D :class:`Grid`."""
-    from .pebi_grid import PebiGrid
-
     sites = None
     cells_per_well: dict[str, int] = {}
     faces_per_fault: dict[str, int] = {}
