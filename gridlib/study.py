@@ -292,7 +292,8 @@ def artifacts_of(data: dict[str, Any]) -> tuple[str, ...]:
     names += ["petrophysics"] if case.has_petrophysics else []
     names += ["coarse"] if case.has_coarsening else []
     names += ["transmissibility"] if case.has_petrophysics else []
-    names += ["nc", "vtu", "faults", "png", "histograms", "summary"]
+    names = [n for n in names if n not in case.dropped_artifacts]
+    names += ["nc"] + (["vtu"] if case.writes_vtu else []) + ["faults", "png", "histograms", "summary"]
     names += ["flow"] if case.writes_flow_deck else []
     return tuple(names)
 

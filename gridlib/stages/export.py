@@ -237,7 +237,8 @@ def _cell_data(
 
 
 def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
-    """``{case}.nc``, ``{case}.vtu`` and ``{case}_faults.vtp``; returns the number of fault faces."""
+    """``{case}.nc``, ``{case}.vtu`` (unless ``outputs`` has no "vtu": the case's
+    ``outputs.vtu`` is false) and ``{case}_faults.vtp``; returns the number of fault faces."""
     grid, geo = g.grid, g.geo
     write_netcdf(
         outputs["nc"],
@@ -249,10 +250,11 @@ def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
         var_attrs=g.var_attrs,
         face_vectors=False,
     )
-    vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **g.cell_data}
-    if grid.layering is not None:
-        vtu_data |= {"layer": grid.layering.layer, "column": grid.layering.column}
-    write_vtu(outputs["vtu"], grid, vtu_data)
+    if "vtu" in outputs:
+        vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **g.cell_data}
+        if grid.layering is not None:
+            vtu_data |= {"layer": grid.layering.layer, "column": grid.layering.column}
+        write_vtu(outputs["vtu"], grid, vtu_data)
     return write_fault_faces(Path(outputs["faults"]), grid, g.fault_names, g.face_trans)
 
 

@@ -68,7 +68,8 @@ def run_case(case_file: str | os.PathLike, folder: str | os.PathLike, simulate: 
         trans = out["transmissibility"]
         stage_transmissibility(case_file, out["grid"], out["geometry"], petro, trans, grdecl)
         written.append(trans)
-    exports = {k: str(out[k]) for k in ("nc", "vtu", "faults", "png", "histograms", "summary")}
+    keys = ("nc", "vtu", "faults", "png", "histograms", "summary")
+    exports = {k: str(out[k]) for k in keys if k != "vtu" or case.writes_vtu}
     stage_export(case_file, out["grid"], out["geometry"], exports, petro, coarse, trans)
     written += [Path(p) for p in exports.values()]
     if case.writes_flow_deck:
@@ -80,4 +81,7 @@ def run_case(case_file: str | os.PathLike, folder: str | os.PathLike, simulate: 
             results = {"summary": out["flow_summary"], "wells": out["flow_wells"], "vtu": out["flow_vtu"]}
             stage_simulate(case_file, out["flow_deck"], out["grid"], trans, results)
             written += list(results.values())
-    return written
+    dropped = {out[k] for k in case.dropped_artifacts}  # outputs.stage_files: false
+    for path in dropped:
+        path.unlink(missing_ok=True)
+    return [p for p in written if Path(p) not in dropped]

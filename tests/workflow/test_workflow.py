@@ -449,7 +449,8 @@ def test_pebi_lateral_transmissibility_is_k_area_over_site_distance(workflow_run
 
 
 def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workflow_run, tmp_path):
-    """outputs.stage_files: false: the per-stage files are gone after the run, a second run does
+    """outputs.stage_files and vtu false: the per-stage files are gone after the run (and the
+    VTU is not written), a second run does
     nothing, and {case}.nc gives every reader the same arrays the stage files held (the
     geometry's face vectors recomputed from the grid, to the bit)."""
     from gridlib.stages.petrophysics import read_rock
@@ -458,7 +459,7 @@ def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workf
     cases = tmp_path / "config" / "cases"
     cases.mkdir(parents=True)
     data = yaml.safe_load((ROOT / "config" / "cases" / "anticline.yaml").read_text())
-    data["outputs"] = {"stage_files": False}
+    data["outputs"] = {"stage_files": False, "vtu": False}
     (cases / "anticline.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
     config = ["--config", f"cases={cases}/*.yaml", "studies=[]"]
     result = _snakemake(tmp_path, *config)
@@ -473,6 +474,7 @@ def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workf
         "transmissibility.nc",
     )
     assert [name for name in stage_files if (folder / name).exists()] == []
+    assert not (folder / "anticline.vtu").exists() and (kept / "anticline.vtu").exists()
     assert all((kept / name).exists() for name in stage_files)
     # the Flow deck's GRID include holds the grid: grid.grdecl is a stage file here
     assert not (folder / "grid.grdecl").exists() and (folder / "flow" / "ANTICLINE_GRID.INC").exists()

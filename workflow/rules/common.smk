@@ -95,6 +95,8 @@ def stage_cases(test, kept):
 
 FLOW_NAMES = "|".join(sorted(c.flow_name for c in CASES.values())) or "(?!)"
 EXPORTS = ("nc", "vtu", "faults", "png", "histograms", "summary")
+WITH_VTU = _cases_where(lambda c: c.writes_vtu)
+WITHOUT_VTU = _cases_where(lambda c: not c.writes_vtu)
 
 
 def case_file(wildcards):
@@ -270,7 +272,9 @@ def all_outputs():
         files += study_variant_outputs(name)
         files += [f"{RESULTS}/{name}/study.{ext}" for ext in ("csv", "nc", "png")]
     for name, case in sorted(CASES.items()):
-        files += [out(k).format(case=name) for k in EXPORTS]
+        files += [
+            out(k).format(case=name) for k in EXPORTS if k != "vtu" or case.writes_vtu
+        ]
         if case.writes_grdecl and (case.keeps_stage_files or not case.writes_flow_deck):
             files.append(out("grdecl").format(case=name))
         if has_transmissibility(case) and case.keeps_stage_files:

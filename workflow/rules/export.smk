@@ -28,6 +28,8 @@ rule export:
         f"{RESULTS}/logs/{{case}}/export.log",
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/export.tsv"
+    wildcard_constraints:
+        case=WITH_VTU,
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -35,3 +37,24 @@ rule export:
         mem_mb=4000,
     script:
         "../scripts/export.py"
+
+
+use rule export as export_without_vtu with:
+    output:
+        nc=out("nc"),
+        faults=out("faults"),
+        png=report(
+            out("png"),
+            caption="../report/grid.rst",
+            category="Grids",
+            subcategory="{case}",
+        ),
+        histograms=report(
+            out("histograms"),
+            caption="../report/histograms.rst",
+            category="Grids",
+            subcategory="{case}",
+        ),
+        summary=out("summary"),
+    wildcard_constraints:
+        case=WITHOUT_VTU,

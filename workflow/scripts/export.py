@@ -2,7 +2,8 @@
 
 from gridlib.stages import run_logged, stage_export
 
-outputs = {key: snakemake.output[key] for key in ("nc", "vtu", "faults", "png", "histograms", "summary")}
+keys = ("nc", "vtu", "faults", "png", "histograms", "summary")
+outputs = {key: snakemake.output[key] for key in keys if key in snakemake.output.keys()}  # vtu: outputs.vtu
 run_logged(
     snakemake.log[0],
     stage_export,
