@@ -27,6 +27,7 @@ from .geometry import Geometry, compute_geometry
 from .grid import Grid
 
 _MAX_LISTED = 5
+_ROWS = 1 << 18  # faces per block of the duplicate-face search
 
 
 def _ids(mask: np.ndarray) -> str:
@@ -131,19 +132,27 @@ def _repeated_and_duplicate_faces(
     repeating, candidates, rows_of = [], [], []
     multipliers = np.random.default_rng(0x5EED).integers(1, 2**62, size=int(counts.max(initial=0)) + 1)
     multipliers |= 1  # odd: multiplication is a bijection modulo 2**64
+
+    def sorted_rows(faces: np.ndarray, k: int) -> np.ndarray:
+        return np.sort(nodes[pos[faces][:, None] + np.arange(k)], axis=1)
+
     for k in np.unique(counts[counts > 0]):  # faces without nodes are reported by their count
         faces = np.flatnonzero(counts == k)
-        rows = np.sort(nodes[pos[faces][:, None] + np.arange(k)], axis=1)
-        if k > 1:
-            repeating.append(faces[(rows[:, 1:] == rows[:, :-1]).any(axis=1)])
-        with np.errstate(over="ignore"):
-            h = (rows.astype(np.uint64) * multipliers[:k].astype(np.uint64)).sum(axis=1, dtype=np.uint64)
+        h = np.empty(faces.size, dtype=np.uint64)
+        for start in range(0, faces.size, _ROWS):  # in blocks: a few rows' tables at a time
+            block = faces[start : start + _ROWS]
+            rows = sorted_rows(block, k)
+            if k > 1:
+                repeating.append(block[(rows[:, 1:] == rows[:, :-1]).any(axis=1)])
+            with np.errstate(over="ignore"):
+                weighted = rows.astype(np.uint64) * multipliers[:k].astype(np.uint64)
+                h[start : start + _ROWS] = weighted.sum(axis=1, dtype=np.uint64)
         hs = np.sort(h)
         twice = hs[1:][hs[1:] == hs[:-1]]
         if twice.size:
             pick = np.flatnonzero(np.isin(h, twice))  # ascending face number: the first is kept
             candidates.append(faces[pick])
-            rows_of.append(rows[pick])
+            rows_of.append(sorted_rows(faces[pick], k))
     empty = np.zeros(0, dtype=np.int64)
     rep = np.sort(np.concatenate(repeating)) if repeating else empty
     dups = []

@@ -92,6 +92,7 @@ def assemble(
     key = lo * (int(hi.max(initial=0)) + 1) + hi
     order = np.argsort(key, kind="stable")  # entries of one pair keep their given order
     key = key[order]
+    del cells
     first = np.ones(order.size, dtype=bool)
     np.not_equal(key[1:], key[:-1], out=first[1:])
     if first.all():  # one entry per pair: nothing to add up
@@ -106,6 +107,8 @@ def assemble(
         keep = total > 0.0
         pick = order[starts[keep]]
         total, kmin = total[keep], kmin[keep]
+    del key, order, first
     pairs = np.column_stack([lo[pick], hi[pick]])
+    del lo, hi
     glob = None if index_map is None else np.asarray(index_map, dtype=np.int64)[pairs]
     return Connections(pairs, glob, total, kmin, face[pick], units, tuple(notes))

@@ -100,6 +100,7 @@ def deck_transmissibility(
 
     raw = newtran_connections(deck, grid, perm, ntg, units, pinch_active, notes)
     a, b, ta, tb, f, column, trans = raw.a, raw.b, raw.ta, raw.tb, raw.face, raw.column, raw.trans
+    del raw, perm, ntg  # from here on, every array is dropped once used: this is the peak of memory
     ga, gb = glob[a], glob[b]
 
     mult = directional_multipliers(deck, notes)
@@ -110,16 +111,21 @@ def deck_transmissibility(
             ma = np.where(column & (ta == B), smallest, ma)
             mb = np.where(column & (tb == B), smallest, mb)
         trans = trans * ma * mb
+        del mult, ma, mb
 
     region = region_multipliers(deck, ga, gb, ta // 2, notes)  # MULTREGT; tag // 2 = axis
     if region is not None:
         trans = trans * region
 
-    neighbor = logical_neighbors(ga, gb, dims)
-    kind = np.where(neighbor, NEIGHBOR, np.where(column, PINCH, FAULT)).astype(np.int8)
+    kind = np.full(ga.size, FAULT, dtype=np.int8)
+    kind[column] = PINCH
+    kind[logical_neighbors(ga, gb, dims)] = NEIGHBOR
+    del ga, gb, ta, tb, column
+    pairs = np.column_stack([a, b])
+    del a, b
     # EDIT TRANX/Y/Z, EDITNNC, NNC keyword, small non-neighbours (.edits)
     pairs, trans, kind, f = apply_deck_edits(
-        deck, np.column_stack([a, b]), trans, kind, f, glob, notes, units.transmissibility_label
+        deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
     )
     return assemble(pairs, trans, kind, f, index_map=glob, units=units.name, notes=notes)
 

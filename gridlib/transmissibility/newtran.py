@@ -22,6 +22,7 @@ deck's transmissibility unit (:mod:`gridlib.units`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -96,7 +97,7 @@ def interior_logical_faces(grid: Grid, dims: tuple[int, int, int]):
     below = gb // (nx * ny) > ga // (nx * ny)  # in one column: b under a
     ta = np.select([di > 0, di < 0, dj > 0, dj < 0, below], [E, W, N, S, B], T)
     tb = ta ^ 1  # the opposite side: W <-> E, S <-> N, T <-> B
-    return f, a, ta.astype(np.int64), b, tb.astype(np.int64)
+    return f, a, ta.astype(np.int8), b, tb.astype(np.int8)
 
 
 def half_transmissibilities(area: FloatArray, d: FloatArray, kdd: FloatArray) -> FloatArray:
@@ -301,8 +302,9 @@ def newtran_connections(
         lookup = np.full(nc, -1, dtype=np.int64)
         lookup[lo[hit]] = f[hit]
         face_of.append(lookup)
+    del lo, step, hit
 
-    def simple_pairs(axis: int):
+    def simple_pairs(axis: int, halves: FloatArray, face_of: list[IntArray]):
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
         half from its own cell's face (the same quadrilateral, the same bits)."""
         stride = strides[axis]
@@ -310,7 +312,7 @@ def newtran_connections(
         g = np.flatnonzero(simple[axis])
         t = combine(halves[plus, g], halves[minus, g + stride], units)
         n = g.size
-        tags = (np.full(n, plus), np.full(n, minus))
+        tags = (np.full(n, plus, dtype=np.int8), np.full(n, minus, dtype=np.int8))
         return cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t
 
     rest = ~is_simple
@@ -341,16 +343,29 @@ def newtran_connections(
         )
         return a, b, ta, tb, f, column, t
 
-    tasks = [lambda axis=axis: simple_pairs(axis) for axis in range(3)]
-    parts = concurrently(*tasks, lambda: other_pairs(f, a, ta, b, tb, column))
+    tasks = [partial(simple_pairs, axis, halves, face_of) for axis in range(3)]
+    tasks.append(partial(other_pairs, f, a, ta, b, tb, column))
+    del halves, face_of, f, a, ta, b, tb, ga, gb, column  # the tasks hold what they need
+    parts = concurrently(*tasks)
+    del tasks
     up, low = _minpv_pairs(deck, cell_of, parts, notes)
     if up.size:
         n = up.size
         parts.append(
-            other_pairs(np.full(n, -1), up, np.full(n, B), low, np.full(n, T), np.ones(n, dtype=bool))
+            other_pairs(
+                np.full(n, -1),
+                up,
+                np.full(n, B, dtype=np.int8),
+                low,
+                np.full(n, T, dtype=np.int8),
+                np.ones(n, dtype=bool),
+            )
         )
-    cols = list(zip(*parts, strict=True))
-    return RawConnections(*(np.concatenate(c) for c in cols))
+    columns = []  # each field of the parts joined, the parts' own arrays dropped as it goes
+    for field in range(len(parts[0])):
+        columns.append(np.concatenate([part[field] for part in parts]))
+        parts = [(*part[:field], None, *part[field + 1 :]) for part in parts]
+    return RawConnections(*columns)
 
 
 def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
