@@ -272,8 +272,42 @@ class _CountMismatch(Exception):
         self.total = total
 
 
+_PARSE_BLOCK = 1 << 24  # bytes of text parsed at a time: the C reader's tables stay small
+
+
 def _fast_numbers(text: bytes, expected: int | None, at_most: int | None) -> Numbers | None:
-    """Parse with pandas' C reader; None when something needs the careful path."""
+    """Parse with pandas' C reader, a block of ``_PARSE_BLOCK`` bytes at a time (cut between
+    tokens); None when something needs the careful path."""
+    if len(text) <= _PARSE_BLOCK:
+        return _fast_block(text, expected, at_most)
+    cap = expected if expected is not None else at_most
+    parts: list[Numbers] = []
+    start = 0
+    while start < len(text):
+        stop = min(start + _PARSE_BLOCK, len(text))
+        while stop < len(text) and not text[stop : stop + 1].isspace():
+            stop += 1
+        try:
+            part = _fast_block(text[start:stop], None, cap)  # no block may hold more than all
+        except _CountMismatch:
+            return _fast_block(text, expected, at_most)  # the whole text: the exact count in the message
+        if part is None:
+            return None
+        parts.append(part)
+        start = stop
+    values = np.concatenate([p.values for p in parts])
+    if expected is not None and values.size != expected:
+        raise _CountMismatch(values.size)
+    defaulted = None
+    if any(p.defaulted is not None for p in parts):
+        defaulted = np.concatenate(
+            [p.defaulted if p.defaulted is not None else np.zeros(p.values.size, bool) for p in parts]
+        )
+    return Numbers(values, defaulted)
+
+
+def _fast_block(text: bytes, expected: int | None, at_most: int | None) -> Numbers | None:
+    """One piece of :func:`_fast_numbers`."""
     for ch in (b"\t", b"\r", b"\f", b"\v"):
         if ch in text:
             text = text.replace(ch, b" ")

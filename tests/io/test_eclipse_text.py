@@ -84,3 +84,31 @@ def test_format_values_in_small_blocks_is_the_plain_text(monkeypatch, integer):
     monkeypatch.setattr(eclipse_text, "_TABLE_BLOCK", 5)
     monkeypatch.setattr(eclipse_text, "_CHUNK_RUNS", 12)
     assert b"".join(eclipse_text.format_values(v, integer)) == expected
+
+
+def test_numbers_parsed_in_blocks_equal_one_piece(monkeypatch):
+    """Big keywords are parsed a block of text at a time (cut between tokens): the values and
+    the defaulted mask are those of the text in one piece, whatever the block size."""
+    import numpy as np
+
+    from gridlib.io import eclipse_text
+
+    rng = np.random.default_rng(3)
+    for _ in range(100):
+        tokens = []
+        for _ in range(int(rng.integers(1, 300))):
+            r = rng.random()
+            if r < 0.2:
+                tokens.append(f"{rng.integers(1, 5)}*{rng.normal():.6g}")
+            elif r < 0.25:
+                tokens.append(f"{rng.integers(1, 5)}*")
+            else:
+                tokens.append(repr(float(rng.normal())))
+        text = "".join(t + (" ", "\n", "  ", "\t")[rng.integers(0, 4)] for t in tokens).encode()
+        whole = eclipse_text._fast_block(text, None, None)
+        monkeypatch.setattr(eclipse_text, "_PARSE_BLOCK", int(rng.integers(1, 50)))
+        blocks = eclipse_text._fast_numbers(text, None, None)
+        assert whole.values.tobytes() == blocks.values.tobytes()
+        assert (whole.defaulted is None) == (blocks.defaulted is None)
+        if whole.defaulted is not None:
+            assert np.array_equal(whole.defaulted, blocks.defaulted)
