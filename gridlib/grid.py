@@ -52,8 +52,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
+from .arrays import frozen_array
 from .errors import GridError
 
 W, E, S, N, T, B = range(6)
@@ -63,13 +64,22 @@ IntArray = NDArray[np.int64]
 FloatArray = NDArray[np.float64]
 
 
-def _frozen(a: ArrayLike, dtype: type, name: str, ndim: int) -> NDArray:
-    """Adopt ``a`` (copied only if its dtype or layout differ) and make it read-only."""
-    arr = np.asarray(a, dtype=dtype, order="C")
-    if arr.ndim != ndim:
-        raise GridError(f"{name}: expected a {ndim}-D array, got shape {arr.shape}")
-    arr.flags.writeable = False
-    return arr
+def _adopt_ragged(obj: object, pos_field: str, data_field: str, owner: str) -> None:
+    """Adopt ``obj``'s offsets and flat data (int64, read-only) and check that the offsets
+    start at 0, never decrease and end at the data's length."""
+    pos = frozen_array(getattr(obj, pos_field), np.int64, f"{owner}.{pos_field}", 1)
+    data = frozen_array(getattr(obj, data_field), np.int64, f"{owner}.{data_field}", 1)
+    _check_offsets(pos, data.size, f"{owner}.{pos_field}")
+    object.__setattr__(obj, pos_field, pos)
+    object.__setattr__(obj, data_field, data)
+
+
+def _adopt_per(obj: object, field_: str, dtype: type, num: int, owner: str, per: str) -> None:
+    """Adopt ``obj``'s 1-D array ``field_`` (read-only ``dtype``), which holds one entry per ``per``."""
+    arr = frozen_array(getattr(obj, field_), dtype, f"{owner}.{field_}", 1)
+    if arr.size != num:
+        raise GridError(f"{owner}.{field_} must have one entry per {per}")
+    object.__setattr__(obj, field_, arr)
 
 
 def _check_offsets(pos: NDArray, n_data: int, name: str) -> None:
@@ -98,18 +108,11 @@ class Cells:
     index_map: IntArray | None = None
 
     def __post_init__(self) -> None:
-        set_ = object.__setattr__
-        set_(self, "face_pos", _frozen(self.face_pos, np.int64, "cells.face_pos", 1))
-        set_(self, "faces", _frozen(self.faces, np.int64, "cells.faces", 1))
-        _check_offsets(self.face_pos, self.faces.size, "cells.face_pos")
+        _adopt_ragged(self, "face_pos", "faces", "cells")
         if self.face_tag is not None:
-            set_(self, "face_tag", _frozen(self.face_tag, np.int8, "cells.face_tag", 1))
-            if self.face_tag.size != self.faces.size:
-                raise GridError("cells.face_tag must have one entry per half-face")
+            _adopt_per(self, "face_tag", np.int8, self.faces.size, "cells", "half-face")
         if self.index_map is not None:
-            set_(self, "index_map", _frozen(self.index_map, np.int64, "cells.index_map", 1))
-            if self.index_map.size != self.num:
-                raise GridError("cells.index_map must have one entry per cell")
+            _adopt_per(self, "index_map", np.int64, self.num, "cells", "cell")
 
     @property
     def num(self) -> int:
@@ -131,17 +134,14 @@ class Faces:
     tag: NDArray[np.int32] | None = None
 
     def __post_init__(self) -> None:
-        set_ = object.__setattr__
-        set_(self, "node_pos", _frozen(self.node_pos, np.int64, "faces.node_pos", 1))
-        set_(self, "nodes", _frozen(self.nodes, np.int64, "faces.nodes", 1))
-        set_(self, "neighbors", _frozen(self.neighbors, np.int64, "faces.neighbors", 2))
-        _check_offsets(self.node_pos, self.nodes.size, "faces.node_pos")
-        if self.neighbors.shape != (self.num, 2):
-            raise GridError(f"faces.neighbors must have shape ({self.num}, 2), got {self.neighbors.shape}")
-        tag = np.zeros(self.num, np.int32) if self.tag is None else self.tag
-        set_(self, "tag", _frozen(tag, np.int32, "faces.tag", 1))
-        if self.tag.size != self.num:
-            raise GridError("faces.tag must have one entry per face")
+        _adopt_ragged(self, "node_pos", "nodes", "faces")
+        neighbors = frozen_array(self.neighbors, np.int64, "faces.neighbors", 2)
+        if neighbors.shape != (self.num, 2):
+            raise GridError(f"faces.neighbors must have shape ({self.num}, 2), got {neighbors.shape}")
+        object.__setattr__(self, "neighbors", neighbors)
+        if self.tag is None:
+            object.__setattr__(self, "tag", np.zeros(self.num, np.int32))
+        _adopt_per(self, "tag", np.int32, self.num, "faces", "face")
 
     @property
     def num(self) -> int:
@@ -160,7 +160,7 @@ class Nodes:
     coords: FloatArray
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "coords", _frozen(self.coords, np.float64, "nodes.coords", 2))
+        object.__setattr__(self, "coords", frozen_array(self.coords, np.float64, "nodes.coords", 2))
         if self.coords.shape[1] not in (2, 3):
             raise GridError(f"nodes.coords must have 2 or 3 columns, got {self.coords.shape[1]}")
         finite = np.isfinite(self.coords).all(axis=1)
@@ -186,11 +186,8 @@ class Layering:
     num_layers: int
 
     def __post_init__(self) -> None:
-        set_ = object.__setattr__
-        set_(self, "column", _frozen(self.column, np.int64, "layering.column", 1))
-        set_(self, "layer", _frozen(self.layer, np.int64, "layering.layer", 1))
-        if self.column.size != self.layer.size:
-            raise GridError("layering.column and layering.layer differ in length")
+        object.__setattr__(self, "column", frozen_array(self.column, np.int64, "layering.column", 1))
+        _adopt_per(self, "layer", np.int64, self.column.size, "layering", "cell of layering.column")
 
     def subset(self, cells: IntArray) -> Layering:
         return Layering(self.areal, self.column[cells], self.layer[cells], self.num_layers)

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..arrays import point_array
 from ..errors import InputError
 from ..grid import FloatArray
 from ._constants import EXTRAPOLATIONS, METHODS, RBF_GLOBAL_MAX, RBF_NEIGHBORS, check_choice
@@ -84,14 +85,7 @@ def interpolate_points_at(
             raise InputError(f"{name}: neighbors applies to method 'rbf' only (method is {method!r})")
         if isinstance(neighbors, bool) or not isinstance(neighbors, int | np.integer) or neighbors < 3:
             raise InputError(f"{name}: neighbors must be an integer >= 3, got {neighbors!r}")
-    try:
-        pts = np.asarray(points, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: points must be an (n, 3) array of x, y, z ({exc})") from exc
-    if pts.ndim != 2 or pts.shape[1] != 3 or pts.shape[0] == 0:
-        raise InputError(f"{name}: points must be an (n, 3) array of x, y, z, got shape {pts.shape}")
-    if not np.isfinite(pts).all():
-        raise InputError(f"{name}: points must be finite (drop undefined picks)")
+    pts = point_array(points, 3, f"{name}: points", point="pick")
     xq, yq = np.broadcast_arrays(np.asarray(xq, dtype=np.float64), np.asarray(yq, dtype=np.float64))
     if not (np.isfinite(xq).all() and np.isfinite(yq).all()):
         raise InputError(f"{name}: the target points must be finite")

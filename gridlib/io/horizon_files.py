@@ -21,6 +21,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from ..arrays import point_array
 from ..errors import InputError
 from ..grid import FloatArray
 from ..horizons.build import SOURCES, HorizonSource, check_lattice, horizons_from_sources
@@ -138,12 +139,7 @@ def load_horizon_source(k: int, spec: Any, base: Path) -> HorizonSource:
                 null=spec.get("null"),
             )
             return HorizonSource(name, label, kind, pts, spec, str(path))
-        try:
-            pts = np.asarray(src, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"{label}: points: not a file name or an (n, 3) array ({exc})") from exc
-        if pts.ndim != 2 or pts.shape[1] != 3:
-            raise InputError(f"{label}: points: expected an (n, 3) array of x, y, z, got shape {pts.shape}")
+        pts = point_array(src, 3, f"{label}: points (a file name or an array)", min_points=0)
         return HorizonSource(name, label, kind, pts, spec, "points (array)")
     if isinstance(src, Surface):
         return HorizonSource(name, label, kind, src, spec, src.source or f"surface '{src.name}'")

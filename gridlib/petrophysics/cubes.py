@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..arrays import point_array
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
 from .depositional import Depositional
@@ -103,9 +104,7 @@ def sample_cube(
         k = np.minimum(np.floor(frac * nz).astype(np.int64), nz - 1)
         out = out_i | out_j
     else:
-        pts = np.asarray(where, dtype=np.float64)
-        if pts.ndim != 2 or pts.shape[1] != 3 or not np.isfinite(pts).all():
-            raise InputError(f"sample_cube: positions must be a finite (n, 3) array, got shape {pts.shape}")
+        pts = point_array(where, 3, "sample_cube: positions", min_points=0)
         i, out_i = index(pts[:, 0], cube.x)
         j, out_j = index(pts[:, 1], cube.y)
         k, out_k = index(pts[:, 2], cube.z)

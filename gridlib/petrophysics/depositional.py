@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..arrays import frozen_array
 from ..errors import InputError
 from ..geometry import compute_geometry
 from ..grid import FloatArray, Grid, IntArray
@@ -31,16 +32,16 @@ class Depositional:
     layer: IntArray
 
     def __post_init__(self) -> None:
-        set_ = object.__setattr__
-        xy = np.array(self.column_xy, dtype=np.float64)
-        w = np.array(self.w_edges, dtype=np.float64)
-        col = np.array(self.column, dtype=np.int64)
-        lay = np.array(self.layer, dtype=np.int64)
-        if xy.ndim != 2 or xy.shape[1] != 2:
+        what = "depositional coordinates: "
+        xy = frozen_array(self.column_xy, np.float64, what + "column_xy", 2, copy=True, error=InputError)
+        w = frozen_array(self.w_edges, np.float64, what + "w_edges", 1, copy=True, error=InputError)
+        col = frozen_array(self.column, np.int64, what + "column", 1, copy=True, error=InputError)
+        lay = frozen_array(self.layer, np.int64, what + "layer", 1, copy=True, error=InputError)
+        if xy.shape[1] != 2:
             raise InputError(f"depositional coordinates: column_xy must be (ncol, 2), got {xy.shape}")
-        if w.ndim != 1 or w.size < 2 or not np.isfinite(w).all() or (np.diff(w) <= 0).any():
+        if w.size < 2 or not np.isfinite(w).all() or (np.diff(w) <= 0).any():
             raise InputError("depositional coordinates: w_edges must be finite and strictly increasing")
-        if col.shape != lay.shape or col.ndim != 1:
+        if col.shape != lay.shape:
             raise InputError("depositional coordinates: column and layer must be 1-D of equal length")
         if col.size and (col.min() < 0 or col.max() >= xy.shape[0]):
             raise InputError(f"depositional coordinates: column ids must lie in [0, {xy.shape[0]})")
@@ -49,8 +50,7 @@ class Depositional:
         if col.size and not np.isfinite(xy[np.unique(col)]).all():
             raise InputError("depositional coordinates: a column holding cells has no finite (x, y)")
         for name, arr in (("column_xy", xy), ("w_edges", w), ("column", col), ("layer", lay)):
-            arr.flags.writeable = False
-            set_(self, name, arr)
+            object.__setattr__(self, name, arr)
 
     @property
     def num_cells(self) -> int:

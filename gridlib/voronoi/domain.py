@@ -31,6 +31,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
+from ..arrays import point_array
 from ..errors import GridError
 from ..planar import cross2
 from ..reproducible import arctan2
@@ -51,25 +52,16 @@ def rectangle(xmin: float, ymin: float, xmax: float, ymax: float) -> np.ndarray:
 
 def polygon_vertices(domain: object, what: str = "domain") -> np.ndarray:
     """The vertices (n, 2) of a domain given as vertices, two corners or a shapely Polygon."""
+    vertices: object = domain
     if isinstance(domain, shapely.Polygon):
         if len(domain.interiors):
             raise GridError(f"{what}: polygons with holes are not supported")
-        xy = np.asarray(domain.exterior.coords, dtype=np.float64)
+        vertices = domain.exterior.coords
     elif isinstance(domain, shapely.LineString | shapely.LinearRing):
         if not domain.is_closed:
             raise GridError(f"{what}: the line is not closed; give a polygon (its vertices)")
-        xy = np.asarray(domain.coords, dtype=np.float64)
-    else:
-        try:
-            xy = np.asarray(domain, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise GridError(f"{what}: expected a sequence of (x, y) vertices, got {domain!r:.80}") from exc
-    if xy.ndim != 2 or xy.shape[1] != 2:
-        raise GridError(f"{what}: expected (x, y) vertices of shape (n, 2), got shape {xy.shape}")
-    if not np.isfinite(xy).all():
-        raise GridError(
-            f"{what}: vertex {int(np.flatnonzero(~np.isfinite(xy).all(axis=1))[0])} is not finite"
-        )
+        vertices = domain.coords
+    xy = point_array(vertices, 2, what, point="vertex", error=GridError)
     if xy.shape[0] == 2:  # two opposite corners of a rectangle
         lo, hi = xy.min(axis=0), xy.max(axis=0)
         if np.any(hi <= lo):

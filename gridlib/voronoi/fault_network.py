@@ -27,6 +27,7 @@ import shapely
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
+from ..arrays import point_array
 from ..errors import GridError
 from ..planar import cross2, group_pairs, merge_close_points
 from .domain import Domain
@@ -99,15 +100,9 @@ def build_network(
             raise GridError(f"faults[{i}]: expected a Fault, got {type(fault).__name__}")
         label = fault_label(fault, i)
         labels.append(label)
-        pts = fault.points
-        if pts.ndim != 2 or pts.shape[1] != 2:
-            raise GridError(f"{label}: points must have shape (n, 2), got {pts.shape}")
+        pts = point_array(fault.points, 2, label, min_points=0, error=GridError)
         if pts.shape[0] < 2:
             raise GridError(f"{label}: a trace needs at least 2 points, got {pts.shape[0]}")
-        if not np.isfinite(pts).all():
-            raise GridError(
-                f"{label}: point {int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])} is not finite"
-            )
         if fault.spacing is not None:
             if not (
                 isinstance(fault.spacing, int | float) and np.isfinite(fault.spacing) and fault.spacing > 0
