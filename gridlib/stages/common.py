@@ -123,6 +123,17 @@ def length_of(path: str | os.PathLike, name: str) -> int:
         return int(ds[name].shape[0])
 
 
+def check_same_cells(grid_nc: str | os.PathLike, num_cells: int, counts: dict[Any, int]) -> None:
+    """Every stage file read beside ``grid_nc`` (keys of ``counts``: the file, or the file and
+    variable) holds one value per cell of that grid; else an InputError naming both files."""
+    for source, count in counts.items():
+        if count != num_cells:
+            raise InputError(
+                f"{source}: {count} cells, but {grid_nc} has {num_cells} (stage files of different "
+                "grids: build the case again)"
+            )
+
+
 def read_attrs(path: str | os.PathLike) -> dict[str, Any]:
     """Global attributes of a netCDF file, JSON lists decoded."""
     with xr.open_dataset(path, engine="netcdf4") as ds:

@@ -41,7 +41,7 @@ from ..io.netcdf import GridDataset, read_netcdf, write_netcdf
 from ..io.pictures import plot_histograms, render_grid
 from ..io.vtp import write_fault_faces
 from ..io.vtu import write_vtu
-from .common import log, nnc_variables, read_attrs, read_extra
+from .common import check_same_cells, log, nnc_variables, read_attrs, read_extra
 from .petrophysics import read_rock
 from .transmissibility import CONNECTION_VARS, face_connections, read_transmissibility
 
@@ -56,14 +56,6 @@ class _Stored:
         self.global_cells = extra["nnc_global_cells"]
         self.kind = extra["nnc_kind"]
         self.face = extra["nnc_face"]
-
-
-def _transmissibility(path: str | os.PathLike, num_cells: int):
-    """The variables and attributes of ``transmissibility.nc``, checked against the grid."""
-    variables, attrs = read_transmissibility(path)
-    if variables["porv"].size != num_cells:
-        raise InputError(f"{path}: porv has {variables['porv'].size} cells, but the grid has {num_cells}")
-    return variables, attrs
 
 
 def _face_trans(grid: Grid, variables) -> np.ndarray:
@@ -169,13 +161,14 @@ def _gather(
     stored = read_netcdf(grid_nc)
     grid, attrs = stored.grid, read_attrs(grid_nc)
     geo = cell_geometry(geometry_nc)
-    if geo.cell_volumes.size != grid.num_cells:
-        raise InputError(f"{geometry_nc}: {geo.cell_volumes.size} cells, but {grid_nc} has {grid.num_cells}")
+    check_same_cells(grid_nc, grid.num_cells, {geometry_nc: geo.cell_volumes.size})
     fault_names = list(attrs.get("fault_names", []))
     well_names = list(attrs.get("well_names", []))
     rock = read_rock(petrophysics_nc) if petrophysics_nc else None
     partition = read_extra(coarse_nc, ("partition",))["partition"] if coarse_nc else None
-    trans = _transmissibility(transmissibility_nc, grid.num_cells) if transmissibility_nc else None
+    trans = read_transmissibility(transmissibility_nc) if transmissibility_nc else None
+    if trans is not None:
+        check_same_cells(grid_nc, grid.num_cells, {f"{transmissibility_nc}: porv": trans[0]["porv"].size})
     cell_data, var_attrs, depth = _cell_data(stored, geo, rock, partition, trans)
     blocks = None if partition is None else int(partition.max()) + 1
     extra = read_extra(grid_nc, NNC_VARS)

@@ -52,7 +52,7 @@ from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
 from ..version import __version__
-from .common import artifact_paths, length_of, log, read_attrs, read_extra
+from .common import artifact_paths, check_same_cells, length_of, log, read_attrs, read_extra
 from .petrophysics import read_rock
 from .transmissibility import CELL_VARS, CONNECTION_VARS, deck_with_rock, read_transmissibility
 
@@ -106,14 +106,12 @@ def stage_flow_deck(
     rock = read_rock(petrophysics_nc)
     names = CONNECTION_VARS + CELL_VARS if form == "connections" else CELL_VARS
     variables, tattrs = read_transmissibility(transmissibility_nc, names)
-    geo_cells = length_of(geometry_nc, "cell_volume")
-    for what, n in (("geometry", geo_cells), ("petrophysics", rock["poro"].size)):
-        if n != grid.num_cells:
-            raise InputError(f"{case.path}: {what} has {n} cells, but {grid_nc} has {grid.num_cells}")
-    if variables["porv"].size != grid.num_cells:
-        raise InputError(
-            f"{transmissibility_nc}: porv has {variables['porv'].size} cells, the grid {grid.num_cells}"
-        )
+    counts = {
+        geometry_nc: length_of(geometry_nc, "cell_volume"),
+        petrophysics_nc: rock["poro"].size,
+        f"{transmissibility_nc}: porv": variables["porv"].size,
+    }
+    check_same_cells(grid_nc, grid.num_cells, counts)
     system = unit_system(str(tattrs["unit_system"]))
     try:
         conversion(system.name)

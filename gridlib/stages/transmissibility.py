@@ -61,7 +61,7 @@ from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf, write_da
 from ..stratigraphic.nnc import NNC
 from ..transmissibility import KIND_NAMES, Connections, deck_transmissibility, transmissibility
 from ..units import UnitSystem, unit_system
-from .common import length_of, log, read_attrs, read_extra
+from .common import check_same_cells, length_of, log, read_attrs, read_extra
 from .petrophysics import read_rock
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
@@ -83,12 +83,9 @@ def stage_transmissibility(
     case = load_case(case_file)
     stored = read_netcdf(grid_nc)
     grid = stored.grid
-    geo_cells = length_of(geometry_nc, "cell_volume")
-    if geo_cells != grid.num_cells:
-        raise InputError(f"{geometry_nc}: {geo_cells} cells, but {grid_nc} has {grid.num_cells}")
     rock = read_rock(petrophysics_nc)
-    if rock["poro"].size != grid.num_cells:
-        raise InputError(f"{petrophysics_nc}: {rock['poro'].size} cells, but {grid_nc} has {grid.num_cells}")
+    counts = {geometry_nc: length_of(geometry_nc, "cell_volume"), petrophysics_nc: rock["poro"].size}
+    check_same_cells(grid_nc, grid.num_cells, counts)
     attrs = read_attrs(grid_nc)
     if "unit_system" not in attrs:
         raise InputError(

@@ -15,3 +15,59 @@ def test_stage_attributes_decode_json_and_keep_other_text(tmp_path):
     got = read_attrs(path)
     assert got["fault_names"] == ["F1", "F2"] and got["map"] == {"a": 1}
     assert got["note"] == "[not json" and int(got["n"]) == 3
+
+
+def test_stage_files_of_different_grids_fail_naming_both_files(tmp_path):
+    """The transmissibility, Flow deck and export stages read several stage files of one case; a
+    geometry, rock or transmissibility file of another grid ends in an InputError that names
+    the file and the grid file, and writes nothing."""
+    import re
+
+    import pytest
+    import yaml
+
+    from gridlib.errors import InputError
+    from gridlib.stages import case_outputs, run_case, stage_export, stage_flow_deck, stage_transmissibility
+
+    def build(name, counts):
+        data = {
+            "name": name,
+            "grid": {
+                "type": "layered",
+                "areal": {"sites": {"pattern": "hexagonal", "counts": counts, "spacing": 10.0}},
+                "layers": {"top": 1000.0, "thickness": [5.0, 5.0]},
+            },
+            "petrophysics": {"porosity": {"constant": 0.2}, "permeability": {"constant": 100}},
+        }
+        case = tmp_path / f"{name}.yaml"
+        case.write_text(yaml.safe_dump(data, sort_keys=False))
+        run_case(case, tmp_path / name, simulate=False)
+        return case, case_outputs(name, tmp_path / name)
+
+    case, a = build("small", [4, 3])
+    _, b = build("large", [5, 4])
+    out = tmp_path / "new"
+    out.mkdir()
+
+    def fails(file, call):
+        message = rf"^{re.escape(str(file))}: 80 cells, but {re.escape(str(a['grid']))} has 48 \(stage files"
+        with pytest.raises(InputError, match=message):
+            call()
+        assert list(out.iterdir()) == []
+
+    t = out / "transmissibility.nc"
+    fails(b["geometry"], lambda: stage_transmissibility(case, a["grid"], b["geometry"], a["petrophysics"], t))
+    fails(
+        b["petrophysics"],
+        lambda: stage_transmissibility(case, a["grid"], a["geometry"], b["petrophysics"], t),
+    )
+    deck = out / "SMALL.DATA"
+    args = (case, a["grid"], a["geometry"], a["petrophysics"])
+    fails(f"{b['transmissibility']}: porv", lambda: stage_flow_deck(*args, b["transmissibility"], deck))
+    exports = {"nc": str(out / "small.nc"), "summary": str(out / "summary.json")}
+    fails(
+        f"{b['transmissibility']}: porv",
+        lambda: stage_export(
+            case, a["grid"], a["geometry"], exports, a["petrophysics"], None, b["transmissibility"]
+        ),
+    )
