@@ -10,7 +10,7 @@ CORES  ?= all
 # make bench PEER_PYTHON=/path/to/venv/bin/python: peers (resdata, xtgeo) timed from that interpreter
 PEER_PYTHON ?=
 
-.PHONY: run test lint bench golden clean
+.PHONY: run test system-tools lint bench golden clean
 
 $(BIN)/python:
 	@test -n "$(PYTHON)" || { echo "make: no python3.11 or python3 on PATH" >&2; exit 1; }
@@ -30,8 +30,12 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 run: $(VENV)/.installed-run
 	$(BIN)/snakemake --cores $(CORES) --workflow-profile workflow/profiles/default
 
-test: $(VENV)/.installed-test
+test: $(VENV)/.installed-test system-tools
 	$(BIN)/python -m pytest
+
+# OPM Flow and SLURM, which the tests run against (apt-get, as root or with sudo; see the script)
+system-tools:
+	@sh tests/system_tools.sh
 
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check .

@@ -10,23 +10,20 @@ stores float32.
 
 from __future__ import annotations
 
-import os
 import shutil
 import subprocess
 from pathlib import Path
 
 import numpy as np
-import pytest
 import resfo
+from system_tools import missing_tool
 
 
 def flow_executable() -> str:
-    """The ``flow`` command; skips the test without it, fails with GRIDLIB_REQUIRE_FLOW=1."""
+    """The ``flow`` command; without it the test fails (see system_tools.missing_tool)."""
     exe = shutil.which("flow")
     if exe is None:
-        if os.environ.get("GRIDLIB_REQUIRE_FLOW") == "1":
-            pytest.fail("GRIDLIB_REQUIRE_FLOW=1 but OPM Flow ('flow') is not on the PATH")
-        pytest.skip("OPM Flow ('flow') is not installed")
+        missing_tool("OPM Flow ('flow', Debian libopm-simulators-bin) is not on the PATH")
     return exe
 
 

@@ -1,8 +1,7 @@
 """Decks we write are read by OPM Flow, and Flow computes our pore volumes and connections.
 
-Runs when ``flow`` (Debian ``libopm-simulators-bin``) is on the PATH; with
-``GRIDLIB_REQUIRE_FLOW=1`` (set by ``.ci/run``, which installs OPM) a missing
-``flow`` is a failure, so CI never skips this silently.
+Needs ``flow`` (Debian ``libopm-simulators-bin``) on the PATH: ``make test`` installs it, and
+a missing ``flow`` is a failure (tests/system_tools.py).
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@
 * the PEBI sample case runs to its last report step and conserves water;
 * a failed run names the case file and quotes Flow, and leaves nothing behind.
 
-CI installs Flow (GRIDLIB_REQUIRE_FLOW=1 makes its absence a failure). The runs are small
+``make test`` installs Flow (its absence is a failure: tests/system_tools.py). The runs are small
 (about 1,000 to 5,000 cells): the module takes some 40 s.
 """
 
