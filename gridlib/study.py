@@ -44,6 +44,7 @@ import yaml
 
 from .config import Case, check_case_data, load_named, parse_yaml, shared_schema, validate
 from .errors import InputError
+from .io.atomic import atomic_path
 
 STUDY_SCHEMA = "study.schema.yaml"
 SEED_STEP = 3  # a case's fields use seed, seed + 1, seed + 2
@@ -323,8 +324,6 @@ def load_studies(
 def write_if_changed(path: str | os.PathLike, text: str) -> bool:
     """Write ``text`` to ``path`` atomically unless it already holds it (its mtime then stays,
     so Snakemake reruns only what a changed file feeds). True if written."""
-    from .io.atomic import atomic_path
-
     target = Path(path)
     if target.is_file() and target.read_text(encoding="utf-8") == text:
         return False

@@ -1,7 +1,7 @@
 """File formats, one module per format behind one registry (as meshio's).
 
-Every format module registers, for each kind of object it reads or writes, its suffixes and
-its reader and writer (:mod:`gridlib.io.registry`); ``read(path, kind=...)`` and
+The registry (:mod:`gridlib.io.registry`) lists, for each kind of object, the formats that read
+or write it: their suffixes and their reader and writer; ``read(path, kind=...)`` and
 ``write(path, obj, kind=...)`` pick the format from the kind (default ``grid``) and the file
 suffix, and an unknown suffix is one InputError naming the file:
 
@@ -17,24 +17,26 @@ suffix, and an unknown suffix is one InputError naming the file:
 The per-format functions are also importable directly. OPM Flow decks, which are folders of
 files rather than one file: :func:`write_flow_deck` (:mod:`gridlib.io.flow`); the fault faces
 as VTK PolyData: :mod:`.vtp`; pictures: :mod:`.pictures`; every writer writes atomically
-(:mod:`.atomic`).
+(:mod:`.atomic`). A format module is imported when it is first used (by ``read``/``write`` or a
+name below), so importing one format does not cost the others' imports.
 """
 
 from __future__ import annotations
 
-# Every format module, imported here so that each has registered its formats.
-from . import cubes, egrid, grdecl, horizon_files, irap, netcdf, vtu  # noqa: F401
-from .flow import write_flow_deck
-from .netcdf import (
-    GridDataset,
-    grid_to_dataset,
-    read_geometry_netcdf,
-    read_netcdf,
-    write_geometry_netcdf,
-    write_netcdf,
-)
+from .._lazy import lazy_exports
 from .registry import FORMATS, Format, find_format, kind_of, read, register_format, write
-from .vtu import write_vtu
+
+_LAZY = {
+    "write_flow_deck": ".flow",
+    "GridDataset": ".netcdf",
+    "grid_to_dataset": ".netcdf",
+    "read_geometry_netcdf": ".netcdf",
+    "read_netcdf": ".netcdf",
+    "write_geometry_netcdf": ".netcdf",
+    "write_netcdf": ".netcdf",
+    "write_vtu": ".vtu",
+}
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
 __all__ = [
     "FORMATS",

@@ -15,7 +15,6 @@ import xarray as xr
 from ..errors import InputError
 from ..petrophysics.cubes import PropertyCube
 from .datasets import load_dataset, save_dataset
-from .registry import register_format
 
 
 def read_property_cube(path: str | os.PathLike, variables: Sequence[str] | None = None) -> PropertyCube:
@@ -75,6 +74,3 @@ def write_property_cube(
     data = {name: (("z", "y", "x"), v) for name, v in cube.values.items()}
     ds = xr.Dataset(data, coords=coords, attrs={"title": "gridlib property cube", **dict(attrs or {})})
     return save_dataset(path, ds)
-
-
-register_format("netcdf", "cube", (".nc",), read_property_cube, write_property_cube)

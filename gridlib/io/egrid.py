@@ -15,7 +15,6 @@ import numpy as np
 
 from ..cornerpoint.deck import Deck
 from .eclipse_text import DeckError
-from .registry import register_format
 
 _UNIT_NAMES = {1: "METRIC", 2: "FIELD", 3: "LAB", 4: "PVT-M"}
 
@@ -79,6 +78,3 @@ def read_egrid(path: str | os.PathLike) -> Deck:
         nnc=nnc,
     )
     return deck
-
-
-register_format("egrid", "deck", (".egrid", ".fegrid"), read_egrid)

@@ -28,7 +28,7 @@ from ..horizons.build import SOURCES, HorizonSource, check_lattice, horizons_fro
 from ..horizons.surface import Surface, regular_increment
 from .datasets import load_dataset, save_dataset
 from .irap import is_number
-from .registry import ANY_SUFFIX, read, register_format
+from .registry import read
 
 __all__ = [
     "build_horizons",
@@ -352,9 +352,3 @@ def read_horizons(path: str | os.PathLike) -> xr.Dataset:
         if key not in ds.coords:
             raise InputError(f"{p}: not a horizons file (coordinate '{key}' is missing)")
     return ds
-
-
-register_format("netcdf", "surface", (".nc",), read_surface_netcdf)
-register_format("netcdf", "horizons", (".nc",), read_horizons, write_horizons)
-# CSV or whitespace-separated text (.csv, .txt, .xyz, .dat, ...): any suffix
-register_format("text", "points", (ANY_SUFFIX,), read_points)

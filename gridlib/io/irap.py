@@ -55,7 +55,6 @@ import numpy as np
 from ..errors import InputError
 from ..horizons.surface import Surface
 from .atomic import atomic_path
-from .registry import ANY_SUFFIX, register_format
 
 __all__ = ["IRAP_UNDEFINED", "is_number", "read_irap", "write_irap"]
 
@@ -208,7 +207,3 @@ def read_irap_surface(
     file holds one surface, so ``variable`` and ``horizon`` (which pick one of a netCDF file's)
     do not apply."""
     return read_irap(path, elevation=elevation, name=name)
-
-
-# IRAP classic ASCII has no fixed suffix (.irap, .gri, .txt, ...): every suffix no other surface format claims
-register_format("irap", "surface", (ANY_SUFFIX,), read_irap_surface, write_irap)

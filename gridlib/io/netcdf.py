@@ -42,7 +42,6 @@ from ..errors import GridError, InputError
 from ..geometry import Geometry, compute_geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
 from .datasets import load_dataset, save_dataset
-from .registry import register_format
 
 _AXES = ("x", "y", "z")
 
@@ -420,7 +419,3 @@ def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:
     if missing:
         raise InputError(f"{path}: not a gridlib geometry file (missing {', '.join(missing)})")
     return _geometry_from(ds)
-
-
-register_format("netcdf", "grid", (".nc",), read_netcdf, write_netcdf)
-register_format("netcdf", "geometry", (".nc",), read_geometry_netcdf, write_geometry_netcdf)

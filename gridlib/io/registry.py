@@ -8,6 +8,11 @@ lattice: netCDF, IRAP classic ASCII), ``points`` (scattered picks: text), ``cube
 cube, netCDF) and ``horizons`` (a horizons dataset, netCDF). IRAP and point files have no fixed
 suffix: their formats claim every suffix (``*``) that no other format of the kind claims.
 A suffix no format of the kind reads (or writes) is one InputError naming the file.
+
+gridlib's own formats are the table :data:`BUILTIN_FORMATS` below, their readers and writers
+named as ``"module:function"`` and imported on first use: importing ``gridlib.io.netcdf`` (as
+every workflow stage does) does not import the GRDECL, EGRID, IRAP or VTU modules and what
+they need. :func:`register_format` adds a format of one's own (or replaces one).
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from importlib import import_module
 from pathlib import Path
 from typing import Any
 
@@ -26,16 +32,58 @@ ANY_SUFFIX = "*"
 @dataclass(frozen=True)
 class Format:
     """A file format for one kind of object: its name, suffixes (lower case, with the dot, or
-    ``*``), and its reader ``reader(path, **options)`` and writer ``writer(path, obj, ...)``."""
+    ``*``), and its reader ``reader(path, **options)`` and writer ``writer(path, obj, ...)``,
+    each a function or the ``"module:function"`` that names it (imported by :meth:`function`)."""
 
     name: str
     kind: str
     suffixes: tuple[str, ...]
-    reader: Callable[..., Any] | None = None
-    writer: Callable[..., Any] | None = None
+    reader: Callable[..., Any] | str | None = None
+    writer: Callable[..., Any] | str | None = None
+
+    def function(self, mode: str) -> Callable[..., Any]:
+        """The reader (``mode="read"``) or writer (``"write"``), imported if named."""
+        target = self.reader if mode == "read" else self.writer
+        if isinstance(target, str):
+            module, _, name = target.partition(":")
+            target = getattr(import_module(module), name)
+        if target is None:
+            raise InputError(f"the {self.name} format cannot {mode} {self.kind} files")
+        return target
 
 
-FORMATS: list[Format] = []
+_IO = "gridlib.io."
+BUILTIN_FORMATS = (
+    Format("netcdf", "grid", (".nc",), _IO + "netcdf:read_netcdf", _IO + "netcdf:write_netcdf"),
+    Format("vtu", "grid", (".vtu",), None, _IO + "vtu:write_vtu"),
+    Format(
+        "netcdf",
+        "geometry",
+        (".nc",),
+        _IO + "netcdf:read_geometry_netcdf",
+        _IO + "netcdf:write_geometry_netcdf",
+    ),
+    Format(
+        "grdecl",
+        "deck",
+        (".grdecl", ".data", ".inc", ".grd"),
+        _IO + "grdecl:read_grdecl",
+        _IO + "grdecl:write_grdecl",
+    ),
+    Format("egrid", "deck", (".egrid", ".fegrid"), _IO + "egrid:read_egrid"),
+    Format("netcdf", "surface", (".nc",), _IO + "horizon_files:read_surface_netcdf"),
+    Format("irap", "surface", (ANY_SUFFIX,), _IO + "irap:read_irap_surface", _IO + "irap:write_irap"),
+    Format("text", "points", (ANY_SUFFIX,), _IO + "horizon_files:read_points"),
+    Format(
+        "netcdf",
+        "horizons",
+        (".nc",),
+        _IO + "horizon_files:read_horizons",
+        _IO + "horizon_files:write_horizons",
+    ),
+    Format("netcdf", "cube", (".nc",), _IO + "cubes:read_property_cube", _IO + "cubes:write_property_cube"),
+)
+FORMATS: list[Format] = list(BUILTIN_FORMATS)
 
 
 def register_format(
@@ -45,7 +93,8 @@ def register_format(
     reader: Callable[..., Any] | None = None,
     writer: Callable[..., Any] | None = None,
 ) -> Format:
-    """Register a format (called by the format modules when they are imported)."""
+    """Register a format of one's own for ``read``/``write`` (replacing the format of the same
+    name and kind, if any); ``reader``/``writer`` are functions or ``"module:function"``."""
     fmt = Format(name, kind, tuple(s.lower() for s in suffixes), reader, writer)
     FORMATS[:] = [f for f in FORMATS if (f.name, f.kind) != (name, kind)] + [fmt]
     return fmt
@@ -94,9 +143,9 @@ def kind_of(path: str | os.PathLike, kinds: Sequence[str]) -> str:
 def read(path: str | os.PathLike, kind: str = "grid", **options: Any) -> Any:
     """The ``kind`` object in ``path``, read by the format its suffix names; ``options`` go to
     the reader (e.g. ``elevation=True`` for surfaces)."""
-    return find_format(path, kind, "read").reader(path, **options)
+    return find_format(path, kind, "read").function("read")(path, **options)
 
 
 def write(path: str | os.PathLike, obj: Any, *args: Any, kind: str = "grid", **options: Any) -> Any:
     """Write ``obj`` (a ``kind`` object) to ``path`` in the format its suffix names."""
-    return find_format(path, kind, "write").writer(path, obj, *args, **options)
+    return find_format(path, kind, "write").function("write")(path, obj, *args, **options)

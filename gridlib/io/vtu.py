@@ -30,7 +30,6 @@ from ..errors import GridError
 from ..grid import Grid
 from ..threads import concurrently
 from .atomic import atomic_path
-from .registry import register_format
 
 VTK_POLYGON = 7
 VTK_POLYHEDRON = 42
@@ -274,6 +273,3 @@ def _row_blocks(values: np.ndarray, rows: int):
     """``values`` in blocks of ``rows`` rows (views, no copies)."""
     for first in range(0, max(len(values), 1), rows):
         yield values[first : first + rows]
-
-
-register_format("vtu", "grid", (".vtu",), writer=write_vtu)

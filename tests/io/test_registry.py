@@ -116,3 +116,37 @@ def test_registry_dispatches_on_suffix(tmp_path):
     assert read(tmp_path / "a.nc").grid.num_cells == 4
     with pytest.raises(gl.InputError, match=r"cannot write '\.xyz'"):
         write(tmp_path / "a.xyz", g)
+
+
+def test_a_format_module_is_imported_on_first_use_only():
+    """Importing the netCDF format (every workflow stage does) imports no other format module
+    nor what they need; read()/write() import a format's module when they use it."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, gridlib.io.netcdf, gridlib.io as io\n"
+        "formats = ('grdecl', 'egrid', 'irap', 'vtu', 'cubes', 'horizon_files', 'flow')\n"
+        "mods = ['gridlib.io.' + m for m in formats]\n"
+        "mods += ['gridlib.cornerpoint', 'gridlib.horizons', 'pyvista']\n"
+        "print(sorted(m for m in mods if m in sys.modules))\n"
+        "fmt = io.find_format('a.egrid', 'deck')\n"
+        "print(fmt.reader, fmt.function('read').__module__, 'gridlib.io.egrid' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.splitlines() == ["[]", "gridlib.io.egrid:read_egrid gridlib.io.egrid True"]
+
+
+def test_a_format_of_ones_own_is_registered_by_function_or_by_name(tmp_path):
+    from gridlib.io import registry
+
+    saved = list(registry.FORMATS)
+    try:
+        io.register_format("csvgrid", "grid", (".csvg",), reader=lambda path: f"read {path}")
+        assert io.read(tmp_path / "a.csvg") == f"read {tmp_path / 'a.csvg'}"
+        io.register_format("csvgrid", "grid", (".csvg",), writer="gridlib.io.netcdf:write_netcdf")
+        with pytest.raises(gl.InputError, match=r"a\.csvg: unknown file type: cannot read '\.csvg' files"):
+            io.read(tmp_path / "a.csvg")  # replaced by a write-only format of the same name and kind
+        assert io.find_format("a.csvg", "grid", "write").function("write") is io.write_netcdf
+    finally:
+        registry.FORMATS[:] = saved

@@ -50,13 +50,8 @@ block, and the corner-point geometry of a Cartesian deck from
 """
 
 from ..eclipse_text import DeckError
-from ..registry import register_format
 from .keywords import SECTIONS, UNITS
 from .read import read_grdecl
 from .write import write_grdecl
 
 __all__ = ["SECTIONS", "UNITS", "DeckError", "read_grdecl", "write_grdecl"]
-
-
-# ECLIPSE text: GRDECL include files and whole DATA decks
-register_format("grdecl", "deck", (".grdecl", ".data", ".inc", ".grd"), read_grdecl, write_grdecl)
