@@ -30,8 +30,10 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 run: $(VENV)/.installed-run
 	$(BIN)/snakemake --cores $(CORES) --workflow-profile workflow/profiles/default
 
+# One pytest worker per core, each taking whole test modules (their module fixtures run once);
+# tests/conftest.py starts the longest modules first.
 test: $(VENV)/.installed-test system-tools
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n auto --dist loadfile
 
 # OPM Flow and SLURM, which the tests run against (apt-get, as root or with sudo; see the script)
 system-tools:

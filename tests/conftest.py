@@ -8,6 +8,24 @@ import numpy as np
 import pytest
 from seed_points import honeycomb_points
 
+# The longest test modules (their fixtures run the workflow), first in this order, so that under
+# pytest-xdist (make test: -n auto --dist loadfile) they start at once on their workers and the
+# short modules fill the time around them; run one by one, the order changes nothing.
+LONGEST_FIRST = (
+    "workflow/test_workflow.py",
+    "workflow/test_slurm.py",
+    "workflow/test_study.py",
+    "workflow/test_determinism.py",
+)
+
+
+def pytest_collection_modifyitems(session, config, items) -> None:
+    def rank(item) -> int:
+        path = item.path.as_posix()
+        return next((i for i, m in enumerate(LONGEST_FIRST) if path.endswith(m)), len(LONGEST_FIRST))
+
+    items.sort(key=rank)  # stable: the order within each group stays
+
 
 @pytest.fixture
 def honeycomb() -> np.ndarray:
