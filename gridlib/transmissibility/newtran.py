@@ -293,16 +293,7 @@ def newtran_connections(
     )
     halves = structured_halves(deck, perm, ntg)
     ga, gb = glob[a], glob[b]
-    lo, step = np.minimum(ga, gb), np.abs(gb - ga)
-    is_simple = np.zeros(f.size, dtype=bool)
-    face_of = []
-    for axis, stride in enumerate(strides):
-        hit = (step == stride) & simple[axis][lo] & ((ta >> 1) == axis)
-        is_simple |= hit
-        lookup = np.full(nc, -1, dtype=np.int64)
-        lookup[lo[hit]] = f[hit]
-        face_of.append(lookup)
-    del lo, step, hit
+    is_simple, face_of = _simple_faces(f, ta, ga, gb, simple, strides, nc)
 
     def simple_pairs(axis: int, halves: FloatArray, face_of: list[IntArray]):
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
@@ -361,11 +352,42 @@ def newtran_connections(
                 np.ones(n, dtype=bool),
             )
         )
-    columns = []  # each field of the parts joined, the parts' own arrays dropped as it goes
+    return RawConnections(*_joined_fields(parts))
+
+
+def _simple_faces(
+    f: IntArray,
+    ta: np.ndarray,
+    ga: IntArray,
+    gb: IntArray,
+    simple: list[np.ndarray],
+    strides: tuple[int, int, int],
+    nc: int,
+) -> tuple[np.ndarray, list[IntArray]]:
+    """Which of the logical faces ``f`` (tag ``ta`` on the side of global cell ``ga``, the
+    other cell ``gb``) join +axis neighbours whose shared corners coincide (``simple[axis]``
+    of the lower cell); and per axis, the face of each such pair by its lower cell (-1: none)."""
+    lo, step = np.minimum(ga, gb), np.abs(gb - ga)
+    is_simple = np.zeros(f.size, dtype=bool)
+    face_of = []
+    for axis, stride in enumerate(strides):
+        hit = (step == stride) & simple[axis][lo] & ((ta >> 1) == axis)
+        is_simple |= hit
+        lookup = np.full(nc, -1, dtype=np.int64)
+        lookup[lo[hit]] = f[hit]
+        face_of.append(lookup)
+    return is_simple, face_of
+
+
+def _joined_fields(parts: list[tuple]) -> list[np.ndarray]:
+    """Each field of the tuples ``parts`` concatenated; the list is emptied field by field as
+    it goes (in place, so the caller's reference frees them too: the peak is one field's copy
+    on top of the parts, not all of them twice)."""
+    columns = []
     for field in range(len(parts[0])):
         columns.append(np.concatenate([part[field] for part in parts]))
-        parts = [(*part[:field], None, *part[field + 1 :]) for part in parts]
-    return RawConnections(*columns)
+        parts[:] = [(*part[:field], None, *part[field + 1 :]) for part in parts]
+    return columns
 
 
 def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
