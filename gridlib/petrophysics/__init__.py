@@ -34,7 +34,7 @@ The package, one concept a module: :mod:`~gridlib.petrophysics.variogram`
 importable from ``gridlib.petrophysics``.
 
 Units: metres, **z is depth (positive down)**, porosity and NTG as fractions,
-permeability in **millidarcy** (mD; 1 mD = 9.869233e-16 m2).
+permeability in **millidarcy** (mD; 1 mD = 9.869232667160130e-16 m2, :data:`gridlib.units.MILLIDARCY`).
 
 Gaussian random fields
 ----------------------

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike
 from ..errors import InputError
 from ..grid import FloatArray
 from ..reproducible import exp
+from ..units import MILLIDARCY
 from .numbers import finite_number
 
 __all__ = [
@@ -23,8 +24,6 @@ __all__ = [
     "normal_porosity",
     "per_layer",
 ]
-
-MILLIDARCY = 9.869233e-16  # m2
 
 
 def normal_porosity(
@@ -62,7 +61,7 @@ def carman_kozeny(poro: ArrayLike, *, grain_diameter: float = 10e-6, tortuosity:
     """Permeability (mD) from porosity by the Carman-Kozeny relation used in the MRST book:
     K = phi^3 d^2 / (72 tau (1 - phi)^2), ``grain_diameter`` d = 10 micrometres (m) and
     ``tortuosity`` factor tau = 0.81 (the book's ``0.81*72``); converted from m2 by
-    1 mD = 9.869233e-16 m2. Porosity must lie in [0, 1).
+    1 mD = 9.869232667160130e-16 m2 (:data:`gridlib.units.MILLIDARCY`). Porosity must lie in [0, 1).
 
     >>> k = carman_kozeny(0.2)
     >>> round(float(k), 1), f"{float(k) * MILLIDARCY:.4g} m2"

@@ -24,7 +24,8 @@ def test_carman_kozeny_of_the_mrst_book():
     k = carman_kozeny(0.2)  # d = 10 micrometres, tau = 0.81
     assert round(float(k), 1) == 21.7  # mD, to three digits
     assert float(k) * MILLIDARCY == pytest.approx(2.143e-14, rel=5e-4)  # m2
-    expected = 0.2**3 * (10e-6) ** 2 / (72 * 0.81 * 0.8**2) / 9.869233e-16
+    darcy = 1e-3 * 1e-2 * 1e-2 / 101325.0  # 1 cP x 1 cm/s x 1 cm / 1 atm, exactly (m2)
+    expected = 0.2**3 * (10e-6) ** 2 / (72 * 0.81 * 0.8**2) / (1e-3 * darcy)
     assert float(k) == pytest.approx(expected, rel=1e-15)
     assert carman_kozeny([0.0, 0.1, 0.3]).tolist()[0] == 0.0
     with pytest.raises(InputError, match=r"porosity must lie in \[0, 1\)"):
