@@ -25,9 +25,14 @@ refinement:
 * **Fans.** Consecutive acute wedges sharing an arm (a splay of faults, three
   faults within a few tens of degrees) form one *fan*: the arm's step is shared, so
   the sites on either side of it are mirror images. That holds when the two wedges'
-  rays are mirror images across the arm, with the same rungs: the rays are chosen so,
-  each as central in its wedge as the others allow (a fan whose rays cannot all stay
-  well inside their wedges is split).
+  rays are mirror images across the arm, with the same rungs. One angle fixes all the
+  rays; it is chosen for the circles on the inner arms: the rows run until the side
+  nearest its ray (tilt t_min) stands SPLIT / 2 ray steps off it, and an inner arm
+  keeps every rung, so at the end its circles reach about t_inner / t_min times that
+  far. The rays make the largest such ratio as small as the fan allows, then
+  t_min as large as it can be (a single wedge: its bisector; a narrow gap beside a
+  wide one: the narrow gap's bisector, the wide gap's ray close to the shared arm). A
+  fan whose ratio stays above 1 / MIN_QUALITY is split at its widest gap.
 * **Transition.** A side leaves the shared rows at the first rung where it stands
   ``SPLIT / 2`` (0.65) of its step off the ray next to it: beyond it the side carries
   ordinary mirrored pairs, whose sites (at most about half a step off the trace) stay
@@ -56,7 +61,7 @@ SPLIT = 1.3  # the rows end where every wedge is this many steps wide
 TIP_AREA = 0.125  # smallest area of the first (triangular) cell, x step^2
 MAX_STRETCH = 4.0  # the first rung at most this many steps from the node
 MAX_RUNGS = 200  # a wedge under about 0.4 degrees: the row ends before it is SPLIT steps wide
-MIN_MARGIN = 0.2  # a fan's rays stay at least this fraction of their wedge's angle off its sides
+MIN_QUALITY = 0.3  # a fan whose inner arms' circles would reach over 3.3 times as far (relative) is split
 
 
 @dataclass
@@ -200,9 +205,9 @@ def _runs(acute: np.ndarray, rays: list) -> list[list[int]]:
 
 
 def _fan_parts(gaps: np.ndarray) -> list[list[int]]:
-    """Split a run of acute gaps into fans whose rays can all stay MIN_MARGIN inside their gaps:
+    """Split a run of acute gaps into fans whose rays reach MIN_QUALITY (:func:`_offsets`):
     the widest gap of a run that cannot is left out (to the ordinary construction)."""
-    if gaps.size == 1 or _offsets(gaps)[1] >= MIN_MARGIN:
+    if gaps.size == 1 or _offsets(gaps)[1] >= MIN_QUALITY:
         return [list(range(gaps.size))]
     cut = int(np.argmax(gaps))
     left = _fan_parts(gaps[:cut]) if cut > 0 else []
@@ -212,16 +217,24 @@ def _fan_parts(gaps: np.ndarray) -> list[list[int]]:
 
 def _offsets(gaps: np.ndarray) -> tuple[np.ndarray, float]:
     """Angles of the rays from the first side of their gaps, mirror images across every shared
-    side (the ray of gap i + 1 is as far from side i + 1 as the ray of gap i), and the smallest
-    relative margin min(offset, gap - offset) / gap, as large as it can be."""
+    side (the ray of gap i + 1 is as far from side i + 1 as the ray of gap i), and their quality
+    t_min / (largest inner tilt) (1 without inner sides; -1: no rays inside every gap; angles
+    rather than sines, which rank the same way for gaps under 40 degrees, and need no libm).
+
+    Of the rays with the best quality, those with the largest t_min, the smallest angle between
+    a side and its ray (for a single gap: its bisector)."""
     x = np.linspace(0.0, 1.0, 401)[1:-1] * gaps[0]
     off = np.empty((gaps.size, x.size))
     off[0] = x
     for i in range(1, gaps.size):  # the mirror condition fixes the next ray
         off[i] = gaps[i - 1] - off[i - 1]
-    margin = (np.minimum(off, gaps[:, None] - off) / gaps[:, None]).min(axis=0)
-    best = int(np.argmax(margin))
-    return off[:, best], float(margin[best])
+    t_min = np.minimum(off, gaps[:, None] - off).min(axis=0)
+    if gaps.size > 1:  # the inner sides' tilts are the offsets of the gaps after them
+        quality = np.where(t_min > 0, t_min / np.abs(off[1:]).max(axis=0), -1.0)
+    else:
+        quality = np.ones(x.size)
+    best = int(np.argmax(np.where(quality >= quality.max() - 1e-12, t_min, -np.inf)))
+    return off[:, best], float(quality[best])
 
 
 def _aim(w: Wedge) -> None:

@@ -379,11 +379,24 @@ def test_faults_meeting_at_a_small_angle_share_one_row_of_cells():
     assert _site_orthogonality(pg).max() < 1e-4
 
 
-@pytest.mark.parametrize("angles", [(0.0, 15.0, 30.0), (0.0, 12.0, 40.0), (0.0, 8.0, 16.0, 24.0)])
+@pytest.mark.parametrize(
+    "angles",
+    [
+        (0.0, 15.0, 30.0),
+        (0.0, 12.0, 40.0),
+        (0.0, 8.0, 16.0, 24.0),
+        (0.0, 5.3, 32.0),
+        (0.0, 9.8, 39.3),
+        (0.0, 12.4, 17.7, 22.2),
+        (0.0, 25.0, 30.9, 52.1),
+    ],
+)
 def test_a_splay_of_faults_at_small_angles_builds(angles):
     """Three or four faults leaving one point a few degrees apart (a splay): the wedges between them
     share their middle arms, each with a row of cells on its ray (rays mirror images across the shared
-    arms); every trace is followed exactly."""
+    arms); every trace is followed exactly. Gaps of very different widths (5.3 beside 26.7 degrees,
+    5.9 between 25 and 21.2) used to be refused: their rays kept off the sides of the wide gap, which
+    left the narrow one's ray hugging one side and the shared arm's circles several steps wide."""
     c = np.array([20.0, 20.0])
     units = [np.array([np.cos(np.radians(a)), np.sin(np.radians(a))]) for a in angles]
     faults = [Fault([c, c + 12.0 * u]) for u in units]
