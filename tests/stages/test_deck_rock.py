@@ -1,12 +1,13 @@
 """A deck case keeps its deck's rock and connection keywords through the stages.
 
 An anisotropic faulted deck (PERMY != PERMX, PERMZ, NTG < 1, MULTZ, MULTX-, MULTFLT on the
-fault with throw, MULTREGT on FLUXNUM) as a case without a petrophysics section goes
-grid -> geometry -> petrophysics -> transmissibility -> flow_deck; OPM Flow's dry run of the
-written deck must give the connections, transmissibilities and pore volumes of its dry run
-of the original deck (1e-6 relative; Flow writes float32), and transmissibility.nc Flow's.
-Then each petrophysics key of a case replaces exactly its keywords (config/README.md), and
-what a deck case needs is checked with clear messages.
+fault with throw, MULTREGT on FLUXNUM and, by GRIDOPTS' default, on MULTNUM) as a case
+without a petrophysics section goes grid -> geometry -> petrophysics -> transmissibility ->
+flow_deck; OPM Flow's dry run of the written deck must give the connections,
+transmissibilities and pore volumes of its dry run of the original deck (1e-6 relative;
+Flow writes float32), and transmissibility.nc Flow's. Then each petrophysics key of a case
+replaces exactly its keywords (config/README.md), and what a deck case needs is checked
+with clear messages.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ def anisotropic_rock(rng: np.random.Generator, keywords: tuple[str, ...]) -> dic
     """Random rock and region keywords, one value per cell (those named in ``keywords``)."""
     nx, ny, nz = DIMS
     nc = nx * ny * nz
-    k = np.arange(nc) // (nx * ny)
+    j, k = np.arange(nc) // nx % ny, np.arange(nc) // (nx * ny)
     every = {
         "PORO": rng.uniform(0.1, 0.3, nc),
         "PERMX": rng.lognormal(4, 1, nc),
@@ -46,6 +47,7 @@ def anisotropic_rock(rng: np.random.Generator, keywords: tuple[str, ...]) -> dic
         "PERMZ": rng.lognormal(1, 1, nc),
         "NTG": rng.uniform(0.3, 0.9, nc),
         "FLUXNUM": 1.0 + (k >= 2),
+        "MULTNUM": 3.0 + (j >= 2),
     }
     return {key: every[key] for key in keywords}
 
@@ -61,6 +63,7 @@ MULTFLT
  'F1' 0.3 /
 /
 MULTREGT
+ 3 4 0.45 XYZ ALL 1* /
  1 2 0.6 XYZ ALL F /
 /
 """
@@ -79,6 +82,7 @@ def write_deck(folder: Path, keywords: tuple[str, ...], grid: str = GRID_KEYWORD
     write_grdecl(folder / "ANISO.GRDECL", deck, anisotropic_rock(np.random.default_rng(SEED), keywords))
     nx, ny, nz = DIMS
     text = f"RUNSPEC\nDIMENS\n {nx} {ny} {nz} /\nOIL\nWATER\nMETRIC\nTABDIMS\n 1 1 20 20 /\n"
+    text += "GRIDOPTS\n 'NO' 1 /\n"  # NRMULT > 0: MULTREGT's default region set is MULTNUM
     text += "EQLDIMS\n 1 /\nSTART\n 1 'JAN' 2020 /\nUNIFOUT\nGRID\nINIT\nINCLUDE\n 'ANISO.GRDECL' /\n"
     text += grid + rest_of_deck(float(deck.zcorn.min()), float(deck.zcorn.max()) + 1)
     (folder / "ANISO.DATA").write_text(text)
@@ -143,7 +147,10 @@ def split_by_kind(conn: dict[tuple[int, int], float]) -> dict[str, dict[tuple[in
 
 @pytest.mark.parametrize(
     "keywords",
-    [("PORO", "PERMX", "PERMY", "PERMZ", "NTG", "FLUXNUM"), ("PORO", "PERMX", "FLUXNUM")],
+    [
+        ("PORO", "PERMX", "PERMY", "PERMZ", "NTG", "FLUXNUM", "MULTNUM"),
+        ("PORO", "PERMX", "FLUXNUM", "MULTNUM"),
+    ],
     ids=["anisotropic", "permx-only"],
 )
 def test_deck_case_gives_flow_the_original_decks_connections(keywords, tmp_path):
@@ -209,7 +216,7 @@ ROCK = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "N
 @pytest.fixture(scope="module")
 def deck_folder(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("aniso")
-    write_deck(folder, tuple(ROCK))
+    write_deck(folder, (*ROCK, "FLUXNUM", "MULTNUM"))
     return folder
 
 
@@ -237,7 +244,7 @@ def test_what_a_deck_case_needs(tmp_path):
     the defaults of other grids: Carman-Kozeny, kv_kh 0.1); bad deck values name the keyword and cell;
     every other grid still needs porosity."""
     geometry_only = tmp_path / "geometry_only"
-    write_deck(geometry_only, ("FLUXNUM",))
+    write_deck(geometry_only, ("FLUXNUM", "MULTNUM"))
     assert not load_case(write_case(geometry_only, "bare")).has_petrophysics
     case = write_case(geometry_only, "needs_poro", {"kv_kh": 0.5})
     with pytest.raises(InputError, match=r"needs_poro.yaml: petrophysics.porosity: the deck gives no PORO"):
@@ -263,5 +270,5 @@ def test_what_a_deck_case_needs(tmp_path):
         load_case(other)
 
     poro_only = tmp_path / "poro_only"
-    write_deck(poro_only, ("PORO",))
+    write_deck(poro_only, ("PORO", "FLUXNUM", "MULTNUM"))
     assert not load_case(write_case(poro_only, "poro_only")).has_petrophysics
