@@ -59,4 +59,14 @@ def stage_grid(
         # grid.grdecl is a GRID include, without the deck's RUNSPEC: its MULTREGT records name
         # their region set, which GRIDOPTS may have defaulted
         write_grdecl(grdecl_out, with_explicit_region_sets(built.deck))
+        deck = built.deck
+        edits = ["TRANX/TRANY/TRANZ"] if deck.tran_edits else []
+        edits += ["EDITNNC"] if deck.editnnc is not None and deck.editnnc.num else []
+        if edits:
+            log.info(
+                "note: the deck's EDIT section (%s) is not in %s: the transmissibilities and the "
+                "OPM Flow deck of this case do without it",
+                ", ".join(edits),
+                grdecl_out,
+            )
         log.info("wrote %s", grdecl_out)

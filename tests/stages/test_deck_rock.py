@@ -272,3 +272,18 @@ def test_what_a_deck_case_needs(tmp_path):
     poro_only = tmp_path / "poro_only"
     write_deck(poro_only, ("PORO", "FLUXNUM", "MULTNUM"))
     assert not load_case(write_case(poro_only, "poro_only")).has_petrophysics
+
+
+def test_the_edit_section_is_said_to_be_left_out(tmp_path, caplog):
+    """grid.grdecl (a GRID include) holds no EDIT section: the grid stage says so."""
+    folder = tmp_path / "d"
+    write_deck(folder, ("PORO", "PERMX", "FLUXNUM", "MULTNUM"))
+    text = (
+        (folder / "ANISO.DATA")
+        .read_text()
+        .replace("PROPS\n", "EDIT\nMULTIPLY\n 'TRANX' 0.5 /\n/\nPROPS\n", 1)
+    )
+    (folder / "ANISO.DATA").write_text(text)
+    with caplog.at_level("INFO", logger="gridlib.stages"):
+        stage_grid(write_case(folder, "edited"), tmp_path / "grid.nc", None, tmp_path / "grid.grdecl")
+    assert "the deck's EDIT section (TRANX/TRANY/TRANZ) is not in" in caplog.text
