@@ -9,11 +9,13 @@ Where the keys come from (:func:`case_rock`):
 * every grid but a deck: ``porosity``; ``permeability`` (PERMX = PERMY; default
   Carman-Kozeny from the porosity); PERMZ = ``kv_kh`` x PERMX (default 0.1); ``ntg``
   (default 1);
-* a deck grid: the deck's rock, each key the case gives replacing its keywords only
-  (:data:`REPLACES`). What neither gives defaults as in OPM Flow 2022.10 (PERMY and PERMZ
-  to PERMX, NTG to 1); a deck without any permeability keyword gets the defaults of the
-  other grids (Carman-Kozeny, kv_kh 0.1), and one without PORO needs ``porosity``.
-  So a case that gives ``permeability`` but not ``kv_kh`` keeps the deck's PERMZ.
+* a deck grid: the deck's rock, each key the case gives replacing its keywords only:
+  ``porosity`` PORO, ``permeability`` PERMX and PERMY, ``kv_kh`` PERMZ (= kv_kh x PERMX),
+  ``ntg`` NTG (the table in config/README.md). What neither gives defaults as in OPM Flow
+  2022.10 (PERMY and PERMZ to PERMX, NTG to 1); a deck without any permeability keyword
+  gets the defaults of the other grids (Carman-Kozeny, kv_kh 0.1), and one without PORO
+  needs ``porosity``. So a case that gives ``permeability`` but not ``kv_kh`` keeps the
+  deck's PERMZ.
 """
 
 from __future__ import annotations
@@ -40,13 +42,6 @@ from ..petrophysics import (
 from .deck import read_case_deck
 
 KV_KH = 0.1  # the default vertical over horizontal permeability (grids without a deck's)
-# The deck keywords each key of a case's petrophysics replaces on a deck grid.
-REPLACES = {
-    "porosity": ("PORO",),
-    "permeability": ("PERMX", "PERMY"),
-    "kv_kh": ("PERMZ",),
-    "ntg": ("NTG",),
-}
 # petrophysics.nc's names of the deck's rock keywords
 ROCK_KEYWORDS = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
 _BOUNDS = {"PORO": (0.0, 1.0), "NTG": (0.0, 1.0)}  # permeabilities: [0, inf)
