@@ -67,6 +67,8 @@ class Case:
 
     @property
     def has_petrophysics(self) -> bool:
+        """The case has rock: a `petrophysics` section, given or, for a deck grid whose deck gives
+        PORO and PERMX, implied (:func:`check_case_data` adds an empty one: the deck's rock)."""
         return "petrophysics" in self.data
 
     @property
@@ -218,10 +220,50 @@ def check_case_data(data: dict[str, Any], path: Path, source: str) -> dict[str, 
     if data["name"] != path.stem:
         raise InputError(f"{source}: name: '{data['name']}' must equal the file name '{path.stem}'")
     data = _fill_defaults(copy.deepcopy(data), schema, schema)
+    try:
+        data = with_deck_rock(data, path)
+    except InputError as exc:
+        raise InputError(f"{source}: grid.file: {exc}") from None
     problem = _consistency_problem(data, path)
     if problem is not None:
         raise InputError(f"{source}: {problem}")
     return data
+
+
+DECK_ROCK = ("PORO", "PERMX")  # what a deck must give for its case to have rock without a section
+
+
+def with_deck_rock(data: dict[str, Any], path: Path) -> dict[str, Any]:
+    """``data`` (a case read from ``path``) with an empty ``petrophysics`` section where the
+    case is a deck grid without one and its deck gives PORO and PERMX: such a case has the
+    deck's rock (:func:`gridlib.case.rock.case_rock`), and its transmissibilities and OPM Flow
+    deck, as a user of the deck expects. Other data are returned as they are."""
+    grid = data.get("grid", {})
+    if grid.get("type") != "deck" or "petrophysics" in data:
+        return data
+    deck = path.parent / grid["file"]
+    if not deck.is_file():
+        return data  # _consistency_problem names the missing file
+    if not set(DECK_ROCK) <= deck_cell_keywords(deck):
+        return data
+    return {**data, "petrophysics": {}}
+
+
+def deck_cell_keywords(path: Path) -> frozenset[str]:
+    """The cell keywords (PORO, PERMX, MULTZ, ...) the deck file ``path`` gives."""
+    p = path.resolve()
+    stat = p.stat()
+    return _deck_cell_keywords(p, stat.st_mtime_ns, stat.st_size)
+
+
+@functools.lru_cache(maxsize=8)
+def _deck_cell_keywords(path: Path, mtime_ns: int, size: int) -> frozenset[str]:
+    # Cached per process on the file's identity: every stage and every variant of a study loads
+    # the case again. (An INCLUDEd file edited in the same process is not seen: runs are new
+    # processes.)
+    from .io.registry import read  # deferred: the workflow's parse imports config, not the readers
+
+    return frozenset(read(path, kind="deck").cell_data)
 
 
 def load_cases(paths: Sequence[str | os.PathLike]) -> dict[str, Case]:
@@ -320,6 +362,9 @@ def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
     problem = _features_outside(data, kind, horizons)
     if problem is not None:
         return problem
+    rock = data.get("petrophysics")
+    if rock is not None and kind != "deck" and "porosity" not in rock:
+        return "petrophysics.porosity: required (only a deck grid's rock defaults to its deck's PORO)"
     n_layers = _num_layers(data)
     for prop in ("porosity", "permeability", "ntg"):
         spec = (data.get("petrophysics") or {}).get(prop) or {}

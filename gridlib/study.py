@@ -42,7 +42,7 @@ from typing import Any
 
 import yaml
 
-from .config import Case, check_case_data, load_named, parse_yaml, shared_schema, validate
+from .config import Case, check_case_data, load_named, parse_yaml, shared_schema, validate, with_deck_rock
 from .errors import InputError
 from .io.atomic import atomic_path
 
@@ -263,7 +263,9 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
                 _set(data, key, value)
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)
-            checked = _check_variant(data, folder / f"{name}.yaml", p, keys, name) if check else data
+            where = folder / f"{name}.yaml"
+            # unchecked, the variant still needs the section its deck implies (rock): same artifacts
+            checked = _check_variant(data, where, p, keys, name) if check else with_deck_rock(data, where)
             variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
     kinds = {v.artifacts for v in variants}
     if len(kinds) > 1:

@@ -16,6 +16,7 @@ _EXPORTS: dict[str, str] = {
     "case_horizons": ".horizons",
     "case_partition": ".partition",
     "case_rock": ".rock",
+    "case_rock_with_sources": ".rock",
     "fault_traces": ".faults",
     "pebi_wells": ".wells",
     "read_case_deck": ".deck",

@@ -2,17 +2,19 @@
 name in upper case) with its includes, written by :func:`gridlib.io.flow.write_flow_deck`.
 
 Which form (``form=None``, the workflow's choice): **native** for cornerpoint and deck
-cases (the case's ``grid.grdecl`` with the case's PORO, PERMX/Y/Z and NTG, its FAULTS
-and MULTFLT: Flow computes everything itself), the **connection form** for every other
-grid (``transmissibility.nc``'s pore volumes and connections; cell centre depths from
-``geometry.nc``). ``form="connections"`` also writes a corner-point case in the
+cases (the case's ``grid.grdecl`` with the PORO, PERMX/Y/Z and NTG of ``petrophysics.nc``
+and the deck's FAULTS, MULTFLT, MULT*, region arrays, MULTREGT, PINCH and MINPV: Flow
+computes everything itself; a deck case's rock is its deck's but for what the case
+replaces, so Flow computes what it computes on the deck), the **connection form** for
+every other grid (``transmissibility.nc``'s pore volumes and connections; cell centre
+depths from ``geometry.nc``). ``form="connections"`` also writes a corner-point case in the
 connection form: pore volumes and transmissibilities of ``transmissibility.nc`` (Flow's
 own, by construction), each cell's box between the mean depth of its 4 top and of its
 4 bottom corners (so its centre is Flow's), and well factors as Flow computes them
 (:func:`~gridlib.transmissibility.deck_well_index`): the two forms then give the same
 simulation.
 
-Cases get a deck when they have rock (``petrophysics``) on a 3-D grid: without rock
+Cases get a deck when they have rock (``petrophysics``, or a deck case's own) on a 3-D grid: without rock
 there are no pore volumes or transmissibilities, and a 2-D grid has no depth and
 transmissibilities per metre of thickness; those cases get no deck.
 

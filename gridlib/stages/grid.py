@@ -6,7 +6,8 @@ non-neighbour connections (``nnc_*`` variables), the fault and well names
 (attributes, JSON lists) and the ``unit_system`` of its coordinates (METRIC:
 metres; a FIELD deck's grid is in feet).
 Corner-point and deck cases also get ``grid.grdecl`` (GRDECL for simulators:
-geometry, ACTNUM, FAULTS, and the deck's own cell keywords).
+geometry, ACTNUM, FAULTS, and the deck's own cell keywords and GRID-section settings,
+MULTREGT with its region sets resolved as GRIDOPTS said).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from ..config import load_case
 from ..io.grdecl import write_grdecl
 from ..io.horizon_files import read_horizons
 from ..io.netcdf import write_netcdf
+from ..transmissibility.region_multipliers import with_explicit_region_sets
 from ..units import unit_system
 from .common import log, nnc_variables
 
@@ -54,5 +56,17 @@ def stage_grid(
     if grdecl_out is not None:
         if built.deck is None:
             raise ValueError(f"{case.path}: grid.grdecl is only written for cornerpoint and deck grids")
-        write_grdecl(grdecl_out, built.deck)
+        # grid.grdecl is a GRID include, without the deck's RUNSPEC: its MULTREGT records name
+        # their region set, which GRIDOPTS may have defaulted
+        write_grdecl(grdecl_out, with_explicit_region_sets(built.deck))
+        deck = built.deck
+        edits = ["TRANX/TRANY/TRANZ"] if deck.tran_edits else []
+        edits += ["EDITNNC"] if deck.editnnc is not None and deck.editnnc.num else []
+        if edits:
+            log.info(
+                "note: the deck's EDIT section (%s) is not in %s: the transmissibilities and the "
+                "OPM Flow deck of this case do without it",
+                ", ".join(edits),
+                grdecl_out,
+            )
         log.info("wrote %s", grdecl_out)

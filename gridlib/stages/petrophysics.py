@@ -1,11 +1,13 @@
 """Stage ``petrophysics``: rock properties per cell as ``petrophysics.nc``.
 
-Porosity (fraction), permeability (mD; ``permz = kv_kh * permx``) and NTG
+Porosity (fraction), permeability (mD: ``permx``, ``permy``, ``permz``) and NTG
 (fraction), each a constant, one value per layer, a Gaussian random field at
 depositional coordinates (so that fault throw does not decorrelate it), or,
-for deck grids, the deck's own keyword. Fields are seeded with the case's
-seed (porosity), seed + 1 (permeability) and seed + 2 (NTG): the same case
-and seed give identical arrays.
+for deck grids, the deck's own keyword. A deck grid's rock is its deck's PORO,
+PERMX, PERMY, PERMZ and NTG, each replaced only by the case key that sets it
+(:mod:`gridlib.case.rock`); each variable's ``source`` attribute says where it
+came from. Fields are seeded with the case's seed (porosity), seed + 1
+(permeability) and seed + 2 (NTG): the same case and seed give identical arrays.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..case.rock import case_rock
+from ..case.rock import case_rock_with_sources
 from ..config import load_case
 from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_dataset
 from .common import log
@@ -25,9 +27,17 @@ PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
 UNITS = {"poro": "1", "permx": "mD", "permy": "mD", "permz": "mD", "ntg": "1"}
 
 
-def write_rock(path: str | os.PathLike, rock, attrs: dict[str, Any]) -> None:
+def write_rock(
+    path: str | os.PathLike, rock, attrs: dict[str, Any], sources: dict[str, str] | None = None
+) -> None:
+    """``petrophysics.nc``: the rock's arrays (with their ``source`` where given) and ``attrs``."""
+    sources = sources or {}
     data = {
-        name: xr.DataArray(values, dims=("cell",), attrs={"units": UNITS[name]})
+        name: xr.DataArray(
+            values,
+            dims=("cell",),
+            attrs={"units": UNITS[name], **({"source": sources[name]} if name in sources else {})},
+        )
         for name, values in rock.cell_data().items()
     }
     write_dataset(path, xr.Dataset(data, attrs={**attrs, "title": "gridlib petrophysics"}))
@@ -47,8 +57,8 @@ def stage_petrophysics(
     """Sample the case's rock properties on its grid; write ``petrophysics.nc``."""
     case = load_case(case_file)
     grid = read_netcdf(grid_nc).grid
-    rock = case_rock(case, grid, read_geometry_netcdf(geometry_nc))
-    write_rock(petrophysics_out, rock, case.provenance())
+    rock, sources = case_rock_with_sources(case, grid, read_geometry_netcdf(geometry_nc))
+    write_rock(petrophysics_out, rock, case.provenance(), sources)
     log.info(
         "wrote %s: porosity %.4g-%.4g (mean %.4g), permx %.4g-%.4g mD",
         petrophysics_out,
@@ -58,3 +68,5 @@ def stage_petrophysics(
         rock.permx.min(),
         rock.permx.max(),
     )
+    for name, source in sources.items():
+        log.info("%s: %s", name, source)

@@ -12,8 +12,10 @@ Which computation, by grid type (the ``method`` attribute says which ran):
 * **cornerpoint and deck** (the cases that write ``grid.grdecl``):
   :func:`~gridlib.transmissibility.deck.deck_transmissibility` on ``grid.grdecl`` with
   the case's PERMX, PERMY, PERMZ and NTG from ``petrophysics.nc`` (per grid cell, put
-  on the deck's cells through ``index_map``): ECLIPSE's NEWTRAN, MULT* and MULTFLT as
-  OPM Flow computes them, so the T equal Flow's for that deck. Pore volume as Flow:
+  on the deck's cells through ``index_map``; for a deck case the deck's own unless the
+  case replaces them) and the deck's MULT*, MULTFLT, MULTREGT with its region arrays,
+  PINCH and MINPV: ECLIPSE's NEWTRAN as OPM Flow computes it, so the T equal Flow's for
+  that deck. Pore volume as Flow:
   the ECLIPSE bulk volume (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV
   (the deck's PORV where it gives one). ``cell_flow_index`` is the grid's
   ``index_map``, ``flow_dims`` the deck's dimensions;
@@ -174,9 +176,11 @@ CASE_ROCK = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz
 
 
 def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: str) -> Deck:
-    """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell)
-    on its cells ``index`` (0 on cells outside the grid, which Flow leaves inactive: no pore
-    volume), in ``units``; the deck's other keywords (multipliers) stay."""
+    """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
+    ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
+    leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
+    FLUXNUM, MULTNUM, ...) and setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) stays
+    as the deck gives it."""
 
     def on_deck(values: np.ndarray) -> np.ndarray:
         full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read

@@ -31,6 +31,8 @@ are noted. A region set without its array in the deck is an error, as in Flow.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..cornerpoint.connection_keywords import REGION_SETS, MultregtRecord
@@ -50,6 +52,20 @@ def resolved_region_sets(deck: Deck) -> list[str]:
             previous = REGION_SETS[record.region_set]
         names.append(previous)
     return names
+
+
+def with_explicit_region_sets(deck: Deck) -> Deck:
+    """``deck`` with every MULTREGT record naming its region set (:func:`resolved_region_sets`),
+    so that it means the same without GRIDOPTS (whose NRMULT changes the default), e.g. written
+    into a GRID include of another deck."""
+    if not deck.multregt or all(r.region_set is not None for r in deck.multregt):
+        return deck
+    letter = {name: key for key, name in REGION_SETS.items()}
+    records = tuple(
+        replace(r, region_set=letter[name])
+        for r, name in zip(deck.multregt, resolved_region_sets(deck), strict=True)
+    )
+    return replace(deck, multregt=records)
 
 
 def _region_values(deck: Deck, name: str, record: MultregtRecord) -> np.ndarray:
