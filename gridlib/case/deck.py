@@ -7,7 +7,7 @@ from pathlib import Path
 from ..config import Case
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
-from ..io.registry import read
+from ..io.registry import find_format, read
 
 
 def deck_path(case: Case) -> Path:
@@ -20,5 +20,10 @@ def deck_path(case: Case) -> Path:
 
 
 def read_case_deck(case: Case) -> Deck:
-    """The case's deck (GRDECL text, a DATA deck or EGRID, by the file's suffix)."""
-    return read(deck_path(case), kind="deck")
+    """The case's deck (GRDECL text, a DATA deck or EGRID, by the file's suffix); a text deck
+    is read with ``grid.unknown_keywords`` (``error``, the default, or ``skip``)."""
+    path = deck_path(case)
+    options = {}
+    if find_format(path, "deck").name == "grdecl":
+        options["unknown_keywords"] = case.data["grid"].get("unknown_keywords", "error")
+    return read(path, kind="deck", **options)
