@@ -1,14 +1,17 @@
 """Lexing ECLIPSE keyword files: keywords, ``/``-terminated records, bulk numbers; and writing
 arrays back as exact text (:func:`format_values`, for GRDECL files and Flow decks).
 
-The syntax (ECLIPSE reference manual, "data file overview"):
+The syntax (ECLIPSE reference manual, "data file overview"), as OPM Flow 2022.10 reads it:
 
-* a keyword (1-8 characters, starting with a letter) opens a block of data;
-* data are records ended by ``/``; multi-record keywords end with an empty
-  record (a ``/`` alone);
-* ``--`` starts a comment that runs to the end of the line;
-* ``n*v`` is n copies of v, ``n*`` is n defaulted values;
-* strings may be quoted with ``'``; a quoted string may contain ``/``.
+* a keyword (1-8 characters, starting with a letter) is the first word of its
+  line; the rest of that line is ignored and its data start on the next line;
+* data are records ended by ``/``, over as many lines as they need; the rest of
+  the line after a record's ``/`` is a comment (a second record on the same line
+  is not read); multi-record keywords end with an empty record (a ``/`` alone);
+* ``--`` starts a comment that runs to the end of the line (not inside quotes);
+* items are separated by blanks or commas; ``n*v`` is n copies of v, ``n*`` is
+  n defaulted values;
+* strings may be quoted with ``'``; a quoted string may contain blanks and ``/``.
 
 Bulk numeric data (COORD, ZCORN, cell arrays: millions of numbers) take a fast
 path with no Python loop per number: the text up to the ``/`` is cut out,

@@ -350,6 +350,7 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         (CUBE + "PORO\n 4*0.1\n", r"x.grdecl:9: PORO: the data has no terminating '/'"),
         (CUBE + "PORO\n 99999999999999*0.1 /\n", r"x.grdecl:9: PORO: has 99999999999999 values, expected 4"),
         (CUBE + "PORO\n 4*0.1 /\n 0.3\n", r"x.grdecl:11: expected a keyword, found '0.3'"),
+        (CUBE + "IMPORT\n 'x.bin' /\n", r"x.grdecl:10: IMPORT: keywords imported from 'x.bin' \(a binary"),
         (CUBE + "INCLUDE\n 'nothere.inc' /\n", r"x.grdecl:10: INCLUDE: file 'nothere.inc' not found"),
         ("PORO\n 1 /\n", r"x.grdecl:1: PORO: the grid dimensions are not known yet"),
         ("SPECGRID\n 2 0 1 1 F /\n", r"x.grdecl:2: SPECGRID: needs three positive integers"),

@@ -579,6 +579,13 @@ def _skip_block(end_keyword: str, what: str):
     return handler
 
 
+def _import(state, src, pos, name, depth):
+    """IMPORT: keywords from a binary file; refused rather than silently missing."""
+    items, _, at = read_record(src, pos, name)
+    shown = repr(items[0]) if items and items[0] else "a file"
+    raise src.error(at, name, f"keywords imported from {shown} (a binary file) are not read: INCLUDE text")
+
+
 def _single_record_note(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
     state.notes.append(f"{src.path.name}:{src.line(at)}: {name} {' '.join(i or '*' for i in items)} ignored")
@@ -618,6 +625,7 @@ _HANDLERS = {
     "RADFIN": _skip_block("ENDFIN", "local grid refinement"),
     "RADFIN4": _skip_block("ENDFIN", "local grid refinement"),
     "GDORIENT": _single_record_note,
+    "IMPORT": _import,
     "COORDSYS": _single_record_note,
     "NNC": _cell_pairs,
     "EDITNNC": _cell_pairs,
