@@ -226,7 +226,7 @@ def test_commas_separate_items(tmp_path):
 
 def test_props_and_regions_are_read_and_their_tables_skipped_by_shape(tmp_path):
     # Two saturation tables (TABDIMS item 1) without a closing empty record, ROCK (ended by the
-    # next keyword), a PVTO table collection; REGIONS' cell keywords are kept.
+    # next keyword); REGIONS' cell keywords are kept; MINPVFIL is a keyword only Flow knows.
     runspec = RUNSPEC.replace(" 1 1 20 20 /", " 2 1 20 20 /")
     rest = (
         "PROPS\nSWOF\n 0.0 0.0 1.0 0.0\n 1.0 1.0 0.0 0.0 /\n 0.0 0.0 1.0 0.0\n 1.0 1.0 0.0 0.0 /\n"
@@ -237,13 +237,13 @@ def test_props_and_regions_are_read_and_their_tables_skipped_by_shape(tmp_path):
         "SOLUTION\nEQUIL\n 1000 200.0 1010 0 1000 0 /\nSCHEDULE\nTSTEP\n 1 /\nEND\n"
     )
     deck_path = tmp_path / "CASE.DATA"
-    deck_path.write_text(runspec + GEOMETRY + PORO + rest)
+    deck_path.write_text(runspec + GEOMETRY + PORO + "MINPVFIL\n 1e-9 /\n" + rest)
     deck, init = same_grid_as_flow(deck_path, tmp_path / "flow")
     np.testing.assert_array_equal(deck.cell_data["SATNUM"], init["SATNUM"])
     np.testing.assert_array_equal(deck.cell_data["FIPNUM"], init["FIPNUM"])
     assert deck.cell_data["FIPNUM"][0] == 20
     np.testing.assert_array_equal(deck.cell_data["SWL"], 0.1)
-    assert any("SWOF" in n and "ROCK" in n for n in deck.notes)
+    assert any("SWOF" in n and "ROCK" in n and "MINPVFIL" in n for n in deck.notes)
 
 
 def test_an_unknown_keyword_names_its_file_and_line(tmp_path):

@@ -99,15 +99,6 @@ class Vocabulary:
     def __contains__(self, name: object) -> bool:
         return isinstance(name, str) and self.get(name) is not None
 
-    @property
-    def size_keywords(self) -> frozenset[str]:
-        """The keywords (TABDIMS, EQLDIMS, ...) whose first record sizes other keywords."""
-        return frozenset(
-            info.shape.count_from[0]
-            for info in (*self.names.values(), *(i for _, i in self.patterns))
-            if info.shape.count_from is not None
-        )
-
 
 @cache
 def vocabulary() -> Vocabulary:
