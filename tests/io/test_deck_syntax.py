@@ -263,8 +263,9 @@ def test_an_unknown_keyword_names_its_file_and_line(tmp_path):
             read_grdecl(deck_path, unknown_keywords=option)
 
 
-def test_deck_case_option(tmp_path):
-    write_deck(tmp_path, PORO + "FOOBAR\n 1 2 3 /\n")
+def test_deck_case_option_and_arrays(tmp_path):
+    deck_path = write_deck(tmp_path, PORO + "FLUXNUM\n 6*1 6*2 /\nFOOBAR\n 1 2 3 /\n")
+    deck_path.write_text(deck_path.read_text().replace("SOLUTION", "REGIONS\nSATNUM\n 12*1 /\nSOLUTION"))
     case_file = tmp_path / "case.yaml"
     case_file.write_text("name: case\ngrid: {type: deck, file: CASE.DATA}\n")
     with pytest.raises(DeckError, match=r"CASE.DATA:\d+: unknown keyword 'FOOBAR'"):
@@ -272,3 +273,7 @@ def test_deck_case_option(tmp_path):
     case_file.write_text("name: case\ngrid: {type: deck, file: CASE.DATA, unknown_keywords: skip}\n")
     deck = read_case_deck(load_case(case_file))
     assert deck.cart_dims == (3, 2, 2) and any("FOOBAR" in n for n in deck.notes)
+    # The case keeps the arrays a GRID section may hold; SATNUM (REGIONS only) is read_grdecl's.
+    assert {"PORO", "FLUXNUM"} <= set(deck.cell_data) and "SATNUM" not in deck.cell_data
+    assert any("PROPS/REGIONS arrays not used by the case: SATNUM" in n for n in deck.notes)
+    assert "SATNUM" in read_grdecl(deck_path, unknown_keywords="skip").cell_data
