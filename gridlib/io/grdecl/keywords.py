@@ -81,6 +81,8 @@ def open_source(path: Path) -> Source:
 
 
 def read_file(state: ReaderState, src: Source, depth: int) -> None:
+    """Read the keywords of ``src`` into ``state`` (``depth``: how deep in INCLUDEs) up to the end
+    of the file, ENDINC, END, or a section the reader stops at."""
     pos = 0
     while not state.stopped:
         line = read_keyword(src, pos)
