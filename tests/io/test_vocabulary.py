@@ -9,6 +9,7 @@ import pytest
 
 from gridlib.io.eclipse_text import DeckError
 from gridlib.io.grdecl.keywords import open_source
+from gridlib.io.grdecl.make_vocabulary import shape
 from gridlib.io.grdecl.shapes import skip_data
 from gridlib.io.grdecl.state import ReaderState
 from gridlib.io.grdecl.vocabulary import Shape, vocabulary
@@ -74,3 +75,31 @@ def test_records_counted_by_a_runspec_item(tmp_path):
 def test_a_table_count_without_a_default_names_its_keyword(tmp_path):
     with pytest.raises(DeckError, match=r"x.inc:\d+: DISPERSE: its number of records is item 0 of DISPDIMS"):
         skipped_to(tmp_path, "DISPERSE\n 1 2 /\n/\n", "DISPERSE")
+
+
+def test_make_vocabulary_shapes_follow_opm_size_rules():
+    definitions = {
+        "TABDIMS": {"name": "TABDIMS", "items": [{"name": "NTSFUN", "default": 1}, {"name": "NTPVT"}]}
+    }
+    cases = [
+        ({"size": 0}, "none"),
+        ({"size": 1, "items": []}, "records:1"),
+        ({"size": 1, "min_size": 0, "items": []}, "records:1:0"),
+        ({"size": "UNKNOWN", "items": []}, "open"),
+        ({"size": {"keyword": "TABDIMS", "item": "NTSFUN"}, "items": []}, "sized:TABDIMS:1:1:0:1"),
+        ({"size": {"keyword": "TABDIMS", "item": "NTPVT", "shift": 1}, "items": []}, "sized:TABDIMS:2:-:1:1"),
+        (
+            {"size": {"keyword": "TABDIMS", "item": "NTPVT"}, "alternating_records": [[], []]},
+            "sized:TABDIMS:2:-:0:2",
+        ),
+        ({"num_tables": {"keyword": "TABDIMS", "item": "NTPVT"}, "items": []}, "tables:TABDIMS:2:-"),
+        ({"records_set": [[], []]}, "sets"),
+        ({"code": {"end": "ENDDYN"}}, "code:ENDDYN"),
+        ({"data": {"value_type": "DOUBLE"}}, "data"),
+        ({"items": []}, "list"),
+        ({"records": [[], []]}, "list"),  # no size: slash-terminated, as opm-common reads it
+        ({}, "none"),
+    ]
+    for spec, code in cases:
+        assert shape(spec, definitions) == code, spec
+        Shape.parse(code)  # every code the generator writes, the reader reads
