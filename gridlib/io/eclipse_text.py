@@ -1,14 +1,17 @@
 """Lexing ECLIPSE keyword files: keywords, ``/``-terminated records, bulk numbers; and writing
 arrays back as exact text (:func:`format_values`, for GRDECL files and Flow decks).
 
-The syntax (ECLIPSE reference manual, "data file overview"):
+The syntax (ECLIPSE reference manual, "data file overview"), as OPM Flow 2022.10 reads it:
 
-* a keyword (1-8 characters, starting with a letter) opens a block of data;
-* data are records ended by ``/``; multi-record keywords end with an empty
-  record (a ``/`` alone);
-* ``--`` starts a comment that runs to the end of the line;
-* ``n*v`` is n copies of v, ``n*`` is n defaulted values;
-* strings may be quoted with ``'``; a quoted string may contain ``/``.
+* a keyword (1-8 characters, starting with a letter) is the first word of its
+  line; the rest of that line is ignored and its data start on the next line;
+* data are records ended by ``/``, over as many lines as they need; the rest of
+  the line after a record's ``/`` is a comment (a second record on the same line
+  is not read); multi-record keywords end with an empty record (a ``/`` alone);
+* ``--`` starts a comment that runs to the end of the line (not inside quotes);
+* items are separated by blanks or commas; ``n*v`` is n copies of v, ``n*`` is
+  n defaulted values;
+* strings may be quoted with ``'``; a quoted string may contain blanks and ``/``.
 
 Bulk numeric data (COORD, ZCORN, cell arrays: millions of numbers) take a fast
 path with no Python loop per number: the text up to the ``/`` is cut out,
@@ -32,7 +35,7 @@ from __future__ import annotations
 import csv
 import io
 import re
-from collections.abc import Iterator
+from collections.abc import Container, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -41,10 +44,13 @@ import pandas as pd
 
 from ..errors import InputError
 
-_BLANK = re.compile(rb"(?:\s+|--[^\n]*)*")
-_KEYWORD = re.compile(rb"[A-Za-z][A-Za-z0-9_+\-]*")
-_REST_OF_LINE_EMPTY = re.compile(rb"[ \t\r]*(?:--[^\n]*)?(?:\n|$)")
-_TOKEN = re.compile(rb"(--[^\n]*)|'([^'\n]*)'|(/)|([^\s/']+)|(\s+)|(')")
+_BLANK = re.compile(rb"(?:[\s,]+|--[^\n]*)*")
+KEYWORD_NAME = re.compile(rb"[A-Za-z][A-Za-z0-9_+\-]*")  # a valid keyword name
+_LINE_TOKEN = re.compile(rb"(?:[^\s,\-]|-(?!-))+")  # the first word of a line, up to a blank, ',' or '--'
+_REST_OF_LINE_EMPTY = re.compile(rb"[ \t\r,]*(?:--[^\n]*)?(?:\n|$)")
+# A record's tokens: a comment, a quoted string, the '/', a word (ends at a blank, ',', quote, '/'
+# or '--'), separators, or an unpaired quote.
+_TOKEN = re.compile(rb"(--[^\n]*)|'([^'\n]*)'|(/)|((?:[^\s,/'\-]|-(?!-))+)|([\s,]+)|(')")
 _NUMBER = re.compile(rb"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][+-]?\d+)?|[+-]?(?:nan|inf|NaN|Inf|NAN|INF)")
 _REPEAT = re.compile(rb"(\d+)\*(.*)")
 MAX_KEYWORD_LENGTH = 8
@@ -57,16 +63,21 @@ class DeckError(InputError):
 
 @dataclass
 class Source:
-    """The bytes of one file, with line numbers for messages."""
+    """The bytes of one file, with line numbers for messages.
+
+    ``keywords``: the names that start a keyword; a record whose first item is one of them,
+    alone on its line, is a keyword written where the previous keyword's '/' is missing.
+    """
 
     path: Path
     data: bytes
+    keywords: Container[str] = frozenset()
     _line_pos: int = 0
     _line_no: int = 1
 
     @classmethod
-    def open(cls, path: Path) -> Source:
-        return cls(path, path.read_bytes())
+    def open(cls, path: Path, keywords: Container[str] = frozenset()) -> Source:
+        return cls(path, path.read_bytes(), keywords)
 
     def line(self, pos: int) -> int:
         """1-based line number of byte ``pos`` (incremental: cheap when positions grow)."""
@@ -89,32 +100,57 @@ def show(token: bytes, limit: int = 40) -> str:
 
 
 def skip_blank(data: bytes, pos: int) -> int:
-    """Position of the next byte that is neither whitespace nor comment."""
+    """Position of the next byte that is neither whitespace, ',' nor comment."""
     return _BLANK.match(data, pos).end()
 
 
-def read_keyword(src: Source, pos: int) -> tuple[str, int] | None:
-    """The keyword at ``pos`` (after blanks) and the position after it; None at the end."""
-    pos = skip_blank(src.data, pos)
-    if pos >= len(src.data):
-        return None
-    m = _KEYWORD.match(src.data, pos)
-    end = m.end() if m else pos
-    if m is None or end - pos > MAX_KEYWORD_LENGTH or (end < len(src.data) and src.data[end] in b"'/*"):
-        token = re.match(rb"\S*", src.data[pos : pos + 200]).group()
-        raise src.error(pos, None, f"expected a keyword, found {show(token)} (stray data or a missing '/')")
-    return m.group().decode("ascii").upper(), end
+def next_line(data: bytes, pos: int) -> int:
+    """Position of the start of the line after the one holding ``pos`` (or the end of the data)."""
+    end = data.find(b"\n", pos)
+    return len(data) if end < 0 else end + 1
 
 
-def looks_like_keyword_line(data: bytes, pos: int) -> bool:
-    """Is the next item a bare word alone on its line (how keywords are written)?"""
+def line_word(data: bytes, pos: int) -> bytes | None:
+    """The first word of the next line that is not blank or comment (None at the end)."""
     pos = skip_blank(data, pos)
     if pos >= len(data):
-        return True
-    m = _KEYWORD.match(data, pos)
-    if m is None or m.end() - pos > MAX_KEYWORD_LENGTH:
-        return False
-    return _REST_OF_LINE_EMPTY.match(data, m.end()) is not None
+        return None
+    m = _LINE_TOKEN.match(data, pos)
+    return m.group() if m else data[pos : pos + 1]
+
+
+@dataclass(frozen=True)
+class KeywordLine:
+    """A keyword's line: its name (upper case), where it starts, and where its data start: at
+    the end of its line (the rest of a keyword's line is ignored, as ECLIPSE and OPM Flow do;
+    the data are on the lines below, and messages about them name the keyword's line)."""
+
+    name: str
+    at: int
+    data_start: int
+    ignored: bytes  # text after the name on its line (comments removed)
+
+
+def read_keyword(src: Source, pos: int) -> KeywordLine | None:
+    """The keyword of the next line that is not blank or comment; None at the end of the file.
+
+    The keyword is the line's first word; it must be a valid keyword name (a letter, then
+    letters, digits, ``_``, ``-``, ``+``), otherwise an error names the line and the word. A
+    ``/`` alone where a keyword is expected is returned as the name ``"/"`` (OPM Flow ignores it).
+    """
+    data = src.data
+    at = skip_blank(data, pos)
+    if at >= len(data):
+        return None
+    m = _LINE_TOKEN.match(data, at)
+    word = m.group() if m else data[at : at + 1]
+    if not KEYWORD_NAME.fullmatch(word) and word != b"/":
+        hint = " (stray data or a missing '/')" if re.match(rb"[\d+\-.*']", word) else ""
+        raise src.error(at, None, f"expected a keyword, found {show(word)}{hint}")
+    end = data.find(b"\n", at)
+    end = len(data) if end < 0 else end
+    rest = re.sub(rb"--[^\n]*", b"", data[at + len(word) : end]).strip(b" \t\r,")
+    return KeywordLine(word.decode("ascii").upper(), at, end, rest)
 
 
 # --- records -----------------------------------------------------------------------------
@@ -123,10 +159,12 @@ Item = str | None  # a value as written (quotes removed), or None where defaulte
 
 
 def read_record(src: Source, pos: int, keyword: str) -> tuple[list[Item], int, int]:
-    """One record: its items, the position after its ``/``, and where it started.
+    """One record: its items, the position after its line's end, and where it started.
 
-    A line break does not end a record; ``n*`` expands to n defaulted items and
-    ``n*v`` to n copies of v.
+    A record runs over lines up to its ``/``; the rest of the line after the ``/`` is ignored
+    (a comment, as in ECLIPSE and OPM Flow: a second record on the same line is not read).
+    Items are separated by blanks or commas; ``'...'`` quotes a string (blanks, ``/`` and
+    ``--`` inside it are kept); ``n*`` expands to n defaulted items and ``n*v`` to n copies of v.
     """
     data = src.data
     items: list[Item] = []
@@ -138,7 +176,7 @@ def read_record(src: Source, pos: int, keyword: str) -> tuple[list[Item], int, i
         pos = m.end()
         _comment, quoted, slash, word, _space, stray_quote = m.groups()
         if slash:
-            return items, pos, start
+            return items, next_line(data, pos), start
         if stray_quote:
             raise src.error(m.start(), keyword, "a quoted string is not closed on its line")
         if quoted is not None:
@@ -152,10 +190,10 @@ def read_record(src: Source, pos: int, keyword: str) -> tuple[list[Item], int, i
                 value = rep.group(2)
                 items.extend([value.decode("latin-1").strip("'") if value else None] * n)
             else:
-                if _KEYWORD.fullmatch(word) and len(word) <= MAX_KEYWORD_LENGTH and items == []:
-                    # A keyword where data should be: the previous keyword lacks its '/'.
+                if not items and word.decode("latin-1").upper() in src.keywords:
+                    # A keyword alone on its line where data should be: the previous keyword lacks its '/'.
                     line_start = data.rfind(b"\n", 0, m.start()) + 1
-                    if line_start == m.start() and _REST_OF_LINE_EMPTY.match(data, m.end()):
+                    if not data[line_start : m.start()].strip() and _REST_OF_LINE_EMPTY.match(data, m.end()):
                         raise src.error(
                             m.start(), keyword, f"found keyword {show(word)} before the '/' ending the data"
                         )
@@ -201,13 +239,9 @@ def read_records(src: Source, pos: int, keyword: str) -> tuple[list[tuple[list[I
         records.append((items, start))
 
 
-def skip_unknown(src: Source, pos: int, keyword: str) -> int:
-    """Skip the data of a keyword we do not know: records until a keyword-like line."""
-    while not looks_like_keyword_line(src.data, pos):
-        items, pos, _ = read_record(src, pos, keyword)
-        if not items:
-            break
-    return pos
+def skip_array(src: Source, pos: int, keyword: str) -> int:
+    """The position after the data of an array keyword (one record of values) without reading it."""
+    return next_line(src.data, _data_end(src, pos, keyword))
 
 
 # --- bulk numbers ----------------------------------------------------------------------------
@@ -242,7 +276,8 @@ def _data_end(src: Source, pos: int, keyword: str) -> int:
 def read_numbers(
     src: Source, pos: int, keyword: str, expected: int | None = None, at_most: int | None = None
 ) -> tuple[Numbers, int]:
-    """All numbers up to the next ``/``, and the position after the ``/``.
+    """All numbers up to the next ``/``, and the position of the line after it (the rest of the
+    ``/``'s line is ignored).
 
     ``expected`` (exact) and ``at_most`` counts are checked before repeat
     counts are expanded, so ``10000000000*1`` fails cleanly.
@@ -264,7 +299,7 @@ def read_numbers(
         raise src.error(pos, keyword, f"has {numbers.values.size} values, expected {expected}")
     if at_most is not None and numbers.values.size > at_most:
         raise src.error(pos, keyword, f"has {numbers.values.size} values, at most {at_most} are allowed here")
-    return numbers, end + 1
+    return numbers, next_line(src.data, end)
 
 
 class _CountMismatch(Exception):
@@ -308,7 +343,7 @@ def _fast_numbers(text: bytes, expected: int | None, at_most: int | None) -> Num
 
 def _fast_block(text: bytes, expected: int | None, at_most: int | None) -> Numbers | None:
     """One piece of :func:`_fast_numbers`."""
-    for ch in (b"\t", b"\r", b"\f", b"\v"):
+    for ch in (b"\t", b"\r", b"\f", b"\v", b","):
         if ch in text:
             text = text.replace(ch, b" ")
     text = text.replace(b" ", b"\n")
@@ -371,7 +406,7 @@ def _slow_numbers(src: Source, pos: int, end: int, keyword: str, limit: int | No
     counts: list[int] = []
     defaulted: list[bool] = []
     total = 0
-    for m in re.finditer(rb"--[^\n]*|[^\s]+", data[pos:end]):
+    for m in re.finditer(rb"--[^\n]*|[^\s,]+", data[pos:end]):
         token = m.group()
         if token.startswith(b"--"):
             continue
@@ -388,7 +423,7 @@ def _slow_numbers(src: Source, pos: int, end: int, keyword: str, limit: int | No
             defaulted.append(False)
         else:
             hint = ""
-            if _KEYWORD.fullmatch(value) and len(value) <= MAX_KEYWORD_LENGTH:
+            if KEYWORD_NAME.fullmatch(value) and len(value) <= MAX_KEYWORD_LENGTH:
                 hint = f" (is the '/' ending {keyword} missing before keyword {show(value)}?)"
             raise src.error(at, keyword, f"{show(token)} is not a number{hint}")
         counts.append(n)

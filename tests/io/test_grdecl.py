@@ -62,8 +62,10 @@ def test_crlf_fortran_exponents_and_lowercase(tmp_path):
     np.testing.assert_array_equal(deck.cell_data["PORO"], [0.1, 0.25, 1.0, 1.0])
 
 
-def test_include_relative_to_the_including_file_and_paths(tmp_path):
-    write(tmp_path / "grid" / "geom.inc", CUBE + "INCLUDE\n 'props/poro.inc' /\n")
+def test_include_relative_to_the_data_file_and_paths(tmp_path):
+    # As ECLIPSE and OPM Flow: a nested INCLUDE's path is relative to the DATA file's directory
+    # (tests/io/test_deck_syntax.py checks it against Flow).
+    write(tmp_path / "grid" / "geom.inc", CUBE + "INCLUDE\n 'grid/props/poro.inc' /\n")
     write(tmp_path / "grid" / "props" / "poro.inc", "PORO\n 4*0.2 /\n")
     write(tmp_path / "perm" / "k.inc", "PERMX\n 4*100 /\n")
     main = write(
@@ -76,8 +78,7 @@ def test_include_relative_to_the_including_file_and_paths(tmp_path):
     assert deck.units == "METRIC"
     np.testing.assert_array_equal(deck.cell_data["PORO"], 0.2)
     np.testing.assert_array_equal(deck.cell_data["PERMX"], 100.0)
-    assert any("stopped at PROPS" in n for n in deck.notes)
-    assert any("TABDIMS" in n for n in deck.notes)
+    assert any("TABDIMS" in n and "PVTW" in n for n in deck.notes)  # PROPS is read; its tables skipped
 
 
 def test_equals_copy_multiply_add_with_box(tmp_path):
@@ -150,17 +151,24 @@ def test_dxv_dyv_dzv_depthz(tmp_path):
     np.testing.assert_allclose(r.bulk_volumes, [8.0, 24.0], rtol=1e-14)
 
 
-def test_unknown_keywords_are_skipped_or_kept_as_cell_data(tmp_path):
-    p = write(
-        tmp_path / "u.grdecl",
+def test_unknown_keywords_stop_the_read_or_are_skipped(tmp_path):
+    text = (
         "NOECHO\nRPTGRID\n ALLNNC /\nFOOBAR\n 1 2 3 /\n  4 5 /\n/\n"
         + CUBE
-        + "SOMEPROP\n 1 2 3 4 /\nNEWKW\nECHO\n",
+        + "SWATINIT\n 1 2 3 4 /\nSOMEPROP\n 1 2 3 4 /\nNEWKW\nECHO\n"
     )
-    deck = read_grdecl(p)
-    np.testing.assert_array_equal(deck.cell_data["SOMEPROP"], [1, 2, 3, 4])
-    note = next(n for n in deck.notes if n.startswith("skipped"))
-    assert "RPTGRID (u.grdecl:2)" in note and "FOOBAR (u.grdecl:4)" in note and "NEWKW" in note
+    p = write(tmp_path / "u.grdecl", text)
+    with pytest.raises(DeckError, match=r"u.grdecl:4: unknown keyword 'FOOBAR'"):
+        read_grdecl(p)
+    deck = read_grdecl(p, unknown_keywords="skip")
+    np.testing.assert_array_equal(deck.cell_data["SWATINIT"], [1, 2, 3, 4])  # known: kept
+    assert "SOMEPROP" not in deck.cell_data
+    skipped = next(n for n in deck.notes if n.startswith("skipped keywords not"))
+    unknown = next(n for n in deck.notes if n.startswith("skipped keywords neither"))
+    assert "RPTGRID (u.grdecl:2)" in skipped and "FOOBAR" not in skipped
+    assert "FOOBAR (u.grdecl:4)" in unknown and "SOMEPROP (u.grdecl:" in unknown and "NEWKW" in unknown
+    with pytest.raises(DeckError, match="unknown_keywords must be one of"):
+        read_grdecl(p, unknown_keywords="ignore")
 
 
 def test_faults_multflt_pinch_minpv_mapaxes(tmp_path):
@@ -277,13 +285,13 @@ def test_write_round_trips_special_values_and_keeps_lines_short(tmp_path):
          1e16, 9999999999999998.0, 1e-4, 9.999999999999999e-05, 0.1, 0.30000000000000004, 1 / 3,
          2.0**53, 2.0**53 + 2, 123456789.00000001, -7.0710678118654755],
     )  # fmt: skip
-    arrays = {
-        "SPECIAL": np.resize(special, nc),
-        "RUNS": np.repeat(rng.choice(special, nc // 8 + 1), rng.integers(1, 30, nc // 8 + 1))[:nc],
-        "LONGRUNS": np.repeat(special[[9, 8, 9, 6]], [nc - 3, 1, 1, 1]),
-        "ZEROS": np.where(rng.random(nc) < 0.5, 0.0, -0.0),
-        "RANDOM": rng.standard_normal(nc) * 10.0 ** rng.integers(-300, 300, nc),
-        "BITS": rng.integers(0, 2**62, nc, dtype=np.int64).view(np.float64),  # NaN-free bit patterns
+    arrays = {  # the names are cell keywords ECLIPSE knows (read_grdecl refuses others); any values
+        "SWL": np.resize(special, nc),
+        "SWCR": np.repeat(rng.choice(special, nc // 8 + 1), rng.integers(1, 30, nc // 8 + 1))[:nc],
+        "SWU": np.repeat(special[[9, 8, 9, 6]], [nc - 3, 1, 1, 1]),
+        "SGL": np.where(rng.random(nc) < 0.5, 0.0, -0.0),
+        "KRW": rng.standard_normal(nc) * 10.0 ** rng.integers(-300, 300, nc),
+        "KRO": rng.integers(0, 2**62, nc, dtype=np.int64).view(np.float64),  # NaN-free bit patterns
         "FIPNUM": np.repeat([1.0, 2.0, -0.0, 1e15], nc // 4),  # whole numbers: integers
     }
     coord = deck.coord.copy()
@@ -341,7 +349,8 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         ),
         (CUBE + "PORO\n 4*0.1\n", r"x.grdecl:9: PORO: the data has no terminating '/'"),
         (CUBE + "PORO\n 99999999999999*0.1 /\n", r"x.grdecl:9: PORO: has 99999999999999 values, expected 4"),
-        (CUBE + "PORO\n 4*0.1 / 0.3\n", r"x.grdecl:10: expected a keyword, found '0.3'"),
+        (CUBE + "PORO\n 4*0.1 /\n 0.3\n", r"x.grdecl:11: expected a keyword, found '0.3'"),
+        (CUBE + "IMPORT\n 'x.bin' /\n", r"x.grdecl:10: IMPORT: keywords imported from 'x.bin' \(a binary"),
         (CUBE + "INCLUDE\n 'nothere.inc' /\n", r"x.grdecl:10: INCLUDE: file 'nothere.inc' not found"),
         ("PORO\n 1 /\n", r"x.grdecl:1: PORO: the grid dimensions are not known yet"),
         ("SPECGRID\n 2 0 1 1 F /\n", r"x.grdecl:2: SPECGRID: needs three positive integers"),

@@ -1,16 +1,21 @@
 """ECLIPSE GRDECL / DATA decks: ``read_grdecl`` (text in, :class:`Deck` out) and ``write_grdecl``.
 
 ``read_grdecl`` reads what a grid needs from a GRDECL include file or a full
-DATA deck (RUNSPEC, GRID and EDIT sections; it stops at PROPS):
+DATA deck (RUNSPEC, GRID, EDIT, PROPS and REGIONS sections; it stops at SOLUTION,
+SUMMARY or SCHEDULE), in the syntax ECLIPSE allows as OPM Flow 2022.10 reads it
+(docs/decks.md: records over lines, text after a record's ``/`` ignored to the end
+of its line, the rest of a keyword's line ignored, ``--`` comments, quotes, commas,
+any case):
 
 * dimensions: DIMENS, SPECGRID; units: METRIC, FIELD, LAB, PVT-M; MAPAXES,
   MAPUNITS, GRIDUNIT;
 * geometry: COORD + ZCORN, or the Cartesian keywords DX/DY/DZ (or DXV/DYV/DZV)
   with TOPS (or DEPTHZ), turned into COORD/ZCORN, or GDFILE (an EGRID);
-* ACTNUM, PORO, NTG, PERMX/Y/Z and any other numeric cell keyword (one value
-  per cell, or per cell of the current BOX);
+* ACTNUM, PORO, NTG, PERMX/Y/Z and any other array of one value per cell (or per
+  cell of the current BOX) in GRID, EDIT, PROPS or REGIONS (SATNUM, FIPNUM, ...);
 * FAULTS, MULTFLT, PINCH, MINPV;
-* INCLUDE (relative to the including file; PATHS aliases), BOX/ENDBOX, and
+* INCLUDE (relative to the DATA file's directory, as ECLIPSE and Flow; PATHS
+  aliases), BOX/ENDBOX, and
   EQUALS, COPY, ADD, MULTIPLY, MINVALUE, MAXVALUE;
 * what modifies connections, kept as records to be replayed in the simulator's
   order (:mod:`gridlib.cornerpoint.connection_keywords`): MULTREGT (GRID and EDIT,
@@ -22,12 +27,15 @@ DATA deck (RUNSPEC, GRID and EDIT sections; it stops at PROPS):
   COPY into them and operations on them in the GRID section are errors, TRANX arrays
   outside EDIT are ignored (noted); MULTNUM defaults to 1, FLUXNUM and OPERNUM have
   no default;
-* repeat counts (``3*0.2``; ``5*`` leaves five values unchanged), comments,
-  ``/`` terminators. Keywords it does not know are skipped and listed in
-  ``Deck.notes``.
+* repeat counts (``3*0.2``; ``5*`` leaves five values unchanged).
+
+Other keywords of ECLIPSE and Flow (:mod:`~gridlib.io.grdecl.vocabulary`) are
+skipped by the shape of their data (:mod:`~gridlib.io.grdecl.shapes`) and listed in
+``Deck.notes``; a keyword outside the vocabulary is a :class:`DeckError` naming the
+file, line and keyword, or with ``unknown_keywords="skip"`` skipped and listed.
 
 Numbers are parsed in bulk (see :mod:`gridlib.io.eclipse_text`): a 1e6-cell
-deck reads in about a second. Every error names the file, the line and the
+deck reads in about 1.5 seconds. Every error names the file, the line and the
 keyword (:class:`DeckError`, an :class:`~gridlib.errors.InputError`).
 
 ``write_grdecl`` writes a deck that ECLIPSE, OPM Flow and ``read_grdecl`` read;
@@ -41,7 +49,9 @@ Lengths are in the deck's units (metres for METRIC, feet for FIELD); z is
 depth, positive down, as the deck gives it.
 
 The package: :mod:`~gridlib.io.grdecl.keywords` (the keyword loop and a handler
-per keyword), :mod:`~gridlib.io.grdecl.state` (what has been read so far),
+per keyword), :mod:`~gridlib.io.grdecl.vocabulary` and
+:mod:`~gridlib.io.grdecl.shapes` (the keywords it skips, and how),
+:mod:`~gridlib.io.grdecl.state` (what has been read so far),
 :mod:`~gridlib.io.grdecl.read` (the deck assembled from it) and
 :mod:`~gridlib.io.grdecl.write`; the text of the arrays comes from
 :func:`gridlib.io.eclipse_text.format_values`, written to the file block by

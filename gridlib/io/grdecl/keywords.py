@@ -1,13 +1,17 @@
 """The GRDECL reader's keyword loop (:func:`read_file`) and one handler per keyword it reads.
 
-Each handler takes the reader's state, the source, the position after the
-keyword, the keyword and the INCLUDE depth, stores what the keyword says in the
-state and returns the position after its data. INCLUDE reads the included file
-with :func:`read_file` again, one level deeper.
+Each handler takes the reader's state, the source, the position of the keyword's data (the
+line after the keyword's), the keyword and the INCLUDE depth, stores what the keyword says in
+the state and returns the position after its data. INCLUDE reads the included file with
+:func:`read_file` again, one level deeper. Keywords without a handler are looked up in the
+:mod:`~gridlib.io.grdecl.vocabulary`: an array of one value per cell is kept, anything else is
+skipped by its shape (:mod:`~gridlib.io.grdecl.shapes`); a name outside the vocabulary is an
+error, or with ``unknown_keywords="skip"`` skipped to the next line that starts with a keyword.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -16,55 +20,87 @@ from ...cornerpoint.connection_keywords import TRAN_KEYWORDS, TranEdit
 from ...cornerpoint.deck import FAULT_FACES, PINCH_DEFAULTS, FaultSegment
 from ..connection_records import cell_pair_record, gridopts_record, multregt_record
 from ..eclipse_text import (
+    KEYWORD_NAME,
+    MAX_KEYWORD_LENGTH,
     DeckError,
     Item,
     Source,
     float_item,
     int_item,
-    looks_like_keyword_line,
+    line_word,
+    next_line,
     read_keyword,
     read_numbers,
     read_record,
     read_records,
     skip_blank,
-    skip_unknown,
 )
 from ..egrid import read_egrid
+from .shapes import skip_data
 from .state import ReaderState
+from .vocabulary import KeywordInfo, vocabulary
 
-__all__ = ["SECTIONS", "UNITS", "read_file"]
+__all__ = ["SECTIONS", "UNITS", "UNKNOWN_KEYWORDS", "open_source", "read_file"]
 
 UNITS = ("METRIC", "FIELD", "LAB", "PVT-M")
 SECTIONS = ("RUNSPEC", "GRID", "EDIT", "PROPS", "REGIONS", "SOLUTION", "SUMMARY", "SCHEDULE", "OPTIMIZE")
-_STOP_SECTIONS = ("PROPS", "REGIONS", "SOLUTION", "SUMMARY", "SCHEDULE", "OPTIMIZE")
-_NO_DATA = frozenset(
-    """ECHO NOECHO INIT NONNC NEWTRAN OLDTRAN UNIFOUT UNIFIN FMTOUT FMTIN MULTOUT MULTIN NOSIM
-    NOINSPEC NORSSPEC IMPES FULLIMP OIL WATER GAS DISGAS VAPOIL BRINE SOLVENT POLYMER TEMP THERMAL
-    CO2STORE H2STORE MONITOR NOMONITO NOWARN WARN NOGGF NOCASC DUALPORO DUALPERM SKIP100 SKIP300
-    ENDSKIP""".split()
-)
+_STOP_SECTIONS = ("SOLUTION", "SUMMARY", "SCHEDULE", "OPTIMIZE")
+_CELL_SECTIONS = (None, "GRID", "EDIT", "PROPS", "REGIONS")  # None: a GRDECL file without sections
+UNKNOWN_KEYWORDS = ("error", "skip")
 # Cell keywords with a default value (used when EQUALS/ADD/... touch them before they are set).
 _MULTIPLIER_KEYWORDS = frozenset(f"MULT{d}{s}" for d in "XYZ" for s in ("", "-"))
 _DEFAULTS = {"ACTNUM": 1.0, "NTG": 1.0, "MULTPV": 1.0, "MULTNUM": 1.0}
 _DEFAULTS |= dict.fromkeys(_MULTIPLIER_KEYWORDS, 1.0)
-# Cell keywords we know; others with one value per cell are kept too.
+# Cell keywords we know (their count is checked); other arrays of one value per cell are kept too.
 _CELL_KEYWORDS = frozenset(
     """ACTNUM PORO NTG PERMX PERMY PERMZ PERMXY PERMYZ PERMZX MULTX MULTY MULTZ MULTX- MULTY- MULTZ-
     MULTPV PORV DX DY DZ TOPS SATNUM FIPNUM EQLNUM PVTNUM IMBNUM ROCKNUM MINPVV SWATINIT
     DEPTH SWL SWCR SWU SGL SGCR SGU SOWCR SOGCR KRW KRO KRG PCW PCG MULTNUM FLUXNUM OPERNUM
-    DIFFX DIFFY DIFFZ THCONR HEATCR PRESSURE SWAT SGAS RS RV""".split()
+    DIFFX DIFFY DIFFZ THCONR HEATCR""".split()
 )
 _MAX_INCLUDE_DEPTH = 32
+_DATA_START = re.compile(rb"[\d+\-.*'/]")  # text after a keyword that looks like its data
+
+
+class _KnownKeywords:
+    """Names that start a keyword: the vocabulary's and those the reader handles."""
+
+    def __contains__(self, name: object) -> bool:
+        if not isinstance(name, str):
+            return False
+        known = vocabulary()
+        return name in _HANDLERS or name in SECTIONS or name in known or name[:MAX_KEYWORD_LENGTH] in known
+
+
+KNOWN_KEYWORDS = _KnownKeywords()
+
+
+def open_source(path: Path) -> Source:
+    """A deck file, read with the keywords that end a record written without its '/'."""
+    return Source.open(path, KNOWN_KEYWORDS)
 
 
 def read_file(state: ReaderState, src: Source, depth: int) -> None:
+    """Read the keywords of ``src`` into ``state`` (``depth``: how deep in INCLUDEs) up to the end
+    of the file, ENDINC, END, or a section the reader stops at."""
     pos = 0
     while not state.stopped:
-        found = read_keyword(src, pos)
-        if found is None:
+        line = read_keyword(src, pos)
+        if line is None:
             return
-        name, pos = found
-        at = pos
+        name, at, pos = line.name, line.at, line.data_start
+        if name == "/":  # a stray '/': OPM Flow ignores it
+            state.notes.append(f"{src.path.name}:{src.line(at)}: a '/' where a keyword should be: ignored")
+            continue
+        if name not in KNOWN_KEYWORDS or (len(name) > MAX_KEYWORD_LENGTH and name not in _HANDLERS):
+            name, pos = _long_or_unknown(state, src, at, pos, name)
+            if name is None:
+                continue
+        if _DATA_START.match(line.ignored) and name != "TITLE":
+            state.notes.append(
+                f"{src.path.name}:{src.line(at)}: {name}: text after the keyword on its line ignored "
+                f"({line.ignored[:40].decode('latin-1')!r}; data start on the next line)"
+            )
         if name in SECTIONS:
             state.section = name
             if name in _STOP_SECTIONS:
@@ -81,15 +117,59 @@ def read_file(state: ReaderState, src: Source, depth: int) -> None:
         if name in UNITS:
             state.units = name
             continue
-        if name in _NO_DATA:
-            continue
         handler = _HANDLERS.get(name)
         if handler is not None:
             pos = handler(state, src, pos, name, depth)
         elif name in _CELL_KEYWORDS:
             pos = _cell_array(state, src, pos, name)
         else:
-            pos = _unknown(state, src, pos, name)
+            info = vocabulary().get(name)
+            assert info is not None
+            pos = _other_keyword(state, src, pos, info)
+
+
+def _long_or_unknown(state: ReaderState, src: Source, at: int, pos: int, name: str) -> tuple[str | None, int]:
+    """A name longer than 8 characters whose first 8 are a keyword is that keyword (as ECLIPSE and
+    OPM Flow read it); any other name nobody knows is an error or, with unknown_keywords="skip",
+    skipped up to the next line that starts with a word that could be a keyword."""
+    where = f"{src.path.name}:{src.line(at)}"
+    short = name[:MAX_KEYWORD_LENGTH]
+    if len(name) > MAX_KEYWORD_LENGTH and short in KNOWN_KEYWORDS:
+        state.notes.append(f"{where}: keyword {name} read as {short} (only 8 characters count)")
+        return short, pos
+    if state.unknown_keywords == "error":
+        raise src.error(
+            at,
+            None,
+            f"unknown keyword {name!r}: neither ECLIPSE nor OPM Flow knows it (misspelt?); "
+            "read_grdecl(..., unknown_keywords='skip') (a deck case's grid.unknown_keywords: skip) "
+            "skips such keywords",
+        )
+    state.unknown.setdefault(name, where)
+    while True:  # as OPM Flow: lines up to one that starts with a name (known or not)
+        word = line_word(src.data, pos)
+        if word is None or KEYWORD_NAME.fullmatch(word):
+            return None, skip_blank(src.data, pos)
+        pos = next_line(src.data, skip_blank(src.data, pos))
+
+
+def _other_keyword(state: ReaderState, src: Source, pos: int, info: KeywordInfo) -> int:
+    """A keyword the reader has no handler for: an array of one value per cell (of the current
+    BOX) in a section with cell data is kept; anything else is skipped by its shape."""
+    name = info.name
+    where = f"{src.path.name}:{src.line(pos)}"
+    if info.shape.kind == "data" and state.section in _CELL_SECTIONS and state.dims is not None:
+        try:
+            numbers, end = read_numbers(src, pos, name, at_most=state.num_cells)
+        except DeckError:
+            numbers = None
+        if numbers is not None and numbers.values.size == _box_size(state, state.box):
+            _store(state, name, numbers, state.box, numbers.values.size)
+            state.notes.append(f"{where}: {name} read as a cell keyword (one value per cell)")
+            return end
+    if info.shape.kind != "none":
+        state.skipped.setdefault(name, where)
+    return skip_data(state, src, pos, info)
 
 
 # --- handlers ---------------------------------------------------------------------------------
@@ -123,15 +203,8 @@ def _dims_keyword(state, src, pos, name, depth):
 
 
 def _title(state, src, pos, name, depth):
-    """TITLE: the next line is free text (no '/')."""
-    data = src.data
-    line_end = data.find(b"\n", pos)
-    if line_end < 0:
-        return len(data)
-    if data[pos:line_end].strip():  # the title is on the keyword's own line
-        return line_end + 1
-    title_end = data.find(b"\n", line_end + 1)
-    return len(data) if title_end < 0 else title_end + 1
+    """TITLE: the line after the keyword's is free text (no '/')."""
+    return next_line(src.data, next_line(src.data, pos))
 
 
 def _coord(state, src, pos, name, depth):
@@ -239,27 +312,6 @@ def _tran_array(state, src, pos, name, depth):
     return end
 
 
-def _unknown(state, src, pos, name):
-    """A keyword we do not know: keep it if it is one number per cell, else skip it."""
-    where = f"{src.path.name}:{src.line(pos)}"
-    if looks_like_keyword_line(src.data, pos):
-        state.skipped.setdefault(name, where)
-        return pos
-    if state.section not in ("RUNSPEC",) and state.dims is not None:
-        start = pos
-        try:
-            numbers, end = read_numbers(src, pos, name, at_most=state.num_cells)
-        except DeckError:
-            numbers = None
-        if numbers is not None and numbers.values.size == _box_size(state, state.box):
-            _store(state, name, numbers, state.box, numbers.values.size)
-            state.notes.append(f"{where}: {name} read as a cell keyword (one value per cell)")
-            return end
-        pos = start
-    state.skipped.setdefault(name, where)
-    return skip_unknown(src, pos, name)
-
-
 def _include(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
     if not items or items[0] is None:
@@ -267,18 +319,33 @@ def _include(state, src, pos, name, depth):
     path = _resolve(state, src, at, name, items[0])
     if depth + 1 > _MAX_INCLUDE_DEPTH:
         raise src.error(at, name, f"includes nested more than {_MAX_INCLUDE_DEPTH} deep (a cycle?)")
-    read_file(state, Source.open(path), depth + 1)
+    read_file(state, open_source(path), depth + 1)
     return pos
 
 
+_PATH_ALIAS = re.compile(r"\$([A-Za-z0-9_-]+)")
+
+
 def _resolve(state: ReaderState, src: Source, at: int, name: str, text: str) -> Path:
-    for alias, value in state.paths.items():
-        text = text.replace(f"${alias}", value)
+    """The file an INCLUDE (or GDFILE) names: ``$ALIAS`` replaced by its PATHS value, ``\\``
+    read as ``/``, and a relative path taken from the directory of the deck that was opened
+    (the DATA file), not of the including file: as ECLIPSE and OPM Flow do."""
+    alias = _PATH_ALIAS.search(text)
+    if alias is not None:
+        if alias.group(1) not in state.paths:
+            known = ", ".join(sorted(state.paths)) or "none"
+            raise src.error(
+                at, name, f"path alias ${alias.group(1)} is not defined by PATHS (defined: {known})"
+            )
+        text = text.replace(alias.group(0), state.paths[alias.group(1)])
+    text = text.replace("\\", "/")
     path = Path(text)
     if not path.is_absolute():
-        path = src.path.parent / path
+        path = state.main.parent / path
     if not path.is_file():
-        raise src.error(at, name, f"file {text!r} not found (looked for {path})")
+        raise src.error(
+            at, name, f"file {text!r} not found (looked for {path}: relative to the DATA file's directory)"
+        )
     return path
 
 
@@ -514,6 +581,13 @@ def _skip_block(end_keyword: str, what: str):
     return handler
 
 
+def _import(state, src, pos, name, depth):
+    """IMPORT: keywords from a binary file; refused rather than silently missing."""
+    items, _, at = read_record(src, pos, name)
+    shown = repr(items[0]) if items and items[0] else "a file"
+    raise src.error(at, name, f"keywords imported from {shown} (a binary file) are not read: INCLUDE text")
+
+
 def _single_record_note(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
     state.notes.append(f"{src.path.name}:{src.line(at)}: {name} {' '.join(i or '*' for i in items)} ignored")
@@ -553,6 +627,7 @@ _HANDLERS = {
     "RADFIN": _skip_block("ENDFIN", "local grid refinement"),
     "RADFIN4": _skip_block("ENDFIN", "local grid refinement"),
     "GDORIENT": _single_record_note,
+    "IMPORT": _import,
     "COORDSYS": _single_record_note,
     "NNC": _cell_pairs,
     "EDITNNC": _cell_pairs,

@@ -17,8 +17,8 @@ import numpy as np
 from ...cornerpoint.cartesian import cartesian_to_cornerpoint
 from ...cornerpoint.connection_keywords import CellPairs
 from ...cornerpoint.deck import Deck
-from ..eclipse_text import DeckError, Source
-from .keywords import read_file
+from ..eclipse_text import DeckError
+from .keywords import UNKNOWN_KEYWORDS, open_source, read_file
 from .state import ReaderState
 
 __all__ = ["read_grdecl"]
@@ -26,8 +26,14 @@ __all__ = ["read_grdecl"]
 _GEOMETRY_KEYWORDS = ("DX", "DY", "DZ", "TOPS")
 
 
-def read_grdecl(path: str | os.PathLike) -> Deck:
+def read_grdecl(path: str | os.PathLike, *, unknown_keywords: str = "error") -> Deck:
     """Read the grid of an ECLIPSE deck (GRDECL or DATA file).
+
+    A keyword that neither ECLIPSE nor OPM Flow knows (outside the
+    :mod:`~gridlib.io.grdecl.vocabulary`, e.g. a misspelt ``ACTNUMX``) stops the read with
+    a :class:`DeckError` naming the file, line and keyword, as Flow does;
+    ``unknown_keywords="skip"`` skips each such keyword up to the next line that starts with
+    a keyword and lists them in ``Deck.notes``.
 
     >>> import tempfile, pathlib
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "box.grdecl"
@@ -39,8 +45,12 @@ def read_grdecl(path: str | os.PathLike) -> Deck:
     main = Path(path)
     if not main.is_file():
         raise DeckError(f"{main}: no such file")
-    state = ReaderState(main)
-    read_file(state, Source.open(main), 0)
+    if unknown_keywords not in UNKNOWN_KEYWORDS:
+        raise DeckError(
+            f"{main}: unknown_keywords must be one of {UNKNOWN_KEYWORDS}, not {unknown_keywords!r}"
+        )
+    state = ReaderState(main, unknown_keywords)
+    read_file(state, open_source(main), 0)
     return _deck(state)
 
 
@@ -82,6 +92,9 @@ def _deck(state: ReaderState) -> Deck:
     if state.skipped:
         shown = ", ".join(f"{k} ({v})" for k, v in state.skipped.items())
         notes.append(f"skipped keywords not needed for the grid: {shown}")
+    if state.unknown:
+        shown = ", ".join(f"{k} ({v})" for k, v in state.unknown.items())
+        notes.append(f"skipped keywords neither ECLIPSE nor OPM Flow knows (unknown_keywords=skip): {shown}")
     fault_names = {seg.name for seg in state.faults}
     for name, at in state.multflt_sources.items():
         if name not in fault_names:

@@ -18,6 +18,7 @@ class ReaderState:
     """Everything read so far, across INCLUDEd files."""
 
     main: Path
+    unknown_keywords: str = "error"  # or "skip": see read_grdecl
     dims: tuple[int, int, int] | None = None
     arrays: dict[str, np.ndarray] = field(default_factory=dict)
     coord: np.ndarray | None = None
@@ -44,6 +45,8 @@ class ReaderState:
     stopped: bool = False
     notes: list[str] = field(default_factory=list)
     skipped: dict[str, str] = field(default_factory=dict)  # keyword -> where first seen
+    unknown: dict[str, str] = field(default_factory=dict)  # keywords nobody knows -> where first seen
+    size_records: dict[str, list] = field(default_factory=dict)  # TABDIMS etc.: first record's items
 
     @property
     def num_cells(self) -> int:
