@@ -13,9 +13,10 @@ Which computation, by grid type (the ``method`` attribute says which ran):
   :func:`~gridlib.transmissibility.deck.deck_transmissibility` on ``grid.grdecl`` with
   the case's PERMX, PERMY, PERMZ and NTG from ``petrophysics.nc`` (per grid cell, put
   on the deck's cells through ``index_map``): ECLIPSE's NEWTRAN, MULT* and MULTFLT as
-  OPM Flow computes them, so the T equal Flow's for that deck. Pore volume as Flow:
-  the ECLIPSE bulk volume (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV
-  (the deck's PORV where it gives one). ``cell_flow_index`` is the grid's
+  OPM Flow computes them, so the T equal Flow's for that deck. Pore volume as Flow
+  (:func:`~gridlib.cornerpoint.pore_volume.pore_volumes`): the ECLIPSE bulk volume
+  (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV (the PORV of the deck's EDIT
+  section where it gives one). ``cell_flow_index`` is the grid's
   ``index_map``, ``flow_dims`` the deck's dimensions;
 * **pebi**: :func:`~gridlib.transmissibility.transmissibility` with each cell's
   generating site (x, y) at its centroid's depth as the cell centre (``site`` in
@@ -52,6 +53,7 @@ import xarray as xr
 
 from ..config import Case, load_case
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.pore_volume import pore_volumes
 from ..cornerpoint.process import CornerPointGrid
 from ..errors import InputError
 from ..geometry import Geometry
@@ -160,12 +162,9 @@ def _deck_case(
     bulk = stored.cell_data["bulk_volume"]
     cp = CornerPointGrid(grid, nnc, tuple(attrs.get("fault_names", ())), (), bulk)
     conn = deck_transmissibility(deck, cp)
-    if "PORV" in deck.cell_data:  # Flow takes the deck's pore volumes as they are
-        porv = deck.cell_data["PORV"][index]
-        conn = replace(conn, notes=(*conn.notes, "pore volumes: the deck's PORV"))
-    else:
-        multpv = deck.cell_data["MULTPV"][index] if "MULTPV" in deck.cell_data else 1.0
-        porv = bulk * rock["poro"] * rock["ntg"] * multpv * _volume_unit(system)
+    porv = pore_volumes(deck, index, bulk)  # Flow's: EDIT PORV, else bulk x PORO x NTG x MULTPV
+    if "PORV" in deck.cell_data:
+        conn = replace(conn, notes=(*conn.notes, "pore volumes: the deck's PORV where it gives one"))
     method = "deck_transmissibility (ECLIPSE NEWTRAN, MULT* and MULTFLT as OPM Flow 2022.10 computes them)"
     return conn, porv, method
 

@@ -202,9 +202,53 @@ def _cell_array(state, src, pos, name, depth=0):
         expected = numbers.values.size
     else:
         numbers, end = read_numbers(src, pos, name, expected=expected)
+    if name == "PORV" and not _porv_read(state, src, pos):
+        return end
     multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
     _store(state, name, numbers, box, expected, multiply)
     return end
+
+
+def _porv_read(state: ReaderState, src: Source, at: int) -> bool:
+    """Whether PORV (the keyword, or an operation on it) at ``at`` is read. OPM Flow 2022.10
+    reads PORV only in the EDIT section (elsewhere: a note, not read). In EDIT, the first
+    PORV fixes the pore volumes of the cells it leaves to Flow (NaN here): bulk volume x PORO
+    x NTG x the MULTPV in force then, which the deck's MULTPV becomes (later MULTPV does not
+    change them)."""
+    if state.section is not None and state.section != "EDIT":
+        state.notes.append(
+            f"{src.path.name}:{src.line(at)}: PORV in the {state.section} section ignored "
+            "(OPM Flow 2022.10 reads PORV only in EDIT)"
+        )
+        return False
+    if "PORV" not in state.arrays:
+        state.porv_multpv = _array(state, "MULTPV").copy()
+        _array(state, "PORV")
+    return True
+
+
+def _porv_operation(state, src, at, name, value, cells) -> None:
+    """MULTIPLY, ADD, MINVALUE, MAXVALUE on PORV: on the values the deck gave, and (MULTIPLY
+    only) on the pore volumes Flow computes, through their MULTPV."""
+    porv = state.arrays["PORV"]
+    computed = np.isnan(porv[cells])
+    if name == "MULTIPLY":
+        porv[cells] *= value
+        state.porv_multpv[cells] *= value
+        return
+    if computed.any():
+        raise src.error(
+            at,
+            name,
+            f"PORV: {int(computed.sum())} cells of the box have no PORV yet (Flow computes theirs); "
+            f"{name} on computed pore volumes is not supported (give PORV for them first)",
+        )
+    if name == "ADD":
+        porv[cells] += value
+    elif name == "MINVALUE":
+        porv[cells] = np.maximum(porv[cells], value)
+    else:  # MAXVALUE
+        porv[cells] = np.minimum(porv[cells], value)
 
 
 def _store(state, name, numbers, box, expected, multiply=False):
@@ -345,7 +389,14 @@ def _operator(state, src, pos, name, depth):
         if target in TRAN_KEYWORDS or (name == "COPY" and items[1].upper() in TRAN_KEYWORDS):
             _tran_operation(state, src, at, name, items, box)
             continue
+        if (target == "PORV" or (name == "COPY" and items[1].upper() == "PORV")) and not _porv_read(
+            state, src, at
+        ):
+            continue
         cells = _box_cells(state, box)
+        if target == "PORV" and name != "EQUALS" and name != "COPY":
+            _porv_operation(state, src, at, name, float_item(src, at, name, items[1], target), cells)
+            continue
         if name == "COPY":
             dest = items[1].upper()
             if target not in state.arrays and target not in _DEFAULTS:
@@ -548,6 +599,7 @@ _HANDLERS = {
     "GRIDUNIT": _string_keyword,
     "PINCH": _pinch,
     "MINPV": _minpv,
+    "MINPORV": _minpv,  # MINPV's other name (OPM Flow reads either)
     "SKIP": _skip_block("ENDSKIP", "skipped block"),
     "CARFIN": _skip_block("ENDFIN", "local grid refinement"),
     "RADFIN": _skip_block("ENDFIN", "local grid refinement"),
