@@ -93,10 +93,11 @@ def zeros_of(keyword: str) -> str:
 
 
 def porv_keyword() -> str:
-    """PORV for every cell: 7.5, 0 on the cells ZERO, 1.0 (below MINPV 2) on two thick cells."""
+    """PORV for every cell: 7.5, 0 on the cells ZERO, 1.0 (below MINPV 2) on two thick cells
+    and on the collapsed one (Flow 2022.10 aborts on a collapsed cell at or above MINPV)."""
     values = np.full(N, 7.5)
     values[cells(ZERO)] = 0.0
-    values[cells([(1, 2, 3), (3, 1, 5)])] = 1.0
+    values[cells([(1, 2, 3), (3, 1, 5), COLLAPSED])] = 1.0
     return array_text("PORV", values)
 
 
