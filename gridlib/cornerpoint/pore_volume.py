@@ -11,7 +11,9 @@ cells are active: Flow's rules"):
    EDIT section leaves a cell to Flow), and the MULTPV of a cell is the one in force when
    the EDIT section first touches PORV (the reader stores that one).
 2. **Zero pore volume**: an ACTNUM-active cell whose pore volume is 0 because PORO, NTG,
-   MULTPV or its PORV is 0 is inactive, exactly as if ACTNUM were 0 there: no connection
+   MULTPV or its PORV is 0, or because PORO is undefined there (no PORV either: Flow's
+   pore volume is then 0; Flow fills PORO below a keyword's top layer from it, as the
+   reader does), is inactive, exactly as if ACTNUM were 0 there: no connection
    to it, none across it by MINPV or PINCH that an ACTNUM 0 cell would not give. A cell
    of zero bulk volume (collapsed on all four pillars) is not deactivated by this rule:
    the corner-point processing removes it, and under MINPV (its pore volume, 0, is below
@@ -54,19 +56,19 @@ def volume_unit(deck: Deck) -> float:
 
 
 def pore_volume_factors(deck: Deck, cells: IntArray | slice = slice(None)) -> FloatArray:
-    """PORO x NTG x MULTPV of ``cells`` (NaN where PORO is undefined), what multiplies the
-    bulk volume where the deck gives no PORV."""
+    """PORO x NTG x MULTPV of ``cells``, what multiplies the bulk volume where the deck gives
+    no PORV; 0 where PORO is undefined (NaN), as Flow's pore volume there."""
     data = deck.cell_data
     factor = data["PORO"][cells] if "PORO" in data else np.full(deck.num_cells, np.nan)[cells]
     for name in ("NTG", "MULTPV"):
         if name in data:
             factor = factor * data[name][cells]
-    return factor
+    return np.where(np.isnan(factor), 0.0, factor)
 
 
 def zero_pore_volume(deck: Deck) -> np.ndarray:
     """Per deck cell: ACTNUM-active cells whose pore volume is 0 whatever their bulk volume
-    (PORV 0, or PORO x NTG x MULTPV 0); no geometry needed."""
+    (PORV 0, or PORO x NTG x MULTPV 0 or undefined); no geometry needed."""
     if not has_pore_volume(deck):
         return np.zeros(deck.num_cells, dtype=bool)
     porv = deck.cell_data.get("PORV")
@@ -102,7 +104,7 @@ def pore_volumes(deck: Deck, cells: IntArray, bulk: FloatArray | None = None) ->
     """Flow's pore volume of ``cells`` (linear ijk indices), deck reservoir volume unit.
 
     ``bulk``: their bulk volumes (deck length unit cubed; computed from the corners if
-    None). Raises naming the cell where PORO is undefined (and no PORV is given).
+    None). 0 where neither PORV nor PORO is defined.
     """
     cells = np.asarray(cells, dtype=np.int64)
     porv = deck.cell_data.get("PORV")
@@ -113,13 +115,6 @@ def pore_volumes(deck: Deck, cells: IntArray, bulk: FloatArray | None = None) ->
     if computed.any():
         where = cells[computed]
         factor = pore_volume_factors(deck, where)
-        undefined = np.isnan(factor)
-        if undefined.any():
-            what = "PORO" if "PORO" in deck.cell_data else "PORO (or PORV in EDIT)"
-            raise InputError(
-                f"{deck.source}: {what}: undefined in {int(undefined.sum())} active cells "
-                f"(first: cell {ijk_text(deck, int(where[undefined][0]))})"
-            )
         volume = bulk_volumes(deck, where) if bulk is None else np.abs(np.asarray(bulk)[computed])
         pv[computed] = volume * factor * volume_unit(deck)
     return pv

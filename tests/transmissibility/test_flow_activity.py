@@ -54,7 +54,8 @@ def array_text(name: str, values) -> str:
 
 
 def deck_text(grid: str = "", edit: str = "", poro=None, actnum=None) -> str:
-    """The deck: geometry, rock, then ``grid`` (more GRID keywords) and ``edit`` (EDIT)."""
+    """The deck: geometry, rock, then ``grid`` (more GRID keywords) and ``edit`` (EDIT).
+    ``poro``: PORO of every cell (default 0.2), or the text that gives it."""
     thick = np.broadcast_to(LAYERS[:, None, None], (NZ, NY, NX)).copy()
     i, j, k = COLLAPSED
     thick[k - 1, j - 1, i - 1] = 0.0
@@ -74,7 +75,7 @@ def deck_text(grid: str = "", edit: str = "", poro=None, actnum=None) -> str:
     text += array_text("COORD", coord) + array_text("ZCORN", z)
     if actnum is not None:
         text += "ACTNUM\n" + " ".join(map(str, actnum)) + " /\n"
-    text += array_text("PORO", np.full(N, 0.2) if poro is None else poro)
+    text += poro if isinstance(poro, str) else array_text("PORO", np.full(N, 0.2) if poro is None else poro)
     text += array_text("PERMX", 100 + 7 * g) + array_text("PERMY", 50 + 3 * g) + array_text("PERMZ", 10 + g)
     text += grid + ("EDIT\n" + edit if edit else "")
     return text + rest_of_deck(1000.5, 2000.0)
@@ -211,19 +212,45 @@ def test_pore_volume_keywords_as_flow(grid, edit, tmp_path):
     assert_same_as_flow(deck_text(grid, edit), tmp_path)
 
 
+PORO_CASES = {
+    # cells PORO leaves undefined take the value of the top cell of their column
+    "from_top_layer": ("BOX\n 1 3 1 2 1 4 /\nPORO\n 6*0.25 6*0.2 6*0.3 6*0.1 /\nENDBOX\n", 6),
+    # ... if the keyword gave the top layer: else they have no pore volume (inactive)
+    "top_layer_undefined": ("BOX\n 1 3 1 2 2 7 /\nPORO\n 36*0.2 /\nENDBOX\n", 0),
+}
+
+
+@pytest.mark.parametrize(("poro", "top_active"), PORO_CASES.values(), ids=PORO_CASES.keys())
+def test_undefined_porosity_as_flow(poro, top_active, tmp_path):
+    cp, _ = assert_same_as_flow(deck_text(MINPV, poro=poro), tmp_path)
+    layer = cp.grid.cells.index_map // (NX * NY)
+    assert (layer == 0).sum() == top_active and (layer == NZ - 1).sum() == NX * NY
+
+
+def test_field_units_pore_volumes_in_reservoir_barrels(tmp_path):
+    """FIELD: bulk volumes in ft3, pore volumes and MINPV in rb (5.614583 ft3): MINPV 2 rb
+    removes the 0.2 ft layer (0.71 rb), which 2 ft3 would keep."""
+    text = deck_text(MINPV + "PINCH\n 0.3 /\n", poro=poro_with_zeros()).replace("METRIC", "FIELD")
+    cp, _ = assert_same_as_flow(text, tmp_path)
+    assert cell(1, 2, 4) not in cp.grid.cells.index_map and cell(1, 2, 5) in cp.grid.cells.index_map
+
+
 def test_negative_pore_volume_is_refused_with_the_cell(tmp_path):
+    """Flow keeps a cell of negative pore volume active (PORV -10 in its INIT); we refuse it."""
     deck = tmp_path / "NEG.DATA"
     poro = np.full(N, 0.2)
     poro[cell(2, 2, 3)] = -0.1
     deck.write_text(deck_text(poro=poro))
-    with pytest.raises(InputError, match=r"negative pore volume.*\(2, 2, 3\)"):
+    with pytest.raises(
+        InputError, match=r"NEG.DATA: 1 active cells have a negative pore volume.*\(2, 2, 3\)"
+    ):
         process_grdecl(read_grdecl(deck))
 
 
 def test_grid_only_deck_keeps_actnum(tmp_path):
-    """No PORO, no PORV: activity is ACTNUM (here all cells but the collapsed one)."""
+    """No PORO, no PORV: activity is ACTNUM (all cells but the collapsed one), no MINPV."""
     deck = tmp_path / "GRIDONLY.DATA"
-    deck.write_text(deck_text().replace("PORO\n", "NOPORO\n"))
+    deck.write_text(deck_text(poro=""))
     cp = process_grdecl(read_grdecl(deck), minpv=2.0)
     assert cp.grid.num_cells == N - 1
-    assert any("MINPV not applied" in note for note in cp.notes)
+    assert "MINPV not applied: the deck has no PORO (nor PORV)" in cp.notes

@@ -55,6 +55,8 @@ _CELL_KEYWORDS = frozenset(
     DIFFX DIFFY DIFFZ THCONR HEATCR PRESSURE SWAT SGAS RS RV""".split()
 )
 _MAX_INCLUDE_DEPTH = 32
+# GRID keywords whose cells left undefined take the value of their column's top cell (OPM Flow)
+_FROM_TOP_LAYER = frozenset({"PORO", "PERMX", "PERMY", "PERMZ"})
 
 
 def read_file(state: ReaderState, src: Source, depth: int) -> None:
@@ -206,7 +208,29 @@ def _cell_array(state, src, pos, name, depth=0):
         return end
     multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
     _store(state, name, numbers, box, expected, multiply)
+    if name in _FROM_TOP_LAYER and state.section != "EDIT":
+        _fill_from_top_layer(state, src, pos, name, box)
     return end
+
+
+def _fill_from_top_layer(state: ReaderState, src: Source, at: int, name: str, box) -> None:
+    """As OPM Flow: cells still undefined after a keyword that gave values in the top layer
+    take the value it gave to the top cell of their column."""
+    nx, ny, nz = state.dims  # type: ignore[misc]
+    i1, i2, j1, j2, k1, _ = _full_box(state, box)
+    values = state.arrays[name].reshape(nz, ny, nx)
+    undefined = np.isnan(values)
+    if k1 != 0 or not undefined.any():
+        return
+    top = np.full((ny, nx), np.nan)
+    top[j1 : j2 + 1, i1 : i2 + 1] = values[0, j1 : j2 + 1, i1 : i2 + 1]
+    fill = undefined & ~np.isnan(top)
+    if fill.any():
+        values[fill] = np.broadcast_to(top, values.shape)[fill]
+        state.notes.append(
+            f"{src.path.name}:{src.line(at)}: {name}: {int(fill.sum())} undefined cells below the top "
+            "layer take the value of the top cell of their column (as OPM Flow)"
+        )
 
 
 def _porv_read(state: ReaderState, src: Source, at: int) -> bool:
