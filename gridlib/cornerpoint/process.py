@@ -91,22 +91,24 @@ def process_grdecl(
     inactive; default: the deck's MINPV (or MINPORV, else MINPVV per cell), if any; 0
     turns it off.
 
-    Activity is OPM Flow's (:mod:`.pore_volume`): ACTNUM, then cells whose pore volume is
-    0 (PORO, NTG, MULTPV or PORV 0; collapsed) are inactive as if ACTNUM were 0, then
-    MINPV. A deck without PORO and PORV keeps ACTNUM (no pore volume rule, no MINPV).
-    ``notes`` say how many cells each rule removed.
+    Activity is OPM Flow's (:mod:`.pore_volume`): ACTNUM; cells whose pore volume is 0
+    (PORO, NTG, MULTPV or PORV 0, PORO undefined) are inactive as if ACTNUM were 0; cells
+    collapsed on all four pillars are removed; then MINPV. A deck without PORO and PORV
+    keeps ACTNUM (no pore volume rule, no MINPV). ``notes`` say how many cells each rule
+    removed.
 
     >>> from gridlib.cornerpoint.generators import simple_grdecl
     >>> r = process_grdecl(simple_grdecl([4, 2, 3], 0.12, flat=True))
     >>> r.grid.num_cells, r.grid.num_faces, int((r.grid.faces.tag > 0).sum())
     (24, 106, 14)
     """
-    flow_deck = with_flow_activity(deck)
-    if not flow_deck.active.any():
+    flow_deck = with_flow_activity(deck)  # zero pore volume: inactive, as ACTNUM 0
+    if deck.active.any() and not flow_deck.active.any():
         raise InputError(f"{deck.source}: no active cells: every ACTNUM-active cell has zero pore volume")
-    cn = corner_nodes(flow_deck, tolerance)
-    notes = list(cn.notes) + list(flow_deck.notes[len(deck.notes) :])
+    notes = list(flow_deck.notes[len(deck.notes) :])
     deck = flow_deck
+    cn = corner_nodes(deck, tolerance)
+    notes = list(cn.notes) + notes
     if not cn.kept.any():
         raise InputError(f"{deck.source}: every active cell has zero thickness (collapsed on all pillars)")
     bulk = hexahedron_volumes(cn.xyz, cn.table.reshape(8, -1), np.flatnonzero(cn.cells >= 0))
@@ -445,9 +447,10 @@ def _removed_by_pore_volume(deck: Deck, cn, bulk, minpv: float | None, notes: li
     small = pv < threshold[kept] if threshold is not None else np.zeros(kept.size, dtype=bool)
     negative = (pv < 0) & ~small
     if negative.any():
+        first = int(np.flatnonzero(negative)[0])
         raise InputError(
-            f"{deck.source}: {int(negative.sum())} active cells have a negative pore volume (first: "
-            f"cell {ijk_text(deck, int(kept[negative][0]))}, {pv[negative][0]!r}; PORO, NTG, MULTPV or PORV)"
+            f"{deck.source}: {int(negative.sum())} active cells have a negative pore volume (first: cell "
+            f"{ijk_text(deck, int(kept[first]))}, {float(pv[first])!r}; from PORO, NTG, MULTPV or PORV)"
         )
     if not small.any():
         return None

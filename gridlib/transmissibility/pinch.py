@@ -18,6 +18,10 @@ Two mechanisms join the active cells above and below cells that are not in the g
   layer 1 (never reaching layer 0), and the search downwards judges "thin" by the
   thickness of the cell above.
 
+Cells of zero pore volume (PORO, NTG, MULTPV or PORV 0) are inactive cells here, exactly
+as ACTNUM 0 ones (:mod:`gridlib.cornerpoint.pore_volume`); MINPV's threshold may be one
+per cell (MINPVV), and the search below compares with the removed cell's own threshold.
+
 Such a connection's transmissibility is the ordinary harmonic mean of the PERMZ halves
 of its two cells (no NTG), to their own bottom and top face centres, through the upper
 cell's bottom face; the removed cells add no resistance. Its Z multiplier is MULTZ of

@@ -420,7 +420,7 @@ def test_written_sample_decks_keep_their_bytes(tmp_path, decks_dir, name):
 
 def test_porv_is_read_in_edit_only_and_keeps_the_multpv_of_its_moment(tmp_path):
     """As OPM Flow 2022.10 reads them (tests/transmissibility/test_flow_activity.py runs Flow):
-    PORV in GRID is ignored; in EDIT it sets its box (NaN elsewhere: Flow computes those);
+    the PORV keyword in GRID is ignored; in EDIT it sets its box (NaN elsewhere: Flow computes those);
     the computed cells keep the MULTPV in force when EDIT first touches PORV, times the
     MULTIPLY on PORV; MULTPV in EDIT replaces GRID's; MINPORV is MINPV."""
     text = CUBE.replace("SPECGRID", "GRID\nSPECGRID") + (

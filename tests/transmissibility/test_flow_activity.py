@@ -204,6 +204,11 @@ PV_CASES = {
         "MULTIPLY\n PORV 0.5 1 3 2 2 1 7 /\n PORV 4 1 1 1 1 5 5 /\n/\n",
     ),
     "porv_in_grid_ignored": ("PORV\n 42*0.0 /\n" + MINPV, ""),
+    # ... but EQUALS and MULTIPLY on PORV act in GRID too (with the MULTPV of their moment)
+    "porv_operations_in_grid": (
+        "EQUALS\n PORV 5.0 1 1 1 1 1 1 /\n/\nMULTIPLY\n PORV 0.05 1 3 1 1 3 3 /\n/\n" + MINPV,
+        "MULTPV\n 42*3.0 /\n",
+    ),
 }
 
 

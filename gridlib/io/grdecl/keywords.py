@@ -204,8 +204,14 @@ def _cell_array(state, src, pos, name, depth=0):
         expected = numbers.values.size
     else:
         numbers, end = read_numbers(src, pos, name, expected=expected)
-    if name == "PORV" and not _porv_read(state, src, pos):
-        return end
+    if name == "PORV":
+        if state.section is not None and state.section != "EDIT":
+            state.notes.append(
+                f"{src.path.name}:{src.line(pos)}: PORV in the {state.section} section ignored "
+                "(OPM Flow 2022.10 reads the keyword only in EDIT; EQUALS, MULTIPLY... act anywhere)"
+            )
+            return end
+        _start_porv(state)
     multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
     _store(state, name, numbers, box, expected, multiply)
     if name in _FROM_TOP_LAYER and state.section != "EDIT":
@@ -233,22 +239,13 @@ def _fill_from_top_layer(state: ReaderState, src: Source, at: int, name: str, bo
         )
 
 
-def _porv_read(state: ReaderState, src: Source, at: int) -> bool:
-    """Whether PORV (the keyword, or an operation on it) at ``at`` is read. OPM Flow 2022.10
-    reads PORV only in the EDIT section (elsewhere: a note, not read). In EDIT, the first
-    PORV fixes the pore volumes of the cells it leaves to Flow (NaN here): bulk volume x PORO
-    x NTG x the MULTPV in force then, which the deck's MULTPV becomes (later MULTPV does not
-    change them)."""
-    if state.section is not None and state.section != "EDIT":
-        state.notes.append(
-            f"{src.path.name}:{src.line(at)}: PORV in the {state.section} section ignored "
-            "(OPM Flow 2022.10 reads PORV only in EDIT)"
-        )
-        return False
+def _start_porv(state: ReaderState) -> None:
+    """The first PORV (keyword, or operation on it) fixes the pore volumes of the cells it
+    leaves to Flow (NaN here): bulk volume x PORO x NTG x the MULTPV in force then, which
+    becomes the deck's MULTPV (as in OPM Flow 2022.10, a later MULTPV changes nothing)."""
     if "PORV" not in state.arrays:
         state.porv_multpv = _array(state, "MULTPV").copy()
         _array(state, "PORV")
-    return True
 
 
 def _porv_operation(state, src, at, name, value, cells) -> None:
@@ -413,10 +410,8 @@ def _operator(state, src, pos, name, depth):
         if target in TRAN_KEYWORDS or (name == "COPY" and items[1].upper() in TRAN_KEYWORDS):
             _tran_operation(state, src, at, name, items, box)
             continue
-        if (target == "PORV" or (name == "COPY" and items[1].upper() == "PORV")) and not _porv_read(
-            state, src, at
-        ):
-            continue
+        if target == "PORV" or (name == "COPY" and items[1].upper() == "PORV"):
+            _start_porv(state)
         cells = _box_cells(state, box)
         if target == "PORV" and name != "EQUALS" and name != "COPY":
             _porv_operation(state, src, at, name, float_item(src, at, name, items[1], target), cells)
