@@ -165,6 +165,15 @@ def _deck_case(
     porv = pore_volumes(deck, index, bulk)  # Flow's: EDIT PORV, else bulk x PORO x NTG x MULTPV
     if "PORV" in deck.cell_data:
         conn = replace(conn, notes=(*conn.notes, "pore volumes: the deck's PORV where it gives one"))
+    if (porv == 0).any():  # the grid was built before the rock: its cells stay
+        conn = replace(
+            conn,
+            notes=(
+                *conn.notes,
+                f"{int((porv == 0).sum())} grid cells have zero pore volume with the case's petrophysics "
+                "(OPM Flow would make them inactive)",
+            ),
+        )
     method = "deck_transmissibility (ECLIPSE NEWTRAN, MULT* and MULTFLT as OPM Flow 2022.10 computes them)"
     return conn, porv, method
 
