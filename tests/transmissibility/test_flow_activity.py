@@ -258,3 +258,13 @@ def test_grid_only_deck_keeps_actnum(tmp_path):
     cp = process_grdecl(read_grdecl(deck), minpv=2.0)
     assert cp.grid.num_cells == N - 1
     assert "MINPV not applied: the deck has no PORO (nor PORV)" in cp.notes
+
+
+def test_partial_minpvv_is_refused(tmp_path):
+    """Flow 2022.10 reads MINPVV's record as a whole-grid array: by BOX it reads past it."""
+    deck = tmp_path / "MINPVV.DATA"
+    deck.write_text(deck_text("BOX\n 1 1 1 1 3 3 /\nMINPVV\n 15.0 /\nENDBOX\n"))
+    with pytest.raises(
+        InputError, match=r"MINPVV: not given for every cell \(first missing: cell \(1, 1, 1\)\)"
+    ):
+        process_grdecl(read_grdecl(deck))
