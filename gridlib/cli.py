@@ -22,6 +22,7 @@ import numpy as np
 from . import io
 from .checks import check_grid
 from .cornerpoint import process_grdecl
+from .cornerpoint.pore_volume import zero_pore_volume
 from .errors import GridError, InputError
 from .geometry import compute_geometry
 from .stages.flow_deck import flow_deck_from_results
@@ -53,6 +54,9 @@ def info(path: Path) -> str:
         nx, ny, nz = deck.cart_dims
         active = int(deck.active.sum())
         out.append(f"corner-point deck: {nx} x {ny} x {nz} = {deck.num_cells:,d} cells, {active:,d} active")
+        zero_pv = int(zero_pore_volume(deck).sum())
+        if zero_pv:
+            out.append(f"of them with zero pore volume (inactive, as in OPM Flow): {zero_pv:,d}")
         out.append(f"units: {deck.units or 'not given (ECLIPSE default METRIC)'}")
         if deck.cell_data:
             out.append(f"cell keywords: {', '.join(sorted(deck.cell_data))}")

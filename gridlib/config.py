@@ -244,26 +244,28 @@ def with_deck_rock(data: dict[str, Any], path: Path) -> dict[str, Any]:
     deck = path.parent / grid["file"]
     if not deck.is_file():
         return data  # _consistency_problem names the missing file
-    if not set(DECK_ROCK) <= deck_cell_keywords(deck):
+    if not set(DECK_ROCK) <= deck_cell_keywords(deck, grid.get("unknown_keywords", "error")):
         return data
     return {**data, "petrophysics": {}}
 
 
-def deck_cell_keywords(path: Path) -> frozenset[str]:
-    """The cell keywords (PORO, PERMX, MULTZ, ...) the deck file ``path`` gives."""
+def deck_cell_keywords(path: Path, unknown_keywords: str = "error") -> frozenset[str]:
+    """The cell keywords (PORO, PERMX, MULTZ, ...) the deck file ``path`` gives; a text deck is
+    read with ``unknown_keywords`` (a deck case's ``grid.unknown_keywords``)."""
     p = path.resolve()
     stat = p.stat()
-    return _deck_cell_keywords(p, stat.st_mtime_ns, stat.st_size)
+    return _deck_cell_keywords(p, stat.st_mtime_ns, stat.st_size, unknown_keywords)
 
 
 @functools.lru_cache(maxsize=8)
-def _deck_cell_keywords(path: Path, mtime_ns: int, size: int) -> frozenset[str]:
+def _deck_cell_keywords(path: Path, mtime_ns: int, size: int, unknown_keywords: str) -> frozenset[str]:
     # Cached per process on the file's identity: every stage and every variant of a study loads
     # the case again. (An INCLUDEd file edited in the same process is not seen: runs are new
     # processes.)
-    from .io.registry import read  # deferred: the workflow's parse imports config, not the readers
+    from .io.registry import find_format, read  # deferred: the workflow's parse imports config only
 
-    return frozenset(read(path, kind="deck").cell_data)
+    options = {"unknown_keywords": unknown_keywords} if find_format(path, "deck").name == "grdecl" else {}
+    return frozenset(read(path, kind="deck", **options).cell_data)
 
 
 def load_cases(paths: Sequence[str | os.PathLike]) -> dict[str, Case]:

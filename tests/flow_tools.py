@@ -163,3 +163,12 @@ def rest_of_deck(datum: float, owc: float, schedule: str = "TSTEP\n 1 /\n") -> s
     """PROPS to END of a two-phase deck: equilibrium at ``datum`` (200 bar) with the oil-water
     contact at ``owc`` (depths in the deck's length unit), then ``schedule``."""
     return PROPS_AND_SOLUTION.format(datum=datum, owc=owc) + "SCHEDULE\n" + schedule + "END\n"
+
+
+def assert_same_connections(ours: dict[tuple[int, int], float], ref: dict[tuple[int, int], float]) -> None:
+    """The same cell pairs, T within 1e-6 relative (1e-11 absolute: INIT stores float32)."""
+    assert set(ours) == set(ref), (sorted(set(ours) - set(ref))[:5], sorted(set(ref) - set(ours))[:5])
+    pairs = list(ref)
+    a, b = np.array([ours[p] for p in pairs]), np.array([ref[p] for p in pairs])
+    worst = int(np.argmax(np.abs(a - b) - 1e-6 * np.abs(b))) if pairs else 0
+    assert np.all(np.abs(a - b) <= 1e-6 * np.abs(b) + 1e-11), (pairs[worst], a[worst], b[worst])

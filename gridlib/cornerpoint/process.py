@@ -51,6 +51,13 @@ from ..stratigraphic.nnc import FAULT, NNC, PINCH
 from .corners import corner_nodes
 from .deck import Deck
 from .faces import structured_lateral, structured_vertical
+from .pore_volume import (
+    has_pore_volume,
+    ijk_text,
+    minimum_pore_volumes,
+    pore_volumes,
+    with_flow_activity,
+)
 from .volumes import hexahedron_volumes
 
 
@@ -80,25 +87,36 @@ def process_grdecl(
     ``pinch``: connect cells across removed layers whose gap is at most
     ``pinch_threshold`` (default: the deck's PINCH threshold, else 0.001) as
     non-neighbour connections.
-    ``minpv`` (deck volume unit): cells whose pore volume (bulk volume x PORO x
-    NTG x MULTPV, as ECLIPSE's MINPV) is below it become inactive; default:
-    the deck's MINPV, if any; 0 turns it off.
+    ``minpv`` (deck reservoir volume unit): cells whose pore volume is below it become
+    inactive; default: the deck's MINPV (or MINPORV, else MINPVV per cell), if any; 0
+    turns it off.
+
+    Activity is OPM Flow's (:mod:`.pore_volume`): ACTNUM; cells whose pore volume is 0
+    (PORO, NTG, MULTPV or PORV 0, PORO undefined) are inactive as if ACTNUM were 0; cells
+    collapsed on all four pillars are removed; then MINPV. A deck without PORO and PORV
+    keeps ACTNUM (no pore volume rule, no MINPV). ``notes`` say how many cells each rule
+    removed.
 
     >>> from gridlib.cornerpoint.generators import simple_grdecl
     >>> r = process_grdecl(simple_grdecl([4, 2, 3], 0.12, flat=True))
     >>> r.grid.num_cells, r.grid.num_faces, int((r.grid.faces.tag > 0).sum())
     (24, 106, 14)
     """
+    flow_deck = with_flow_activity(deck)  # zero pore volume: inactive, as ACTNUM 0
+    if deck.active.any() and not flow_deck.active.any():
+        raise InputError(f"{deck.source}: no active cells: every ACTNUM-active cell has zero pore volume")
+    notes = list(flow_deck.notes[len(deck.notes) :])
+    deck = flow_deck
     cn = corner_nodes(deck, tolerance)
-    notes = list(cn.notes)
+    notes = list(cn.notes) + notes
     if not cn.kept.any():
         raise InputError(f"{deck.source}: every active cell has zero thickness (collapsed on all pillars)")
     bulk = hexahedron_volumes(cn.xyz, cn.table.reshape(8, -1), np.flatnonzero(cn.cells >= 0))
     if cn.left_handed:
         bulk = -bulk
-    small = _below_minimum_pore_volume(deck, cn, bulk, deck.minpv if minpv is None else minpv, notes)
-    if small is not None:
-        cn, bulk = cn.without(small), bulk[~small]
+    removed = _removed_by_pore_volume(deck, cn, bulk, minpv, notes)
+    if removed is not None:
+        cn, bulk = cn.without(removed), bulk[~removed]
     cell_global = np.flatnonzero(cn.kept.ravel())  # kept cells keep the deck's (k, j, i) order
     faces, coords, names, pinch_pairs = _faces(
         deck, cn, _pinch_threshold(deck, pinch, pinch_threshold), notes
@@ -415,27 +433,31 @@ class _FaceArrays:
             block[:] = node_map[block]
 
 
-def _below_minimum_pore_volume(deck: Deck, cn, bulk, minpv: float | None, notes: list[str]):
-    """Kept cells whose pore volume PORO * NTG * MULTPV * bulk volume is below ``minpv``
-    (ECLIPSE's MINPV: they become inactive), or None when nothing is removed."""
-    if not minpv:
-        return None
-    if minpv < 0:
-        raise InputError(f"process_grdecl: minpv must be >= 0, got {minpv}")
-    if "PORO" not in deck.cell_data:
-        notes.append(f"MINPV {minpv:g} not applied: the deck has no PORO")
+def _removed_by_pore_volume(deck: Deck, cn, bulk, minpv: float | None, notes: list[str]):
+    """Kept cells whose pore volume (``bulk`` x PORO x NTG x MULTPV, or PORV) is below MINPV
+    (removed by Flow), or None when nothing is removed. Raises for a negative pore volume
+    left active."""
+    threshold = minimum_pore_volumes(deck, minpv)
+    if not has_pore_volume(deck):
+        if threshold is not None:
+            notes.append("MINPV not applied: the deck has no PORO (nor PORV)")
         return None
     kept = np.flatnonzero(cn.kept.ravel())
-    pore = np.abs(bulk) * deck.cell_data["PORO"][kept]
-    for name in ("NTG", "MULTPV"):
-        if name in deck.cell_data:
-            pore = pore * deck.cell_data[name][kept]
-    small = ~(pore >= minpv)  # undefined (NaN) porosity counts as no pore volume
+    pv = pore_volumes(deck, kept, bulk)
+    small = pv < threshold[kept] if threshold is not None else np.zeros(kept.size, dtype=bool)
+    negative = (pv < 0) & ~small
+    if negative.any():
+        first = int(np.flatnonzero(negative)[0])
+        raise InputError(
+            f"{deck.source}: {int(negative.sum())} active cells have a negative pore volume (first: cell "
+            f"{ijk_text(deck, int(kept[first]))}, {float(pv[first])!r}; from PORO, NTG, MULTPV or PORV)"
+        )
     if not small.any():
         return None
     if small.all():
-        raise InputError(f"{deck.source}: every cell has a pore volume below MINPV {minpv:g}")
-    notes.append(f"{int(small.sum())} cells with a pore volume below MINPV {minpv:g} were made inactive")
+        raise InputError(f"{deck.source}: every cell has a pore volume below MINPV")
+    shown = f"MINPV {threshold[0]:g}" if (threshold == threshold[0]).all() else "MINPVV"
+    notes.append(f"{int(small.sum())} cells with a pore volume below {shown} were made inactive")
     return small
 
 

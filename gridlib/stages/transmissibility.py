@@ -15,9 +15,10 @@ Which computation, by grid type (the ``method`` attribute says which ran):
   on the deck's cells through ``index_map``; for a deck case the deck's own unless the
   case replaces them) and the deck's MULT*, MULTFLT, MULTREGT with its region arrays,
   PINCH and MINPV: ECLIPSE's NEWTRAN as OPM Flow computes it, so the T equal Flow's for
-  that deck. Pore volume as Flow:
-  the ECLIPSE bulk volume (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV
-  (the deck's PORV where it gives one). ``cell_flow_index`` is the grid's
+  that deck. Pore volume as Flow
+  (:func:`~gridlib.cornerpoint.pore_volume.pore_volumes`): the ECLIPSE bulk volume
+  (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV (the PORV of the deck's EDIT
+  section where it gives one). ``cell_flow_index`` is the grid's
   ``index_map``, ``flow_dims`` the deck's dimensions;
 * **pebi**: :func:`~gridlib.transmissibility.transmissibility` with each cell's
   generating site (x, y) at its centroid's depth as the cell centre (``site`` in
@@ -54,6 +55,7 @@ import xarray as xr
 
 from ..config import Case, load_case
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.pore_volume import pore_volumes
 from ..cornerpoint.process import CornerPointGrid
 from ..errors import InputError
 from ..geometry import Geometry
@@ -162,12 +164,18 @@ def _deck_case(
     bulk = stored.cell_data["bulk_volume"]
     cp = CornerPointGrid(grid, nnc, tuple(attrs.get("fault_names", ())), (), bulk)
     conn = deck_transmissibility(deck, cp)
-    if "PORV" in deck.cell_data:  # Flow takes the deck's pore volumes as they are
-        porv = deck.cell_data["PORV"][index]
-        conn = replace(conn, notes=(*conn.notes, "pore volumes: the deck's PORV"))
-    else:
-        multpv = deck.cell_data["MULTPV"][index] if "MULTPV" in deck.cell_data else 1.0
-        porv = bulk * rock["poro"] * rock["ntg"] * multpv * _volume_unit(system)
+    porv = pore_volumes(deck, index, bulk)  # Flow's: EDIT PORV, else bulk x PORO x NTG x MULTPV
+    if "PORV" in deck.cell_data:
+        conn = replace(conn, notes=(*conn.notes, "pore volumes: the deck's PORV where it gives one"))
+    if (porv == 0).any():  # the grid was built before the rock: its cells stay
+        conn = replace(
+            conn,
+            notes=(
+                *conn.notes,
+                f"{int((porv == 0).sum())} grid cells have zero pore volume with the case's petrophysics "
+                "(OPM Flow would make them inactive)",
+            ),
+        )
     method = "deck_transmissibility (ECLIPSE NEWTRAN, MULT* and MULTFLT as OPM Flow 2022.10 computes them)"
     return conn, porv, method
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.pore_volume import with_flow_activity
 from ..cornerpoint.process import CornerPointGrid, process_grdecl
 from ..errors import InputError
 from ..grid import B, E, N, S, T, W
@@ -83,10 +84,12 @@ def deck_transmissibility(
     (processed here otherwise; its MINPV applies). ``pinch``: whether PINCH is active
     (default: whether the deck has PINCH); connections across removed layers follow
     OPM Flow 2022.10 (:mod:`.pinch`) whatever ``cp`` was processed with.
+    Cells whose pore volume is 0 are inactive, as in Flow (:mod:`gridlib.cornerpoint.pore_volume`).
     Connections are indexed by the processed grid's cells (``cells``) and by linear
     ijk index (``global_cells``). Units: those of the deck (METRIC cP m3/(day bar),
     FIELD cP rb/(day psi), ...).
     """
+    deck = with_flow_activity(deck)  # cells of zero pore volume are inactive, as ACTNUM 0
     if cp is None:
         cp = process_grdecl(deck)
     pinch_active = deck.pinch is not None if pinch is None else bool(pinch)

@@ -18,6 +18,10 @@ Two mechanisms join the active cells above and below cells that are not in the g
   layer 1 (never reaching layer 0), and the search downwards judges "thin" by the
   thickness of the cell above.
 
+Cells of zero pore volume (PORO, NTG, MULTPV or PORV 0) are inactive cells here, exactly
+as ACTNUM 0 ones (:mod:`gridlib.cornerpoint.pore_volume`); MINPV's threshold may be one
+per cell (MINPVV), and the search below compares with the removed cell's own threshold.
+
 Such a connection's transmissibility is the ordinary harmonic mean of the PERMZ halves
 of its two cells (no NTG), to their own bottom and top face centres, through the upper
 cell's bottom face; the removed cells add no resistance. Its Z multiplier is MULTZ of
@@ -29,9 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..cornerpoint.corners import corner_points
 from ..cornerpoint.deck import Deck
-from ..cornerpoint.volumes import hexahedron_volumes
+from ..cornerpoint.pore_volume import flow_pore_volumes, has_pore_volume, minimum_pore_volumes
 from ..grid import IntArray
 
 
@@ -50,45 +53,32 @@ def cell_thickness(deck: Deck, cells: IntArray) -> np.ndarray:
     return np.abs(bottom - top) / 4.0
 
 
-def pore_volumes(deck: Deck, cells: IntArray) -> np.ndarray:
-    """PORO x NTG x MULTPV x bulk volume of ``cells`` (hexahedron volume; 0 where PORO is
-    undefined), in the deck's volume unit, as Flow's PORV (the PORV keyword wins)."""
-    cells = np.asarray(cells, dtype=np.int64)
-    data = deck.cell_data
-    if "PORV" in data:
-        return np.nan_to_num(data["PORV"][cells])
-    pts = corner_points(deck, cells).reshape(-1, 3)
-    table = np.arange(8 * cells.size).reshape(cells.size, 8).T
-    pv = np.abs(hexahedron_volumes(pts, table)) * data.get("PORO", np.zeros(deck.num_cells))[cells]
-    for name in ("NTG", "MULTPV"):
-        if name in data:
-            pv = pv * data[name][cells]
-    return np.nan_to_num(pv)
-
-
 def minpv_connections(deck: Deck, minpv: float | None = None) -> IntArray:
-    """The (n, 2) linear cell pairs (upper, lower) Flow joins across cells removed by MINPV."""
-    threshold = deck.minpv if minpv is None else minpv
-    if not threshold:
+    """The (n, 2) linear cell pairs (upper, lower) Flow joins across cells removed by MINPV.
+
+    Activity and pore volumes are Flow's (:func:`~gridlib.cornerpoint.pore_volume.flow_pore_volumes`:
+    cells of zero pore volume count as inactive); ``minpv`` overrides the deck's threshold
+    (MINPV, MINPORV or the per-cell MINPVV)."""
+    threshold = minimum_pore_volumes(deck, minpv)
+    if threshold is None or not has_pore_volume(deck):
         return np.zeros((0, 2), dtype=np.int64)
     nx, ny, nz = deck.cart_dims
     ncol = nx * ny
-    active = deck.active.reshape(nz, ncol)
-    cand = np.flatnonzero(active.ravel())
-    pv_all = np.zeros(deck.num_cells)
-    pv_all[cand] = pore_volumes(deck, cand)
-    removed = (active & (pv_all.reshape(nz, ncol) < threshold)).ravel()
+    flow_active, pv_all = flow_pore_volumes(deck)
+    active = flow_active.reshape(nz, ncol)
+    removed = (active & (pv_all.reshape(nz, ncol) < threshold.reshape(nz, ncol))).ravel()
     cols = np.unique(np.flatnonzero(removed) % ncol)
     if cols.size == 0:
         return np.zeros((0, 2), dtype=np.int64)
     ids = np.arange(nz)[:, None] * ncol + cols[None, :]  # (nz, m) cells of the affected columns
     act = active[:, cols]
     pv = pv_all[ids]
+    limit = threshold[ids]
     thick = cell_thickness(deck, ids.ravel()).reshape(ids.shape)
     ztol = float(deck.pinch[0]) if deck.pinch is not None else 0.0
     nogap = deck.pinch is not None and deck.pinch_options[0] == "NOGAP"
-    small = pv < threshold
-    significant = pv > threshold
+    small = pv < limit
+    significant = pv > limit
     inactive = ~act
     # next k' >= k of a predicate along each column (nz where none)
     skip_below = ~(inactive & (thick <= ztol))
@@ -115,7 +105,7 @@ def minpv_connections(deck: Deck, minpv: float | None = None) -> IntArray:
             hit = prev_above[kk - 2, col]
             ka = np.where(search_a, np.where(hit >= 1, hit, 1), ka)
         thin_b = thick[kb, col] < ztol
-        small_b = pv[kb, col] < threshold
+        small_b = pv[kb, col] < limit[kk, col]  # the removed cell's threshold (as Flow)
         search_b = (inactive[kb, col] & thin_b) | (act[kb, col] & small_b & (~nogap | thin_b))
         start = kb + 1
         can = search_b & (start < nz)

@@ -19,9 +19,10 @@ from flow_tools import flow_connections, flow_executable, read_keywords, rest_of
 
 from gridlib.case import read_case_deck
 from gridlib.config import load_case
+from gridlib.cornerpoint.pore_volume import pore_volumes
+from gridlib.errors import InputError
 from gridlib.io.grdecl import DeckError, read_grdecl
 from gridlib.transmissibility import deck_transmissibility
-from gridlib.transmissibility.pinch import pore_volumes
 
 RUNSPEC = """RUNSPEC
 DIMENS
@@ -268,8 +269,9 @@ def test_deck_case_option_and_arrays(tmp_path):
     deck_path.write_text(deck_path.read_text().replace("SOLUTION", "REGIONS\nSATNUM\n 12*1 /\nSOLUTION"))
     case_file = tmp_path / "case.yaml"
     case_file.write_text("name: case\ngrid: {type: deck, file: CASE.DATA}\n")
-    with pytest.raises(DeckError, match=r"CASE.DATA:\d+: unknown keyword 'FOOBAR'"):
-        read_case_deck(load_case(case_file))
+    # Refused when the case is read (its deck gives the rock), naming the case, the deck and the line
+    with pytest.raises(InputError, match=r"case.yaml: grid.file: .*CASE.DATA:\d+: unknown keyword 'FOOBAR'"):
+        load_case(case_file)
     case_file.write_text("name: case\ngrid: {type: deck, file: CASE.DATA, unknown_keywords: skip}\n")
     deck = read_case_deck(load_case(case_file))
     assert deck.cart_dims == (3, 2, 2) and any("FOOBAR" in n for n in deck.notes)

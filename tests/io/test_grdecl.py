@@ -425,3 +425,28 @@ def test_written_sample_decks_keep_their_bytes(tmp_path, decks_dir, name):
     deck = dataclasses.replace(read_grdecl(decks_dir / name), source=name)  # the header names it
     path = write_grdecl(tmp_path / "out.grdecl", deck)
     assert hashlib.sha256(path.read_bytes()).hexdigest() == WRITTEN_SHA256[name]
+
+
+def test_porv_is_read_in_edit_only_and_keeps_the_multpv_of_its_moment(tmp_path):
+    """As OPM Flow 2022.10 reads them (tests/transmissibility/test_flow_activity.py runs Flow):
+    the PORV keyword in GRID is ignored; in EDIT it sets its box (NaN elsewhere: Flow computes those);
+    the computed cells keep the MULTPV in force when EDIT first touches PORV, times the
+    MULTIPLY on PORV; MULTPV in EDIT replaces GRID's; MINPORV is MINPV."""
+    text = CUBE.replace("SPECGRID", "GRID\nSPECGRID") + (
+        "PORO\n 4*0.2 /\nMULTPV\n 4*0.5 /\nPORV\n 4*9 /\nMINPORV\n 0.25 /\n"
+        "EDIT\nMULTPV\n 2 2 2 2 /\nBOX\n 1 1 1 1 1 1 /\nPORV\n 7 /\nENDBOX\n"
+        "MULTPV\n 4*3 /\nMULTIPLY\n PORV 10 1 2 1 1 1 1 /\n/\nEQUALS\n PORV 1.5 2 2 2 2 1 1 /\n/\n"
+    )
+    deck = read_grdecl(write(tmp_path / "porv.data", text))
+    np.testing.assert_array_equal(deck.cell_data["PORV"], [70, np.nan, np.nan, 1.5])
+    np.testing.assert_array_equal(deck.cell_data["MULTPV"], [20, 20, 2, 2])
+    assert deck.minpv == 0.25
+    assert any("PORV in the GRID section ignored" in n for n in deck.notes)
+    assert "PORV (EDIT) given for 2 of 4 cells" in deck.notes
+
+
+@pytest.mark.parametrize("operation", ["ADD", "MINVALUE", "MAXVALUE"])
+def test_porv_operations_flow_computes_are_refused_with_file_and_line(tmp_path, operation):
+    text = CUBE.replace("SPECGRID", "GRID\nSPECGRID") + f"PORO\n 4*0.2 /\nEDIT\n{operation}\n PORV 1 /\n/\n"
+    with pytest.raises(DeckError, match=rf"porv.data:\d+: {operation}.*4 cells of the box have no PORV"):
+        read_grdecl(write(tmp_path / "porv.data", text))

@@ -80,6 +80,10 @@ def open_source(path: Path) -> Source:
     return Source.open(path, KNOWN_KEYWORDS)
 
 
+# GRID keywords whose cells left undefined take the value of their column's top cell (OPM Flow)
+_FROM_TOP_LAYER = frozenset({"PORO", "PERMX", "PERMY", "PERMZ"})
+
+
 def read_file(state: ReaderState, src: Source, depth: int) -> None:
     """Read the keywords of ``src`` into ``state`` (``depth``: how deep in INCLUDEs) up to the end
     of the file, ENDINC, END, or a section the reader stops at."""
@@ -275,9 +279,72 @@ def _cell_array(state, src, pos, name, depth=0):
         expected = numbers.values.size
     else:
         numbers, end = read_numbers(src, pos, name, expected=expected)
+    if name == "PORV":
+        if state.section is not None and state.section != "EDIT":
+            state.notes.append(
+                f"{src.path.name}:{src.line(pos)}: PORV in the {state.section} section ignored "
+                "(OPM Flow 2022.10 reads the keyword only in EDIT; EQUALS, MULTIPLY... act anywhere)"
+            )
+            return end
+        _start_porv(state)
     multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
     _store(state, name, numbers, box, expected, multiply)
+    if name in _FROM_TOP_LAYER and state.section != "EDIT":
+        _fill_from_top_layer(state, src, pos, name, box)
     return end
+
+
+def _fill_from_top_layer(state: ReaderState, src: Source, at: int, name: str, box) -> None:
+    """As OPM Flow: cells still undefined after a keyword that gave values in the top layer
+    take the value it gave to the top cell of their column."""
+    nx, ny, nz = state.dims  # type: ignore[misc]
+    i1, i2, j1, j2, k1, _ = _full_box(state, box)
+    values = state.arrays[name].reshape(nz, ny, nx)
+    undefined = np.isnan(values)
+    if k1 != 0 or not undefined.any():
+        return
+    top = np.full((ny, nx), np.nan)
+    top[j1 : j2 + 1, i1 : i2 + 1] = values[0, j1 : j2 + 1, i1 : i2 + 1]
+    fill = undefined & ~np.isnan(top)
+    if fill.any():
+        values[fill] = np.broadcast_to(top, values.shape)[fill]
+        state.notes.append(
+            f"{src.path.name}:{src.line(at)}: {name}: {int(fill.sum())} undefined cells below the top "
+            "layer take the value of the top cell of their column (as OPM Flow)"
+        )
+
+
+def _start_porv(state: ReaderState) -> None:
+    """The first PORV (keyword, or operation on it) fixes the pore volumes of the cells it
+    leaves to Flow (NaN here): bulk volume x PORO x NTG x the MULTPV in force then, which
+    becomes the deck's MULTPV (as in OPM Flow 2022.10, a later MULTPV changes nothing)."""
+    if "PORV" not in state.arrays:
+        state.porv_multpv = _array(state, "MULTPV").copy()
+        _array(state, "PORV")
+
+
+def _porv_operation(state, src, at, name, value, cells) -> None:
+    """MULTIPLY, ADD, MINVALUE, MAXVALUE on PORV: on the values the deck gave, and (MULTIPLY
+    only) on the pore volumes Flow computes, through their MULTPV."""
+    porv = state.arrays["PORV"]
+    computed = np.isnan(porv[cells])
+    if name == "MULTIPLY":
+        porv[cells] *= value
+        state.porv_multpv[cells] *= value
+        return
+    if computed.any():
+        raise src.error(
+            at,
+            name,
+            f"PORV: {int(computed.sum())} cells of the box have no PORV yet (Flow computes theirs); "
+            f"{name} on computed pore volumes is not supported (give PORV for them first)",
+        )
+    if name == "ADD":
+        porv[cells] += value
+    elif name == "MINVALUE":
+        porv[cells] = np.maximum(porv[cells], value)
+    else:  # MAXVALUE
+        porv[cells] = np.minimum(porv[cells], value)
 
 
 def _store(state, name, numbers, box, expected, multiply=False):
@@ -412,7 +479,12 @@ def _operator(state, src, pos, name, depth):
         if target in TRAN_KEYWORDS or (name == "COPY" and items[1].upper() in TRAN_KEYWORDS):
             _tran_operation(state, src, at, name, items, box)
             continue
+        if target == "PORV" or (name == "COPY" and items[1].upper() == "PORV"):
+            _start_porv(state)
         cells = _box_cells(state, box)
+        if target == "PORV" and name != "EQUALS" and name != "COPY":
+            _porv_operation(state, src, at, name, float_item(src, at, name, items[1], target), cells)
+            continue
         if name == "COPY":
             dest = items[1].upper()
             if target not in state.arrays and target not in _DEFAULTS:
@@ -622,6 +694,7 @@ _HANDLERS = {
     "GRIDUNIT": _string_keyword,
     "PINCH": _pinch,
     "MINPV": _minpv,
+    "MINPORV": _minpv,  # MINPV's other name (OPM Flow reads either)
     "SKIP": _skip_block("ENDSKIP", "skipped block"),
     "CARFIN": _skip_block("ENDFIN", "local grid refinement"),
     "RADFIN": _skip_block("ENDFIN", "local grid refinement"),

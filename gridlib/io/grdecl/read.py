@@ -85,9 +85,13 @@ def _deck(state: ReaderState) -> Deck:
             actnum = np.where(undefined, 1.0, actnum)
         if np.any((actnum < 0) | (actnum != np.floor(actnum))):
             raise DeckError(f"{where}: ACTNUM values must be non-negative integers")
+    if state.porv_multpv is not None:  # what multiplies the pore volumes Flow computes
+        arrays["MULTPV"] = state.porv_multpv
     for name, values in arrays.items():
         n_undefined = int(np.isnan(values).sum())
-        if n_undefined:
+        if n_undefined and name == "PORV":
+            notes.append(f"PORV (EDIT) given for {values.size - n_undefined} of {values.size} cells")
+        elif n_undefined:
             notes.append(f"{name} is undefined in {n_undefined} of {values.size} cells (NaN)")
     if state.skipped:
         shown = ", ".join(f"{k} ({v})" for k, v in state.skipped.items())

@@ -34,6 +34,7 @@ class ReaderState:
     pinch: tuple[float, ...] | None = None
     pinch_options: tuple[str, ...] = PINCH_DEFAULTS
     minpv: float | None = None
+    porv_multpv: np.ndarray | None = None  # MULTPV when EDIT first set PORV (then x its MULTIPLYs)
     multregt: list[MultregtRecord] = field(default_factory=list)
     gridopts: GridOptions | None = None
     tran_edits: list[TranEdit] = field(default_factory=list)
