@@ -13,14 +13,20 @@ from __future__ import annotations
 
 import lzma
 import shutil
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 from flow_tools import flow_connection_arrays, read_keywords, run_flow_dry
 
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.grdecl import read_grdecl
+from gridlib.stages.geometry import stage_geometry
+from gridlib.stages.grid import stage_grid
+from gridlib.stages.petrophysics import stage_petrophysics
+from gridlib.stages.transmissibility import stage_transmissibility
 from gridlib.transmissibility import deck_transmissibility
 from gridlib.units import unit_system
 
@@ -111,10 +117,29 @@ def gridlib_result(deck_path: Path) -> Computed:
     return Computed(np.asarray(cells), conn.global_cells[order], conn.trans[order], np.asarray(porv))
 
 
-def compare(name: str, deck: Path, out: Path) -> Comparison:
+def case_result(case_file: Path, folder: Path) -> Computed:
+    """What the workflow makes of a deck case: its grid, geometry, petrophysics and
+    transmissibility stages, then transmissibility.nc's cells, connections and pore volumes."""
+    grid, grdecl, geometry = folder / "grid.nc", folder / "grid.grdecl", folder / "geometry.nc"
+    petro, trans = folder / "petrophysics.nc", folder / "transmissibility.nc"
+    stage_grid(case_file, grid, None, grdecl)
+    stage_geometry(case_file, grid, geometry)
+    stage_petrophysics(case_file, grid, geometry, petro)
+    stage_transmissibility(case_file, grid, geometry, petro, trans, grdecl)
+    with xr.open_dataset(trans) as ds:
+        index, cells = ds["cell_flow_index"].values, ds["connection_cells"].values
+        t, porv = ds["trans"].values, ds["porv"].values
+    pairs = np.sort(index[cells], axis=1)
+    by_pair, by_cell = np.lexsort((pairs[:, 1], pairs[:, 0])), np.argsort(index)
+    return Computed(index[by_cell], pairs[by_pair], t[by_pair], porv[by_cell])
+
+
+def compare(name: str, deck: Path, out: Path, gridlib: Callable[[], Computed] | None = None) -> Comparison:
+    """Flow's dry run of ``deck`` and gridlib's result: ``gridlib()``, by default
+    ``gridlib_result(deck)``."""
     flow, dims = flow_result(deck, out)
     try:
-        ours: Computed | Exception = gridlib_result(deck)
+        ours: Computed | Exception = gridlib() if gridlib else gridlib_result(deck)
     except Exception as exc:  # each check raises it again
         ours = exc
     return Comparison(name, deck, dims, flow, ours)

@@ -10,7 +10,9 @@ each of the four is its own test, so that a failure says which differs and by ho
   cells with PORO 0. What ECLIPSE made of it (its EGRID) is compared too;
 * ``emerald_hole*``: xtgeo-testdata's Emerald geomodel export (GDORIENT LEFT, a hole, PORO
   0 in 5,389 of its 7,157 active cells) in a deck of ours, with and without PINCH and MINPV;
-* ``spe9_minpv``: SPE 9's corner-point deck (FIELD units) with MINPV 15000 rb.
+* ``spe9_minpv``: SPE 9's corner-point deck (FIELD units) with MINPV 15000 rb;
+* ``emerald_hole_case``: the Emerald deck as a workflow case (grid type deck, rock from the
+  deck), through the grid, geometry, petrophysics and transmissibility stages.
 
 The 1.1e6-cell SPE 10 model 2 is in test_real_decks_large.py (Flow's dry run alone takes
 half a minute or more).
@@ -19,12 +21,14 @@ half a minute or more).
 from __future__ import annotations
 
 import re
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 import pytest
 from flow_tools import read_keywords
 from real_decks import (
+    case_result,
     check_active_cells,
     check_connections,
     check_pore_volumes,
@@ -66,6 +70,27 @@ def emerald(work: Path, name: str) -> Path:
     return out
 
 
+EMERALD_CASE = """name: emerald_hole
+description: xtgeo-testdata's Emerald export as a deck case, its rock taken from the deck
+grid: {type: deck, file: EMERALD_HOLE_CASE.DATA}
+petrophysics:
+  porosity: {deck: PORO}
+  permeability: {deck: PERMX}
+  kv_kh: 0.1
+"""
+
+
+def emerald_case(work: Path) -> tuple[Path, Path]:
+    """The Emerald deck with PERMY = PERMX (a case's rock has one horizontal permeability)
+    and a case that takes its PORO and PERMX, PERMZ 0.1 PERMX as the deck does."""
+    root = unpack("emerald_hole", work)
+    text, n = re.subn(r"(?m)^ PERMY 0\.8 /\n", "", (root / "EMERALD_HOLE.DATA").read_text())
+    assert n == 1
+    (root / "EMERALD_HOLE_CASE.DATA").write_text(text)
+    (root / "emerald_hole.yaml").write_text(EMERALD_CASE)
+    return root / "EMERALD_HOLE_CASE.DATA", root / "emerald_hole.yaml"
+
+
 def spe9_minpv(work: Path) -> Path:
     root = unpack("spe9", work)
     out = root / "SPE9_MINPV.DATA"
@@ -78,6 +103,7 @@ DECKS = {
     "reek_rms": reek_rms,
     **{name: (lambda work, name=name: emerald(work, name)) for name in EMERALD_OPTIONS},
     "spe9_minpv": spe9_minpv,
+    "emerald_hole_case": emerald_case,  # through the workflow's stages (case_result)
 }
 
 
@@ -85,11 +111,16 @@ DECKS = {
 def comparison(request, tmp_path_factory):
     name = request.param
     work = tmp_path_factory.mktemp(name)
-    deck = DECKS[name](work / "deck")
+    made = DECKS[name](work / "deck")
+    deck, gridlib = made, None
+    if isinstance(made, tuple):  # a deck and its case: gridlib's result is the workflow's
+        deck, case = made
+        gridlib = partial(case_result, case, (work / "case").resolve())
+        (work / "case").mkdir()
     with pytest.MonkeyPatch.context() as mp:
         if name.startswith("emerald"):  # the export's FACIES is no ECLIPSE keyword
             mp.setenv("OPM_ERRORS_IGNORE", "PARSE_UNKNOWN_KEYWORD")
-        return compare(name, deck, work / "flow")
+        return compare(name, deck, work / "flow", gridlib)
 
 
 def test_active_cells_equal_flow(comparison):
