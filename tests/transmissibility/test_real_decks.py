@@ -7,7 +7,8 @@ each of the four is its own test, so that a failure says which differs and by ho
 * ``reek_rms``: Equinor's Reek model as ECLIPSE 2014.2 ran it (res2df's test data): an
   RMS 10.1 export (MAPAXES, GDORIENT over two lines, a left-handed grid), FAULTS + MULTFLT,
   MULTIPLY PERMZ, EQUALS MULTZ with text after the record's '/', PINCH 0.4 NOGAP, 3 active
-  cells with PORO 0. What ECLIPSE made of it (its EGRID) is compared too;
+  cells with PORO 0. What ECLIPSE made of it is compared too: its EGRID's active cells and
+  NNC pairs, and its PRT's pore volumes by FIPNUM region;
 * ``emerald_hole*``: xtgeo-testdata's Emerald geomodel export (GDORIENT LEFT, a hole, PORO
   0 in 5,389 of its 7,157 active cells) in a deck of ours, with and without PINCH and MINPV;
 * ``spe9_minpv``: SPE 9's corner-point deck (FIELD units) with MINPV 15000 rb;
@@ -34,11 +35,13 @@ from real_decks import (
     check_pore_volumes,
     check_transmissibilities,
     compare,
+    gridlib_result,
     unpack,
 )
 
 import gridlib.transmissibility.edits as edits
 from gridlib.cornerpoint.process import process_grdecl
+from gridlib.io.eclipse_text import Source, read_numbers
 from gridlib.io.grdecl import read_grdecl
 from gridlib.transmissibility import deck_transmissibility
 
@@ -157,6 +160,25 @@ def test_reek_active_cells_equal_eclipse(reek_eclipse):
     cells = process_grdecl(deck).grid.cells.index_map
     extra = np.setdiff1d(cells, active)
     assert np.array_equal(cells, active), (cells.size, extra, deck.cell_data["PORO"][extra])
+
+
+# ECLIPSE's PRT of that run (not vendored: 4 MB), the FIP report of 1 JAN 2000: "PORV=" of the
+# field and of FIPNUM regions 1-6, rm3 "at reference conditions", printed to the unit
+ECLIPSE_PORV = (399_077_425, 78_815_548, 79_432_248, 75_755_746, 74_878_274, 50_113_604, 40_082_005)
+
+
+def test_reek_pore_volumes_equal_eclipse(reek_eclipse):
+    """gridlib's pore volumes summed over the field and each FIPNUM region are ECLIPSE's to
+    the cubic metre it prints (measured: 0.4 rm3 at most, 1e-8 relative)."""
+    deck_path, _ = reek_eclipse
+    ours = gridlib_result(deck_path)
+    src = Source.open(deck_path.parents[1] / "include" / "regions" / "reek.fipnum")
+    start = re.search(rb"(?m)^FIPNUM\s*$", src.data).end()
+    fipnum, _ = read_numbers(src, start, "FIPNUM", expected=40 * 64 * 14)
+    region = fipnum.values.astype(np.int64)[ours.active]
+    totals = np.bincount(region, weights=ours.porv, minlength=len(ECLIPSE_PORV))
+    totals[0] = ours.porv.sum()
+    assert np.abs(totals - ECLIPSE_PORV).max() <= 0.5, totals - ECLIPSE_PORV
 
 
 def test_reek_fault_connections_equal_eclipse_but_at_the_threshold(reek_eclipse, monkeypatch):
