@@ -16,6 +16,7 @@ LONGEST_FIRST = (
     "workflow/test_slurm.py",
     "workflow/test_study.py",
     "workflow/test_determinism.py",
+    "transmissibility/test_real_decks_large.py",
 )
 
 

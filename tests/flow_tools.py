@@ -86,6 +86,42 @@ def flow_connections(case: Path) -> dict[tuple[int, int], float]:
     return {p: v for p, v in out.items() if v != 0}
 
 
+def flow_connection_arrays(case: Path) -> tuple[np.ndarray, np.ndarray]:
+    """What flow_connections reads, as arrays for decks of a million cells: the (n, 2)
+    0-based linear cell pairs (first < second, sorted) and their T (float64 of INIT's
+    float32; an NNC on a pair that is also a neighbour adds to it); zeros left out."""
+    egrid = read_keywords(Path(f"{case}.EGRID"))
+    init = read_keywords(Path(f"{case}.INIT"))
+    nx, ny, nz = (int(v) for v in egrid["GRIDHEAD"][1:4])
+    active = np.flatnonzero(egrid["ACTNUM"] > 0) if "ACTNUM" in egrid else np.arange(nx * ny * nz)
+    # TRANZ: to the next active cell below in the same column (active is ordered by k in a column)
+    col = active % (nx * ny)
+    order = np.argsort(col, kind="stable")
+    below = np.full(active.size, -1)
+    same = col[order][1:] == col[order][:-1]
+    below[order[:-1][same]] = active[order[1:][same]]
+    tranz = init["TRANZ"].astype(np.float64)
+    if np.any((tranz != 0) & (below < 0)):
+        raise AssertionError(f"{case}.INIT: TRANZ of a cell without an active cell below")
+    first = [active, active, active]
+    second = [active + 1, active + nx, below]
+    values = [init["TRANX"].astype(np.float64), init["TRANY"].astype(np.float64), tranz]
+    if "NNC1" in egrid and "TRANNNC" in init:
+        n1, n2 = egrid["NNC1"].astype(np.int64) - 1, egrid["NNC2"].astype(np.int64) - 1
+        first.append(np.minimum(n1, n2))
+        second.append(np.maximum(n1, n2))
+        values.append(init["TRANNNC"].astype(np.float64))
+    a, b, t = (np.concatenate(v) for v in (first, second, values))
+    keep = t != 0
+    a, b, t = a[keep], b[keep], t[keep]
+    key = a * (nx * ny * nz) + b
+    unique, inverse = np.unique(key, return_inverse=True)
+    total = np.bincount(inverse, weights=t, minlength=unique.size)
+    pairs = np.column_stack(np.divmod(unique, nx * ny * nz))
+    nonzero = total != 0
+    return pairs[nonzero], total[nonzero]
+
+
 def flow_connection_factors(deck: Path, out: Path, step_days: float = 1.0) -> dict[tuple[str, int], float]:
     """Flow's well connection factors {(well, g): CF} (g the 0-based linear cell index, CF in
     deck units, float32) of the connections that exist after the first report step.
