@@ -5,10 +5,12 @@ case's seed (porosity), seed + 1 (permeability) and seed + 2 (NTG)."""
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Any
 
 import numpy as np
 
+from ..cell_names import cell_names
 from ..config import Case
 from ..errors import InputError
 from ..petrophysics import (
@@ -22,6 +24,7 @@ from ..petrophysics import (
     normal_porosity,
     per_layer,
 )
+from ..petrophysics.ranges import check_rock_values
 from .deck import read_case_deck
 
 
@@ -32,7 +35,14 @@ def _deck_keyword(case: Case, key: str, what: str, grid) -> np.ndarray:
     if key.upper() not in deck.cell_data:
         have = ", ".join(sorted(deck.cell_data)) or "none"
         raise InputError(f"{case.path}: {what}.deck: the deck has no {key.upper()} (it has {have})")
-    return deck.cell_data[key.upper()][grid.cells.index_map]
+    values = deck.cell_data[key.upper()][grid.cells.index_map]
+    # negative or undefined values: an error naming the deck's cells (above 1: the stage's note)
+    check_rock_values(
+        {key.upper(): values},
+        deck.source,
+        partial(cell_names, index_map=grid.cells.index_map, cart_dims=grid.cart_dims),
+    )
+    return values
 
 
 def _property(case: Case, spec: dict[str, Any], what: str, kind: str, ctx: dict[str, Any]) -> np.ndarray:
