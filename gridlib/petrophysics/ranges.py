@@ -46,8 +46,8 @@ def check_rock_values(
         if bad.size:
             raise InputError(
                 f"{where}: {key}: {bad.size} cells have a negative or undefined {key} (first "
-                f"{float(v[bad[0]])!r}): {name_cells(bad)}; OPM Flow would compute negative or undefined pore "
-                "volumes or transmissibilities from them"
+                f"{float(v[bad[0]])!r}): {name_cells(bad)}; OPM Flow would compute negative or "
+                "undefined pore volumes or transmissibilities from them"
             )
         if key in FRACTIONS:
             above = np.flatnonzero(v > 1.0)
