@@ -37,6 +37,7 @@ from .geometry import Geometry, compute_geometry
 from .grid import FloatArray, Grid, IntArray
 
 _MAX_LISTED = 5
+NAMED_DEGENERATE = 100  # degenerate cells named in a note (all are flagged in grid.nc)
 _ROWS = 1 << 18  # faces per block of the duplicate-face search
 
 
@@ -199,22 +200,24 @@ class DegenerateCells:
         out[self.not_closed] |= 2
         return out
 
-    def notes(self, grid: Grid) -> tuple[str, ...]:
-        """One note per kind of degeneracy, naming the cells ((i, j, k) where the grid knows them)."""
+    def notes(self, grid: Grid, limit: int = NAMED_DEGENERATE) -> tuple[str, ...]:
+        """One note per kind of degeneracy naming its cells, the first ``limit`` of them ((i, j, k)
+        where the grid knows them; the rest counted)."""
         idx, dims = grid.cells.index_map, grid.cart_dims
         out = []
         if self.non_positive_volume.size:
-            order = self.non_positive_volume
+            cells = self.non_positive_volume
+            volumes = ", ".join(f"{v:.4g}" for v in self.volumes[:3]) + (", ..." if cells.size > 3 else "")
             out.append(
-                f"{order.size} cells with a non-positive polyhedral volume (kept; the simulator's "
-                f"volume is their ECLIPSE bulk volume): {cell_names(order, idx, dims)} "
-                f"(volumes {self.volumes[:3].tolist()})"
+                f"{cells.size} cells with a non-positive polyhedral volume (kept; the simulator's "
+                f"volume is their ECLIPSE bulk volume): {cell_names(cells, idx, dims, limit)} "
+                f"(polyhedral volumes {volumes})"
             )
         if self.not_closed.size:
             out.append(
                 f"{self.not_closed.size} cells whose faces do not close (sum of outward normals / "
                 f"surface area up to {float(self.closure.max()):.2e}; kept): "
-                f"{cell_names(self.not_closed, idx, dims)}"
+                f"{cell_names(self.not_closed, idx, dims, limit)}"
             )
         return tuple(out)
 
