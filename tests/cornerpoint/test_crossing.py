@@ -74,3 +74,19 @@ def test_a_concave_cell_is_fine():
     assert r.bulk_volumes.sum() == pytest.approx(300.0 * 200.0 * 20.0, rel=1e-12)
     # cell (2, 2): (160, 170), (200, 100), (200, 200), (100, 200): 3500 m2 (shoelace) x 10 m
     assert np.isclose(r.bulk_volumes.min(), 35000.0, rtol=1e-12)
+
+
+def test_a_deck_case_with_crossing_pillars_stops_naming_case_deck_and_cells(tmp_path):
+    """As a ``deck`` case (accepted before, with overlapping cells and a Flow deck written), the
+    grid stage stops with one InputError naming the case, the deck and the cells."""
+    from gridlib.io.grdecl import write_grdecl
+    from gridlib.stages import stage_grid
+
+    deck = _deck(0.0, 150.0)
+    write_grdecl(tmp_path / "X.GRDECL", deck)
+    case = tmp_path / "crossing.yaml"
+    case.write_text("name: crossing\ngrid: {type: deck, file: X.GRDECL}\n")
+    message = rf"{case}: grid: .*X\.GRDECL: COORD: pillars cross: 2 cells .*: \(2, 1, 2\), \(2, 2, 2\) "
+    with pytest.raises(InputError, match=message):
+        stage_grid(case, tmp_path / "grid.nc", grdecl_out=tmp_path / "grid.grdecl")
+    assert not (tmp_path / "grid.nc").exists()
