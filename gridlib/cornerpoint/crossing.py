@@ -26,23 +26,65 @@ _CHUNK = 1 << 18  # cells per block: the gathered corners stay small
 _CYCLE = np.array([0, 1, 3, 2])
 
 
+def _turns(ex: np.ndarray, ey: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """At each corner m of quadrilaterals with edges (ex, ey) (4, m) from corner m to m + 1: the
+    turn (cross product of the edges arriving and leaving) and the two edges' lengths."""
+    bx, by = np.roll(ex, 1, axis=0), np.roll(ey, 1, axis=0)
+    return bx * ey - by * ex, np.hypot(bx, by), np.hypot(ex, ey)
+
+
+def _safe_columns(cn: CornerNodes, sign: float) -> np.ndarray:
+    """Columns (ny, nx) that no crossing can reach: along the depths of its nodes each pillar's
+    (x, y) stays within a disc (about the midpoint of its first and last node: pillars are
+    straight); if the quadrilateral of the four discs' centres turns the right way at every
+    corner by more than any points in the discs could change it, no cell of the column turns
+    the wrong way. Only the cells of other columns are looked at one by one."""
+    _, nyp, nxp = cn.cells.shape
+    ny, nx = nyp - 2, nxp - 2
+    offset = cn.points.offset
+    has = offset[1:] > offset[:-1]
+    first, last = (
+        cn.xyz[np.minimum(offset[:-1], offset[-1] - 1), :2],
+        cn.xyz[np.maximum(offset[1:] - 1, 0), :2],
+    )
+    centre = 0.5 * (first + last)
+    radius = np.where(has, 0.5 * np.hypot(*(last - first).T), np.inf).reshape(ny + 1, nx + 1)
+    centre = centre.reshape(ny + 1, nx + 1, 2)
+    corners = [(0, 0), (1, 0), (1, 1), (0, 1)]  # (a, b) around the column, as _CYCLE
+    c = np.stack([centre[b : b + ny, a : a + nx] for a, b in corners])  # (4, ny, nx, 2)
+    r = np.stack([radius[b : b + ny, a : a + nx] for a, b in corners])
+    turn, before, after = _turns(
+        np.roll(c[..., 0], -1, axis=0) - c[..., 0], np.roll(c[..., 1], -1, axis=0) - c[..., 1]
+    )
+    reach_before = np.roll(r, 1, axis=0) + r  # how far the edges' ends may move
+    reach_after = r + np.roll(r, -1, axis=0)
+    with np.errstate(invalid="ignore"):  # a pillar without nodes: an infinite reach, never safe
+        margin = before * reach_after + reach_before * after + reach_before * reach_after
+        return (sign * turn > margin).all(axis=0)
+
+
 def crossing_cells(cn: CornerNodes) -> np.ndarray:
     """The kept cells of ``cn`` (numbered as ``cn.cells``) whose corners turn the wrong way at two
     or more corners of their top or bottom, in plan view (the pillars around them cross)."""
-    inner = cn.table[:, :, 1:-1, 1:-1][:, cn.kept]  # (8, n) node ids of the kept cells
     sign = -1.0 if cn.left_handed else 1.0
-    bad = np.zeros(inner.shape[1], dtype=bool)
-    for start in range(0, inner.shape[1], _CHUNK):
-        part = inner[:, start : start + _CHUNK]
+    linear = np.flatnonzero(cn.kept & ~_safe_columns(cn, sign))  # the cells to look at, (k, j, i)
+    _, nyp, nxp = cn.cells.shape
+    k, rest = np.divmod(linear, (nyp - 2) * (nxp - 2))
+    j, i = np.divmod(rest, nxp - 2)
+    in_table = (k * nyp + j + 1) * nxp + i + 1  # on the padded layout of cn.table
+    table = cn.table.reshape(8, -1)
+    x, y = cn.xyz[:, 0], cn.xyz[:, 1]
+    bad = np.zeros(in_table.size, dtype=bool)
+    for start in range(0, in_table.size, _CHUNK):
+        part = in_table[start : start + _CHUNK]
         for level in (0, 4):
-            xy = cn.xyz[part[_CYCLE + level], :2]  # (4, m, 2) corners around the column
-            edge = np.roll(xy, -1, axis=0) - xy  # edge from corner m to m + 1
-            before = np.roll(edge, 1, axis=0)  # edge arriving at corner m
-            turn = before[..., 0] * edge[..., 1] - before[..., 1] * edge[..., 0]
-            scale = np.hypot(*before.transpose(2, 0, 1)) * np.hypot(*edge.transpose(2, 0, 1))
-            wrong = sign * turn < -_RELATIVE * scale
-            bad[start : start + _CHUNK] |= wrong.sum(axis=0) >= 2
-    return np.flatnonzero(bad)
+            nodes = table[_CYCLE + level][:, part]  # (4, m) corners around the column
+            ex = np.roll(x[nodes], -1, axis=0) - x[nodes]  # edge m -> m + 1
+            ey = np.roll(y[nodes], -1, axis=0) - y[nodes]
+            turn, before, after = _turns(ex, ey)
+            wrong = sign * turn < -_RELATIVE * before * after  # the other way, beyond rounding
+            bad[start : start + _CHUNK] |= np.count_nonzero(wrong, axis=0) >= 2
+    return cn.cells[:, 1:-1, 1:-1].ravel()[linear[bad]]
 
 
 def check_pillars_do_not_cross(cn: CornerNodes, cart_dims: tuple[int, int, int], source: str) -> None:
