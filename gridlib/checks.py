@@ -47,6 +47,23 @@ def _ids(mask: np.ndarray) -> str:
     return f"{idx[:_MAX_LISTED].tolist()}{more}"
 
 
+def _where(grid: Grid, cells: np.ndarray) -> str:
+    """`` (cells (i, j, k), ...)`` naming ``cells`` for a grid with logical indices (a deck's),
+    else nothing: the message's own numbers are all there is."""
+    idx, dims = grid.cells.index_map, grid.cart_dims
+    cells = np.unique(np.asarray(cells, dtype=np.int64))
+    cells = cells[(cells >= 0) & (cells < grid.num_cells)]
+    if idx is None or dims is None or not cells.size:
+        return ""
+    return f" (cells {cell_names(cells, idx, dims)})"
+
+
+def _of_faces(grid: Grid, faces: np.ndarray) -> str:
+    """:func:`_where` for the cells on either side of ``faces`` (a mask or face numbers)."""
+    f = np.flatnonzero(faces) if np.asarray(faces).dtype == bool else np.asarray(faces, dtype=np.int64)
+    return _where(grid, grid.faces.neighbors[f].ravel())
+
+
 def topology_violations(grid: Grid) -> list[str]:
     """Human-readable list of violated topological invariants (empty if valid)."""
     nc, nf, nn = grid.num_cells, grid.num_faces, grid.num_nodes
@@ -68,7 +85,7 @@ def topology_violations(grid: Grid) -> list[str]:
         out.append(f"faces with no cell on either side: {_ids(bad)}")
     bad = (nb[:, 0] == nb[:, 1]) & (nb[:, 0] >= 0)
     if bad.any():
-        out.append(f"faces with the same cell on both sides: {_ids(bad)}")
+        out.append(f"faces with the same cell on both sides: {_ids(bad)}{_of_faces(grid, bad)}")
 
     # cells.faces must be exactly the transpose of faces.neighbors: every half-face names a
     # neighbour of its face, and each face has as many half-faces, summing to the same cells
@@ -80,7 +97,7 @@ def topology_violations(grid: Grid) -> list[str]:
     same_count = np.bincount(cf, minlength=nf) == inside.sum(axis=1)
     same_sum = np.bincount(cf, weights=hc, minlength=nf) == np.where(inside, nb, 0).sum(axis=1)
     if not (names_neighbor.all() and same_count.all() and same_sum.all()):
-        out += _transpose_violations(cf, hc, nb, nc, nf)
+        out += _transpose_violations(cf, hc, nb, nc, nf, grid)
 
     counts = grid.faces.num_nodes
     if grid.griddim == 2:
@@ -90,12 +107,14 @@ def topology_violations(grid: Grid) -> list[str]:
     else:
         bad = counts < 3
         if bad.any():
-            out.append(f"3-D faces need at least 3 nodes; faces {_ids(bad)} have fewer")
+            out.append(f"3-D faces need at least 3 nodes; faces {_ids(bad)} have fewer{_of_faces(grid, bad)}")
     repeating, dups = _repeated_and_duplicate_faces(counts, fn, grid.faces.node_pos)
     if repeating.size:
-        out.append(f"faces repeating a node: {repeating[:_MAX_LISTED].tolist()}")
+        out.append(f"faces repeating a node: {repeating[:_MAX_LISTED].tolist()}{_of_faces(grid, repeating)}")
     if dups.size:
-        out.append(f"faces with the same nodes as another face: {dups[:_MAX_LISTED].tolist()}")
+        out.append(
+            f"faces with the same nodes as another face: {dups[:_MAX_LISTED].tolist()}{_of_faces(grid, dups)}"
+        )
 
     used = np.zeros(nn, dtype=bool)
     used[fn] = True
@@ -104,7 +123,7 @@ def topology_violations(grid: Grid) -> list[str]:
     need = 3 if grid.griddim == 2 else 4
     bad = grid.cells.num_faces < need
     if bad.any():
-        out.append(f"cells with fewer than {need} faces: {_ids(bad)}")
+        out.append(f"cells with fewer than {need} faces: {_ids(bad)}{_where(grid, np.flatnonzero(bad))}")
     if grid.griddim == 2 and not out:
         try:  # every 2-D cell (planar or on a surface) is one closed, consistently oriented cycle
             cell_node_cycles_2d(grid)
@@ -113,7 +132,9 @@ def topology_violations(grid: Grid) -> list[str]:
     return out
 
 
-def _transpose_violations(cf: np.ndarray, hc: np.ndarray, nb: np.ndarray, nc: int, nf: int) -> list[str]:
+def _transpose_violations(
+    cf: np.ndarray, hc: np.ndarray, nb: np.ndarray, nc: int, nf: int, grid: Grid
+) -> list[str]:
     """Which (face, cell) half-faces ``cells.faces`` lacks, has in excess or lists twice."""
     out: list[str] = []
     from_cells = np.sort(cf * (nc + 1) + hc)
@@ -127,7 +148,7 @@ def _transpose_violations(cf: np.ndarray, hc: np.ndarray, nb: np.ndarray, nc: in
     ):
         if keys.size:
             pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in keys[:_MAX_LISTED]]
-            out.append(f"{what}: {pairs}")
+            out.append(f"{what}: {pairs}{_where(grid, [c for _, c in pairs])}")
     return out
 
 
@@ -253,7 +274,7 @@ def _geometry_problems(
             f"the grid {grid.num_cells} and {grid.num_faces}"
         ], None
     bad = geometry.face_areas <= 0
-    broken = [f"faces with non-positive area: {_ids(bad)}"] if bad.any() else []
+    broken = [f"faces with non-positive area: {_ids(bad)}{_of_faces(grid, bad)}"] if bad.any() else []
     return broken, degenerate_cells(grid, geometry, tol)
 
 
