@@ -9,6 +9,9 @@ it is enough to look at each cell's top and bottom: its four corners there, in p
 must turn the way the deck's (i, j) frame turns (anticlockwise, or clockwise for a left-handed
 deck) at every corner but at most one (a concave cell is fine; a cell whose corners are
 reversed or form a bow tie is not). Corners on coincident pillars (no turn) are fine.
+Columns whose pillars cannot cross within the depths of their nodes are screened out first
+(:func:`_safe_columns`: on the cornerpoint bench's 1e6-cell deck, every column), so the cost is
+that of the columns where pillars lean by a fair part of a cell.
 """
 
 from __future__ import annotations
