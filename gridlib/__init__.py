@@ -19,6 +19,7 @@ from .version import __version__
 # The public names, imported on first use (PEP 562): `import gridlib` and the workflow's
 # `import gridlib.config` stay cheap, and a stage imports only the modules it uses.
 _EXPORTS: dict[str, str] = {
+    "check_deck_grid": ".checks",
     "check_grid": ".checks",
     "CoarseGrid": ".coarsen",
     "coarse_grid": ".coarsen",
@@ -104,6 +105,7 @@ __all__ = [
     "Well",
     "__version__",
     "cart_grid",
+    "check_deck_grid",
     "check_grid",
     "coarse_grid",
     "compress_partition",

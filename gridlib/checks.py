@@ -15,18 +15,29 @@ Geometry:
   * closure: for every cell, ``|sum_f s_f N_f| <= tol * sum_f A_f`` with the
     outward signs s_f. This catches flipped faces, wrong node order and
     missing half-faces (hanging nodes on straight edges are fine).
+
+Broken and degenerate: topology, non-finite coordinates and faces of no area are *broken*: no
+grid may have them. A cell whose volume is not positive or whose faces do not close is
+*degenerate*: :func:`check_grid` refuses it (for the grids gridlib builds it is a bug), while
+:func:`check_deck_grid` returns such cells as :class:`DegenerateCells` to be kept and named: a
+deck written by a geomodeller may hold thin wedges beside faults that OPM Flow runs, since Flow
+takes its volumes from each cell's eight corners, not from the polyhedron.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from .cell_names import cell_names
 from .connectivity import cell_node_cycles_2d, half_face_cells, half_face_signs
 from .errors import GridError
 from .geometry import Geometry, compute_geometry
-from .grid import Grid
+from .grid import FloatArray, Grid, IntArray
 
 _MAX_LISTED = 5
+NAMED_DEGENERATE = 100  # degenerate cells named in a note (all are flagged in grid.nc)
 _ROWS = 1 << 18  # faces per block of the duplicate-face search
 
 
@@ -34,6 +45,23 @@ def _ids(mask: np.ndarray) -> str:
     idx = np.flatnonzero(mask)
     more = f" and {idx.size - _MAX_LISTED} more" if idx.size > _MAX_LISTED else ""
     return f"{idx[:_MAX_LISTED].tolist()}{more}"
+
+
+def _where(grid: Grid, cells: np.ndarray) -> str:
+    """`` (cells (i, j, k), ...)`` naming ``cells`` for a grid with logical indices (a deck's),
+    else nothing: the message's own numbers are all there is."""
+    idx, dims = grid.cells.index_map, grid.cart_dims
+    cells = np.unique(np.asarray(cells, dtype=np.int64))
+    cells = cells[(cells >= 0) & (cells < grid.num_cells)]
+    if idx is None or dims is None or not cells.size:
+        return ""
+    return f" (cells {cell_names(cells, idx, dims)})"
+
+
+def _of_faces(grid: Grid, faces: np.ndarray) -> str:
+    """:func:`_where` for the cells on either side of ``faces`` (a mask or face numbers)."""
+    f = np.flatnonzero(faces) if np.asarray(faces).dtype == bool else np.asarray(faces, dtype=np.int64)
+    return _where(grid, grid.faces.neighbors[f].ravel())
 
 
 def topology_violations(grid: Grid) -> list[str]:
@@ -57,7 +85,7 @@ def topology_violations(grid: Grid) -> list[str]:
         out.append(f"faces with no cell on either side: {_ids(bad)}")
     bad = (nb[:, 0] == nb[:, 1]) & (nb[:, 0] >= 0)
     if bad.any():
-        out.append(f"faces with the same cell on both sides: {_ids(bad)}")
+        out.append(f"faces with the same cell on both sides: {_ids(bad)}{_of_faces(grid, bad)}")
 
     # cells.faces must be exactly the transpose of faces.neighbors: every half-face names a
     # neighbour of its face, and each face has as many half-faces, summing to the same cells
@@ -69,7 +97,7 @@ def topology_violations(grid: Grid) -> list[str]:
     same_count = np.bincount(cf, minlength=nf) == inside.sum(axis=1)
     same_sum = np.bincount(cf, weights=hc, minlength=nf) == np.where(inside, nb, 0).sum(axis=1)
     if not (names_neighbor.all() and same_count.all() and same_sum.all()):
-        out += _transpose_violations(cf, hc, nb, nc, nf)
+        out += _transpose_violations(cf, hc, nb, nc, nf, grid)
 
     counts = grid.faces.num_nodes
     if grid.griddim == 2:
@@ -79,12 +107,14 @@ def topology_violations(grid: Grid) -> list[str]:
     else:
         bad = counts < 3
         if bad.any():
-            out.append(f"3-D faces need at least 3 nodes; faces {_ids(bad)} have fewer")
+            out.append(f"3-D faces need at least 3 nodes; faces {_ids(bad)} have fewer{_of_faces(grid, bad)}")
     repeating, dups = _repeated_and_duplicate_faces(counts, fn, grid.faces.node_pos)
     if repeating.size:
-        out.append(f"faces repeating a node: {repeating[:_MAX_LISTED].tolist()}")
+        out.append(f"faces repeating a node: {repeating[:_MAX_LISTED].tolist()}{_of_faces(grid, repeating)}")
     if dups.size:
-        out.append(f"faces with the same nodes as another face: {dups[:_MAX_LISTED].tolist()}")
+        out.append(
+            f"faces with the same nodes as another face: {dups[:_MAX_LISTED].tolist()}{_of_faces(grid, dups)}"
+        )
 
     used = np.zeros(nn, dtype=bool)
     used[fn] = True
@@ -93,7 +123,7 @@ def topology_violations(grid: Grid) -> list[str]:
     need = 3 if grid.griddim == 2 else 4
     bad = grid.cells.num_faces < need
     if bad.any():
-        out.append(f"cells with fewer than {need} faces: {_ids(bad)}")
+        out.append(f"cells with fewer than {need} faces: {_ids(bad)}{_where(grid, np.flatnonzero(bad))}")
     if grid.griddim == 2 and not out:
         try:  # every 2-D cell (planar or on a surface) is one closed, consistently oriented cycle
             cell_node_cycles_2d(grid)
@@ -102,7 +132,9 @@ def topology_violations(grid: Grid) -> list[str]:
     return out
 
 
-def _transpose_violations(cf: np.ndarray, hc: np.ndarray, nb: np.ndarray, nc: int, nf: int) -> list[str]:
+def _transpose_violations(
+    cf: np.ndarray, hc: np.ndarray, nb: np.ndarray, nc: int, nf: int, grid: Grid
+) -> list[str]:
     """Which (face, cell) half-faces ``cells.faces`` lacks, has in excess or lists twice."""
     out: list[str] = []
     from_cells = np.sort(cf * (nc + 1) + hc)
@@ -116,7 +148,7 @@ def _transpose_violations(cf: np.ndarray, hc: np.ndarray, nb: np.ndarray, nc: in
     ):
         if keys.size:
             pairs = [(int(k // (nc + 1)), int(k % (nc + 1))) for k in keys[:_MAX_LISTED]]
-            out.append(f"{what}: {pairs}")
+            out.append(f"{what}: {pairs}{_where(grid, [c for _, c in pairs])}")
     return out
 
 
@@ -162,24 +194,65 @@ def _repeated_and_duplicate_faces(
     return rep, (np.sort(np.concatenate(dups)) if dups else empty)
 
 
-def geometry_violations(grid: Grid, geometry: Geometry, tol: float) -> list[str]:
-    """Violated geometric invariants (assumes a valid topology)."""
-    out: list[str] = []
-    if geometry.cell_volumes.shape != (grid.num_cells,) or geometry.face_areas.shape != (grid.num_faces,):
-        return [
-            f"the geometry has {geometry.cell_volumes.size} cells and {geometry.face_areas.size} faces, "
-            f"the grid {grid.num_cells} and {grid.num_faces}"
-        ]
-    bad = geometry.face_areas <= 0
-    if bad.any():
-        out.append(f"faces with non-positive area: {_ids(bad)}")
+@dataclass(frozen=True, eq=False)
+class DegenerateCells:
+    """Cells whose geometry is degenerate but whose topology is sound (:func:`check_deck_grid`):
+    ``non_positive_volume`` (their polyhedral volumes ``volumes``) and ``not_closed`` (their
+    outward normals sum to ``closure`` x their surface area, above the tolerance), cell numbers
+    ascending."""
+
+    non_positive_volume: IntArray
+    volumes: FloatArray
+    not_closed: IntArray
+    closure: FloatArray
+
+    @property
+    def cells(self) -> IntArray:
+        """Every degenerate cell, ascending."""
+        return np.union1d(self.non_positive_volume, self.not_closed)
+
+    def __len__(self) -> int:
+        return int(self.cells.size)
+
+    def flags(self, num_cells: int) -> np.ndarray:
+        """Per cell of the grid: 0 sound, +1 polyhedral volume not positive, +2 not closed (int8)."""
+        out = np.zeros(num_cells, dtype=np.int8)
+        out[self.non_positive_volume] |= 1
+        out[self.not_closed] |= 2
+        return out
+
+    def notes(self, grid: Grid, limit: int = NAMED_DEGENERATE) -> tuple[str, ...]:
+        """One note per kind of degeneracy naming its cells, the first ``limit`` of them ((i, j, k)
+        where the grid knows them; the rest counted)."""
+        idx, dims = grid.cells.index_map, grid.cart_dims
+        out = []
+        if self.non_positive_volume.size:
+            cells = self.non_positive_volume
+            volumes = ", ".join(f"{v:.4g}" for v in self.volumes[:3]) + (", ..." if cells.size > 3 else "")
+            out.append(
+                f"{cells.size} cells with a non-positive polyhedral volume (kept; the simulator's "
+                f"volume is their ECLIPSE bulk volume): {cell_names(cells, idx, dims, limit)} "
+                f"(polyhedral volumes {volumes})"
+            )
+        if self.not_closed.size:
+            out.append(
+                f"{self.not_closed.size} cells whose faces do not close (sum of outward normals / "
+                f"surface area up to {float(self.closure.max()):.2e}; kept): "
+                f"{cell_names(self.not_closed, idx, dims, limit)}"
+            )
+        return tuple(out)
+
+
+def degenerate_cells(grid: Grid, geometry: Geometry, tol: float) -> DegenerateCells:
+    """The cells of ``grid`` (valid topology, sizes matching ``geometry``) whose polyhedral volume
+    (area in 2-D) is not positive, or whose outward face normals do not sum to zero within
+    ``tol`` times their surface area (not tested on surface grids: the edge normals of a curved
+    surface need not close)."""
     vol = geometry.cell_volumes
-    bad = ~(vol > 0)
-    if bad.any():
-        what = "area" if grid.griddim == 2 else "volume"
-        out.append(f"cells with non-positive {what}: {_ids(bad)} (first {what}s {vol[bad][:3].tolist()})")
+    small = np.flatnonzero(~(vol > 0))
+    empty = np.zeros(0, dtype=np.int64)
     if grid.is_surface:
-        return out  # edge normals of a curved surface need not close
+        return DegenerateCells(small, vol[small], empty, np.zeros(0))
     hc = half_face_cells(grid)
     s = half_face_signs(grid).astype(np.float64)
     cf = grid.cells.faces
@@ -187,37 +260,95 @@ def geometry_violations(grid: Grid, geometry: Geometry, tol: float) -> list[str]
     net = np.stack([np.bincount(hc, s * geometry.face_normals[cf, i], grid.num_cells) for i in range(d)])
     surface = np.bincount(hc, geometry.face_areas[cf], grid.num_cells)
     defect = np.sqrt((net**2).sum(axis=0))
-    bad = defect > tol * surface
-    if bad.any():
-        worst = float((defect / surface)[bad].max())
+    open_ = np.flatnonzero(defect > tol * surface)
+    return DegenerateCells(small, vol[small], open_, defect[open_] / surface[open_])
+
+
+def _geometry_problems(
+    grid: Grid, geometry: Geometry, tol: float
+) -> tuple[list[str], DegenerateCells | None]:
+    """What is broken in the geometry (sizes, face areas) and, if nothing is, the degenerate cells."""
+    if geometry.cell_volumes.shape != (grid.num_cells,) or geometry.face_areas.shape != (grid.num_faces,):
+        return [
+            f"the geometry has {geometry.cell_volumes.size} cells and {geometry.face_areas.size} faces, "
+            f"the grid {grid.num_cells} and {grid.num_faces}"
+        ], None
+    bad = geometry.face_areas <= 0
+    broken = [f"faces with non-positive area: {_ids(bad)}{_of_faces(grid, bad)}"] if bad.any() else []
+    return broken, degenerate_cells(grid, geometry, tol)
+
+
+def _degenerate_violations(grid: Grid, cells: DegenerateCells, tol: float) -> list[str]:
+    """Degenerate cells as violations (the strict check of :func:`check_grid`)."""
+    out = []
+    if cells.non_positive_volume.size:
+        what = "area" if grid.griddim == 2 else "volume"
+        ids = cells.non_positive_volume
+        more = f" and {ids.size - _MAX_LISTED} more" if ids.size > _MAX_LISTED else ""
         out.append(
-            f"cells not closed (sum of outward normals / surface area up to {worst:.2e} > {tol:g}): "
-            f"{_ids(bad)}; a face is flipped, misordered or missing"
+            f"cells with non-positive {what}: {ids[:_MAX_LISTED].tolist()}{more} "
+            f"(first {what}s {cells.volumes[:3].tolist()})"
+        )
+    if cells.not_closed.size:
+        ids = cells.not_closed
+        more = f" and {ids.size - _MAX_LISTED} more" if ids.size > _MAX_LISTED else ""
+        out.append(
+            f"cells not closed (sum of outward normals / surface area up to {float(cells.closure.max()):.2e} "
+            f"> {tol:g}): {ids[:_MAX_LISTED].tolist()}{more}; a face is flipped, misordered or missing"
         )
     return out
+
+
+def geometry_violations(grid: Grid, geometry: Geometry, tol: float) -> list[str]:
+    """Violated geometric invariants (assumes a valid topology)."""
+    broken, cells = _geometry_problems(grid, geometry, tol)
+    return broken + ([] if cells is None else _degenerate_violations(grid, cells, tol))
+
+
+def _broken(grid: Grid, geometry: Geometry | None, tol: float) -> tuple[list[str], DegenerateCells | None]:
+    """Topology and geometry problems that no grid may have, and the degenerate cells (None when
+    something is broken before they could be found)."""
+    problems = topology_violations(grid)
+    if problems:
+        return problems, None
+    coords = grid.nodes.coords
+    if not np.all(np.isfinite(coords)):
+        return [f"nodes with NaN or infinite coordinates: {_ids(~np.isfinite(coords).all(axis=1))}"], None
+    if geometry is None:
+        try:
+            geometry = compute_geometry(grid)
+        except GridError as exc:
+            return [str(exc)], None
+    return _geometry_problems(grid, geometry, tol)
+
+
+def _raise(grid: Grid, problems: list[str]) -> None:
+    if problems:
+        summary = "; ".join(problems)
+        raise GridError(f"check_grid: {len(problems)} problem(s) in {grid!r}: {summary}")
 
 
 def check_grid(grid: Grid, geometry: Geometry | None = None, *, tol: float = 1e-10) -> None:
     """Raise one :class:`GridError` listing every violated invariant, or return None.
 
     ``geometry`` is computed if not given. ``tol`` is the closure tolerance
-    relative to each cell's surface area.
+    relative to each cell's surface area. Every grid gridlib builds passes it: a degenerate
+    cell there is a bug (:func:`check_deck_grid` keeps those of a deck).
     """
-    problems = topology_violations(grid)
-    if not problems:
-        coords = grid.nodes.coords
-        if not np.all(np.isfinite(coords)):
-            problems.append(
-                f"nodes with NaN or infinite coordinates: {_ids(~np.isfinite(coords).all(axis=1))}"
-            )
-        else:
-            if geometry is None:
-                try:
-                    geometry = compute_geometry(grid)
-                except GridError as exc:
-                    problems.append(str(exc))
-            if geometry is not None:
-                problems += geometry_violations(grid, geometry, tol)
-    if problems:
-        summary = "; ".join(problems)
-        raise GridError(f"check_grid: {len(problems)} problem(s) in {grid!r}: {summary}")
+    problems, cells = _broken(grid, geometry, tol)
+    if cells is not None:
+        problems += _degenerate_violations(grid, cells, tol)
+    _raise(grid, problems)
+
+
+def check_deck_grid(grid: Grid, geometry: Geometry | None = None, *, tol: float = 1e-10) -> DegenerateCells:
+    """:func:`check_grid` for the grid of a deck someone else wrote: what is broken (topology,
+    non-finite coordinates, faces of no area) raises one :class:`GridError`; cells whose geometry
+    is merely degenerate (polyhedral volume not positive, faces not closing within ``tol`` of
+    their surface area: thin wedges with collapsed corners beside faults, as geomodelling exports
+    make them) are returned, to be kept and named. A simulator does not use that geometry: its
+    pore volumes come from the ECLIPSE bulk volume of each cell's eight corners."""
+    problems, cells = _broken(grid, geometry, tol)
+    _raise(grid, problems)
+    assert cells is not None
+    return cells

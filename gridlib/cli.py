@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import io
-from .checks import check_grid
+from .checks import check_deck_grid, check_grid
 from .cornerpoint import process_grdecl
 from .cornerpoint.pore_volume import zero_pore_volume
 from .errors import GridError, InputError
@@ -81,7 +81,8 @@ def info(path: Path) -> str:
 
 
 def check(path: Path) -> str:
-    """Process (for decks), compute the geometry and check every invariant; raises GridError."""
+    """Process (for decks), compute the geometry and check every invariant; raises GridError.
+    A deck's degenerate cells (:func:`~gridlib.checks.check_deck_grid`) are listed as notes."""
 
     out = [f"{path}"]
     if io.kind_of(path, GRID_KINDS) == "deck":
@@ -95,7 +96,10 @@ def check(path: Path) -> str:
         grid = io.read(path, kind="grid").grid
         _describe_grid(grid, out)
     geo = compute_geometry(grid)
-    check_grid(grid, geo)
+    if io.kind_of(path, GRID_KINDS) == "deck":  # a deck's degenerate cells are kept and named
+        out += [f"note: {n}" for n in check_deck_grid(grid, geo).notes(grid)]
+    else:
+        check_grid(grid, geo)
     out.append(
         f"total volume: {geo.cell_volumes.sum():.9g}"
         if grid.griddim == 3

@@ -180,3 +180,57 @@ def test_dangling_edge_in_a_cell_is_caught():
     g = gl.Grid(cells, faces, extra, 2)
     with pytest.raises(gl.GridError, match=r"cell 0: a node (starts|ends) two edges"):
         cell_node_cycles_2d(g)
+
+
+# --- a deck's grid: broken is an error, degenerate is kept (check_deck_grid) ---------------------------
+
+
+def test_wedges_beside_a_fault_are_degenerate_not_broken():
+    """Thin wedges (three of four corners collapsed) beside a fault: two cells' polyhedral volumes
+    are below zero while their ECLIPSE bulk volumes (Flow's) are positive. check_grid refuses
+    them, check_deck_grid keeps and names them."""
+    from wedge_decks import wedge_deck
+
+    from gridlib.checks import check_deck_grid
+    from gridlib.cornerpoint.process import process_grdecl
+
+    r = process_grdecl(wedge_deck())
+    geo = gl.compute_geometry(r.grid)
+    with pytest.raises(gl.GridError, match=r"cells with non-positive volume: \[53, 55\]"):
+        gl.check_grid(r.grid, geo)
+    cells = check_deck_grid(r.grid, geo)
+    assert cells.non_positive_volume.tolist() == [53, 55] and cells.not_closed.size == 0
+    assert (geo.cell_volumes[cells.cells] < 0).all() and (r.bulk_volumes[cells.cells] > 0).all()
+    assert cells.flags(r.grid.num_cells).tolist() == [0] * 53 + [1, 0, 1] + [0] * 44
+    (note,) = cells.notes(r.grid)
+    assert (
+        note.startswith("2 cells with a non-positive polyhedral volume") and "(3, 7, 2), (3, 8, 2) (" in note
+    )
+
+
+def test_faces_that_do_not_close_are_degenerate():
+    """A face normal tilted by 1e-3 of its area: its two cells no longer close."""
+    g = gl.cart_grid([3, 1, 1], [300.0, 100.0, 10.0])
+    geo = gl.compute_geometry(g)
+    normals = np.array(geo.face_normals)
+    normals[1] += [0.0, 0.0, 1e-3 * geo.face_areas[1]]  # the face between cells 0 and 1
+    tilted = dataclasses.replace(geo, face_normals=normals)
+    from gridlib.checks import check_deck_grid
+
+    cells = check_deck_grid(g, tilted)
+    assert cells.not_closed.tolist() == [0, 1] and cells.non_positive_volume.size == 0
+    surface = 4 * 100.0 * 10.0 + 2 * 100.0 * 100.0  # each cell's: four lateral faces, top, bottom
+    np.testing.assert_allclose(cells.closure, 1e-3 * 1000.0 / surface, rtol=1e-9)
+    with pytest.raises(gl.GridError, match=r"cells not closed .* \[0, 1\]"):
+        gl.check_grid(g, tilted)
+
+
+def test_a_broken_deck_grid_is_still_an_error():
+    from gridlib.checks import check_deck_grid
+
+    g = gl.cart_grid([2, 1, 1])
+    nb = np.array(g.faces.neighbors)
+    nb[1] = [0, 0]
+    message = r"faces with the same cell on both sides: \[1\] \(cells \(1, 1, 1\)\); .* \(cells \(2, 1, 1\)\)"
+    with pytest.raises(gl.GridError, match=message):  # a grid with logical indices names the cells
+        check_deck_grid(dataclasses.replace(g, faces=dataclasses.replace(g.faces, neighbors=nb)))

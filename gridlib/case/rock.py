@@ -20,10 +20,12 @@ Where the keys come from (:func:`case_rock`):
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Any
 
 import numpy as np
 
+from ..cell_names import cell_names
 from ..config import Case
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
@@ -39,12 +41,12 @@ from ..petrophysics import (
     normal_porosity,
     per_layer,
 )
+from ..petrophysics.ranges import check_rock_values
 from .deck import read_case_deck
 
 KV_KH = 0.1  # the default vertical over horizontal permeability (grids without a deck's)
 # petrophysics.nc's names of the deck's rock keywords
 ROCK_KEYWORDS = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
-_BOUNDS = {"PORO": (0.0, 1.0), "NTG": (0.0, 1.0)}  # permeabilities: [0, inf)
 
 
 def _deck_keyword(case: Case, key: str, what: str, grid, deck: Deck | None = None) -> np.ndarray:
@@ -54,7 +56,14 @@ def _deck_keyword(case: Case, key: str, what: str, grid, deck: Deck | None = Non
     if key.upper() not in deck.cell_data:
         have = ", ".join(sorted(deck.cell_data)) or "none"
         raise InputError(f"{case.path}: {what}.deck: the deck has no {key.upper()} (it has {have})")
-    return deck.cell_data[key.upper()][grid.cells.index_map]
+    values = deck.cell_data[key.upper()][grid.cells.index_map]
+    # negative or undefined values: an error naming the deck's cells (above 1: the stage's note)
+    check_rock_values(
+        {key.upper(): values},
+        deck.source,
+        partial(cell_names, index_map=grid.cells.index_map, cart_dims=grid.cart_dims),
+    )
+    return values
 
 
 def _property(case: Case, spec: dict[str, Any], what: str, kind: str, ctx: dict[str, Any]) -> np.ndarray:
@@ -145,25 +154,11 @@ def case_rock_with_sources(case: Case, grid, geometry) -> tuple[Rock, dict[str, 
 
 
 def _rock_of_deck(case: Case, deck: Deck, grid) -> dict[str, np.ndarray]:
-    """The deck's rock keywords on the grid's cells, checked: one InputError naming the deck,
-    the keyword and the first bad cell (i, j, k) 1-based."""
-    out = {}
+    """The deck's rock keywords on the grid's cells, checked as OPM Flow would use them
+    (:mod:`gridlib.petrophysics.ranges`): negative or undefined values are one InputError naming
+    the deck, the keyword and the cells (i, j, k), 1-based; PORO or NTG above 1 are kept (the
+    petrophysics stage notes them)."""
     index = grid.cells.index_map
-    for keyword in ROCK_KEYWORDS:
-        if keyword not in deck.cell_data:
-            continue
-        values = deck.cell_data[keyword][index]
-        low, high = _BOUNDS.get(keyword, (0.0, np.inf))
-        bad = ~(np.isfinite(values) & (values >= low) & (values <= high))
-        if bad.any():
-            first = int(np.flatnonzero(bad)[0])
-            g = int(index[first])
-            nx, ny, _ = deck.cart_dims
-            ijk = f"({g % nx + 1}, {g // nx % ny + 1}, {g // (nx * ny) + 1})"
-            raise InputError(
-                f"{deck.source}: {keyword}: {int(bad.sum())} active cells have values outside "
-                f"[{low:g}, {high:g}] or none (first: cell {ijk}, {float(values[first])!r}); the rock "
-                f"of case {case.path} comes from them"
-            )
-        out[keyword] = values
+    out = {keyword: deck.cell_data[keyword][index] for keyword in ROCK_KEYWORDS if keyword in deck.cell_data}
+    check_rock_values(out, deck.source, partial(cell_names, index_map=index, cart_dims=grid.cart_dims))
     return out

@@ -5,7 +5,9 @@ faces and the two volume conventions).
 Steps, all vectorised over cells, corners and pillar pairs:
 
 1. inactive cells are masked before anything else: their corners (often junk:
-   NaN, -1e20) are never read; active corners must be finite;
+   NaN, -1e20) are never read; active corners must be finite, and the pillars
+   around them must not cross (:mod:`.crossing`: cells turned inside out in plan
+   view overlap their neighbours, an InputError naming them);
 2. z-up decks (depths decreasing with k) are negated so z is depth; left-handed
    decks (k x j x i frame mirrored in plan view) get every face reversed at the
    end, so volumes are positive and normals point outwards either way;
@@ -49,6 +51,7 @@ from ..stratigraphic.conformal import insert_edge_nodes
 from ..stratigraphic.lateral import SideCells, general_pieces
 from ..stratigraphic.nnc import FAULT, NNC, PINCH
 from .corners import corner_nodes
+from .crossing import check_pillars_do_not_cross
 from .deck import Deck
 from .faces import structured_lateral, structured_vertical
 from .pore_volume import (
@@ -111,6 +114,7 @@ def process_grdecl(
     notes = list(cn.notes) + notes
     if not cn.kept.any():
         raise InputError(f"{deck.source}: every active cell has zero thickness (collapsed on all pillars)")
+    check_pillars_do_not_cross(cn, deck.cart_dims, deck.source)
     bulk = hexahedron_volumes(cn.xyz, cn.table.reshape(8, -1), np.flatnonzero(cn.cells >= 0))
     if cn.left_handed:
         bulk = -bulk

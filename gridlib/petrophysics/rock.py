@@ -108,8 +108,9 @@ def per_layer(layer: ArrayLike, values: float | ArrayLike, *, zones: ArrayLike |
 
 @dataclass(frozen=True, eq=False)
 class Rock:
-    """Rock properties per cell: ``poro`` and ``ntg`` (fractions in [0, 1]), ``permx``,
-    ``permy``, ``permz`` (mD, >= 0). Arrays are copied, checked and read-only."""
+    """Rock properties per cell: ``poro`` and ``ntg`` (fractions), ``permx``, ``permy``,
+    ``permz`` (mD). Arrays are copied, checked (finite, >= 0) and read-only. Fractions above 1
+    are allowed, as OPM Flow and ECLIPSE allow them in a deck (:mod:`.ranges`: a note)."""
 
     poro: FloatArray
     permx: FloatArray
@@ -128,9 +129,8 @@ class Rock:
                 raise InputError(f"rock.{name}: {arr.size} values, expected {n} (as poro)")
             if not np.isfinite(arr).all():
                 raise InputError(f"rock.{name}: values must be finite")
-            low, high = (0.0, 1.0) if name in ("poro", "ntg") else (0.0, np.inf)
-            if arr.size and (arr.min() < low or arr.max() > high):
-                raise InputError(f"rock.{name}: values must lie in [{low:g}, {high:g}]")
+            if arr.size and arr.min() < 0.0:
+                raise InputError(f"rock.{name}: values must be >= 0")
             arr.flags.writeable = False
             object.__setattr__(self, name, arr)
 

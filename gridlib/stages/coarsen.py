@@ -2,9 +2,10 @@
 
 ``coarse.nc`` is a gridlib grid file of the blocks (cells = blocks, faces = the
 fine faces between blocks, so it opens in ParaView like any grid) with the
-block volumes, upscaled porosity, NTG (bulk-volume weighted) and permeability
-(mD, the case's method) as cell data, and the partition of the fine cells
-(``partition`` over ``fine_cell``).
+block volumes (sums of the cells' polyhedral volumes), upscaled porosity, NTG
+(averages weighted by bulk volume: ECLIPSE's for corner-point and deck grids, as the
+simulator's pore volumes) and permeability (mD, the case's method) as cell data, and
+the partition of the fine cells (``partition`` over ``fine_cell``).
 """
 
 from __future__ import annotations
@@ -31,7 +32,8 @@ def stage_coarsen(
 ) -> None:
     """Partition the grid, build the coarse grid, upscale the rock; write ``coarse.nc``."""
     case = load_case(case_file)
-    grid = read_netcdf(grid_nc).grid
+    stored = read_netcdf(grid_nc)
+    grid = stored.grid
     rock = read_rock(petrophysics_nc) if petrophysics_nc else None
     # METIS needs only the cell volumes: the rest of the geometry is read after it, so that the
     # two never meet at the peak of memory.
@@ -46,7 +48,10 @@ def stage_coarsen(
     cg = coarse_grid(grid, partition, geo)
     data = {"volume": cg.geometry.cell_volumes}
     if rock is not None:
-        v = geo.cell_volumes
+        # Averages weighted by the volumes the simulator's pore volumes come from: a corner-point
+        # cell's ECLIPSE bulk volume (positive where a deck's degenerate cell has a polyhedral
+        # volume of zero or less), the polyhedral volume for every other grid.
+        v = stored.cell_data.get("bulk_volume", geo.cell_volumes)
         data["poro"] = upscale_porosity(cg, rock["poro"], v)
         data["ntg"] = upscale_ntg(cg, rock["ntg"], v)
         method = case.data["coarsen"].get("permeability", "harmonic-arithmetic")

@@ -15,11 +15,16 @@
 * ``{case}.png``: the grid rendered off-screen, coloured by porosity (or
   depth), fault faces in red; ``{case}_histograms.png``: cell volumes, face
   areas, porosity (the MRST book's Fig. 3.33) and log10 T;
-* ``summary.json``: the case's figures (the regression tests compare them).
+* ``summary.json``: the case's figures (the regression tests compare them); for a deck case
+  with degenerate cells (:mod:`gridlib.stages.grid`) also ``degenerate_cells``: their count,
+  how many have a non-positive polyhedral volume and how many do not close, and the first
+  100 as 1-based (i, j, k).
 
 ``pore_volume`` (geometric cell volume x porosity x NTG, m3) predates the
 transmissibility stage and is kept; ``porv`` is the simulator's pore volume (for
-corner-point decks from ECLIPSE's bulk volumes) in the case's unit system.
+corner-point decks from ECLIPSE's bulk volumes) in the case's unit system. They differ
+most on a deck's degenerate cells, whose polyhedral volume may be zero or negative:
+``porv`` (``total_porv``) is the one a simulator uses.
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cell_names import ijk
 from ..config import Case, load_case
 from ..errors import InputError
 from ..geometry import Geometry
@@ -101,6 +107,24 @@ def transmissibility_figures(variables, attrs) -> dict[str, Any]:
         }
     out["total_porv"] = _figure(variables["porv"].values.sum())
     return out
+
+
+def degenerate_figures(grid: Grid, flags: np.ndarray, listed: int = 100) -> dict[str, Any]:
+    """The summary's account of a deck's degenerate cells (``flags``: the grid stage's
+    ``degenerate`` cell data): how many, of which kind, and the first ``listed`` as 1-based
+    (i, j, k) (cell numbers where the grid has no logical indices)."""
+    cells = np.flatnonzero(flags)
+    shown = cells[:listed]
+    if grid.cells.index_map is not None and grid.cart_dims is not None:
+        named = ijk(grid.cells.index_map[shown], grid.cart_dims).tolist()
+    else:
+        named = shown.tolist()
+    return {
+        "count": int(cells.size),
+        "non_positive_volume": int(np.count_nonzero(flags & 1)),
+        "not_closed": int(np.count_nonzero(flags & 2)),
+        "cells": named,
+    }
 
 
 def _figure(value: float) -> float:
@@ -286,6 +310,8 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
     }
     if "bulk_volume" in g.cell_data:
         summary["total_bulk_volume"] = _figure(g.cell_data["bulk_volume"].sum())
+    if "degenerate" in g.cell_data:
+        summary["degenerate_cells"] = degenerate_figures(grid, g.cell_data["degenerate"])
     if rock is not None:
         summary["pore_volume"] = _figure(g.cell_data["pore_volume"].sum())
         summary["mean_porosity"] = _figure(rock["poro"].mean())

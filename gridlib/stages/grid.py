@@ -8,15 +8,27 @@ metres; a FIELD deck's grid is in feet).
 Corner-point and deck cases also get ``grid.grdecl`` (GRDECL for simulators:
 geometry, ACTNUM, FAULTS, and the deck's own cell keywords and GRID-section settings,
 MULTREGT with its region sets resolved as GRIDOPTS said).
+
+Every grid is checked (:mod:`gridlib.checks`). A grid gridlib builds (cartesian, cornerpoint,
+pebi, ...) must pass every invariant: any failure is an error. A ``deck`` case's grid is
+someone else's: what is broken (topology, crossing pillars: refused while the deck is read)
+is an error naming the deck and the cells, while *degenerate* cells (polyhedral volume not
+positive, faces not closing: thin wedges beside faults that OPM Flow runs) are kept, each
+named in the stage's notes, flagged in the cell data ``degenerate`` (1: volume not positive,
+2: not closed, 3: both; written only when there are any) and counted in ``summary.json``.
+The simulator's volume of such a cell is its ECLIPSE bulk volume (``bulk_volume``), which the
+pore volumes use; the geometry stage keeps its polyhedral volume.
 """
 
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 
 from ..case.grid import CaseGrid, build_case_grid
-from ..checks import check_grid
-from ..config import load_case
+from ..checks import check_deck_grid, check_grid
+from ..config import Case, load_case
+from ..errors import GridError, InputError
 from ..io.grdecl import write_grdecl
 from ..io.horizon_files import read_horizons
 from ..io.netcdf import write_netcdf
@@ -32,6 +44,26 @@ def grid_unit_system(built: CaseGrid) -> str:
     return unit_system(units).name
 
 
+def checked(case: Case, built: CaseGrid) -> CaseGrid:
+    """``built`` after :func:`~gridlib.checks.check_grid` (grids gridlib builds) or, for a deck
+    case, :func:`~gridlib.checks.check_deck_grid`: its degenerate cells named in the notes and
+    flagged in the cell data ``degenerate``; anything broken raises an InputError naming the
+    case and the deck."""
+    if case.data["grid"]["type"] != "deck":
+        check_grid(built.grid)
+        return built
+    source = built.deck.source if built.deck is not None else "the deck"
+    try:
+        degenerate = check_deck_grid(built.grid)
+    except GridError as exc:
+        raise InputError(f"{case.path}: grid.file: {source}: {exc}") from None
+    if not len(degenerate):
+        return built
+    flags = degenerate.flags(built.grid.num_cells)
+    notes = built.notes + degenerate.notes(built.grid)
+    return replace(built, cell_data={**built.cell_data, "degenerate": flags}, notes=notes)
+
+
 def stage_grid(
     case_file: str | os.PathLike,
     grid_out: str | os.PathLike,
@@ -41,10 +73,9 @@ def stage_grid(
     """Build the case's grid, check every invariant, write ``grid.nc`` (and ``grid.grdecl``)."""
     case = load_case(case_file)
     horizons = read_horizons(horizons_nc) if horizons_nc else None
-    built = build_case_grid(case, horizons)
+    built = checked(case, build_case_grid(case, horizons))
     for note in built.notes:
         log.info("note: %s", note)
-    check_grid(built.grid)
     attrs = {
         **case.provenance(),
         "fault_names": list(built.fault_names),

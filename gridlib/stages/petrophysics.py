@@ -8,19 +8,28 @@ PERMX, PERMY, PERMZ and NTG, each replaced only by the case key that sets it
 (:mod:`gridlib.case.rock`); each variable's ``source`` attribute says where it
 came from. Fields are seeded with the case's seed (porosity), seed + 1
 (permeability) and seed + 2 (NTG): the same case and seed give identical arrays.
+Porosity or NTG above 1 (a deck's, or a case's
+constant) is used as given, as OPM Flow and ECLIPSE use it, with a note naming the cells
+(in the log and the ``notes`` attribute); negative or undefined values are errors
+(:mod:`gridlib.petrophysics.ranges`).
 """
 
 from __future__ import annotations
 
 import os
+from functools import partial
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..case.rock import case_rock_with_sources
-from ..config import load_case
+from ..cell_names import cell_names
+from ..config import Case, load_case
+from ..grid import Grid
 from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_dataset
+from ..petrophysics import Rock
+from ..petrophysics.ranges import check_rock_values
 from .common import log
 
 PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
@@ -48,6 +57,14 @@ def read_rock(path: str | os.PathLike) -> dict[str, np.ndarray]:
         return {name: ds[name].values for name in PROPERTIES}
 
 
+def rock_notes(case: Case, grid: Grid, rock: Rock) -> tuple[str, ...]:
+    """Notes on porosity or NTG above 1 (:mod:`gridlib.petrophysics.ranges`: OPM Flow and ECLIPSE
+    use them as given), naming the cells ((i, j, k) where the grid has logical indices)."""
+    values = {"PORO": rock.poro, "NTG": rock.ntg}
+    names = partial(cell_names, index_map=grid.cells.index_map, cart_dims=grid.cart_dims)
+    return check_rock_values(values, str(case.path), names)
+
+
 def stage_petrophysics(
     case_file: str | os.PathLike,
     grid_nc: str | os.PathLike,
@@ -58,7 +75,10 @@ def stage_petrophysics(
     case = load_case(case_file)
     grid = read_netcdf(grid_nc).grid
     rock, sources = case_rock_with_sources(case, grid, read_geometry_netcdf(geometry_nc))
-    write_rock(petrophysics_out, rock, case.provenance(), sources)
+    notes = rock_notes(case, grid, rock)
+    write_rock(petrophysics_out, rock, {**case.provenance(), "notes": "; ".join(notes)}, sources)
+    for note in notes:
+        log.info("note: %s", note)
     log.info(
         "wrote %s: porosity %.4g-%.4g (mean %.4g), permx %.4g-%.4g mD",
         petrophysics_out,

@@ -25,11 +25,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..cell_names import cell_names
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.pore_volume import with_flow_activity
 from ..cornerpoint.process import CornerPointGrid, process_grdecl
 from ..errors import InputError
 from ..grid import B, E, N, S, T, W
+from ..petrophysics.ranges import check_rock_values
 from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
 from .edits import apply_deck_edits, logical_neighbors
@@ -40,39 +42,27 @@ from .region_multipliers import region_multipliers
 assert (W, E, S, N, T, B) == (0, 1, 2, 3, 4, 5)
 
 
-def rock_arrays(deck: Deck) -> tuple[np.ndarray, np.ndarray]:
-    """PERMX, PERMY, PERMZ (nc, 3) in mD and NTG (nc,) of every deck cell, checked.
+def rock_arrays(deck: Deck, notes: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """PERMX, PERMY, PERMZ (nc, 3) in mD and NTG (nc,) of every deck cell, checked on the
+    active cells as strictly as OPM Flow (:mod:`gridlib.petrophysics.ranges`).
 
-    PERMY and PERMZ default to PERMX, NTG to 1 (as Flow). Raises naming the file and
-    keyword: PERMX missing, a negative or non-finite permeability, NTG outside [0, 1].
+    PERMY and PERMZ default to PERMX, NTG to 1 (as Flow). Raises an InputError naming the
+    file, keyword and cells (i, j, k): PERMX missing, a negative or non-finite permeability or
+    NTG. NTG above 1 is used as Flow uses it, with a note (appended to ``notes``).
     """
     data = deck.cell_data
     if "PERMX" not in data:
         raise InputError(f"{deck.source}: PERMX: the deck gives no permeability (PERMX is missing)")
-    active = deck.active
     perm = np.stack([data.get(key, data["PERMX"]) for key in ("PERMX", "PERMY", "PERMZ")], axis=1)
-    for d, key in enumerate(("PERMX", "PERMY", "PERMZ")):
-        bad = active & ~(np.isfinite(perm[:, d]) & (perm[:, d] >= 0))
-        if bad.any():
-            cell = int(np.flatnonzero(bad)[0])
-            raise InputError(
-                f"{deck.source}: {key if key in data else 'PERMX'}: {int(bad.sum())} active cells have a "
-                f"negative or undefined permeability (first: cell {_ijk(deck, cell)}, {perm[cell, d]!r})"
-            )
     ntg = data.get("NTG", np.ones(deck.num_cells))
-    bad = active & ~((ntg >= 0) & (ntg <= 1))
-    if bad.any():
-        cell = int(np.flatnonzero(bad)[0])
-        raise InputError(
-            f"{deck.source}: NTG: {int(bad.sum())} active cells have NTG outside [0, 1] "
-            f"(first: cell {_ijk(deck, cell)}, {ntg[cell]!r})"
-        )
+    active = np.flatnonzero(deck.active)
+    values = {key: perm[active, d] for d, key in enumerate(("PERMX", "PERMY", "PERMZ")) if key in data}
+    if "NTG" in data:
+        values["NTG"] = ntg[active]
+    found = check_rock_values(values, deck.source, lambda pos: cell_names(pos, active, deck.cart_dims))
+    if notes is not None:
+        notes.extend(found)
     return perm, ntg
-
-
-def _ijk(deck: Deck, g: int) -> str:
-    nx, ny, _ = deck.cart_dims
-    return f"({g % nx + 1}, {g // nx % ny + 1}, {g // (nx * ny) + 1})"
 
 
 def deck_transmissibility(
@@ -96,8 +86,8 @@ def deck_transmissibility(
     units = unit_system(deck.units)
     grid = cp.grid
     glob = grid.cells.index_map
-    perm, ntg = rock_arrays(deck)
     notes: list[str] = []
+    perm, ntg = rock_arrays(deck, notes)
     dims = deck.cart_dims
     layer = dims[0] * dims[1]
 

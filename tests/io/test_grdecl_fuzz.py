@@ -135,7 +135,9 @@ def test_mutated_decks_are_read_or_refused_clearly(tmp_path, decks_dir, base_nam
         except Exception as exc:  # report the deck that broke the reader
             (tmp_path / f"failing_{case}.DATA").write_bytes(data)
             raise AssertionError(f"case {case}: {type(exc).__name__}: {exc}") from exc
-    assert outcomes["error"] > 20 and outcomes["ok"] > 5  # the mutations do hit both ways
+    # the mutations do hit both ways: decks the reader refuses, decks it reads (some of which the
+    # processor then refuses clearly: e.g. two COORD lines swapped make pillars that cross)
+    assert outcomes["error"] > 20 and outcomes["ok"] + outcomes["refused"] > 5
 
 
 def test_binary_garbage_is_refused(tmp_path):

@@ -63,7 +63,8 @@ def test_rock_and_netcdf(tmp_path):
     write_netcdf(tmp_path / "rock.nc", g, cell_data=rock.cell_data())
     back = read_netcdf(tmp_path / "rock.nc").cell_data
     assert np.array_equal(back["permx"], rock.permx) and np.array_equal(back["ntg"], rock.ntg)
-    with pytest.raises(InputError, match=r"rock\.poro: values must lie in \[0, 1\]"):
-        make_rock(1.2, 100.0)
+    with pytest.raises(InputError, match=r"rock\.poro: values must be >= 0"):
+        make_rock(-0.1, 100.0)
+    assert make_rock(1.2, 100.0, ntg=1.5).ntg.tolist() == [1.5]  # as OPM Flow: a note, not an error
     with pytest.raises(InputError, match=r"make_rock: the properties have different lengths \[2, 3\]"):
         make_rock([0.2, 0.2], [1.0, 2.0, 3.0])

@@ -254,9 +254,9 @@ def test_what_a_deck_case_needs(tmp_path):
     assert np.allclose(rock["permx"], 21.72, atol=0.01) and np.array_equal(rock["permz"], 0.1 * rock["permx"])
 
     bad = tmp_path / "bad"
-    write_deck(bad, ("PORO", "PERMX", "NTG"), grid="EQUALS\n 'NTG' 1.5 2 2 3 3 4 4 /\n/\n")
+    write_deck(bad, ("PORO", "PERMX", "NTG"), grid="EQUALS\n 'PERMX' -5 2 2 3 3 4 4 /\n/\n")
     with pytest.raises(
-        InputError, match=r"ANISO.DATA: NTG: 1 active cells .* outside \[0, 1\] .*cell \(2, 3, 4\), 1.5\)"
+        InputError, match=r"ANISO.DATA: PERMX: 1 cells have a negative or undefined PERMX .*\(2, 3, 4\)"
     ):
         build(write_case(bad, "bad"), tmp_path / "out3")
 

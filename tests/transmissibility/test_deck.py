@@ -484,8 +484,8 @@ def test_bad_gridopts(tmp_path):
 @pytest.mark.parametrize(
     ("grid", "message"),
     [
-        ("PERMY\n 11*100 -1 /", r"D\.DATA: PERMY: 1 active cells have a negative or undefined permeability"),
-        ("NTG\n 5*1 1.5 6*1 /", r"D\.DATA: NTG: 1 active cells have NTG outside \[0, 1\]"),
+        ("PERMY\n 11*100 -1 /", r"D\.DATA: PERMY: 1 cells .* PERMY \(first -1\.0\): \(3, 2, 2\)"),
+        ("NTG\n 5*1 -0.5 6*1 /", r"D\.DATA: NTG: 1 cells .* NTG \(first -0\.5\): \(3, 2, 1\)"),
         ("MULTY\n 3*1 -2 8*1 /", r"D\.DATA: MULTY: multipliers must be finite and >= 0"),
         (
             "MULTREGT\n 1 2 0.5 X ALL O /\n/",
