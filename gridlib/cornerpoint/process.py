@@ -440,7 +440,7 @@ class _FaceArrays:
 def _removed_by_pore_volume(deck: Deck, cn, bulk, minpv: float | None, notes: list[str]):
     """Kept cells whose pore volume (``bulk`` x PORO x NTG x MULTPV, or PORV) is below MINPV
     (removed by Flow), or None when nothing is removed. Raises for a negative pore volume
-    left active."""
+    left active, or an infinite one."""
     threshold = minimum_pore_volumes(deck, minpv)
     if not has_pore_volume(deck):
         if threshold is not None:
@@ -449,12 +449,13 @@ def _removed_by_pore_volume(deck: Deck, cn, bulk, minpv: float | None, notes: li
     kept = np.flatnonzero(cn.kept.ravel())
     pv = pore_volumes(deck, kept, bulk)
     small = pv < threshold[kept] if threshold is not None else np.zeros(kept.size, dtype=bool)
-    negative = (pv < 0) & ~small
+    negative = ~((pv >= 0) & np.isfinite(pv)) & ~small
     if negative.any():
         first = int(np.flatnonzero(negative)[0])
         raise InputError(
-            f"{deck.source}: {int(negative.sum())} active cells have a negative pore volume (first: cell "
-            f"{ijk_text(deck, int(kept[first]))}, {float(pv[first])!r}; from PORO, NTG, MULTPV or PORV)"
+            f"{deck.source}: {int(negative.sum())} active cells have a negative or infinite pore volume "
+            f"(first: cell {ijk_text(deck, int(kept[first]))}, {float(pv[first])!r}; "
+            "from PORO, NTG, MULTPV or PORV)"
         )
     if not small.any():
         return None

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from real_decks import unpack
 
 import gridlib as gl
 from gridlib.cornerpoint.generators import cut_grdecl, make_model3, simple_grdecl
@@ -33,8 +34,12 @@ from gridlib.stratigraphic.extrude import extrude
 from gridlib.stratigraphic.pillar_points import depth_resolution, unique_points, unique_points_rows
 
 DECKS = Path(__file__).parents[1] / "data" / "decks"
+# Every vendored deck but SPE10 model 2, whose PORO and PERM includes its own test writes (its grid,
+# DX/DY/DZ/TOPS boxes, is the kind SPE1 covers here); compressed includes (.xz) are unpacked first.
 DECK_FILES = sorted(
-    str(p.relative_to(DECKS)) for p in DECKS.glob("*/*.DATA") if "RUNSPEC" in p.read_text(errors="replace")
+    str(p.relative_to(DECKS))
+    for p in DECKS.glob("*/*.DATA")
+    if "RUNSPEC" in p.read_text(errors="replace") and p.parent.name != "spe10model2"
 ) + ["seed/simple_grdecl_4x2x3_flat_drop012.grdecl"]
 
 
@@ -132,8 +137,11 @@ GENERATED = {
 
 
 @pytest.mark.parametrize("relpath", DECK_FILES)
-def test_no_face_of_zero_area_in_any_test_deck(relpath):
-    assert_no_face_of_zero_area(process_grdecl(read_grdecl(DECKS / relpath)).grid)
+def test_no_face_of_zero_area_in_any_test_deck(relpath, tmp_path):
+    folder = unpack(str(Path(relpath).parent), tmp_path)
+    # geometry only: keywords no simulator knows (an export's FACIES) do not matter here
+    deck = read_grdecl(folder / Path(relpath).name, unknown_keywords="skip")
+    assert_no_face_of_zero_area(process_grdecl(deck).grid)
 
 
 @pytest.mark.parametrize("name", list(GENERATED))

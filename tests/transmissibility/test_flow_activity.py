@@ -246,7 +246,7 @@ def test_negative_pore_volume_is_refused_with_the_cell(tmp_path):
     poro[cell(2, 2, 3)] = -0.1
     deck.write_text(deck_text(poro=poro))
     with pytest.raises(
-        InputError, match=r"NEG.DATA: 1 active cells have a negative pore volume.*\(2, 2, 3\)"
+        InputError, match=r"NEG.DATA: 1 active cells have a negative or infinite pore volume.*\(2, 2, 3\)"
     ):
         process_grdecl(read_grdecl(deck))
 

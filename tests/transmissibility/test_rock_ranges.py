@@ -58,7 +58,19 @@ def test_poro_and_ntg_above_one_give_flows_porv_and_t_with_a_note(tmp_path):
     ("key", "cell", "value", "message"),
     [
         ("PERMX", 5, -5.0, r"PERMX: 1 cells have a negative or undefined PERMX \(first -5\.0\): \(2, 2, 1\)"),
-        ("NTG", 23, -0.2, r"NTG: 1 cells have a negative or undefined NTG \(first -0\.2\): \(4, 3, 2\)"),
+        # a negative NTG (or PORO) gives a negative pore volume, refused when the grid is processed
+        (
+            "NTG",
+            23,
+            -0.2,
+            r"1 active cells have a negative or infinite pore volume \(first: cell \(4, 3, 2\), -3901\.8",
+        ),
+        (
+            "PORO",
+            23,
+            np.inf,
+            r"1 active cells have a negative or infinite pore volume \(first: cell \(4, 3, 2\), inf",
+        ),
         (
             "PERMX",
             0,
