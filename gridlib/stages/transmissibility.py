@@ -203,8 +203,8 @@ def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], u
     """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
     ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
     leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
-    FLUXNUM, MULTNUM, ...) and setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) stays
-    as the deck gives it."""
+    PORV, FLUXNUM, MULTNUM, ...), setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) and
+    EDIT operation (TRANX/TRANY/TRANZ, EDITNNC) stays as the deck gives it."""
 
     def on_deck(values: np.ndarray) -> np.ndarray:
         full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read
