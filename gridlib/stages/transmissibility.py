@@ -189,9 +189,11 @@ def _porv_notes(case: Case, porv: np.ndarray) -> list[str]:
     notes = [f"pore volumes: the PORV of the deck's EDIT section in {given} of {porv.size} grid cells"]
     keys = [k for k in ("porosity", "ntg") if k in case.data.get("petrophysics", {})]
     if keys and given:
+        named = " and ".join(f"petrophysics.{k}" for k in keys)
+        verb = "leave" if len(keys) > 1 else "leaves"
         notes.append(
-            f"petrophysics.{' and petrophysics.'.join(keys)} leave the pore volume of those {given} "
-            "cells as the deck's PORV gives it (as in OPM Flow, PORV wins over PORO and NTG)"
+            f"{named} {verb} the pore volume of those {given} cells as the deck's PORV gives it "
+            "(as in OPM Flow, PORV wins over PORO and NTG)"
         )
     return notes
 

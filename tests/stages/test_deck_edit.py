@@ -6,7 +6,8 @@ box, sets TRANY (``1*`` leaving a value as Flow computes it), multiplies MULTX- 
 (Flow: the EDIT array multiplies the GRID one) and multiplies, by EDITNNC, a fault
 connection and the NNC keyword's value. Flow's dry run of the case's written deck must
 equal its dry run of the original (active cells, connections and T, pore volumes, 1e-6
-relative: INIT is float32), and so must ``transmissibility.nc``.
+relative: INIT is float32), and so must ``transmissibility.nc`` and ``grid.grdecl`` included
+as it is in a deck's GRID section.
 """
 
 from __future__ import annotations
@@ -138,6 +139,18 @@ def test_deck_case_gives_flow_the_original_decks_edit_section(original, tmp_path
     assert np.all(np.abs(variables["porv"].values - flow_porv) <= 1e-6 * flow_porv)
     assert "the PORV of the deck's EDIT section in 12 of 120 grid cells" in attrs["notes"]
 
+    # grid.grdecl itself, INCLUDEd in GRID, opens the EDIT section: Flow reads it as the deck
+    data = paths["flow_deck"].read_text()
+    edit_include = "EDIT\n\nINCLUDE\n 'EDITED_EDIT.INC' /\n"
+    assert data.count(edit_include) == 1 and data.count("'EDITED_GRID.INC'") == 1
+    data = data.replace(edit_include, "").replace("'EDITED_GRID.INC'", "'../grid.grdecl'")
+    by_hand = paths["flow_deck"].with_name("BY_HAND.DATA")
+    by_hand.write_text(data)
+    hand_case = run_flow_dry(by_hand, tmp_path / "flow_by_hand")
+    assert_close(flow_connections(hand_case), ref, "Flow on grid.grdecl")
+    hand_porv = read_keywords(Path(f"{hand_case}.INIT"))["PORV"]
+    assert np.all(np.abs(hand_porv - ref_init["PORV"]) <= 1e-6 * ref_init["PORV"])
+
 
 def test_a_case_porosity_leaves_the_decks_porv(original, tmp_path, caplog):
     """A case's porosity replaces PORO, not the deck's EDIT PORV (Flow's rule): the PORV cells keep
@@ -146,7 +159,7 @@ def test_a_case_porosity_leaves_the_decks_porv(original, tmp_path, caplog):
     case = write_case(deck.parent, "porous", {"porosity": {"constant": 0.3}})
     with caplog.at_level("INFO", logger="gridlib.stages"):
         paths = build(case, tmp_path / "out", flow_deck=True)
-    assert "petrophysics.porosity leave the pore volume of those 12 cells as the deck's PORV" in caplog.text
+    assert "petrophysics.porosity leaves the pore volume of those 12 cells as the deck's PORV" in caplog.text
     new_case = run_flow_dry(paths["flow_deck"], tmp_path / "flow_written")
     new_init = read_keywords(Path(f"{new_case}.INIT"))
     ref_init = read_keywords(Path(f"{ref_case}.INIT"))
