@@ -64,7 +64,9 @@ def _box_text(box: Box) -> str:
 def _porv_text(porv: np.ndarray, dims: tuple[int, int, int]) -> Iterator[bytes]:
     given = ~np.isnan(porv)
     if given.all():
-        yield from keyword_text("PORV", porv, "pore volumes given in the EDIT section (rm3, rb)")
+        yield from keyword_text(
+            "PORV", porv, "pore volumes given in the EDIT section (the deck's reservoir volume unit)"
+        )
         return
     if not given.any():
         return
@@ -75,7 +77,7 @@ def _porv_text(porv: np.ndarray, dims: tuple[int, int, int]) -> Iterator[bytes]:
     new_run[1:] = (np.diff(cells) != 1) | (cells[1:] % nx == 0)
     starts = np.flatnonzero(new_run)
     ends = np.append(starts[1:], cells.size) - 1
-    yield b"-- PORV given in the EDIT section for these cells (rm3, rb); Flow computes the others\n"
+    yield b"-- PORV (reservoir volume unit) of the cells the EDIT section gives; Flow computes the rest\n"
     for first, last in zip(starts.tolist(), ends.tolist(), strict=True):
         g1, g2 = int(cells[first]), int(cells[last])
         i, j, k = g1 % nx, g1 // nx % ny, g1 // (nx * ny)
