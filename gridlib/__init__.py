@@ -54,6 +54,7 @@ _EXPORTS: dict[str, str] = {
     "DeckError": ".io.grdecl",
     "read_grdecl": ".io.grdecl",
     "write_grdecl": ".io.grdecl",
+    "write_edit_grdecl": ".io.grdecl",
     "make_layered_grid": ".layered",
     "ColumnGrid": ".stratigraphic.columns",
     "extrude_columns": ".stratigraphic.columns",
@@ -139,6 +140,7 @@ __all__ = [
     "upscale_ntg",
     "upscale_permeability",
     "upscale_porosity",
+    "write_edit_grdecl",
     "write_grdecl",
 ]
 

@@ -4,8 +4,10 @@ Two forms, one writer:
 
 * **native** (corner-point and deck grids): the GRID section is the corner-point deck
   itself (COORD, ZCORN, ACTNUM, PORO, PERMX/Y/Z, NTG, FAULTS, MULTFLT, written by
-  :func:`~gridlib.io.grdecl.write_grdecl` into ``<NAME>_GRID.INC``): Flow computes its
-  own pore volumes, transmissibilities and well connection factors.
+  :func:`~gridlib.io.grdecl.write_grdecl` into ``<NAME>_GRID.INC``), and the deck's
+  EDIT section where it has one (PORV, TRANX/TRANY/TRANZ operations, EDITNNC, in
+  ``<NAME>_EDIT.INC``, :func:`~gridlib.io.grdecl.write_edit_grdecl`): Flow computes its
+  own transmissibilities, well connection factors and pore volumes (but where PORV gives them).
 * **connections** (any grid, :class:`ConnectionGrid`): Flow gets our numbers and nothing
   else. Every cell is a flat box of the logical grid ``dims``, at the cell ``index``
   (``cell_flow_index``): COORD has vertical pillars ``spacing`` apart, ZCORN puts the box
@@ -71,7 +73,7 @@ from .flow_connections import (
     porv_text,
     vanished_connections,
 )
-from .grdecl import write_grdecl
+from .grdecl import write_edit_grdecl, write_grdecl
 
 __all__ = [
     "FORMS",
@@ -192,9 +194,13 @@ def write_flow_deck(
         notes: list[str] = []
         if form == "native":
             path = directory / f"{name}_GRID.INC"
-            write_grdecl(path, replace(grid, units=None))
+            write_grdecl(path, replace(grid, units=None), edit=False)
             written.append(path)
             grid_files, edit_files = [path.name], []
+            edit_path = write_edit_grdecl(directory / f"{name}_EDIT.INC", grid)
+            if edit_path is not None:
+                written.append(edit_path)
+                edit_files.append(edit_path.name)
         else:
             vanished = vanished_connections(grid)
             if vanished.size:

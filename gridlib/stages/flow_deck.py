@@ -3,8 +3,9 @@ name in upper case) with its includes, written by :func:`gridlib.io.flow.write_f
 
 Which form (``form=None``, the workflow's choice): **native** for cornerpoint and deck
 cases (the case's ``grid.grdecl`` with the PORO, PERMX/Y/Z and NTG of ``petrophysics.nc``
-and the deck's FAULTS, MULTFLT, MULT*, region arrays, MULTREGT, PINCH and MINPV: Flow
-computes everything itself; a deck case's rock is its deck's but for what the case
+and the deck's FAULTS, MULTFLT, MULT*, region arrays, MULTREGT, NNC, PINCH and MINPV, and
+its EDIT section, PORV, TRANX/TRANY/TRANZ operations and EDITNNC: Flow computes everything
+itself; a deck case's rock is its deck's but for what the case
 replaces, so Flow computes what it computes on the deck), the **connection form** for
 every other grid (``transmissibility.nc``'s pore volumes and connections; cell centre
 depths from ``geometry.nc``). ``form="connections"`` also writes a corner-point case in the

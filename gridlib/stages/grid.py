@@ -7,7 +7,10 @@ non-neighbour connections (``nnc_*`` variables), the fault and well names
 metres; a FIELD deck's grid is in feet).
 Corner-point and deck cases also get ``grid.grdecl`` (GRDECL for simulators:
 geometry, ACTNUM, FAULTS, and the deck's own cell keywords and GRID-section settings,
-MULTREGT with its region sets resolved as GRIDOPTS said).
+MULTREGT with its region sets resolved as GRIDOPTS said, NNC; then, if the deck has
+one, the ``EDIT`` keyword and its EDIT section: PORV, the TRANX/TRANY/TRANZ operations
+in deck order, EDITNNC; the EDIT section's MULT* arrays are already multiplied into
+the GRID values). The transmissibility and flow-deck stages read it back as the deck.
 
 Every grid is checked (:mod:`gridlib.checks`). A grid gridlib builds (cartesian, cornerpoint,
 pebi, ...) must pass every invariant: any failure is an error. A ``deck`` case's grid is
@@ -30,6 +33,7 @@ from ..checks import check_deck_grid, check_grid
 from ..config import Case, load_case
 from ..errors import GridError, InputError
 from ..io.grdecl import write_grdecl
+from ..io.grdecl.edit import edit_section_contents
 from ..io.horizon_files import read_horizons
 from ..io.netcdf import write_netcdf
 from ..transmissibility.region_multipliers import with_explicit_region_sets
@@ -87,17 +91,15 @@ def stage_grid(
     if grdecl_out is not None:
         if built.deck is None:
             raise ValueError(f"{case.path}: grid.grdecl is only written for cornerpoint and deck grids")
-        # grid.grdecl is a GRID include, without the deck's RUNSPEC: its MULTREGT records name
-        # their region set, which GRIDOPTS may have defaulted
+        # grid.grdecl has no RUNSPEC: its MULTREGT records name their region set, which GRIDOPTS
+        # may have defaulted
         write_grdecl(grdecl_out, with_explicit_region_sets(built.deck))
-        deck = built.deck
-        edits = ["TRANX/TRANY/TRANZ"] if deck.tran_edits else []
-        edits += ["EDITNNC"] if deck.editnnc is not None and deck.editnnc.num else []
-        if edits:
+        carried = edit_section_contents(built.deck)
+        if carried:
             log.info(
-                "note: the deck's EDIT section (%s) is not in %s: the transmissibilities and the "
-                "OPM Flow deck of this case do without it",
-                ", ".join(edits),
+                "note: %s ends with the deck's EDIT section (%s), which the transmissibilities and "
+                "the OPM Flow deck of this case apply as Flow does",
                 grdecl_out,
+                ", ".join(carried),
             )
         log.info("wrote %s", grdecl_out)

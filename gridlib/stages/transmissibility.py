@@ -14,11 +14,12 @@ Which computation, by grid type (the ``method`` attribute says which ran):
   the case's PERMX, PERMY, PERMZ and NTG from ``petrophysics.nc`` (per grid cell, put
   on the deck's cells through ``index_map``; for a deck case the deck's own unless the
   case replaces them) and the deck's MULT*, MULTFLT, MULTREGT with its region arrays,
-  PINCH and MINPV: ECLIPSE's NEWTRAN as OPM Flow computes it, so the T equal Flow's for
-  that deck. Pore volume as Flow
-  (:func:`~gridlib.cornerpoint.pore_volume.pore_volumes`): the ECLIPSE bulk volume
-  (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV (the PORV of the deck's EDIT
-  section where it gives one). ``cell_flow_index`` is the grid's
+  PINCH, MINPV, NNC and its EDIT section (TRANX/TRANY/TRANZ operations, EDITNNC):
+  ECLIPSE's NEWTRAN as OPM Flow computes it, so the T equal Flow's for that deck. Pore
+  volume as Flow (:func:`~gridlib.cornerpoint.pore_volume.pore_volumes`): the ECLIPSE
+  bulk volume (``bulk_volume`` of ``grid.nc``) x PORO x NTG x MULTPV, but the PORV of
+  the deck's EDIT section where it gives one, whatever porosity or NTG the case gives
+  there (a note says so). ``cell_flow_index`` is the grid's
   ``index_map``, ``flow_dims`` the deck's dimensions;
 * **pebi**: :func:`~gridlib.transmissibility.transmissibility` with each cell's
   generating site (x, y) at its centroid's depth as the cell centre (``site`` in
@@ -101,7 +102,7 @@ def stage_transmissibility(
             raise InputError(
                 f"{case.path}: grid: a {case.data['grid']['type']} grid's T need its grid.grdecl"
             )
-        conn, porv, method = _deck_case(grid_nc, stored, attrs, rock, Path(grdecl), system)
+        conn, porv, method = _deck_case(case, grid_nc, stored, attrs, rock, Path(grdecl), system)
         flow_index, flow_dims = grid.cells.index_map, tuple(grid.cart_dims)
     else:  # a deck's T need no geometry of ours; any other grid's need all of it
         geo = read_geometry_netcdf(geometry_nc)
@@ -134,6 +135,7 @@ def stage_transmissibility(
 
 
 def _deck_case(
+    case: Case,
     grid_nc: str | os.PathLike,
     stored: GridDataset,
     attrs: dict[str, Any],
@@ -166,7 +168,7 @@ def _deck_case(
     conn = deck_transmissibility(deck, cp)
     porv = pore_volumes(deck, index, bulk)  # Flow's: EDIT PORV, else bulk x PORO x NTG x MULTPV
     if "PORV" in deck.cell_data:
-        conn = replace(conn, notes=(*conn.notes, "pore volumes: the deck's PORV where it gives one"))
+        conn = replace(conn, notes=(*conn.notes, *_porv_notes(case, deck.cell_data["PORV"][index])))
     if (porv == 0).any():  # the grid was built before the rock: its cells stay
         conn = replace(
             conn,
@@ -180,6 +182,22 @@ def _deck_case(
     return conn, porv, method
 
 
+def _porv_notes(case: Case, porv: np.ndarray) -> list[str]:
+    """What the deck's EDIT PORV (``porv`` per grid cell, NaN where Flow computes it) does to
+    the pore volumes, and to the case's porosity or net-to-gross there: nothing (PORV wins)."""
+    given = int((~np.isnan(porv)).sum())
+    notes = [f"pore volumes: the PORV of the deck's EDIT section in {given} of {porv.size} grid cells"]
+    keys = [k for k in ("porosity", "ntg") if k in case.data.get("petrophysics", {})]
+    if keys and given:
+        named = " and ".join(f"petrophysics.{k}" for k in keys)
+        verb = "leave" if len(keys) > 1 else "leaves"
+        notes.append(
+            f"{named} {verb} the pore volume of those {given} cells as the deck's PORV gives it "
+            "(as in OPM Flow, PORV wins over PORO and NTG)"
+        )
+    return notes
+
+
 CASE_ROCK = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
 
 
@@ -187,8 +205,8 @@ def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], u
     """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
     ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
     leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
-    FLUXNUM, MULTNUM, ...) and setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) stays
-    as the deck gives it."""
+    PORV, FLUXNUM, MULTNUM, ...), setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) and
+    EDIT operation (TRANX/TRANY/TRANZ, EDITNNC) stays as the deck gives it."""
 
     def on_deck(values: np.ndarray) -> np.ndarray:
         full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read

@@ -536,8 +536,8 @@ def _fields(records) -> list[tuple]:
 
 
 def test_write_grdecl_keeps_multregt_and_nnc(tmp_path):
-    """MULTREGT and NNC go into the GRID include write_grdecl writes (exact values, deck
-    order, defaulted items as 1*); EDIT-section records are not written there."""
+    """MULTREGT and NNC go into the GRID part write_grdecl writes (exact values, deck order,
+    defaulted items as 1*); EDITNNC into its EDIT part, which edit=False leaves out."""
     grid = "FLUXNUM\n 6*1 6*2 /\nMULTREGT\n 1 2 0.1 /\n 1* -3 0.25 YZ NONNC F /\n/\n"
     grid += "NNC\n 1 1 1 3 2 2 0.3 /\n/"
     deck = read_grdecl(_deck(tmp_path, grid, "EDITNNC\n 1 1 1 3 2 2 2 /\n/"))
@@ -545,4 +545,7 @@ def test_write_grdecl_keeps_multregt_and_nnc(tmp_path):
     back = read_grdecl(tmp_path / "out.grdecl")
     assert _fields(back.multregt) == [(1, 2, 0.1, "XYZ", "ALL", None), (None, None, 0.25, "YZ", "NONNC", "F")]
     np.testing.assert_array_equal(back.nnc_keyword.cells, [[0, 11]])
-    assert back.nnc_keyword.values.tolist() == [0.3] and back.editnnc is None
+    assert back.nnc_keyword.values.tolist() == [0.3]
+    np.testing.assert_array_equal(back.editnnc.cells, [[0, 11]])
+    assert back.editnnc.values.tolist() == [2.0]
+    assert read_grdecl(write_grdecl(tmp_path / "grid_only.grdecl", deck, edit=False)).editnnc is None

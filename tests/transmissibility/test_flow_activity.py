@@ -5,7 +5,8 @@ the columns i = 3 thrown down by a fault (lateral connections across layers), PO
 inside a column, at its top and bottom and over five cells of a column; the same with
 NTG 0, MULTPV 0 (GRID and EDIT), PORV in EDIT (whole, by BOX, MULTIPLY), MINPV, MINPVV
 and every PINCH option. Each runs through Flow's dry run and must give the same active
-cells, the same connections (T to 1e-6) and the same PORV (1e-6) as ours.
+cells, the same connections (T to 1e-6) and the same PORV (1e-6) as ours; and the deck
+``write_grdecl`` writes of each pore-volume case gives Flow what the original gives it.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from flow_tools import (
 from gridlib.cornerpoint.pore_volume import pore_volumes
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.errors import InputError
-from gridlib.io.grdecl import read_grdecl
+from gridlib.io.grdecl import read_grdecl, write_grdecl
 from gridlib.transmissibility import deck_transmissibility
 
 NX, NY, NZ = 3, 2, 7
@@ -214,6 +215,19 @@ PV_CASES = {
 @pytest.mark.parametrize(("grid", "edit"), PV_CASES.values(), ids=PV_CASES.keys())
 def test_pore_volume_keywords_as_flow(grid, edit, tmp_path):
     assert_same_as_flow(deck_text(grid, edit), tmp_path)
+
+
+@pytest.mark.parametrize(("grid", "edit"), PV_CASES.values(), ids=PV_CASES.keys())
+def test_the_written_deck_keeps_the_pore_volumes(grid, edit, tmp_path):
+    """write_grdecl of the deck read (its GRID part, then PORV in its EDIT part: Flow reads it
+    nowhere else), INCLUDEd in GRID: Flow gives the original's active cells, T and PORV."""
+    original = flow_run(deck_text(grid, edit), tmp_path / "original")
+    write_grdecl(tmp_path / "written" / "GRID.INC", read_grdecl(tmp_path / "original" / "ACTIVITY.DATA"))
+    text = "RUNSPEC\nMETRIC\n" + PHASES + f"DIMENS\n {NX} {NY} {NZ} /\nGRID\nINIT\nINCLUDE\n 'GRID.INC' /\n"
+    written = flow_run(text + rest_of_deck(1000.5, 2000.0), tmp_path / "written")
+    assert written[0].tolist() == original[0].tolist()
+    assert_same_connections(written[1], original[1])
+    np.testing.assert_allclose(written[2], original[2], rtol=1e-6)
 
 
 PORO_CASES = {

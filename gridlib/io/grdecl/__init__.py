@@ -1,4 +1,5 @@
-"""ECLIPSE GRDECL / DATA decks: ``read_grdecl`` (text in, :class:`Deck` out) and ``write_grdecl``.
+"""ECLIPSE GRDECL / DATA decks: ``read_grdecl`` (text in, :class:`Deck` out), ``write_grdecl`` and
+``write_edit_grdecl``.
 
 ``read_grdecl`` reads what a grid needs from a GRDECL include file or a full
 DATA deck (RUNSPEC, GRID, EDIT, PROPS and REGIONS sections; it stops at SOLUTION,
@@ -38,7 +39,10 @@ Numbers are parsed in bulk (see :mod:`gridlib.io.eclipse_text`): a 1e6-cell
 deck reads in about 1.5 seconds. Every error names the file, the line and the
 keyword (:class:`DeckError`, an :class:`~gridlib.errors.InputError`).
 
-``write_grdecl`` writes a deck that ECLIPSE, OPM Flow and ``read_grdecl`` read;
+``write_grdecl`` writes a deck that ECLIPSE, OPM Flow and ``read_grdecl`` read (its GRID
+section, then, where the deck has one, its EDIT section: PORV, TRANX/TRANY/TRANZ
+operations, EDITNNC; ``write_edit_grdecl`` writes that part alone, for a DATA deck's
+EDIT section);
 floats are written with the shortest text that reads back to the same float64
 (Python's ``repr``) and runs of bit-identical values as ``n*v``, so a written
 and re-read deck has bit-identical arrays. Each distinct value is formatted
@@ -52,16 +56,16 @@ The package: :mod:`~gridlib.io.grdecl.keywords` (the keyword loop and a handler
 per keyword), :mod:`~gridlib.io.grdecl.vocabulary` and
 :mod:`~gridlib.io.grdecl.shapes` (the keywords it skips, and how),
 :mod:`~gridlib.io.grdecl.state` (what has been read so far),
-:mod:`~gridlib.io.grdecl.read` (the deck assembled from it) and
-:mod:`~gridlib.io.grdecl.write`; the text of the arrays comes from
-:func:`gridlib.io.eclipse_text.format_values`, written to the file block by
-block, and the corner-point geometry of a Cartesian deck from
+:mod:`~gridlib.io.grdecl.read` (the deck assembled from it),
+:mod:`~gridlib.io.grdecl.write` and :mod:`~gridlib.io.grdecl.edit` (the EDIT section's
+text); the text of the arrays comes from :func:`gridlib.io.eclipse_text.format_values`,
+written to the file block by block, and the corner-point geometry of a Cartesian deck from
 :mod:`gridlib.cornerpoint.cartesian`.
 """
 
 from ..eclipse_text import DeckError
 from .keywords import SECTIONS, UNITS
 from .read import read_grdecl
-from .write import write_grdecl
+from .write import write_edit_grdecl, write_grdecl
 
-__all__ = ["SECTIONS", "UNITS", "DeckError", "read_grdecl", "write_grdecl"]
+__all__ = ["SECTIONS", "UNITS", "DeckError", "read_grdecl", "write_edit_grdecl", "write_grdecl"]

@@ -8,6 +8,7 @@ memory at once.
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -15,8 +16,9 @@ import numpy as np
 from ...cornerpoint.deck import Deck
 from ..atomic import atomic_path
 from ..eclipse_text import MAX_LINE, DeckError, keyword_text
+from .edit import edit_section_text, has_edit_section
 
-__all__ = ["write_grdecl"]
+__all__ = ["write_edit_grdecl", "write_grdecl"]
 
 
 def _finite_zcorn(deck: Deck) -> np.ndarray:
@@ -51,23 +53,32 @@ def _ijk_text(g: int, nx: int, ny: int) -> str:
     return f"{g % nx + 1} {g // nx % ny + 1} {g // (nx * ny) + 1}"
 
 
-def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = None) -> Path:
+def write_grdecl(
+    path: str | os.PathLike, deck: Deck, cell_data: dict | None = None, *, edit: bool = True
+) -> Path:
     """Write ``deck`` (and extra per-cell ``cell_data``) as a GRDECL file, atomically.
 
     The file holds SPECGRID, MAPUNITS/MAPAXES/GRIDUNIT when known, COORD,
-    ZCORN, ACTNUM, every cell keyword, FAULTS, MULTFLT, PINCH, MINPV, MULTREGT
-    and NNC; it can be INCLUDEd in the GRID section of a DATA deck. Values are
-    exact: ``read_grdecl`` gives back bit-identical arrays. GRIDOPTS (RUNSPEC),
-    EDITNNC and the TRANX/TRANY/TRANZ operations (EDIT) belong to other sections
-    and are not written.
+    ZCORN, ACTNUM, every cell keyword but PORV, FAULTS, MULTFLT, PINCH, MINPV,
+    MULTREGT and NNC: what the GRID section of a DATA deck holds. Then, with
+    ``edit`` and if the deck has any, the ``EDIT`` keyword and the deck's EDIT
+    section (:mod:`~gridlib.io.grdecl.edit`: PORV, the TRANX/TRANY/TRANZ
+    operations, EDITNNC), which OPM Flow reads nowhere else; the file, INCLUDEd at
+    the end of the GRID section, then opens the EDIT section. With ``edit=False``
+    it is a pure GRID include and :func:`write_edit_grdecl` writes the rest.
+    Values are exact: ``read_grdecl`` gives back bit-identical arrays. GRIDOPTS
+    (RUNSPEC) is not written: MULTREGT records name their region set.
     """
     nx, ny, nz = deck.cart_dims
-    data = dict(deck.cell_data)
-    for name, values in (cell_data or {}).items():
-        arr = np.asarray(values, dtype=np.float64).ravel()
-        if arr.size != deck.num_cells:
-            raise DeckError(f"write_grdecl: {name} has {arr.size} values, expected {deck.num_cells}")
-        data[name.upper()] = arr
+    if cell_data:
+        extra = {
+            name.upper(): np.asarray(values, dtype=np.float64).ravel() for name, values in cell_data.items()
+        }
+        for name, arr in extra.items():
+            if arr.size != deck.num_cells:
+                raise DeckError(f"write_grdecl: {name} has {arr.size} values, expected {deck.num_cells}")
+        deck = replace(deck, cell_data={**deck.cell_data, **extra})
+    data = {name: values for name, values in deck.cell_data.items() if name != "PORV"}  # PORV: EDIT only
     parts = [f"-- written by gridlib from {deck.source}", "", "SPECGRID", f" {nx} {ny} {nz} 1 F /", ""]
     if deck.mapunits:
         parts += ["MAPUNITS", f" '{deck.mapunits}' /", ""]
@@ -122,4 +133,22 @@ def write_grdecl(path: str | os.PathLike, deck: Deck, cell_data: dict | None = N
             for block in keyword_text(name, values, integer=integer):
                 f.write(block)
         f.write(("\n".join(tail) + "\n").encode("ascii") if tail else b"")
+        if edit and has_edit_section(deck):
+            f.write(b"EDIT\n\n")
+            for block in edit_section_text(deck):
+                f.write(block)
+    return target
+
+
+def write_edit_grdecl(path: str | os.PathLike, deck: Deck) -> Path | None:
+    """Write the contents of ``deck``'s EDIT section (:mod:`~gridlib.io.grdecl.edit`), to be
+    INCLUDEd after the ``EDIT`` keyword of a DATA deck, atomically; None (and no file) if
+    the deck has none."""
+    if not has_edit_section(deck):
+        return None
+    target = Path(path)
+    with atomic_path(target) as tmp, open(tmp, "wb") as f:
+        f.write(f"-- written by gridlib from {deck.source}: its EDIT section\n\n".encode("ascii", "replace"))
+        for block in edit_section_text(deck):
+            f.write(block)
     return target
