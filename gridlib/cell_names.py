@@ -22,6 +22,15 @@ def ijk(linear: ArrayLike, cart_dims: Sequence[int]) -> np.ndarray:
     return np.column_stack(np.unravel_index(g, tuple(cart_dims)[::-1], order="C")[::-1]) + 1
 
 
+def ijk_text(linear: int, cart_dims: Sequence[int]) -> str:
+    """'(i, j, k)', 1-based, of one linear cell index (0-based, i fastest), as messages name cells.
+
+    >>> ijk_text(13, (2, 3, 4))
+    '(2, 1, 3)'
+    """
+    return "(" + ", ".join(str(int(v)) for v in ijk([linear], cart_dims)[0]) + ")"
+
+
 def cell_names(
     cells: ArrayLike,
     index_map: ArrayLike | None = None,

@@ -34,6 +34,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..cell_names import ijk_text as cell_ijk_text
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
 from ..units import unit_system
@@ -158,6 +159,5 @@ def minimum_pore_volumes(deck: Deck, minpv: float | None = None) -> FloatArray |
 
 
 def ijk_text(deck: Deck, g: int) -> str:
-    """'(i, j, k)', 1-based, of linear cell index ``g``."""
-    nx, ny, _ = deck.cart_dims
-    return f"({g % nx + 1}, {g // nx % ny + 1}, {g // (nx * ny) + 1})"
+    """'(i, j, k)', 1-based, of the deck's linear cell index ``g``."""
+    return cell_ijk_text(g, deck.cart_dims)

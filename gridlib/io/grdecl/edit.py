@@ -22,6 +22,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from ...cell_names import ijk
 from ...cornerpoint.connection_keywords import Box, TranEdit
 from ...cornerpoint.deck import Deck
 from ..eclipse_text import format_values, keyword_text
@@ -107,13 +108,8 @@ def _tran_edit_text(edit: TranEdit) -> bytes:
 
 
 def _editnnc_text(deck: Deck) -> bytes:
-    nx, ny, _ = deck.cart_dims
-
-    def ijk(g: np.ndarray) -> np.ndarray:
-        return np.column_stack([g % nx + 1, g // nx % ny + 1, g // (nx * ny) + 1])
-
     cells = deck.editnnc.cells
-    rows = np.hstack([ijk(cells[:, 0]), ijk(cells[:, 1])]).tolist()
+    rows = np.hstack([ijk(cells[:, 0], deck.cart_dims), ijk(cells[:, 1], deck.cart_dims)]).tolist()
     lines = [
         " " + " ".join(map(str, row)) + f" {m!r} /"
         for row, m in zip(rows, deck.editnnc.values.tolist(), strict=True)

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...cell_names import ijk
 from ...cornerpoint.deck import Deck
 from ..atomic import atomic_path
 from ..eclipse_text import MAX_LINE, DeckError, keyword_text
@@ -48,9 +49,9 @@ def _finite_zcorn(deck: Deck) -> np.ndarray:
     return np.where(undefined, filled, z).ravel()
 
 
-def _ijk_text(g: int, nx: int, ny: int) -> str:
+def _ijk_text(g: int, dims: tuple[int, int, int]) -> str:
     """1-based "I J K" of linear cell index ``g``."""
-    return f"{g % nx + 1} {g // nx % ny + 1} {g // (nx * ny) + 1}"
+    return " ".join(str(int(v)) for v in ijk([g], dims)[0])
 
 
 def write_grdecl(
@@ -124,7 +125,8 @@ def write_grdecl(
     if deck.nnc_keyword is not None and deck.nnc_keyword.num:
         tail.append("NNC")
         records = zip(deck.nnc_keyword.cells.tolist(), deck.nnc_keyword.values.tolist(), strict=True)
-        tail += [f" {_ijk_text(g1, nx, ny)} {_ijk_text(g2, nx, ny)} {t!r} /" for (g1, g2), t in records]
+        dims = deck.cart_dims
+        tail += [f" {_ijk_text(g1, dims)} {_ijk_text(g2, dims)} {t!r} /" for (g1, g2), t in records]
         tail += ["/", ""]
     target = Path(path)
     with atomic_path(target) as tmp, open(tmp, "wb") as f:
