@@ -17,7 +17,7 @@ from gridlib.stages.flow_deck import stage_flow_deck
 from gridlib.stages.geometry import stage_geometry
 from gridlib.stages.grid import stage_grid
 from gridlib.stages.petrophysics import stage_petrophysics
-from gridlib.stages.transmissibility import stage_transmissibility
+from gridlib.stages.transmissibility import read_transmissibility, stage_transmissibility
 
 DIMS = (6, 5, 4)  # nx even: the fault of simple_grdecl lies between columns 3 and 4
 SEED = 3
@@ -118,3 +118,17 @@ def assert_close(ours: dict, ref: dict, what: str) -> None:
     a, b = np.array([ours[p] for p in keys]), np.array([ref[p] for p in keys])
     worst = int(np.argmax(np.abs(a - b) / np.abs(b)))
     assert np.all(np.abs(a - b) <= 1e-6 * np.abs(b)), (what, keys[worst], a[worst], b[worst])
+
+
+def assert_stage_file_equals_flow(path: Path, ref: dict, ref_porv: np.ndarray) -> tuple[np.ndarray, dict]:
+    """transmissibility.nc at ``path`` holds Flow's connections ``ref`` ({(g1, g2): T}) and pore
+    volumes ``ref_porv`` (INIT's PORV, per active cell) within 1e-6; returns its cells' linear
+    indices (``cell_flow_index``) and its attributes."""
+    variables, attrs = read_transmissibility(path)
+    glob = variables["cell_flow_index"].values
+    pairs = np.sort(glob[variables["connection_cells"].values], axis=1)
+    ours = dict(zip(map(tuple, pairs.tolist()), variables["trans"].values.tolist(), strict=True))
+    assert_close(ours, ref, str(path))
+    flow_porv = ref_porv[glob].astype(np.float64)
+    assert np.all(np.abs(variables["porv"].values - flow_porv) <= 1e-6 * flow_porv)
+    return glob, attrs

@@ -85,8 +85,8 @@ class Vocabulary:
 
         >>> vocabulary().get("GDORIENT").shape
         Shape(kind='records', count=1, min_count=None, count_from=None, end=None)
-        >>> vocabulary().get("TVDPXXX").name, vocabulary().get("ACTNUMX")
-        ('TVDPXXX', None)
+        >>> vocabulary().get("TVDPSALT").name, vocabulary().get("ACTNUMX")
+        ('TVDPSALT', None)
         """
         info = self.names.get(name)
         if info is not None:
