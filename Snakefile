@@ -2,9 +2,10 @@
 
     snakemake --cores all --workflow-profile workflow/profiles/default
 
-Stages per case (wildcard {case}): horizons -> grid -> geometry -> petrophysics -> coarsen
-and transmissibility -> export (with flow_deck: the OPM Flow deck), then summary.csv over
-all cases (see README.md). OPM Flow runs the decks of the cases with a `simulation`
+Stages per case (wildcard {case}, the table gridlib/artifacts.py; workflow/rules/stages.smk
+makes their rules): horizons -> grid -> geometry -> petrophysics -> coarsen and
+transmissibility -> export -> flow_deck (the OPM Flow deck), then summary.csv over all cases
+(see README.md). OPM Flow runs the decks of the cases with a `simulation`
 section with `snakemake simulate` (or `--config simulate=true`). A report of the pictures:
 
     snakemake --report results/report.zip
@@ -27,13 +28,6 @@ rule all:
         all_outputs(),
 
 
-include: "workflow/rules/horizons.smk"
-include: "workflow/rules/grid.smk"
-include: "workflow/rules/geometry.smk"
-include: "workflow/rules/petrophysics.smk"
-include: "workflow/rules/coarsen.smk"
-include: "workflow/rules/transmissibility.smk"
-include: "workflow/rules/export.smk"
-include: "workflow/rules/flow.smk"
+include: "workflow/rules/stages.smk"
 include: "workflow/rules/summary.smk"
 include: "workflow/rules/study.smk"

@@ -23,17 +23,10 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from gridlib import artifacts
+
 ROOT = Path(__file__).resolve().parents[1]
-STAGES = (
-    "horizons",
-    "grid",
-    "geometry",
-    "petrophysics",
-    "coarsen",
-    "transmissibility",
-    "export",
-    "flow_deck",
-)
+STAGES = tuple(stage.name for stage in artifacts.STAGES)
 
 
 @dataclass(frozen=True)

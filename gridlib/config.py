@@ -81,16 +81,6 @@ class Case:
         return bool(self.data.get("outputs", {}).get("stage_files", True))
 
     @property
-    def dropped_artifacts(self) -> tuple[str, ...]:
-        """The artifacts (keys of :func:`gridlib.stages.case_outputs`) removed once ``{case}.nc``
-        holds them: the stage files where ``outputs.stage_files`` is false, and ``grdecl`` too
-        where the case's OPM Flow deck holds the same grid."""
-        if self.keeps_stage_files:
-            return ()
-        stages = ("horizons", "grid", "geometry", "petrophysics", "coarse", "transmissibility")
-        return stages + (("grdecl",) if self.writes_flow_deck else ())
-
-    @property
     def writes_vtu(self) -> bool:
         """``outputs.vtu``: the grid with its cell data as ``{case}.vtu``."""
         return bool(self.data.get("outputs", {}).get("vtu", True))

@@ -42,6 +42,7 @@ from typing import Any
 
 import yaml
 
+from .artifacts import case_artifacts
 from .config import Case, check_case_data, load_named, parse_yaml, shared_schema, validate, with_deck_rock
 from .errors import InputError
 from .io.atomic import atomic_path
@@ -287,18 +288,11 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
 
 
 def artifacts_of(data: dict[str, Any]) -> tuple[str, ...]:
-    """The artifacts a case with (validated) ``data`` has, as named by
-    :func:`gridlib.stages.case_outputs` (``flow``: the folder of its OPM Flow deck)."""
+    """The keys of the artifacts a case with (validated) ``data`` keeps
+    (:func:`gridlib.artifacts.case_artifacts`; ``flow``: the folder of its OPM Flow deck)."""
     case = Case(name=data["name"], path=Path(f"{data['name']}.yaml"), sha256="", data=data)
-    names = ["horizons"] if case.has_horizons else []
-    names += ["grid"] + (["grdecl"] if case.writes_grdecl else []) + ["geometry"]
-    names += ["petrophysics"] if case.has_petrophysics else []
-    names += ["coarse"] if case.has_coarsening else []
-    names += ["transmissibility"] if case.has_petrophysics else []
-    names = [n for n in names if n not in case.dropped_artifacts]
-    names += ["nc"] + (["vtu"] if case.writes_vtu else []) + ["faults", "png", "histograms", "summary"]
-    names += ["flow"] if case.writes_flow_deck else []
-    return tuple(names)
+    kept = [a.key for a in case_artifacts(case) if not a.temporary(case)]
+    return tuple("flow" if key == "flow_deck" else key for key in kept)
 
 
 def _check_variant(

@@ -13,11 +13,8 @@ from flow_tools import rest_of_deck
 from gridlib.config import load_case
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.io.grdecl import write_grdecl
-from gridlib.stages.flow_deck import stage_flow_deck
-from gridlib.stages.geometry import stage_geometry
-from gridlib.stages.grid import stage_grid
-from gridlib.stages.petrophysics import stage_petrophysics
-from gridlib.stages.transmissibility import read_transmissibility, stage_transmissibility
+from gridlib.stages import run_stage
+from gridlib.stages.transmissibility import read_transmissibility
 
 DIMS = (6, 5, 4)  # nx even: the fault of simple_grdecl lies between columns 3 and 4
 SEED = 3
@@ -91,24 +88,13 @@ def build(case: Path, out: Path, flow_deck: bool = False) -> dict[str, Path]:
     out.mkdir(parents=True, exist_ok=True)
     paths = {k: out / f"{k}.nc" for k in ("grid", "geometry", "petrophysics", "transmissibility")}
     paths["grdecl"] = out / "grid.grdecl"
-    stage_grid(case, paths["grid"], None, paths["grdecl"])
-    stage_geometry(case, paths["grid"], paths["geometry"])
-    stage_petrophysics(case, paths["grid"], paths["geometry"], paths["petrophysics"])
+    loaded = load_case(case)
+    stages = ["grid", "geometry", "petrophysics"]
     if flow_deck:
-        p = paths
-        stage_transmissibility(
-            case, p["grid"], p["geometry"], p["petrophysics"], p["transmissibility"], p["grdecl"]
-        )
-        paths["flow_deck"] = out / "flow" / f"{load_case(case).flow_name}.DATA"
-        stage_flow_deck(
-            case,
-            p["grid"],
-            p["geometry"],
-            p["petrophysics"],
-            p["transmissibility"],
-            paths["flow_deck"],
-            p["grdecl"],
-        )
+        paths["flow_deck"] = out / "flow" / f"{loaded.flow_name}.DATA"
+        stages += ["transmissibility", "flow_deck"]
+    for stage in stages:
+        run_stage(stage, loaded, paths)
     return paths
 
 

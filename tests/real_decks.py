@@ -21,13 +21,11 @@ import numpy as np
 import xarray as xr
 from flow_tools import flow_connection_arrays, read_keywords, run_flow_dry
 
+from gridlib.config import load_case
 from gridlib.cornerpoint.pore_volume import pore_volumes
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.grdecl import read_grdecl
-from gridlib.stages.geometry import stage_geometry
-from gridlib.stages.grid import stage_grid
-from gridlib.stages.petrophysics import stage_petrophysics
-from gridlib.stages.transmissibility import stage_transmissibility
+from gridlib.stages import case_outputs, run_stage
 from gridlib.transmissibility import deck_transmissibility
 
 DECKS = Path(__file__).parent / "data" / "decks"
@@ -113,13 +111,11 @@ def gridlib_result(deck_path: Path, unknown_keywords: str = "error") -> Computed
 def case_result(case_file: Path, folder: Path) -> Computed:
     """What the workflow makes of a deck case: its grid, geometry, petrophysics and
     transmissibility stages, then transmissibility.nc's cells, connections and pore volumes."""
-    grid, grdecl, geometry = folder / "grid.nc", folder / "grid.grdecl", folder / "geometry.nc"
-    petro, trans = folder / "petrophysics.nc", folder / "transmissibility.nc"
-    stage_grid(case_file, grid, None, grdecl)
-    stage_geometry(case_file, grid, geometry)
-    stage_petrophysics(case_file, grid, geometry, petro)
-    stage_transmissibility(case_file, grid, geometry, petro, trans, grdecl)
-    with xr.open_dataset(trans) as ds:
+    case = load_case(case_file)
+    paths = case_outputs(case.name, folder)
+    for stage in ("grid", "geometry", "petrophysics", "transmissibility"):
+        run_stage(stage, case, paths)
+    with xr.open_dataset(paths["transmissibility"]) as ds:
         index, cells = ds["cell_flow_index"].values, ds["connection_cells"].values
         t, porv = ds["trans"].values, ds["porv"].values
     pairs = np.sort(index[cells], axis=1)

@@ -1,13 +1,17 @@
-"""Workflow stages as plain functions: case file (and earlier artifacts) in, artifacts out.
+"""Workflow stages as plain functions: a loaded case and its artifacts' paths in, artifacts out.
 
-Each stage reads its inputs, calls gridlib and writes its outputs atomically
-with the case's provenance (gridlib version, case file hash, seed). The
-Snakemake scripts in ``workflow/scripts`` are one-line wrappers around these,
-so the same stages run from Python or from the ``gridlib build`` command.
+What a case builds is the table :data:`gridlib.artifacts.STAGES`: each stage's function, the
+artifacts it reads and writes, and which cases have them. A stage function takes the loaded
+:class:`~gridlib.config.Case` and the paths of its inputs and outputs as keyword arguments
+named after the artifacts (``stage_grid(case, horizons=..., grid=..., grdecl=...)``); it reads
+its inputs, calls gridlib and writes its outputs atomically with the case's provenance (gridlib
+version, case file hash, seed). :func:`run_case` runs every stage a case has, in one folder (the
+``gridlib build`` command, a study's variants); the Snakemake rules run one stage each
+(``workflow/scripts/stage.py``, through :func:`run_stage`).
 
-Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and
-transmissibility -> export (with the OPM Flow deck, :mod:`.flow_deck`), then summary
-over all cases; optionally simulate (OPM Flow runs the deck).
+Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and transmissibility -> export
+-> flow_deck (the OPM Flow deck), then summary over all cases; on request simulate_case (OPM
+Flow runs the deck).
 """
 
 from .._lazy import lazy_exports
@@ -17,6 +21,7 @@ from .._lazy import lazy_exports
 _EXPORTS: dict[str, str] = {
     "case_outputs": ".pipeline",
     "run_case": ".pipeline",
+    "run_stage": ".pipeline",
     "run_logged": ".common",
     "stage_coarsen": ".coarsen",
     "stage_export": ".export",
@@ -30,21 +35,7 @@ _EXPORTS: dict[str, str] = {
     "stage_transmissibility": ".transmissibility",
 }
 
-__all__ = [
-    "case_outputs",
-    "run_case",
-    "run_logged",
-    "stage_coarsen",
-    "stage_export",
-    "stage_flow_deck",
-    "stage_geometry",
-    "stage_grid",
-    "stage_horizons",
-    "stage_petrophysics",
-    "stage_simulate",
-    "stage_summary",
-    "stage_transmissibility",
-]
+__all__ = list(_EXPORTS)
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

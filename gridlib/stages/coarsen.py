@@ -17,35 +17,34 @@ import xarray as xr
 
 from ..case.partition import case_partition
 from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_porosity
-from ..config import load_case
+from ..config import Case
 from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_netcdf
 from .common import log, read_extra
 from .petrophysics import read_rock
 
 
 def stage_coarsen(
-    case_file: str | os.PathLike,
-    grid_nc: str | os.PathLike,
-    geometry_nc: str | os.PathLike,
-    petrophysics_nc: str | os.PathLike | None,
-    coarse_out: str | os.PathLike,
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    petrophysics: str | os.PathLike | None = None,
+    coarse: str | os.PathLike,
 ) -> None:
-    """Partition the grid, build the coarse grid, upscale the rock; write ``coarse.nc``."""
-    case = load_case(case_file)
-    stored = read_netcdf(grid_nc)
-    grid = stored.grid
-    rock = read_rock(petrophysics_nc) if petrophysics_nc else None
+    """Partition the grid of the files ``grid`` and ``geometry``, build the coarse grid, upscale
+    the rock of ``petrophysics`` (where the case has rock); write ``coarse`` (``coarse.nc``)."""
+    stored = read_netcdf(grid)
+    mesh = stored.grid
+    rock = read_rock(petrophysics) if petrophysics else None
     # METIS needs only the cell volumes: the rest of the geometry is read after it, so that the
     # two never meet at the peak of memory.
     uniform = case.data["coarsen"]["method"] == "uniform"
-    geo = read_geometry_netcdf(geometry_nc) if uniform else None
-    volumes = (
-        geo.cell_volumes if geo is not None else read_extra(geometry_nc, ("cell_volume",))["cell_volume"]
-    )
-    partition = case_partition(case, grid, rock, cell_volumes=volumes, geometry=geo)
+    geo = read_geometry_netcdf(geometry) if uniform else None
+    volumes = geo.cell_volumes if geo is not None else read_extra(geometry, ("cell_volume",))["cell_volume"]
+    partition = case_partition(case, mesh, rock, cell_volumes=volumes, geometry=geo)
     if geo is None:
-        geo = read_geometry_netcdf(geometry_nc)
-    cg = coarse_grid(grid, partition, geo)
+        geo = read_geometry_netcdf(geometry)
+    cg = coarse_grid(mesh, partition, geo)
     data = {"volume": cg.geometry.cell_volumes}
     if rock is not None:
         # Averages weighted by the volumes the simulator's pore volumes come from: a corner-point
@@ -68,5 +67,5 @@ def stage_coarsen(
         )
     }
     attrs = {**case.provenance(), "num_blocks": int(cg.num_blocks), "coarse_faces": int(cg.faces.num)}
-    write_netcdf(coarse_out, cg.grid, cell_data=data, extra=extra, attrs=attrs)
-    log.info("wrote %s: %d blocks, %d coarse faces", coarse_out, cg.num_blocks, cg.faces.num)
+    write_netcdf(coarse, cg.grid, cell_data=data, extra=extra, attrs=attrs)
+    log.info("wrote %s: %d blocks, %d coarse faces", coarse, cg.num_blocks, cg.faces.num)

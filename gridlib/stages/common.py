@@ -20,7 +20,6 @@ import numpy as np
 import xarray as xr
 
 from ..errors import GridError, InputError
-from ..io.netcdf import read_netcdf
 from ..threads import ENV
 
 log = logging.getLogger("gridlib.stages")
@@ -32,10 +31,15 @@ def run_logged(
     *args: Any,
     threads: int | None = None,
     outputs: Iterable[str | os.PathLike] = (),
+    name: str | None = None,
 ) -> None:
     """Run a stage with gridlib's log (and any traceback) going to ``log_file``, on at most
     ``threads`` threads (a rule's ``threads``; see :mod:`gridlib.threads`); at the end the log
-    gets the stage's wall time, its peak memory and the size of each of ``outputs``."""
+    gets the stage's wall time, its peak memory and the size of each of ``outputs``. ``name``
+    names the stage in the log (default: the function's name). The thread count in the
+    environment is restored at the end."""
+    name = name or stage.__name__
+    previous = os.environ.get(ENV)
     if threads is not None:
         os.environ[ENV] = str(max(1, int(threads)))
     Path(log_file).parent.mkdir(parents=True, exist_ok=True)
@@ -47,18 +51,22 @@ def run_logged(
     start = time.perf_counter()
     try:
         stage(*args)
-        _log_costs(root, stage.__name__, time.perf_counter() - start, outputs)
+        _log_costs(root, name, time.perf_counter() - start, outputs)
     except (InputError, GridError) as exc:  # the user's input: one message, no traceback
-        root.error("%s failed: %s", stage.__name__, exc)
+        root.error("%s failed: %s", name, exc)
         print(f"gridlib: {exc}", file=sys.stderr)
         raise SystemExit(1) from None
     except Exception as exc:  # a bug: the whole traceback, in the log and on stderr
-        root.error("%s failed: %s", stage.__name__, exc, exc_info=True)
+        root.error("%s failed: %s", name, exc, exc_info=True)
         print(f"gridlib: {exc}", file=sys.stderr)
         raise
     finally:
         root.removeHandler(handler)
         handler.close()
+        if previous is None:
+            os.environ.pop(ENV, None)
+        else:
+            os.environ[ENV] = previous
 
 
 def _log_costs(log: logging.Logger, name: str, seconds: float, outputs: Iterable[str | os.PathLike]) -> None:
@@ -70,22 +78,6 @@ def _log_costs(log: logging.Logger, name: str, seconds: float, outputs: Iterable
     log.info("%s: %.1f s, peak memory %.0f MiB", name, seconds, peak / 2**20)
     for path, size in sizes:
         log.info("  %s: %.1f MiB", path.name, size / 2**20)
-
-
-def artifact_paths(folder: str | os.PathLike) -> dict[str, Path]:
-    """The paths of the stage artifacts whose names do not depend on the case, in a case's
-    results folder (the workflow's results/{case}/ layout; :func:`gridlib.stages.case_outputs`
-    adds the files named after the case)."""
-    d = Path(folder)
-    return {
-        "horizons": d / "horizons.nc",
-        "grid": d / "grid.nc",
-        "grdecl": d / "grid.grdecl",
-        "geometry": d / "geometry.nc",
-        "petrophysics": d / "petrophysics.nc",
-        "coarse": d / "coarse.nc",
-        "transmissibility": d / "transmissibility.nc",
-    }
 
 
 def nnc_variables(nnc) -> dict[str, xr.DataArray]:
@@ -150,8 +142,3 @@ def _json_or_text(value: Any) -> Any:
         return json.loads(value)
     except json.JSONDecodeError:
         return value
-
-
-def read_grid(path: str | os.PathLike):
-    """The GridDataset of a grid file (grid, geometry if stored, cell data, attributes)."""
-    return read_netcdf(path)

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..cell_names import ijk
-from ..config import Case, load_case
+from ..config import Case
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
@@ -154,22 +154,32 @@ class _Gathered:
 
 
 def stage_export(
-    case_file: str | os.PathLike,
-    grid_nc: str | os.PathLike,
-    geometry_nc: str | os.PathLike,
-    outputs: dict[str, str],
-    petrophysics_nc: str | os.PathLike | None = None,
-    coarse_nc: str | os.PathLike | None = None,
-    transmissibility_nc: str | os.PathLike | None = None,
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    petrophysics: str | os.PathLike | None = None,
+    coarse: str | os.PathLike | None = None,
+    transmissibility: str | os.PathLike | None = None,
+    nc: str | os.PathLike,
+    vtu: str | os.PathLike | None = None,
+    faults: str | os.PathLike,
+    png: str | os.PathLike,
+    histograms: str | os.PathLike,
+    summary: str | os.PathLike,
 ) -> None:
-    """Write the case's exports; ``outputs`` maps nc, vtu, faults, png, histograms, summary to paths."""
-    case = load_case(case_file)
-    g = _gather(case, grid_nc, geometry_nc, petrophysics_nc, coarse_nc, transmissibility_nc)
+    """Write the case's exports from its stage files (``grid``, ``geometry`` and, where the case
+    has them, ``petrophysics``, ``coarse``, ``transmissibility``): ``nc`` ({case}.nc), ``vtu``
+    (where ``outputs.vtu``), ``faults``, the pictures ``png`` and ``histograms``, and ``summary``
+    (summary.json)."""
+    written = {"nc": nc, "vtu": vtu, "faults": faults, "png": png, "histograms": histograms}
+    outputs = {key: str(path) for key, path in written.items() if path is not None}
+    g = _gather(case, grid, geometry, petrophysics, coarse, transmissibility)
     n_fault_faces = _write_files(outputs, g)
     _pictures(outputs, case, g)
-    summary = _summary(case, g, n_fault_faces)
-    with atomic_path(outputs["summary"]) as tmp:
-        tmp.write_text(json.dumps(summary, indent=2) + "\n")
+    figures = _summary(case, g, n_fault_faces)
+    with atomic_path(summary) as tmp:
+        tmp.write_text(json.dumps(figures, indent=2) + "\n")
     log.info("wrote the exports of %s (%d cells)", case.name, g.grid.num_cells)
 
 

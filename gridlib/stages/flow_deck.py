@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from ..artifacts import artifacts, case_paths
 from ..completions import vertical_well_cells
 from ..config import Case, load_case
 from ..cornerpoint.corners import corner_depths
@@ -55,37 +56,33 @@ from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
 from ..version import __version__
-from .common import artifact_paths, check_same_cells, length_of, log, read_attrs, read_extra
+from .common import check_same_cells, length_of, log, read_attrs, read_extra
 from .petrophysics import read_rock
 from .transmissibility import CELL_VARS, CONNECTION_VARS, deck_with_rock, read_transmissibility
 
 WELL_RADIUS = 0.1  # m, the default well radius
 
 
-def deck_name(case: Case) -> str:
-    """The deck's file stem: the case name in upper case."""
-    return case.flow_name
-
-
 def stage_flow_deck(
-    case_file: str | os.PathLike,
-    grid_nc: str | os.PathLike,
-    geometry_nc: str | os.PathLike,
-    petrophysics_nc: str | os.PathLike,
-    transmissibility_nc: str | os.PathLike,
-    deck_out: str | os.PathLike,
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    petrophysics: str | os.PathLike,
+    transmissibility: str | os.PathLike,
+    flow_deck: str | os.PathLike,
     grdecl: str | os.PathLike | None = None,
     form: str | None = None,
 ) -> FlowDeck:
-    """Write the case's OPM Flow deck ``deck_out`` (``<folder>/<NAME>.DATA``) and its includes
-    next to it; ``form``: "native", "connections" or None (native for cornerpoint and deck
-    cases, connections otherwise)."""
-    case = load_case(case_file)
+    """Write the case's OPM Flow deck ``flow_deck`` (``<folder>/<NAME>.DATA``) and its includes
+    next to it, from its stage files ``grid``, ``geometry``, ``petrophysics``,
+    ``transmissibility`` and (cornerpoint and deck cases) ``grdecl``; ``form``: "native",
+    "connections" or None (native for cornerpoint and deck cases, connections otherwise)."""
     if not case.writes_flow_deck:
         raise InputError(f"{case.path}: petrophysics: an OPM Flow deck needs rock properties on a 3-D grid")
-    deck_out = Path(deck_out)
-    if deck_out.suffix != ".DATA" or deck_out.stem != case.flow_name:
-        raise InputError(f"{deck_out}: the deck of case '{case.name}' is named {case.flow_name}.DATA")
+    flow_deck = Path(flow_deck)
+    if flow_deck.suffix != ".DATA" or flow_deck.stem != case.flow_name:
+        raise InputError(f"{flow_deck}: the deck of case '{case.name}' is named {case.flow_name}.DATA")
     corner = case.writes_grdecl
     form = form or ("native" if corner else "connections")
     if form not in ("native", "connections"):
@@ -99,22 +96,22 @@ def stage_flow_deck(
         raise InputError(
             f"{case.path}: grid: a {case.data['grid']['type']} grid's deck needs its grid.grdecl"
         )
-    stored = read_netcdf(grid_nc)
-    grid = stored.grid
+    stored = read_netcdf(grid)
+    mesh = stored.grid
     # What is read is what the deck's form needs: a corner-point deck's depths come from its
     # corners and its T are Flow's own, so geometry only for wells, connections only for
     # the connection form.
     wells = bool(case.data.get("simulation", {}).get("wells"))
-    geo = read_geometry_netcdf(geometry_nc) if (not corner or wells) else None
-    rock = read_rock(petrophysics_nc)
+    geo = read_geometry_netcdf(geometry) if (not corner or wells) else None
+    rock = read_rock(petrophysics)
     names = CONNECTION_VARS + CELL_VARS if form == "connections" else CELL_VARS
-    variables, tattrs = read_transmissibility(transmissibility_nc, names)
+    variables, tattrs = read_transmissibility(transmissibility, names)
     counts = {
-        geometry_nc: length_of(geometry_nc, "cell_volume"),
-        petrophysics_nc: rock["poro"].size,
-        f"{transmissibility_nc}: porv": variables["porv"].size,
+        geometry: length_of(geometry, "cell_volume"),
+        petrophysics: rock["poro"].size,
+        f"{transmissibility}: porv": variables["porv"].size,
     }
-    check_same_cells(grid_nc, grid.num_cells, counts)
+    check_same_cells(grid, mesh.num_cells, counts)
     system = unit_system(str(tattrs["unit_system"]))
     try:
         conversion(system.name)
@@ -125,19 +122,19 @@ def stage_flow_deck(
         ) from None
     deck = None
     if corner:
-        deck = deck_with_rock(read_grdecl(grdecl), grid.cells.index_map, rock, system.name)
+        deck = deck_with_rock(read_grdecl(grdecl), mesh.cells.index_map, rock, system.name)
         deck = replace(deck, source=f"grid.grdecl of case '{case.name}' with its rock")  # no path
     flow_index = variables["cell_flow_index"].values
-    depth, thickness = _depths(grid, geo, deck)
-    sim = _simulation(case, grid, geo, rock, system, depth, thickness, deck, flow_index, form)
+    depth, thickness = _depths(mesh, geo, deck)
+    sim = _simulation(case, mesh, geo, rock, system, depth, thickness, deck, flow_index, form)
     header = _header(case)
     if form == "native":
         written = write_flow_deck(
-            deck_out.parent, case.flow_name, deck, sim, units=system.name, header=header
+            flow_deck.parent, case.flow_name, deck, sim, units=system.name, header=header
         )
     else:
         cell_volumes = (
-            geo.cell_volumes if geo is not None else read_extra(geometry_nc, ("cell_volume",))["cell_volume"]
+            geo.cell_volumes if geo is not None else read_extra(geometry, ("cell_volume",))["cell_volume"]
         )
         layout = ConnectionGrid(
             dims=tuple(int(v) for v in tattrs["flow_dims"]),
@@ -153,7 +150,7 @@ def stage_flow_deck(
         )
         try:
             written = write_flow_deck(
-                deck_out.parent, case.flow_name, layout, sim, units=system.name, header=header
+                flow_deck.parent, case.flow_name, layout, sim, units=system.name, header=header
             )
         except InputError as exc:
             raise InputError(f"{case.path}: {exc}") from None
@@ -270,18 +267,20 @@ def flow_deck_from_results(
     case file (default: the one recorded in them, as it was given to the build, relative to
     the directory the build ran in), which must not have changed since; the deck goes to
     ``out_dir``."""
-    paths = artifact_paths(results_dir)
-    for key in ("grid", "geometry", "petrophysics", "transmissibility"):
-        if not paths[key].is_file():
+    stage_files = ("grid", "geometry", "petrophysics", "transmissibility")
+    where = Path(results_dir)
+    names = {key: where / artifacts()[key].path for key in stage_files}  # not named after the case
+    for path in names.values():
+        if not path.is_file():
             raise InputError(
-                f"{results_dir}: {paths[key].name} not found (a built case with petrophysics is needed)"
+                f"{results_dir}: {path.name} not found (a built case with petrophysics is needed)"
             )
-    attrs = read_attrs(paths["transmissibility"])
+    attrs = read_attrs(names["transmissibility"])
     if case_file is None:
         case_file = Path(str(attrs.get("case_file", "")))
         if not case_file.is_file():
             raise InputError(
-                f"{paths['transmissibility']}: case_file: '{case_file}' not found (give the case file)"
+                f"{names['transmissibility']}: case_file: '{case_file}' not found (give the case file)"
             )
     case = load_case(case_file)
     if case.name != attrs.get("case_name"):
@@ -292,15 +291,13 @@ def flow_deck_from_results(
         raise InputError(
             f"{case_file}: changed since {results_dir} was built (its SHA-256 differs): build the case again"
         )
+    paths = case_paths(case.name, results_dir)
     grdecl = paths["grdecl"] if case.writes_grdecl else None
-    out = Path(out_dir) / f"{case.flow_name}.DATA"
+    deck = artifacts()["flow_deck"].path_in(out_dir, case.name).name
     return stage_flow_deck(
-        case_file,
-        paths["grid"],
-        paths["geometry"],
-        paths["petrophysics"],
-        paths["transmissibility"],
-        out,
-        grdecl,
-        form,
+        case,
+        **{key: paths[key] for key in stage_files},
+        flow_deck=Path(out_dir) / deck,
+        grdecl=grdecl,
+        form=form,
     )

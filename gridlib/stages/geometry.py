@@ -12,26 +12,24 @@ import os
 import time
 
 from ..checks import check_deck_grid, check_grid
-from ..config import load_case
+from ..config import Case
 from ..geometry import compute_geometry
 from ..io.netcdf import read_netcdf, write_geometry_netcdf
 from .common import log
 
 
-def stage_geometry(
-    case_file: str | os.PathLike, grid_nc: str | os.PathLike, geometry_out: str | os.PathLike
-) -> None:
-    """Compute and check the geometry of ``grid.nc``; write ``geometry.nc``."""
-    case = load_case(case_file)
-    grid = read_netcdf(grid_nc).grid
+def stage_geometry(case: Case, *, grid: str | os.PathLike, geometry: str | os.PathLike) -> None:
+    """Compute and check the geometry of the grid file ``grid``; write ``geometry``
+    (``geometry.nc``)."""
+    mesh = read_netcdf(grid).grid
     t0 = time.perf_counter()
-    geo = compute_geometry(grid)
-    log.info("geometry of %d cells in %.2f s", grid.num_cells, time.perf_counter() - t0)
+    geo = compute_geometry(mesh)
+    log.info("geometry of %d cells in %.2f s", mesh.num_cells, time.perf_counter() - t0)
     if case.data["grid"]["type"] == "deck":  # degenerate cells kept, named by the grid stage
-        degenerate = check_deck_grid(grid, geo)
+        degenerate = check_deck_grid(mesh, geo)
         if len(degenerate):
             log.info("%d degenerate cells kept (see the grid stage's notes)", len(degenerate))
     else:
-        check_grid(grid, geo)
-    write_geometry_netcdf(geometry_out, geo, grid.griddim, case.provenance())
-    log.info("wrote %s (total volume %.6g)", geometry_out, geo.cell_volumes.sum())
+        check_grid(mesh, geo)
+    write_geometry_netcdf(geometry, geo, mesh.griddim, case.provenance())
+    log.info("wrote %s (total volume %.6g)", geometry, geo.cell_volumes.sum())

@@ -30,7 +30,7 @@ from dataclasses import replace
 
 from ..case.grid import CaseGrid, build_case_grid
 from ..checks import check_deck_grid, check_grid
-from ..config import Case, load_case
+from ..config import Case
 from ..errors import GridError, InputError
 from ..io.grdecl import write_grdecl
 from ..io.grdecl.edit import edit_section_contents
@@ -69,15 +69,17 @@ def checked(case: Case, built: CaseGrid) -> CaseGrid:
 
 
 def stage_grid(
-    case_file: str | os.PathLike,
-    grid_out: str | os.PathLike,
-    horizons_nc: str | os.PathLike | None = None,
-    grdecl_out: str | os.PathLike | None = None,
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    horizons: str | os.PathLike | None = None,
+    grdecl: str | os.PathLike | None = None,
 ) -> None:
-    """Build the case's grid, check every invariant, write ``grid.nc`` (and ``grid.grdecl``)."""
-    case = load_case(case_file)
-    horizons = read_horizons(horizons_nc) if horizons_nc else None
-    built = checked(case, build_case_grid(case, horizons))
+    """Build the case's grid (between the horizons of the file ``horizons``), check every
+    invariant, write ``grid`` (``grid.nc``) and, for corner-point and deck grids, ``grdecl``
+    (``grid.grdecl``)."""
+    surfaces = read_horizons(horizons) if horizons else None
+    built = checked(case, build_case_grid(case, surfaces))
     for note in built.notes:
         log.info("note: %s", note)
     attrs = {
@@ -86,20 +88,20 @@ def stage_grid(
         "well_names": list(built.well_names),
         "unit_system": grid_unit_system(built),
     }
-    write_netcdf(grid_out, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs)
-    log.info("wrote %s: %r", grid_out, built.grid)
-    if grdecl_out is not None:
+    write_netcdf(grid, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs)
+    log.info("wrote %s: %r", grid, built.grid)
+    if grdecl is not None:
         if built.deck is None:
             raise ValueError(f"{case.path}: grid.grdecl is only written for cornerpoint and deck grids")
         # grid.grdecl has no RUNSPEC: its MULTREGT records name their region set, which GRIDOPTS
         # may have defaulted
-        write_grdecl(grdecl_out, with_explicit_region_sets(built.deck))
+        write_grdecl(grdecl, with_explicit_region_sets(built.deck))
         carried = edit_section_contents(built.deck)
         if carried:
             log.info(
                 "note: %s ends with the deck's EDIT section (%s), which the transmissibilities and "
                 "the OPM Flow deck of this case apply as Flow does",
-                grdecl_out,
+                grdecl,
                 ", ".join(carried),
             )
-        log.info("wrote %s", grdecl_out)
+        log.info("wrote %s", grdecl)

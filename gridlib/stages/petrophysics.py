@@ -25,7 +25,7 @@ import xarray as xr
 
 from ..case.rock import case_rock_with_sources
 from ..cell_names import cell_names
-from ..config import Case, load_case
+from ..config import Case
 from ..grid import Grid
 from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_dataset
 from ..petrophysics import Rock
@@ -66,22 +66,23 @@ def rock_notes(case: Case, grid: Grid, rock: Rock) -> tuple[str, ...]:
 
 
 def stage_petrophysics(
-    case_file: str | os.PathLike,
-    grid_nc: str | os.PathLike,
-    geometry_nc: str | os.PathLike,
-    petrophysics_out: str | os.PathLike,
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    petrophysics: str | os.PathLike,
 ) -> None:
-    """Sample the case's rock properties on its grid; write ``petrophysics.nc``."""
-    case = load_case(case_file)
-    grid = read_netcdf(grid_nc).grid
-    rock, sources = case_rock_with_sources(case, grid, read_geometry_netcdf(geometry_nc))
-    notes = rock_notes(case, grid, rock)
-    write_rock(petrophysics_out, rock, {**case.provenance(), "notes": "; ".join(notes)}, sources)
+    """Sample the case's rock properties on the grid of the files ``grid`` and ``geometry``;
+    write ``petrophysics`` (``petrophysics.nc``)."""
+    mesh = read_netcdf(grid).grid
+    rock, sources = case_rock_with_sources(case, mesh, read_geometry_netcdf(geometry))
+    notes = rock_notes(case, mesh, rock)
+    write_rock(petrophysics, rock, {**case.provenance(), "notes": "; ".join(notes)}, sources)
     for note in notes:
         log.info("note: %s", note)
     log.info(
         "wrote %s: porosity %.4g-%.4g (mean %.4g), permx %.4g-%.4g mD",
-        petrophysics_out,
+        petrophysics,
         rock.poro.min(),
         rock.poro.max(),
         rock.poro.mean(),

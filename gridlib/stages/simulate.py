@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from ..config import load_case
+from ..config import Case
 from ..errors import InputError
 from ..io.atomic import atomic_path
 from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_restart_cells, read_summary
@@ -86,16 +86,21 @@ def flow_message(result: subprocess.CompletedProcess, prt: Path) -> str:
 
 
 def stage_simulate(
-    case_file: str | os.PathLike,
-    deck: str | os.PathLike,
-    grid_nc: str | os.PathLike,
-    transmissibility_nc: str | os.PathLike,
-    outputs: dict[str, str | os.PathLike],
+    case: Case,
+    *,
+    flow_deck: str | os.PathLike,
+    grid: str | os.PathLike,
+    transmissibility: str | os.PathLike,
+    flow_summary: str | os.PathLike,
+    flow_wells: str | os.PathLike,
+    flow_vtu: str | os.PathLike | None = None,
     options: tuple[str, ...] = (),
 ) -> FlowSummary:
-    """Run Flow on ``deck``; write ``outputs`` (summary, wells, vtu); returns the summary."""
-    case = load_case(case_file)
-    deck = Path(deck)
+    """Run Flow on the case's deck ``flow_deck``; write ``flow_summary`` (the figures, JSON),
+    ``flow_wells`` (the wells' picture) and ``flow_vtu`` (the results on the grid of ``grid``
+    and ``transmissibility``); returns the summary. ``options``: more command-line options of
+    ``flow``."""
+    deck = Path(flow_deck)
     if not deck.is_file():
         raise InputError(f"{case.path}: simulation: the deck {deck} is missing (run the export first)")
     if not case.has_simulation:
@@ -133,11 +138,11 @@ def stage_simulate(
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     figures = simulation_figures(case, summary, fip, deck)
-    with atomic_path(outputs["summary"]) as path:
+    with atomic_path(flow_summary) as path:
         path.write_text(json.dumps(figures, indent=2) + "\n")
-    plot_wells(Path(outputs["wells"]), summary, f"{case.name}: wells ({figures['units']})")
-    if "vtu" in outputs:
-        write_result_vtu(Path(outputs["vtu"]), deck.parent / name, grid_nc, transmissibility_nc, summary)
+    plot_wells(Path(flow_wells), summary, f"{case.name}: wells ({figures['units']})")
+    if flow_vtu is not None:
+        write_result_vtu(Path(flow_vtu), deck.parent / name, grid, transmissibility, summary)
     log.info(
         "simulated %s to day %g: %s",
         case.name,

@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..config import Case, load_case
+from ..config import Case
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.pore_volume import pore_volumes
 from ..cornerpoint.process import CornerPointGrid
@@ -75,41 +75,40 @@ VOLUME_LABELS = {"METRIC": "rm3", "FIELD": "rb", "LAB": "rcc", "PVT-M": "rm3"}
 
 
 def stage_transmissibility(
-    case_file: str | os.PathLike,
-    grid_nc: str | os.PathLike,
-    geometry_nc: str | os.PathLike,
-    petrophysics_nc: str | os.PathLike,
-    transmissibility_out: str | os.PathLike,
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    petrophysics: str | os.PathLike,
+    transmissibility: str | os.PathLike,
     grdecl: str | os.PathLike | None = None,
 ) -> None:
-    """Connections, transmissibilities and pore volumes of the case's grid; write
-    ``transmissibility.nc``. ``grdecl``: the case's ``grid.grdecl`` (cornerpoint and deck
+    """Connections, transmissibilities and pore volumes of the grid of the files ``grid`` and
+    ``geometry`` with the rock of ``petrophysics``; write ``transmissibility``
+    (``transmissibility.nc``). ``grdecl``: the case's ``grid.grdecl`` (cornerpoint and deck
     cases, which need it)."""
-    case = load_case(case_file)
-    stored = read_netcdf(grid_nc)
-    grid = stored.grid
-    rock = read_rock(petrophysics_nc)
-    counts = {geometry_nc: length_of(geometry_nc, "cell_volume"), petrophysics_nc: rock["poro"].size}
-    check_same_cells(grid_nc, grid.num_cells, counts)
-    attrs = read_attrs(grid_nc)
+    stored = read_netcdf(grid)
+    mesh = stored.grid
+    rock = read_rock(petrophysics)
+    counts = {geometry: length_of(geometry, "cell_volume"), petrophysics: rock["poro"].size}
+    check_same_cells(grid, mesh.num_cells, counts)
+    attrs = read_attrs(grid)
     if "unit_system" not in attrs:
-        raise InputError(
-            f"{grid_nc}: unit_system: attribute missing (written by an older gridlib: rebuild it)"
-        )
+        raise InputError(f"{grid}: unit_system: attribute missing (written by an older gridlib: rebuild it)")
     system = unit_system(str(attrs["unit_system"]))
     if case.writes_grdecl:
         if grdecl is None:
             raise InputError(
                 f"{case.path}: grid: a {case.data['grid']['type']} grid's T need its grid.grdecl"
             )
-        conn, porv, method = _deck_case(case, grid_nc, stored, attrs, rock, Path(grdecl), system)
-        flow_index, flow_dims = grid.cells.index_map, tuple(grid.cart_dims)
+        conn, porv, method = _deck_case(case, grid, stored, attrs, rock, Path(grdecl), system)
+        flow_index, flow_dims = mesh.cells.index_map, tuple(mesh.cart_dims)
     else:  # a deck's T need no geometry of ours; any other grid's need all of it
-        geo = read_geometry_netcdf(geometry_nc)
-        conn, centres = _grid_case(case, grid_nc, stored, geo, rock, system)
+        geo = read_geometry_netcdf(geometry)
+        conn, centres = _grid_case(case, grid, stored, geo, rock, system)
         porv = geo.cell_volumes * rock["poro"] * rock["ntg"] * _volume_unit(system)
         method = f"transmissibility (two-point flux, cell centres: {centres})"
-        flow_index, flow_dims = _flow_index(grid)
+        flow_index, flow_dims = _flow_index(mesh)
     ds = connections_dataset(conn, porv, flow_index, flow_dims, system)
     ds.attrs |= {
         **case.provenance(),
@@ -117,11 +116,11 @@ def stage_transmissibility(
         "method": method,
         "notes": "; ".join(conn.notes),
     }
-    write_dataset(transmissibility_out, ds)
+    write_dataset(transmissibility, ds)
     counts = ", ".join(f"{v:,d} {k}" for k, v in conn.counts().items() if v)
     log.info(
         "wrote %s: %d connections (%s), T %.6g to %.6g %s, pore volume %.6g %s",
-        transmissibility_out,
+        transmissibility,
         conn.num,
         counts or "none",
         conn.trans.min() if conn.num else 0.0,

@@ -79,6 +79,7 @@ def test_a_concave_cell_is_fine():
 def test_a_deck_case_with_crossing_pillars_stops_naming_case_deck_and_cells(tmp_path):
     """As a ``deck`` case (accepted before, with overlapping cells and a Flow deck written), the
     grid stage stops with one InputError naming the case, the deck and the cells."""
+    from gridlib.config import load_case
     from gridlib.io.grdecl import write_grdecl
     from gridlib.stages import stage_grid
 
@@ -88,5 +89,5 @@ def test_a_deck_case_with_crossing_pillars_stops_naming_case_deck_and_cells(tmp_
     case.write_text("name: crossing\ngrid: {type: deck, file: X.GRDECL}\n")
     message = rf"{case}: grid: .*X\.GRDECL: COORD: pillars cross: 2 cells .*: \(2, 1, 2\), \(2, 2, 2\) "
     with pytest.raises(InputError, match=message):
-        stage_grid(case, tmp_path / "grid.nc", grdecl_out=tmp_path / "grid.grdecl")
+        stage_grid(load_case(case), grid=tmp_path / "grid.nc", grdecl=tmp_path / "grid.grdecl")
     assert not (tmp_path / "grid.nc").exists()

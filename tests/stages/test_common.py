@@ -26,6 +26,7 @@ def test_stage_files_of_different_grids_fail_naming_both_files(tmp_path):
     import pytest
     import yaml
 
+    from gridlib.config import load_case
     from gridlib.errors import InputError
     from gridlib.stages import case_outputs, run_case, stage_export, stage_flow_deck, stage_transmissibility
 
@@ -42,7 +43,7 @@ def test_stage_files_of_different_grids_fail_naming_both_files(tmp_path):
         case = tmp_path / f"{name}.yaml"
         case.write_text(yaml.safe_dump(data, sort_keys=False))
         run_case(case, tmp_path / name, simulate=False)
-        return case, case_outputs(name, tmp_path / name)
+        return load_case(case), case_outputs(name, tmp_path / name)
 
     case, a = build("small", [4, 3])
     _, b = build("large", [5, 4])
@@ -56,18 +57,26 @@ def test_stage_files_of_different_grids_fail_naming_both_files(tmp_path):
         assert list(out.iterdir()) == []
 
     t = out / "transmissibility.nc"
-    fails(b["geometry"], lambda: stage_transmissibility(case, a["grid"], b["geometry"], a["petrophysics"], t))
-    fails(
-        b["petrophysics"],
-        lambda: stage_transmissibility(case, a["grid"], a["geometry"], b["petrophysics"], t),
-    )
+    stage_files = {key: a[key] for key in ("grid", "geometry", "petrophysics")}
+
+    def transmissibility(**other):
+        return stage_transmissibility(case, **(stage_files | other), transmissibility=t)
+
+    fails(b["geometry"], lambda: transmissibility(geometry=b["geometry"]))
+    fails(b["petrophysics"], lambda: transmissibility(petrophysics=b["petrophysics"]))
     deck = out / "SMALL.DATA"
-    args = (case, a["grid"], a["geometry"], a["petrophysics"])
-    fails(f"{b['transmissibility']}: porv", lambda: stage_flow_deck(*args, b["transmissibility"], deck))
-    exports = {"nc": str(out / "small.nc"), "summary": str(out / "summary.json")}
+    fails(
+        f"{b['transmissibility']}: porv",
+        lambda: stage_flow_deck(case, **stage_files, transmissibility=b["transmissibility"], flow_deck=deck),
+    )
+    exports = {key: out / f"small.{key}" for key in ("nc", "faults", "png", "histograms")}
     fails(
         f"{b['transmissibility']}: porv",
         lambda: stage_export(
-            case, a["grid"], a["geometry"], exports, a["petrophysics"], None, b["transmissibility"]
+            case,
+            **stage_files,
+            transmissibility=b["transmissibility"],
+            **exports,
+            summary=out / "summary.json",
         ),
     )

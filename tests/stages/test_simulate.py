@@ -26,6 +26,7 @@ import pyvista as pv
 import xarray as xr
 from flow_tools import flow_connections, flow_executable, read_keywords, run_flow_dry
 
+from gridlib.config import load_case
 from gridlib.errors import InputError
 from gridlib.io.flow_results import read_fip_report, read_summary
 from gridlib.io.netcdf import read_geometry_netcdf
@@ -161,7 +162,11 @@ def test_the_pebi_case_runs_to_its_end_and_conserves_water(built):
         "vtu": folder / "flow" / "waterflood_pebi_flow.vtu",
     }
     summary = stage_simulate(
-        CASES / "waterflood_pebi.yaml", deck, folder / "grid.nc", folder / "transmissibility.nc", outputs
+        load_case(CASES / "waterflood_pebi.yaml"),
+        flow_deck=deck,
+        grid=folder / "grid.nc",
+        transmissibility=folder / "transmissibility.nc",
+        **{f"flow_{key}": path for key, path in outputs.items()},
     )
     assert summary.time[-1] == 900.0
     np.testing.assert_array_equal(summary.time[summary.report], [90, 180, 360, 540, 720, 900])
@@ -201,7 +206,13 @@ def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
     outputs = {k: folder / f"out.{k}" for k in ("summary", "wells", "vtu")}
     before = sorted(p.name for p in folder.iterdir())
     with pytest.raises(InputError) as exc:
-        stage_simulate(CASES / "waterflood_pebi.yaml", deck, "unused", "unused", outputs)
+        stage_simulate(
+            load_case(CASES / "waterflood_pebi.yaml"),
+            flow_deck=deck,
+            grid="unused",
+            transmissibility="unused",
+            **{f"flow_{key}": path for key, path in outputs.items()},
+        )
     message = str(exc.value)
     assert message.startswith(
         f"{CASES / 'waterflood_pebi.yaml'}: simulation: OPM Flow failed on WATERFLOOD_PEBI.DATA"

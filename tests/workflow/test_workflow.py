@@ -503,6 +503,7 @@ def test_stages_read_uncompressed_artifacts_of_older_gridlib(workflow_run, tmp_p
     """Artifacts written before compression (contiguous, unfiltered netCDF-4) still feed the
     stages: the transmissibility and export stages on uncompressed copies of anticline's stage
     files give the same connections, {case}.nc variables and summary."""
+    from gridlib.config import load_case
     from gridlib.stages import stage_export, stage_transmissibility
 
     kept = workflow_run / "results" / "anticline"
@@ -516,11 +517,10 @@ def test_stages_read_uncompressed_artifacts_of_older_gridlib(workflow_run, tmp_p
         ds.to_netcdf(old / name, engine="netcdf4")
         with xr.open_dataset(old / name) as ds:
             assert not any(ds[v].encoding.get(f) for v in ds.variables for f in ("zstd", "zlib", "shuffle"))
-    case = workflow_run / "config" / "cases" / "anticline.yaml"
+    case = load_case(workflow_run / "config" / "cases" / "anticline.yaml")
     trans = tmp_path / "transmissibility.nc"
-    stage_transmissibility(
-        case, old / "grid.nc", old / "geometry.nc", old / "petrophysics.nc", trans, kept / "grid.grdecl"
-    )
+    stage_files = {key: old / f"{key}.nc" for key in ("grid", "geometry", "petrophysics")}
+    stage_transmissibility(case, **stage_files, transmissibility=trans, grdecl=kept / "grid.grdecl")
     with xr.open_dataset(trans) as got, xr.open_dataset(kept / "transmissibility.nc") as want:
         assert all(np.array_equal(got[v].values, want[v].values) for v in want.data_vars)
     outputs = {k: str(tmp_path / f"out.{k}") for k in ("nc", "vtu", "faults", "png", "histograms", "summary")}
@@ -529,9 +529,7 @@ def test_stages_read_uncompressed_artifacts_of_older_gridlib(workflow_run, tmp_p
         "png": str(tmp_path / "a.png"),
         "histograms": str(tmp_path / "h.png"),
     }
-    stage_export(
-        case, old / "grid.nc", old / "geometry.nc", outputs, old / "petrophysics.nc", old / "coarse.nc", trans
-    )
+    stage_export(case, **stage_files, coarse=old / "coarse.nc", transmissibility=trans, **outputs)
     with xr.open_dataset(outputs["nc"]) as got, xr.open_dataset(kept / "anticline.nc") as want:
         assert set(got.data_vars) == set(want.data_vars)
         assert all(np.array_equal(got[v].values, want[v].values) for v in want.data_vars)

@@ -8,15 +8,17 @@ import glob
 import re
 import shutil
 import sys
+from dataclasses import dataclass
+from importlib import import_module
 from pathlib import Path
 
 import yaml
 from snakemake.utils import validate
 
+from gridlib import artifacts
 from gridlib.config import load_cases
 from gridlib.config import validate as check_schema
 from gridlib.errors import InputError
-from gridlib.config import has_transmissibility
 from gridlib.study import load_studies, materialise
 
 
@@ -42,6 +44,15 @@ validate(config, "../schemas/config.schema.yaml")  # fills in the defaults
 
 
 RESULTS = config.get("results", "results")
+for _plugin in config.get("plugins", []):  # modules that register stages of their own
+    try:
+        import_module(_plugin)
+    except ImportError as exc:
+        stop(f"config: plugins: cannot import {_plugin!r} ({exc}); nothing was run")
+STAGES = artifacts.STAGES
+# Snakemake's job group of every stage rule: on a cluster (workflow/profiles/slurm) a case's
+# stages run one after the other in one job; no effect on local runs.
+STAGE_GROUP = "case" if config.get("one_job_per_case", True) else None
 
 
 def discover_cases(spec):
@@ -75,88 +86,107 @@ wildcard_constraints:
     case="|".join(sorted(CASES)) or "(?!)",
 
 
-def _cases_where(test):
-    names = sorted(name for name, case in CASES.items() if test(case))
-    return "|".join(names) if names else "(?!)"  # (?!) matches nothing
+def artifact_path(key, case):
+    """The path of the artifact ``key`` of ``case`` (gridlib.artifacts: results/<case>/...)."""
+    path = artifacts.artifacts()[key].path.format(case=case.name, NAME=case.flow_name)
+    return f"{RESULTS}/{case.name}/{path}"
 
 
-WITH_FLOW_DECK = _cases_where(lambda c: c.writes_flow_deck)
-WITH_SIMULATION = _cases_where(lambda c: c.writes_flow_deck and c.has_simulation)
-KEPT = _cases_where(
-    lambda c: c.keeps_stage_files
-)  # outputs.stage_files: true (default)
-DROPPED = _cases_where(lambda c: not c.keeps_stage_files)  # stage files are temp()
+def stage_input_paths(stage):
+    """An input function: the artifacts ``stage`` reads that the job's case has."""
+
+    def inputs(wildcards):
+        case = CASES[wildcards.case]
+        return {
+            key: artifact_path(key, case)
+            for key in artifacts.stage_inputs(stage, case)
+        }
+
+    return inputs
 
 
-def stage_cases(test, kept):
-    """The cases where ``test(case)`` whose stage files are kept (``kept``) or dropped."""
-    return _cases_where(lambda c: test(c) and c.keeps_stage_files == kept)
+@dataclass(frozen=True)
+class StageRule:
+    """One rule of a stage: its name, outputs (patterns, temp() or report() where due), log,
+    benchmark and wildcard constraints (the cases it builds)."""
+
+    name: str
+    outputs: dict
+    log_file: str
+    benchmark_file: str
+    constraints: dict
 
 
-FLOW_NAMES = "|".join(sorted(c.flow_name for c in CASES.values())) or "(?!)"
-EXPORTS = ("nc", "vtu", "faults", "png", "histograms", "summary")
-WITH_VTU = _cases_where(lambda c: c.writes_vtu)
-WITHOUT_VTU = _cases_where(lambda c: not c.writes_vtu)
+def stage_rules(stage):
+    """The rules of ``stage``: one per set of outputs its cases have (which of the stage's
+    outputs, which of them temporary), named after the stage and what differs."""
+    kinds = {}
+    for name, case in sorted(CASES.items()):
+        present = stage.outputs_of(case)
+        if present:
+            kind = tuple((a.key, a.temporary(case)) for a in present)
+            kinds.setdefault(kind, []).append(case)
+    return [_stage_rule(stage, dict(kind), cases) for kind, cases in sorted(kinds.items())]
+
+
+def _stage_rule(stage, temporary, cases):
+    absent = [a.key for a in stage.outputs if a.key not in temporary]
+    temps = [key for key, is_temp in temporary.items() if is_temp]
+    name = stage.name + "".join(f"_without_{key}" for key in absent)
+    if temps:
+        name += "_temp" if len(temps) == len(temporary) else "_temp_" + "_".join(temps)
+    outputs = {}
+    wildcards = set()
+    for a in stage.outputs:
+        if a.key not in temporary:
+            continue
+        pattern = f"{RESULTS}/{{case}}/{a.path}"
+        wildcards |= set(a.wildcards)
+        if temporary[a.key]:
+            pattern = temp(pattern)
+        elif a.report is not None:
+            pattern = report(
+                pattern,
+                caption=f"../report/{a.report.caption}",
+                category=a.report.category,
+                subcategory="{case}",
+            )
+        outputs[a.key] = pattern
+    constraints = {"case": "|".join(re.escape(c.name) for c in cases)}
+    if "NAME" in wildcards:  # flow/<NAME>.DATA: the case name in upper case
+        constraints["NAME"] = "|".join(re.escape(c.flow_name) for c in cases)
+    tag = "".join(f".{{{w}}}" for w in sorted(wildcards - {"case"}))
+    return StageRule(
+        name,
+        outputs,
+        f"{RESULTS}/logs/{{case}}/{stage.name}{tag}.log",
+        f"{RESULTS}/benchmarks/{{case}}/{stage.name}{tag}.tsv",
+        constraints,
+    )
 
 
 def case_file(wildcards):
     return str(CASES[wildcards.case].path)
 
 
-def out(name):
-    """The path pattern of a case artifact (see gridlib.stages.case_outputs)."""
-    return {
-        "horizons": f"{RESULTS}/{{case}}/horizons.nc",
-        "grid": f"{RESULTS}/{{case}}/grid.nc",
-        "grdecl": f"{RESULTS}/{{case}}/grid.grdecl",
-        "geometry": f"{RESULTS}/{{case}}/geometry.nc",
-        "petrophysics": f"{RESULTS}/{{case}}/petrophysics.nc",
-        "coarse": f"{RESULTS}/{{case}}/coarse.nc",
-        "transmissibility": f"{RESULTS}/{{case}}/transmissibility.nc",
-        "nc": f"{RESULTS}/{{case}}/{{case}}.nc",
-        "vtu": f"{RESULTS}/{{case}}/{{case}}.vtu",
-        "faults": f"{RESULTS}/{{case}}/{{case}}_faults.vtp",
-        "png": f"{RESULTS}/{{case}}/{{case}}.png",
-        "histograms": f"{RESULTS}/{{case}}/{{case}}_histograms.png",
-        "summary": f"{RESULTS}/{{case}}/summary.json",
-    }[name]
-
-
-def deck_of(wildcards):
-    """The case's OPM Flow deck: flow/<NAME>.DATA, NAME the case name in upper case."""
-    case = CASES[wildcards.case]
-    return f"{RESULTS}/{case.name}/flow/{case.flow_name}.DATA"
-
-
-def simulation_outputs():
-    """The targets of `snakemake simulate`: every case with a `simulation` section through OPM Flow;
-    nothing (with a warning) where `flow` is not installed."""
-    names = [
-        n for n, c in sorted(CASES.items()) if c.writes_flow_deck and c.has_simulation
+def requested_outputs():
+    """The targets of `snakemake simulate`: the artifacts of the stages run on request (every
+    case with a `simulation` section through OPM Flow); nothing (with a warning) where `flow`
+    is not installed."""
+    files = [
+        artifact_path(a.key, case)
+        for _, case in sorted(CASES.items())
+        for a in artifacts.case_artifacts(case, on_request=True)
+        if artifacts.producers()[a.key].on_request
     ]
-    if names and shutil.which("flow") is None:
+    if files and shutil.which("flow") is None:
         print(
             "gridlib: simulate: OPM Flow ('flow') is not installed: no case is simulated "
             "(Debian/Ubuntu: apt-get install libopm-simulators-bin)",
             file=sys.stderr,
         )
         return []
-    return [
-        f"{RESULTS}/{n}/flow/{item}"
-        for n in names
-        for item in ("summary.json", f"{n}_wells.png", f"{n}_flow.vtu")
-    ]
-
-
-def optional(name, wanted):
-    """An input function: the artifact ``name`` for cases where ``wanted(case)``, else nothing."""
-
-    def inputs(wildcards):
-        if wanted(CASES[wildcards.case]):
-            return {name: out(name).format(case=wildcards.case)}
-        return {}
-
-    return inputs
+    return files
 
 
 def rule_name(study):
@@ -211,14 +241,12 @@ STUDY_ARTIFACTS = {n: s.variants[0].artifacts for n, s in STUDIES.items()}
 
 
 def variant_out(name):
-    """The path pattern of a variant's artifact: the case layout under results/<study>/<variant>/."""
+    """The path pattern of a variant's artifact: the case layout under results/<study>/<variant>/
+    (``flow``: the folder of its OPM Flow deck)."""
     if name == "flow":
         return f"{RESULTS}/{{study}}/{{variant}}/flow"
-    return (
-        out(name)
-        .replace("{case}/", "{study}/{variant}/")
-        .replace("{case}", "{variant}")
-    )
+    path = artifacts.artifacts()[name].path.replace("{case}", "{variant}")
+    return f"{RESULTS}/{{study}}/{{variant}}/{path}"
 
 
 def build_variant(case_file, summary, log_file):
@@ -267,20 +295,18 @@ def study_table_inputs(wildcards):
 
 
 def all_outputs():
+    """Every case's artifacts that stay (not temporary; the stages run on request only with
+    `simulate: true`), the summary table, every study's variants and tables."""
     files = [f"{RESULTS}/summary.csv"] if CASES else []  # cases: [] builds studies only
     for name in sorted(STUDIES):
         files += study_variant_outputs(name)
         files += [f"{RESULTS}/{name}/study.{ext}" for ext in ("csv", "nc", "png")]
     for name, case in sorted(CASES.items()):
         files += [
-            out(k).format(case=name) for k in EXPORTS if k != "vtu" or case.writes_vtu
+            artifact_path(a.key, case)
+            for a in artifacts.case_artifacts(case)
+            if not a.temporary(case)
         ]
-        if case.writes_grdecl and (case.keeps_stage_files or not case.writes_flow_deck):
-            files.append(out("grdecl").format(case=name))
-        if has_transmissibility(case) and case.keeps_stage_files:
-            files.append(out("transmissibility").format(case=name))
-        if case.writes_flow_deck:
-            files.append(f"{RESULTS}/{name}/flow/{case.flow_name}.DATA")
     if config.get("simulate", False):
-        files += simulation_outputs()
+        files += requested_outputs()
     return files

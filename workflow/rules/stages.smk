@@ -1,0 +1,44 @@
+# A case's stages (gridlib/artifacts.py STAGES: horizons, grid, geometry, petrophysics,
+# coarsen, transmissibility, export, flow_deck, simulate_case), one rule each, generated from
+# the table: its inputs, its outputs where the case has them, temp() where the case drops its
+# stage files (outputs.stage_files: false). Cases whose outputs of a stage differ (grid.grdecl
+# or not, the VTU or not, kept or temporary) get a rule of their own, named after the stage and
+# the difference (grid_without_grdecl, export_without_vtu, geometry_temp, ...); every stage
+# job runs workflow/scripts/stage.py.
+
+
+for _stage in STAGES:
+    for _rule in stage_rules(_stage):
+
+        rule:
+            name:
+                _rule.name
+            input:
+                unpack(stage_input_paths(_stage)),
+                case=case_file,
+            output:
+                **_rule.outputs,
+            log:
+                _rule.log_file,
+            benchmark:
+                _rule.benchmark_file
+            wildcard_constraints:
+                **_rule.constraints,
+            params:
+                stage=_stage.name,
+            group:
+                STAGE_GROUP
+            conda:
+                "../envs/gridlib.yaml"
+            threads: _stage.threads
+            resources:
+                mem_mb=_stage.mem_mb,
+            script:
+                "../scripts/stage.py"
+
+
+rule simulate:
+    """Every case with a `simulation` section through OPM Flow: `snakemake simulate` (or
+    `simulate: true` in the configuration, which adds them to `all`)."""
+    input:
+        requested_outputs(),

@@ -1,0 +1,22 @@
+"""Snakemake script of every stage rule (workflow/rules/stages.smk): the stage of
+gridlib.artifacts.STAGES named by the rule's ``stage`` parameter, run on the case (loaded once)
+with the rule's inputs and outputs (keyword arguments named after the artifacts' keys)."""
+
+from importlib import import_module
+
+from gridlib.stages import run_logged, run_stage
+
+for plugin in snakemake.config.get("plugins", []):  # modules that register stages of their own
+    import_module(plugin)
+paths = {key: path for key, path in snakemake.input.items() if key != "case"}
+paths |= dict(snakemake.output.items())
+run_logged(
+    snakemake.log[0],
+    run_stage,
+    snakemake.params.stage,
+    snakemake.input.case,
+    paths,
+    threads=snakemake.threads,
+    outputs=list(snakemake.output),
+    name=f"stage_{snakemake.params.stage}",
+)
