@@ -4,7 +4,7 @@ The horizons stage of a case: every horizon becomes a depth
 map on one areal lattice, the stack is checked or repaired so that depths never
 decrease downwards, and the result is an :class:`xarray.Dataset` with dims
 ``(horizon, y, x)`` written as ``horizons.nc``. Each horizon of it is a
-:class:`~gridlib.stratigraphic.horizon_maps.Horizon` for ``horizons_to_grdecl``
+:class:`~gridlib.pillars.horizon_maps.Horizon` for ``horizons_to_grdecl``
 (:func:`to_horizons`). Files are read and written by :mod:`gridlib.io.horizon_files`
 (and :mod:`gridlib.io.irap`), which sit above this package.
 

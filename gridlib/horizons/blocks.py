@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ..stratigraphic.fault_traces import FaultTrace
+from ..pillars.fault_traces import FaultTrace
 
 
 @dataclass(frozen=True, eq=False)

@@ -28,8 +28,8 @@ from numpy.typing import ArrayLike
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.horizons import horizons_to_grdecl
 from ..errors import InputError
-from ..stratigraphic.fault_traces import FaultTrace
-from ..stratigraphic.horizon_maps import Horizon
+from ..pillars.fault_traces import FaultTrace
+from ..pillars.horizon_maps import Horizon
 from .blocks import FaultBlocks, fault_blocks
 
 

@@ -11,7 +11,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..stratigraphic.horizon_maps import Horizon
+from ..pillars.horizon_maps import Horizon
 from ..version import __version__
 from .ordering import depth_stack, horizon_names, order_horizons
 

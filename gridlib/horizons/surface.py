@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ..stratigraphic.horizon_maps import Horizon
+from ..pillars.horizon_maps import Horizon
 
 
 @dataclass(frozen=True, eq=False)

@@ -63,7 +63,7 @@ from ..geometry import Geometry
 from ..grid import Grid
 from ..io.grdecl import read_grdecl
 from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf, write_dataset
-from ..stratigraphic.nnc import NNC
+from ..pillars.nnc import NNC
 from ..transmissibility import KIND_NAMES, Connections, deck_transmissibility, transmissibility
 from ..units import UnitSystem, unit_system
 from .common import check_same_cells, length_of, log, read_attrs, read_extra

@@ -14,7 +14,7 @@ The 2.5D front end of the pillar engine (``docs/pillar-grids.md``), the twin of
   ``layers`` layers, dz = (z_{h+1} - z_h) / n at every pillar; zero-thickness
   layers become collapsed cells, which the engine removes (the cells above and
   below then share a face, a PINCH connection when they are layers apart);
-* :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s displace the hanging wall
+* :class:`~gridlib.pillars.fault_traces.FaultTrace` s displace the hanging wall
   exactly as in ``horizons_to_grdecl``: every areal cell is classified by its
   centre (its centroid, or ``centres``), and the corners of hanging-wall cells
   move down by the throw at their pillar, tapering to tips; the two columns of
@@ -23,7 +23,7 @@ The 2.5D front end of the pillar engine (``docs/pillar-grids.md``), the twin of
   non-neighbour connections. On a fault-conforming areal grid (its edges along
   the fault tagged in ``faces.tag``), the trace follows those edges and the
   throw makes them a true fault;
-* the result is :func:`~gridlib.stratigraphic.columns.extrude_columns`' grid.
+* the result is :func:`~gridlib.pillars.columns.extrude_columns`' grid.
 
 Units are metres; z is depth, positive downwards.
 """
@@ -100,7 +100,7 @@ def extrude(
     horizon must be defined (finite) at every node of the active cells of the
     zones it bounds.
     ``layers``: layers per zone, one int for all or one per zone.
-    ``faults``: :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s; an end
+    ``faults``: :class:`~gridlib.pillars.fault_traces.FaultTrace` s; an end
     point strictly inside the areal grid's domain is a tip.
     ``pillars``: None for vertical pillars through the areal nodes, or
     (n_areal_nodes, 2, 3) straight pillars (top and bottom points, as COORD):
