@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 
 from ..config import Case
+from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
-from ..cornerpoint.horizons import horizons_to_grdecl
 from ..cornerpoint.process import process_grdecl
 from ..errors import GridError, InputError
 from ..grid import Grid

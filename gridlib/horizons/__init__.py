@@ -59,7 +59,7 @@ The RBF's own extrapolation (which can be wild) is therefore never used.
 Fault blocks
 ------------
 With ``faults`` (polylines in plan view: (n, 2) arrays or
-:class:`~gridlib.cornerpoint.horizons.FaultTrace`), the area (``extent``, by
+:class:`~gridlib.cornerpoint.between_horizons.FaultTrace`), the area (``extent``, by
 default the bounding box of the points and the targets) is cut by the traces
 into blocks (shapely's polygonize of the traces clipped to the area, their ends
 extended by 1e-7 of its diagonal so that a trace ending on another one or on

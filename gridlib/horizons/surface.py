@@ -103,7 +103,8 @@ class Surface:
         return self.xori + c * u - s * v, self.yori + s * u + c * v
 
     def to_horizon(self) -> Horizon:
-        """The :class:`~gridlib.cornerpoint.horizons.Horizon` (axes and depths) of an unrotated surface."""
+        """The :class:`~gridlib.cornerpoint.between_horizons.Horizon` (axes and depths) of an
+        unrotated surface."""
         if self.rotation != 0.0:
             raise InputError(
                 f"{self._label()}: rotated by {self.rotation:g} degrees; resample it onto an axis-aligned "

@@ -12,7 +12,7 @@ suffix, and an unknown suffix is one InputError naming the file:
 * ``surface``: netCDF (``.nc``, read), IRAP classic ASCII (any other suffix; :mod:`.irap`);
 * ``points``: CSV or whitespace-separated text (any suffix, read; :mod:`.horizon_files`);
 * ``horizons``: horizons datasets (``.nc``; :mod:`.horizon_files`);
-* ``cube``: property cubes (``.nc``; :mod:`.cubes`).
+* ``cube``: property cubes (``.nc``; :mod:`.cube_files`).
 
 The per-format functions are also importable directly. OPM Flow decks, which are folders of
 files rather than one file: :func:`write_flow_deck` (:mod:`gridlib.io.flow`); the fault faces

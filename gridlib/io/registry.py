@@ -81,7 +81,13 @@ BUILTIN_FORMATS = (
         _IO + "horizon_files:read_horizons",
         _IO + "horizon_files:write_horizons",
     ),
-    Format("netcdf", "cube", (".nc",), _IO + "cubes:read_property_cube", _IO + "cubes:write_property_cube"),
+    Format(
+        "netcdf",
+        "cube",
+        (".nc",),
+        _IO + "cube_files:read_property_cube",
+        _IO + "cube_files:write_property_cube",
+    ),
 )
 FORMATS: list[Format] = list(BUILTIN_FORMATS)
 

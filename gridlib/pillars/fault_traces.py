@@ -50,7 +50,7 @@ class FaultTrace:
 
     A trace should extend beyond the grid where the fault crosses it: an end
     point strictly inside the grid is a fault tip (see
-    :func:`~gridlib.cornerpoint.horizons.horizons_to_grdecl` and
+    :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl` and
     :func:`~gridlib.pillars.extrude.extrude`), an end point on or outside
     it is not.
 

@@ -7,9 +7,9 @@
 """
 
 from .connections import FAULT, KIND_NAMES, NEIGHBOR, OTHER, PINCH, Connections
-from .deck import deck_transmissibility
+from .deck_connections import deck_transmissibility
+from .peaceman import cell_extents, deck_cell_extents, deck_well_index, well_index
 from .tpfa import transmissibility
-from .wells import cell_extents, deck_cell_extents, deck_well_index, well_index
 
 __all__ = [
     "FAULT",
@@ -21,4 +21,4 @@ __all__ = [
     "deck_transmissibility",
     "transmissibility",
 ]
-__all__ += ["cell_extents", "deck_cell_extents", "deck_well_index", "well_index"]  # wells.py
+__all__ += ["cell_extents", "deck_cell_extents", "deck_well_index", "well_index"]  # peaceman.py

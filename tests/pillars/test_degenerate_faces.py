@@ -25,8 +25,8 @@ import pytest
 from real_decks import unpack
 
 import gridlib as gl
+from gridlib.cornerpoint.between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.generators import cut_grdecl, make_model3, simple_grdecl
-from gridlib.cornerpoint.horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.process import FAULT, process_grdecl
 from gridlib.grid import E, W
 from gridlib.io.grdecl import read_grdecl

@@ -12,8 +12,8 @@ import pytest
 
 import gridlib as gl
 from gridlib.connectivity import cell_faces_from_neighbors, half_face_signs
+from gridlib.cornerpoint.between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.generators import make_model3, simple_grdecl
-from gridlib.cornerpoint.horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.process import FAULT, PINCH
 from gridlib.grid import B, E, Faces, N, S, T, W
 from gridlib.pillars.columns import areal_corners, extrude_columns

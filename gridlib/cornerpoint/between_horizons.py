@@ -33,9 +33,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..pillars.depth_order import ORDERINGS, order_depths
 from ..pillars.fault_traces import FaultTrace, fault_displacement
 from ..pillars.horizon_maps import Horizon, check_horizon, interpolate_horizon
-from ..pillars.ordering import ORDERINGS, order_depths
 from ..pillars.zones import check_layers, is_integer, layer_levels
 from .deck import Deck, FaultSegment
 
