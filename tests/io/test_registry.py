@@ -126,7 +126,7 @@ def test_a_format_module_is_imported_on_first_use_only():
 
     code = (
         "import sys, gridlib.io.netcdf, gridlib.io as io\n"
-        "formats = ('grdecl', 'egrid', 'irap', 'vtu', 'cubes', 'horizon_files', 'flow')\n"
+        "formats = ('grdecl', 'egrid', 'irap', 'vtu', 'cube_files', 'horizon_files', 'flow')\n"
         "mods = ['gridlib.io.' + m for m in formats]\n"
         "mods += ['gridlib.cornerpoint', 'gridlib.horizons', 'pyvista']\n"
         "print(sorted(m for m in mods if m in sys.modules))\n"
