@@ -24,9 +24,16 @@ name below), so importing one format does not cost the others' imports.
 from __future__ import annotations
 
 from .._lazy import lazy_exports
-from .registry import FORMATS, Format, find_format, kind_of, read, register_format, write
 
-_LAZY = {
+# The public names, each imported on first use from the module that defines it.
+_EXPORTS: dict[str, str] = {
+    "Format": ".registry",
+    "find_format": ".registry",
+    "formats": ".registry",
+    "kind_of": ".registry",
+    "read": ".registry",
+    "register_format": ".registry",
+    "write": ".registry",
     "write_flow_deck": ".flow",
     "GridDataset": ".netcdf",
     "grid_to_dataset": ".netcdf",
@@ -36,22 +43,7 @@ _LAZY = {
     "write_netcdf": ".netcdf",
     "write_vtu": ".vtu",
 }
-__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
-__all__ = [
-    "FORMATS",
-    "Format",
-    "GridDataset",
-    "find_format",
-    "grid_to_dataset",
-    "kind_of",
-    "read",
-    "read_geometry_netcdf",
-    "read_netcdf",
-    "register_format",
-    "write",
-    "write_flow_deck",
-    "write_geometry_netcdf",
-    "write_netcdf",
-    "write_vtu",
-]
+__all__ = sorted(_EXPORTS)
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
