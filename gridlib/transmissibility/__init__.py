@@ -18,7 +18,10 @@ __all__ = [
     "OTHER",
     "PINCH",
     "Connections",
+    "cell_extents",
+    "deck_cell_extents",
     "deck_transmissibility",
+    "deck_well_index",
     "transmissibility",
+    "well_index",
 ]
-__all__ += ["cell_extents", "deck_cell_extents", "deck_well_index", "well_index"]  # peaceman.py
