@@ -35,9 +35,9 @@ import numpy as np
 from gridlib import compute_geometry
 from gridlib.completions import vertical_well_cells
 from gridlib.io.flow import ConnectionGrid, FlowWell, Simulation, write_flow_deck
+from gridlib.pillars.extrude import extrude
 from gridlib.stages.flow_deck import _depths, _spacing
 from gridlib.stages.simulate import flow_command
-from gridlib.stratigraphic.extrude import extrude
 from gridlib.transmissibility import transmissibility, well_index
 from gridlib.voronoi import pebi_grid
 

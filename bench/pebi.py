@@ -30,8 +30,8 @@ import tracemalloc
 import numpy as np
 
 from gridlib import compute_geometry
-from gridlib.stratigraphic.extrude import extrude
-from gridlib.stratigraphic.fault_traces import FaultTrace
+from gridlib.pillars.extrude import extrude
+from gridlib.pillars.fault_traces import FaultTrace
 from gridlib.voronoi import Fault, Rings, Well, grid_quality, pebi_grid
 
 OFFSET = np.array([5.3e5, 6.7e6])

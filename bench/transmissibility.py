@@ -49,7 +49,7 @@ from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.generators import make_model3
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.grdecl import read_grdecl, write_grdecl
-from gridlib.stratigraphic.extrude import extrude
+from gridlib.pillars.extrude import extrude
 from gridlib.transmissibility import NEIGHBOR, deck_transmissibility, transmissibility
 from gridlib.voronoi import pebi_grid
 

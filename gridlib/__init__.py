@@ -14,7 +14,7 @@ z is depth, face normals point from ``neighbors[:, 0]`` to ``neighbors[:, 1]``).
 """
 
 from ._lazy import lazy_exports
-from .version import __version__
+from .version import __version__ as __version__
 
 # The public names, imported on first use (PEP 562): `import gridlib` and the workflow's
 # `import gridlib.config` stay cheap, and a stage imports only the modules it uses.
@@ -56,10 +56,10 @@ _EXPORTS: dict[str, str] = {
     "write_grdecl": ".io.grdecl",
     "write_edit_grdecl": ".io.grdecl",
     "make_layered_grid": ".layered",
-    "ColumnGrid": ".stratigraphic.columns",
-    "extrude_columns": ".stratigraphic.columns",
-    "ExtrudedGrid": ".stratigraphic.extrude",
-    "extrude": ".stratigraphic.extrude",
+    "ColumnGrid": ".pillars.columns",
+    "extrude_columns": ".pillars.columns",
+    "ExtrudedGrid": ".pillars.extrude",
+    "extrude": ".pillars.extrude",
     "cart_grid": ".structured",
     "tensor_grid": ".structured",
     "translate_grid": ".structured",
@@ -81,68 +81,7 @@ _EXPORTS: dict[str, str] = {
 }
 
 
-__all__ = [
-    "Cells",
-    "CoarseGrid",
-    "ColumnGrid",
-    "CornerPointGrid",
-    "Deck",
-    "DeckError",
-    "ExtrudedGrid",
-    "Faces",
-    "Fault",
-    "FaultSegment",
-    "FaultTrace",
-    "Geometry",
-    "Grid",
-    "GridError",
-    "Horizon",
-    "InputError",
-    "Layering",
-    "Nodes",
-    "PebiGrid",
-    "Rings",
-    "Subgrid",
-    "Well",
-    "__version__",
-    "cart_grid",
-    "check_deck_grid",
-    "check_grid",
-    "coarse_grid",
-    "compress_partition",
-    "compute_geometry",
-    "cut_grdecl",
-    "extract_subgrid",
-    "extrude",
-    "extrude_columns",
-    "glue_2d",
-    "grid_quality",
-    "horizons_to_grdecl",
-    "make_layered_grid",
-    "make_model3",
-    "partition_metis",
-    "partition_ui",
-    "pebi",
-    "pebi_grid",
-    "process_grdecl",
-    "process_partition",
-    "read_egrid",
-    "read_grdecl",
-    "rectangle",
-    "remove_cells",
-    "simple_grdecl",
-    "tensor_grid",
-    "tessellation_grid",
-    "tetrahedral_grid",
-    "translate_grid",
-    "triangle_grid",
-    "twister",
-    "upscale_ntg",
-    "upscale_permeability",
-    "upscale_porosity",
-    "write_edit_grdecl",
-    "write_grdecl",
-]
+__all__ = sorted([*_EXPORTS, "__version__"])
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -299,12 +299,6 @@ def _degenerate_violations(grid: Grid, cells: DegenerateCells, tol: float) -> li
     return out
 
 
-def geometry_violations(grid: Grid, geometry: Geometry, tol: float) -> list[str]:
-    """Violated geometric invariants (assumes a valid topology)."""
-    broken, cells = _geometry_problems(grid, geometry, tol)
-    return broken + ([] if cells is None else _degenerate_violations(grid, cells, tol))
-
-
 def _broken(grid: Grid, geometry: Geometry | None, tol: float) -> tuple[list[str], DegenerateCells | None]:
     """Topology and geometry problems that no grid may have, and the degenerate cells (None when
     something is broken before they could be found)."""

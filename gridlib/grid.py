@@ -58,7 +58,6 @@ from .arrays import frozen_array
 from .errors import GridError
 
 W, E, S, N, T, B = range(6)
-FACE_TAG_NAMES = ("W", "E", "S", "N", "T", "B")
 
 IntArray = NDArray[np.int64]
 FloatArray = NDArray[np.float64]

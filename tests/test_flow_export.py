@@ -14,8 +14,8 @@ import pytest
 from flow_tools import flow_executable, rest_of_deck
 
 from gridlib import check_grid, compute_geometry
+from gridlib.cornerpoint.between_horizons import FaultTrace, horizons_to_grdecl
 from gridlib.cornerpoint.generators import make_model3, simple_grdecl
-from gridlib.cornerpoint.horizons import FaultTrace, horizons_to_grdecl
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.egrid import read_egrid
 from gridlib.io.grdecl import write_grdecl

@@ -1,6 +1,6 @@
 """A case's faults (``faults``) as gridlib objects: a fault's ``trace`` and ``throw`` (a number,
 or ``{start, end}`` varying linearly along the trace) and ``side`` give a
-:class:`~gridlib.stratigraphic.fault_traces.FaultTrace`."""
+:class:`~gridlib.pillars.fault_traces.FaultTrace`."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from ..config import Case
-from ..stratigraphic.fault_traces import FaultTrace
+from ..pillars.fault_traces import FaultTrace
 
 
 def fault_traces(case: Case) -> list[FaultTrace]:

@@ -11,7 +11,7 @@ gridlib objects here:
 
 * a fault's ``trace`` and ``throw`` (a number, or ``{start, end}`` varying
   linearly along the trace) and ``side`` give a
-  :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` (both grid builders apply
+  :class:`~gridlib.pillars.fault_traces.FaultTrace` (both grid builders apply
   it to the restored horizons), and for pebi grids also a
   :class:`~gridlib.voronoi.Fault` the cell faces follow;
 * a well's ``point`` + ``rings`` or ``path`` give a :class:`~gridlib.voronoi.Well`.
@@ -27,15 +27,15 @@ from typing import Any
 import numpy as np
 
 from ..config import Case
+from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
-from ..cornerpoint.horizons import horizons_to_grdecl
 from ..cornerpoint.process import process_grdecl
 from ..errors import GridError, InputError
 from ..grid import Grid
 from ..horizons import to_horizons
 from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
-from ..stratigraphic.extrude import extrude
-from ..stratigraphic.nnc import NNC
+from ..pillars.extrude import extrude
+from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
 from .deck import read_case_deck
 from .faults import fault_traces

@@ -7,9 +7,9 @@ Cartesian front end), and generators of test and example decks.
 (24, 4, ('fault_1',))
 """
 
+from .between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from .deck import FAULT_FACES, Deck, FaultSegment
 from .generators import cut_grdecl, make_model3, simple_grdecl
-from .horizons import FaultTrace, Horizon, horizons_to_grdecl
 from .process import FAULT, NNC, PINCH, CornerPointGrid, process_grdecl
 
 __all__ = [

@@ -1,7 +1,7 @@
 """Deck keywords that change connections after the grid is built: what they say, as read.
 
 A simulator computes transmissibilities from the grid (NEWTRAN), then modifies them
-with these keywords; :mod:`gridlib.transmissibility.deck` replays them in OPM Flow's
+with these keywords; :mod:`gridlib.transmissibility.deck_connections` replays them in OPM Flow's
 order. Here they are only records, as the deck gives them, validated:
 
 * :class:`MultregtRecord`: one MULTREGT record (GRID or EDIT section), a multiplier

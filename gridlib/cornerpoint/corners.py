@@ -3,7 +3,7 @@
 Inactive cells are masked before anything else (their corners, often junk, are
 never read). Active corners must be finite. z-up decks are negated to depth.
 Every corner gets the id of its distinct depth (distinct beyond rounding:
-:mod:`~gridlib.stratigraphic.pillar_points`) on its pillar (ids grow with
+:mod:`~gridlib.pillars.pillar_points`) on its pillar (ids grow with
 depth along a pillar), computed a few pillar rows at a time so that the
 temporaries stay small.
 """
@@ -17,7 +17,7 @@ import numpy as np
 from ..connectivity import offsets
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
-from ..stratigraphic.pillar_points import PillarPoints, points_on_pillars, unique_points_rows
+from ..pillars.pillar_points import PillarPoints, points_on_pillars, unique_points_rows
 from .deck import Deck
 
 _BLOCK = 1 << 18  # candidate depths numbered per block of pillar rows

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..grid import IntArray
-from ..stratigraphic.lateral import SideCells
+from ..pillars.lateral import SideCells
 
 # Corner slots (a + 2b + 4c) of the A and B side of an i-pair and a j-pair: (t1, t2, b1, b2).
 _I_PAIR = ((1, 3, 5, 7), (0, 2, 4, 6))

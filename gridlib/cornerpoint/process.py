@@ -14,7 +14,7 @@ Steps, all vectorised over cells, corners and pillar pairs:
 3. the distinct depths on every pillar are numbered (``tolerance`` > 0 rounds
    them to multiples of it first) and corners become integer ranks; depths
    equal up to rounding (within the pillar's depth resolution, 64 units in the
-   last place of its largest depth: :mod:`~gridlib.stratigraphic.pillar_points`) are
+   last place of its largest depth: :mod:`~gridlib.pillars.pillar_points`) are
    one point, so that the exact rank tests never make a face of zero area
    (nodes collinear up to rounding) nor a connection between cells that do
    not touch;
@@ -47,9 +47,9 @@ from scipy.sparse import csgraph
 from ..connectivity import cell_half_faces, drop_repeated_nodes, offsets, ragged_arange, renumbering
 from ..errors import InputError
 from ..grid import B, Cells, E, Faces, FloatArray, Grid, IntArray, N, Nodes, S, T, W
-from ..stratigraphic.conformal import insert_edge_nodes
-from ..stratigraphic.lateral import SideCells, general_pieces
-from ..stratigraphic.nnc import FAULT, NNC, PINCH
+from ..pillars.conformal import insert_edge_nodes
+from ..pillars.lateral import SideCells, general_pieces
+from ..pillars.nnc import FAULT, NNC, PINCH
 from .corners import corner_nodes
 from .crossing import check_pillars_do_not_cross
 from .deck import Deck

@@ -4,7 +4,7 @@ The horizons stage of a case: every horizon becomes a depth
 map on one areal lattice, the stack is checked or repaired so that depths never
 decrease downwards, and the result is an :class:`xarray.Dataset` with dims
 ``(horizon, y, x)`` written as ``horizons.nc``. Each horizon of it is a
-:class:`~gridlib.stratigraphic.horizon_maps.Horizon` for ``horizons_to_grdecl``
+:class:`~gridlib.pillars.horizon_maps.Horizon` for ``horizons_to_grdecl``
 (:func:`to_horizons`). Files are read and written by :mod:`gridlib.io.horizon_files`
 (and :mod:`gridlib.io.irap`), which sit above this package.
 
@@ -59,7 +59,7 @@ The RBF's own extrapolation (which can be wild) is therefore never used.
 Fault blocks
 ------------
 With ``faults`` (polylines in plan view: (n, 2) arrays or
-:class:`~gridlib.cornerpoint.horizons.FaultTrace`), the area (``extent``, by
+:class:`~gridlib.cornerpoint.between_horizons.FaultTrace`), the area (``extent``, by
 default the bounding box of the points and the targets) is cut by the traces
 into blocks (shapely's polygonize of the traces clipped to the area, their ends
 extended by 1e-7 of its diagonal so that a trace ending on another one or on

@@ -4,7 +4,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from ..errors import InputError
-from ..stratigraphic.ordering import ORDERINGS
+from ..pillars.depth_order import ORDERINGS
 
 __all__ = ["EXTRAPOLATIONS", "METHODS", "ORDERINGS", "RBF_GLOBAL_MAX", "RBF_NEIGHBORS", "check_choice"]
 

@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ..stratigraphic.fault_traces import FaultTrace
+from ..pillars.fault_traces import FaultTrace
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,7 +91,7 @@ def fault_blocks(faults: Sequence[Any], extent: Sequence[float]) -> FaultBlocks:
     """Cut the rectangle ``extent = (xmin, xmax, ymin, ymax)`` (m) by fault traces into blocks.
 
     ``faults``: polylines in plan view, (n, 2) arrays of x, y or
-    :class:`~gridlib.cornerpoint.horizons.FaultTrace`. See the module docstring
+    :class:`~gridlib.cornerpoint.between_horizons.FaultTrace`. See the module docstring
     for the rules.
 
     >>> b = fault_blocks([[(500.0, -1.0), (500.0, 101.0)]], (0.0, 1000.0, 0.0, 100.0))

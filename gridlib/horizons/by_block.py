@@ -25,11 +25,11 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
-from ..cornerpoint.horizons import horizons_to_grdecl
 from ..errors import InputError
-from ..stratigraphic.fault_traces import FaultTrace
-from ..stratigraphic.horizon_maps import Horizon
+from ..pillars.fault_traces import FaultTrace
+from ..pillars.horizon_maps import Horizon
 from .blocks import FaultBlocks, fault_blocks
 
 
@@ -61,7 +61,7 @@ def horizons_to_grdecl_by_block(
 
     ``stacks[b]``: the horizons of fault block ``b`` of ``blocks`` (top first, each defined
     over the whole lattice); ``dims``, ``layers``, ``ordering``: as
-    :func:`~gridlib.cornerpoint.horizons.horizons_to_grdecl`. ``faults``: the traces, with no
+    :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl`. ``faults``: the traces, with no
     throw (the offset is in the surfaces), recorded as FAULTS so that the fault faces carry
     their names. Every cell belongs to the block that contains its centre.
 

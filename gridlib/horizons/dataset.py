@@ -11,7 +11,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..stratigraphic.horizon_maps import Horizon
+from ..pillars.horizon_maps import Horizon
 from ..version import __version__
 from .ordering import depth_stack, horizon_names, order_horizons
 
@@ -94,7 +94,7 @@ def horizon_dataset(
 
 
 def to_horizons(ds: xr.Dataset) -> list[Horizon]:
-    """Each horizon of the Dataset as a :class:`~gridlib.cornerpoint.horizons.Horizon` (x, y axes,
-    z[j, i]), top first: the input of :func:`~gridlib.cornerpoint.horizons.horizons_to_grdecl`."""
+    """Each horizon of the Dataset as a :class:`~gridlib.cornerpoint.between_horizons.Horizon` (x, y axes,
+    z[j, i]), top first: the input of :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl`."""
     x, y = ds["x"].values, ds["y"].values
     return [Horizon(x, y, ds["depth"].values[k]) for k in range(ds.sizes["horizon"])]

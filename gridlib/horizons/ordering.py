@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ..stratigraphic.ordering import ORDERINGS, repair_order
+from ..pillars.depth_order import ORDERINGS, repair_order
 from ._constants import check_choice
 
 

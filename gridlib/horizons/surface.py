@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ..stratigraphic.horizon_maps import Horizon
+from ..pillars.horizon_maps import Horizon
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,7 +103,8 @@ class Surface:
         return self.xori + c * u - s * v, self.yori + s * u + c * v
 
     def to_horizon(self) -> Horizon:
-        """The :class:`~gridlib.cornerpoint.horizons.Horizon` (axes and depths) of an unrotated surface."""
+        """The :class:`~gridlib.cornerpoint.between_horizons.Horizon` (axes and depths) of an
+        unrotated surface."""
         if self.rotation != 0.0:
             raise InputError(
                 f"{self._label()}: rotated by {self.rotation:g} degrees; resample it onto an axis-aligned "

@@ -12,7 +12,7 @@ suffix, and an unknown suffix is one InputError naming the file:
 * ``surface``: netCDF (``.nc``, read), IRAP classic ASCII (any other suffix; :mod:`.irap`);
 * ``points``: CSV or whitespace-separated text (any suffix, read; :mod:`.horizon_files`);
 * ``horizons``: horizons datasets (``.nc``; :mod:`.horizon_files`);
-* ``cube``: property cubes (``.nc``; :mod:`.cubes`).
+* ``cube``: property cubes (``.nc``; :mod:`.cube_files`).
 
 The per-format functions are also importable directly. OPM Flow decks, which are folders of
 files rather than one file: :func:`write_flow_deck` (:mod:`gridlib.io.flow`); the fault faces
@@ -24,9 +24,16 @@ name below), so importing one format does not cost the others' imports.
 from __future__ import annotations
 
 from .._lazy import lazy_exports
-from .registry import FORMATS, Format, find_format, kind_of, read, register_format, write
 
-_LAZY = {
+# The public names, each imported on first use from the module that defines it.
+_EXPORTS: dict[str, str] = {
+    "Format": ".registry",
+    "find_format": ".registry",
+    "formats": ".registry",
+    "kind_of": ".registry",
+    "read": ".registry",
+    "register_format": ".registry",
+    "write": ".registry",
     "write_flow_deck": ".flow",
     "GridDataset": ".netcdf",
     "grid_to_dataset": ".netcdf",
@@ -36,22 +43,7 @@ _LAZY = {
     "write_netcdf": ".netcdf",
     "write_vtu": ".vtu",
 }
-__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
-__all__ = [
-    "FORMATS",
-    "Format",
-    "GridDataset",
-    "find_format",
-    "grid_to_dataset",
-    "kind_of",
-    "read",
-    "read_geometry_netcdf",
-    "read_netcdf",
-    "register_format",
-    "write",
-    "write_flow_deck",
-    "write_geometry_netcdf",
-    "write_netcdf",
-    "write_vtu",
-]
+__all__ = sorted(_EXPORTS)
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

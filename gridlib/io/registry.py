@@ -12,7 +12,9 @@ A suffix no format of the kind reads (or writes) is one InputError naming the fi
 gridlib's own formats are the table :data:`BUILTIN_FORMATS` below, their readers and writers
 named as ``"module:function"`` and imported on first use: importing ``gridlib.io.netcdf`` (as
 every workflow stage does) does not import the GRDECL, EGRID, IRAP or VTU modules and what
-they need. :func:`register_format` adds a format of one's own (or replaces one).
+they need (``tests/test_layering.py`` holds those names to the layering of the import contract).
+:func:`register_format` adds a format of one's own (or replaces one); :func:`formats` is the
+table in use, a tuple that ``register_format`` replaces as a whole and never changes in place.
 """
 
 from __future__ import annotations
@@ -81,22 +83,37 @@ BUILTIN_FORMATS = (
         _IO + "horizon_files:read_horizons",
         _IO + "horizon_files:write_horizons",
     ),
-    Format("netcdf", "cube", (".nc",), _IO + "cubes:read_property_cube", _IO + "cubes:write_property_cube"),
+    Format(
+        "netcdf",
+        "cube",
+        (".nc",),
+        _IO + "cube_files:read_property_cube",
+        _IO + "cube_files:write_property_cube",
+    ),
 )
-FORMATS: list[Format] = list(BUILTIN_FORMATS)
+_formats: tuple[Format, ...] = BUILTIN_FORMATS  # replaced as a whole by register_format
+
+
+def formats() -> tuple[Format, ...]:
+    """The registered formats: gridlib's, then those :func:`register_format` added, in order."""
+    return _formats
 
 
 def register_format(
     name: str,
     kind: str,
     suffixes: Sequence[str],
-    reader: Callable[..., Any] | None = None,
-    writer: Callable[..., Any] | None = None,
+    reader: Callable[..., Any] | str | None = None,
+    writer: Callable[..., Any] | str | None = None,
 ) -> Format:
     """Register a format of one's own for ``read``/``write`` (replacing the format of the same
-    name and kind, if any); ``reader``/``writer`` are functions or ``"module:function"``."""
+    name and kind, if any); ``reader``/``writer`` are functions or ``"module:function"``.
+
+    The registered table is replaced by a new tuple in one assignment, so a ``read`` or
+    ``write`` running meanwhile (in another thread) sees the old table or the new one whole."""
+    global _formats
     fmt = Format(name, kind, tuple(s.lower() for s in suffixes), reader, writer)
-    FORMATS[:] = [f for f in FORMATS if (f.name, f.kind) != (name, kind)] + [fmt]
+    _formats = tuple(f for f in _formats if (f.name, f.kind) != (name, kind)) + (fmt,)
     return fmt
 
 
@@ -114,9 +131,10 @@ def find_format(path: str | os.PathLike, kind: str, mode: str = "read") -> Forma
     ...
     gridlib.errors.InputError: b.xyz: unknown file type: cannot write '.xyz' files as grid (known: .nc, .vtu)
     """
-    able = [f for f in FORMATS if f.kind == kind and (f.reader if mode == "read" else f.writer)]
+    table = formats()
+    able = [f for f in table if f.kind == kind and (f.reader if mode == "read" else f.writer)]
     suffix = _suffix(path)
-    claimed = any(suffix in f.suffixes for f in FORMATS if f.kind == kind)
+    claimed = any(suffix in f.suffixes for f in table if f.kind == kind)
     for f in able:
         if suffix in f.suffixes or (not claimed and ANY_SUFFIX in f.suffixes):
             return f
@@ -130,11 +148,12 @@ def kind_of(path: str | os.PathLike, kinds: Sequence[str]) -> str:
     >>> kind_of("SPE9.DATA", ("deck", "grid")), kind_of("grid.nc", ("deck", "grid"))
     ('deck', 'grid')
     """
+    table = formats()
     suffix = _suffix(path)
     for kind in kinds:
-        if any(f.kind == kind and f.reader and suffix in f.suffixes for f in FORMATS):
+        if any(f.kind == kind and f.reader and suffix in f.suffixes for f in table):
             return kind
-    known = ", ".join(sorted({s for f in FORMATS if f.kind in kinds and f.reader for s in f.suffixes}))
+    known = ", ".join(sorted({s for f in table if f.kind in kinds and f.reader for s in f.suffixes}))
     raise InputError(
         f"{path}: unknown file type: cannot read '{suffix}' files as {' or '.join(kinds)} (known: {known})"
     )

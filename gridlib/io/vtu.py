@@ -50,11 +50,6 @@ _VTK_TYPES = {
 }
 
 
-def polyhedron_streams(grid: Grid) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(connectivity, offsets, faces, faceoffsets) of the legacy VTK polyhedron layout."""
-    return polyhedron_block(grid, 0, grid.num_cells)
-
-
 def polyhedron_block(
     grid: Grid, first: int, stop: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

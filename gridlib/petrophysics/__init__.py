@@ -70,7 +70,7 @@ phi^3 d^2 / (72 tau (1 - phi)^2) with grain diameter d = 10 micrometres and
 tortuosity factor tau = 0.81: 2.143e-14 m2 = 21.7 mD at phi = 0.2),
 :func:`per_layer` (constant, per layer or per zone values) and cubes on a
 regular grid (:class:`PropertyCube`, :func:`sample_cube`) sampled at centroids or at
-depositional coordinates (their files: :mod:`gridlib.io.cubes`).
+depositional coordinates (their files: :mod:`gridlib.io.cube_files`).
 
 >>> import gridlib as gl
 >>> import numpy as np

@@ -1,5 +1,5 @@
 """Property cubes: properties on a regular grid of cells, sampled at cell centroids or at
-depositional coordinates (the files: :mod:`gridlib.io.cubes`)."""
+depositional coordinates (the files: :mod:`gridlib.io.cube_files`)."""
 
 from __future__ import annotations
 

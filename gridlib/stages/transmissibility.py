@@ -10,7 +10,7 @@ logical box ``flow_dims`` a simulator sees.
 Which computation, by grid type (the ``method`` attribute says which ran):
 
 * **cornerpoint and deck** (the cases that write ``grid.grdecl``):
-  :func:`~gridlib.transmissibility.deck.deck_transmissibility` on ``grid.grdecl`` with
+  :func:`~gridlib.transmissibility.deck_connections.deck_transmissibility` on ``grid.grdecl`` with
   the case's PERMX, PERMY, PERMZ and NTG from ``petrophysics.nc`` (per grid cell, put
   on the deck's cells through ``index_map``; for a deck case the deck's own unless the
   case replaces them) and the deck's MULT*, MULTFLT, MULTREGT with its region arrays,
@@ -63,7 +63,7 @@ from ..geometry import Geometry
 from ..grid import Grid
 from ..io.grdecl import read_grdecl
 from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf, write_dataset
-from ..stratigraphic.nnc import NNC
+from ..pillars.nnc import NNC
 from ..transmissibility import KIND_NAMES, Connections, deck_transmissibility, transmissibility
 from ..units import UnitSystem, unit_system
 from .common import check_same_cells, length_of, log, read_attrs, read_extra

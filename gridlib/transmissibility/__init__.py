@@ -7,9 +7,9 @@
 """
 
 from .connections import FAULT, KIND_NAMES, NEIGHBOR, OTHER, PINCH, Connections
-from .deck import deck_transmissibility
+from .deck_connections import deck_transmissibility
+from .peaceman import cell_extents, deck_cell_extents, deck_well_index, well_index
 from .tpfa import transmissibility
-from .wells import cell_extents, deck_cell_extents, deck_well_index, well_index
 
 __all__ = [
     "FAULT",
@@ -18,7 +18,10 @@ __all__ = [
     "OTHER",
     "PINCH",
     "Connections",
+    "cell_extents",
+    "deck_cell_extents",
     "deck_transmissibility",
+    "deck_well_index",
     "transmissibility",
+    "well_index",
 ]
-__all__ += ["cell_extents", "deck_cell_extents", "deck_well_index", "well_index"]  # wells.py

@@ -16,7 +16,7 @@ from gridlib.petrophysics import PropertyCube
 
 
 def test_every_kind_has_its_formats():
-    table = {(f.kind, f.name): f.suffixes for f in io.FORMATS}
+    table = {(f.kind, f.name): f.suffixes for f in io.formats()}
     assert table[("grid", "netcdf")] == (".nc",) and table[("grid", "vtu")] == (".vtu",)
     assert table[("deck", "grdecl")] == (".grdecl", ".data", ".inc", ".grd")
     assert table[("deck", "egrid")] == (".egrid", ".fegrid")
@@ -126,7 +126,7 @@ def test_a_format_module_is_imported_on_first_use_only():
 
     code = (
         "import sys, gridlib.io.netcdf, gridlib.io as io\n"
-        "formats = ('grdecl', 'egrid', 'irap', 'vtu', 'cubes', 'horizon_files', 'flow')\n"
+        "formats = ('grdecl', 'egrid', 'irap', 'vtu', 'cube_files', 'horizon_files', 'flow')\n"
         "mods = ['gridlib.io.' + m for m in formats]\n"
         "mods += ['gridlib.cornerpoint', 'gridlib.horizons', 'pyvista']\n"
         "print(sorted(m for m in mods if m in sys.modules))\n"
@@ -137,16 +137,31 @@ def test_a_format_module_is_imported_on_first_use_only():
     assert out.splitlines() == ["[]", "gridlib.io.egrid:read_egrid gridlib.io.egrid True"]
 
 
-def test_a_format_of_ones_own_is_registered_by_function_or_by_name(tmp_path):
+@pytest.fixture
+def restored_registry(monkeypatch):
+    """The registered table as it was, after the test (register_format replaces it)."""
     from gridlib.io import registry
 
-    saved = list(registry.FORMATS)
-    try:
-        io.register_format("csvgrid", "grid", (".csvg",), reader=lambda path: f"read {path}")
-        assert io.read(tmp_path / "a.csvg") == f"read {tmp_path / 'a.csvg'}"
-        io.register_format("csvgrid", "grid", (".csvg",), writer="gridlib.io.netcdf:write_netcdf")
-        with pytest.raises(gl.InputError, match=r"a\.csvg: unknown file type: cannot read '\.csvg' files"):
-            io.read(tmp_path / "a.csvg")  # replaced by a write-only format of the same name and kind
-        assert io.find_format("a.csvg", "grid", "write").function("write") is io.write_netcdf
-    finally:
-        registry.FORMATS[:] = saved
+    monkeypatch.setattr(registry, "_formats", registry.formats())
+
+
+def test_a_format_of_ones_own_is_registered_by_function_or_by_name(tmp_path, restored_registry):
+    io.register_format("csvgrid", "grid", (".csvg",), reader=lambda path: f"read {path}")
+    assert io.read(tmp_path / "a.csvg") == f"read {tmp_path / 'a.csvg'}"
+    io.register_format("csvgrid", "grid", (".csvg",), writer="gridlib.io.netcdf:write_netcdf")
+    with pytest.raises(gl.InputError, match=r"a\.csvg: unknown file type: cannot read '\.csvg' files"):
+        io.read(tmp_path / "a.csvg")  # replaced by a write-only format of the same name and kind
+    assert io.find_format("a.csvg", "grid", "write").function("write") is io.write_netcdf
+
+
+def test_register_format_replaces_the_table_and_never_changes_one(restored_registry):
+    from gridlib.io.registry import BUILTIN_FORMATS
+
+    before = io.formats()
+    assert before == BUILTIN_FORMATS and isinstance(before, tuple)
+    first = io.register_format("csvgrid", "grid", (".CSVG",), reader="gridlib.io.netcdf:read_netcdf")
+    assert first.suffixes == (".csvg",) and io.formats() == (*before, first)
+    second = io.register_format("netcdf", "grid", (".nc", ".nc4"), reader="gridlib.io.netcdf:read_netcdf")
+    assert io.formats() == (*(f for f in before if (f.name, f.kind) != ("netcdf", "grid")), first, second)
+    assert before == BUILTIN_FORMATS  # the table read before is untouched
+    assert io.find_format("a.nc4", "grid") is second

@@ -9,7 +9,7 @@ import pytest
 import gridlib as gl
 from gridlib import InputError
 from gridlib.cornerpoint import FaultTrace, Horizon, horizons_to_grdecl, process_grdecl
-from gridlib.io.cubes import read_property_cube, write_property_cube
+from gridlib.io.cube_files import read_property_cube, write_property_cube
 from gridlib.petrophysics import (
     VARIOGRAM_MODELS,
     Depositional,

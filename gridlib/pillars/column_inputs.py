@@ -1,4 +1,4 @@
-"""The inputs of the column engine (:func:`~gridlib.stratigraphic.columns.extrude_columns`), checked:
+"""The inputs of the column engine (:func:`~gridlib.pillars.columns.extrude_columns`), checked:
 the corners of the areal cells, the depths at every corner and level, the active cells, the
 pillars' lines, the edge tags and fault names, and the orientation of the areal grid."""
 

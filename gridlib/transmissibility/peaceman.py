@@ -34,7 +34,7 @@ lattice, whose two-point resistance grows as (ln r + gamma + ln sqrt(12)) /
 0.2 dx, exactly e^-gamma / (2 sqrt(2)) dx = 0.19851 dx, on the square lattice.
 Anisotropy enters as in Peaceman (1983): in coordinates scaled to isotropy the
 area is unchanged and the well becomes an ellipse of mean radius r_w ((ky/kx)^1/4 +
-(kx/ky)^1/4) / 2. tests/transmissibility/test_wells.py checks c against steady two-point flux
+(kx/ky)^1/4) / 2. tests/transmissibility/test_peaceman.py checks c against steady two-point flux
 solutions around a well on PEBI grids (regular cells: within 2e-4; a well site that
 replaced its nearest lattice site: 0.2 %). Limits, from the same solutions: r0 depends
 on the cell's surroundings, not only on its area. A well site squeezed in between
@@ -72,7 +72,7 @@ from ..geometry import Geometry
 from ..grid import B, E, FloatArray, Grid, IntArray, N, S, T, W
 from ..reproducible import log
 from ..units import unit_system
-from .deck import rock_arrays
+from .deck_connections import rock_arrays
 from .tpfa import permeability_tensors
 
 TWO_PI = 2.0 * np.pi

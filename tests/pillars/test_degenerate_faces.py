@@ -5,7 +5,7 @@ depths agree in the model but not in floating point (``0.1 + 0.2`` against ``0.3
 points they made the lines cross a hair's breadth from the pillar: faces of ~1e-33 m², even
 exactly collinear ones that ``compute_geometry`` refuses, and connections between cells that do
 not touch. The pillar engine now takes depths within the pillar's depth resolution rho (64 units
-in the last place of its largest depth, ``gridlib.stratigraphic.pillar_points``) as one point, and its
+in the last place of its largest depth, ``gridlib.pillars.pillar_points``) as one point, and its
 exact rank tests then never make a face whose nodes are collinear up to rounding.
 
 The criterion checked on every grid: every face is wider than rho, i.e. its area exceeds rho
@@ -25,13 +25,13 @@ import pytest
 from real_decks import unpack
 
 import gridlib as gl
+from gridlib.cornerpoint.between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.generators import cut_grdecl, make_model3, simple_grdecl
-from gridlib.cornerpoint.horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.process import FAULT, process_grdecl
 from gridlib.grid import E, W
 from gridlib.io.grdecl import read_grdecl
-from gridlib.stratigraphic.extrude import extrude
-from gridlib.stratigraphic.pillar_points import depth_resolution, unique_points, unique_points_rows
+from gridlib.pillars.extrude import extrude
+from gridlib.pillars.pillar_points import depth_resolution, unique_points, unique_points_rows
 
 DECKS = Path(__file__).parents[1] / "data" / "decks"
 # Every vendored deck but SPE10 model 2, whose PORO and PERM includes its own test writes (its grid,

@@ -17,7 +17,7 @@ All tests run on integer ranks (node ids along a pillar grow with depth):
   zero thickness on both pillars are dropped). This is also the zero-area
   criterion: a piece is degenerate (its corners collinear) exactly when the
   test fails, so none is made. Because depths equal up to rounding are one
-  point (:mod:`~gridlib.stratigraphic.pillar_points`), a rounding difference never
+  point (:mod:`~gridlib.pillars.pillar_points`), a rounding difference never
   passes for an overlap or a crossing: a fault whose throw varies along the
   trace and meets another layer's depth at a pillar touches it there, it does
   not leave a triangle of ~1e-33 m² and a connection between cells that do

@@ -6,7 +6,7 @@ The 2.5D front end of the pillar engine (``docs/pillar-grids.md``), the twin of
 
 * every horizon (top first) is evaluated at the pillars: a callable
   ``f(x, y)`` (vectorised), an array of one depth per areal node, or a gridded
-  :class:`~gridlib.cornerpoint.horizons.Horizon` interpolated bilinearly;
+  :class:`~gridlib.cornerpoint.between_horizons.Horizon` interpolated bilinearly;
 * horizons that cross are an error unless ``ordering`` repairs them
   (``"erode"``: younger wins, ``"onlap"``: older wins), as in
   ``horizons_to_grdecl``;
@@ -14,7 +14,7 @@ The 2.5D front end of the pillar engine (``docs/pillar-grids.md``), the twin of
   ``layers`` layers, dz = (z_{h+1} - z_h) / n at every pillar; zero-thickness
   layers become collapsed cells, which the engine removes (the cells above and
   below then share a face, a PINCH connection when they are layers apart);
-* :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s displace the hanging wall
+* :class:`~gridlib.pillars.fault_traces.FaultTrace` s displace the hanging wall
   exactly as in ``horizons_to_grdecl``: every areal cell is classified by its
   centre (its centroid, or ``centres``), and the corners of hanging-wall cells
   move down by the throw at their pillar, tapering to tips; the two columns of
@@ -23,7 +23,7 @@ The 2.5D front end of the pillar engine (``docs/pillar-grids.md``), the twin of
   non-neighbour connections. On a fault-conforming areal grid (its edges along
   the fault tagged in ``faces.tag``), the trace follows those edges and the
   throw makes them a true fault;
-* the result is :func:`~gridlib.stratigraphic.columns.extrude_columns`' grid.
+* the result is :func:`~gridlib.pillars.columns.extrude_columns`' grid.
 
 Units are metres; z is depth, positive downwards.
 """
@@ -44,10 +44,10 @@ from ..geometry import compute_geometry
 from ..grid import FloatArray, Grid, IntArray
 from ..threads import num_threads
 from .columns import ColumnCorners, PillarPairs, extrude_column_corners, pillar_lines
+from .depth_order import ORDERINGS, order_depths
 from .fault_traces import FaultTrace, cell_displacement, fault_displacement
 from .horizon_maps import Horizon, check_horizon, interpolate_horizon
 from .nnc import NNC
-from .ordering import ORDERINGS, order_depths
 from .zones import check_layers, layer_levels
 
 __all__ = ["ExtrudedGrid", "extrude"]
@@ -95,12 +95,12 @@ def extrude(
     ``horizons``: at least two, top (shallowest) first, each a callable
     ``f(x, y)`` returning depths (m) for arrays of x and y, an array of one
     depth per areal node, a number (a flat horizon), or a
-    :class:`~gridlib.cornerpoint.horizons.Horizon` (or mapping with ``x``,
+    :class:`~gridlib.cornerpoint.between_horizons.Horizon` (or mapping with ``x``,
     ``y``, ``z``) interpolated bilinearly; z is depth, positive down. A
     horizon must be defined (finite) at every node of the active cells of the
     zones it bounds.
     ``layers``: layers per zone, one int for all or one per zone.
-    ``faults``: :class:`~gridlib.stratigraphic.fault_traces.FaultTrace` s; an end
+    ``faults``: :class:`~gridlib.pillars.fault_traces.FaultTrace` s; an end
     point strictly inside the areal grid's domain is a tip.
     ``pillars``: None for vertical pillars through the areal nodes, or
     (n_areal_nodes, 2, 3) straight pillars (top and bottom points, as COORD):
@@ -110,7 +110,7 @@ def extrude(
     ``active``: (n_layers, n_areal_cells) or (n_areal_cells,) booleans; cells
     that are False are left out before anything else.
     ``ordering``: ``"error"`` (default), ``"erode"`` or ``"onlap"``, as in
-    :func:`~gridlib.cornerpoint.horizons.horizons_to_grdecl`.
+    :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl`.
     ``centres``: (n_areal_cells, 2) points that classify the cells against
     the fault traces (e.g. the PEBI sites); default the cell centroids.
 

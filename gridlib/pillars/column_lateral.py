@@ -1,5 +1,5 @@
 """The lateral faces of the column engine: one quadrilateral per cell on the pillar pairs whose two
-sides agree (no fault), the others subdivided by :func:`~gridlib.stratigraphic.lateral.general_pieces`
+sides agree (no fault), the others subdivided by :func:`~gridlib.pillars.lateral.general_pieces`
 where fault throw makes the corners mismatch."""
 
 from __future__ import annotations

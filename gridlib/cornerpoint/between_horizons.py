@@ -18,8 +18,8 @@ In the spirit of MRST's ``convertHorizonsToGrid`` (MRST book §3.5, Figs. 3.18 a
   displaced by its throw; the pillars on the trace then carry different depths
   on its two sides, which is what a fault is in a corner-point grid. The faults
   are recorded as FAULTS segments so that ``process_grdecl`` tags their faces by
-  name. (The displacement rules live in ``gridlib.stratigraphic.fault_traces``, shared
-  with the 2.5D front end ``gridlib.stratigraphic.extrude``.)
+  name. (The displacement rules live in ``gridlib.pillars.fault_traces``, shared
+  with the 2.5D front end ``gridlib.pillars.extrude``.)
 
 Units are metres; z is depth, positive downwards.
 """
@@ -33,10 +33,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..stratigraphic.fault_traces import FaultTrace, fault_displacement
-from ..stratigraphic.horizon_maps import Horizon, check_horizon, interpolate_horizon
-from ..stratigraphic.ordering import ORDERINGS, order_depths
-from ..stratigraphic.zones import check_layers, is_integer, layer_levels
+from ..pillars.depth_order import ORDERINGS, order_depths
+from ..pillars.fault_traces import FaultTrace, fault_displacement
+from ..pillars.horizon_maps import Horizon, check_horizon, interpolate_horizon
+from ..pillars.zones import check_layers, is_integer, layer_levels
 from .deck import Deck, FaultSegment
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
@@ -259,7 +259,7 @@ def _interpolate(xa: np.ndarray, ya: np.ndarray, z: np.ndarray, px: np.ndarray, 
 
 def _fault_displacement(trace: FaultTrace, index: int, name: str, PX, PY, box) -> np.ndarray:
     """Downward displacement of every cell corner (ny, nx, 2, 2) = [j, i, b, a] by one fault
-    (:func:`~gridlib.stratigraphic.fault_traces.fault_displacement` on the pillar lattice)."""
+    (:func:`~gridlib.pillars.fault_traces.fault_displacement` on the pillar lattice)."""
     xmin, xmax, ymin, ymax = box
     verts = trace.points
     ny, nx = PX.shape[0] - 1, PX.shape[1] - 1

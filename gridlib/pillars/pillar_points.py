@@ -22,7 +22,7 @@ rounded copies of one value). rho is 1.4e-14 of the pillar's largest depth
 (4e-11 m at 3000 m): far below any real layer thickness, and above the error of
 the few dozen floating-point operations that produce a corner depth, even with
 cancellation. Then the overlap of two cells on a pillar pair has positive area
-exactly when the ranks say so (:mod:`~gridlib.stratigraphic.lateral`), and a
+exactly when the ranks say so (:mod:`~gridlib.pillars.lateral`), and a
 face of zero area, one whose nodes lie within rounding of a line, is never made.
 """
 

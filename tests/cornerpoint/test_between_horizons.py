@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import gridlib as gl
+from gridlib.cornerpoint.between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
-from gridlib.cornerpoint.horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.process import FAULT, process_grdecl
 
 

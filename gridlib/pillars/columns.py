@@ -16,24 +16,24 @@ From there on everything is the corner-point engine, as ``process_grdecl`` runs 
    along a pillar; pillars where every column agrees at every level take a
    fast path), so that all topology tests compare integer ranks; depths equal
    up to rounding (within the pillar's depth resolution,
-   :mod:`~gridlib.stratigraphic.pillar_points`) are one point, so that no face of zero
+   :mod:`~gridlib.pillars.pillar_points`) are one point, so that no face of zero
    area (nodes collinear up to rounding) is ever made;
 3. cells of zero thickness on all their pillars are removed (the cells above
    and below then touch and share a face, as in ``process_grdecl``);
 4. lateral faces: pairs whose two sides hold the same cells with the same
    corner nodes (no fault) or cells on one side only give one quadrilateral per
    cell (a triangle where collapsed on one pillar); the others go to
-   :func:`~gridlib.stratigraphic.lateral.general_pieces`, which subdivides them
+   :func:`~gridlib.pillars.lateral.general_pieces`, which subdivides them
    exactly where fault throw makes the corners mismatch, with crossing nodes;
 5. top and bottom faces by walking every column through its kept cells, with
    the crossing nodes inserted into their edges (every cell watertight);
 6. with inclined pillars, faces of zero area (on pillars that coincide, a
    pair of no width) are removed; then cells with fewer than four faces.
 
-The phases live in :mod:`~gridlib.stratigraphic.column_inputs` (1),
-:mod:`~gridlib.stratigraphic.column_nodes` (2), :mod:`~gridlib.stratigraphic.column_lateral` (4),
-:mod:`~gridlib.stratigraphic.column_top_bottom` (5) and
-:mod:`~gridlib.stratigraphic.column_assembly` (6); this module runs them.
+The phases live in :mod:`~gridlib.pillars.column_inputs` (1),
+:mod:`~gridlib.pillars.column_nodes` (2), :mod:`~gridlib.pillars.column_lateral` (4),
+:mod:`~gridlib.pillars.column_top_bottom` (5) and
+:mod:`~gridlib.pillars.column_assembly` (6); this module runs them.
 
 Orientation: the column on the left of an areal edge p1 -> p2 (in plan view,
 x right and y up) is side A, as the lower-i column of an i-pair in
@@ -219,7 +219,7 @@ def _ranked_depths(
     z: FloatArray, corners: ColumnCorners, act: np.ndarray, nn2: int
 ) -> tuple[PillarNodes, IntArray]:
     """The depths of the corners of active cells checked, and numbered as points per pillar
-    (:func:`~gridlib.stratigraphic.column_nodes.number_points`)."""
+    (:func:`~gridlib.pillars.column_nodes.number_points`)."""
     pos2, owner = corners.pos, corners.owner
     used = None
     if not act.all():
@@ -253,7 +253,7 @@ def _kept_cells(
 
 def _crossing_insertions(lat, ver, h_nodes, n_cells: int, n_points: int, coords: FloatArray):
     """Where the crossing nodes go into the top/bottom faces of the cells next to a subdivided pair
-    (:func:`~gridlib.stratigraphic.column_top_bottom.crossings_in_faces`), None if there are none."""
+    (:func:`~gridlib.pillars.column_top_bottom.crossings_in_faces`), None if there are none."""
     if not lat.general.crossing_coords.shape[0]:
         return None
     near = np.zeros(n_cells + 1, dtype=bool)  # index -1 (outside): the extra False

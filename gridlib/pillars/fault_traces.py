@@ -2,7 +2,7 @@
 
 Shared by both front ends of the pillar engine, so that one :class:`FaultTrace`
 means the same on a corner-point deck (``horizons_to_grdecl``) and on an
-extruded areal grid (``gridlib.stratigraphic.extrude``):
+extruded areal grid (``gridlib.pillars.extrude``):
 
 * every cell (a column of the areal grid) is classified by its *centre*: the
   nearest point of the trace to the centre decides which side of the trace it
@@ -50,8 +50,8 @@ class FaultTrace:
 
     A trace should extend beyond the grid where the fault crosses it: an end
     point strictly inside the grid is a fault tip (see
-    :func:`~gridlib.cornerpoint.horizons.horizons_to_grdecl` and
-    :func:`~gridlib.stratigraphic.extrude.extrude`), an end point on or outside
+    :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl` and
+    :func:`~gridlib.pillars.extrude.extrude`), an end point on or outside
     it is not.
 
     >>> FaultTrace([(0.0, 0.0), (0.0, 100.0)], throw=5.0, name="F1").points.shape

@@ -1,4 +1,4 @@
-"""gridlib.stratigraphic.lateral.general_pieces: the face pieces of one pillar pair, exactly.
+"""gridlib.pillars.lateral.general_pieces: the face pieces of one pillar pair, exactly.
 
 One pair: pillar p1 at (0, 0), p2 at (1, 0), both vertical. Side A holds cell 0, side B cell 1,
 each one layer (k = 0). Node ids are pillar-major: those of p1 first, by depth, then p2's;
@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from gridlib.stratigraphic.lateral import SideCells, general_pieces
-from gridlib.stratigraphic.pillar_points import unique_points
+from gridlib.pillars.lateral import SideCells, general_pieces
+from gridlib.pillars.pillar_points import unique_points
 
 
 def pieces(z_p1, z_p2, ranks_a, ranks_b, reverse=False):

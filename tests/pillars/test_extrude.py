@@ -1,4 +1,4 @@
-"""2.5D extrusion through the pillar engine (gridlib.stratigraphic.columns / extrude): exact volumes
+"""2.5D extrusion through the pillar engine (gridlib.pillars.columns / extrude): exact volumes
 on several areal grids, make_layered_grid reproduced, equivalence with process_grdecl on corner-point
 decks (faults, pinch-outs, inactive cells, inclined pillars) and with horizons_to_grdecl's fault
 traces, the seed's peaks, faults on PEBI grids, pinch-outs, masks and bad input."""
@@ -12,12 +12,12 @@ import pytest
 
 import gridlib as gl
 from gridlib.connectivity import cell_faces_from_neighbors, half_face_signs
+from gridlib.cornerpoint.between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.generators import make_model3, simple_grdecl
-from gridlib.cornerpoint.horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.process import FAULT, PINCH
 from gridlib.grid import B, E, Faces, N, S, T, W
-from gridlib.stratigraphic.columns import areal_corners, extrude_columns
-from gridlib.stratigraphic.extrude import extrude
+from gridlib.pillars.columns import areal_corners, extrude_columns
+from gridlib.pillars.extrude import extrude
 
 
 def peaks(x: np.ndarray, y: np.ndarray) -> np.ndarray:

@@ -1,10 +1,10 @@
-"""gridlib.stratigraphic.pillar_points: distinct depths per pillar as node ids, exactly."""
+"""gridlib.pillars.pillar_points: distinct depths per pillar as node ids, exactly."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from gridlib.stratigraphic.pillar_points import (
+from gridlib.pillars.pillar_points import (
     depth_resolution,
     points_on_pillars,
     unique_points,

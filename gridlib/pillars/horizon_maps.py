@@ -29,7 +29,7 @@ class Horizon:
     ``(x[i], y[j])``) or 2-D meshgrid arrays of ``z``'s shape, with x varying
     along one axis and y along the other (MATLAB's ``meshgrid``/``peaks`` or
     ``ndgrid`` layout). The arrays are copied; they are checked by
-    :func:`~gridlib.cornerpoint.horizons.horizons_to_grdecl`, which can name the horizon at fault.
+    :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl`, which can name the horizon at fault.
     """
 
     x: NDArray[np.float64]

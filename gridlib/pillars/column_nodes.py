@@ -122,7 +122,7 @@ def number_points(
     do not decrease, the points are the reference's distinct depths in level
     order (distinct beyond the pillar's depth resolution). The other pillars
     number the depths of their used corners with
-    :func:`~gridlib.stratigraphic.pillar_points.unique_points`, which decides
+    :func:`~gridlib.pillars.pillar_points.unique_points`, which decides
     distinctness the same way. Unused corners of those get node -1. Node ids
     grow with depth along every pillar.
     """

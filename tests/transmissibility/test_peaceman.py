@@ -25,8 +25,8 @@ from gridlib.cornerpoint.process import process_grdecl
 from gridlib.errors import InputError
 from gridlib.io.grdecl import read_grdecl, write_grdecl
 from gridlib.transmissibility import deck_cell_extents, deck_well_index, transmissibility, well_index
-from gridlib.transmissibility.deck import rock_arrays
-from gridlib.transmissibility.wells import PEBI_RADIUS
+from gridlib.transmissibility.deck_connections import rock_arrays
+from gridlib.transmissibility.peaceman import PEBI_RADIUS
 from gridlib.units import FIELD, METRIC
 
 PROPS_2010 = PROPS_AND_SOLUTION.format(datum=2010, owc=2100)  # equilibrium: datum 2010 m, contact 2100 m
