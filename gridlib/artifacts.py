@@ -23,9 +23,8 @@ the case's name and ``{NAME}`` its OPM Flow deck's name (the name in upper case)
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
-from importlib import import_module
 from pathlib import Path
 from string import Formatter
 from typing import Any
@@ -90,9 +89,10 @@ class Artifact:
 @dataclass(frozen=True)
 class Stage:
     """One stage: its name (the Snakemake rule's, the log file's), its function (or the
-    ``"module:function"`` that names it, imported when the stage runs, so that the workflow's
-    parse and each job import only what they use), the keys of the artifacts it reads, the
-    artifacts it writes, which cases run it, and what a job of it asks for."""
+    ``"module:function"`` that names it, imported by :func:`gridlib.stages.run_stage` when the
+    stage runs, so that the workflow's parse and each job import only what they use), the keys
+    of the artifacts it reads, the artifacts it writes, which cases run it, and what a job of it
+    asks for."""
 
     name: str
     function: Callable[..., Any] | str
@@ -103,15 +103,6 @@ class Stage:
     threads: int = 1
     mem_mb: int = 4000
     doc: str = ""
-
-    def run(self, case: Case, paths: Mapping[str, Path]) -> Any:
-        """Call the stage function with ``case`` and ``paths`` (artifact key -> path) of the
-        inputs and outputs the case has."""
-        function = self.function
-        if isinstance(function, str):
-            module, _, name = function.partition(":")
-            function = getattr(import_module(module), name)
-        return function(case, **paths)
 
     def outputs_of(self, case: Case) -> tuple[Artifact, ...]:
         """The outputs ``case`` has (all of them where it runs the stage)."""

@@ -1,11 +1,12 @@
 """Imports named by strings obey the layering of the import contract, and every public name imports.
 
 import-linter (``lint-imports``, the contract in pyproject.toml) sees import statements only.
-gridlib names two kinds of imports as strings, imported on first use: the ``_EXPORTS`` tables
-of its packages (:func:`gridlib._lazy.lazy_exports`) and the ``"module:function"`` readers and
-writers of :data:`gridlib.io.registry.BUILTIN_FORMATS`. These tests resolve every such name
-and hold it to the contract's layers, read from pyproject.toml; and check that those two are
-the only places gridlib imports by name.
+gridlib names three kinds of imports as strings, imported on first use: the ``_EXPORTS`` tables
+of its packages (:func:`gridlib._lazy.lazy_exports`), the ``"module:function"`` readers and
+writers of :data:`gridlib.io.registry.BUILTIN_FORMATS`, and the stage functions of the artifact
+table :data:`gridlib.artifacts.STAGES` (imported by :mod:`gridlib.stages.pipeline`). These tests
+resolve every such name and hold it to the contract's layers, read from pyproject.toml; and
+check that those three are the only places gridlib imports by name.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from pathlib import Path
 import pytest
 
 import gridlib
+from gridlib.artifacts import STAGES
 from gridlib.io.registry import BUILTIN_FORMATS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -103,6 +105,10 @@ def string_named_imports() -> list[tuple[str, str, str]]:
             if isinstance(target, str):
                 imported, _, name = target.partition(":")
                 out.append(("gridlib.io.registry", imported, name))
+    for stage in STAGES:  # the artifact table's stage functions, imported by the pipeline
+        if isinstance(stage.function, str):
+            imported, _, name = stage.function.partition(":")
+            out.append(("gridlib.stages.pipeline", imported, name))
     return out
 
 
@@ -111,13 +117,13 @@ def _name(node: ast.AST) -> str | None:
     return node.id if isinstance(node, ast.Name) else node.attr if isinstance(node, ast.Attribute) else None
 
 
-def test_gridlib_imports_by_name_only_through_lazy_exports_and_the_format_registry():
+def test_gridlib_imports_by_name_only_through_lazy_exports_the_format_registry_and_the_pipeline():
     users = set()
     for module, path in _modules():
         tree = ast.parse(path.read_text(), str(path))
         if any(_name(node) in ("import_module", "__import__") for node in ast.walk(tree)):
             users.add(module)
-    assert users == {"gridlib._lazy", "gridlib.io.registry"}
+    assert users == {"gridlib._lazy", "gridlib.io.registry", "gridlib.stages.pipeline"}
     lazy_packages = {module for module, _ in _lazy_tables()}
     assert lazy_packages >= {"gridlib", "gridlib.io", "gridlib.case", "gridlib.stages"}
 

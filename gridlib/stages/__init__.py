@@ -35,7 +35,7 @@ _EXPORTS: dict[str, str] = {
     "stage_transmissibility": ".transmissibility",
 }
 
-__all__ = list(_EXPORTS)
+__all__ = sorted(_EXPORTS)
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -4,7 +4,8 @@ variant jobs run): the stages of :data:`gridlib.artifacts.STAGES` the case has."
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from importlib import import_module
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +33,7 @@ def run_case(case: Case | str | os.PathLike, folder: str | os.PathLike, simulate
             continue
         outputs = [a.key for a in stage.outputs_of(case)]
         keys = artifacts.stage_inputs(stage, case) + tuple(outputs)
-        stage.run(case, {key: paths[key] for key in keys})
+        stage_function(stage)(case, **{key: paths[key] for key in keys})
         written += [paths[key] for key in outputs]
     dropped = {paths[key] for key in artifacts.dropped(case)}  # outputs.stage_files: false
     for path in dropped:
@@ -52,4 +53,12 @@ def run_stage(name: str, case: Case | str | os.PathLike, paths: Mapping[str, str
     if stage is None:
         raise ValueError(f"no stage {name!r} (stages: {', '.join(s.name for s in artifacts.STAGES)})")
     keys = artifacts.stage_inputs(stage, case) + tuple(a.key for a in stage.outputs_of(case))
-    return stage.run(case, {key: Path(paths[key]) for key in keys if key in paths})
+    return stage_function(stage)(case, **{key: Path(paths[key]) for key in keys if key in paths})
+
+
+def stage_function(stage: artifacts.Stage) -> Callable[..., Any]:
+    """The function of ``stage``, imported where the table names it as ``"module:function"``."""
+    if not isinstance(stage.function, str):
+        return stage.function
+    module, _, name = stage.function.partition(":")
+    return getattr(import_module(module), name)
