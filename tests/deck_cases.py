@@ -13,11 +13,12 @@ from flow_tools import rest_of_deck
 from gridlib.config import load_case
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.io.grdecl import write_grdecl
+from gridlib.io.transmissibility_file import read_transmissibility
 from gridlib.stages.flow_deck import stage_flow_deck
 from gridlib.stages.geometry import stage_geometry
 from gridlib.stages.grid import stage_grid
 from gridlib.stages.petrophysics import stage_petrophysics
-from gridlib.stages.transmissibility import read_transmissibility, stage_transmissibility
+from gridlib.stages.transmissibility import stage_transmissibility
 
 DIMS = (6, 5, 4)  # nx even: the fault of simple_grdecl lies between columns 3 and 4
 SEED = 3

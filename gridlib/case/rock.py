@@ -20,6 +20,7 @@ Where the keys come from (:func:`case_rock`):
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import partial
 from typing import Any
 
@@ -162,3 +163,19 @@ def _rock_of_deck(case: Case, deck: Deck, grid) -> dict[str, np.ndarray]:
     out = {keyword: deck.cell_data[keyword][index] for keyword in ROCK_KEYWORDS if keyword in deck.cell_data}
     check_rock_values(out, deck.source, partial(cell_names, index_map=index, cart_dims=grid.cart_dims))
     return out
+
+
+def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: str) -> Deck:
+    """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
+    ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
+    leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
+    PORV, FLUXNUM, MULTNUM, ...), setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) and
+    EDIT operation (TRANX/TRANY/TRANZ, EDITNNC) stays as the deck gives it."""
+
+    def on_deck(values: np.ndarray) -> np.ndarray:
+        full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read
+        full[index] = values
+        return full
+
+    cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in ROCK_KEYWORDS.items()}}
+    return replace(deck, cell_data=cell_data, units=units)

@@ -13,14 +13,15 @@ from __future__ import annotations
 import os
 
 import numpy as np
-import xarray as xr
 
 from ..case.partition import case_partition
 from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_porosity
 from ..config import load_case
-from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_netcdf
-from .common import log, read_extra
-from .petrophysics import read_rock
+from ..io.coarse_file import write_coarse
+from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.netcdf_parts import read_extra
+from ..io.rock_file import read_rock
+from .common import log
 
 
 def stage_coarsen(
@@ -62,11 +63,5 @@ def stage_coarsen(
             cg, np.column_stack([rock["permx"], rock["permy"], rock["permz"]]), v, method
         )
         data |= {"permx": k[:, 0], "permy": k[:, 1], "permz": k[:, 2]}
-    extra = {
-        "partition": xr.DataArray(
-            cg.partition, dims=("fine_cell",), attrs={"long_name": "block of each fine cell"}
-        )
-    }
-    attrs = {**case.provenance(), "num_blocks": int(cg.num_blocks), "coarse_faces": int(cg.faces.num)}
-    write_netcdf(coarse_out, cg.grid, cell_data=data, extra=extra, attrs=attrs)
+    write_coarse(coarse_out, cg, data, case.provenance())
     log.info("wrote %s: %d blocks, %d coarse faces", coarse_out, cg.num_blocks, cg.faces.num)

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from ..case.rock import deck_with_rock
 from ..completions import vertical_well_cells
 from ..config import Case, load_case
 from ..cornerpoint.corners import corner_depths
@@ -52,12 +53,13 @@ from ..grid import Grid
 from ..io.flow import ConnectionGrid, FlowDeck, FlowWell, Simulation, write_flow_deck
 from ..io.grdecl import read_grdecl
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.netcdf_parts import check_same_cells, length_of, read_attrs, read_extra
+from ..io.rock_file import read_rock
+from ..io.transmissibility_file import CELL_VARS, CONNECTION_VARS, read_transmissibility
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
 from ..version import __version__
-from .common import artifact_paths, check_same_cells, length_of, log, read_attrs, read_extra
-from .petrophysics import read_rock
-from .transmissibility import CELL_VARS, CONNECTION_VARS, deck_with_rock, read_transmissibility
+from .common import artifact_paths, log
 
 WELL_RADIUS = 0.1  # m, the default well radius
 

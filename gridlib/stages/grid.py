@@ -34,11 +34,12 @@ from ..config import Case, load_case
 from ..errors import GridError, InputError
 from ..io.grdecl import write_grdecl
 from ..io.grdecl.edit import edit_section_contents
+from ..io.grid_nnc import nnc_variables
 from ..io.horizon_files import read_horizons
 from ..io.netcdf import write_netcdf
 from ..transmissibility.region_multipliers import with_explicit_region_sets
 from ..units import unit_system
-from .common import log, nnc_variables
+from .common import log
 
 
 def grid_unit_system(built: CaseGrid) -> str:

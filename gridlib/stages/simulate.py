@@ -38,9 +38,9 @@ from ..io.atomic import atomic_path
 from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_restart_cells, read_summary
 from ..io.netcdf import read_netcdf
 from ..io.pictures import save_figure
+from ..io.transmissibility_file import read_transmissibility
 from ..io.vtu import write_vtu
 from .common import log
-from .transmissibility import read_transmissibility
 
 FLOW_OUTPUTS = (".PRT", ".DBG", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST", ".INFOSTEP")
 FIELD_FIGURES = ("FOPT", "FWPT", "FWIT", "FOIP", "FWIP", "FPR", "FWCT")
