@@ -42,7 +42,16 @@ from typing import Any
 
 import yaml
 
-from .config import Case, check_case_data, load_named, parse_yaml, shared_schema, validate, with_deck_rock
+from .config import (
+    Case,
+    check_case_data,
+    load_named,
+    parse_yaml,
+    shared_schema,
+    validate,
+    with_deck_rock,
+    with_defaults,
+)
 from .errors import InputError
 from .io.atomic import atomic_path
 
@@ -264,8 +273,10 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)
             where = folder / f"{name}.yaml"
-            # unchecked, the variant still needs the section its deck implies (rock): same artifacts
-            checked = _check_variant(data, where, p, keys, name) if check else with_deck_rock(data, where)
+            if check:
+                checked = _check_variant(data, where, p, keys, name)
+            else:  # unchecked, the variant still needs its defaults and the section its deck implies
+                checked = with_deck_rock(with_defaults(data), where)
             variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
     kinds = {v.artifacts for v in variants}
     if len(kinds) > 1:
@@ -287,14 +298,14 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
 
 
 def artifacts_of(data: dict[str, Any]) -> tuple[str, ...]:
-    """The artifacts a case with (validated) ``data`` has, as named by
+    """The artifacts a case with (validated, defaults filled in) ``data`` has, as named by
     :func:`gridlib.stages.case_outputs` (``flow``: the folder of its OPM Flow deck)."""
     case = Case(name=data["name"], path=Path(f"{data['name']}.yaml"), sha256="", data=data)
     names = ["horizons"] if case.has_horizons else []
     names += ["grid"] + (["grdecl"] if case.writes_grdecl else []) + ["geometry"]
     names += ["petrophysics"] if case.has_petrophysics else []
     names += ["coarse"] if case.has_coarsening else []
-    names += ["transmissibility"] if case.has_petrophysics else []
+    names += ["transmissibility"] if case.has_transmissibility else []
     names = [n for n in names if n not in case.dropped_artifacts]
     names += ["nc"] + (["vtu"] if case.writes_vtu else []) + ["faults", "png", "histograms", "summary"]
     names += ["flow"] if case.writes_flow_deck else []

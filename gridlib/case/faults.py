@@ -22,6 +22,6 @@ def fault_traces(case: Case) -> list[FaultTrace]:
             value: Any = lambda s, a=start, b=end: a + (b - a) * np.asarray(s)  # noqa: E731
         else:
             value = float(throw)
-        side = spec.get("side", "right")
+        side = spec["side"]
         traces.append(FaultTrace(spec["trace"], throw=value, name=spec["name"], side=side))
     return traces

@@ -94,6 +94,12 @@ def _property(case: Case, spec: dict[str, Any], what: str, kind: str, ctx: dict[
     return normal_porosity(z, mean=0.2 if mean is None else mean, std=std, bounds=bounds)
 
 
+def case_rock_keys(case: Case) -> tuple[str, ...]:
+    """The keys the case's ``petrophysics`` section gives (porosity, permeability, kv_kh, ntg,
+    dz_ref): a deck case's rock is its deck's but for these."""
+    return tuple(case.data.get("petrophysics") or {})
+
+
 def case_rock(case: Case, grid, geometry) -> Rock:
     """The case's Rock on ``grid`` (with its geometry for the depositional coordinates)."""
     return case_rock_with_sources(case, grid, geometry)[0]

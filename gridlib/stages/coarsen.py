@@ -14,7 +14,7 @@ import os
 
 import numpy as np
 
-from ..case.partition import case_partition
+from ..case.partition import case_coarsening, case_partition
 from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_porosity
 from ..config import load_case
 from ..io.coarse_file import write_coarse
@@ -38,7 +38,8 @@ def stage_coarsen(
     rock = read_rock(petrophysics_nc) if petrophysics_nc else None
     # METIS needs only the cell volumes: the rest of the geometry is read after it, so that the
     # two never meet at the peak of memory.
-    uniform = case.data["coarsen"]["method"] == "uniform"
+    coarsening = case_coarsening(case)
+    uniform = coarsening.method == "uniform"
     geo = read_geometry_netcdf(geometry_nc) if uniform else None
     volumes = (
         geo.cell_volumes if geo is not None else read_extra(geometry_nc, ("cell_volume",))["cell_volume"]
@@ -55,7 +56,7 @@ def stage_coarsen(
         v = stored.cell_data.get("bulk_volume", geo.cell_volumes)
         data["poro"] = upscale_porosity(cg, rock["poro"], v)
         data["ntg"] = upscale_ntg(cg, rock["ntg"], v)
-        method = case.data["coarsen"].get("permeability", "harmonic-arithmetic")
+        method = coarsening.permeability
         if method == "harmonic-arithmetic" and cg.fine_ijk is None:
             method = "arithmetic"  # harmonic-arithmetic needs logical indices (see upscale_permeability)
             log.info("harmonic-arithmetic needs logical indices: arithmetic averages used")

@@ -263,7 +263,7 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
     grid, geo, rock = g.grid, g.geo, g.rock
     summary: dict[str, Any] = {
         "case": case.name,
-        "grid_type": case.data["grid"]["type"],
+        "grid_type": case.grid_type,
         "griddim": grid.griddim,
         "cells": grid.num_cells,
         "faces": grid.num_faces,

@@ -54,7 +54,7 @@ def checked(case: Case, built: CaseGrid) -> CaseGrid:
     case, :func:`~gridlib.checks.check_deck_grid`: its degenerate cells named in the notes and
     flagged in the cell data ``degenerate``; anything broken raises an InputError naming the
     case and the deck."""
-    if case.data["grid"]["type"] != "deck":
+    if case.grid_type != "deck":
         check_grid(built.grid)
         return built
     source = built.deck.source if built.deck is not None else "the deck"

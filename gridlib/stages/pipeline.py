@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ..config import has_transmissibility, load_case
+from ..config import load_case
 from .coarsen import stage_coarsen
 from .common import artifact_paths
 from .export import stage_export
@@ -64,7 +64,7 @@ def run_case(case_file: str | os.PathLike, folder: str | os.PathLike, simulate: 
         stage_coarsen(case_file, out["grid"], out["geometry"], petro, coarse)
         written.append(coarse)
     trans = None
-    if has_transmissibility(case):
+    if case.has_transmissibility:
         trans = out["transmissibility"]
         stage_transmissibility(case_file, out["grid"], out["geometry"], petro, trans, grdecl)
         written.append(trans)

@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from ..case.simulation import case_simulation
 from ..config import load_case
 from ..errors import InputError
 from ..io.atomic import atomic_path
@@ -100,7 +101,7 @@ def stage_simulate(
         raise InputError(f"{case.path}: simulation: the deck {deck} is missing (run the export first)")
     if not case.has_simulation:
         raise InputError(f"{case.path}: simulation: the case has no simulation section (nothing to run)")
-    days = list(case.data["simulation"]["report_days"])
+    days = list(case_simulation(case).report_days)
     name = deck.stem
     try:
         flow_command()

@@ -53,7 +53,7 @@ from typing import Any
 
 import numpy as np
 
-from ..case.rock import deck_with_rock
+from ..case.rock import case_rock_keys, deck_with_rock
 from ..config import Case, load_case
 from ..cornerpoint.pore_volume import pore_volumes
 from ..cornerpoint.process import CornerPointGrid
@@ -97,9 +97,7 @@ def stage_transmissibility(
     system = unit_system(str(attrs["unit_system"]))
     if case.writes_grdecl:
         if grdecl is None:
-            raise InputError(
-                f"{case.path}: grid: a {case.data['grid']['type']} grid's T need its grid.grdecl"
-            )
+            raise InputError(f"{case.path}: grid: a {case.grid_type} grid's T need its grid.grdecl")
         conn, porv, method = _deck_case(case, grid_nc, stored, attrs, rock, Path(grdecl), system)
         flow_index, flow_dims = grid.cells.index_map, tuple(grid.cart_dims)
     else:  # a deck's T need no geometry of ours; any other grid's need all of it
@@ -181,7 +179,7 @@ def _porv_notes(case: Case, porv: np.ndarray) -> list[str]:
     the pore volumes, and to the case's porosity or net-to-gross there: nothing (PORV wins)."""
     given = int((~np.isnan(porv)).sum())
     notes = [f"pore volumes: the PORV of the deck's EDIT section in {given} of {porv.size} grid cells"]
-    keys = [k for k in ("porosity", "ntg") if k in case.data.get("petrophysics", {})]
+    keys = [k for k in ("porosity", "ntg") if k in case_rock_keys(case)]
     if keys and given:
         named = " and ".join(f"petrophysics.{k}" for k in keys)
         verb = "leave" if len(keys) > 1 else "leaves"
@@ -211,7 +209,7 @@ def _grid_case(
     perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, :d]
     ntg = None if (rock["ntg"] == 1.0).all() else rock["ntg"]
     centres, what, distance = None, "centroids", "centroid"
-    if case.data["grid"]["type"] == "pebi":
+    if case.grid_type == "pebi":
         site = stored.cell_data.get("site")
         if site is None or site.shape != (grid.num_cells, 2):
             raise InputError(

@@ -16,7 +16,6 @@ from snakemake.utils import validate
 from gridlib.config import load_cases
 from gridlib.config import validate as check_schema
 from gridlib.errors import InputError
-from gridlib.config import has_transmissibility
 from gridlib.study import load_studies, materialise
 
 
@@ -277,7 +276,7 @@ def all_outputs():
         ]
         if case.writes_grdecl and (case.keeps_stage_files or not case.writes_flow_deck):
             files.append(out("grdecl").format(case=name))
-        if has_transmissibility(case) and case.keeps_stage_files:
+        if case.has_transmissibility and case.keeps_stage_files:
             files.append(out("transmissibility").format(case=name))
         if case.writes_flow_deck:
             files.append(f"{RESULTS}/{name}/flow/{case.flow_name}.DATA")

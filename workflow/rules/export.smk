@@ -3,7 +3,7 @@ rule export:
     input:
         unpack(optional("petrophysics", lambda c: c.has_petrophysics)),
         unpack(optional("coarse", lambda c: c.has_coarsening)),
-        unpack(optional("transmissibility", has_transmissibility)),
+        unpack(optional("transmissibility", lambda c: c.has_transmissibility)),
         case=case_file,
         grid=out("grid"),
         geometry=out("geometry"),

@@ -13,7 +13,7 @@ rule transmissibility:
     benchmark:
         f"{RESULTS}/benchmarks/{{case}}/transmissibility.tsv"
     wildcard_constraints:
-        case=stage_cases(has_transmissibility, True),
+        case=stage_cases(lambda c: c.has_transmissibility, True),
     conda:
         "../envs/gridlib.yaml"
     threads: 1
@@ -27,4 +27,4 @@ use rule transmissibility as transmissibility_temp with:
     output:
         transmissibility=temp(out("transmissibility")),
     wildcard_constraints:
-        case=stage_cases(has_transmissibility, False),
+        case=stage_cases(lambda c: c.has_transmissibility, False),
