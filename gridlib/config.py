@@ -377,7 +377,7 @@ def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
         if not data.get("faults"):
             return "horizons.per_fault_block: needs faults (their traces cut the area into blocks)"
         for k, fault in enumerate(data["faults"]):
-            if fault.get("throw", 0) != 0:
+            if fault["throw"] != 0:
                 return (
                     f"faults[{k}].throw: with horizons.per_fault_block the offset is in the picks; "
                     f"fault '{fault['name']}' must not have a throw as well"

@@ -136,7 +136,7 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
         padding=spec.get("padding"),
     )
     specs = case.data.get("faults", [])
-    moving = [t for t, f in zip(traces, specs, strict=True) if f.get("throw", 0.0) != 0.0]
+    moving = [t for t, f in zip(traces, specs, strict=True) if f["throw"] != 0.0]
     r = extrude(areal.grid, hz, spec["layers"], moving, centres=areal.sites)
     grid, names = _one_tag_per_fault(r.grid, r.fault_names, areal.fault_names)
     column = grid.layering.column
