@@ -29,7 +29,7 @@ from pathlib import Path
 from string import Formatter
 from typing import Any
 
-from .config import Case, has_transmissibility
+from .config import Case
 
 CasePredicate = Callable[[Case], bool]
 
@@ -160,7 +160,7 @@ STAGES: tuple[Stage, ...] = (
         "gridlib.stages.transmissibility:stage_transmissibility",
         ("grid", "grdecl", "geometry", "petrophysics"),
         (Artifact("transmissibility", "transmissibility.nc", **STAGE_FILE),),
-        when=has_transmissibility,
+        when=lambda case: case.has_transmissibility,
         doc="Connections (cell pairs, T, kind, face), pore volumes and the simulator's cell index.",
     ),
     Stage(

@@ -54,7 +54,12 @@ class Case:
 
     @property
     def seed(self) -> int:
-        return int(self.data.get("seed", 0))
+        return int(self.data["seed"])
+
+    @property
+    def grid_type(self) -> str:
+        """``grid.type``: cartesian, tensor, layered, cornerpoint, pebi or deck."""
+        return self.data["grid"]["type"]
 
     @property
     def has_horizons(self) -> bool:
@@ -63,7 +68,7 @@ class Case:
     @property
     def writes_grdecl(self) -> bool:
         """Corner-point and deck grids are also written as GRDECL for simulators."""
-        return self.data["grid"]["type"] in ("cornerpoint", "deck")
+        return self.grid_type in ("cornerpoint", "deck")
 
     @property
     def has_petrophysics(self) -> bool:
@@ -76,14 +81,19 @@ class Case:
         return "coarsen" in self.data
 
     @property
+    def has_transmissibility(self) -> bool:
+        """The transmissibility stage runs: it needs the case's rock properties."""
+        return self.has_petrophysics
+
+    @property
     def keeps_stage_files(self) -> bool:
         """``outputs.stage_files``: the per-stage netCDF files stay beside ``{case}.nc``."""
-        return bool(self.data.get("outputs", {}).get("stage_files", True))
+        return bool(self.data["outputs"]["stage_files"])
 
     @property
     def writes_vtu(self) -> bool:
         """``outputs.vtu``: the grid with its cell data as ``{case}.vtu``."""
-        return bool(self.data.get("outputs", {}).get("vtu", True))
+        return bool(self.data["outputs"]["vtu"])
 
     @property
     def is_3d(self) -> bool:
@@ -121,12 +131,6 @@ class Case:
         }
 
 
-def has_transmissibility(case: Case) -> bool:
-    """Whether the transmissibility stage runs for ``case``: it needs the case's rock properties
-    (here, not in gridlib.stages.transmissibility, so that the workflow's parse imports little)."""
-    return case.has_petrophysics
-
-
 def _key_path(error: jsonschema.ValidationError) -> str:
     parts = []
     for p in error.absolute_path:
@@ -156,11 +160,30 @@ def validate(data: Any, schema: dict[str, Any], source: str) -> None:
     raise InputError(f"{source}: {_key_path(chosen)}: {_describe(chosen)}")
 
 
+def with_defaults(data: dict[str, Any]) -> dict[str, Any]:
+    """A copy of a case's ``data`` with the schema's defaults filled in (as :func:`load_case`
+    does after validating it)."""
+    schema = shared_schema(SCHEMA_FILE)
+    return _fill_defaults(copy.deepcopy(data), schema, schema)
+
+
+def section_defaults(name: str) -> dict[str, Any]:
+    """A section of the case schema (``$defs``: ``simulation``, ``coarsen``, ...) as its
+    defaults alone fill it: what a case without the section means."""
+    schema = shared_schema(SCHEMA_FILE)
+    return _fill_defaults({}, schema["$defs"][name], schema)
+
+
 def _fill_defaults(data: Any, schema: dict[str, Any], root: dict[str, Any]) -> Any:
-    """Fill ``default`` values of object properties (following $ref, allOf/if/then)."""
+    """Fill ``default`` values of object properties, also in the items of arrays (following
+    $ref, allOf/if/then)."""
     if "$ref" in schema:
         ref = schema["$ref"].split("/")[-1]
         schema = {**root["$defs"][ref], **{k: v for k, v in schema.items() if k != "$ref"}}
+    if isinstance(data, list) and isinstance(schema.get("items"), dict):
+        for item in data:
+            _fill_defaults(item, schema["items"], root)
+        return data
     if not isinstance(data, dict):
         return data
     for key, sub in schema.get("properties", {}).items():
@@ -209,7 +232,7 @@ def check_case_data(data: dict[str, Any], path: Path, source: str) -> dict[str, 
     validate(data, schema, source)
     if data["name"] != path.stem:
         raise InputError(f"{source}: name: '{data['name']}' must equal the file name '{path.stem}'")
-    data = _fill_defaults(copy.deepcopy(data), schema, schema)
+    data = with_defaults(data)
     try:
         data = with_deck_rock(data, path)
     except InputError as exc:
@@ -234,7 +257,7 @@ def with_deck_rock(data: dict[str, Any], path: Path) -> dict[str, Any]:
     deck = path.parent / grid["file"]
     if not deck.is_file():
         return data  # _consistency_problem names the missing file
-    if not set(DECK_ROCK) <= deck_cell_keywords(deck, grid.get("unknown_keywords", "error")):
+    if not set(DECK_ROCK) <= deck_cell_keywords(deck, grid["unknown_keywords"]):
         return data
     return {**data, "petrophysics": {}}
 
@@ -338,13 +361,13 @@ def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
         layers = grid.get("layers")
         if kind in ("cornerpoint", "pebi") and isinstance(layers, list) and len(layers) != zones:
             return f"grid.layers: {len(layers)} values for {zones} zones (one per pair of horizons)"
-    if horizons is not None and horizons.get("per_fault_block"):
+    if horizons is not None and horizons["per_fault_block"]:
         if kind != "cornerpoint":
             return f"horizons.per_fault_block: supported for cornerpoint grids (grid.type is {kind})"
         if not data.get("faults"):
             return "horizons.per_fault_block: needs faults (their traces cut the area into blocks)"
         for k, fault in enumerate(data["faults"]):
-            if fault.get("throw", 0) != 0:
+            if fault["throw"] != 0:
                 return (
                     f"faults[{k}].throw: with horizons.per_fault_block the offset is in the picks; "
                     f"fault '{fault['name']}' must not have a throw as well"

@@ -43,7 +43,16 @@ from typing import Any
 import yaml
 
 from .artifacts import case_artifacts
-from .config import Case, check_case_data, load_named, parse_yaml, shared_schema, validate, with_deck_rock
+from .config import (
+    Case,
+    check_case_data,
+    load_named,
+    parse_yaml,
+    shared_schema,
+    validate,
+    with_deck_rock,
+    with_defaults,
+)
 from .errors import InputError
 from .io.atomic import atomic_path
 
@@ -265,8 +274,10 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)
             where = folder / f"{name}.yaml"
-            # unchecked, the variant still needs the section its deck implies (rock): same artifacts
-            checked = _check_variant(data, where, p, keys, name) if check else with_deck_rock(data, where)
+            if check:
+                checked = _check_variant(data, where, p, keys, name)
+            else:  # unchecked, the variant still needs its defaults and the section its deck implies
+                checked = with_deck_rock(with_defaults(data), where)
             variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
     kinds = {v.artifacts for v in variants}
     if len(kinds) > 1:
@@ -288,7 +299,7 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
 
 
 def artifacts_of(data: dict[str, Any]) -> tuple[str, ...]:
-    """The keys of the artifacts a case with (validated) ``data`` keeps
+    """The keys of the artifacts a case with (validated, defaults filled in) ``data`` keeps
     (:func:`gridlib.artifacts.case_artifacts`; ``flow``: the folder of its OPM Flow deck)."""
     case = Case(name=data["name"], path=Path(f"{data['name']}.yaml"), sha256="", data=data)
     kept = [a.key for a in case_artifacts(case) if not a.temporary(case)]

@@ -13,8 +13,8 @@ from flow_tools import rest_of_deck
 from gridlib.config import load_case
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.io.grdecl import write_grdecl
+from gridlib.io.transmissibility_file import read_transmissibility
 from gridlib.stages import run_stage
-from gridlib.stages.transmissibility import read_transmissibility
 
 DIMS = (6, 5, 4)  # nx even: the fault of simple_grdecl lies between columns 3 and 4
 SEED = 3

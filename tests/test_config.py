@@ -47,6 +47,22 @@ def test_defaults_are_filled_in(tmp_path):
     assert case.data["seed"] == 0 and case.data["grid"]["twist"] == 0
 
 
+def test_defaults_fill_absent_sections_and_the_items_of_lists(tmp_path):
+    """The schema's defaults are the only defaults: an absent ``outputs`` section gets its
+    keys' defaults, and each fault (an item of a list) its ``throw`` and ``side``."""
+    faults = [
+        "  - {name: F, trace: [[0.5, 0], [0.5, 2]]}",
+        "  - {name: G, trace: [[0, 1], [2, 1]], side: left, throw: 3}",
+    ]
+    text = CARTESIAN + "faults:\n" + "\n".join(faults) + "\n"
+    case = load_case(_write(tmp_path, "c", text))
+    assert case.data["outputs"] == {"stage_files": True, "vtu": True}
+    assert case.keeps_stage_files and case.writes_vtu
+    first, second = case.data["faults"]
+    assert (first["throw"], first["side"]) == (0, "right")
+    assert (second["throw"], second["side"]) == (3, "left")
+
+
 CARTESIAN = "name: c\ngrid: {type: cartesian, dims: [2, 2]}\n"
 BAD_CASES = [
     (

@@ -244,3 +244,23 @@ def test_a_good_simulation_section_gets_its_defaults(tmp_path):
     no_rock = Path(tmp_path / "norock.yaml")
     no_rock.write_text(path.read_text().replace("name: sim", "name: norock").split("petrophysics:")[0] + "\n")
     assert not load_case(no_rock).writes_flow_deck
+
+
+def test_the_simulation_section_as_typed_objects(tmp_path):
+    """case_simulation: the section with the case's well points, what the case leaves to the
+    model as None, the schema's skin; a case without the section simulates nothing."""
+    from gridlib.case.simulation import CaseSimulation, InitialState, SimulatedWell, case_simulation
+
+    path = tmp_path / "sim.yaml"
+    path.write_text(CASE.format(name="sim", inj="[200, 400]", prod="PROD", days="[30, 60]"))
+    sim = case_simulation(load_case(path))
+    injector = SimulatedWell("INJ", "injector", (200.0, 400.0), 100.0, None, None, 0.0, "simulation.wells[0]")
+    producer = SimulatedWell(
+        "PROD", "producer", (800.0, 400.0), None, 100.0, None, 0.0, "simulation.wells[1]"
+    )
+    assert sim == CaseSimulation(
+        "oil-water", InitialState(pressure=150.0), (injector, producer), (30.0, 60.0)
+    )
+    bare = tmp_path / "bare.yaml"
+    bare.write_text(path.read_text().replace("name: sim", "name: bare").split("simulation:")[0])
+    assert case_simulation(load_case(bare)) == CaseSimulation("oil-water", InitialState(), (), ())

@@ -35,7 +35,7 @@ def read_case_deck(case: Case) -> Deck:
     path = deck_path(case)
     if find_format(path, "deck").name != "grdecl":
         return read(path, kind="deck")
-    deck = read(path, kind="deck", unknown_keywords=case.data["grid"].get("unknown_keywords", "error"))
+    deck = read(path, kind="deck", unknown_keywords=case.data["grid"]["unknown_keywords"])
     return _grid_arrays(deck)
 
 

@@ -16,12 +16,12 @@ def fault_traces(case: Case) -> list[FaultTrace]:
     """The case's faults as FaultTraces (throw in m; 0 where none is given)."""
     traces = []
     for spec in case.data.get("faults", []):
-        throw = spec.get("throw", 0.0)
+        throw = spec["throw"]
         if isinstance(throw, dict):
             start, end = float(throw["start"]), float(throw["end"])
             value: Any = lambda s, a=start, b=end: a + (b - a) * np.asarray(s)  # noqa: E731
         else:
             value = float(throw)
-        side = spec.get("side", "right")
+        side = spec["side"]
         traces.append(FaultTrace(spec["trace"], throw=value, name=spec["name"], side=side))
     return traces

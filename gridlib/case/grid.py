@@ -95,7 +95,7 @@ def _horizon_list(case: Case, horizons):
 
 def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     by_block = block_horizons(horizons) if horizons is not None else None
-    ordering = case.data["horizons"].get("ordering", "error")
+    ordering = case.data["horizons"]["ordering"]
     if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
         stacks, blocks = by_block
         deck = horizons_to_grdecl_by_block(
@@ -106,7 +106,7 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
             _horizon_list(case, horizons), spec["dims"], spec["layers"], fault_traces(case)
         )
     deck = replace(deck, source=f"{case.path} (horizons_to_grdecl)")
-    return _processed(deck, spec.get("tolerance", 0.0))
+    return _processed(deck, spec["tolerance"])
 
 
 def _processed(deck: Deck, tolerance: float, pinch: bool = False) -> CaseGrid:
@@ -132,11 +132,11 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
         spec["cell_size"],
         faults,
         pebi_wells(case),
-        pattern=spec.get("pattern", "hexagonal"),
+        pattern=spec["pattern"],
         padding=spec.get("padding"),
     )
     specs = case.data.get("faults", [])
-    moving = [t for t, f in zip(traces, specs, strict=True) if f.get("throw", 0.0) != 0.0]
+    moving = [t for t, f in zip(traces, specs, strict=True) if f["throw"] != 0.0]
     r = extrude(areal.grid, hz, spec["layers"], moving, centres=areal.sites)
     grid, names = _one_tag_per_fault(r.grid, r.fault_names, areal.fault_names)
     column = grid.layering.column
@@ -173,4 +173,4 @@ def _one_tag_per_fault(grid: Grid, names: tuple[str, ...], areal_names: tuple[st
 
 
 def _deck(case: Case, spec: dict[str, Any]) -> CaseGrid:
-    return _processed(read_case_deck(case), spec.get("tolerance", 0.0), spec.get("pinch", False))
+    return _processed(read_case_deck(case), spec["tolerance"], spec["pinch"])

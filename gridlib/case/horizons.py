@@ -18,9 +18,9 @@ def case_horizons(case: Case):
             specs,
             x,
             y,
-            ordering=spec.get("ordering", "error"),
-            faults=[f["trace"] for f in case.data.get("faults", [])] if spec.get("per_fault_block") else (),
-            per_block=bool(spec.get("per_fault_block", False)),
+            ordering=spec["ordering"],
+            faults=[f["trace"] for f in case.data.get("faults", [])] if spec["per_fault_block"] else (),
+            per_block=bool(spec["per_fault_block"]),
             base_dir=case.path.parent,
             attrs=case.provenance(),
         )

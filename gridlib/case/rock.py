@@ -20,6 +20,7 @@ Where the keys come from (:func:`case_rock`):
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import partial
 from typing import Any
 
@@ -93,6 +94,12 @@ def _property(case: Case, spec: dict[str, Any], what: str, kind: str, ctx: dict[
     return normal_porosity(z, mean=0.2 if mean is None else mean, std=std, bounds=bounds)
 
 
+def case_rock_keys(case: Case) -> tuple[str, ...]:
+    """The keys the case's ``petrophysics`` section gives (porosity, permeability, kv_kh, ntg,
+    dz_ref): a deck case's rock is its deck's but for these."""
+    return tuple(case.data.get("petrophysics") or {})
+
+
 def case_rock(case: Case, grid, geometry) -> Rock:
     """The case's Rock on ``grid`` (with its geometry for the depositional coordinates)."""
     return case_rock_with_sources(case, grid, geometry)[0]
@@ -162,3 +169,19 @@ def _rock_of_deck(case: Case, deck: Deck, grid) -> dict[str, np.ndarray]:
     out = {keyword: deck.cell_data[keyword][index] for keyword in ROCK_KEYWORDS if keyword in deck.cell_data}
     check_rock_values(out, deck.source, partial(cell_names, index_map=index, cart_dims=grid.cart_dims))
     return out
+
+
+def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: str) -> Deck:
+    """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
+    ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
+    leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
+    PORV, FLUXNUM, MULTNUM, ...), setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) and
+    EDIT operation (TRANX/TRANY/TRANZ, EDITNNC) stays as the deck gives it."""
+
+    def on_deck(values: np.ndarray) -> np.ndarray:
+        full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read
+        full[index] = values
+        return full
+
+    cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in ROCK_KEYWORDS.items()}}
+    return replace(deck, cell_data=cell_data, units=units)

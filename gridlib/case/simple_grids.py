@@ -25,7 +25,7 @@ def _grid_from_spec(spec: dict[str, Any]) -> Grid:
     if kind == "cartesian":
         dims = spec["dims"]
         g = cart_grid(dims, spec.get("lengths"))
-        if spec.get("twist", 0):
+        if spec["twist"]:
             g = twister(g, spec["twist"])
         if spec.get("origin") is not None:
             if len(spec["origin"]) != len(dims):
@@ -39,7 +39,7 @@ def _grid_from_spec(spec: dict[str, Any]) -> Grid:
     areal = pebi(triangle_grid(sites))
     layers = spec["layers"]
     thickness = layers.get("thickness") or [1.0] * int(layers["num_layers"])
-    top = float(layers.get("top", 0.0))
+    top = float(layers["top"])
     depths = top + np.concatenate([[0.0], np.cumsum(thickness)])
     return make_layered_grid(areal, depths=depths)
 

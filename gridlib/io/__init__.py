@@ -14,6 +14,13 @@ suffix, and an unknown suffix is one InputError naming the file:
 * ``horizons``: horizons datasets (``.nc``; :mod:`.horizon_files`);
 * ``cube``: property cubes (``.nc``; :mod:`.cube_files`).
 
+The stage files of a case's results folder, one module each: ``grid.nc`` and ``geometry.nc``
+(:mod:`.netcdf`; the grid's NNC list :mod:`.grid_nnc`), ``horizons.nc`` (:mod:`.horizon_files`),
+``petrophysics.nc`` (:mod:`.rock_file`), ``coarse.nc`` (:mod:`.coarse_file`),
+``transmissibility.nc`` (:mod:`.transmissibility_file`); parts of any of them read alone, and
+the check that files read together describe one grid: :mod:`.netcdf_parts`; the table of every
+case's summary, ``summary.csv``: :mod:`.summary_table`.
+
 The per-format functions are also importable directly. OPM Flow decks, which are folders of
 files rather than one file: :func:`write_flow_deck` (:mod:`gridlib.io.flow`); the fault faces
 as VTK PolyData: :mod:`.vtp`; pictures: :mod:`.pictures`; every writer writes atomically

@@ -42,6 +42,7 @@ from ..errors import GridError, InputError
 from ..geometry import Geometry, compute_geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
 from .datasets import load_dataset, save_dataset
+from .netcdf_parts import read_extra
 
 _AXES = ("x", "y", "z")
 
@@ -419,3 +420,24 @@ def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:
     if missing:
         raise InputError(f"{path}: not a gridlib geometry file (missing {', '.join(missing)})")
     return _geometry_from(ds)
+
+
+def read_cell_geometry(path: str | os.PathLike) -> Geometry:
+    """What the exports use of a geometry file: cell volumes and centroids and face areas
+    (and cell normals where stored), read alone; the face normals and centroids (most of the
+    file) are left empty: they are not written to ``{case}.nc`` (its readers recompute them
+    from the grid)."""
+    arrays = read_extra(path, ("cell_volume", "cell_centroid", "face_area", "cell_normal"))
+    missing = [n for n in ("cell_volume", "cell_centroid", "face_area") if n not in arrays]
+    if missing:
+        raise InputError(f"{path}: not a gridlib geometry file (missing {', '.join(missing)})")
+    d = arrays["cell_centroid"].shape[1]
+    empty = np.zeros((0, d))
+    return Geometry(
+        arrays["cell_volume"],
+        arrays["cell_centroid"],
+        arrays["face_area"],
+        empty,
+        empty,
+        arrays.get("cell_normal"),
+    )

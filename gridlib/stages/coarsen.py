@@ -13,14 +13,15 @@ from __future__ import annotations
 import os
 
 import numpy as np
-import xarray as xr
 
-from ..case.partition import case_partition
+from ..case.partition import case_coarsening, case_partition
 from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_porosity
 from ..config import Case
-from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_netcdf
-from .common import log, read_extra
-from .petrophysics import read_rock
+from ..io.coarse_file import write_coarse
+from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.netcdf_parts import read_extra
+from ..io.rock_file import read_rock
+from .common import log
 
 
 def stage_coarsen(
@@ -38,7 +39,8 @@ def stage_coarsen(
     rock = read_rock(petrophysics) if petrophysics else None
     # METIS needs only the cell volumes: the rest of the geometry is read after it, so that the
     # two never meet at the peak of memory.
-    uniform = case.data["coarsen"]["method"] == "uniform"
+    coarsening = case_coarsening(case)
+    uniform = coarsening.method == "uniform"
     geo = read_geometry_netcdf(geometry) if uniform else None
     volumes = geo.cell_volumes if geo is not None else read_extra(geometry, ("cell_volume",))["cell_volume"]
     partition = case_partition(case, mesh, rock, cell_volumes=volumes, geometry=geo)
@@ -53,7 +55,7 @@ def stage_coarsen(
         v = stored.cell_data.get("bulk_volume", geo.cell_volumes)
         data["poro"] = upscale_porosity(cg, rock["poro"], v)
         data["ntg"] = upscale_ntg(cg, rock["ntg"], v)
-        method = case.data["coarsen"].get("permeability", "harmonic-arithmetic")
+        method = coarsening.permeability
         if method == "harmonic-arithmetic" and cg.fine_ijk is None:
             method = "arithmetic"  # harmonic-arithmetic needs logical indices (see upscale_permeability)
             log.info("harmonic-arithmetic needs logical indices: arithmetic averages used")
@@ -61,11 +63,5 @@ def stage_coarsen(
             cg, np.column_stack([rock["permx"], rock["permy"], rock["permz"]]), v, method
         )
         data |= {"permx": k[:, 0], "permy": k[:, 1], "permz": k[:, 2]}
-    extra = {
-        "partition": xr.DataArray(
-            cg.partition, dims=("fine_cell",), attrs={"long_name": "block of each fine cell"}
-        )
-    }
-    attrs = {**case.provenance(), "num_blocks": int(cg.num_blocks), "coarse_faces": int(cg.faces.num)}
-    write_netcdf(coarse, cg.grid, cell_data=data, extra=extra, attrs=attrs)
+    write_coarse(coarse, cg, data, case.provenance())
     log.info("wrote %s: %d blocks, %d coarse faces", coarse, cg.num_blocks, cg.faces.num)

@@ -39,29 +39,21 @@ import numpy as np
 
 from ..cell_names import ijk
 from ..config import Case
-from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.atomic import atomic_path
-from ..io.netcdf import GridDataset, read_netcdf, write_netcdf
+from ..io.coarse_file import read_partition
+from ..io.grid_nnc import nnc_variables, read_nnc
+from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netcdf
+from ..io.netcdf_parts import check_same_cells, read_attrs
 from ..io.pictures import plot_histograms, render_grid
+from ..io.rock_file import read_rock
+from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
 from ..io.vtp import write_fault_faces
 from ..io.vtu import write_vtu
-from .common import check_same_cells, log, nnc_variables, read_attrs, read_extra
-from .petrophysics import read_rock
-from .transmissibility import CONNECTION_VARS, face_connections, read_transmissibility
-
-NNC_VARS = ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face")
-
-
-class _Stored:
-    """An NNC list read back from a grid file (the fields nnc_variables writes)."""
-
-    def __init__(self, extra: dict[str, np.ndarray]) -> None:
-        self.cells = extra["nnc_cells"]
-        self.global_cells = extra["nnc_global_cells"]
-        self.kind = extra["nnc_kind"]
-        self.face = extra["nnc_face"]
+from ..pillars.nnc import NNC
+from ..transmissibility import face_connections
+from .common import log
 
 
 def _face_trans(grid: Grid, variables) -> np.ndarray:
@@ -69,26 +61,6 @@ def _face_trans(grid: Grid, variables) -> np.ndarray:
     conn = face_connections(grid.faces.neighbors, variables["connection_cells"].values)
     t = variables["trans"].values
     return np.where(conn >= 0, t[np.maximum(conn, 0)] if t.size else 0.0, 0.0)
-
-
-def cell_geometry(geometry_nc: str | os.PathLike) -> Geometry:
-    """What the exports use of ``geometry.nc``: cell volumes and centroids and face areas,
-    read alone; the face normals and centroids (most of the file) are left empty: they are
-    not written to ``{case}.nc`` (its readers recompute them from the grid)."""
-    arrays = read_extra(geometry_nc, ("cell_volume", "cell_centroid", "face_area", "cell_normal"))
-    missing = [n for n in ("cell_volume", "cell_centroid", "face_area") if n not in arrays]
-    if missing:
-        raise InputError(f"{geometry_nc}: not a gridlib geometry file (missing {', '.join(missing)})")
-    d = arrays["cell_centroid"].shape[1]
-    empty = np.zeros((0, d))
-    return Geometry(
-        arrays["cell_volume"],
-        arrays["cell_centroid"],
-        arrays["face_area"],
-        empty,
-        empty,
-        arrays.get("cell_normal"),
-    )
 
 
 def transmissibility_figures(variables, attrs) -> dict[str, Any]:
@@ -147,7 +119,7 @@ class _Gathered:
     depth: np.ndarray | None
     blocks: int | None
     trans: tuple[dict[str, Any], dict[str, Any]] | None
-    nnc: _Stored | None
+    nnc: NNC | None
     extra: dict[str, Any]
     provenance: dict[str, Any]
     face_trans: np.ndarray | None
@@ -194,19 +166,18 @@ def _gather(
     """Read the artifacts and gather the cell data, NNCs, connection variables and attributes."""
     stored = read_netcdf(grid_nc)
     grid, attrs = stored.grid, read_attrs(grid_nc)
-    geo = cell_geometry(geometry_nc)
+    geo = read_cell_geometry(geometry_nc)
     check_same_cells(grid_nc, grid.num_cells, {geometry_nc: geo.cell_volumes.size})
     fault_names = list(attrs.get("fault_names", []))
     well_names = list(attrs.get("well_names", []))
     rock = read_rock(petrophysics_nc) if petrophysics_nc else None
-    partition = read_extra(coarse_nc, ("partition",))["partition"] if coarse_nc else None
+    partition = read_partition(coarse_nc) if coarse_nc else None
     trans = read_transmissibility(transmissibility_nc) if transmissibility_nc else None
     if trans is not None:
         check_same_cells(grid_nc, grid.num_cells, {f"{transmissibility_nc}: porv": trans[0]["porv"].size})
     cell_data, var_attrs, depth = _cell_data(stored, geo, rock, partition, trans)
     blocks = None if partition is None else int(partition.max()) + 1
-    extra = read_extra(grid_nc, NNC_VARS)
-    nnc = _Stored(extra) if len(extra) == len(NNC_VARS) else None
+    nnc = read_nnc(grid_nc)
     provenance = {**case.provenance(), "fault_names": fault_names, "well_names": well_names}
     extra = nnc_variables(nnc)
     face_trans = None
@@ -302,7 +273,7 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
     grid, geo, rock = g.grid, g.geo, g.rock
     summary: dict[str, Any] = {
         "case": case.name,
-        "grid_type": case.data["grid"]["type"],
+        "grid_type": case.grid_type,
         "griddim": grid.griddim,
         "cells": grid.num_cells,
         "faces": grid.num_faces,

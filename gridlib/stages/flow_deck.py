@@ -37,11 +37,12 @@ from __future__ import annotations
 import os
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from ..artifacts import artifacts, case_paths
+from ..case.rock import deck_with_rock
+from ..case.simulation import case_simulation
 from ..completions import vertical_well_cells
 from ..config import Case, load_case
 from ..cornerpoint.corners import corner_depths
@@ -53,12 +54,13 @@ from ..grid import Grid
 from ..io.flow import ConnectionGrid, FlowDeck, FlowWell, Simulation, write_flow_deck
 from ..io.grdecl import read_grdecl
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.netcdf_parts import check_same_cells, length_of, read_attrs, read_extra
+from ..io.rock_file import read_rock
+from ..io.transmissibility_file import CELL_VARS, CONNECTION_VARS, read_transmissibility
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
 from ..version import __version__
-from .common import check_same_cells, length_of, log, read_attrs, read_extra
-from .petrophysics import read_rock
-from .transmissibility import CELL_VARS, CONNECTION_VARS, deck_with_rock, read_transmissibility
+from .common import log
 
 WELL_RADIUS = 0.1  # m, the default well radius
 
@@ -89,19 +91,17 @@ def stage_flow_deck(
         raise InputError(f"form: expected 'native' or 'connections', got {form!r}")
     if form == "native" and not corner:
         raise InputError(
-            f"{case.path}: grid.type: a {case.data['grid']['type']} grid has no native form "
+            f"{case.path}: grid.type: a {case.grid_type} grid has no native form "
             "(Flow reads corner-point grids only): use the connection form"
         )
     if corner and grdecl is None:
-        raise InputError(
-            f"{case.path}: grid: a {case.data['grid']['type']} grid's deck needs its grid.grdecl"
-        )
+        raise InputError(f"{case.path}: grid: a {case.grid_type} grid's deck needs its grid.grdecl")
     stored = read_netcdf(grid)
     mesh = stored.grid
     # What is read is what the deck's form needs: a corner-point deck's depths come from its
     # corners and its T are Flow's own, so geometry only for wells, connections only for
     # the connection form.
-    wells = bool(case.data.get("simulation", {}).get("wells"))
+    wells = bool(case_simulation(case).wells)
     geo = read_geometry_netcdf(geometry) if (not corner or wells) else None
     rock = read_rock(petrophysics)
     names = CONNECTION_VARS + CELL_VARS if form == "connections" else CELL_VARS
@@ -205,56 +205,39 @@ def _simulation(
     flow_index: np.ndarray,
     form: str,
 ) -> Simulation:
-    spec: dict[str, Any] = case.data.get("simulation", {})
-    fluid = spec.get("fluid", "oil-water")
-    initial = spec.get("initial", {})
+    spec = case_simulation(case)
+    fluid, initial = spec.fluid, spec.initial
     top = float(np.floor((depth - thickness / 2.0).min()))  # whole length units: a deck a person reads
     base = float(np.ceil((depth + thickness / 2.0).max()))
-    datum = float(initial.get("datum", top))
+    datum = top if initial.datum is None else initial.datum
     c = conversion(system.name)
     hydrostatic = round(ATM / 1e5 * c.pressure + water_gradient(system.name) * datum, 2)
-    pressure = float(initial.get("pressure", hydrostatic))
-    owc = None if fluid == "water" else float(initial.get("owc", base))
-    case_wells = {w["name"]: w for w in case.data.get("wells", [])}
+    pressure = hydrostatic if initial.pressure is None else initial.pressure
+    owc = None if fluid == "water" else (base if initial.owc is None else initial.owc)
     wells = []
-    for k, w in enumerate(spec.get("wells", [])):
-        key = f"{case.path}: simulation.wells[{k}]"
-        point = case_wells[w["name"]]["point"]
-        cells = vertical_well_cells(grid, geo, point)
+    for w in spec.wells:
+        key = f"{case.path}: {w.key}"
+        cells = vertical_well_cells(grid, geo, w.point)
         if cells.size == 0:
             raise InputError(
-                f"{key}.name: well '{w['name']}' at ({point[0]:g}, {point[1]:g}) lies outside every "
+                f"{key}.name: well '{w.name}' at ({w.point[0]:g}, {w.point[1]:g}) lies outside every "
                 "active cell of the grid"
             )
-        radius = float(w.get("radius", WELL_RADIUS * c.length))
-        skin = float(w.get("skin", 0.0))
+        radius = WELL_RADIUS * c.length if w.radius is None else w.radius
         factors = None
         try:
             if form == "connections":
                 if deck is not None:
-                    factors = deck_well_index(deck, grid.cells.index_map[cells], radius, skin)
+                    factors = deck_well_index(deck, grid.cells.index_map[cells], radius, w.skin)
                 else:
                     perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])
                     factors = well_index(
-                        grid, geo, perm, cells, radius, skin, ntg=rock["ntg"], units=system.name
+                        grid, geo, perm, cells, radius, w.skin, ntg=rock["ntg"], units=system.name
                     )
         except InputError as exc:
-            raise InputError(f"{key}.radius: well '{w['name']}': {exc}") from None
-        wells.append(
-            FlowWell(
-                w["name"],
-                "injector" if w["type"] == "injector" else "producer",
-                flow_index[cells],
-                radius,
-                skin,
-                factors,
-                w.get("rate"),
-                w.get("bhp"),
-            )
-        )
-    return Simulation(
-        fluid, datum, pressure, owc, tuple(wells), tuple(float(d) for d in spec.get("report_days", ()))
-    )
+            raise InputError(f"{key}.radius: well '{w.name}': {exc}") from None
+        wells.append(FlowWell(w.name, w.kind, flow_index[cells], radius, w.skin, factors, w.rate, w.bhp))
+    return Simulation(fluid, datum, pressure, owc, tuple(wells), spec.report_days)
 
 
 def flow_deck_from_results(

@@ -25,7 +25,7 @@ def stage_geometry(case: Case, *, grid: str | os.PathLike, geometry: str | os.Pa
     t0 = time.perf_counter()
     geo = compute_geometry(mesh)
     log.info("geometry of %d cells in %.2f s", mesh.num_cells, time.perf_counter() - t0)
-    if case.data["grid"]["type"] == "deck":  # degenerate cells kept, named by the grid stage
+    if case.grid_type == "deck":  # degenerate cells kept, named by the grid stage
         degenerate = check_deck_grid(mesh, geo)
         if len(degenerate):
             log.info("%d degenerate cells kept (see the grid stage's notes)", len(degenerate))

@@ -34,11 +34,12 @@ from ..config import Case
 from ..errors import GridError, InputError
 from ..io.grdecl import write_grdecl
 from ..io.grdecl.edit import edit_section_contents
+from ..io.grid_nnc import nnc_variables
 from ..io.horizon_files import read_horizons
 from ..io.netcdf import write_netcdf
 from ..transmissibility.region_multipliers import with_explicit_region_sets
 from ..units import unit_system
-from .common import log, nnc_variables
+from .common import log
 
 
 def grid_unit_system(built: CaseGrid) -> str:
@@ -53,7 +54,7 @@ def checked(case: Case, built: CaseGrid) -> CaseGrid:
     case, :func:`~gridlib.checks.check_deck_grid`: its degenerate cells named in the notes and
     flagged in the cell data ``degenerate``; anything broken raises an InputError naming the
     case and the deck."""
-    if case.data["grid"]["type"] != "deck":
+    if case.grid_type != "deck":
         check_grid(built.grid)
         return built
     source = built.deck.source if built.deck is not None else "the deck"

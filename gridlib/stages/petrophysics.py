@@ -18,43 +18,16 @@ from __future__ import annotations
 
 import os
 from functools import partial
-from typing import Any
-
-import numpy as np
-import xarray as xr
 
 from ..case.rock import case_rock_with_sources
 from ..cell_names import cell_names
 from ..config import Case
 from ..grid import Grid
-from ..io.netcdf import read_geometry_netcdf, read_netcdf, write_dataset
+from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.rock_file import write_rock
 from ..petrophysics import Rock
 from ..petrophysics.ranges import check_rock_values
 from .common import log
-
-PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
-UNITS = {"poro": "1", "permx": "mD", "permy": "mD", "permz": "mD", "ntg": "1"}
-
-
-def write_rock(
-    path: str | os.PathLike, rock, attrs: dict[str, Any], sources: dict[str, str] | None = None
-) -> None:
-    """``petrophysics.nc``: the rock's arrays (with their ``source`` where given) and ``attrs``."""
-    sources = sources or {}
-    data = {
-        name: xr.DataArray(
-            values,
-            dims=("cell",),
-            attrs={"units": UNITS[name], **({"source": sources[name]} if name in sources else {})},
-        )
-        for name, values in rock.cell_data().items()
-    }
-    write_dataset(path, xr.Dataset(data, attrs={**attrs, "title": "gridlib petrophysics"}))
-
-
-def read_rock(path: str | os.PathLike) -> dict[str, np.ndarray]:
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return {name: ds[name].values for name in PROPERTIES}
 
 
 def rock_notes(case: Case, grid: Grid, rock: Rock) -> tuple[str, ...]:

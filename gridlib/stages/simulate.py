@@ -32,15 +32,16 @@ from typing import Any
 
 import numpy as np
 
+from ..case.simulation import case_simulation
 from ..config import Case
 from ..errors import InputError
 from ..io.atomic import atomic_path
 from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_restart_cells, read_summary
 from ..io.netcdf import read_netcdf
 from ..io.pictures import save_figure
+from ..io.transmissibility_file import read_transmissibility
 from ..io.vtu import write_vtu
 from .common import log
-from .transmissibility import read_transmissibility
 
 FLOW_OUTPUTS = (".PRT", ".DBG", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST", ".INFOSTEP")
 FIELD_FIGURES = ("FOPT", "FWPT", "FWIT", "FOIP", "FWIP", "FPR", "FWCT")
@@ -105,7 +106,7 @@ def stage_simulate(
         raise InputError(f"{case.path}: simulation: the deck {deck} is missing (run the export first)")
     if not case.has_simulation:
         raise InputError(f"{case.path}: simulation: the case has no simulation section (nothing to run)")
-    days = list(case.data["simulation"]["report_days"])
+    days = list(case_simulation(case).report_days)
     name = deck.stem
     try:
         flow_command()

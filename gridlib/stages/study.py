@@ -21,8 +21,8 @@ import yaml
 
 from ..io.netcdf import write_dataset
 from ..io.pictures import save_figure
+from ..io.summary_table import COLUMNS, write_csv
 from .common import log
-from .summary import COLUMNS, write_csv
 
 NOT_FIGURES = ("case", "seed", "case_sha256")
 # The figures study.png draws against every varied key (those the variants have).

@@ -52,26 +52,24 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
+from ..case.rock import case_rock_keys, deck_with_rock
 from ..config import Case
-from ..cornerpoint.deck import Deck
 from ..cornerpoint.pore_volume import pore_volumes
 from ..cornerpoint.process import CornerPointGrid
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.grdecl import read_grdecl
+from ..io.grid_nnc import read_nnc
 from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf, write_dataset
+from ..io.netcdf_parts import check_same_cells, length_of, read_attrs
+from ..io.rock_file import read_rock
+from ..io.transmissibility_file import VOLUME_LABELS, connections_dataset
 from ..pillars.nnc import NNC
-from ..transmissibility import KIND_NAMES, Connections, deck_transmissibility, transmissibility
+from ..transmissibility import Connections, deck_transmissibility, transmissibility
 from ..units import UnitSystem, unit_system
-from .common import check_same_cells, length_of, log, read_attrs, read_extra
-from .petrophysics import read_rock
-
-CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
-CELL_VARS = ("porv", "cell_flow_index")
-VOLUME_LABELS = {"METRIC": "rm3", "FIELD": "rb", "LAB": "rcc", "PVT-M": "rm3"}
+from .common import log
 
 
 def stage_transmissibility(
@@ -98,9 +96,7 @@ def stage_transmissibility(
     system = unit_system(str(attrs["unit_system"]))
     if case.writes_grdecl:
         if grdecl is None:
-            raise InputError(
-                f"{case.path}: grid: a {case.data['grid']['type']} grid's T need its grid.grdecl"
-            )
+            raise InputError(f"{case.path}: grid: a {case.grid_type} grid's T need its grid.grdecl")
         conn, porv, method = _deck_case(case, grid, stored, attrs, rock, Path(grdecl), system)
         flow_index, flow_dims = mesh.cells.index_map, tuple(mesh.cart_dims)
     else:  # a deck's T need no geometry of ours; any other grid's need all of it
@@ -154,14 +150,10 @@ def _deck_case(
         raise InputError(f"{grid_nc}: bulk_volume: missing (a cornerpoint or deck grid stores it)")
     index = grid.cells.index_map
     deck = deck_with_rock(deck, index, rock, system.name)
-    extra = read_extra(grid_nc, ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face"))
-    empty = np.zeros((0, 2), dtype=np.int64)
-    nnc = NNC(
-        extra.get("nnc_cells", empty),
-        extra.get("nnc_global_cells", empty),
-        extra.get("nnc_kind", np.zeros(0, dtype=np.int8)),
-        extra.get("nnc_face", np.zeros(0, dtype=np.int64)),
-    )
+    nnc = read_nnc(grid_nc)
+    if nnc is None:
+        empty = np.zeros((0, 2), dtype=np.int64)
+        nnc = NNC(empty, empty, np.zeros(0, dtype=np.int8), np.zeros(0, dtype=np.int64))
     bulk = stored.cell_data["bulk_volume"]
     cp = CornerPointGrid(grid, nnc, tuple(attrs.get("fault_names", ())), (), bulk)
     conn = deck_transmissibility(deck, cp)
@@ -186,7 +178,7 @@ def _porv_notes(case: Case, porv: np.ndarray) -> list[str]:
     the pore volumes, and to the case's porosity or net-to-gross there: nothing (PORV wins)."""
     given = int((~np.isnan(porv)).sum())
     notes = [f"pore volumes: the PORV of the deck's EDIT section in {given} of {porv.size} grid cells"]
-    keys = [k for k in ("porosity", "ntg") if k in case.data.get("petrophysics", {})]
+    keys = [k for k in ("porosity", "ntg") if k in case_rock_keys(case)]
     if keys and given:
         named = " and ".join(f"petrophysics.{k}" for k in keys)
         verb = "leave" if len(keys) > 1 else "leaves"
@@ -195,25 +187,6 @@ def _porv_notes(case: Case, porv: np.ndarray) -> list[str]:
             "(as in OPM Flow, PORV wins over PORO and NTG)"
         )
     return notes
-
-
-CASE_ROCK = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
-
-
-def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: str) -> Deck:
-    """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
-    ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
-    leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
-    PORV, FLUXNUM, MULTNUM, ...), setting (FAULTS, MULTFLT, PINCH, MINPV, MULTREGT, NNC) and
-    EDIT operation (TRANX/TRANY/TRANZ, EDITNNC) stays as the deck gives it."""
-
-    def on_deck(values: np.ndarray) -> np.ndarray:
-        full = np.zeros(deck.num_cells)  # cells outside the grid (inactive, collapsed) are never read
-        full[index] = values
-        return full
-
-    cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in CASE_ROCK.items()}}
-    return replace(deck, cell_data=cell_data, units=units)
 
 
 def _volume_unit(system: UnitSystem) -> float:
@@ -235,7 +208,7 @@ def _grid_case(
     perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, :d]
     ntg = None if (rock["ntg"] == 1.0).all() else rock["ntg"]
     centres, what, distance = None, "centroids", "centroid"
-    if case.data["grid"]["type"] == "pebi":
+    if case.grid_type == "pebi":
         site = stored.cell_data.get("site")
         if site is None or site.shape != (grid.num_cells, 2):
             raise InputError(
@@ -262,91 +235,3 @@ def _flow_index(grid: Grid) -> tuple[np.ndarray, tuple[int, ...]]:
         n = lay.areal.num_cells
         return lay.column + n * lay.layer, (n, 1, int(lay.num_layers))
     return np.arange(grid.num_cells, dtype=np.int64), (grid.num_cells, 1, 1)
-
-
-def connections_dataset(
-    conn: Connections,
-    porv: np.ndarray,
-    flow_index: np.ndarray,
-    flow_dims: tuple[int, ...],
-    system: UnitSystem,
-) -> xr.Dataset:
-    """The variables of ``transmissibility.nc`` (also written into ``{case}.nc``)."""
-    volume = VOLUME_LABELS[system.name]
-    data = {
-        "connection_cells": xr.DataArray(
-            conn.cells,
-            dims=("connection", "two"),
-            attrs={"long_name": "the two cells of the connection (0-based cells of grid.nc, first < second)"},
-        ),
-        "trans": xr.DataArray(
-            conn.trans,
-            dims=("connection",),
-            attrs={"long_name": "transmissibility", "units": system.transmissibility_label},
-        ),
-        "connection_kind": xr.DataArray(
-            np.asarray(conn.kind, dtype=np.int8),
-            dims=("connection",),
-            attrs={
-                "flag_values": np.arange(len(KIND_NAMES), dtype=np.int8),
-                "flag_meanings": " ".join(KIND_NAMES),
-            },
-        ),
-        "connection_face": xr.DataArray(
-            conn.face,
-            dims=("connection",),
-            attrs={"long_name": "face of grid.nc the connection crosses, -1 none"},
-        ),
-        "porv": xr.DataArray(
-            np.asarray(porv, dtype=np.float64),
-            dims=("cell",),
-            attrs={"long_name": "pore volume", "units": volume},
-        ),
-        "cell_flow_index": xr.DataArray(
-            np.asarray(flow_index, dtype=np.int64),
-            dims=("cell",),
-            attrs={"long_name": "0-based linear index (i fastest) of the cell in the logical box flow_dims"},
-        ),
-    }
-    counts = conn.counts()
-    attrs: dict[str, Any] = {
-        "unit_system": system.name,
-        "trans_units": system.transmissibility_label,
-        "porv_units": volume,
-        "permeability_units": "mD",
-        "flow_dims": np.asarray(flow_dims, dtype=np.int64),
-        "num_connections": np.int64(conn.num),
-        **{f"{kind}_connections": np.int64(n) for kind, n in counts.items()},
-    }
-    return xr.Dataset(data, attrs=attrs)
-
-
-def read_transmissibility(
-    path: str | os.PathLike, names: tuple[str, ...] = CONNECTION_VARS + CELL_VARS
-) -> tuple[dict[str, xr.DataArray], dict[str, Any]]:
-    """The variables ``names`` (default: all; loaded, with their attributes) and the global
-    attributes of ``transmissibility.nc`` (or of a ``{case}.nc`` that holds them)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        missing = [n for n in CONNECTION_VARS + CELL_VARS if n not in ds.variables]
-        if missing:
-            raise InputError(f"{path}: not a transmissibility file (missing {', '.join(missing)})")
-        return {n: ds[n].load() for n in names}, dict(ds.attrs)
-
-
-def face_connections(neighbors: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """The connection (row of ``cells``) each face's two cells form, -1 for boundary faces and
-    pairs without a connection (T = 0)."""
-    nb = np.sort(np.asarray(neighbors, dtype=np.int64), axis=1)
-    pairs = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
-    out = np.full(nb.shape[0], -1, dtype=np.int64)
-    if not pairs.size:
-        return out
-    width = int(max(pairs.max(), nb.max())) + 1
-    key = pairs[:, 0] * width + pairs[:, 1]
-    order = np.argsort(key, kind="stable")
-    inner = np.flatnonzero(nb[:, 0] >= 0)
-    face_key = nb[inner, 0] * width + nb[inner, 1]
-    pos = np.minimum(np.searchsorted(key[order], face_key), key.size - 1)
-    found = key[order][pos] == face_key
-    out[inner[found]] = order[pos[found]]
-    return out

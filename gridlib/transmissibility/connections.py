@@ -112,3 +112,22 @@ def assemble(
     del lo, hi
     glob = None if index_map is None else np.asarray(index_map, dtype=np.int64)[pairs]
     return Connections(pairs, glob, total, kmin, face[pick], units, tuple(notes))
+
+
+def face_connections(neighbors: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """The connection (row of ``cells``) each face's two cells form, -1 for boundary faces and
+    pairs without a connection (T = 0)."""
+    nb = np.sort(np.asarray(neighbors, dtype=np.int64), axis=1)
+    pairs = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
+    out = np.full(nb.shape[0], -1, dtype=np.int64)
+    if not pairs.size:
+        return out
+    width = int(max(pairs.max(), nb.max())) + 1
+    key = pairs[:, 0] * width + pairs[:, 1]
+    order = np.argsort(key, kind="stable")
+    inner = np.flatnonzero(nb[:, 0] >= 0)
+    face_key = nb[inner, 0] * width + nb[inner, 1]
+    pos = np.minimum(np.searchsorted(key[order], face_key), key.size - 1)
+    found = key[order][pos] == face_key
+    out[inner[found]] = order[pos[found]]
+    return out

@@ -1,4 +1,5 @@
-"""Stage helpers (gridlib.stages.common): the attributes of a stage file read back."""
+"""Stage files read together: their attributes read back (gridlib.io.netcdf_parts), and files of
+different grids refused."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ def test_stage_attributes_decode_json_and_keep_other_text(tmp_path):
     """read_attrs decodes JSON lists and mappings; text that only starts with a bracket stays text."""
     import xarray as xr
 
-    from gridlib.stages.common import read_attrs
+    from gridlib.io.netcdf_parts import read_attrs
 
     path = tmp_path / "a.nc"
     attrs = {"fault_names": '["F1", "F2"]', "note": "[not json", "map": '{"a": 1}', "n": 3}

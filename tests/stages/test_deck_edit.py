@@ -29,7 +29,7 @@ from deck_cases import (
 from flow_tools import flow_connections, read_keywords, run_flow_dry
 
 from gridlib.io.grdecl import read_grdecl, write_edit_grdecl, write_grdecl
-from gridlib.stages.transmissibility import read_transmissibility
+from gridlib.io.transmissibility_file import read_transmissibility
 
 ROCK_KEYWORDS = ("PORO", "PERMX", "PERMY", "PERMZ", "NTG", "FLUXNUM", "MULTNUM")
 PORV_BOX = (2, 3, 2, 4, 1, 2)  # 1-based I1 I2 J1 J2 K1 K2

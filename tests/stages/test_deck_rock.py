@@ -32,7 +32,7 @@ from flow_tools import flow_connections, read_keywords, run_flow_dry
 
 from gridlib.config import load_case
 from gridlib.errors import InputError
-from gridlib.stages.petrophysics import read_rock
+from gridlib.io.rock_file import read_rock
 
 
 def split_by_kind(conn: dict[tuple[int, int], float]) -> dict[str, dict[tuple[int, int], float]]:

@@ -423,7 +423,7 @@ def test_pebi_lateral_transmissibility_is_k_area_over_site_distance(workflow_run
     """faulted_pebi (dipping layers, faults with throw, well rings; NTG 1, PERMX = PERMY): the T of
     every connection between two columns is K A / d to 1e-12, A the area of the faces between
     the two cells, d the distance of their sites, K the harmonic mean of their permeabilities."""
-    from gridlib.stages.transmissibility import face_connections
+    from gridlib.transmissibility import face_connections
     from gridlib.units import METRIC
 
     folder = workflow_run / "results" / "faulted_pebi"
@@ -453,8 +453,8 @@ def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workf
     VTU is not written), a second run does
     nothing, and {case}.nc gives every reader the same arrays the stage files held (the
     geometry's face vectors recomputed from the grid, to the bit)."""
-    from gridlib.stages.petrophysics import read_rock
-    from gridlib.stages.transmissibility import CELL_VARS, CONNECTION_VARS, read_transmissibility
+    from gridlib.io.rock_file import read_rock
+    from gridlib.io.transmissibility_file import CELL_VARS, CONNECTION_VARS, read_transmissibility
 
     cases = tmp_path / "config" / "cases"
     cases.mkdir(parents=True)

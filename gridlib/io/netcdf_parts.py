@@ -1,0 +1,57 @@
+"""Parts of a netCDF file read without the rest: some variables, one variable's length, the
+global attributes; and the check that stage files read together describe the same cells."""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..errors import InputError
+
+
+def read_extra(path: str | os.PathLike, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The variables ``names`` present in a netCDF file (missing ones are left out)."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return {n: ds[n].values for n in names if n in ds.variables}
+
+
+def length_of(path: str | os.PathLike, name: str) -> int:
+    """The first dimension's length of variable ``name`` of a netCDF file, without reading it
+    (an InputError naming the file if the variable is missing)."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        if name not in ds.variables:
+            raise InputError(f"{path}: {name}: missing")
+        return int(ds[name].shape[0])
+
+
+def check_same_cells(grid_nc: str | os.PathLike, num_cells: int, counts: dict[Any, int]) -> None:
+    """Every stage file read beside ``grid_nc`` (keys of ``counts``: the file, or the file and
+    variable) holds one value per cell of that grid; else an InputError naming both files."""
+    for source, count in counts.items():
+        if count != num_cells:
+            raise InputError(
+                f"{source}: {count} cells, but {grid_nc} has {num_cells} (stage files of different "
+                "grids: build the case again)"
+            )
+
+
+def read_attrs(path: str | os.PathLike) -> dict[str, Any]:
+    """Global attributes of a netCDF file, JSON lists decoded."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        attrs = dict(ds.attrs)
+    return {key: _json_or_text(value) for key, value in attrs.items()}
+
+
+def _json_or_text(value: Any) -> Any:
+    """A JSON list or mapping attribute decoded; any other value (text that merely starts with
+    a bracket included) as it is."""
+    if not (isinstance(value, str) and value[:1] in "[{"):
+        return value
+    try:
+        return json.loads(value)
+    except json.JSONDecodeError:
+        return value

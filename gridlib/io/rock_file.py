@@ -1,0 +1,41 @@
+"""``petrophysics.nc``: a case's rock, one value per cell of its ``grid.nc``.
+
+Variables over the ``cell`` dimension: ``poro`` and ``ntg`` (fractions), ``permx``,
+``permy`` and ``permz`` (mD), each with its ``units`` and, where the petrophysics stage
+knows it, its ``source`` (e.g. "the deck's PORO", "petrophysics.porosity").
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .netcdf import write_dataset
+
+PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
+UNITS = {"poro": "1", "permx": "mD", "permy": "mD", "permz": "mD", "ntg": "1"}
+
+
+def write_rock(
+    path: str | os.PathLike, rock, attrs: dict[str, Any], sources: dict[str, str] | None = None
+) -> None:
+    """``petrophysics.nc``: the rock's arrays (with their ``source`` where given) and ``attrs``."""
+    sources = sources or {}
+    data = {
+        name: xr.DataArray(
+            values,
+            dims=("cell",),
+            attrs={"units": UNITS[name], **({"source": sources[name]} if name in sources else {})},
+        )
+        for name, values in rock.cell_data().items()
+    }
+    write_dataset(path, xr.Dataset(data, attrs={**attrs, "title": "gridlib petrophysics"}))
+
+
+def read_rock(path: str | os.PathLike) -> dict[str, np.ndarray]:
+    """The rock arrays of ``petrophysics.nc`` by name (:data:`PROPERTIES`)."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return {name: ds[name].values for name in PROPERTIES}
