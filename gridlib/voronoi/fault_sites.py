@@ -50,7 +50,7 @@ Fault ids are the 1-based positions in the ``faults`` sequence; face tags use th
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -58,7 +58,7 @@ from scipy.spatial import cKDTree
 from ..planar import cross2, merge_close_points
 from . import wedges as _wedges
 from .domain import Domain
-from .fault_junctions import junction_radii, local_ratio
+from .fault_junctions import Steps, junction_radii, local_ratio
 from .fault_layout import GROWTH, FaultLayout, step_length
 from .fault_network import FaultNetwork
 
@@ -131,15 +131,13 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     np.minimum.at(cmin, sb, slen)
     fixed = np.zeros(nc, dtype=bool)
     shared = _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed)
-    problems: list[tuple[int, str]] = []
-    junction_radii(
-        lay, centres, radii, sa, sb, slen, constrained, problems, tot / np.maximum(cnt, 1), wedge_node, fixed
+    steps = Steps(sa, sb, slen)
+    radii, problems = junction_radii(
+        lay, centres, radii, steps, constrained, tot / np.maximum(cnt, 1), wedge_node, fixed
     )
-    pairs = _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems)
+    pairs, unmet = _mirrored_pairs(centres, radii, steps, shared)
     fs = _with_tips(ch.tip, centres, centre_fault, radii, cmin, (sa, sb, sf, slen), pairs)
-    fs.problems = problems
-    fs.wedges = [_describe_wedge(w, lay) for w in wedge_list]
-    return fs
+    return replace(fs, problems=problems + unmet, wedges=[_describe_wedge(w, lay) for w in wedge_list])
 
 
 def _node_steps(lay: FaultLayout, elen: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -243,9 +241,14 @@ def _centres(net: FaultNetwork, node_fault, elen, n_steps, params, lead, wedge_e
     return centres, centre_fault, sa, sb, sf, wedge_steps
 
 
-def _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems) -> tuple[np.ndarray, ...]:
+def _mirrored_pairs(
+    centres, radii, steps: Steps, shared
+) -> tuple[tuple[np.ndarray, ...], list[tuple[int, str]]]:
     """The two sites of every step, where its circles intersect (left, right of the step), or the
-    shared sites of an acute wedge; the size and wedge (or -1) of every step."""
+    shared sites of an acute wedge; the size and wedge (or -1) of every step. Also the steps
+    whose circles do not intersect, as problems (centre, why)."""
+    sa, sb, slen = steps.a, steps.b, steps.length
+    problems: list[tuple[int, str]] = []
     ra, rb = radii[sa], radii[sb]
     uvec = (centres[sb] - centres[sa]) / slen[:, None]
     nvec = np.column_stack([-uvec[:, 1], uvec[:, 0]])
@@ -266,7 +269,7 @@ def _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems) -> tuple[np.
         right[steps] = np.where(on_left[:, None], other, one)
         step_size[steps] = size
         step_wedge[steps] = w
-    return left, right, step_size, step_wedge
+    return (left, right, step_size, step_wedge), problems
 
 
 def _with_tips(tip, centres, centre_fault, radii, cmin, steps, pairs) -> FaultSites:
