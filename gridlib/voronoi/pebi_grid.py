@@ -160,6 +160,23 @@ def _size_function(cell_size: object, dom: Domain) -> tuple[Callable[[np.ndarray
     return constant, h
 
 
+@dataclass(frozen=True)
+class PebiTuning:
+    """The expert settings of :func:`pebi_grid`; the defaults (upr's) suit every layout we know.
+
+    ``fault_ratio``: circle radius / step length along faults, in (0.5, 1).
+    ``boundary_clearance``: lattice sites closer than this fraction of their spacing to the
+    boundary are dropped, in [0, 0.5).
+    ``max_refinements``: how often the fault steps are made smaller locally where the
+    empty-circle condition fails (at least halved each time); also sets the smallest feature
+    honoured, the cell size times 2^-max_refinements.
+    """
+
+    fault_ratio: float = 0.6
+    boundary_clearance: float = 0.25
+    max_refinements: int = 6
+
+
 def pebi_grid(
     domain: object,
     cell_size: float | Callable,
@@ -168,9 +185,7 @@ def pebi_grid(
     *,
     pattern: str = "hexagonal",
     padding: int | None = None,
-    fault_ratio: float = 0.6,
-    boundary_clearance: float = 0.25,
-    max_refinements: int = 6,
+    tuning: PebiTuning = PebiTuning(),
 ) -> PebiGrid:
     """A PEBI grid of ``domain`` conforming to ``faults`` and refined around ``wells``.
 
@@ -192,20 +207,19 @@ def pebi_grid(
         ``"hexagonal"`` or ``"cartesian"`` background lattice.
     padding
         Number of rows of Cartesian cells along the boundary (numeric ``cell_size`` only).
-    fault_ratio
-        Circle radius / step length along faults, in (0.5, 1); 0.6 as upr.
-    boundary_clearance
-        Lattice sites closer than this fraction of their spacing to the boundary are dropped.
-    max_refinements
-        How often the fault steps are made smaller locally where the empty-circle condition
-        fails (at least halved each time); also sets the smallest feature honoured, the
-        cell size times 2^-max_refinements.
+    tuning
+        :class:`PebiTuning`: the fault circles' ratio to the steps (0.6 as upr), the boundary
+        clearance of lattice sites and how often fault steps may be refined.
 
     Raises
     ------
     GridError
         On invalid input, naming the object: ``fault 'F2' (faults[1]): ...``.
     """
+    if not isinstance(tuning, PebiTuning):
+        raise GridError(f"pebi_grid: tuning must be a PebiTuning, got {tuning!r}")
+    fault_ratio, boundary_clearance = tuning.fault_ratio, tuning.boundary_clearance
+    max_refinements = tuning.max_refinements
     notes: list[str] = []
     dom = Domain(domain)
     size, constant = _size_function(cell_size, dom)
