@@ -63,7 +63,7 @@ from .fault_layout import GROWTH, FaultLayout, step_length
 from .fault_network import FaultNetwork
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class FaultSites:
     """Sites, pairs and circles of all faults (local frame)."""
 
@@ -129,9 +129,8 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     cmin = np.full(nc, np.inf)
     np.minimum.at(cmin, sa, slen)
     np.minimum.at(cmin, sb, slen)
-    fixed = np.zeros(nc, dtype=bool)
-    shared = _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed)
     steps = Steps(sa, sb, slen)
+    shared, radii, fixed = _wedge_rows(wedge_list, nodes, ea, steps, wedge_steps, radii)
     radii, problems = junction_radii(
         lay, centres, radii, steps, constrained, tot / np.maximum(cnt, 1), wedge_node, fixed
     )
@@ -415,13 +414,19 @@ def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndar
     return lead, ends
 
 
-def _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed) -> list[tuple]:
-    """Shared sites of every wedge or fan: (steps, one site, the other, site size, wedge) per fault side.
+def _wedge_rows(
+    wedge_list, nodes, ea, all_steps: Steps, wedge_steps, radii: np.ndarray
+) -> tuple[list[tuple], np.ndarray, np.ndarray]:
+    """Shared sites of every wedge or fan: (steps, one site, the other, site size, wedge) per fault
+    side; the radii with those of the wedge nodes and rung centres set, and which centres are
+    such rungs (``fixed``).
 
     The sites of a step on an inner side of a fan are the shared sites of the wedges on
-    either side, on an outer side the shared sites and their mirror images. Sets the
-    radii of the wedge nodes and rung centres (and marks the rungs ``fixed``).
+    either side, on an outer side the shared sites and their mirror images.
     """
+    sa, sb = all_steps.a, all_steps.b
+    radii = radii.copy()
+    fixed = np.zeros(radii.size, dtype=bool)
     out = []
     for index, w in enumerate(wedge_list):  # loop over acute wedges and fans
         ws = _wedges.wedge_sites(w, nodes[w.node])
@@ -440,7 +445,7 @@ def _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed) -> lis
             else:
                 other = (ws.mirror_first if j == 0 else ws.mirror_last)[:k]
             out.append((steps, one, other, np.full(k, w.step), index))
-    return out
+    return out, radii, fixed
 
 
 def circle_violations(

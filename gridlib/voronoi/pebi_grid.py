@@ -262,9 +262,8 @@ def pebi_grid(
     site_kind[:n_bg] = np.where(bg.padding[keep], PADDING_SITE, BACKGROUND)
     site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)
     site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
-    site_size = np.concatenate(
-        [clipped.site_size, size(sites[clipped.site_size.size :])]
-    )  # and the added sites
+    n_given = clipped.site_size.size  # the sites before those added for cut-off pieces
+    site_size = np.concatenate([clipped.site_size, size(sites[n_given:])])
     verify(vor, dom, tags, fs, fault_labels, ws, cell_well)
     notes.extend(_size_notes(vor, site_size, site_kind, fs, n_bg, dom))
     names_f = tuple((f.name or f"F{i + 1}") for i, f in enumerate(faults))
