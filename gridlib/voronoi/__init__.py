@@ -8,7 +8,7 @@ function and ``import gridlib.voronoi.dual`` works.
 from .domain import rectangle
 from .dual import pebi
 from .fault_network import Fault
-from .pebi_grid import PebiGrid, pebi_grid
+from .pebi_grid import PebiGrid, PebiTuning, pebi_grid
 from .quality import PebiQuality, grid_quality
 from .wells import Rings, Well
 
@@ -16,6 +16,7 @@ __all__ = [
     "Fault",
     "PebiGrid",
     "PebiQuality",
+    "PebiTuning",
     "Rings",
     "Well",
     "grid_quality",

@@ -59,6 +59,7 @@ from ..grid import Cells, Faces, Grid, Nodes
 from .cell_cycles import cell_cycles
 from .domain import Domain
 from .lattice import Lattice, hybrid_ridges, plain_ridges, splice_ridges
+from .ridges import Ridges
 
 WORK_RADIUS = 5.0  # after the first round, moves are looked at within this many local sizes
 
@@ -96,30 +97,41 @@ class ClippedVoronoi:
         )
 
 
+@dataclass(frozen=True, eq=False)
+class Contraction:
+    """Which short faces :func:`clipped_voronoi` contracts: those shorter than ``fraction`` x
+    the smaller ``size`` (n,) of their two sites (m), except the faces between the site pairs
+    ``protect`` (k, 2) (fault faces); ``where`` (mask of sites, optional): only faces of these
+    sites can be that short."""
+
+    size: np.ndarray
+    protect: np.ndarray | None
+    fraction: float
+    where: np.ndarray | None = None
+
+
 def clipped_voronoi(
     sites: np.ndarray,
     domain: Domain,
     tol: float,
     lattice: Lattice | None = None,
-    adjust: Callable | None = None,
+    adjust: Callable[[np.ndarray, Ridges, np.ndarray | None], tuple[np.ndarray, ...]] | None = None,
     rounds: int = 4,
-    contract: tuple | None = None,
+    contract: Contraction | None = None,
 ) -> ClippedVoronoi:
     """Voronoi regions of ``sites`` (local frame, all in the closed domain) clipped to ``domain``.
 
     ``tol`` (m) is the length below which ridges are contracted to a point.
     ``lattice`` describes the first sites if they form a regular lattice (see
     :mod:`.lattice`): their cells are then computed without Qhull.
-    ``adjust(sites, coords, va, vb, cp, cq, fresh)``, if given, looks at the ridges
-    (``fresh``: the mask of those recomputed since the last call, None for all) and
+    ``adjust(sites, ridges, fresh)``, if given, looks at the ridges (:class:`.Ridges`;
+    ``fresh``: the mask of those recomputed since the last call, None for all) and
     returns sites to move, their new positions and the sites of all the short faces it
     found (:mod:`.degenerate`); the ridges around them are then recomputed
     (:func:`~.lattice.splice_ridges`), up to ``rounds`` times, and after the first
     round only the ridges within ``WORK_RADIUS`` sizes of those sites are looked at.
-    The sites used are ``.sites``. ``contract`` = (size, protect,
-    fraction): faces shorter than ``fraction`` x the smaller ``size`` (n,) of their two
-    sites are contracted, except between the site pairs ``protect`` (k, 2) (fault faces);
-    ``.contracted`` says how many.
+    The sites used are ``.sites``. ``contract`` (:class:`Contraction`): the short faces
+    contracted besides the zero-length ones; ``.contracted`` says how many.
 
     >>> from gridlib.voronoi.domain import rectangle
     >>> d = Domain(rectangle(0, 0, 2, 1))
@@ -130,12 +142,12 @@ def clipped_voronoi(
     if sites.shape[0] == 0:
         raise GridError("pebi_grid: no sites left in the domain")
 
-    def full(sites, lattice):
+    def full(sites: np.ndarray, lattice: Lattice | None) -> Ridges:
         if lattice is not None and lattice.ij.shape[0] > 0:
             return hybrid_ridges(sites, domain, lattice)
         return plain_ridges(sites, domain)
 
-    centre, va, vb, cp, cq = full(sites, lattice)
+    ridges = full(sites, lattice)
     fresh = None
     spliced = False
     tree = cKDTree(sites) if adjust is not None else None
@@ -143,11 +155,12 @@ def clipped_voronoi(
     rest = None  # the ridges away from every short face (left alone), once the work is local
     inside = None
     for _ in range(rounds if adjust is not None else 0):  # move sites, recompute the ridges around them
-        idx, xy, involved = adjust(sites, centre, va, vb, cp, cq, fresh)
+        idx, xy, involved = adjust(sites, ridges, fresh)
         if idx.size == 0:
             break
         if rest is None and contract is not None:  # work on the ridges near the short faces only
-            size = contract[0]
+            size = contract.size
+            cp, cq = ridges.cp, ridges.cq
             near = np.union1d(involved, idx)
             hits = tree.query_ball_point(sites[near], WORK_RADIUS * size[near], return_sorted=False)
             inside = np.zeros(sites.shape[0], dtype=bool)
@@ -156,8 +169,8 @@ def clipped_voronoi(
                 inside[cq[inside[cp]]] = True
                 inside[cp[inside[cq]]] = True
             wr = inside[cp] | inside[cq]
-            rest = (va[~wr], vb[~wr], cp[~wr], cq[~wr])
-            va, vb, cp, cq = va[wr], vb[wr], cp[wr], cq[wr]
+            rest = ridges.where(~wr)
+            ridges = ridges.where(wr)
             fresh = None if fresh is None else fresh[wr]
         sites = sites.copy()
         sites[idx] = xy
@@ -167,33 +180,38 @@ def clipped_voronoi(
             active[idx[idx < nl]] = False
             lattice = replace(lattice, active=active)
         stale[idx] = True
-        got = splice_ridges(centre, va, vb, cp, cq, sites, idx, domain, tol, tree, stale, inside)
+        got = splice_ridges(ridges, sites, idx, domain, tol, tree, stale, inside)
         if got is None:
-            centre, va, vb, cp, cq = full(sites, lattice)
+            ridges = full(sites, lattice)
             fresh, rest, inside = None, None, None
         else:
-            centre, va, vb, cp, cq, fresh = got
+            ridges, fresh = got
             spliced = True
-    if rest is not None:
-        va, vb, cp, cq = (np.concatenate([r, w]) for r, w in zip(rest, (va, vb, cp, cq), strict=True))
+    if rest is not None:  # the ridges left alone join the recomputed ones (whose vertices extend theirs)
+        ridges = Ridges(
+            ridges.coords,
+            np.concatenate([rest.va, ridges.va]),
+            np.concatenate([rest.vb, ridges.vb]),
+            np.concatenate([rest.cp, ridges.cp]),
+            np.concatenate([rest.cq, ridges.cq]),
+        )
     if contract is not None and inside is not None:
-        contract = (*contract[:3], inside)  # short faces are all among these sites' faces
+        contract = replace(contract, where=inside)  # short faces are all among these sites' faces
     if spliced:
         try:
-            return _build(domain, centre, tol, sites, va, vb, cp, cq, contract)
+            return _build(domain, ridges, tol, sites, contract)
         except GridError:  # pragma: no cover - a patch that does not join up: recompute everything
-            centre, va, vb, cp, cq = full(sites, lattice)
-    return _build(domain, centre, tol, sites, va, vb, cp, cq, contract)
+            ridges = full(sites, lattice)
+    return _build(domain, ridges, tol, sites, contract)
 
 
-def _build(domain, centre, tol, sites, va, vb, cp, cq, contract=None) -> ClippedVoronoi:
-    builder = _Builder(domain, centre, tol, sites)
-    builder.add_ridges(va, vb, cp, cq)
+def _build(
+    domain: Domain, ridges: Ridges, tol: float, sites: np.ndarray, contract: Contraction | None = None
+) -> ClippedVoronoi:
+    builder = _Builder(domain, ridges.coords, tol, sites)
+    builder.add_ridges(ridges.va, ridges.vb, ridges.cp, ridges.cq)
     builder.close_boundary(sites)
-    size, protect, fraction, where = (
-        (*contract, None)[:4] if contract is not None else (None, None, 0.0, None)
-    )
-    return replace(builder.finish(sites, size, protect, fraction, where), sites=sites)
+    return replace(builder.finish(sites, contract), sites=sites)
 
 
 class _Builder:
@@ -355,9 +373,7 @@ class _Builder:
         self.merge_a.append(a)
         self.merge_b.append(b)
 
-    def finish(
-        self, sites: np.ndarray, size=None, protect=None, contract: float = 0.0, where=None
-    ) -> ClippedVoronoi:
+    def finish(self, sites: np.ndarray, contract: Contraction | None = None) -> ClippedVoronoi:
         n = sites.shape[0]
         coords = np.concatenate(self.coords)
         nv = coords.shape[0]
@@ -373,10 +389,8 @@ class _Builder:
         keep = fa != fb
         fa, fb, c0, c1 = fa[keep], fb[keep], c0[keep], c1[keep]
         contracted = 0
-        if contract > 0 and size is not None:
-            fa, fb, c0, c1, contracted = self._contract(
-                coords, fa, fb, c0, c1, size, protect, contract, priority, where
-            )
+        if contract is not None and contract.fraction > 0:
+            fa, fb, c0, c1, contracted = self._contract(coords, fa, fb, c0, c1, contract, priority)
         used = np.zeros(nv, dtype=bool)
         used[fa] = used[fb] = True
         new_id = np.cumsum(used) - 1
@@ -397,8 +411,9 @@ class _Builder:
         pos, cell_faces, areas, extra = cell_cycles(coords, faces, neighbors, n, sites, self.domain)
         return ClippedVoronoi(coords, faces, neighbors, pos, cell_faces, areas, extra, contracted=contracted)
 
-    def _contract(self, coords, fa, fb, c0, c1, size, protect, contract, priority, where=None):
-        """Contract the faces shorter than ``contract`` x the smaller size of their two cells.
+    def _contract(self, coords, fa, fb, c0, c1, contract: Contraction, priority):
+        """Contract the faces (fa, fb) between cells c0 and c1 shorter than ``contract.fraction``
+        x the smaller size of their two cells.
 
         The last resort for short faces that no move of a background site collapses (their
         sites are fault or well sites, or lattice sites pinned by the co-circular squares of
@@ -407,8 +422,9 @@ class _Builder:
         (two fault vertices, a fault vertex and a boundary point, ...) and faces of
         triangular cells are left alone. Fault faces are never contracted. The faces at
         the merged vertex turn by at most about (face length / their length) radians.
-        ``where`` (mask of sites, optional): only faces of these cells can be short.
+        ``contract.where`` (mask of sites, optional): only faces of these cells can be short.
         """
+        size, protect, where, fraction = contract.size, contract.protect, contract.where, contract.fraction
         nv = coords.shape[0]
         n = size.shape[0]
         pk = np.zeros(0, dtype=np.int64)
@@ -422,7 +438,7 @@ class _Builder:
             u, w, s0, s1 = fa[sub], fb[sub], c0[sub], c1[sub]
             length = np.linalg.norm(coords[w] - coords[u], axis=1)
             h = np.minimum(size[s0], np.where(s1 >= 0, size[np.maximum(s1, 0)], np.inf))
-            short = length < contract * h
+            short = length < fraction * h
             if not short.any():
                 break
             fault = np.zeros(sub.size, dtype=bool)

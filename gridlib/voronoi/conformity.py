@@ -20,14 +20,14 @@ from .domain import Domain
 from .fault_sites import circle_violations
 
 
-def fault_problems(
-    fs, sites, n_bg, n_f, dom: Domain, ws, labels, bg_tree, keep
-) -> list[tuple[np.ndarray, float]]:
+def fault_problems(fs, sites, n_bg: int, dom: Domain, bg_tree, keep) -> list[tuple[np.ndarray, float]]:
     """Where fault sites break conformity: (location, step wanted there, m) to refine.
 
-    Every site is checked against every fault circle: the kept background sites through
-    the tree of all background sites, the fault and well sites through a tree of their own;
-    and every fault site for lying inside the domain. The step wanted is the local step
+    ``sites``: the ``n_bg`` background sites kept (``keep``, a mask over the background sites
+    of ``bg_tree``), then the fault sites ``fs``, then the well sites. Every site is checked
+    against every fault circle: the kept background sites through the tree of all background
+    sites, the fault and well sites through a tree of their own; and every fault site for
+    lying inside the domain. The step wanted is the local step
     scaled by what the geometry needs (circles and sites scale with the step): a circle
     holding a site at distance d from its centre shrinks below d, a site outside the domain
     comes closer to its trace than the boundary is; at least halved, at most by 20.
@@ -35,6 +35,7 @@ def fault_problems(
     out: list[tuple[np.ndarray, float]] = []
     if fs.centres.shape[0] == 0:
         return out
+    n_f = fs.sites.shape[0]
     c, s = circle_violations(fs, sites[n_bg:])
     s = s + n_bg
     if bg_tree is not None:

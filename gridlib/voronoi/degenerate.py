@@ -42,7 +42,7 @@ intersection of the two circles, with two or more it does not move.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -51,13 +51,14 @@ from scipy.spatial import cKDTree
 
 from ..planar import group_pairs
 from .domain import Domain
+from .ridges import Ridges
 
 SHORT = 0.05  # faces shorter than this fraction of the local size are collapsed
 CONTRACT = 0.01  # ... or, where no site can move, contracted if shorter than this fraction
 REACH = 3.0  # a site moves by at most REACH x SHORT x its size
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Collapse:
     """What :func:`collapse_moves` did in earlier rounds.
 
@@ -66,59 +67,78 @@ class Collapse:
     boundary edge e, through p) or ``("corner", k, y)`` (centred on corner k,
     through site y), recomputed from the current sites (collapses inside the domain
     are found again as degenerate vertices); ``pending``: the sites of the short
-    faces not collapsed yet (looked at again next round).
+    faces not collapsed yet (looked at again next round); ``involved``: the sites of
+    all the short faces the last round found.
     """
 
-    pins: dict[int, list[tuple]] = field(default_factory=dict)
+    pins: Mapping[int, tuple[tuple, ...]] = field(default_factory=dict)
     pending: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    involved: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # of the last call
+    involved: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+
+
+@dataclass(frozen=True, eq=False)
+class MoveRules:
+    """What :func:`collapse_moves` may do with the sites of one diagram.
+
+    ``domain``; ``size`` (n,) the local size of every site (m); ``movable`` (n,) bool, the
+    sites that may move; ``tol`` the length below which ridges count as zero (m);
+    ``allowed(xy)`` says which new positions are acceptable (default: any inside the
+    domain); faces shorter than ``short`` x the smaller size of their sites are collapsed.
+    """
+
+    domain: Domain
+    size: np.ndarray
+    movable: np.ndarray
+    tol: float
+    allowed: Callable[[np.ndarray], np.ndarray] | None = None
+    short: float = SHORT
+
+
+@dataclass(frozen=True, eq=False)
+class _Vertices:
+    """The Voronoi vertices with those joined by zero-length ridges made one (co-circular sites):
+    ``xy`` of each group, the group at either end of every ridge (``ga``, ``gb``) and
+    ``sites_of(g)``, the sites of group g (for the groups looked at)."""
+
+    xy: np.ndarray
+    ga: np.ndarray
+    gb: np.ndarray
+    sites_of: Callable[[int], np.ndarray]
 
 
 def collapse_moves(
-    coords: np.ndarray,
-    va: np.ndarray,
-    vb: np.ndarray,
-    cp: np.ndarray,
-    cq: np.ndarray,
+    ridges: Ridges,
     sites: np.ndarray,
-    size: np.ndarray,
-    movable: np.ndarray,
-    domain: Domain,
-    tol: float,
+    rules: MoveRules,
     state: Collapse,
-    allowed: Callable[[np.ndarray], np.ndarray] | None = None,
     focus: np.ndarray | None = None,
-    short: float = SHORT,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Sites to move and their new positions (local frame) that collapse the short faces.
+) -> tuple[np.ndarray, np.ndarray, Collapse]:
+    """Sites to move and their new positions (local frame) that collapse the short faces, and
+    the state after this round.
 
-    ``coords``, ``va``, ``vb``, ``cp``, ``cq``: the ridges of the Voronoi diagram of
-    ``sites`` (vertex coordinates; each ridge from vertex va to vb between sites cp
-    and cq); ``size`` (n,) the local size of every site (m); ``movable`` (n,) bool;
-    ``tol`` the length below which ridges count as zero (m); ``state`` is updated;
-    ``allowed(xy)`` says which new positions are acceptable; ``focus`` (mask of
-    ridges, default all): only faces at the vertices of these (and of the faces left
-    over last time) are looked at.
+    ``ridges``: the ridges of the Voronoi diagram of ``sites``; ``rules``: the sizes, the
+    movable sites and the positions allowed; ``state``: what earlier rounds did; ``focus``
+    (mask of ridges, default all): only faces at the vertices of these (and of the faces
+    left over last time) are looked at.
     """
     n = sites.shape[0]
-    none = np.zeros(0, dtype=np.int64), np.zeros((0, 2))
-    if not movable.any() or va.size == 0:
-        return none
-    full = (coords, va, vb, cp, cq)
-    length = np.linalg.norm(coords[va] - coords[vb], axis=1)
-    zero = length <= tol
+    domain, size, short = rules.domain, rules.size, rules.short
+    if not rules.movable.any() or ridges.va.size == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 2)), state
+    full = ridges
+    length = ridges.lengths()
+    zero = length <= rules.tol
     full_zero = zero
     if focus is not None:  # only the ridges at the vertices of the focus (and their co-circular groups)
-        coords, va, vb, cp, cq, length, zero = _around_focus(
-            focus, state, n, coords, va, vb, cp, cq, length, zero
-        )
+        ridges, length, zero = _around_focus(focus, state, n, ridges, length, zero)
+    coords, va, vb, cp, cq = ridges.coords, ridges.va, ridges.vb, ridges.cp, ridges.cq
     nv = coords.shape[0]
     # Vertices joined by zero-length ridges are one vertex (co-circular sites).
     first, label = group_pairs(nv, np.column_stack([va[zero], vb[zero]]))
     gxy = coords[first]
     ga, gb = label[va], label[vb]
     h_ridge = np.minimum(size[cp], size[cq])
-    found = _Found(movable)
+    found = _Found(rules.movable)
     # Interior: short ridges with a part inside the domain (or touching it).
     sr = np.flatnonzero(~zero & (length < short * h_ridge) & (ga != gb))
     if sr.size:
@@ -132,18 +152,18 @@ def collapse_moves(
     need = np.zeros(gxy.shape[0], dtype=bool)
     need[ga[sr]] = need[gb[sr]] = True
     need |= band
-    sites_of = _sites_at_vertices(ga, gb, cp, cq, np.flatnonzero(need[ga] | need[gb]), n, gxy.shape[0])
+    sites_of = _sites_at_vertices(ga, gb, ridges, np.flatnonzero(need[ga] | need[gb]), n, gxy.shape[0])
+    groups = _Vertices(gxy, ga, gb, sites_of)
     for r in sr.tolist():  # a few hundred short ridges
-        _short_ridge_moves(found, r, ga, gb, cp, cq, length, gxy, sites_of, sites, domain)
-    _boundary_moves(found, np.flatnonzero(band), gxy, sites_of, sites, size, domain, tol, short)
+        _short_ridge_moves(found, r, ridges, length, groups, sites, domain)
+    _boundary_moves(found, np.flatnonzero(band), groups, sites, rules)
     wr = np.flatnonzero((wide[ga] | wide[gb]) & ~zero)
     if wr.size:
-        ends = coords[va[wr]], coords[vb[wr]]
-        _corner_moves(found, wr, ends, cp, cq, h_ridge, sites, size, domain, tol, short)
+        _corner_moves(found, ridges.where(wr), h_ridge[wr], sites, rules)
     if not found.raw:
-        state.pending = state.involved = _sites_of_features(found.features, set())
-        return none
-    return _chosen_moves(found, full, full_zero, sites, size, domain, state, tol, short, allowed)
+        involved = _sites_of_features(found.features, set())
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 2)), Collapse(state.pins, involved, involved)
+    return _chosen_moves(found, (full, full_zero), sites, rules, state)
 
 
 class _Found:
@@ -162,9 +182,12 @@ class _Found:
             self.raw.append((int(x), circle, feature, lock, len(self.features) - 1, pin))
 
 
-def _around_focus(focus, state: Collapse, n: int, coords, va, vb, cp, cq, length, zero) -> tuple:
+def _around_focus(
+    focus: np.ndarray, state: Collapse, n: int, ridges: Ridges, length: np.ndarray, zero: np.ndarray
+) -> tuple[Ridges, np.ndarray, np.ndarray]:
     """The ridges at the vertices of the ``focus`` ridges and of the sites still pending (and
-    their co-circular groups), their vertices renumbered."""
+    their co-circular groups), their vertices renumbered; their lengths and zero-length mask."""
+    coords, va, vb, cp, cq = ridges.coords, ridges.va, ridges.vb, ridges.cp, ridges.cq
     if state.pending.size:
         pend = np.zeros(n, dtype=bool)
         pend[state.pending] = True
@@ -177,11 +200,12 @@ def _around_focus(focus, state: Collapse, n: int, coords, va, vb, cp, cq, length
     keep = vmask[va] | vmask[vb]
     va, vb, cp, cq, length, zero = (x[keep] for x in (va, vb, cp, cq, length, zero))
     used, inv = np.unique(np.concatenate([va, vb]), return_inverse=True)
-    return coords[used], inv[: va.size], inv[va.size :], cp, cq, length, zero
+    return Ridges(coords[used], inv[: va.size], inv[va.size :], cp, cq), length, zero
 
 
-def _sites_at_vertices(ga, gb, cp, cq, sel, n: int, ng: int) -> Callable[[int], np.ndarray]:
+def _sites_at_vertices(ga, gb, ridges: Ridges, sel, n: int, ng: int) -> Callable[[int], np.ndarray]:
     """The sites of every (grouped) vertex involved, from the ridges ``sel`` at it."""
+    cp, cq = ridges.cp, ridges.cq
     gs_g = np.concatenate([ga[sel], ga[sel], gb[sel], gb[sel]])
     gs_s = np.concatenate([cp[sel], cq[sel], cp[sel], cq[sel]])
     key = np.unique(gs_g * n + gs_s)
@@ -194,10 +218,13 @@ def _sites_at_vertices(ga, gb, cp, cq, sel, n: int, ng: int) -> Callable[[int], 
     return sites_of
 
 
-def _short_ridge_moves(found: _Found, r: int, ga, gb, cp, cq, length, gxy, sites_of, sites, domain) -> None:
+def _short_ridge_moves(
+    found: _Found, r: int, ridges: Ridges, length, groups: _Vertices, sites, domain: Domain
+) -> None:
     """Moves collapsing the short ridge ``r``: the one site of a vertex not at the other onto the
     other vertex's circle, or a site of the ridge onto the circle of the other three."""
-    g1, g2 = int(ga[r]), int(gb[r])
+    cp, cq, gxy, sites_of = ridges.cp, ridges.cq, groups.xy, groups.sites_of
+    g1, g2 = int(groups.ga[r]), int(groups.gb[r])
     s1, s2 = sites_of(g1), sites_of(g2)
     lock = tuple(np.union1d(s1, s2).tolist())
     only1, only2 = np.setdiff1d(s1, s2), np.setdiff1d(s2, s1)
@@ -216,12 +243,14 @@ def _short_ridge_moves(found: _Found, r: int, ga, gb, cp, cq, length, gxy, sites
             )
 
 
-def _boundary_moves(found: _Found, bnd, gxy, sites_of, sites, size, domain: Domain, tol, short) -> None:
+def _boundary_moves(found: _Found, bnd, groups: _Vertices, sites, rules: MoveRules) -> None:
     """Moves putting a vertex of three sites near the boundary (``bnd``) onto it: one site onto
     the circle, through the other two, centred where their bisector meets the edge (next to a
     corner: only at the corner)."""
     if not bnd.size:
         return
+    gxy, sites_of = groups.xy, groups.sites_of
+    domain, size, tol, short = rules.domain, rules.size, rules.tol, rules.short
     dist, edge, _ = domain.nearest_boundary(gxy[bnd])
     for g, d, e in zip(bnd.tolist(), dist.tolist(), edge.tolist(), strict=True):
         s = sites_of(g)
@@ -242,25 +271,26 @@ def _boundary_moves(found: _Found, bnd, gxy, sites_of, sites, size, domain: Doma
                     found.add(x, _circle(pin, sites, domain), d, lock, pin)
 
 
-def _corner_moves(found: _Found, wr, ends, cp, cq, h_ridge, sites, size, domain: Domain, tol, short) -> None:
-    """Moves for ridges ``wr`` (ends ``ends``) passing close to a corner of the domain: through
-    the corner (a site onto the circle centred on it through the other), or, at a re-entrant
-    corner, off it."""
+def _corner_moves(found: _Found, near: Ridges, h_ridge, sites, rules: MoveRules) -> None:
+    """Moves for the ridges ``near`` the boundary (``h_ridge``: the smaller size of their sites)
+    passing close to a corner of the domain: through the corner (a site onto the circle
+    centred on it through the other), or, at a re-entrant corner, off it."""
+    domain, size, tol, short = rules.domain, rules.size, rules.tol, rules.short
+    cp, cq = near.cp, near.cq
     corners = domain.xy
     kt = cKDTree(corners)
-    a, b = ends
-    best = np.full(wr.size, np.inf)
-    which = np.zeros(wr.size, dtype=np.int64)
+    a, b = near.coords[near.va], near.coords[near.vb]
+    best = np.full(cp.size, np.inf)
+    which = np.zeros(cp.size, dtype=np.int64)
     for pt in (a, b, 0.5 * (a + b)):
         _, k = kt.query(pt)
         d = _point_segment(corners[k], a, b)
         better = d < best
         best[better], which[better] = d[better], k[better]
     reflex = domain.reflex
-    hit = np.flatnonzero(((best > tol) | reflex[which]) & (best < short * h_ridge[wr]))
+    hit = np.flatnonzero(((best > tol) | reflex[which]) & (best < short * h_ridge))
     for i in hit.tolist():
-        r = int(wr[i])
-        p, q = int(cp[r]), int(cq[r])
+        p, q = int(cp[i]), int(cq[i])
         k = corners[which[i]]
         if reflex[which[i]]:  # push the ridge off a re-entrant corner (see _push_off)
             for x, y in ((p, q), (q, p)):
@@ -275,15 +305,16 @@ def _corner_moves(found: _Found, wr, ends, cp, cq, h_ridge, sites, size, domain:
 
 
 def _chosen_moves(
-    found: _Found, full, full_zero, sites, size, domain: Domain, state: Collapse, tol, short, allowed
-):
+    found: _Found, full: tuple[Ridges, np.ndarray], sites, rules: MoveRules, state: Collapse
+) -> tuple[np.ndarray, np.ndarray, Collapse]:
     """The moves made: each site onto its circle (or where it meets a circle the site is on
     already), smallest moves first, inside the domain and ``allowed``, at most one per short
-    face and none touching the sites of a face already collapsed; ``state`` updated."""
+    face and none touching the sites of a face already collapsed; the state after them.
+    ``full``: all the ridges and which are of zero length."""
     n = sites.shape[0]
-    none = np.zeros(0, dtype=np.int64), np.zeros((0, 2))
+    domain, size, tol, short = rules.domain, rules.size, rules.tol, rules.short
     raw, features = found.raw, found.features
-    pins = _pins(np.unique([c[0] for c in raw]), full, full_zero, sites, domain, state, tol)
+    pins = _pins(np.unique([c[0] for c in raw]), full, sites, domain, state, tol)
     cand = []
     for x, circle, feature, lock, fid, pin in raw:
         on = [c for c in pins.get(x, []) if np.hypot(*(c[0] - circle[0])) > 1e3 * tol]
@@ -297,16 +328,17 @@ def _chosen_moves(
             continue  # (a site already on its circle: the short face has another cause)
         cand.append((moved, x, new, lock, fid, pin))
     if not cand:
-        state.pending = state.involved = _sites_of_features(features, set())
-        return none
+        involved = _sites_of_features(features, set())
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 2)), Collapse(state.pins, involved, involved)
     cand.sort(key=lambda c: (c[0], c[1]))
     xy = np.array([c[2] for c in cand])
     ok = domain.inside(xy)
-    if allowed is not None:
-        ok &= allowed(xy)
+    if rules.allowed is not None:
+        ok &= rules.allowed(xy)
     locked = np.zeros(n, dtype=bool)
     idx, new = [], []
     fixed: set[int] = set()
+    new_pins = dict(state.pins)
     for k, (_, x, p, lock, fid, pin) in enumerate(cand):
         if not ok[k] or locked[x] or locked[list(lock)].any():
             continue
@@ -316,20 +348,22 @@ def _chosen_moves(
         new.append(p)
         fixed.add(fid)
         if pin is not None:
-            state.pins.setdefault(x, []).append(pin)
-    state.pending = _sites_of_features(features, fixed)
-    state.involved = _sites_of_features(features, set())
+            new_pins[x] = (*new_pins.get(x, ()), pin)
+    after = Collapse(new_pins, _sites_of_features(features, fixed), _sites_of_features(features, set()))
     if not idx:
-        return none
-    return np.asarray(idx, dtype=np.int64), np.asarray(new)
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 2)), after
+    return np.asarray(idx, dtype=np.int64), np.asarray(new), after
 
 
-def _pins(xs, full, zero, sites, domain: Domain, state: Collapse, tol: float) -> dict[int, list]:
+def _pins(
+    xs, full: tuple[Ridges, np.ndarray], sites, domain: Domain, state: Collapse, tol: float
+) -> dict[int, list]:
     """The exact circles each site of ``xs`` lies on, (centre, radius) each: its degenerate
     vertices (shared by four or more cells: one vertex with four or more sites, as the
     squares of a lattice, or vertices joined by a zero-length ridge) and the boundary
     points it was put on before."""
-    coords, va, vb, cp, cq = full
+    ridges, zero = full
+    coords, va, vb, cp, cq = ridges.coords, ridges.va, ridges.vb, ridges.cp, ridges.cq
     n = sites.shape[0]
     want = np.zeros(n, dtype=bool)
     want[xs] = True
@@ -359,7 +393,7 @@ def _pins(xs, full, zero, sites, domain: Domain, state: Collapse, tol: float) ->
                 uniq.append(c)
         pins[x] = [(c, float(np.hypot(*(sites[x] - c)))) for c in uniq]
     for x in xs.tolist():
-        for pin in state.pins.get(x, []):
+        for pin in state.pins.get(x, ()):
             circle = _circle(pin, sites, domain)
             if circle is not None and all(np.hypot(*(circle[0] - c[0])) > 1e3 * tol for c in pins.get(x, [])):
                 pins.setdefault(x, []).append(circle)

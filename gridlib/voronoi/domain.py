@@ -147,9 +147,6 @@ class Domain:
     def to_local(self, p: ArrayLike) -> np.ndarray:
         return np.asarray(p, dtype=np.float64) - self.origin
 
-    def to_global(self, p: np.ndarray) -> np.ndarray:
-        return p + self.origin
-
     def fmt(self, p: Sequence[float] | np.ndarray) -> str:
         """A local point written in global coordinates, for messages."""
         return f"({_fmt(p[0] + self.origin[0])}, {_fmt(p[1] + self.origin[1])})"

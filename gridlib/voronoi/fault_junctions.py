@@ -12,6 +12,8 @@ less than ``ACUTE`` the ratio of radius to step is lowered near the junction
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..reproducible import arccos, arctan2
@@ -20,6 +22,29 @@ from .fault_layout import FaultLayout
 ACUTE = np.radians(40.0)  # traces meeting at less than this get smaller circles near the junction
 RATIO_MIN = 0.52  # the smallest circle radius / step used there
 FITTED = "its arms' first circles were fitted to it"  # a junction problem that leaves conforming sites
+
+
+@dataclass(frozen=True, eq=False)
+class Steps:
+    """The steps along the traces: step k runs from circle centre ``a[k]`` to ``b[k]`` and is
+    ``length[k]`` long (m)."""
+
+    a: np.ndarray
+    b: np.ndarray
+    length: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class _Arms:
+    """The arms of the traces at one node: the first centre along each (``far``), the first
+    step's length (``lens``), the pairs of neighbouring arms with the angle between them
+    (``pairs``: (arm, arm, gap)) and the arms next to the boundary with the angle they may
+    take (``caps``: (arm, limit))."""
+
+    far: np.ndarray
+    lens: np.ndarray
+    pairs: list[tuple[int, int, float]]
+    caps: list[tuple[int, float]]
 
 
 def local_ratio(lay: FaultLayout, centres: np.ndarray, l0: np.ndarray, constrained: np.ndarray) -> np.ndarray:
@@ -54,9 +79,17 @@ def local_ratio(lay: FaultLayout, centres: np.ndarray, l0: np.ndarray, constrain
 
 
 def junction_radii(
-    lay: FaultLayout, centres, radii, sa, sb, slen, constrained, problems, mean_step, wedge_node, fixed
-) -> None:
-    """Radii at constrained nodes (junctions, sharp bends, boundary points).
+    lay: FaultLayout,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    steps: Steps,
+    constrained: np.ndarray,
+    mean_step: np.ndarray,
+    wedge_node: np.ndarray,
+    fixed: np.ndarray,
+) -> tuple[np.ndarray, list[tuple[int, str]]]:
+    """The circle radii with those at constrained nodes (junctions, sharp bends, boundary points)
+    fitted, and the problems found there: (node, why).
 
     The sites of the first step of arm j sit at an angle alpha_j from the arm, seen
     from the node; alpha_j grows with the node's radius r_v (the next radius being
@@ -71,14 +104,17 @@ def junction_radii(
     """
     dom = lay.domain
     ratio = lay.ratio
+    sa, sb, slen = steps.a, steps.b, steps.length
+    radii = radii.copy()
+    problems: list[tuple[int, str]] = []
     for v in np.flatnonzero(constrained):  # loop over fault junctions
-        steps = np.concatenate([np.flatnonzero(sa == v), np.flatnonzero(sb == v)])
-        if steps.size == 0:
+        at_v = np.concatenate([np.flatnonzero(sa == v), np.flatnonzero(sb == v)])
+        if at_v.size == 0:
             continue
         far = np.concatenate([sb[sa == v], sa[sb == v]])
         d = centres[far] - centres[v]
         ang = np.mod(arctan2(d[:, 1], d[:, 0]), 2 * np.pi)
-        lens = slen[steps]
+        lens = slen[at_v]
         rw = radii[far]
         rays = [(a, k) for k, a in enumerate(ang)]
         if lay.net.on_boundary[v]:
@@ -98,35 +134,41 @@ def junction_radii(
                 if dom.inside(probe[None, :])[0] or (k0 >= 0 and k1 >= 0):
                     caps.append((k0 if k0 >= 0 else k1, 0.5 * gap))
 
-        def fits(rv: float, lens=lens, rw=rw, pairs=pairs, caps=caps) -> bool:
-            al = arccos(np.clip((rv**2 + lens**2 - rw**2) / (2 * rv * lens), -1.0, 1.0))
-            return all(al[j] + al[k] <= gap * (1 + 1e-12) for j, k, gap in pairs) and all(
-                al[k] <= lim for k, lim in caps
-            )
-
+        arms = _Arms(far, lens, pairs, caps)
         shared = _shared_first_centres(far, v, sa, sb, constrained) | fixed[far]
         if wedge_node[v]:
-            if not _fit_free_arms(float(radii[v]), far, lens, radii, pairs, caps, shared):
+            if not _fit_free_arms(float(radii[v]), arms, radii, shared):
                 problems.append((int(v), "the traces meet at too sharp an angle"))
             continue
         hi = min(ratio, radii[v] / mean_step[v]) * float(lens.min())
         lo = float(np.max(lens - rw)) * (1 + 1e-9)
-        if fits(hi):
+        if _fits(hi, arms, rw):
             radii[v] = hi
-        elif lo >= hi or not fits(lo * (1 + 1e-6)):
+        elif lo >= hi or not _fits(lo * (1 + 1e-6), arms, rw):
             # no node radius fits with these first circles (arms of different steps between tight
             # gaps, at a corner of the domain): the arms' first circles are fitted instead
             radii[v] = hi
-            fitted = _fit_free_arms(hi, far, lens, radii, pairs, caps, shared)
+            fitted = _fit_free_arms(hi, arms, radii, shared)
             problems.append((int(v), FITTED if fitted else "the traces meet at too sharp an angle"))
             continue
         else:
             a, b = lo * (1 + 1e-6), hi
             for _ in range(60):  # bisection: the largest radius that fits
                 m = 0.5 * (a + b)
-                a, b = (m, b) if fits(m) else (a, m)
+                a, b = (m, b) if _fits(m, arms, rw) else (a, m)
             radii[v] = a
-        _close_near_pairs(int(v), float(radii[v]), far, lens, radii, pairs, caps, sa, sb, slen, constrained)
+        _close_near_pairs(int(v), float(radii[v]), arms, radii, steps, constrained)
+    return radii, problems
+
+
+def _fits(rv: float, arms: _Arms, rw: np.ndarray) -> bool:
+    """Whether a node radius ``rv`` keeps the first sites of neighbouring arms from crossing and
+    those next to the boundary inside it (``rw``: the radii of the arms' first centres)."""
+    lens = arms.lens
+    al = arccos(np.clip((rv**2 + lens**2 - rw**2) / (2 * rv * lens), -1.0, 1.0))
+    return all(al[j] + al[k] <= gap * (1 + 1e-12) for j, k, gap in arms.pairs) and all(
+        al[k] <= lim for k, lim in arms.caps
+    )
 
 
 def _shared_first_centres(far: np.ndarray, v: int, sa, sb, constrained) -> np.ndarray:
@@ -141,15 +183,17 @@ def _shared_first_centres(far: np.ndarray, v: int, sa, sb, constrained) -> np.nd
     return out
 
 
-def _fit_free_arms(rv: float, far, lens, radii, pairs, caps, held) -> bool:
+def _fit_free_arms(rv: float, arms: _Arms, radii: np.ndarray, held: np.ndarray) -> bool:
     """Shrink the first circles of arms (not ``held``, per arm: a wedge's, or shared with another
     node) so that no sites cross at a node whose radius is given (a wedge's, or any that fits).
 
     Arm j's first sites sit at alpha_j from it; with the node's radius r_v fixed, alpha_j
     is set by the radius r_j of its first centre: r_j^2 = r_v^2 + L_j^2 - 2 r_v L_j cos alpha_j
     (L_j its first step). Where neighbouring arms' sites cross, the free arm's alpha is cut to
-    what the gap leaves (half of it between two free arms). True if everything fits then.
+    what the gap leaves (half of it between two free arms); ``radii`` is updated. True if
+    everything fits then.
     """
+    far, lens, pairs, caps = arms.far, arms.lens, arms.pairs, arms.caps
     tol = 1e-9
 
     def alphas() -> np.ndarray:
@@ -180,8 +224,10 @@ def _fit_free_arms(rv: float, far, lens, radii, pairs, caps, held) -> bool:
     )
 
 
-def _close_near_pairs(v, rv, far, lens, radii, pairs, caps, sa, sb, slen, constrained) -> None:
-    """Make the first sites of neighbouring arms coincide where they nearly do.
+def _close_near_pairs(
+    v: int, rv: float, arms: _Arms, radii: np.ndarray, steps: Steps, constrained: np.ndarray
+) -> None:
+    """Make the first sites of neighbouring arms coincide where they nearly do (``radii`` updated).
 
     With two (nearly) equally tight pairs of arms, as where two straight faults cross,
     only one pair coincides at the largest radius; the other pair's sites end up a hair
@@ -192,6 +238,8 @@ def _close_near_pairs(v, rv, far, lens, radii, pairs, caps, sa, sb, slen, constr
     properly, and neither end of that step is constrained (its radius belongs to another
     junction).
     """
+    far, lens, pairs, caps = arms.far, arms.lens, arms.pairs, arms.caps
+    sa, sb, slen = steps.a, steps.b, steps.length
     al = arccos(np.clip((rv**2 + lens**2 - radii[far] ** 2) / (2 * rv * lens), -1.0, 1.0))
     slack = {(j, k): gap - (al[j] + al[k]) for j, k, gap in pairs}
     cap = dict.fromkeys(range(len(far)), np.inf)

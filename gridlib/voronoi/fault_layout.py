@@ -12,8 +12,8 @@ refinement (:mod:`.fault_sites`).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import sparse
@@ -27,7 +27,7 @@ KEY_ANGLE = np.radians(90.0)  # a bend sharper than this (inner angle) is handle
 RING_GAP = 0.25  # a well's rings end this many fault steps outside the fault circles
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class _Chains:
     """Which network nodes are constrained ("key": junctions, boundary points, fault changes,
     sharp bends) and which are free ends (tips)."""
@@ -65,16 +65,26 @@ def _chains(net: FaultNetwork) -> _Chains:
     return _Chains(key, (deg == 1) & ~net.on_boundary)
 
 
-@dataclass
+Refinement = tuple[float, float, float]  # (x, y, step): the step wanted at a point (local frame, m)
+
+
+@dataclass(frozen=True, eq=False)
 class FaultLayout:
-    """The network and its constrained nodes; sites are rebuilt from it for every refinement."""
+    """The network and its constrained nodes; sites are rebuilt from it for every refinement.
+
+    ``refine``: the local refinements asked for so far, in the order asked.
+    """
 
     net: FaultNetwork
     ch: _Chains
     size: Callable
     ratio: float
     domain: Domain
-    refine: list[tuple[float, float, float]] = field(default_factory=list)
+    refine: tuple[Refinement, ...] = ()
+
+    def refined(self, requests: Iterable[Refinement]) -> FaultLayout:
+        """This layout with the refinement ``requests`` added after those made before."""
+        return replace(self, refine=self.refine + tuple(requests))
 
 
 def layout(

@@ -423,7 +423,7 @@ def _split_into_graph(pieces, domain: Domain, spacing, labels) -> FaultNetwork:
     seg_k = np.concatenate([np.arange(p["xy"].shape[0] - 1) for p in pieces])
     seg_fault = np.array([pieces[k]["fault"] for k in seg_piece], dtype=np.int64)
     ns = seg_a.shape[0]
-    ins_seg, ins_t, ins_x = _crossings(seg_a, seg_b, seg_piece, seg_k, seg_fault, domain, labels)
+    ins_seg, ins_t, ins_x = _crossings(_Segments(seg_a, seg_b, seg_piece, seg_k, seg_fault), domain, labels)
     # Vertices of every segment: its start, inserted points; then the last end of each piece.
     all_seg = np.concatenate([np.arange(ns), ins_seg])
     all_t = np.concatenate([np.zeros(ns), ins_t])
@@ -464,10 +464,23 @@ def _split_into_graph(pieces, domain: Domain, spacing, labels) -> FaultNetwork:
     return FaultNetwork(nodes, ea, eb, e_fault, on_bnd, spacing, labels)
 
 
-def _crossings(seg_a, seg_b, seg_piece, seg_k, seg_fault, domain: Domain, labels) -> tuple[np.ndarray, ...]:
+@dataclass(frozen=True, eq=False)
+class _Segments:
+    """The segments of the pieces of trace: from ``a`` to ``b`` (k, 2), the ``piece`` each is of,
+    its position ``k`` along that piece and its fault id."""
+
+    a: np.ndarray
+    b: np.ndarray
+    piece: np.ndarray
+    k: np.ndarray
+    fault: np.ndarray
+
+
+def _crossings(segs: _Segments, domain: Domain, labels) -> tuple[np.ndarray, ...]:
     """Where segments of the traces cross or touch (within the domain's tolerance), as points
     inserted into segments: (segment, parameter along it in (0, 1), point). Overlaps and a trace
     touching itself are errors."""
+    seg_a, seg_b, seg_piece, seg_k, seg_fault = segs.a, segs.b, segs.piece, segs.k, segs.fault
     tol = domain.tol
     tree = shapely.STRtree(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
     i, j = tree.query(shapely.linestrings(np.stack([seg_a, seg_b], axis=1)))
@@ -482,7 +495,7 @@ def _crossings(seg_a, seg_b, seg_piece, seg_k, seg_fault, domain: Domain, labels
     den = cross2(r, s)
     par = np.abs(den) <= 1e-12 * rl * sl
     # Collinear overlaps are errors; parallel segments sharing an end point are joined by the nodes.
-    _reject_overlaps(i[par], j[par], r[par], q[par], rl[par], seg_a, seg_b, seg_fault, domain, labels)
+    _reject_overlaps(i[par], j[par], r[par], q[par], rl[par], segs, domain, labels)
     ok = ~par
     i, j, r, s, q, rl, sl, den = i[ok], j[ok], r[ok], s[ok], q[ok], rl[ok], sl[ok], den[ok]
     t = cross2(q, s) / den
@@ -508,12 +521,13 @@ def _crossings(seg_a, seg_b, seg_piece, seg_k, seg_fault, domain: Domain, labels
     return ins_seg, ins_t, ins_x
 
 
-def _reject_overlaps(pi_, pj_, r, q, rl, seg_a, seg_b, seg_fault, domain: Domain, labels) -> None:
+def _reject_overlaps(pi_, pj_, r, q, rl, segs: _Segments, domain: Domain, labels) -> None:
     """Raise if parallel segment pairs (``pi_``, ``pj_``; ``r`` = the first's vector, ``q`` from
     its start to the second's start, ``rl`` = the first's length) run along each other for more
     than the domain's tolerance."""
     if pi_.size == 0:
         return
+    seg_a, seg_b, seg_fault = segs.a, segs.b, segs.fault
     tol = domain.tol
     off = np.abs(cross2(q, r)) / rl
     coll = off <= tol

@@ -50,7 +50,7 @@ Fault ids are the 1-based positions in the ``faults`` sequence; face tags use th
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -58,12 +58,12 @@ from scipy.spatial import cKDTree
 from ..planar import cross2, merge_close_points
 from . import wedges as _wedges
 from .domain import Domain
-from .fault_junctions import junction_radii, local_ratio
+from .fault_junctions import Steps, junction_radii, local_ratio
 from .fault_layout import GROWTH, FaultLayout, step_length
 from .fault_network import FaultNetwork
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class FaultSites:
     """Sites, pairs and circles of all faults (local frame)."""
 
@@ -129,17 +129,14 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     cmin = np.full(nc, np.inf)
     np.minimum.at(cmin, sa, slen)
     np.minimum.at(cmin, sb, slen)
-    fixed = np.zeros(nc, dtype=bool)
-    shared = _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed)
-    problems: list[tuple[int, str]] = []
-    junction_radii(
-        lay, centres, radii, sa, sb, slen, constrained, problems, tot / np.maximum(cnt, 1), wedge_node, fixed
+    steps = Steps(sa, sb, slen)
+    shared, radii, fixed = _wedge_rows(wedge_list, nodes, ea, steps, wedge_steps, radii)
+    radii, problems = junction_radii(
+        lay, centres, radii, steps, constrained, tot / np.maximum(cnt, 1), wedge_node, fixed
     )
-    pairs = _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems)
+    pairs, unmet = _mirrored_pairs(centres, radii, steps, shared)
     fs = _with_tips(ch.tip, centres, centre_fault, radii, cmin, (sa, sb, sf, slen), pairs)
-    fs.problems = problems
-    fs.wedges = [_describe_wedge(w, lay) for w in wedge_list]
-    return fs
+    return replace(fs, problems=problems + unmet, wedges=[_describe_wedge(w, lay) for w in wedge_list])
 
 
 def _node_steps(lay: FaultLayout, elen: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -243,9 +240,14 @@ def _centres(net: FaultNetwork, node_fault, elen, n_steps, params, lead, wedge_e
     return centres, centre_fault, sa, sb, sf, wedge_steps
 
 
-def _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems) -> tuple[np.ndarray, ...]:
+def _mirrored_pairs(
+    centres, radii, steps: Steps, shared
+) -> tuple[tuple[np.ndarray, ...], list[tuple[int, str]]]:
     """The two sites of every step, where its circles intersect (left, right of the step), or the
-    shared sites of an acute wedge; the size and wedge (or -1) of every step."""
+    shared sites of an acute wedge; the size and wedge (or -1) of every step. Also the steps
+    whose circles do not intersect, as problems (centre, why)."""
+    sa, sb, slen = steps.a, steps.b, steps.length
+    problems: list[tuple[int, str]] = []
     ra, rb = radii[sa], radii[sb]
     uvec = (centres[sb] - centres[sa]) / slen[:, None]
     nvec = np.column_stack([-uvec[:, 1], uvec[:, 0]])
@@ -266,7 +268,7 @@ def _mirrored_pairs(centres, radii, sa, sb, slen, shared, problems) -> tuple[np.
         right[steps] = np.where(on_left[:, None], other, one)
         step_size[steps] = size
         step_wedge[steps] = w
-    return left, right, step_size, step_wedge
+    return (left, right, step_size, step_wedge), problems
 
 
 def _with_tips(tip, centres, centre_fault, radii, cmin, steps, pairs) -> FaultSites:
@@ -412,13 +414,19 @@ def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndar
     return lead, ends
 
 
-def _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed) -> list[tuple]:
-    """Shared sites of every wedge or fan: (steps, one site, the other, site size, wedge) per fault side.
+def _wedge_rows(
+    wedge_list, nodes, ea, all_steps: Steps, wedge_steps, radii: np.ndarray
+) -> tuple[list[tuple], np.ndarray, np.ndarray]:
+    """Shared sites of every wedge or fan: (steps, one site, the other, site size, wedge) per fault
+    side; the radii with those of the wedge nodes and rung centres set, and which centres are
+    such rungs (``fixed``).
 
     The sites of a step on an inner side of a fan are the shared sites of the wedges on
-    either side, on an outer side the shared sites and their mirror images. Sets the
-    radii of the wedge nodes and rung centres (and marks the rungs ``fixed``).
+    either side, on an outer side the shared sites and their mirror images.
     """
+    sa, sb = all_steps.a, all_steps.b
+    radii = radii.copy()
+    fixed = np.zeros(radii.size, dtype=bool)
     out = []
     for index, w in enumerate(wedge_list):  # loop over acute wedges and fans
         ws = _wedges.wedge_sites(w, nodes[w.node])
@@ -437,7 +445,7 @@ def _wedge_rows(wedge_list, nodes, ea, sa, sb, wedge_steps, radii, fixed) -> lis
             else:
                 other = (ws.mirror_first if j == 0 else ws.mirror_last)[:k]
             out.append((steps, one, other, np.full(k, w.step), index))
-    return out
+    return out, radii, fixed
 
 
 def circle_violations(

@@ -25,9 +25,10 @@ by Qhull.
 >>> d = Domain(rectangle(0, 0, 8, 8))
 >>> ij = np.array([(i, j) for j in range(8) for i in range(8)])
 >>> lat = Lattice("cartesian", d.to_local([0.5, 0.5]), 1.0, ij)
->>> coords, va, vb, p, q = hybrid_ridges(d.to_local(0.5 + ij.astype(float)), d, lat)
->>> real = np.linalg.norm(coords[va] - coords[vb], axis=1) > 1e-9  # co-circular diagonals have length 0
->>> int(real.sum()), bool(np.all(np.abs(ij[p[real]] - ij[q[real]]).sum(axis=1) == 1))  # the 112 lattice edges
+>>> r = hybrid_ridges(d.to_local(0.5 + ij.astype(float)), d, lat)
+>>> real = r.lengths() > 1e-9  # co-circular diagonals have length 0
+>>> p, q = r.cp[real], r.cq[real]
+>>> int(real.sum()), bool(np.all(np.abs(ij[p] - ij[q]).sum(axis=1) == 1))  # the 112 lattice edges
 (112, True)
 """
 
@@ -42,6 +43,7 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 from ..errors import GridError
 from ..planar import circumcentres, cross2, merge_close_points
 from .domain import Domain
+from .ridges import Ridges
 
 SQRT3 = np.sqrt(3.0)
 
@@ -103,14 +105,14 @@ def frame_points(domain: Domain) -> np.ndarray:
     return 10.0 * domain.diameter * np.column_stack([np.cos(theta), np.sin(theta)])
 
 
-def plain_ridges(sites: np.ndarray, domain: Domain):
-    """(vertex coords, ridge start/end vertex, ridge sites p/q) from one Delaunay of all sites."""
+def plain_ridges(sites: np.ndarray, domain: Domain) -> Ridges:
+    """The ridges of the sites' Voronoi diagram from one Delaunay triangulation of all sites."""
     n = sites.shape[0]
     pts = np.concatenate([sites, frame_points(domain)])
     tri, nbr, centre = triangulate(pts, domain)
     t, u, p, q = edges_of(tri, nbr)
     real = (p < n) & (q < n)
-    return centre, u[real], t[real], p[real], q[real]
+    return Ridges(centre, u[real], t[real], p[real], q[real])
 
 
 class _Cells:
@@ -210,7 +212,7 @@ class _Cells:
         return pts[ok], cells[ok]
 
 
-def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
+def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice) -> Ridges:
     """As :func:`plain_ridges`, with Qhull only around the irregular sites (see the module docstring)."""
     cells = _Cells(lat)
     clean, regular, irregular, buffer = _irregular_sites(sites, lat, cells)
@@ -271,7 +273,7 @@ def hybrid_ridges(sites: np.ndarray, domain: Domain, lat: Lattice):
     coords[in_cells] = cells.centres(used[in_cells])
     coords[~in_cells] = centre[used[~in_cells] - cells.n]
     inv = inv.reshape(-1)
-    return coords, inv[: va.size], inv[va.size :], np.concatenate(cp), np.concatenate(cq)
+    return Ridges(coords, inv[: va.size], inv[va.size :], np.concatenate(cp), np.concatenate(cq))
 
 
 def _irregular_sites(sites: np.ndarray, lat: Lattice, cells: _Cells) -> tuple[np.ndarray, ...]:
@@ -334,38 +336,35 @@ def _vertex_ids(cells: _Cells, lat: Lattice, clean: np.ndarray, corner: np.ndarr
 
 
 def splice_ridges(
-    coords,
-    va,
-    vb,
-    cp,
-    cq,
+    ridges: Ridges,
     sites: np.ndarray,
     moved: np.ndarray,
     domain: Domain,
     tol: float,
-    tree=None,
-    stale=None,
-    inside=None,
-):
+    tree: cKDTree | None = None,
+    stale: np.ndarray | None = None,
+    inside: np.ndarray | None = None,
+) -> tuple[Ridges, np.ndarray] | None:
     """The ridges after a few sites moved a little, recomputed only around them.
 
-    ``coords``, ``va``, ``vb``, ``cp``, ``cq``: the ridges before (as returned by
-    :func:`hybrid_ridges`); ``sites``: all sites, ``moved`` (indices) at their new
+    ``ridges``: the ridges before (as returned by :func:`hybrid_ridges`); ``sites``: all
+    sites, ``moved`` (indices) at their new
     positions. The ridges of the moved sites and of their neighbours (set A) come from
     one Qhull triangulation of A, two rings of neighbours around it and the sites whose
     regions reach far out (so that the frame triangles are right); its triangles at A
     are checked against all sites (no site strictly inside a circumcircle), and the
     kept vertices near A against the moved sites, growing A and the patch until both
     checks pass. Kept ridges that share a vertex with a new one are joined to it by
-    position (within ``tol``). Returns the new (coords, va, vb, cp, cq) and the mask of
-    the new ridges, or None where the patch does not join up (the caller recomputes
+    position (within ``tol``). Returns the new ridges and the mask of the new ones among
+    them, or None where the patch does not join up (the caller recomputes
     everything). ``tree``: a cKDTree of the sites where ``stale`` (mask) is False (the
     others have moved since it was built and are checked at their current positions).
     ``inside`` (mask of sites): the ridges given are all the ridges of these sites (a
     part of the diagram); A and its neighbours must be among them.
     """
+    coords, va, vb, cp, cq = ridges.coords, ridges.va, ridges.vb, ridges.cp, ridges.cq
     nv = coords.shape[0]
-    patch = _patch(coords, va, vb, cp, cq, sites, moved, domain, tree, stale, inside)
+    patch = _patch(ridges, sites, moved, domain, tree, stale, inside)
     if patch is None:
         return None
     A, tri, nbr, centre, glob = patch
@@ -397,21 +396,22 @@ def splice_ridges(
     out_va = remap[np.concatenate([va[kept], new_va])]
     out_vb = remap[np.concatenate([vb[kept], new_vb])]
     fresh = np.concatenate([np.zeros(int(kept.sum()), dtype=bool), np.ones(gp.size, dtype=bool)])
-    return (
+    spliced = Ridges(
         np.concatenate([coords, new_xy]),
         out_va,
         out_vb,
         np.concatenate([cp[kept], gp]),
         np.concatenate([cq[kept], gq]),
-        fresh,
     )
+    return spliced, fresh
 
 
-def _patch(coords, va, vb, cp, cq, sites, moved, domain: Domain, tree, stale, inside):
+def _patch(ridges: Ridges, sites, moved, domain: Domain, tree, stale, inside):
     """The set A of sites whose ridges are recomputed (the moved sites and their neighbours,
     grown until the check passes) and the Qhull triangulation of the patch around it
     (triangles, neighbours, circumcentres, the site of every point or -1 for frame points);
     None where the patch leaves the ``inside`` sites or does not settle."""
+    coords, va, vb, cp, cq = ridges.coords, ridges.va, ridges.vb, ridges.cp, ridges.cq
     n = sites.shape[0]
 
     def grow(mask: np.ndarray) -> np.ndarray:
@@ -457,7 +457,7 @@ def _patch(coords, va, vb, cp, cq, sites, moved, domain: Domain, tree, stale, in
             hits = stale_tree.query_ball_point(centre[check], rad, return_sorted=False)
             bad = np.union1d(bad, stale_idx[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)])
         bad = bad[~P[bad]]
-        spoilt = _spoilt_vertices(coords, va, vb, cp, cq, sites, moved, A, P)
+        spoilt = _spoilt_vertices(ridges, sites, moved, A, P)
         if bad.size == 0 and spoilt.size == 0:
             return A, tri, nbr, centre, glob
         A[bad] = True
@@ -467,9 +467,10 @@ def _patch(coords, va, vb, cp, cq, sites, moved, domain: Domain, tree, stale, in
     return None
 
 
-def _spoilt_vertices(coords, va, vb, cp, cq, sites, moved, A, P) -> np.ndarray:
+def _spoilt_vertices(ridges: Ridges, sites, moved, A, P) -> np.ndarray:
     """Vertices of kept ridges (no site of A) next to the patch ``P`` that a moved site now
     lies strictly inside the circle of: they must go too."""
+    coords, va, vb, cp, cq = ridges.coords, ridges.va, ridges.vb, ridges.cp, ridges.cq
     nv = coords.shape[0]
     kept = ~(A[cp] | A[cq])
     near = kept & (P[cp] | P[cq])

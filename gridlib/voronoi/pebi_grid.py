@@ -82,17 +82,18 @@ local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import numbers
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import GridError
-from .bounded import clipped_voronoi
+from .bounded import ClippedVoronoi, Contraction, clipped_voronoi
 from .conformity import (
     fault_problems,
     problem_kinds,
@@ -101,17 +102,18 @@ from .conformity import (
     snap_to_traces,
     verify,
 )
-from .degenerate import CONTRACT, SHORT, Collapse, collapse_moves
+from .degenerate import CONTRACT, SHORT, Collapse, MoveRules, collapse_moves
 from .domain import Domain
 from .fault_junctions import FITTED
-from .fault_layout import layout, ring_room
+from .fault_layout import FaultLayout, Refinement, layout, ring_room
 from .fault_network import Fault
 from .fault_sites import FaultSites, build_sites, circle_violations
 from .lattice import Lattice
 from .pebi_result import ADDED, BACKGROUND, FAULT, FAULT_TIP, PADDING_SITE, WELL, PebiGrid
+from .ridges import Ridges
 from .sites import PADDING, Background, background_sites
 from .size_notes import KIND_NAMES, size_notes
-from .wells import Well, build_wells, check_clearances, removal_mask
+from .wells import Well, WellSites, build_wells, check_clearances, removal_mask
 
 MAX_EXTRA_ROUNDS = 6
 
@@ -158,6 +160,23 @@ def _size_function(cell_size: object, dom: Domain) -> tuple[Callable[[np.ndarray
     return constant, h
 
 
+@dataclass(frozen=True)
+class PebiTuning:
+    """The expert settings of :func:`pebi_grid`; the defaults (upr's) suit every layout we know.
+
+    ``fault_ratio``: circle radius / step length along faults, in (0.5, 1).
+    ``boundary_clearance``: lattice sites closer than this fraction of their spacing to the
+    boundary are dropped, in [0, 0.5).
+    ``max_refinements``: how often the fault steps are made smaller locally where the
+    empty-circle condition fails (at least halved each time); also sets the smallest feature
+    honoured, the cell size times 2^-max_refinements.
+    """
+
+    fault_ratio: float = 0.6
+    boundary_clearance: float = 0.25
+    max_refinements: int = 6
+
+
 def pebi_grid(
     domain: object,
     cell_size: float | Callable,
@@ -166,9 +185,7 @@ def pebi_grid(
     *,
     pattern: str = "hexagonal",
     padding: int | None = None,
-    fault_ratio: float = 0.6,
-    boundary_clearance: float = 0.25,
-    max_refinements: int = 6,
+    tuning: PebiTuning = PebiTuning(),
 ) -> PebiGrid:
     """A PEBI grid of ``domain`` conforming to ``faults`` and refined around ``wells``.
 
@@ -190,20 +207,19 @@ def pebi_grid(
         ``"hexagonal"`` or ``"cartesian"`` background lattice.
     padding
         Number of rows of Cartesian cells along the boundary (numeric ``cell_size`` only).
-    fault_ratio
-        Circle radius / step length along faults, in (0.5, 1); 0.6 as upr.
-    boundary_clearance
-        Lattice sites closer than this fraction of their spacing to the boundary are dropped.
-    max_refinements
-        How often the fault steps are made smaller locally where the empty-circle condition
-        fails (at least halved each time); also sets the smallest feature honoured, the
-        cell size times 2^-max_refinements.
+    tuning
+        :class:`PebiTuning`: the fault circles' ratio to the steps (0.6 as upr), the boundary
+        clearance of lattice sites and how often fault steps may be refined.
 
     Raises
     ------
     GridError
         On invalid input, naming the object: ``fault 'F2' (faults[1]): ...``.
     """
+    if not isinstance(tuning, PebiTuning):
+        raise GridError(f"pebi_grid: tuning must be a PebiTuning, got {tuning!r}")
+    fault_ratio, boundary_clearance = tuning.fault_ratio, tuning.boundary_clearance
+    max_refinements = tuning.max_refinements
     notes: list[str] = []
     dom = Domain(domain)
     size, constant = _size_function(cell_size, dom)
@@ -213,24 +229,25 @@ def pebi_grid(
 
     lay = layout(faults, dom, size, float(fault_ratio), notes, math.ldexp(1.0, -int(max_refinements)))
     fault_labels = lay.net.labels if lay is not None else []
-    room = None if lay is None else (lambda p: ring_room(lay, p))
+    room = None if lay is None else functools.partial(ring_room, lay)
     ws = build_wells(wells, dom, size, room, notes)
     check_clearances(ws)
     bg = _background(dom, size, constant, pattern, padding, boundary_clearance, ws)
     attempt = 0
     for _ in range(max_refinements + 1):  # a site added for a cut-off piece may ask for smaller fault steps
-        fs, keep, sites, n_bg, attempt = _conforming_fault_sites(
-            lay, bg, size, dom, ws, fault_labels, attempt, max_refinements
-        )
-        if sites.shape[0] == 0:  # a domain smaller than one cell: one cell
-            keep, sites, n_bg = _one_cell(bg, dom, notes)
-        vor, sites, site_size, moved, n_extra, attempt, retry = _clip_rounds(
-            sites, n_bg, keep, bg, fs, ws, dom, size, lay, attempt, max_refinements, fault_labels
-        )
-        if not retry:
+        ss, lay, attempt = _conforming_fault_sites(lay, bg, size, dom, ws, attempt, max_refinements)
+        if ss.xy.shape[0] == 0:  # a domain smaller than one cell: one cell
+            ss = _one_cell(ss, dom)
+            bg = ss.bg
+            notes.append("the domain is smaller than one cell: one site at a point inside it")
+        clipped = _clip_rounds(ss, dom, size, fault_labels, attempt < max_refinements)
+        if not clipped.refine:
             break
-    _add_notes(notes, fs, attempt, bg, keep, n_extra, moved, vor)
+        lay = lay.refined(clipped.refine)
+        attempt += 1
+    notes.extend(_adjustment_notes(ss, clipped, attempt))
 
+    fs, keep, n_bg, vor, sites = ss.faults, ss.keep, ss.n_bg, clipped.vor, clipped.sites
     n_f = fs.sites.shape[0]
     n_sites = sites.shape[0]
     tags = _fault_tags(vor, fs, n_bg, n_sites)
@@ -245,7 +262,8 @@ def pebi_grid(
     site_kind[:n_bg] = np.where(bg.padding[keep], PADDING_SITE, BACKGROUND)
     site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)
     site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
-    site_size = np.concatenate([site_size, size(sites[site_size.size :])])  # and the added sites
+    n_given = clipped.site_size.size  # the sites before those added for cut-off pieces
+    site_size = np.concatenate([clipped.site_size, size(sites[n_given:])])
     verify(vor, dom, tags, fs, fault_labels, ws, cell_well)
     notes.extend(_size_notes(vor, site_size, site_kind, fs, n_bg, dom))
     names_f = tuple((f.name or f"F{i + 1}") for i, f in enumerate(faults))
@@ -279,7 +297,7 @@ def _check_options(pattern, padding, constant, fault_ratio, max_refinements, bou
     return pattern
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class _Background:
     """The background sites, lattice sites first (see lattice.py): positions, spacing, lattice
     index, on the lattice, in the padding rows; their tree and which are clear of the wells."""
@@ -294,6 +312,38 @@ class _Background:
     keep: np.ndarray
 
 
+@dataclass(frozen=True, eq=False)
+class _SiteSet:
+    """The sites of one refinement round: the background sites kept (``keep``, a mask over
+    ``bg``), then the fault sites, then the well sites, all in ``xy`` (local frame, m)."""
+
+    bg: _Background
+    keep: np.ndarray
+    faults: FaultSites
+    wells: WellSites
+    xy: np.ndarray
+
+    @property
+    def n_bg(self) -> int:
+        """The number of background sites kept (the first sites of ``xy``)."""
+        return int(self.keep.sum())
+
+
+@dataclass(frozen=True, eq=False)
+class _Clipped:
+    """What :func:`_clip_rounds` made of a site set: the diagram, the sites (those added for
+    cut-off pieces last), the target sizes of the sites before those, the background sites
+    moved, the number of sites added; or, in ``refine``, the smaller fault steps wanted
+    (x, y, step) where a cut-off piece fell into a fault circle: the sites are then rebuilt."""
+
+    vor: ClippedVoronoi
+    sites: np.ndarray
+    site_size: np.ndarray
+    moved: np.ndarray
+    n_extra: int
+    refine: tuple[Refinement, ...] = ()
+
+
 def _background(dom: Domain, size, constant, pattern, padding, boundary_clearance, ws) -> _Background:
     back = background_sites(dom, size, constant, pattern, padding, float(boundary_clearance))
     order = np.argsort(~back.on_lattice, kind="stable")  # lattice sites first (see lattice.py)
@@ -306,57 +356,93 @@ def _background(dom: Domain, size, constant, pattern, padding, boundary_clearanc
     return _Background(back, bg, bg_spacing, bg_ij, bg_lattice, bg_padding, bg_tree, bg_keep)
 
 
+def _site_set(lay: FaultLayout | None, bg: _Background, size, ws: WellSites) -> _SiteSet:
+    """The fault sites of the layout, the background sites clear of their circles and of the
+    fault sites, and the well sites."""
+    fs = build_sites(lay) if lay is not None else FaultSites.empty()
+    keep = bg.keep.copy()
+    if bg.tree is not None and fs.centres.shape[0]:
+        hits = bg.tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
+        keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+        near = 0.5 * np.maximum(fs.site_step, size(fs.sites))
+        hits = bg.tree.query_ball_point(fs.sites, near, return_sorted=False)
+        keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
+    return _SiteSet(bg, keep, fs, ws, np.concatenate([bg.xy[keep], fs.sites, ws.sites]))
+
+
 def _conforming_fault_sites(
-    lay, bg: _Background, size, dom: Domain, ws, fault_labels, attempt, max_refinements
-):
+    lay: FaultLayout | None,
+    bg: _Background,
+    size,
+    dom: Domain,
+    ws: WellSites,
+    attempt: int,
+    max_refinements: int,
+) -> tuple[_SiteSet, FaultLayout | None, int]:
     """Fault sites meeting the empty-circle condition with everything else, the fault steps
-    refined where they do not (from round ``attempt`` on): the fault sites, which background
-    sites are kept, all sites (background, fault, well), the number of background sites and
-    the round reached."""
+    refined where they do not (from round ``attempt`` on): the site set, the layout with the
+    refinements made and the round reached."""
     while True:  # rebuild the fault sites where they conflict
-        fs = build_sites(lay) if lay is not None else FaultSites.empty()
-        keep = bg.keep.copy()
-        if bg.tree is not None and fs.centres.shape[0]:
-            hits = bg.tree.query_ball_point(fs.centres, fs.radii * (1 + 1e-6), return_sorted=False)
-            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
-            near = 0.5 * np.maximum(fs.site_step, size(fs.sites))
-            hits = bg.tree.query_ball_point(fs.sites, near, return_sorted=False)
-            keep[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = False
-        sites = np.concatenate([bg.xy[keep], fs.sites, ws.sites])
-        n_bg = int(keep.sum())
-        problems = fault_problems(fs, sites, n_bg, fs.sites.shape[0], dom, ws, fault_labels, bg.tree, keep)
+        ss = _site_set(lay, bg, size, ws)
+        fs = ss.faults
+        problems = fault_problems(fs, ss.xy, ss.n_bg, dom, bg.tree, ss.keep)
         if not problems:
-            return fs, keep, sites, n_bg, attempt
+            return ss, lay, attempt
         if attempt == max_refinements:
             kinds = problem_kinds(problems, fs)
             hard = [p for p, why in zip(problems, kinds, strict=True) if why != FITTED]
             if not hard:  # only junctions whose arms were fitted to them: the sites conform
-                return fs, keep, sites, n_bg, attempt
+                return ss, lay, attempt
             raise_fault_problem(hard, fs, dom, lay, max_refinements)
-        for where, step in problems:
-            lay.refine.append((float(where[0]), float(where[1]), step))
+        lay = lay.refined((float(where[0]), float(where[1]), step) for where, step in problems)
         attempt += 1
 
 
-def _one_cell(bg: _Background, dom: Domain, notes: list[str]):
-    """A domain smaller than one cell: one background site at a point inside it (``bg`` updated);
-    which background sites are kept, all sites, the number of background sites."""
+def _one_cell(ss: _SiteSet, dom: Domain) -> _SiteSet:
+    """A domain smaller than one cell: one background site at a point inside it (the background
+    replaced by that site; which sites were kept before is kept for the notes)."""
     rp = dom.polygon.point_on_surface()
-    bg.xy = np.array([[rp.x, rp.y]])
-    bg.spacing, bg.on_lattice, bg.padding = np.array([dom.diameter]), np.zeros(1, bool), np.zeros(1, bool)
-    bg.ij = np.zeros((1, 2), dtype=np.int64)
-    notes.append("the domain is smaller than one cell: one site at a point inside it")
-    return np.ones(1, dtype=bool), bg.xy.copy(), 1
+    xy = np.array([[rp.x, rp.y]])
+    bg = replace(
+        ss.bg,
+        xy=xy,
+        spacing=np.array([dom.diameter]),
+        ij=np.zeros((1, 2), dtype=np.int64),
+        on_lattice=np.zeros(1, bool),
+        padding=np.zeros(1, bool),
+    )
+    return replace(ss, bg=bg, keep=np.ones(1, dtype=bool), xy=xy.copy())
 
 
-def _clip_rounds(
-    sites, n_bg, keep, bg: _Background, fs, ws, dom: Domain, size, lay, attempt, max_refinements, labels
-):
+class _ShortFaceRepair:
+    """The ``adjust`` step of :func:`~.bounded.clipped_voronoi` for one diagram: background sites
+    moved to collapse short faces (:mod:`.degenerate`). ``collapse``, what was done so far,
+    is carried from one diagram of the rounds to the next."""
+
+    def __init__(self, rules: MoveRules, collapse: Collapse) -> None:
+        self.rules = rules
+        self.collapse = collapse
+
+    def __call__(self, sites: np.ndarray, ridges: Ridges, fresh: np.ndarray | None):
+        idx, xy, self.collapse = collapse_moves(ridges, sites, self.rules, self.collapse, fresh)
+        return idx, xy, self.collapse.involved
+
+
+def _outside_fault_circles(fs: FaultSites, xy: np.ndarray) -> np.ndarray:
+    """Which new positions of background sites are allowed: those outside every fault circle."""
+    ok = np.ones(xy.shape[0], dtype=bool)
+    if fs.centres.shape[0]:
+        ok[circle_violations(fs, xy)[1]] = False
+    return ok
+
+
+def _clip_rounds(ss: _SiteSet, dom: Domain, size, labels: Sequence[str], can_refine: bool) -> _Clipped:
     """The clipped Voronoi diagram of the sites, short faces repaired (background sites moved,
     :mod:`.degenerate`; faces contracted), a site added for every piece of a cell a concave
-    boundary cuts off, until none is. Returns the diagram, the sites, their target sizes, the
-    background sites moved, the number of sites added, the refinement round and whether the
-    fault steps were refined (a piece cut off by a fault: start again)."""
+    boundary cuts off, until none is; where such a piece falls into a fault circle, the
+    smaller fault steps wanted there instead (``can_refine``; else an error)."""
+    bg, keep, fs, ws = ss.bg, ss.keep, ss.faults, ss.wells
+    sites, n_bg = ss.xy, ss.n_bg
     tol = _merge_tolerance(dom, bg.spacing, fs, ws)
     back = bg.back
     on_lat = keep & bg.on_lattice
@@ -366,29 +452,18 @@ def _clip_rounds(
     moved = np.zeros(0, dtype=np.int64)
     collapse = Collapse()
     site_size = np.concatenate([bg.spacing[keep], fs.site_step, ws.site_size])
-    retry = False
-
-    def allowed(xy: np.ndarray, fs=fs) -> np.ndarray:
-        """New positions of background sites: outside every fault circle."""
-        ok = np.ones(xy.shape[0], dtype=bool)
-        if fs.centres.shape[0]:
-            ok[circle_violations(fs, xy)[1]] = False
-        return ok
+    allowed = functools.partial(_outside_fault_circles, fs)
 
     for _ in range(MAX_EXTRA_ROUNDS + 1):  # a concave boundary may cut a region in two
         movable = np.zeros(sites.shape[0], dtype=bool)
         movable[:n_bg] = True
         size_now = np.concatenate([site_size, size(sites[site_size.size :])])
-
-        def adjust(s, coords, va, vb, cp, cq, fresh, state=(movable, size_now, tol, collapse)):
-            movable, size_now, tol, collapse = state
-            idx, xy = collapse_moves(
-                coords, va, vb, cp, cq, s, size_now, movable, dom, tol, collapse, allowed, fresh
-            )
-            return idx, xy, collapse.involved
-
+        repair = _ShortFaceRepair(MoveRules(dom, size_now, movable, tol, allowed), collapse)
         protect = fs.pairs + n_bg
-        vor = clipped_voronoi(sites, dom, tol, lattice, adjust, contract=(size_now, protect, CONTRACT))
+        vor = clipped_voronoi(
+            sites, dom, tol, lattice, repair, contract=Contraction(size_now, protect, CONTRACT)
+        )
+        collapse = repair.collapse
         changed = np.flatnonzero(np.any(vor.sites != sites, axis=1))
         if changed.size:
             moved = np.union1d(moved, changed)
@@ -408,15 +483,14 @@ def _clip_rounds(
         extra = vor.extra_points
         if fs.centres.shape[0]:
             c, k = circle_violations(fs, extra)
-            if c.size and attempt < max_refinements:  # the piece lies by a fault: smaller steps there
+            if c.size and can_refine:  # the piece lies by a fault: smaller steps there
                 rel = extra[k] - fs.centres[c]
                 scale = refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
-                for ci, f in zip(c.tolist(), scale.tolist(), strict=True):
-                    where = fs.centres[ci]
-                    lay.refine.append((float(where[0]), float(where[1]), f * float(fs.centre_step[ci])))
-                attempt += 1
-                retry = True
-                break
+                refine = tuple(
+                    (float(fs.centres[ci][0]), float(fs.centres[ci][1]), f * float(fs.centre_step[ci]))
+                    for ci, f in zip(c.tolist(), scale.tolist(), strict=True)
+                )
+                return _Clipped(vor, sites, site_size, moved, n_extra, refine)
             if c.size:
                 raise GridError(
                     f"{labels[fs.centre_fault[c[0]] - 1]} runs through a part of the domain "
@@ -426,13 +500,14 @@ def _clip_rounds(
         sites = np.concatenate([sites, extra])
         kind_extra += 1
         n_extra += extra.shape[0]
-    return vor, sites, site_size, moved, n_extra, attempt, retry
+    return _Clipped(vor, sites, site_size, moved, n_extra)
 
 
-def _add_notes(notes: list[str], fs, attempt: int, bg: _Background, keep, n_extra: int, moved, vor) -> None:
+def _adjustment_notes(ss: _SiteSet, clipped: _Clipped, attempt: int) -> list[str]:
     """Notes on what was adjusted: acute wedges, refinements, sites removed, added and moved,
     faces contracted."""
-    notes.extend(fs.wedges)
+    bg, keep, n_extra, moved, vor = ss.bg, ss.keep, clipped.n_extra, clipped.moved, clipped.vor
+    notes = list(ss.faults.wedges)
     if attempt:
         notes.append(f"fault spacing refined locally {attempt} time(s) to keep the empty-circle condition")
     dropped = int(bg.keep.sum() - keep.sum())
@@ -452,6 +527,7 @@ def _add_notes(notes: list[str], fs, attempt: int, bg: _Background, keep, n_extr
             f"{vor.contracted} face(s) shorter than {CONTRACT:g} cell sizes contracted (no background "
             "site to move there; the faces next to them are orthogonal to within a degree or so)"
         )
+    return notes
 
 
 def _fault_tags(vor, fs, n_bg: int, n_sites: int) -> np.ndarray:

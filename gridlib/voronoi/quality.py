@@ -20,7 +20,7 @@ have a small h, so these show slivers and tiny faces rather than refinement.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -49,9 +49,6 @@ class PebiQuality:
     faces_per_fault: dict[str, int] = field(default_factory=dict)
     area_ratio_min: float = float("nan")  # min cell area / its target size squared (PebiGrid only)
     face_ratio_min: float = float("nan")  # min face length / the smaller target size of its cells
-
-    def as_dict(self) -> dict:
-        return asdict(self)
 
     def __str__(self) -> str:
         lines = [

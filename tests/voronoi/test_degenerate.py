@@ -10,7 +10,7 @@ the face between (1, 0) and (-1, 0) is 1 cm long. Moving (0, 1.01) onto the unit
 import numpy as np
 import pytest
 
-from gridlib.voronoi.degenerate import SHORT, Collapse, collapse_moves
+from gridlib.voronoi.degenerate import SHORT, Collapse, MoveRules, collapse_moves
 from gridlib.voronoi.domain import Domain, rectangle
 from gridlib.voronoi.lattice import plain_ridges
 
@@ -23,9 +23,10 @@ def kite():
 
 
 def moves(kite, movable, state=None):
-    dom, sites, (coords, va, vb, cp, cq) = kite
+    dom, sites, ridges = kite
     state = Collapse() if state is None else state
-    idx, xy = collapse_moves(coords, va, vb, cp, cq, sites, np.ones(4), np.array(movable), dom, 1e-9, state)
+    rules = MoveRules(dom, np.ones(4), np.array(movable), 1e-9)
+    idx, xy, state = collapse_moves(ridges, sites, rules, state)
     return idx, xy + dom.origin, state
 
 
