@@ -46,7 +46,7 @@ from ..config import Case, load_case
 from ..cornerpoint.corners import corner_depths
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
-from ..fluids import conversion, water_gradient
+from ..fluids import PRESET_UNIT_SYSTEMS, water_gradient
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.flow import ConnectionGrid, FlowDeck, FlowWell, Simulation, write_flow_deck
@@ -116,25 +116,21 @@ def stage_flow_deck(
     }
     check_same_cells(grid_nc, grid.num_cells, counts)
     system = unit_system(str(tattrs["unit_system"]))
-    try:
-        conversion(system.name)
-    except InputError:
+    if system not in PRESET_UNIT_SYSTEMS:
         raise InputError(
             f"{case.path}: grid.file: the deck is in {system.name} units; OPM Flow decks are written "
             "for METRIC and FIELD cases"
-        ) from None
+        )
     deck = None
     if corner:
-        deck = deck_with_rock(read_grdecl(grdecl), grid.cells.index_map, rock, system.name)
+        deck = deck_with_rock(read_grdecl(grdecl), grid.cells.index_map, rock, system)
         deck = replace(deck, source=f"grid.grdecl of case '{case.name}' with its rock")  # no path
     flow_index = variables["cell_flow_index"].values
     depth, thickness = _depths(grid, geo, deck)
     sim = _simulation(case, grid, geo, rock, system, depth, thickness, deck, flow_index, form)
     header = _header(case)
     if form == "native":
-        written = write_flow_deck(
-            deck_out.parent, case.flow_name, deck, sim, units=system.name, header=header
-        )
+        written = write_flow_deck(deck_out.parent, case.flow_name, deck, sim, units=system, header=header)
     else:
         cell_volumes = (
             geo.cell_volumes if geo is not None else read_extra(geometry_nc, ("cell_volume",))["cell_volume"]
@@ -153,7 +149,7 @@ def stage_flow_deck(
         )
         try:
             written = write_flow_deck(
-                deck_out.parent, case.flow_name, layout, sim, units=system.name, header=header
+                deck_out.parent, case.flow_name, layout, sim, units=system, header=header
             )
         except InputError as exc:
             raise InputError(f"{case.path}: {exc}") from None
@@ -214,8 +210,7 @@ def _simulation(
     top = float(np.floor((depth - thickness / 2.0).min()))  # whole length units: a deck a person reads
     base = float(np.ceil((depth + thickness / 2.0).max()))
     datum = float(initial.get("datum", top))
-    c = conversion(system.name)
-    hydrostatic = round(ATM / 1e5 * c.pressure + water_gradient(system.name) * datum, 2)
+    hydrostatic = round(ATM / 1e5 * system.pressure_from_metric + water_gradient(system) * datum, 2)
     pressure = float(initial.get("pressure", hydrostatic))
     owc = None if fluid == "water" else float(initial.get("owc", base))
     case_wells = {w["name"]: w for w in case.data.get("wells", [])}
@@ -229,7 +224,7 @@ def _simulation(
                 f"{key}.name: well '{w['name']}' at ({point[0]:g}, {point[1]:g}) lies outside every "
                 "active cell of the grid"
             )
-        radius = float(w.get("radius", WELL_RADIUS * c.length))
+        radius = float(w.get("radius", WELL_RADIUS * system.length_from_metric))
         skin = float(w.get("skin", 0.0))
         factors = None
         try:
@@ -238,9 +233,7 @@ def _simulation(
                     factors = deck_well_index(deck, grid.cells.index_map[cells], radius, skin)
                 else:
                     perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])
-                    factors = well_index(
-                        grid, geo, perm, cells, radius, skin, ntg=rock["ntg"], units=system.name
-                    )
+                    factors = well_index(grid, geo, perm, cells, radius, skin, ntg=rock["ntg"], units=system)
         except InputError as exc:
             raise InputError(f"{key}.radius: well '{w['name']}': {exc}") from None
         wells.append(

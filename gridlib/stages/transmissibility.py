@@ -71,7 +71,6 @@ from .petrophysics import read_rock
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
 CELL_VARS = ("porv", "cell_flow_index")
-VOLUME_LABELS = {"METRIC": "rm3", "FIELD": "rb", "LAB": "rcc", "PVT-M": "rm3"}
 
 
 def stage_transmissibility(
@@ -107,7 +106,7 @@ def stage_transmissibility(
     else:  # a deck's T need no geometry of ours; any other grid's need all of it
         geo = read_geometry_netcdf(geometry_nc)
         conn, centres = _grid_case(case, grid_nc, stored, geo, rock, system)
-        porv = geo.cell_volumes * rock["poro"] * rock["ntg"] * _volume_unit(system)
+        porv = geo.cell_volumes * rock["poro"] * rock["ntg"] * system.volume_per_cubic_length
         method = f"transmissibility (two-point flux, cell centres: {centres})"
         flow_index, flow_dims = _flow_index(grid)
     ds = connections_dataset(conn, porv, flow_index, flow_dims, system)
@@ -128,7 +127,7 @@ def stage_transmissibility(
         conn.trans.max() if conn.num else 0.0,
         system.transmissibility_label,
         porv.sum(),
-        VOLUME_LABELS[system.name],
+        system.reservoir_volume_label,
     )
     for note in conn.notes:
         log.info("note: %s", note)
@@ -154,7 +153,7 @@ def _deck_case(
     if "bulk_volume" not in stored.cell_data:
         raise InputError(f"{grid_nc}: bulk_volume: missing (a cornerpoint or deck grid stores it)")
     index = grid.cells.index_map
-    deck = deck_with_rock(deck, index, rock, system.name)
+    deck = deck_with_rock(deck, index, rock, system)
     extra = read_extra(grid_nc, ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face"))
     empty = np.zeros((0, 2), dtype=np.int64)
     nnc = NNC(
@@ -201,7 +200,7 @@ def _porv_notes(case: Case, porv: np.ndarray) -> list[str]:
 CASE_ROCK = {"PORO": "poro", "PERMX": "permx", "PERMY": "permy", "PERMZ": "permz", "NTG": "ntg"}
 
 
-def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: str) -> Deck:
+def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: UnitSystem) -> Deck:
     """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
     ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
     leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
@@ -214,12 +213,7 @@ def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], u
         return full
 
     cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in CASE_ROCK.items()}}
-    return replace(deck, cell_data=cell_data, units=units)
-
-
-def _volume_unit(system: UnitSystem) -> float:
-    """Reservoir volume units per cubed length unit (METRIC 1, FIELD ft3 -> rb)."""
-    return system.length * system.length * system.length / system.volume
+    return replace(deck, cell_data=cell_data, units=units.name)
 
 
 def _grid_case(
@@ -245,7 +239,7 @@ def _grid_case(
         centres = np.column_stack([site, geo.cell_centroids[:, 2]]) if d == 3 else site
         what, distance = "generating sites (x, y) at the centroid depth, distance to the face plane", "normal"
     try:
-        conn = transmissibility(grid, geo, perm, ntg, centres=centres, distance=distance, units=system.name)
+        conn = transmissibility(grid, geo, perm, ntg, centres=centres, distance=distance, units=system)
     except InputError as exc:
         raise InputError(f"{case.path}: petrophysics: {exc}") from None
     return conn, what
@@ -273,7 +267,7 @@ def connections_dataset(
     system: UnitSystem,
 ) -> xr.Dataset:
     """The variables of ``transmissibility.nc`` (also written into ``{case}.nc``)."""
-    volume = VOLUME_LABELS[system.name]
+    volume = system.reservoir_volume_label
     data = {
         "connection_cells": xr.DataArray(
             conn.cells,
@@ -314,7 +308,7 @@ def connections_dataset(
         "unit_system": system.name,
         "trans_units": system.transmissibility_label,
         "porv_units": volume,
-        "permeability_units": "mD",
+        "permeability_units": system.permeability_label,
         "flow_dims": np.asarray(flow_dims, dtype=np.int64),
         "num_connections": np.int64(conn.num),
         **{f"{kind}_connections": np.int64(n) for kind, n in counts.items()},
