@@ -157,9 +157,10 @@ def write_flow_deck(
 ) -> FlowDeck:
     """Write ``<name>.DATA`` and its includes into ``directory``: the native form for a
     :class:`~gridlib.cornerpoint.deck.Deck` (its cell data holding the rock), the connection
-    form for a :class:`ConnectionGrid` (module docstring), in ``units`` (METRIC or FIELD). ``header``:
-    comment lines put first (provenance). Every file is written atomically, the DATA file last: a failure
-    leaves no DATA file (and removes the includes written by this call)."""
+    form for a :class:`ConnectionGrid` (module docstring). ``units``: the deck's unit system
+    (METRIC or FIELD), a :class:`~gridlib.units.UnitSystem` or its name. ``header``: comment
+    lines put first (provenance). Every file is written atomically, the DATA file last: a
+    failure leaves no DATA file (and removes the includes written by this call)."""
     directory = Path(directory)
     name = name.upper()
     if not name or any(c in name for c in " '/\\") or len(name) > 64:
