@@ -4,7 +4,7 @@ Two presets, good enough for a first look at a grid (does it run, where does the
 go, what do the wells see), not for a field study. Their tables are given here in
 METRIC units (bar, m3, kg/m3, cP; volumes at surface conditions sm3, at reservoir
 conditions rm3) and converted exactly to FIELD units (psia, stb/rb, lb/ft3) for decks in
-FIELD units, with OPM's constants (:mod:`gridlib.units`).
+FIELD units, with OPM's constants (the ``*_from_metric`` factors of :mod:`gridlib.units`).
 
 ``oil-water`` (phases OIL and WATER: a dead oil and water, no gas)
 
@@ -22,22 +22,21 @@ FIELD units, with OPM's constants (:mod:`gridlib.units`).
 
 ``water`` (phase WATER only: single-phase flow): PVTW, DENSITY and ROCK as above.
 
->>> tables = deck_tables("oil-water", "METRIC")
+>>> from gridlib.units import FIELD, METRIC
+>>> tables = deck_tables("oil-water", METRIC)
 >>> tables["PVTW"]
 [[200.0, 1.012, 4.5e-05, 0.45, 0.0]]
->>> round(deck_tables("water", "FIELD")["ROCK"][0][0], 6)  # 200 bar in psia
+>>> round(deck_tables("water", FIELD)["ROCK"][0][0], 6)  # 200 bar in psia
 2900.754755
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from .errors import InputError
-from .units import BAR, FOOT, PSI, STB, unit_system
+from .units import BAR, FIELD, METRIC, UnitSystem
 
 FLUIDS = ("oil-water", "water")
-POUND = 0.45359237  # kg
+PRESET_UNIT_SYSTEMS = (METRIC, FIELD)  # the systems the presets are given in
 
 # METRIC tables (see the module docstring)
 _SWC, _SORW = 0.2, 0.2
@@ -61,55 +60,41 @@ _DENSITY = [[850.0, 1025.0, 1.0]]
 _ROCK = [[200.0, 5.0e-5]]
 
 
-@dataclass(frozen=True)
-class Conversion:
-    """Factors from METRIC to a unit system: multiply a METRIC value by these."""
-
-    pressure: float  # bar -> the system's pressure unit
-    per_pressure: float  # 1/bar -> 1/(pressure unit)
-    density: float  # kg/m3 -> the system's density unit
-    length: float  # m -> the system's length unit
-    surface_volume: float  # sm3 -> the system's surface volume unit (stb for FIELD)
+def check_preset_units(units: UnitSystem) -> None:
+    """An InputError unless the presets are given in ``units`` (METRIC or FIELD; decks in
+    LAB or PVT-M units are not supported)."""
+    if units not in PRESET_UNIT_SYSTEMS:
+        raise InputError(f"unit system {units.name}: the fluid presets are given for METRIC and FIELD decks")
 
 
-def conversion(units: str) -> Conversion:
-    """METRIC -> ``units`` (METRIC or FIELD; decks in LAB or PVT-M units are not supported)."""
-    system = unit_system(units)
-    if system.name == "METRIC":
-        return Conversion(1.0, 1.0, 1.0, 1.0, 1.0)
-    if system.name == "FIELD":
-        return Conversion(BAR / PSI, PSI / BAR, FOOT * FOOT * FOOT / POUND, 1.0 / FOOT, 1.0 / STB)
-    raise InputError(f"unit system {system.name}: the fluid presets are given for METRIC and FIELD decks")
-
-
-def deck_tables(fluid: str, units: str = "METRIC") -> dict[str, list[list[float]]]:
+def deck_tables(fluid: str, units: UnitSystem = METRIC) -> dict[str, list[list[float]]]:
     """The PROPS tables of preset ``fluid`` in ``units``: keyword -> rows (one list per record
     row; SWOF, PVDO are one table each)."""
     if fluid not in FLUIDS:
         raise InputError(f"fluid: expected one of {', '.join(FLUIDS)}, got {fluid!r}")
-    c = conversion(units)
+    check_preset_units(units)
 
     def p(v: float) -> float:
-        return _tidy(v * c.pressure)
+        return _tidy(v * units.pressure_from_metric)
 
     def per_p(v: float) -> float:
-        return _tidy(v * c.per_pressure)
+        return _tidy(v * units.compressibility_from_metric)
 
     tables: dict[str, list[list[float]]] = {}
     if fluid == "oil-water":
         tables["SWOF"] = _swof()
         tables["PVDO"] = [[p(row[0]), row[1], row[2]] for row in _PVDO]
     tables["PVTW"] = [[p(r[0]), r[1], per_p(r[2]), r[3], r[4]] for r in _PVTW]
-    tables["DENSITY"] = [[_tidy(v * c.density) for v in _DENSITY[0]]]
+    tables["DENSITY"] = [[_tidy(v * units.density_from_metric) for v in _DENSITY[0]]]
     tables["ROCK"] = [[p(_ROCK[0][0]), per_p(_ROCK[0][1])]]
     return tables
 
 
-def water_gradient(units: str = "METRIC") -> float:
+def water_gradient(units: UnitSystem = METRIC) -> float:
     """Hydrostatic pressure gradient of the presets' water at surface density, pressure unit
     per length unit (METRIC 0.1005 bar/m)."""
-    c = conversion(units)
-    return _DENSITY[0][1] * 9.80665 / BAR * c.pressure / c.length
+    check_preset_units(units)
+    return _DENSITY[0][1] * 9.80665 / BAR * units.pressure_from_metric / units.length_from_metric
 
 
 def _tidy(value: float) -> float:

@@ -43,6 +43,7 @@ from ..petrophysics import (
     per_layer,
 )
 from ..petrophysics.ranges import check_rock_values
+from ..units import UnitSystem
 from .deck import read_case_deck
 
 KV_KH = 0.1  # the default vertical over horizontal permeability (grids without a deck's)
@@ -171,7 +172,7 @@ def _rock_of_deck(case: Case, deck: Deck, grid) -> dict[str, np.ndarray]:
     return out
 
 
-def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: str) -> Deck:
+def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], units: UnitSystem) -> Deck:
     """``deck`` with the case's PORO, PERMX, PERMY, PERMZ and NTG (``rock``, per grid cell:
     ``petrophysics.nc``) on its cells ``index`` (0 on cells outside the grid, which Flow then
     leaves inactive too: no pore volume), in ``units``; every other keyword (MULT*, MULTPV,
@@ -184,4 +185,4 @@ def deck_with_rock(deck: Deck, index: np.ndarray, rock: dict[str, np.ndarray], u
         return full
 
     cell_data = {**deck.cell_data, **{key: on_deck(rock[name]) for key, name in ROCK_KEYWORDS.items()}}
-    return replace(deck, cell_data=cell_data, units=units)
+    return replace(deck, cell_data=cell_data, units=units.name)

@@ -52,8 +52,7 @@ def has_pore_volume(deck: Deck) -> bool:
 
 def volume_unit(deck: Deck) -> float:
     """Reservoir volume units per cubed length unit of the deck (METRIC 1, FIELD ft3 -> rb)."""
-    system = unit_system(deck.units)
-    return system.length * system.length * system.length / system.volume
+    return unit_system(deck.units).volume_per_cubic_length
 
 
 def pore_volume_factors(deck: Deck, cells: IntArray | slice = slice(None)) -> FloatArray:

@@ -60,7 +60,7 @@ from ..cornerpoint.deck import Deck
 from ..errors import InputError
 from ..fluids import FLUIDS, deck_tables
 from ..grid import FloatArray, IntArray
-from ..units import unit_system
+from ..units import METRIC, UnitSystem, unit_system
 from .atomic import atomic_path
 from .flow_connections import (
     NNC_THRESHOLD,
@@ -90,10 +90,6 @@ __all__ = [
 FORMS = ("native", "connections")
 WELL_KINDS = ("injector", "producer")
 START_DATE = " 1 'JAN' 2020 /"
-_UNIT_TEXT = {
-    "METRIC": "METRIC: m, bar, sm3/day, rm3, cP, mD, kg/m3; T and CF in cP m3/(day bar)",
-    "FIELD": "FIELD: ft, psia, stb/day, rb, cP, mD, lb/ft3; T and CF in cP rb/(day psi)",
-}
 
 
 @dataclass(frozen=True, eq=False)
@@ -156,23 +152,24 @@ def write_flow_deck(
     grid: Deck | ConnectionGrid,
     simulation: Simulation,
     *,
-    units: str = "METRIC",
+    units: UnitSystem | str = METRIC,
     header: Sequence[str] = (),
 ) -> FlowDeck:
     """Write ``<name>.DATA`` and its includes into ``directory``: the native form for a
     :class:`~gridlib.cornerpoint.deck.Deck` (its cell data holding the rock), the connection
-    form for a :class:`ConnectionGrid` (module docstring). ``header``: comment lines put
-    first (provenance). Every file is written atomically, the DATA file last: a failure
-    leaves no DATA file (and removes the includes written by this call)."""
+    form for a :class:`ConnectionGrid` (module docstring). ``units``: the deck's unit system
+    (METRIC or FIELD), a :class:`~gridlib.units.UnitSystem` or its name. ``header``: comment
+    lines put first (provenance). Every file is written atomically, the DATA file last: a
+    failure leaves no DATA file (and removes the includes written by this call)."""
     directory = Path(directory)
     name = name.upper()
     if not name or any(c in name for c in " '/\\") or len(name) > 64:
         raise InputError(f"name: {name!r} cannot name a deck (no spaces, quotes or slashes, at most 64)")
-    system = unit_system(units)
+    units = unit_system(units)
     form = "native" if isinstance(grid, Deck) else "connections"
     if form == "native":
-        if grid.units is not None and unit_system(grid.units).name != system.name:
-            raise InputError(f"units: the deck is in {grid.units}, the simulation in {system.name}")
+        if grid.units is not None and unit_system(grid.units) != units:
+            raise InputError(f"units: the deck is in {grid.units}, the simulation in {units.name}")
         dims, active = grid.cart_dims, grid.active
     else:
         dims = tuple(int(v) for v in grid.dims)
@@ -205,15 +202,15 @@ def write_flow_deck(
             vanished = vanished_connections(grid)
             if vanished.size:
                 notes.append(
-                    f"{vanished.size} connections below {NNC_THRESHOLD:g} {system.transmissibility_label} "
+                    f"{vanished.size} connections below {NNC_THRESHOLD:g} {units.transmissibility_label} "
                     "between cells that are not logical neighbours vanish in Flow (it sets them to 0)"
                 )
             grid_files = [
                 include("GRID", connection_grid_text(grid)),
-                include("NNC", nnc_text(grid, vanished.size, system.transmissibility_label)),
+                include("NNC", nnc_text(grid, vanished.size, units.transmissibility_label)),
             ]
             edit_files = [include("PORV", porv_text(grid))]
-        text = _deck_text(name, form, dims, system.name, simulation, grid_files, edit_files, header)
+        text = _deck_text(name, form, dims, units, simulation, grid_files, edit_files, header)
         data = directory / f"{name}.DATA"
         with atomic_path(data) as tmp:
             tmp.write_text(text, encoding="ascii")
@@ -288,7 +285,7 @@ def _deck_text(
     name: str,
     form: str,
     dims: tuple[int, ...],
-    units: str,
+    units: UnitSystem,
     sim: Simulation,
     grid_files: list[str],
     edit_files: list[str],
@@ -306,7 +303,7 @@ def _deck_text(
     out = [f"-- {line.encode('ascii', 'replace').decode('ascii')}" for line in header]  # decks are ASCII
     out += [
         f"-- form {how}",
-        f"-- units {_UNIT_TEXT.get(units, units)}",
+        f"-- units {_units_text(units)}",
         f"-- fluid: gridlib's preset {sim.fluid!r} (gridlib.fluids)",
         "",
         "RUNSPEC",
@@ -322,7 +319,7 @@ def _deck_text(
         *(["OIL"] if oil else []),
         "WATER",
         "",
-        units,
+        units.name,
         "",
         "TABDIMS",
         "-- saturation tables, PVT tables, saturation rows, pressure rows",
@@ -361,9 +358,16 @@ def _deck_text(
     return "\n".join(out)
 
 
-def _props(fluid: str, units: str) -> list[str]:
+def _units_text(u: UnitSystem) -> str:
+    """The deck's units, as its header comment names them."""
+    labels = (u.length_label, u.pressure_label, u.rate_label, u.reservoir_volume_label)
+    labels += (u.viscosity_label, u.permeability_label, u.density_label)
+    return f"{u.name}: {', '.join(labels)}; T and CF in {u.transmissibility_label}"
+
+
+def _props(fluid: str, units: UnitSystem) -> list[str]:
     tables = deck_tables(fluid, units)
-    out = ["PROPS", "", f"-- gridlib's fluid preset {fluid!r} in {units} units (see gridlib.fluids)", ""]
+    out = ["PROPS", "", f"-- gridlib's fluid preset {fluid!r} in {units.name} units (see gridlib.fluids)", ""]
     comments = {
         "SWOF": "Sw krw kro Pcow: Corey curves, Swc 0.2, Sorw 0.2, no capillary pressure",
         "PVDO": "P Bo viscosity: dead oil",

@@ -23,7 +23,6 @@ from ..units import UnitSystem
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
 CELL_VARS = ("porv", "cell_flow_index")
-VOLUME_LABELS = {"METRIC": "rm3", "FIELD": "rb", "LAB": "rcc", "PVT-M": "rm3"}
 
 
 def connections_dataset(
@@ -34,7 +33,7 @@ def connections_dataset(
     system: UnitSystem,
 ) -> xr.Dataset:
     """The variables of ``transmissibility.nc`` (also written into ``{case}.nc``)."""
-    volume = VOLUME_LABELS[system.name]
+    volume = system.reservoir_volume_label
     data = {
         "connection_cells": xr.DataArray(
             conn.cells,
@@ -75,7 +74,7 @@ def connections_dataset(
         "unit_system": system.name,
         "trans_units": system.transmissibility_label,
         "porv_units": volume,
-        "permeability_units": "mD",
+        "permeability_units": system.permeability_label,
         "flow_dims": np.asarray(flow_dims, dtype=np.int64),
         "num_connections": np.int64(conn.num),
         **{f"{kind}_connections": np.int64(n) for kind, n in counts.items()},

@@ -48,7 +48,7 @@ from ..config import Case, load_case
 from ..cornerpoint.corners import corner_depths
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
-from ..fluids import conversion, water_gradient
+from ..fluids import PRESET_UNIT_SYSTEMS, water_gradient
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.flow import ConnectionGrid, FlowDeck, FlowWell, Simulation, write_flow_deck
@@ -113,25 +113,21 @@ def stage_flow_deck(
     }
     check_same_cells(grid, mesh.num_cells, counts)
     system = unit_system(str(tattrs["unit_system"]))
-    try:
-        conversion(system.name)
-    except InputError:
+    if system not in PRESET_UNIT_SYSTEMS:
         raise InputError(
             f"{case.path}: grid.file: the deck is in {system.name} units; OPM Flow decks are written "
             "for METRIC and FIELD cases"
-        ) from None
+        )
     deck = None
     if corner:
-        deck = deck_with_rock(read_grdecl(grdecl), mesh.cells.index_map, rock, system.name)
+        deck = deck_with_rock(read_grdecl(grdecl), mesh.cells.index_map, rock, system)
         deck = replace(deck, source=f"grid.grdecl of case '{case.name}' with its rock")  # no path
     flow_index = variables["cell_flow_index"].values
     depth, thickness = _depths(mesh, geo, deck)
     sim = _simulation(case, mesh, geo, rock, system, depth, thickness, deck, flow_index, form)
     header = _header(case)
     if form == "native":
-        written = write_flow_deck(
-            flow_deck.parent, case.flow_name, deck, sim, units=system.name, header=header
-        )
+        written = write_flow_deck(flow_deck.parent, case.flow_name, deck, sim, units=system, header=header)
     else:
         cell_volumes = (
             geo.cell_volumes if geo is not None else read_extra(geometry, ("cell_volume",))["cell_volume"]
@@ -150,7 +146,7 @@ def stage_flow_deck(
         )
         try:
             written = write_flow_deck(
-                flow_deck.parent, case.flow_name, layout, sim, units=system.name, header=header
+                flow_deck.parent, case.flow_name, layout, sim, units=system, header=header
             )
         except InputError as exc:
             raise InputError(f"{case.path}: {exc}") from None
@@ -210,8 +206,7 @@ def _simulation(
     top = float(np.floor((depth - thickness / 2.0).min()))  # whole length units: a deck a person reads
     base = float(np.ceil((depth + thickness / 2.0).max()))
     datum = top if initial.datum is None else initial.datum
-    c = conversion(system.name)
-    hydrostatic = round(ATM / 1e5 * c.pressure + water_gradient(system.name) * datum, 2)
+    hydrostatic = round(ATM / 1e5 * system.pressure_from_metric + water_gradient(system) * datum, 2)
     pressure = hydrostatic if initial.pressure is None else initial.pressure
     owc = None if fluid == "water" else (base if initial.owc is None else initial.owc)
     wells = []
@@ -223,7 +218,7 @@ def _simulation(
                 f"{key}.name: well '{w.name}' at ({w.point[0]:g}, {w.point[1]:g}) lies outside every "
                 "active cell of the grid"
             )
-        radius = WELL_RADIUS * c.length if w.radius is None else w.radius
+        radius = WELL_RADIUS * system.length_from_metric if w.radius is None else w.radius
         factors = None
         try:
             if form == "connections":
@@ -232,7 +227,7 @@ def _simulation(
                 else:
                     perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])
                     factors = well_index(
-                        grid, geo, perm, cells, radius, w.skin, ntg=rock["ntg"], units=system.name
+                        grid, geo, perm, cells, radius, w.skin, ntg=rock["ntg"], units=system
                     )
         except InputError as exc:
             raise InputError(f"{key}.radius: well '{w.name}': {exc}") from None

@@ -38,15 +38,15 @@ from ..io.grid_nnc import nnc_variables
 from ..io.horizon_files import read_horizons
 from ..io.netcdf import write_netcdf
 from ..transmissibility.region_multipliers import with_explicit_region_sets
-from ..units import unit_system
+from ..units import UnitSystem, unit_system
 from .common import log
 
 
-def grid_unit_system(built: CaseGrid) -> str:
+def grid_unit_system(built: CaseGrid) -> UnitSystem:
     """The ECLIPSE unit system of the grid's coordinates: a deck's own (METRIC where it does not
     say, ECLIPSE's default), METRIC (metres) for every grid gridlib builds."""
     units = built.deck.units if built.deck is not None else None
-    return unit_system(units).name
+    return unit_system(units)
 
 
 def checked(case: Case, built: CaseGrid) -> CaseGrid:
@@ -87,7 +87,7 @@ def stage_grid(
         **case.provenance(),
         "fault_names": list(built.fault_names),
         "well_names": list(built.well_names),
-        "unit_system": grid_unit_system(built),
+        "unit_system": grid_unit_system(built).name,
     }
     write_netcdf(grid, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs)
     log.info("wrote %s: %r", grid, built.grid)

@@ -41,6 +41,7 @@ from ..io.netcdf import read_netcdf
 from ..io.pictures import save_figure
 from ..io.transmissibility_file import read_transmissibility
 from ..io.vtu import write_vtu
+from ..units import FIELD, METRIC
 from .common import log
 
 FLOW_OUTPUTS = (".PRT", ".DBG", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST", ".INFOSTEP")
@@ -159,9 +160,9 @@ def _figure(value: float) -> float:
 
 def simulation_figures(case, summary: FlowSummary, fip: dict, deck: Path) -> dict[str, Any]:
     """The figures of ``flow/summary.json``: the field's and the wells' at the last step."""
-    units = {"METRIC": "METRIC (sm3, sm3/day, bar)", "FIELD": "FIELD (stb, stb/day, psia)"}
     head = deck.read_text(errors="replace")[:4000]
-    system = "FIELD" if re.search(r"^FIELD\s*$", head, re.M) else "METRIC"
+    system = FIELD if re.search(r"^FIELD\s*$", head, re.M) else METRIC  # the decks gridlib writes
+    units = (system.surface_volume_label, system.rate_label, system.pressure_label)
     field = {k: _figure(summary[k][-1]) for k in FIELD_FIGURES if (k, "") in summary.values}
     wells = {
         w: {k: _figure(summary[(k, w)][-1]) for k in WELL_FIGURES if (k, w) in summary.values}
@@ -171,7 +172,7 @@ def simulation_figures(case, summary: FlowSummary, fip: dict, deck: Path) -> dic
         "case": case.name,
         "case_sha256": case.sha256,
         "deck": deck.name,
-        "units": units[system],
+        "units": f"{system.name} ({', '.join(units)})",
         "simulated_days": _figure(summary.time[-1]) if summary.time.size else 0.0,
         "report_days": [_figure(t) for t in summary.time[summary.report]],
         "time_steps": int(summary.time.size),

@@ -65,7 +65,7 @@ from ..io.grid_nnc import read_nnc
 from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf, write_dataset
 from ..io.netcdf_parts import check_same_cells, length_of, read_attrs
 from ..io.rock_file import read_rock
-from ..io.transmissibility_file import VOLUME_LABELS, connections_dataset
+from ..io.transmissibility_file import connections_dataset
 from ..pillars.nnc import NNC
 from ..transmissibility import Connections, deck_transmissibility, transmissibility
 from ..units import UnitSystem, unit_system
@@ -102,7 +102,7 @@ def stage_transmissibility(
     else:  # a deck's T need no geometry of ours; any other grid's need all of it
         geo = read_geometry_netcdf(geometry)
         conn, centres = _grid_case(case, grid, stored, geo, rock, system)
-        porv = geo.cell_volumes * rock["poro"] * rock["ntg"] * _volume_unit(system)
+        porv = geo.cell_volumes * rock["poro"] * rock["ntg"] * system.volume_per_cubic_length
         method = f"transmissibility (two-point flux, cell centres: {centres})"
         flow_index, flow_dims = _flow_index(mesh)
     ds = connections_dataset(conn, porv, flow_index, flow_dims, system)
@@ -123,7 +123,7 @@ def stage_transmissibility(
         conn.trans.max() if conn.num else 0.0,
         system.transmissibility_label,
         porv.sum(),
-        VOLUME_LABELS[system.name],
+        system.reservoir_volume_label,
     )
     for note in conn.notes:
         log.info("note: %s", note)
@@ -149,7 +149,7 @@ def _deck_case(
     if "bulk_volume" not in stored.cell_data:
         raise InputError(f"{grid_nc}: bulk_volume: missing (a cornerpoint or deck grid stores it)")
     index = grid.cells.index_map
-    deck = deck_with_rock(deck, index, rock, system.name)
+    deck = deck_with_rock(deck, index, rock, system)
     nnc = read_nnc(grid_nc)
     if nnc is None:
         empty = np.zeros((0, 2), dtype=np.int64)
@@ -189,11 +189,6 @@ def _porv_notes(case: Case, porv: np.ndarray) -> list[str]:
     return notes
 
 
-def _volume_unit(system: UnitSystem) -> float:
-    """Reservoir volume units per cubed length unit (METRIC 1, FIELD ft3 -> rb)."""
-    return system.length * system.length * system.length / system.volume
-
-
 def _grid_case(
     case: Case,
     grid_nc: str | os.PathLike,
@@ -217,7 +212,7 @@ def _grid_case(
         centres = np.column_stack([site, geo.cell_centroids[:, 2]]) if d == 3 else site
         what, distance = "generating sites (x, y) at the centroid depth, distance to the face plane", "normal"
     try:
-        conn = transmissibility(grid, geo, perm, ntg, centres=centres, distance=distance, units=system.name)
+        conn = transmissibility(grid, geo, perm, ntg, centres=centres, distance=distance, units=system)
     except InputError as exc:
         raise InputError(f"{case.path}: petrophysics: {exc}") from None
     return conn, what

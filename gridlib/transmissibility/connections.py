@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..grid import FloatArray, IntArray
+from ..units import METRIC, UnitSystem
 
 # Connection kinds (Connections.kind)
 NEIGHBOR = 0  # logical ijk neighbours (i, i+1 / j, j+1 / k, k+1) sharing a face
@@ -23,9 +24,9 @@ class Connections:
     ``cells`` (n, 2): the two cells (rows of the grid; first < second), sorted by
     (first, second). ``global_cells`` (n, 2): their 0-based linear ijk indices (i
     fastest) where the grid is logically Cartesian, else None. ``trans`` (n,): the
-    transmissibility in the unit system's unit (``units``: METRIC cP m3/(day bar),
-    FIELD cP rb/(day psi), LAB cP cm3/(h atm), PVT-M cP m3/(day atm); see
-    :mod:`gridlib.units`). ``kind`` (n,) int8: NEIGHBOR 0, FAULT 1, PINCH 2, OTHER 3.
+    transmissibility in the transmissibility unit of ``units``, a unit system of
+    :mod:`gridlib.units` (METRIC cP m3/(day bar), FIELD cP rb/(day psi), LAB cP
+    cm3/(h atm), PVT-M cP m3/(day atm)). ``kind`` (n,) int8: NEIGHBOR 0, FAULT 1, PINCH 2, OTHER 3.
     ``face`` (n,): the face of the grid the connection crosses (the first, where two
     cells share several faces), -1 for pinch and explicit connections. ``notes``:
     what was applied, ignored or adjusted, for the reader of the results.
@@ -36,7 +37,7 @@ class Connections:
     trans: FloatArray
     kind: np.ndarray
     face: IntArray
-    units: str = "METRIC"
+    units: UnitSystem = METRIC
     notes: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -68,7 +69,7 @@ class Connections:
 
     def __repr__(self) -> str:
         kinds = ", ".join(f"{v} {k}" for k, v in self.counts().items() if v)
-        return f"Connections({self.num} in {self.units}: {kinds})"
+        return f"Connections({self.num} in {self.units.name}: {kinds})"
 
 
 def assemble(
@@ -78,7 +79,7 @@ def assemble(
     face: IntArray,
     *,
     index_map: IntArray | None,
-    units: str,
+    units: UnitSystem,
     notes: list[str] | tuple[str, ...] = (),
 ) -> Connections:
     """Connections from one entry per face or pair: pairs ordered (first < second), entries of

@@ -120,7 +120,7 @@ def deck_transmissibility(
     pairs, trans, kind, f = apply_deck_edits(
         deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
     )
-    return assemble(pairs, trans, kind, f, index_map=glob, units=units.name, notes=notes)
+    return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes)
 
 
 def _smallest_multz(mult, ga, gb, ta, column, layer):

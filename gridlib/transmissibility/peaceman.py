@@ -71,7 +71,7 @@ from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import B, E, FloatArray, Grid, IntArray, N, S, T, W
 from ..reproducible import log
-from ..units import unit_system
+from ..units import METRIC, UnitSystem, unit_system
 from .deck_connections import rock_arrays
 from .tpfa import permeability_tensors
 
@@ -96,7 +96,7 @@ def well_index(
     ntg: ArrayLike | None = None,
     extents: ArrayLike | None = None,
     form: str = "auto",
-    units: str = "METRIC",
+    units: UnitSystem | str = METRIC,
 ) -> FloatArray:
     """Connection factors of completions in ``cells`` (rows of ``grid``), one per completion.
 
@@ -107,7 +107,8 @@ def well_index(
     :func:`deck_cell_extents`). ``form``: "peaceman" (the rectangular block), "pebi" (vertical
     wells in PEBI cells, from the cell's horizontal area V / dz), "auto" (pebi for vertical
     wells in grids that are not logically Cartesian, peaceman otherwise). See the module
-    docstring for the formulas and their sources. Units: those of ``units``.
+    docstring for the formulas and their sources. Units: those of ``units`` (a
+    :class:`~gridlib.units.UnitSystem` or its name).
 
     >>> import gridlib as gl
     >>> g = gl.cart_grid([1, 1, 1], [100.0, 100.0, 10.0])
@@ -149,7 +150,7 @@ def well_index(
         if g.shape != (nc,) or not np.isfinite(g).all() or (g < 0).any() or (g > 1).any():
             raise InputError(f"ntg: expected one value in [0, 1] per cell ({nc} cells)")
         ext[:, 2] *= g[rows]
-    return connection_factor(k, ext, axis, radius, skin, units, pebi=pebi, area=area)
+    return connection_factor(k, ext, axis, radius, skin, unit_system(units), pebi=pebi, area=area)
 
 
 def deck_well_index(
@@ -168,7 +169,7 @@ def deck_well_index(
     ext = deck_cell_extents(deck, glob)
     ext[:, 2] *= ntg[glob]
     axis = _directions(direction, glob.size)
-    return connection_factor(perm[glob], ext, axis, radius, skin, deck.units)
+    return connection_factor(perm[glob], ext, axis, radius, skin, unit_system(deck.units))
 
 
 def connection_factor(
@@ -177,7 +178,7 @@ def connection_factor(
     axis: IntArray,
     radius: ArrayLike,
     skin: ArrayLike,
-    units: str | None,
+    units: UnitSystem,
     *,
     pebi: np.ndarray | None = None,
     area: FloatArray | None = None,
@@ -215,7 +216,7 @@ def connection_factor(
             f"radius, skin: ln(r0 / min(radius, r0)) + skin must be positive (Flow would give an infinite "
             f"or negative factor); completion {i}: r0 {r0[i]:.6g}, radius {rw[i]:.6g}, skin {s[i]:.6g}"
         )
-    darcy = unit_system(units).darcy_constant
+    darcy = units.darcy_constant
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(conducting, TWO_PI * kh * length / denominator, 0.0) * darcy
 

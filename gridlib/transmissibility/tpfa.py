@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import B, Grid, T
-from ..units import MILLIDARCY, unit_system
+from ..units import METRIC, UnitSystem, unit_system
 from .connections import FAULT, NEIGHBOR, OTHER, Connections, assemble
 
 
@@ -138,7 +138,7 @@ def transmissibility(
     *,
     centres: ArrayLike | None = None,
     distance: str = "centroid",
-    units: str = "METRIC",
+    units: UnitSystem | str = METRIC,
 ) -> Connections:
     """Two-point flux transmissibilities of every interior face of ``grid``.
 
@@ -155,7 +155,8 @@ def transmissibility(
     the line between the sites, the centroid variant is not). Connections are one per
     cell pair (faces between the same two cells add up); their kind is NEIGHBOR for
     logical neighbours, FAULT for other pairs across fault-tagged faces or in logical
-    grids, OTHER otherwise.
+    grids, OTHER otherwise. ``units``: the unit system of the coordinates and of T, a
+    :class:`~gridlib.units.UnitSystem` or its name.
 
     >>> import gridlib as gl
     >>> g = gl.cart_grid([3, 1, 1], [30.0, 10.0, 2.0])
@@ -163,7 +164,7 @@ def transmissibility(
     >>> c.cells.tolist(), [round(float(t), 6) for t in c.trans]  # K A / d: 100 mD 20 m2 / 10 m
     ([[0, 1], [1, 2]], [1.705403, 1.705403])
     """
-    system = unit_system(units)
+    units = unit_system(units)
     nc, dim = grid.num_cells, grid.griddim
     k = permeability_tensors(permeability, nc, dim)
     x = geometry.cell_centroids if centres is None else np.asarray(centres, dtype=np.float64)
@@ -191,8 +192,7 @@ def transmissibility(
         ta = np.where(lateral, ta * g[a], ta)
         tb = np.where(lateral, tb * g[b], tb)
         notes.append("NTG applied to lateral half-transmissibilities")
-    scale = MILLIDARCY * system.length / system.transmissibility
-    trans = harmonic(ta, tb) * scale
+    trans = harmonic(ta, tb) * units.darcy_constant
     kind = np.full(f.size, OTHER, dtype=np.int8)
     if grid.cells.index_map is not None and grid.cart_dims is not None:
         dims = grid.cart_dims
@@ -207,6 +207,6 @@ def transmissibility(
         kind,
         f,
         index_map=grid.cells.index_map,
-        units=system.name,
+        units=units,
         notes=notes,
     )

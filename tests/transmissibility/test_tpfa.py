@@ -26,7 +26,7 @@ def test_cartesian_values_are_k_a_over_d_and_harmonic_means():
     # 1 / (7.5 / (100 A) + 7.5 / (300 A)) with A = 20 m2
     assert c.cells.tolist() == [[0, 1]] and c.global_cells.tolist() == [[0, 1]]
     assert c.trans[0] == pytest.approx(20.0 / (7.5 / 100 + 7.5 / 300) * C, rel=1e-14)
-    assert c.kind.tolist() == [NEIGHBOR] and c.units == "METRIC"
+    assert c.kind.tolist() == [NEIGHBOR] and c.units == METRIC
     g3 = gl.cart_grid([3, 4, 2], [30.0, 40.0, 4.0])
     c3 = transmissibility(g3, gl.compute_geometry(g3), np.tile([10.0, 20.0, 1.0], (24, 1)))
     steps = np.diff(c3.global_cells, axis=1)[:, 0]
