@@ -127,7 +127,12 @@ def test_every_sample_case_has_the_artifacts_of_its_sections():
 
 def test_a_case_without_stage_files_drops_them_and_its_grdecl_where_its_flow_deck_repeats_it():
     case = load_case(ROOT / "config" / "cases" / "anticline.yaml")
-    dropping = type(case)(case.name, case.path, case.sha256, {**case.data, "outputs": {"stage_files": False}})
+    dropping = type(case)(
+        case.name,
+        case.path,
+        case.sha256,
+        {**case.data, "outputs": {**case.data["outputs"], "stage_files": False}},
+    )
     assert artifacts.dropped(dropping) == (
         "horizons",
         "grid",
