@@ -88,7 +88,8 @@ class Artifact:
 
 @dataclass(frozen=True)
 class Stage:
-    """One stage: its name (the Snakemake rule's, the log file's), its function (or the
+    """One stage: its name (its log file's, and its Snakemake rule's unless ``rule`` gives
+    another), its function (or the
     ``"module:function"`` that names it, imported by :func:`gridlib.stages.run_stage` when the
     stage runs, so that the workflow's parse and each job import only what they use), the keys
     of the artifacts it reads, the artifacts it writes, which cases run it, and what a job of it
@@ -103,6 +104,12 @@ class Stage:
     threads: int = 1
     mem_mb: int = 4000
     doc: str = ""
+    rule: str = ""  # the Snakemake rule's name where it is not the stage's
+
+    @property
+    def rule_name(self) -> str:
+        """The name of the stage's Snakemake rule (variants add a suffix)."""
+        return self.rule or self.name
 
     def outputs_of(self, case: Case) -> tuple[Artifact, ...]:
         """The outputs ``case`` has (all of them where it runs the stage)."""
@@ -186,7 +193,7 @@ STAGES: tuple[Stage, ...] = (
         doc="The case's OPM Flow deck flow/<NAME>.DATA and its includes.",
     ),
     Stage(
-        "simulate_case",
+        "simulate",
         "gridlib.stages.simulate:stage_simulate",
         ("flow_deck", "grid", "transmissibility"),
         (
@@ -196,6 +203,7 @@ STAGES: tuple[Stage, ...] = (
         ),
         when=lambda case: case.writes_flow_deck and case.has_simulation,
         on_request=True,
+        rule="simulate_case",  # `snakemake simulate` is the target of every case's simulation
         doc="OPM Flow runs the case's deck: the wells' rates and pressures, the field figures, and the "
         "results on the case's own grid.",
     ),

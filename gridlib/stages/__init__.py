@@ -10,7 +10,7 @@ version, case file hash, seed). :func:`run_case` runs every stage a case has, in
 (``workflow/scripts/stage.py``, through :func:`run_stage`).
 
 Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and transmissibility -> export
--> flow_deck (the OPM Flow deck), then summary over all cases; on request simulate_case (OPM
+-> flow_deck (the OPM Flow deck), then summary over all cases; on request simulate (OPM
 Flow runs the deck).
 """
 

@@ -132,7 +132,7 @@ def stage_rules(stage):
 def _stage_rule(stage, temporary, cases):
     absent = [a.key for a in stage.outputs if a.key not in temporary]
     temps = [key for key, is_temp in temporary.items() if is_temp]
-    name = stage.name + "".join(f"_without_{key}" for key in absent)
+    name = stage.rule_name + "".join(f"_without_{key}" for key in absent)
     if temps:
         name += "_temp" if len(temps) == len(temporary) else "_temp_" + "_".join(temps)
     outputs = {}
