@@ -98,8 +98,7 @@ def stage_input_paths(stage):
     def inputs(wildcards):
         case = CASES[wildcards.case]
         return {
-            key: artifact_path(key, case)
-            for key in artifacts.stage_inputs(stage, case)
+            key: artifact_path(key, case) for key in artifacts.stage_inputs(stage, case)
         }
 
     return inputs
@@ -126,7 +125,9 @@ def stage_rules(stage):
         if present:
             kind = tuple((a.key, a.temporary(case)) for a in present)
             kinds.setdefault(kind, []).append(case)
-    return [_stage_rule(stage, dict(kind), cases) for kind, cases in sorted(kinds.items())]
+    return [
+        _stage_rule(stage, dict(kind), cases) for kind, cases in sorted(kinds.items())
+    ]
 
 
 def _stage_rule(stage, temporary, cases):

@@ -24,8 +24,6 @@ for _stage in STAGES:
                 _rule.benchmark_file
             wildcard_constraints:
                 **_rule.constraints,
-            params:
-                stage=_stage.name,
             group:
                 STAGE_GROUP
             conda:
@@ -33,6 +31,8 @@ for _stage in STAGES:
             threads: _stage.threads
             resources:
                 mem_mb=_stage.mem_mb,
+            params:
+                stage=_stage.name,
             script:
                 "../scripts/stage.py"
 
