@@ -35,7 +35,7 @@ Flow computes it for corner-point cases, :func:`~gridlib.transmissibility.well_i
 from __future__ import annotations
 
 import os
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -124,7 +124,8 @@ def stage_flow_deck(
         deck = replace(deck, source=f"grid.grdecl of case '{case.name}' with its rock")  # no path
     flow_index = variables["cell_flow_index"].values
     depth, thickness = _depths(mesh, geo, deck)
-    sim = _simulation(case, mesh, geo, rock, system, depth, thickness, deck, flow_index, form)
+    model = _Model(mesh, geo, rock, deck, flow_index, system)
+    sim = _simulation(case, model, depth, thickness, form)
     header = _header(case)
     if form == "native":
         written = write_flow_deck(flow_deck.parent, case.flow_name, deck, sim, units=system, header=header)
@@ -189,19 +190,27 @@ def _spacing(volumes: np.ndarray, thickness: np.ndarray) -> float:
     return float(f"{np.sqrt(area):.3g}") if area > 0 else 1.0
 
 
-def _simulation(
-    case: Case,
-    grid: Grid,
-    geo: Geometry | None,
-    rock: dict[str, np.ndarray],
-    system: UnitSystem,
-    depth: np.ndarray,
-    thickness: np.ndarray,
-    deck: Deck | None,
-    flow_index: np.ndarray,
-    form: str,
-) -> Simulation:
+@dataclass(frozen=True)
+class _Model:
+    """What a deck's wells are placed on: the grid (its geometry where read), the rock per cell
+    (``petrophysics.nc``), the deck with that rock (corner-point and deck cases), each cell's
+    0-based linear index in the deck's logical box, and the unit system."""
+
+    grid: Grid
+    geo: Geometry | None
+    rock: dict[str, np.ndarray]
+    deck: Deck | None
+    flow_index: np.ndarray
+    system: UnitSystem
+
+
+def _simulation(case: Case, model: _Model, depth: np.ndarray, thickness: np.ndarray, form: str) -> Simulation:
+    """The deck's simulation (:class:`~gridlib.io.flow.Simulation`): the case's `simulation`
+    section with the initial state's defaults from the cells' ``depth`` and ``thickness``
+    (datum at the top, hydrostatic pressure, the oil-water contact at the base) and its wells'
+    cells and, in the connection form, connection factors."""
     spec = case_simulation(case)
+    grid, geo, rock, deck, system = model.grid, model.geo, model.rock, model.deck, model.system
     fluid, initial = spec.fluid, spec.initial
     top = float(np.floor((depth - thickness / 2.0).min()))  # whole length units: a deck a person reads
     base = float(np.ceil((depth + thickness / 2.0).max()))
@@ -231,7 +240,8 @@ def _simulation(
                     )
         except InputError as exc:
             raise InputError(f"{key}.radius: well '{w.name}': {exc}") from None
-        wells.append(FlowWell(w.name, w.kind, flow_index[cells], radius, w.skin, factors, w.rate, w.bhp))
+        in_box = model.flow_index[cells]
+        wells.append(FlowWell(w.name, w.kind, in_box, radius, w.skin, factors, w.rate, w.bhp))
     return Simulation(fluid, datum, pressure, owc, tuple(wells), spec.report_days)
 
 
