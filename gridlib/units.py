@@ -60,8 +60,6 @@ class UnitSystem:
     time: float  # s
     mass: float  # kg
     length_label: str
-    area_label: str
-    volume_label: str  # a geometric volume (length unit cubed)
     reservoir_volume_label: str  # pore volumes
     surface_volume_label: str
     rate_label: str  # surface rates
@@ -118,8 +116,6 @@ METRIC = UnitSystem(
     time=DAY,
     mass=1.0,
     length_label="m",
-    area_label="m2",
-    volume_label="m3",
     reservoir_volume_label="rm3",
     surface_volume_label="sm3",
     rate_label="sm3/day",
@@ -135,8 +131,6 @@ FIELD = UnitSystem(
     time=DAY,
     mass=POUND,
     length_label="ft",
-    area_label="ft2",
-    volume_label="ft3",
     reservoir_volume_label="rb",
     surface_volume_label="stb",
     rate_label="stb/day",
@@ -152,8 +146,6 @@ LAB = UnitSystem(
     time=HOUR,
     mass=1.0e-3,
     length_label="cm",
-    area_label="cm2",
-    volume_label="cm3",
     reservoir_volume_label="rcc",
     surface_volume_label="scc",
     rate_label="scc/h",
@@ -169,8 +161,6 @@ PVT_M = UnitSystem(
     time=DAY,
     mass=1.0,
     length_label="m",
-    area_label="m2",
-    volume_label="m3",
     reservoir_volume_label="rm3",
     surface_volume_label="sm3",
     rate_label="sm3/day",
