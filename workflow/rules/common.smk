@@ -106,8 +106,9 @@ def stage_input_paths(stage):
 
 @dataclass(frozen=True)
 class StageRule:
-    """One rule of a stage: its name, outputs (patterns, temp() or report() where due), log,
-    benchmark and wildcard constraints (the cases it builds)."""
+    """What one generated rule of a stage declares. Its name, its outputs (patterns, temp()
+    or report() where due), log, benchmark and wildcard constraints (the cases it builds).
+    """
 
     name: str
     outputs: dict
@@ -133,9 +134,10 @@ def stage_rules(stage):
 def _stage_rule(stage, temporary, cases):
     absent = [a.key for a in stage.outputs if a.key not in temporary]
     temps = [key for key, is_temp in temporary.items() if is_temp]
-    name = stage.rule_name + "".join(f"_without_{key}" for key in absent)
+    without = "".join(f"_without_{key}" for key in absent)
+    name = f"{stage.rule_name}{without}"
     if temps:
-        name += "_temp" if len(temps) == len(temporary) else "_temp_" + "_".join(temps)
+        name += "_temp" if len(temps) == len(temporary) else f"_temp_{'_'.join(temps)}"
     outputs = {}
     wildcards = set()
     for a in stage.outputs:
