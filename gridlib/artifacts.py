@@ -222,10 +222,20 @@ def register_stage(stage: Stage, *, after: str | None = None) -> None:
             raise ValueError(f"stage {stage.name!r}: artifact {a.key!r} is another stage's output")
     names = [s.name for s in STAGES]
     if stage.name in names:
-        STAGES = tuple(stage if s.name == stage.name else s for s in STAGES)
-        return
-    at = names.index(after) + 1 if after is not None else len(names)
-    STAGES = STAGES[:at] + (stage,) + STAGES[at:]
+        at = names.index(stage.name)
+        table = STAGES[:at] + (stage,) + STAGES[at + 1 :]
+    else:
+        if after is not None and after not in names:
+            raise ValueError(f"stage {stage.name!r}: no stage {after!r} to follow")
+        at = names.index(after) + 1 if after is not None else len(names)
+        table = STAGES[:at] + (stage,) + STAGES[at:]
+    earlier = {a.key for s in table[:at] for a in s.outputs}
+    unknown = [key for key in stage.inputs if key not in earlier]
+    if unknown:
+        raise ValueError(
+            f"stage {stage.name!r}: its inputs {', '.join(map(repr, unknown))} are no earlier stage's outputs"
+        )
+    STAGES = table
 
 
 def artifacts() -> dict[str, Artifact]:

@@ -163,3 +163,17 @@ def test_an_artifact_written_by_two_stages_is_refused(monkeypatch):
     twin = artifacts.Stage("twin", "x:y", (), (artifacts.Artifact("grid", "other.nc"),))
     with pytest.raises(ValueError, match="stage 'twin': artifact 'grid' is another stage's output"):
         artifacts.register_stage(twin)
+
+
+def test_a_stage_reads_only_what_earlier_stages_write(monkeypatch):
+    monkeypatch.setattr(artifacts, "STAGES", artifacts.STAGES)
+    early = artifacts.Stage("early", "x:y", ("geometry",), (artifacts.Artifact("early", "early.txt"),))
+    with pytest.raises(
+        ValueError, match="stage 'early': its inputs 'geometry' are no earlier stage's outputs"
+    ):
+        artifacts.register_stage(early, after="horizons")
+    with pytest.raises(ValueError, match="stage 'early': no stage 'nowhere' to follow"):
+        artifacts.register_stage(early, after="nowhere")
+    before = artifacts.STAGES
+    artifacts.register_stage(early, after="geometry")
+    assert [s.name for s in artifacts.STAGES].index("early") == 3 and len(artifacts.STAGES) == len(before) + 1
