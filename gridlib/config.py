@@ -243,6 +243,17 @@ def check_case_data(data: dict[str, Any], path: Path, source: str) -> dict[str, 
     return data
 
 
+def named_file(case_file: Path, name: str | os.PathLike) -> Path:
+    """A file a case names: ``name`` relative to the case file's folder (or absolute), its ``..``
+    resolved by the path's text, not by the file system: a study's variant is checked before its
+    folder results/<study>/<variant>/ exists, and names its base case's files from there.
+
+    >>> named_file(Path("results/sweep/fine_r0/fine_r0.yaml"), "../../../config/cases/top.csv").as_posix()
+    'config/cases/top.csv'
+    """
+    return Path(os.path.normpath(Path(case_file).parent / name))
+
+
 DECK_ROCK = ("PORO", "PERMX")  # what a deck must give for its case to have rock without a section
 
 
@@ -254,7 +265,7 @@ def with_deck_rock(data: dict[str, Any], path: Path) -> dict[str, Any]:
     grid = data.get("grid", {})
     if grid.get("type") != "deck" or "petrophysics" in data:
         return data
-    deck = path.parent / grid["file"]
+    deck = named_file(path, grid["file"])
     if not deck.is_file():
         return data  # _consistency_problem names the missing file
     if not set(DECK_ROCK) <= deck_cell_keywords(deck, grid["unknown_keywords"]):
@@ -347,15 +358,14 @@ def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
     """
     grid = data["grid"]
     kind = grid["type"]
-    base = path.parent
     horizons = data.get("horizons")
     if kind in ("cornerpoint", "pebi") and horizons is None:
         return f"grid.type: a {kind} grid is built between horizons: the case needs `horizons`"
     if horizons is not None:
         for k, surface in enumerate(horizons["surfaces"]):
             for key in ("points", "surface"):
-                if key in surface and not (base / surface[key]).is_file():
-                    name, where = surface[key], base / surface[key]
+                if key in surface and not named_file(path, surface[key]).is_file():
+                    name, where = surface[key], named_file(path, surface[key])
                     return f"horizons.surfaces[{k}].{key}: file '{name}' not found (looked for {where})"
         zones = len(horizons["surfaces"]) - 1
         layers = grid.get("layers")
@@ -372,8 +382,8 @@ def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
                     f"faults[{k}].throw: with horizons.per_fault_block the offset is in the picks; "
                     f"fault '{fault['name']}' must not have a throw as well"
                 )
-    if kind == "deck" and not (base / grid["file"]).is_file():
-        return f"grid.file: '{grid['file']}' not found (looked for {base / grid['file']})"
+    if kind == "deck" and not named_file(path, grid["file"]).is_file():
+        return f"grid.file: '{grid['file']}' not found (looked for {named_file(path, grid['file'])})"
     problem = _features_outside(data, kind, horizons)
     if problem is not None:
         return problem

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from ..config import Case
+from ..config import Case, named_file
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
 from ..io.grdecl.vocabulary import vocabulary
@@ -17,7 +17,7 @@ _GRID_SECTIONS = frozenset({"GRID", "EDIT"})
 def deck_path(case: Case) -> Path:
     """The case's deck file; an InputError naming the case if it is missing."""
     name = case.data["grid"]["file"]
-    path = case.path.parent / name
+    path = named_file(case.path, name)
     if not path.is_file():
         raise InputError(f"{case.path}: grid.file: '{name}' not found (looked for {path})")
     return path

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import csv
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -224,3 +225,39 @@ def test_a_broken_study_is_one_line_naming_the_file_and_key(tmp_path, problem):
     assert result.returncode != 0
     assert message in result.stderr.splitlines(), result.stderr[-2000:]
     assert not (tmp_path / "results" / "sweep").exists()
+
+
+# A base case naming files (points files; a deck with INCLUDEs), one value varied, the variant's cells.
+FILE_BASES = {
+    "faulted_picks": ({"grid.layers": [2]}, 4800),  # 40 x 30 columns x 2 zones x 2 layers
+    "spe9": ({"petrophysics.kv_kh": [0.01]}, 9000),  # 24 x 25 x 15, all active
+}
+
+
+@pytest.mark.parametrize("base", sorted(FILE_BASES))
+def test_a_base_case_that_names_files_gives_variants_that_find_them(tmp_path, monkeypatch, base):
+    """A base case naming files relative to itself: its variants, checked before their folders
+    exist and then built in them, read the base's files (they were refused: the paths, rewritten
+    from the variant's folder, were resolved through folders not yet made)."""
+    from gridlib.config import load_case, named_file
+    from gridlib.study import materialise
+
+    def named_files(case):
+        if case.grid_type == "deck":
+            return [named_file(case.path, case.data["grid"]["file"])]
+        return [named_file(case.path, s["points"]) for s in case.data["horizons"]["surfaces"]]
+
+    vary, cells = FILE_BASES[base]
+    base_file = ROOT / "config" / "cases" / f"{base}.yaml"
+    spec = {"name": "sweep", "base": str(base_file), "vary": vary}
+    study = _write(tmp_path / "config" / "studies" / "sweep.yaml", spec)
+    monkeypatch.chdir(tmp_path)  # results/ relative to the working directory, as in the workflow
+    loaded = load_study(study, "results")  # each variant checked as a case of results/sweep/<variant>/
+    assert not Path("results").exists()
+    materialise(loaded, "results")
+    variant = loaded.variants[0]
+    case = load_case(Path("results") / "sweep" / variant.name / f"{variant.name}.yaml")
+    base_files = [p.resolve() for p in named_files(load_case(base_file))]
+    assert [p.resolve() for p in named_files(case)] == base_files
+    run_case(case, case.path.parent)
+    assert json.loads((case.path.parent / "summary.json").read_text())["cells"] == cells
