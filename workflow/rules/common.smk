@@ -23,11 +23,18 @@ from gridlib.study import load_studies, materialise
 
 
 def check_config(data, source):
-    """The configuration against its schema: an InputError naming the key."""
+    """The configuration against its schema: an InputError naming the key. A boolean given on
+    the command line as YAML writes it (``--config simulate=true``; Snakemake reads only
+    Python's True and False) is taken as that boolean."""
     with open(
         Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml"
     ) as f:
-        check_schema(data, yaml.safe_load(f), source)
+        schema = yaml.safe_load(f)
+    for key, spec in schema["properties"].items():
+        value = data.get(key)
+        if spec.get("type") == "boolean" and isinstance(value, str):
+            data[key] = {"true": True, "false": False}.get(value.lower(), value)
+    check_schema(data, schema, source)
 
 
 def stop(message):
