@@ -10,7 +10,7 @@ CORES  ?= all
 # make bench PEER_PYTHON=/path/to/venv/bin/python: peers (resdata, xtgeo) timed from that interpreter
 PEER_PYTHON ?=
 
-.PHONY: run test system-tools lint bench golden clean
+.PHONY: run simulate test system-tools lint bench golden clean
 
 $(BIN)/python:
 	@test -n "$(PYTHON)" || { echo "make: no python3.11 or python3 on PATH" >&2; exit 1; }
@@ -29,6 +29,10 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 
 run: $(VENV)/.installed-run
 	$(BIN)/snakemake --cores $(CORES) --workflow-profile workflow/profiles/default
+
+# The sample cases with a `simulation` section through OPM Flow (`make system-tools` installs it)
+simulate: $(VENV)/.installed-run
+	$(BIN)/snakemake --cores $(CORES) --workflow-profile workflow/profiles/default simulate
 
 # One pytest worker per core, each taking whole test modules (their module fixtures run once);
 # tests/conftest.py starts the longest modules first.
