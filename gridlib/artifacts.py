@@ -117,14 +117,13 @@ class Stage:
 
 
 PICTURES = "Grids"
-STAGE_FILE = {"temporary": drops_stage_files}
 
 STAGES: tuple[Stage, ...] = (
     Stage(
         "horizons",
         "gridlib.stages.horizons:stage_horizons",
         (),
-        (Artifact("horizons", "horizons.nc", **STAGE_FILE),),
+        (Artifact("horizons", "horizons.nc", temporary=drops_stage_files),),
         when=lambda case: case.has_horizons,
         mem_mb=2000,
         doc="The case's horizons on their lattice, ordered (erode/onlap/error).",
@@ -134,7 +133,7 @@ STAGES: tuple[Stage, ...] = (
         "gridlib.stages.grid:stage_grid",
         ("horizons",),
         (
-            Artifact("grid", "grid.nc", **STAGE_FILE),
+            Artifact("grid", "grid.nc", temporary=drops_stage_files),
             Artifact("grdecl", "grid.grdecl", when=lambda case: case.writes_grdecl, temporary=drops_grdecl),
         ),
         doc="The case's grid, checked (and its GRDECL for simulators: corner-point and deck grids).",
@@ -143,14 +142,14 @@ STAGES: tuple[Stage, ...] = (
         "geometry",
         "gridlib.stages.geometry:stage_geometry",
         ("grid",),
-        (Artifact("geometry", "geometry.nc", **STAGE_FILE),),
+        (Artifact("geometry", "geometry.nc", temporary=drops_stage_files),),
         doc="Cell volumes and centroids, face areas, normals and centroids.",
     ),
     Stage(
         "petrophysics",
         "gridlib.stages.petrophysics:stage_petrophysics",
         ("grid", "geometry"),
-        (Artifact("petrophysics", "petrophysics.nc", **STAGE_FILE),),
+        (Artifact("petrophysics", "petrophysics.nc", temporary=drops_stage_files),),
         when=lambda case: case.has_petrophysics,
         doc="Porosity, permeability and NTG per cell (random fields in depositional coordinates).",
     ),
@@ -158,7 +157,7 @@ STAGES: tuple[Stage, ...] = (
         "coarsen",
         "gridlib.stages.coarsen:stage_coarsen",
         ("grid", "geometry", "petrophysics"),
-        (Artifact("coarse", "coarse.nc", **STAGE_FILE),),
+        (Artifact("coarse", "coarse.nc", temporary=drops_stage_files),),
         when=lambda case: case.has_coarsening,
         doc="Partition, coarse grid and upscaled rock.",
     ),
@@ -166,7 +165,7 @@ STAGES: tuple[Stage, ...] = (
         "transmissibility",
         "gridlib.stages.transmissibility:stage_transmissibility",
         ("grid", "grdecl", "geometry", "petrophysics"),
-        (Artifact("transmissibility", "transmissibility.nc", **STAGE_FILE),),
+        (Artifact("transmissibility", "transmissibility.nc", temporary=drops_stage_files),),
         when=lambda case: case.has_transmissibility,
         doc="Connections (cell pairs, T, kind, face), pore volumes and the simulator's cell index.",
     ),
