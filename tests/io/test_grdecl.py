@@ -295,14 +295,15 @@ def test_write_round_trips_special_values_and_keeps_lines_short(tmp_path):
         "FIPNUM": np.repeat([1.0, 2.0, -0.0, 1e15], nc // 4),  # whole numbers: integers
     }
     coord = deck.coord.copy()
-    coord[[3, 4, 10]] = np.nan  # NaN is written one by one ("n*nan" is not read)
-    deck = dataclasses.replace(deck, coord=coord, cell_data=arrays)
+    coord[[3, 4, 10]] = np.nan  # NaN is written one by one ("n*nan" is not read)...
+    with_nan = write_grdecl(tmp_path / "nan.grdecl", dataclasses.replace(deck, coord=coord))
+    assert "nan" in with_nan.read_text() and "*nan" not in with_nan.read_text()
+    with pytest.raises(DeckError, match=r"nan.grdecl:\d+: COORD: 3 values are not finite .*pillar \(1, 1\)"):
+        read_grdecl(with_nan)  # ... and read back refused: a deck's numbers are finite
+    deck = dataclasses.replace(deck, cell_data=arrays)
     path = write_grdecl(tmp_path / "special.grdecl", deck)
     back = read_grdecl(path)
-    assert np.isnan(back.coord[[3, 4, 10]]).all()
-    np.testing.assert_array_equal(
-        back.coord.view(np.int64)[~np.isnan(coord)], coord.view(np.int64)[~np.isnan(coord)]
-    )
+    np.testing.assert_array_equal(back.coord.view(np.int64), deck.coord.view(np.int64))
     np.testing.assert_array_equal(back.zcorn.view(np.int64), deck.zcorn.view(np.int64))
     for name, values in arrays.items():
         expected = values + 0.0 if name == "FIPNUM" else values  # an integer keyword has no -0
@@ -311,7 +312,6 @@ def test_write_round_trips_special_values_and_keeps_lines_short(tmp_path):
         )
     text = path.read_text()
     assert max(len(line) for line in text.splitlines()) <= 131  # ECLIPSE reads 132 characters a line
-    assert "nan" in text and "*nan" not in text
     assert f"{nc - 3}*-1.2345678901234567e-100" in text
     assert "FIPNUM\n30*1 30*2 30*0 30*1000000000000000\n/" in text
 
@@ -360,7 +360,10 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         (CUBE + "FAULTS\n 'F' 1 1 1 1 1 1 W /\n/\n", r"x.grdecl:10: FAULTS: face 'W' of fault 'F'"),
         (CUBE + "MULTIPLY\n 'PERMX' 2 /\n/\n", r"x.grdecl:10: MULTIPLY: PERMX is not defined"),
         (CUBE + "EQUALS\n 'PORO' x /\n/\n", r"x.grdecl:10: EQUALS: PORO: 'x' is not a number"),
-        (CUBE + "ACTNUM\n 1 0 -1 1 /\n", r"x.grdecl: ACTNUM values must be non-negative"),
+        (
+            CUBE + "ACTNUM\n 1 0 0.5 1 /\n",
+            r"x.grdecl:10: ACTNUM: 1 values are not integers \(first 0.5\): cells \(1, 2, 1\)",
+        ),
         (CUBE.replace("16*0 16*1", "16*0 15*1"), r"x.grdecl:7: ZCORN: has 31 values, expected 32"),
         (CUBE + "MAPUNITS\n 'METRES /\n", r"x.grdecl:10: MAPUNITS: a quoted string is not closed"),
     ],
