@@ -316,12 +316,18 @@ def test_write_round_trips_special_values_and_keeps_lines_short(tmp_path):
     assert "FIPNUM\n30*1 30*2 30*0 30*1000000000000000\n/" in text
 
 
-def test_write_refuses_undefined_values_and_leaves_no_file(tmp_path):
+def test_write_keeps_undefined_values_undefined(tmp_path):
+    """A deck that leaves cells without a value (PERMX given in a BOX, say) is written as it is:
+    those cells defaulted (n*), undefined again when read (by Flow too). A deck case whose case
+    gives its own permeability wrote its grid.grdecl that way; the writer used to refuse it."""
     deck = simple_grdecl([2, 2, 1])
-    bad = dataclasses.replace(deck, cell_data={"PORO": np.array([0.1, np.nan, 0.2, 0.2])})
-    with pytest.raises(DeckError, match="PORO has undefined"):
-        write_grdecl(tmp_path / "x.grdecl", bad)
-    assert list(tmp_path.iterdir()) == []
+    data = {"PERMX": np.array([10.0, np.nan, np.nan, 20.0]), "FIPNUM": np.array([np.nan, 1, 2, 2])}
+    path = write_grdecl(tmp_path / "x.grdecl", dataclasses.replace(deck, cell_data=data))
+    text = path.read_text()
+    assert "PERMX\n10.0 2* 20.0\n/" in text and "FIPNUM\n1* 1 2*2\n/" in text
+    back = read_grdecl(path)
+    for name, values in data.items():
+        np.testing.assert_array_equal(back.cell_data[name], values)
 
 
 def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
@@ -362,7 +368,7 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         (CUBE + "EQUALS\n 'PORO' x /\n/\n", r"x.grdecl:10: EQUALS: PORO: 'x' is not a number"),
         (
             CUBE + "ACTNUM\n 1 0 0.5 1 /\n",
-            r"x.grdecl:10: ACTNUM: 1 values are not integers \(first 0.5\): cells \(1, 2, 1\)",
+            r"x.grdecl:9: ACTNUM: 1 values are not integers \(first 0.5\): cells \(1, 2, 1\)",
         ),
         (CUBE.replace("16*0 16*1", "16*0 15*1"), r"x.grdecl:7: ZCORN: has 31 values, expected 32"),
         (CUBE + "MAPUNITS\n 'METRES /\n", r"x.grdecl:10: MAPUNITS: a quoted string is not closed"),

@@ -67,7 +67,9 @@ def write_grdecl(
     operations, EDITNNC), which OPM Flow reads nowhere else; the file, INCLUDEd at
     the end of the GRID section, then opens the EDIT section. With ``edit=False``
     it is a pure GRID include and :func:`write_edit_grdecl` writes the rest.
-    Values are exact: ``read_grdecl`` gives back bit-identical arrays. GRIDOPTS
+    Values are exact: ``read_grdecl`` gives back bit-identical arrays; the cells a keyword leaves
+    undefined (NaN: the deck gave them no value) are written defaulted (``n*``), undefined again
+    for OPM Flow and ``read_grdecl``. GRIDOPTS
     (RUNSPEC) is not written: MULTREGT records name their region set.
     """
     nx, ny, nz = deck.cart_dims
@@ -96,9 +98,8 @@ def write_grdecl(
     if deck.actnum is not None:
         arrays.append(("ACTNUM", deck.actnum, True))
     for name, values in data.items():
-        if np.isnan(values).any():
-            raise DeckError(f"write_grdecl: {name} has undefined (NaN) values; ECLIPSE cannot read them")
-        integer = bool(np.all(values == np.round(values))) and name.endswith("NUM")
+        defined = values[~np.isnan(values)]
+        integer = bool(np.all(defined == np.round(defined))) and name.endswith("NUM")
         arrays.append((name, values, integer))
     tail: list[str] = []
     if deck.faults:
@@ -131,8 +132,10 @@ def write_grdecl(
     target = Path(path)
     with atomic_path(target) as tmp, open(tmp, "wb") as f:
         f.write(("\n".join(parts) + "\n").encode("ascii"))
-        for name, values, integer in arrays:
-            for block in keyword_text(name, values, integer=integer):
+        for name, values, integer in arrays:  # cells a keyword leaves undefined (NaN) stay so: n*
+            for block in keyword_text(
+                name, values, integer=integer, undefined=name not in ("COORD", "ZCORN")
+            ):
                 f.write(block)
         f.write(("\n".join(tail) + "\n").encode("ascii") if tail else b"")
         if edit and has_edit_section(deck):
