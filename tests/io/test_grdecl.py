@@ -459,3 +459,21 @@ def test_porv_operations_flow_computes_are_refused_with_file_and_line(tmp_path, 
     text = CUBE.replace("SPECGRID", "GRID\nSPECGRID") + f"PORO\n 4*0.2 /\nEDIT\n{operation}\n PORV 1 /\n/\n"
     with pytest.raises(DeckError, match=rf"porv.data:\d+: {operation}.*4 cells of the box have no PORV"):
         read_grdecl(write(tmp_path / "porv.data", text))
+
+
+def test_numpy_scalars_are_written_as_numbers(tmp_path):
+    """A deck built in code may hold NumPy scalars: the text has their numbers, never a repr
+    such as np.float64(0.5)."""
+    deck = simple_grdecl([2, 1, 1])
+    deck = dataclasses.replace(
+        deck,
+        faults=(FaultSegment("F", 0, 0, 0, 0, 0, 0, "X"),),
+        multflt={"F": np.float64(0.5)},
+        pinch=(np.float64(0.25), np.float64(1e20)),
+        minpv=np.float64(3.0),
+    )
+    text = write_grdecl(tmp_path / "n.grdecl", deck).read_text()
+    assert "np." not in text
+    assert " 'F' 0.5 /" in text and "PINCH\n 0.25 GAP 1e+20 TOPBOT TOP /" in text and "MINPV\n 3.0 /" in text
+    back = read_grdecl(tmp_path / "n.grdecl")
+    assert back.multflt == {"F": 0.5} and back.pinch == (0.25, 1e20) and back.minpv == 3.0

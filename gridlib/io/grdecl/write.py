@@ -110,13 +110,17 @@ def write_grdecl(
         tail += ["/", ""]
     if deck.multflt:
         tail.append("MULTFLT")
-        tail += [f" '{name}' {value!r} /" for name, value in deck.multflt.items()]
+        tail += [f" '{name}' {float(value)!r} /" for name, value in deck.multflt.items()]
         tail += ["/", ""]
     if deck.pinch is not None:
         gap, pinchout, multz = deck.pinch_options
-        tail += ["PINCH", f" {deck.pinch[0]!r} {gap} {deck.pinch[1]!r} {pinchout} {multz} /", ""]
+        tail += [
+            "PINCH",
+            f" {float(deck.pinch[0])!r} {gap} {float(deck.pinch[1])!r} {pinchout} {multz} /",
+            "",
+        ]
     if deck.minpv is not None:
-        tail += ["MINPV", f" {deck.minpv!r} /", ""]
+        tail += ["MINPV", f" {float(deck.minpv)!r} /", ""]
     if deck.multregt:
         tail.append("MULTREGT")
         for r in deck.multregt:
