@@ -124,7 +124,14 @@ def write_grdecl(
     if deck.multregt:
         tail.append("MULTREGT")
         for r in deck.multregt:
-            items = (r.region1, r.region2, repr(r.multiplier), r.directions, r.nnc_option, r.region_set)
+            items = (
+                r.region1,
+                r.region2,
+                repr(float(r.multiplier)),
+                r.directions,
+                r.nnc_option,
+                r.region_set,
+            )
             tail.append(" " + " ".join("1*" if v is None else str(v) for v in items) + " /")
         tail += ["/", ""]
     if deck.nnc_keyword is not None and deck.nnc_keyword.num:
