@@ -137,3 +137,16 @@ def test_lengths_whose_volumes_overflow_are_refused(tmp_path):
         DeckError, match=r"v.grdecl:3: COORD: 2 values are not finite numbers within \+-1e\+100"
     ):
         _read(tmp_path, cube.replace("1 1 0 1 1 1", "1e200 1 0 1e200 1 1") + " 4*0 4*1 /\n")
+
+
+def test_a_grid_too_large_to_process_is_refused_naming_the_deck(tmp_path, monkeypatch):
+    """Read (12 cells x 160 bytes fit in 4 KiB), but not processed (12 x 1024 do not)."""
+    import gridlib.memory
+    from gridlib.cornerpoint.process import process_grdecl
+    from gridlib.errors import InputError
+
+    monkeypatch.setattr(gridlib.memory, "machine_memory", lambda: 4096)
+    deck = _read(tmp_path, BOX)
+    message = r"v.grdecl: 3 x 2 x 2 grid: 12 cells need about 1.14e-05 GiB to process .*; this machine has"
+    with pytest.raises(InputError, match=message):
+        process_grdecl(deck)
