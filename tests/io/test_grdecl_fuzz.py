@@ -76,10 +76,11 @@ TOKENS = [
 ]  # fmt: skip
 
 
-def mutate(base: bytes, rng: np.random.Generator) -> bytes:
+def mutate(base: bytes, rng: np.random.Generator, kinds: tuple[int, ...] = tuple(range(9))) -> bytes:
+    """1 to 3 mutations of ``base``, each of one of ``kinds`` (0-8, below)."""
     data = bytearray(base)
     for _ in range(int(rng.integers(1, 4))):
-        kind = int(rng.integers(0, 9))
+        kind = kinds[int(rng.integers(0, len(kinds)))]
         n = len(data)
         at = int(rng.integers(0, max(n, 1)))
         if kind == 0:  # truncate
@@ -183,6 +184,20 @@ def test_mutated_decks_are_read_or_refused_clearly(tmp_path, decks_dir, base_nam
     # processor then refuses clearly: e.g. two COORD lines swapped make pillars that cross); the
     # seed and FIVE_PINCH decks are mostly COORD and ZCORN, which nearly every mutation breaks
     assert outcomes["error"] > count // 10 and outcomes["ok"] + outcomes["grid"] + outcomes["refused"] >= 3
+
+
+@pytest.mark.parametrize("base_name", ["small", "spe1", "five_pinch"])
+def test_mutated_values_reach_the_grid_or_are_refused_clearly(tmp_path, decks_dir, base_name):
+    """Mutants whose syntax holds, values made negative, NaN, 1e300 or 0: most are read, so
+    the processing and the transmissibilities meet them."""
+    relpath = BASES[base_name][0]
+    base = SMALL if relpath == "small" else (decks_dir / relpath).read_bytes()
+    rng = np.random.default_rng(777)
+    outcomes = {"ok": 0, "grid": 0, "error": 0, "refused": 0}
+    count = 20 if base_name == "spe1" else 40
+    for _ in range(count):
+        outcomes[check_one(tmp_path / "case.DATA", mutate(base, rng, kinds=(8,)))] += 1
+    assert outcomes["ok"] + outcomes["grid"] + outcomes["refused"] >= count // 5, outcomes
 
 
 def test_mutated_sample_deck_spe9(tmp_path):
