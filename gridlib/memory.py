@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["GIB", "gib_text", "machine_memory", "memory_shortfall"]
+__all__ = ["GIB", "count_text", "gib_text", "machine_memory", "memory_shortfall"]
 
 GIB = float(1 << 30)
 
@@ -23,6 +23,15 @@ def machine_memory() -> int | None:
     except (ValueError, OSError, AttributeError):
         return None
     return pages * page_size if pages > 0 and page_size > 0 else None
+
+
+def count_text(n: int) -> str:
+    """A count for a message, 3 significant digits, exponents as people write them.
+
+    >>> count_text(10**10), count_text(12), count_text(123456789)
+    ('1e10', '12', '1.23e8')
+    """
+    return f"{n:.3g}".replace("e+0", "e").replace("e+", "e")
 
 
 def gib_text(n_bytes: float) -> str:

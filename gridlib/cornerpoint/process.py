@@ -47,7 +47,7 @@ from scipy.sparse import csgraph
 from ..connectivity import cell_half_faces, drop_repeated_nodes, offsets, ragged_arange, renumbering
 from ..errors import InputError
 from ..grid import B, Cells, E, Faces, FloatArray, Grid, IntArray, N, Nodes, S, T, W
-from ..memory import memory_shortfall
+from ..memory import count_text, memory_shortfall
 from ..pillars.conformal import insert_edge_nodes
 from ..pillars.lateral import SideCells, general_pieces
 from ..pillars.nnc import FAULT, NNC, PINCH
@@ -85,9 +85,8 @@ PROCESS_BYTES_PER_CELL = 1024
 def _check_size(deck: Deck) -> None:
     """An InputError naming the deck if its grid would not fit in this machine's memory."""
     n = deck.num_cells
-    count = f"{n:.3g}".replace("e+", "e")
     refusal = memory_shortfall(
-        n * PROCESS_BYTES_PER_CELL, f"{count} cells", "to process with their transmissibilities"
+        n * PROCESS_BYTES_PER_CELL, f"{count_text(n)} cells", "to process with their transmissibilities"
     )
     if refusal is not None:
         nx, ny, nz = deck.cart_dims

@@ -18,7 +18,7 @@ import numpy as np
 
 from ...cornerpoint.connection_keywords import TRAN_KEYWORDS, TranEdit
 from ...cornerpoint.deck import FAULT_FACES, PINCH_DEFAULTS, FaultSegment
-from ...memory import memory_shortfall
+from ...memory import count_text, memory_shortfall
 from ..connection_records import cell_pair_record, gridopts_record, multregt_record
 from ..eclipse_text import (
     KEYWORD_NAME,
@@ -206,9 +206,7 @@ def _dims_keyword(state, src, pos, name, depth):
         raise src.error(at, name, "radial (cylindrical) grids are not supported")
     dims = (nx, ny, nz)
     cells = nx * ny * nz
-    refusal = memory_shortfall(
-        cells * READ_BYTES_PER_CELL, f"{cells:.3g} cells".replace("e+", "e"), "to read"
-    )
+    refusal = memory_shortfall(cells * READ_BYTES_PER_CELL, f"{count_text(cells)} cells", "to read")
     if refusal is not None:
         raise src.error(at, name, f"{nx} {ny} {nz}: {refusal}")
     if state.dims is not None and state.dims != dims:
@@ -674,8 +672,7 @@ def _mapaxes(state, src, pos, name, depth):
     if not np.isfinite(numbers.values).all():
         raise src.error(pos, name, "needs six finite numbers (defaults or nan/inf given)")
     state.mapaxes = numbers.values
-    pos = end
-    return pos
+    return end
 
 
 def _string_keyword(state, src, pos, name, depth):
