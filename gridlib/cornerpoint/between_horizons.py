@@ -37,7 +37,7 @@ from ..pillars.depth_order import ORDERINGS, order_depths
 from ..pillars.fault_traces import FaultTrace, fault_displacement
 from ..pillars.horizon_maps import Horizon, check_horizon, interpolate_horizon
 from ..pillars.zones import check_layers, is_integer, layer_levels
-from .deck import Deck, FaultSegment
+from .deck import Deck, FaultSegment, shown
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
 
@@ -225,10 +225,12 @@ def _check_dims(dims: Sequence[int]) -> tuple[int, int]:
     except TypeError:
         d = (dims,)
     if len(d) != 2 or not all(is_integer(v) for v in d):
-        raise InputError(f"horizons_to_grdecl: dims must be two positive integers (nx, ny), got {dims!r}")
+        raise InputError(
+            f"horizons_to_grdecl: dims must be two positive integers (nx, ny), got {shown(dims)}"
+        )
     nx, ny = (int(v) for v in d)
     if min(nx, ny) < 1:
-        raise InputError(f"horizons_to_grdecl: dims must be positive, got {dims!r}")
+        raise InputError(f"horizons_to_grdecl: dims must be positive, got {shown(dims)}")
     return nx, ny
 
 

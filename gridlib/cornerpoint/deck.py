@@ -56,6 +56,21 @@ FAULT_FACES = ("X", "X-", "Y", "Y-", "Z", "Z-")
 PINCH_DEFAULTS = ("GAP", "TOPBOT", "TOP")
 
 
+def shown(value: object) -> str:
+    """``value`` for a message as Python writes it: NumPy scalars and arrays as plain numbers and
+    lists (``[3, 2]``, not ``array([3, 2])`` or ``np.int64(3)``).
+
+    >>> shown(np.array([3, 2])), shown((np.int64(3), 2.5)), shown("x")
+    ('[3, 2]', '(3, 2.5)', "'x'")
+    """
+    if isinstance(value, np.ndarray | np.generic):
+        return repr(value.tolist())
+    if isinstance(value, tuple | list):
+        inner = ", ".join(shown(v) for v in value)
+        return f"({inner}{',' if len(value) == 1 else ''})" if isinstance(value, tuple) else f"[{inner}]"
+    return repr(value)
+
+
 @dataclass(frozen=True)
 class FaultSegment:
     """One line of the FAULTS keyword: a box of cells and the face they fault."""

@@ -13,13 +13,13 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..errors import InputError
-from .deck import Deck, FaultSegment
+from .deck import Deck, FaultSegment, shown
 
 
 def _dims(dims: Sequence[int], what: str) -> tuple[int, int, int]:
     d = tuple(int(v) for v in dims)
     if len(d) != 3 or min(d) < 1 or any(v != w for v, w in zip(d, dims, strict=True)):
-        raise InputError(f"{what}: dims must be three positive integers, got {dims!r}")
+        raise InputError(f"{what}: dims must be three positive integers, got {shown(dims)}")
     return d  # type: ignore[return-value]
 
 
@@ -141,9 +141,9 @@ def cut_grdecl(deck: Deck, box: Sequence[Sequence[int]]) -> Deck:
     try:
         (i0, i1), (j0, j1), (k0, k1) = ((int(a), int(b)) for a, b in box)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"cut_grdecl: box must be ((i0, i1), (j0, j1), (k0, k1)), got {box!r}") from exc
+        raise InputError(f"cut_grdecl: box must be ((i0, i1), (j0, j1), (k0, k1)), got {shown(box)}") from exc
     if not (0 <= i0 < i1 <= nx and 0 <= j0 < j1 <= ny and 0 <= k0 < k1 <= nz):
-        raise InputError(f"cut_grdecl: box {box!r} is not inside the {nx}x{ny}x{nz} grid")
+        raise InputError(f"cut_grdecl: box {shown(box)} is not inside the {nx}x{ny}x{nz} grid")
     pillars = deck.pillars()[j0 : j1 + 1, i0 : i1 + 1]
     zc = deck.zcorn_array()[2 * k0 : 2 * k1, 2 * j0 : 2 * j1, 2 * i0 : 2 * i1]
 

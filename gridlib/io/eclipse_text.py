@@ -480,41 +480,51 @@ def _value_table(distinct: np.ndarray, integer: bool) -> np.ndarray:
     return table
 
 
-def format_values(values: np.ndarray, integer: bool = False) -> Iterator[bytes]:
+def format_values(values: np.ndarray, integer: bool = False, undefined: bool = False) -> Iterator[bytes]:
     """Round-trip exact ASCII text of an array, in blocks: runs of equal values as ``n*v``.
 
-    Runs are of bit-identical values (so ``-0.0`` next to ``0.0`` stays
-    itself; with ``integer`` they are equal values), and a NaN is never
-    repeated. Each distinct value and each distinct repeat count is formatted
-    once; the tokens are gathered from those tables as fixed-width byte rows,
-    with a space or line break after each, and the NUL padding dropped. At
-    most ``VALUES_PER_LINE`` tokens go on a line, fewer when the longest
-    token would make a line longer than ``MAX_LINE``. The text ends with a
-    line break.
+    Runs are of bit-identical values (so ``-0.0`` next to ``0.0`` stays itself; with ``integer``
+    they are equal values), and a NaN is never repeated; with ``undefined``, NaN is a value the
+    array leaves undefined and a run of them is written defaulted, ``n*`` (``1*`` for one), which
+    leaves them undefined when read (by OPM Flow, ECLIPSE and ``read_grdecl``). Each distinct value
+    and each distinct repeat count is formatted once; the tokens are gathered from those tables as
+    fixed-width byte rows, with a space or line break after each, and the NUL padding dropped. At
+    most ``VALUES_PER_LINE`` tokens go on a line, fewer when the longest token would make a line
+    longer than ``MAX_LINE``. The text ends with a line break.
     """
     v = np.ascontiguousarray(values).ravel()
     if v.size == 0:
         yield b"\n"
         return
     floating = v.dtype.kind == "f"
+    undefined = undefined and floating and bool(np.isnan(v).any())
     if floating:
         v = v.astype(np.float64, copy=False)
+        if undefined:
+            v = np.where(np.isnan(v), np.nan, v)  # one NaN bit pattern: one run per stretch
         key = (v + 0.0 if integer else v).view(np.uint64)  # integer: -0.0 is 0
     else:
         key = v.astype(np.int64, copy=False)
     same = key[1:] == key[:-1]
-    if floating and not integer:
+    if floating and not integer and not undefined:
         same &= ~np.isnan(v[1:])  # the reader does not take "n*nan"
     starts = np.flatnonzero(np.concatenate([[True], ~same]))
     counts = np.diff(starts, append=v.size)
     codes, distinct = pd.factorize(key[starts], sort=False)
     distinct = np.asarray(distinct)
-    value_table = _value_table(distinct.view(np.float64) if floating else distinct, integer)
+    shown = distinct.view(np.float64) if floating else distinct
+    if undefined:
+        shown = np.where(np.isnan(shown), 0.0, shown)  # a placeholder: NaN runs have no value text
+    value_table = _value_table(shown, integer)
     if counts.max() <= _DIRECT_COUNTS:  # the usual case: a prefix for every count up to the longest run
         count_codes, distinct_counts = counts, range(int(counts.max()) + 1)
     else:
         count_codes, distinct_counts = pd.factorize(counts, sort=False)
     prefixes = [f"{n}*" if n > 1 else "" for n in list(distinct_counts)]
+    if undefined:  # NaN runs: "n*" and an empty value, whatever n
+        count_codes = np.where(np.isnan(v[starts]), count_codes + len(prefixes), count_codes)
+        prefixes += [f"{n}*" for n in list(distinct_counts)]
+        value_table[np.isnan(distinct.view(np.float64))] = 0
     width = max(1, *map(len, prefixes))
     prefix_table = np.array(prefixes, dtype=f"S{width}").view(np.uint8).reshape(len(prefixes), width)
     widest = int(((prefix_table != 0).sum(1)[count_codes] + (value_table != 0).sum(1)[codes]).max())
@@ -535,13 +545,16 @@ def format_values(values: np.ndarray, integer: bool = False) -> Iterator[bytes]:
         yield rows[rows != 0].tobytes()
 
 
-def keyword_text(name: str, values: np.ndarray, comment: str = "", integer: bool = False) -> Iterator[bytes]:
+def keyword_text(
+    name: str, values: np.ndarray, comment: str = "", integer: bool = False, undefined: bool = False
+) -> Iterator[bytes]:
     """A keyword with an array, in blocks: the keyword's line, an optional ``--`` comment line,
-    :func:`format_values` of ``values`` and the ``/`` ending it, then a blank line.
+    :func:`format_values` of ``values`` (``undefined``: NaN written ``n*``) and the ``/`` ending it,
+    then a blank line.
 
     >>> b"".join(keyword_text("PORO", np.array([0.2, 0.2, 0.25]), "fraction"))
     b'PORO\\n-- fraction\\n2*0.2 0.25\\n/\\n\\n'
     """
     yield (f"{name}\n" + (f"-- {comment}\n" if comment else "")).encode("ascii")
-    yield from format_values(values, integer)
+    yield from format_values(values, integer, undefined)
     yield b"/\n\n"

@@ -119,7 +119,7 @@ def box_depths(grid: ConnectionGrid) -> tuple[FloatArray, FloatArray]:
         a, b = int(index[order][bad]), int(index[order][bad + 1])
         raise InputError(
             f"depth: Flow cells {a} and {b} of one logical column are not ordered top down "
-            f"(centre depths {cd[bad]!r} and {cd[bad + 1]!r})"
+            f"(centre depths {float(cd[bad])!r} and {float(cd[bad + 1])!r})"
         )
     h = half[order]
     h[:-1] = np.minimum(h[:-1], 0.5 * gap)

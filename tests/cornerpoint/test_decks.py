@@ -136,3 +136,25 @@ def test_seed_deck_written_by_mrst(decks_dir):
     assert (int(fault.sum()), int((fault & inner).sum()), int((fault & ~inner).sum())) == (14, 10, 4)
     assert int((g.cells.num_faces == 7).sum()) == 12
     assert gl.compute_geometry(g).cell_volumes.sum() == pytest.approx(0.494, abs=1e-12)
+
+
+def test_deck_case_whose_deck_leaves_permx_undefined_writes_its_grid(tmp_path):
+    """Issue 24: a deck giving PERMX to a BOX of the top layer only left the other columns
+    undefined, and the grid stage's grid.grdecl refused them ('write_grdecl: PERMX has undefined
+    (NaN) values') although the case gives its own permeability; they are written defaulted."""
+    from gridlib.config import load_case
+    from gridlib.stages import stage_grid
+
+    (tmp_path / "box.DATA").write_text(
+        "RUNSPEC\nDIMENS\n 3 2 2 /\nMETRIC\nGRID\nDX\n 12*100 /\nDY\n 12*100 /\nDZ\n 12*10 /\n"
+        "TOPS\n 6*2000 /\nPORO\n 12*0.25 /\nBOX\n 1 2 1 2 1 1 /\nPERMX\n 4*100 /\nENDBOX\n"
+    )
+    case = tmp_path / "box.yaml"
+    case.write_text(
+        "name: box\ngrid: {type: deck, file: box.DATA}\n"
+        "petrophysics: {porosity: {constant: 0.2}, permeability: {constant: 50}}\n"
+    )
+    stage_grid(load_case(case), grid=tmp_path / "grid.nc", grdecl=tmp_path / "grid.grdecl")
+    assert "PERMX\n2*100.0 1* 2*100.0 1* 2*100.0 1*\n2*100.0 1*\n/" in (tmp_path / "grid.grdecl").read_text()
+    back = read_grdecl(tmp_path / "grid.grdecl")
+    np.testing.assert_array_equal(back.cell_data["PERMX"], np.tile([100.0, 100.0, np.nan], 4))

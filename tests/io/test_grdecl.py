@@ -295,14 +295,15 @@ def test_write_round_trips_special_values_and_keeps_lines_short(tmp_path):
         "FIPNUM": np.repeat([1.0, 2.0, -0.0, 1e15], nc // 4),  # whole numbers: integers
     }
     coord = deck.coord.copy()
-    coord[[3, 4, 10]] = np.nan  # NaN is written one by one ("n*nan" is not read)
-    deck = dataclasses.replace(deck, coord=coord, cell_data=arrays)
+    coord[[3, 4, 10]] = np.nan  # NaN is written one by one ("n*nan" is not read)...
+    with_nan = write_grdecl(tmp_path / "nan.grdecl", dataclasses.replace(deck, coord=coord))
+    assert "nan" in with_nan.read_text() and "*nan" not in with_nan.read_text()
+    with pytest.raises(DeckError, match=r"nan.grdecl:\d+: COORD: 3 values are not finite .*pillar \(1, 1\)"):
+        read_grdecl(with_nan)  # ... and read back refused: a deck's numbers are finite
+    deck = dataclasses.replace(deck, cell_data=arrays)
     path = write_grdecl(tmp_path / "special.grdecl", deck)
     back = read_grdecl(path)
-    assert np.isnan(back.coord[[3, 4, 10]]).all()
-    np.testing.assert_array_equal(
-        back.coord.view(np.int64)[~np.isnan(coord)], coord.view(np.int64)[~np.isnan(coord)]
-    )
+    np.testing.assert_array_equal(back.coord.view(np.int64), deck.coord.view(np.int64))
     np.testing.assert_array_equal(back.zcorn.view(np.int64), deck.zcorn.view(np.int64))
     for name, values in arrays.items():
         expected = values + 0.0 if name == "FIPNUM" else values  # an integer keyword has no -0
@@ -311,17 +312,22 @@ def test_write_round_trips_special_values_and_keeps_lines_short(tmp_path):
         )
     text = path.read_text()
     assert max(len(line) for line in text.splitlines()) <= 131  # ECLIPSE reads 132 characters a line
-    assert "nan" in text and "*nan" not in text
     assert f"{nc - 3}*-1.2345678901234567e-100" in text
     assert "FIPNUM\n30*1 30*2 30*0 30*1000000000000000\n/" in text
 
 
-def test_write_refuses_undefined_values_and_leaves_no_file(tmp_path):
+def test_write_keeps_undefined_values_undefined(tmp_path):
+    """A deck that leaves cells without a value (PERMX given in a BOX, say) is written as it is:
+    those cells defaulted (n*), undefined again when read (by Flow too). A deck case whose case
+    gives its own permeability wrote its grid.grdecl that way; the writer used to refuse it."""
     deck = simple_grdecl([2, 2, 1])
-    bad = dataclasses.replace(deck, cell_data={"PORO": np.array([0.1, np.nan, 0.2, 0.2])})
-    with pytest.raises(DeckError, match="PORO has undefined"):
-        write_grdecl(tmp_path / "x.grdecl", bad)
-    assert list(tmp_path.iterdir()) == []
+    data = {"PERMX": np.array([10.0, np.nan, np.nan, 20.0]), "FIPNUM": np.array([np.nan, 1, 2, 2])}
+    path = write_grdecl(tmp_path / "x.grdecl", dataclasses.replace(deck, cell_data=data))
+    text = path.read_text()
+    assert "PERMX\n10.0 2* 20.0\n/" in text and "FIPNUM\n1* 1 2*2\n/" in text
+    back = read_grdecl(path)
+    for name, values in data.items():
+        np.testing.assert_array_equal(back.cell_data[name], values)
 
 
 def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
@@ -360,7 +366,10 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         (CUBE + "FAULTS\n 'F' 1 1 1 1 1 1 W /\n/\n", r"x.grdecl:10: FAULTS: face 'W' of fault 'F'"),
         (CUBE + "MULTIPLY\n 'PERMX' 2 /\n/\n", r"x.grdecl:10: MULTIPLY: PERMX is not defined"),
         (CUBE + "EQUALS\n 'PORO' x /\n/\n", r"x.grdecl:10: EQUALS: PORO: 'x' is not a number"),
-        (CUBE + "ACTNUM\n 1 0 -1 1 /\n", r"x.grdecl: ACTNUM values must be non-negative"),
+        (
+            CUBE + "ACTNUM\n 1 0 0.5 1 /\n",
+            r"x.grdecl:9: ACTNUM: 1 values are not integers \(first 0.5\): cells \(1, 2, 1\)",
+        ),
         (CUBE.replace("16*0 16*1", "16*0 15*1"), r"x.grdecl:7: ZCORN: has 31 values, expected 32"),
         (CUBE + "MAPUNITS\n 'METRES /\n", r"x.grdecl:10: MAPUNITS: a quoted string is not closed"),
     ],
@@ -450,3 +459,21 @@ def test_porv_operations_flow_computes_are_refused_with_file_and_line(tmp_path, 
     text = CUBE.replace("SPECGRID", "GRID\nSPECGRID") + f"PORO\n 4*0.2 /\nEDIT\n{operation}\n PORV 1 /\n/\n"
     with pytest.raises(DeckError, match=rf"porv.data:\d+: {operation}.*4 cells of the box have no PORV"):
         read_grdecl(write(tmp_path / "porv.data", text))
+
+
+def test_numpy_scalars_are_written_as_numbers(tmp_path):
+    """A deck built in code may hold NumPy scalars: the text has their numbers, never a repr
+    such as np.float64(0.5)."""
+    deck = simple_grdecl([2, 1, 1])
+    deck = dataclasses.replace(
+        deck,
+        faults=(FaultSegment("F", 0, 0, 0, 0, 0, 0, "X"),),
+        multflt={"F": np.float64(0.5)},
+        pinch=(np.float64(0.25), np.float64(1e20)),
+        minpv=np.float64(3.0),
+    )
+    text = write_grdecl(tmp_path / "n.grdecl", deck).read_text()
+    assert "np." not in text
+    assert " 'F' 0.5 /" in text and "PINCH\n 0.25 GAP 1e+20 TOPBOT TOP /" in text and "MINPV\n 3.0 /" in text
+    back = read_grdecl(tmp_path / "n.grdecl")
+    assert back.multflt == {"F": 0.5} and back.pinch == (0.25, 1e20) and back.minpv == 3.0

@@ -486,7 +486,10 @@ def test_bad_gridopts(tmp_path):
     [
         ("PERMY\n 11*100 -1 /", r"D\.DATA: PERMY: 1 cells .* PERMY \(first -1\.0\): \(3, 2, 2\)"),
         ("NTG\n 5*1 -0.5 6*1 /", r"D\.DATA: NTG: 1 cells .* NTG \(first -0\.5\): \(3, 2, 1\)"),
-        ("MULTY\n 3*1 -2 8*1 /", r"D\.DATA: MULTY: multipliers must be finite and >= 0"),
+        (
+            "MULTY\n 3*1 -2 8*1 /",
+            r"D\.DATA:\d+: MULTY: 1 values are negative \(first -2\): cells \(1, 2, 1\)",
+        ),
         (
             "MULTREGT\n 1 2 0.5 X ALL O /\n/",
             r"D\.DATA:17: MULTREGT: region set OPERNUM is not given in the deck",

@@ -18,6 +18,7 @@ import numpy as np
 
 from ...cornerpoint.connection_keywords import TRAN_KEYWORDS, TranEdit
 from ...cornerpoint.deck import FAULT_FACES, PINCH_DEFAULTS, FaultSegment
+from ...memory import count_text, memory_shortfall
 from ..connection_records import cell_pair_record, gridopts_record, multregt_record
 from ..eclipse_text import (
     KEYWORD_NAME,
@@ -38,6 +39,7 @@ from ..eclipse_text import (
 from ..egrid import read_egrid
 from .shapes import skip_data
 from .state import ReaderState
+from .values import MAX_LENGTH, check_cell_values, check_finite, check_not_negative
 from .vocabulary import KeywordInfo, vocabulary
 
 __all__ = ["SECTIONS", "UNITS", "UNKNOWN_KEYWORDS", "open_source", "read_file"]
@@ -59,6 +61,9 @@ _CELL_KEYWORDS = frozenset(
     DIFFX DIFFY DIFFZ THCONR HEATCR""".split()
 )
 _MAX_INCLUDE_DEPTH = 32
+# Bytes per cell a deck takes to read: ZCORN's eight float64 (64 B), as much again while its text
+# is parsed, and four cell arrays (ACTNUM, PORO, PERMX, NTG: 32 B); COORD is small beside them.
+READ_BYTES_PER_CELL = 160
 _DATA_START = re.compile(rb"[\d+\-.*'/]")  # text after a keyword that looks like its data
 
 
@@ -168,7 +173,7 @@ def _other_keyword(state: ReaderState, src: Source, pos: int, info: KeywordInfo)
         except DeckError:
             numbers = None
         if numbers is not None and numbers.values.size == _box_size(state, state.box):
-            _store(state, name, numbers, state.box, numbers.values.size)
+            _store(state, src, pos, name, numbers, state.box, numbers.values.size)
             state.notes.append(f"{where}: {name} read as a cell keyword (one value per cell)")
             return end
     if info.shape.kind != "none":
@@ -200,6 +205,10 @@ def _dims_keyword(state, src, pos, name, depth):
     if name == "SPECGRID" and len(items) >= 5 and items[4] is not None and items[4].upper().startswith("T"):
         raise src.error(at, name, "radial (cylindrical) grids are not supported")
     dims = (nx, ny, nz)
+    cells = nx * ny * nz
+    refusal = memory_shortfall(cells * READ_BYTES_PER_CELL, f"{count_text(cells)} cells", "to read")
+    if refusal is not None:
+        raise src.error(at, name, f"{nx} {ny} {nz}: {refusal}")
     if state.dims is not None and state.dims != dims:
         raise src.error(at, name, f"dimensions {dims} differ from {state.dims} given earlier")
     state.dims = dims  # type: ignore[assignment]
@@ -213,18 +222,40 @@ def _title(state, src, pos, name, depth):
 
 def _coord(state, src, pos, name, depth):
     nx, ny, _ = _need_dims(state, src, pos, name)
-    numbers, pos = read_numbers(src, pos, name, expected=6 * (nx + 1) * (ny + 1))
-    _no_defaults(src, pos, name, numbers)
+    numbers, end = read_numbers(src, pos, name, expected=6 * (nx + 1) * (ny + 1))
+    _no_defaults(src, end, name, numbers)
+    _finite_geometry(
+        src, pos, name, numbers.values, 6, lambda p: f"pillar ({p % (nx + 1) + 1}, {p // (nx + 1) + 1})"
+    )
     state.coord = numbers.values
-    return pos
+    return end
 
 
 def _zcorn(state, src, pos, name, depth):
-    _need_dims(state, src, pos, name)
-    numbers, pos = read_numbers(src, pos, name, expected=8 * state.num_cells)
-    _no_defaults(src, pos, name, numbers)
+    nx, ny, _ = _need_dims(state, src, pos, name)
+    numbers, end = read_numbers(src, pos, name, expected=8 * state.num_cells)
+    _no_defaults(src, end, name, numbers)
+
+    def corner_of(n: int) -> str:  # ZCORN is (2nz, 2ny, 2nx), i fastest: the cell owning entry n
+        i2, j2, k2 = n % (2 * nx), n // (2 * nx) % (2 * ny), n // (4 * nx * ny)
+        return f"a corner of cell ({i2 // 2 + 1}, {j2 // 2 + 1}, {k2 // 2 + 1})"
+
+    _finite_geometry(src, pos, name, numbers.values, 1, corner_of)
     state.zcorn = numbers.values
-    return pos
+    return end
+
+
+def _finite_geometry(src, pos, name, values, per_item, item_name) -> None:
+    """COORD and ZCORN must be finite numbers of at most MAX_LENGTH in size; the first bad one
+    named by ``item_name(index)``."""
+    bad = np.flatnonzero(~(np.abs(values) <= MAX_LENGTH))
+    if bad.size:
+        raise src.error(
+            pos,
+            name,
+            f"{bad.size} values are not finite numbers within +-{MAX_LENGTH:g} "
+            f"(first {float(values[bad[0]])}, {item_name(int(bad[0]) // per_item)})",
+        )
 
 
 def _no_defaults(src, pos, name, numbers):
@@ -235,10 +266,18 @@ def _no_defaults(src, pos, name, numbers):
 def _vector(state, src, pos, name, depth):
     nx, ny, nz = _need_dims(state, src, pos, name)
     n = {"DXV": nx, "DYV": ny, "DZV": nz, "DEPTHZ": (nx + 1) * (ny + 1)}[name]
-    numbers, pos = read_numbers(src, pos, name, expected=n)
-    _no_defaults(src, pos, name, numbers)
-    state.vectors[name] = numbers.values
-    return pos
+    numbers, end = read_numbers(src, pos, name, expected=n)
+    _no_defaults(src, end, name, numbers)
+    values = numbers.values
+    bad = np.flatnonzero(~(np.abs(values) <= MAX_LENGTH) | ((values < 0) & (name != "DEPTHZ")))
+    if bad.size:
+        what = f"not finite numbers within +-{MAX_LENGTH:g}"
+        what += "" if name == "DEPTHZ" else " or negative (cell sizes)"
+        raise src.error(
+            pos, name, f"{bad.size} values are {what}: value {bad[0] + 1} is {float(values[bad[0]])}"
+        )
+    state.vectors[name] = values
+    return end
 
 
 def _box_cells(state: ReaderState, box: tuple[int, ...] | None) -> np.ndarray | slice:
@@ -288,7 +327,7 @@ def _cell_array(state, src, pos, name, depth=0):
             return end
         _start_porv(state)
     multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
-    _store(state, name, numbers, box, expected, multiply)
+    _store(state, src, pos, name, numbers, box, expected, multiply)
     if name in _FROM_TOP_LAYER and state.section != "EDIT":
         _fill_from_top_layer(state, src, pos, name, box)
     return end
@@ -347,14 +386,19 @@ def _porv_operation(state, src, at, name, value, cells) -> None:
         porv[cells] = np.minimum(porv[cells], value)
 
 
-def _store(state, name, numbers, box, expected, multiply=False):
+def _store(state, src, at, name, numbers, box, expected, multiply=False):
+    """Keyword ``name``'s ``numbers`` into the cells of ``box`` (or the first ``expected`` cells),
+    checked (:func:`~gridlib.io.grdecl.values.check_cell_values`) before they are stored."""
     target = _array(state, name)
     cells = _box_cells(state, box) if expected == _box_size(state, box) else np.arange(expected)
     values = numbers.values
     if multiply:
         values = target[cells] * values
+    given = None
     if numbers.defaulted is not None:  # n* leaves the values as they were
         values = np.where(numbers.defaulted, target[cells], values)
+        given = ~numbers.defaulted
+    check_cell_values(state, src, at, name, values, cells, given)
     target[cells] = values
 
 
@@ -475,6 +519,13 @@ def _operator(state, src, pos, name, depth):
                 at, name, f"a record needs a keyword and a {'target' if name == 'COPY' else 'value'}"
             )
         target = items[0].upper()
+        for keyword in (target, items[1].upper()) if name == "COPY" else (target,):
+            if not _is_cell_keyword(keyword):
+                raise src.error(
+                    at,
+                    name,
+                    f"{keyword!r} is not a keyword with one value per cell (OPM Flow refuses it too)",
+                )
         box = _read_box(state, src, at, name, items[2:8], state.box)
         if target in TRAN_KEYWORDS or (name == "COPY" and items[1].upper() in TRAN_KEYWORDS):
             _tran_operation(state, src, at, name, items, box)
@@ -483,7 +534,7 @@ def _operator(state, src, pos, name, depth):
             _start_porv(state)
         cells = _box_cells(state, box)
         if target == "PORV" and name != "EQUALS" and name != "COPY":
-            _porv_operation(state, src, at, name, float_item(src, at, name, items[1], target), cells)
+            _porv_operation(state, src, at, name, _operand(src, at, name, items[1], target), cells)
             continue
         if name == "COPY":
             dest = items[1].upper()
@@ -491,8 +542,11 @@ def _operator(state, src, pos, name, depth):
                 raise src.error(at, name, f"cannot copy {target}: it is not defined")
             _array(state, dest)[cells] = _array(state, target)[cells]
             continue
-        value = float_item(src, at, name, items[1], target)
+        value = _operand(src, at, name, items[1], target)
         if name == "EQUALS":
+            check_cell_values(
+                state, src, at, target, np.full(_box_size(state, box), value), cells, None, name
+            )
             _array(state, target)[cells] = value
             continue
         if target not in state.arrays and target not in _DEFAULTS:
@@ -506,7 +560,24 @@ def _operator(state, src, pos, name, depth):
             arr[cells] = np.maximum(arr[cells], value)
         else:  # MAXVALUE
             arr[cells] = np.minimum(arr[cells], value)
+        check_cell_values(state, src, at, target, arr[cells], cells, ~np.isnan(arr[cells]), name)
     return pos
+
+
+def _operand(src: Source, at: int, name: str, item: Item, target: str) -> float:
+    value = float_item(src, at, name, item, target)
+    if value is None:
+        raise src.error(at, name, f"{target}: the value cannot be defaulted")
+    check_finite(src, at, name, value, f"{target}: value")
+    return value
+
+
+def _is_cell_keyword(name: str) -> bool:
+    """Does ``name`` have one value per cell (what EQUALS, ADD, COPY, ... may act on)?"""
+    if name in _CELL_KEYWORDS or name in _DEFAULTS or name in TRAN_KEYWORDS:
+        return True
+    info = vocabulary().get(name)
+    return info is not None and info.shape.kind == "data"
 
 
 def _tran_operation(state, src, at, name, items, box) -> None:
@@ -589,15 +660,19 @@ def _multflt(state, src, pos, name, depth):
     for items, at in records:
         if len(items) < 2 or items[0] is None:
             raise src.error(at, name, "a record needs: fault name and multiplier")
-        state.multflt[items[0]] = float_item(src, at, name, items[1], "multiplier")
+        value = float_item(src, at, name, items[1], "multiplier")
+        check_not_negative(src, at, name, value, f"fault {items[0]!r}: multiplier")
+        state.multflt[items[0]] = value
         state.multflt_sources[items[0]] = f"{src.path.name}:{src.line(at)}"
     return pos
 
 
 def _mapaxes(state, src, pos, name, depth):
-    numbers, pos = read_numbers(src, pos, name, expected=6)
+    numbers, end = read_numbers(src, pos, name, expected=6)
+    if not np.isfinite(numbers.values).all():
+        raise src.error(pos, name, "needs six finite numbers (defaults or nan/inf given)")
     state.mapaxes = numbers.values
-    return pos
+    return end
 
 
 def _string_keyword(state, src, pos, name, depth):
@@ -614,6 +689,13 @@ def _pinch(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
     threshold = float_item(src, at, name, items[0] if items else None, "threshold")
     max_gap = float_item(src, at, name, items[2] if len(items) > 2 else None, "maximum gap")
+    check_finite(src, at, name, threshold, "threshold thickness")
+    check_finite(src, at, name, max_gap, "maximum gap")
+    if threshold is not None and threshold < 0:
+        state.notes.append(
+            f"{src.path.name}:{src.line(at)}: PINCH: threshold thickness {threshold:g} is negative: no "
+            "layer is thin enough to be pinched out (as OPM Flow reads it)"
+        )
     state.pinch = (0.001 if threshold is None else threshold, 1e20 if max_gap is None else max_gap)
     chosen = []
     choices = (("GAP", "NOGAP"), ("TOPBOT", "ALL"), ("TOP", "ALL"))
@@ -632,6 +714,12 @@ def _pinch(state, src, pos, name, depth):
 def _minpv(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
     state.minpv = float_item(src, at, name, items[0] if items else None, "minimum pore volume")
+    check_finite(src, at, name, state.minpv, "minimum pore volume")
+    if state.minpv is not None and state.minpv < 0:
+        state.notes.append(
+            f"{src.path.name}:{src.line(at)}: {name} {state.minpv:g} is negative: no cell is removed "
+            "(as OPM Flow reads it)"
+        )
     return pos
 
 

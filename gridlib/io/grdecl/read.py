@@ -20,6 +20,7 @@ from ...cornerpoint.deck import Deck
 from ..eclipse_text import DeckError
 from .keywords import UNKNOWN_KEYWORDS, open_source, read_file
 from .state import ReaderState
+from .values import normalised_actnum
 
 __all__ = ["read_grdecl"]
 
@@ -80,11 +81,7 @@ def _deck(state: ReaderState) -> Deck:
         arrays.pop(name, None)
     actnum = arrays.pop("ACTNUM", None)
     if actnum is not None:
-        undefined = np.isnan(actnum)
-        if undefined.any():
-            actnum = np.where(undefined, 1.0, actnum)
-        if np.any((actnum < 0) | (actnum != np.floor(actnum))):
-            raise DeckError(f"{where}: ACTNUM values must be non-negative integers")
+        actnum = normalised_actnum(actnum)  # the values were checked as they were read (.values)
     if state.porv_multpv is not None:  # what multiplies the pore volumes Flow computes
         arrays["MULTPV"] = state.porv_multpv
     for name, values in arrays.items():
@@ -111,7 +108,7 @@ def _deck(state: ReaderState) -> Deck:
         (nx, ny, nz),
         coord,
         zcorn,
-        None if actnum is None else actnum.astype(np.int32),
+        actnum,
         arrays,
         tuple(state.faults),
         dict(state.multflt),

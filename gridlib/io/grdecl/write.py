@@ -67,7 +67,9 @@ def write_grdecl(
     operations, EDITNNC), which OPM Flow reads nowhere else; the file, INCLUDEd at
     the end of the GRID section, then opens the EDIT section. With ``edit=False``
     it is a pure GRID include and :func:`write_edit_grdecl` writes the rest.
-    Values are exact: ``read_grdecl`` gives back bit-identical arrays. GRIDOPTS
+    Values are exact: ``read_grdecl`` gives back bit-identical arrays; the cells a keyword leaves
+    undefined (NaN: the deck gave them no value) are written defaulted (``n*``), undefined again
+    for OPM Flow and ``read_grdecl``. GRIDOPTS
     (RUNSPEC) is not written: MULTREGT records name their region set.
     """
     nx, ny, nz = deck.cart_dims
@@ -96,9 +98,8 @@ def write_grdecl(
     if deck.actnum is not None:
         arrays.append(("ACTNUM", deck.actnum, True))
     for name, values in data.items():
-        if np.isnan(values).any():
-            raise DeckError(f"write_grdecl: {name} has undefined (NaN) values; ECLIPSE cannot read them")
-        integer = bool(np.all(values == np.round(values))) and name.endswith("NUM")
+        defined = values[~np.isnan(values)]
+        integer = bool(np.all(defined == np.round(defined))) and name.endswith("NUM")
         arrays.append((name, values, integer))
     tail: list[str] = []
     if deck.faults:
@@ -109,17 +110,28 @@ def write_grdecl(
         tail += ["/", ""]
     if deck.multflt:
         tail.append("MULTFLT")
-        tail += [f" '{name}' {value!r} /" for name, value in deck.multflt.items()]
+        tail += [f" '{name}' {float(value)!r} /" for name, value in deck.multflt.items()]
         tail += ["/", ""]
     if deck.pinch is not None:
         gap, pinchout, multz = deck.pinch_options
-        tail += ["PINCH", f" {deck.pinch[0]!r} {gap} {deck.pinch[1]!r} {pinchout} {multz} /", ""]
+        tail += [
+            "PINCH",
+            f" {float(deck.pinch[0])!r} {gap} {float(deck.pinch[1])!r} {pinchout} {multz} /",
+            "",
+        ]
     if deck.minpv is not None:
-        tail += ["MINPV", f" {deck.minpv!r} /", ""]
+        tail += ["MINPV", f" {float(deck.minpv)!r} /", ""]
     if deck.multregt:
         tail.append("MULTREGT")
         for r in deck.multregt:
-            items = (r.region1, r.region2, repr(r.multiplier), r.directions, r.nnc_option, r.region_set)
+            items = (
+                r.region1,
+                r.region2,
+                repr(float(r.multiplier)),
+                r.directions,
+                r.nnc_option,
+                r.region_set,
+            )
             tail.append(" " + " ".join("1*" if v is None else str(v) for v in items) + " /")
         tail += ["/", ""]
     if deck.nnc_keyword is not None and deck.nnc_keyword.num:
@@ -131,8 +143,10 @@ def write_grdecl(
     target = Path(path)
     with atomic_path(target) as tmp, open(tmp, "wb") as f:
         f.write(("\n".join(parts) + "\n").encode("ascii"))
-        for name, values, integer in arrays:
-            for block in keyword_text(name, values, integer=integer):
+        for name, values, integer in arrays:  # cells a keyword leaves undefined (NaN) stay so: n*
+            for block in keyword_text(
+                name, values, integer=integer, undefined=name not in ("COORD", "ZCORN")
+            ):
                 f.write(block)
         f.write(("\n".join(tail) + "\n").encode("ascii") if tail else b"")
         if edit and has_edit_section(deck):
