@@ -22,8 +22,13 @@ from typing import Any, TypeVar
 import jsonschema
 import yaml
 
-from .errors import InputError
-from .version import __version__
+from ..errors import InputError
+from ..version import __version__
+from .checks import case_problem, rock_problem, simulation_problem
+from .files import deck_cell_keywords, named_file
+from .size import max_memory_bytes, size_problem
+from .values import non_finite_problem
+from .yaml_file import parse_yaml
 
 T = TypeVar("T")
 
@@ -201,18 +206,10 @@ def _fill_defaults(data: Any, schema: dict[str, Any], root: dict[str, Any]) -> A
     return data
 
 
-def parse_yaml(raw: bytes, path: Path) -> Any:
-    """The YAML document ``raw`` read from ``path``; InputError naming the file and line."""
-    try:
-        return yaml.safe_load(raw)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" line {mark.line + 1}" if mark is not None else ""
-        raise InputError(f"{path}:{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from exc
-
-
-def load_case(path: str | os.PathLike) -> Case:
-    """Read and validate a case file; defaults are filled in."""
+def load_case(path: str | os.PathLike, max_memory_gb: float | None = None) -> Case:
+    """Read and validate a case file; defaults are filled in. ``max_memory_gb``: the memory a
+    stage may need (GiB; the workflow's ``max_memory_gb``), default the machine's
+    (:func:`gridlib.config.size.max_memory_bytes`)."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: case file not found")
@@ -220,38 +217,42 @@ def load_case(path: str | os.PathLike) -> Case:
     data = parse_yaml(raw, p)
     if not isinstance(data, dict):
         raise InputError(f"{p}: a case must be a mapping of keys (name, grid, ...)")
-    checked = check_case_data(data, p, str(p))
+    checked = check_case_data(data, p, str(p), max_memory_gb)
     return Case(name=data["name"], path=p, sha256=hashlib.sha256(raw).hexdigest(), data=checked)
 
 
-def check_case_data(data: dict[str, Any], path: Path, source: str) -> dict[str, Any]:
+def check_case_data(
+    data: dict[str, Any], path: Path, source: str, max_memory_gb: float | None = None
+) -> dict[str, Any]:
     """A case's data validated as :func:`load_case` does, as if read from ``path`` (the file
     name must be the case's name; files are looked for beside it); returns a copy with the
-    defaults filled in. Problems raise an InputError starting with ``source``."""
-    schema = load_schema()
+    defaults filled in. Problems raise an InputError starting with ``source``.
+
+    In order, each check stopping at the first problem: finite numbers (the schema takes
+    ``.nan`` for a number), the schema, the name, the case's keys against each other and the
+    files it names (:func:`gridlib.config.checks.case_problem`), its values
+    (:func:`~gridlib.config.checks.rock_problem`), its size against ``max_memory_gb``
+    (:func:`gridlib.config.size.size_problem`: before any deck is read beyond its dimensions),
+    then what the deck's keywords decide (its rock, the simulation)."""
+    problem = non_finite_problem(data)
+    if problem is not None:
+        raise InputError(f"{source}: {problem}")
+    schema = shared_schema(SCHEMA_FILE)
     validate(data, schema, source)
     if data["name"] != path.stem:
         raise InputError(f"{source}: name: '{data['name']}' must equal the file name '{path.stem}'")
     data = with_defaults(data)
+    problem = case_problem(data, path) or size_problem(data, path, max_memory_bytes(max_memory_gb))
+    if problem is not None:
+        raise InputError(f"{source}: {problem}")
     try:
         data = with_deck_rock(data, path)
+        problem = rock_problem(data, path) or simulation_problem(data)
     except InputError as exc:
         raise InputError(f"{source}: grid.file: {exc}") from None
-    problem = _consistency_problem(data, path)
     if problem is not None:
         raise InputError(f"{source}: {problem}")
     return data
-
-
-def named_file(case_file: Path, name: str | os.PathLike) -> Path:
-    """A file a case names: ``name`` relative to the case file's folder (or absolute), its ``..``
-    resolved by the path's text, not by the file system: a study's variant is checked before its
-    folder results/<study>/<variant>/ exists, and names its base case's files from there.
-
-    >>> named_file(Path("results/sweep/fine_r0/fine_r0.yaml"), "../../../config/cases/top.csv").as_posix()
-    'config/cases/top.csv'
-    """
-    return Path(os.path.normpath(Path(case_file).parent / name))
 
 
 DECK_ROCK = ("PORO", "PERMX")  # what a deck must give for its case to have rock without a section
@@ -267,37 +268,19 @@ def with_deck_rock(data: dict[str, Any], path: Path) -> dict[str, Any]:
         return data
     deck = named_file(path, grid["file"])
     if not deck.is_file():
-        return data  # _consistency_problem names the missing file
+        return data  # checks.case_problem names the missing file
     if not set(DECK_ROCK) <= deck_cell_keywords(deck, grid["unknown_keywords"]):
         return data
     return {**data, "petrophysics": {}}
 
 
-def deck_cell_keywords(path: Path, unknown_keywords: str = "error") -> frozenset[str]:
-    """The cell keywords (PORO, PERMX, MULTZ, ...) the deck file ``path`` gives; a text deck is
-    read with ``unknown_keywords`` (a deck case's ``grid.unknown_keywords``)."""
-    p = path.resolve()
-    stat = p.stat()
-    return _deck_cell_keywords(p, stat.st_mtime_ns, stat.st_size, unknown_keywords)
-
-
-@functools.lru_cache(maxsize=8)
-def _deck_cell_keywords(path: Path, mtime_ns: int, size: int, unknown_keywords: str) -> frozenset[str]:
-    # Cached per process on the file's identity: every stage and every variant of a study loads
-    # the case again. (An INCLUDEd file edited in the same process is not seen: runs are new
-    # processes.)
-    from .io.registry import find_format, read  # deferred: the workflow's parse imports config only
-
-    options = {"unknown_keywords": unknown_keywords} if find_format(path, "deck").name == "grdecl" else {}
-    return frozenset(read(path, kind="deck", **options).cell_data)
-
-
-def load_cases(paths: Sequence[str | os.PathLike]) -> dict[str, Case]:
+def load_cases(paths: Sequence[str | os.PathLike], max_memory_gb: float | None = None) -> dict[str, Case]:
     """Every case file read and validated, keyed by case name.
 
     All problems are collected before raising: one :class:`InputError` whose message has
     one line per broken file (each naming the file and the key, as :func:`load_case`)
     and per name used twice, so a run with several broken case files names all of them.
+    ``max_memory_gb`` as :func:`load_case`.
 
     >>> load_cases(["no/such/a.yaml", "no/such/b.yaml"])
     Traceback (most recent call last):
@@ -305,7 +288,7 @@ def load_cases(paths: Sequence[str | os.PathLike]) -> dict[str, Case]:
     gridlib.errors.InputError: no/such/a.yaml: case file not found
     no/such/b.yaml: case file not found
     """
-    return load_named(paths, load_case)
+    return load_named(paths, functools.partial(load_case, max_memory_gb=max_memory_gb))
 
 
 def load_named(paths: Sequence[str | os.PathLike], load: Callable[[str | os.PathLike], T]) -> dict[str, T]:
@@ -327,175 +310,3 @@ def load_named(paths: Sequence[str | os.PathLike], load: Callable[[str | os.Path
     if problems:
         raise InputError("\n".join(problems))
     return loaded
-
-
-def _axis_range(spec: Any) -> tuple[float, float]:
-    if isinstance(spec, dict):
-        return float(spec["start"]), float(spec["stop"])
-    return float(min(spec)), float(max(spec))
-
-
-def _num_layers(data: dict[str, Any]) -> int | None:
-    grid = data["grid"]
-    kind = grid["type"]
-    if kind in ("cornerpoint", "pebi"):
-        layers = grid["layers"]
-        zones = len(data["horizons"]["surfaces"]) - 1
-        return int(layers) * zones if isinstance(layers, int) else int(sum(layers))
-    if kind == "layered":
-        lay = grid["layers"]
-        return len(lay["thickness"]) if "thickness" in lay else int(lay["num_layers"])
-    if kind == "cartesian" and len(grid["dims"]) == 3:
-        return int(grid["dims"][2])
-    return None
-
-
-def _consistency_problem(data: dict[str, Any], path: Path) -> str | None:
-    """What the schema cannot say: references between keys, files, faults and wells in the domain.
-
-    Checked when the case is loaded (so the workflow stops before any job runs
-    and leaves nothing behind); returns "key: message" or None.
-    """
-    grid = data["grid"]
-    kind = grid["type"]
-    horizons = data.get("horizons")
-    if kind in ("cornerpoint", "pebi") and horizons is None:
-        return f"grid.type: a {kind} grid is built between horizons: the case needs `horizons`"
-    if horizons is not None:
-        for k, surface in enumerate(horizons["surfaces"]):
-            for key in ("points", "surface"):
-                if key in surface and not named_file(path, surface[key]).is_file():
-                    name, where = surface[key], named_file(path, surface[key])
-                    return f"horizons.surfaces[{k}].{key}: file '{name}' not found (looked for {where})"
-        zones = len(horizons["surfaces"]) - 1
-        layers = grid.get("layers")
-        if kind in ("cornerpoint", "pebi") and isinstance(layers, list) and len(layers) != zones:
-            return f"grid.layers: {len(layers)} values for {zones} zones (one per pair of horizons)"
-    if horizons is not None and horizons["per_fault_block"]:
-        if kind != "cornerpoint":
-            return f"horizons.per_fault_block: supported for cornerpoint grids (grid.type is {kind})"
-        if not data.get("faults"):
-            return "horizons.per_fault_block: needs faults (their traces cut the area into blocks)"
-        for k, fault in enumerate(data["faults"]):
-            if fault["throw"] != 0:
-                return (
-                    f"faults[{k}].throw: with horizons.per_fault_block the offset is in the picks; "
-                    f"fault '{fault['name']}' must not have a throw as well"
-                )
-    if kind == "deck" and not named_file(path, grid["file"]).is_file():
-        return f"grid.file: '{grid['file']}' not found (looked for {named_file(path, grid['file'])})"
-    problem = _features_outside(data, kind, horizons)
-    if problem is not None:
-        return problem
-    rock = data.get("petrophysics")
-    if rock is not None and kind != "deck" and "porosity" not in rock:
-        return "petrophysics.porosity: required (only a deck grid's rock defaults to its deck's PORO)"
-    n_layers = _num_layers(data)
-    for prop in ("porosity", "permeability", "ntg"):
-        spec = (data.get("petrophysics") or {}).get(prop) or {}
-        if "layers" in spec and n_layers is not None and len(spec["layers"]) != n_layers:
-            return f"petrophysics.{prop}.layers: {len(spec['layers'])} values for {n_layers} layers"
-        if "deck" in spec and kind != "deck":
-            return f"petrophysics.{prop}.deck: only deck grids have deck keywords"
-    coarsen = data.get("coarsen")
-    if coarsen is not None and coarsen["method"] == "uniform":
-        want = len(grid["dims"]) if kind == "cartesian" else (None if kind == "tensor" else 3)
-        if want is not None and len(coarsen["dims"]) != want:
-            return f"coarsen.dims: {len(coarsen['dims'])} values for a grid with {want} axes"
-    return _simulation_problem(data)
-
-
-WELL_NAME_LENGTH = 8  # ECLIPSE's well names
-
-
-def _simulation_problem(data: dict[str, Any]) -> str | None:
-    """The `simulation` section against the rest of the case: rock, depth, wells, days."""
-    sim = data.get("simulation")
-    if sim is None:
-        return None
-    grid = data["grid"]
-    if "petrophysics" not in data:
-        return "simulation: needs petrophysics (the deck's pore volumes and permeabilities)"
-    if (grid["type"] == "cartesian" and len(grid["dims"]) == 2) or (
-        grid["type"] == "tensor" and "z" not in grid
-    ):
-        return "simulation: a 2-D grid has no depth (give the grid a third axis or layers)"
-    days = sim["report_days"]
-    for k in range(1, len(days)):
-        if days[k] <= days[k - 1]:
-            return (
-                f"simulation.report_days[{k}]: {days[k]:g} does not come after {days[k - 1]:g} "
-                "(days must increase)"
-            )
-    if sim["fluid"] == "water" and "owc" in sim.get("initial", {}):
-        return "simulation.initial.owc: the water preset has no oil and no oil-water contact"
-    case_wells = {w["name"]: w for w in data.get("wells", [])}
-    seen: set[str] = set()
-    for k, well in enumerate(sim.get("wells", [])):
-        name = well["name"]
-        if name not in case_wells:
-            known = ", ".join(case_wells) or "none"
-            return f"simulation.wells[{k}].name: '{name}' is not among the case's wells (wells: {known})"
-        if name in seen:
-            return f"simulation.wells[{k}].name: well '{name}' is listed twice"
-        seen.add(name)
-        if len(name) > WELL_NAME_LENGTH or not name.isascii() or any(c in name for c in " '/"):
-            return (
-                f"simulation.wells[{k}].name: '{name}': a simulated well's name has at most "
-                f"{WELL_NAME_LENGTH} ASCII characters, without spaces, quotes or slashes"
-            )
-        if "point" not in case_wells[name]:
-            return (
-                f"simulation.wells[{k}].name: well '{name}' is a path; vertical wells (a point) are simulated"
-            )
-    return None
-
-
-def _features_outside(data: dict[str, Any], kind: str, horizons: dict[str, Any] | None) -> str | None:
-    """Faults must reach into the model's area and wells lie inside it."""
-    import shapely
-
-    area = None
-    if kind == "pebi":
-        domain = data["grid"]["domain"]
-        if isinstance(domain, dict):
-            x0, y0, x1, y1 = domain["rectangle"]
-            if not (x1 > x0 and y1 > y0):
-                return "grid.domain.rectangle: needs xmin < xmax and ymin < ymax"
-            area = shapely.box(x0, y0, x1, y1)
-        else:
-            area = shapely.Polygon(domain)
-            if not area.is_valid or area.area <= 0:
-                return "grid.domain: the polygon is not simple (its sides cross) or has no area"
-        if horizons is not None:
-            (hx0, hx1), (hy0, hy1) = (_axis_range(horizons["lattice"][a]) for a in ("x", "y"))
-            if not shapely.box(hx0, hy0, hx1, hy1).buffer(1e-9 * max(hx1 - hx0, hy1 - hy0)).covers(area):
-                return (
-                    f"grid.domain: reaches beyond the horizons' lattice (x in [{hx0:g}, {hx1:g}], "
-                    f"y in [{hy0:g}, {hy1:g}])"
-                )
-    elif kind == "cornerpoint" and horizons is not None:
-        (hx0, hx1), (hy0, hy1) = (_axis_range(horizons["lattice"][a]) for a in ("x", "y"))
-        area = shapely.box(hx0, hy0, hx1, hy1)
-    elif kind == "cartesian":
-        spec = data["grid"]
-        dims = spec["dims"]
-        lengths = spec.get("lengths", [float(d) for d in dims])
-        x0, y0 = (spec.get("origin") or [0.0, 0.0])[:2]
-        area = shapely.box(x0, y0, x0 + lengths[0], y0 + lengths[1])
-    elif kind == "tensor":
-        (x0, x1), (y0, y1) = (_axis_range(data["grid"][a]) for a in ("x", "y"))
-        area = shapely.box(x0, y0, x1, y1)
-    if area is None:
-        return None
-    for k, fault in enumerate(data.get("faults", [])):
-        if not shapely.LineString(fault["trace"]).intersects(area):
-            return f"faults[{k}].trace: fault '{fault['name']}' lies entirely outside the domain"
-    for k, well in enumerate(data.get("wells", [])):
-        points = [well["point"]] if "point" in well else well["path"]
-        for point in points:
-            if not area.contains(shapely.Point(point)):
-                key = "point" if "point" in well else "path"
-                at = f"({point[0]:g}, {point[1]:g})"
-                return f"wells[{k}].{key}: well '{well['name']}' at {at} lies outside the domain"
-    return None
