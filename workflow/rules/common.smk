@@ -77,7 +77,7 @@ def discover_cases(spec):
     if not paths and isinstance(spec, str):
         stop(f"config: cases: no case file matches {spec!r}")
     try:
-        return load_cases(paths)
+        return load_cases(paths, config.get("max_memory_gb"))
     except InputError as exc:
         problems = str(exc).splitlines()
         stop(
