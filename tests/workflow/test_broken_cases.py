@@ -64,7 +64,10 @@ BROKEN = {
         "grid: {type: cartesian, dims: [2, 2], lenghts: [1, 1]}\n",
         "grid: Additional properties are not allowed ('lenghts' was unexpected)",
     ),
-    "wrong_type": ("grid: {type: cartesian, dims: [2, ten]}\n", "grid.dims[1]: 'ten' is not of type 'integer'"),
+    "wrong_type": (
+        "grid: {type: cartesian, dims: [2, ten]}\n",
+        "grid.dims[1]: 'ten' is not of type 'integer'",
+    ),
     "missing_points_file": (
         PEBI.replace("{name: base, plane: {depth: 1040}}", "{name: base, points: base_picks.xyz}"),
         "horizons.surfaces[1].points: file 'base_picks.xyz' not found",
@@ -90,7 +93,10 @@ BROKEN = {
         + "simulation: {wells: [{name: P2, type: producer, bhp: 50}], report_days: [10]}\n",
         "simulation.wells[0].name: 'P2' is not among the case's wells (wells: P1)",
     ),
-    "unknown_grid_type": ("grid: {type: hexahedral, dims: [2, 2]}\n", "grid.type: 'hexahedral' is not one of"),
+    "unknown_grid_type": (
+        "grid: {type: hexahedral, dims: [2, 2]}\n",
+        "grid.type: 'hexahedral' is not one of",
+    ),
     "malformed_yaml": ("grid: {type: cartesian, dims: [2, 2]\n", "not valid YAML"),
     "report_days_backwards": (
         CART + ROCK + "simulation: {report_days: [10, 5]}\n",
@@ -98,8 +104,14 @@ BROKEN = {
     ),
     "seed_negative": ("seed: -1\n" + CART, "seed: -1 is less than the minimum of 0"),
     # YAML: a key given twice is not "the last wins"
-    "grid_given_twice": (CART + "grid: {type: cartesian, dims: [2, 2]}\n", "line 3: key 'grid' given twice (first at line 2)"),
-    "dims_given_twice": ("grid: {type: cartesian, dims: [2, 2], dims: [3, 3]}\n", "line 2: key 'dims' given twice"),
+    "grid_given_twice": (
+        CART + "grid: {type: cartesian, dims: [2, 2]}\n",
+        "line 3: key 'grid' given twice (first at line 2)",
+    ),
+    "dims_given_twice": (
+        "grid: {type: cartesian, dims: [2, 2], dims: [3, 3]}\n",
+        "line 2: key 'dims' given twice",
+    ),
     "throw_given_twice": (
         CART + "faults:\n  - name: F\n    trace: [[100, 0], [100, 400]]\n    throw: 5\n    throw: 8\n",
         "line 7: key 'throw' given twice (first at line 6)",
@@ -119,7 +131,10 @@ BROKEN = {
         "horizons.surfaces[1].name: 'top' is also horizons.surfaces[0]",
     ),
     # fault traces and well paths
-    "zero_length_trace": (PEBI + _faults("[[500, 100], [500, 100]]"), "faults[0].trace[1]: (500, 100) repeats the point"),
+    "zero_length_trace": (
+        PEBI + _faults("[[500, 100], [500, 100]]"),
+        "faults[0].trace[1]: (500, 100) repeats the point",
+    ),
     "repeated_trace_point": (
         PEBI + _faults("[[500, 0], [500, 400], [500, 400], [520, 800]]"),
         "faults[0].trace[2]: (500, 400) repeats the point before it",
@@ -141,19 +156,33 @@ BROKEN = {
         PEBI + "faults:\n  - {name: F, trace: [[500, 0], [500, 800]], throw: .nan}\n",
         "faults[0].throw: .nan is not a finite number",
     ),
-    "cell_size_inf": (PEBI.replace("cell_size: 100", "cell_size: .inf"), "grid.cell_size: .inf is not a finite number"),
-    "origin_minus_inf": (CART.replace("origin: [0, 0", "origin: [-.inf, 0"), "grid.origin[0]: -.inf is not a finite number"),
+    "cell_size_inf": (
+        PEBI.replace("cell_size: 100", "cell_size: .inf"),
+        "grid.cell_size: .inf is not a finite number",
+    ),
+    "origin_minus_inf": (
+        CART.replace("origin: [0, 0", "origin: [-.inf, 0"),
+        "grid.origin[0]: -.inf is not a finite number",
+    ),
     "porosity_mean_nan": (
         CART + _rock(porosity="{field: %s}" % (FIELD % (".NaN", "[0.1, 0.3]"))),
         "petrophysics.porosity.field.mean: .nan is not a finite number",
     ),
     "dims_inf": ("grid: {type: cartesian, dims: [.inf, 2]}\n", "grid.dims[0]: .inf is not a finite number"),
     # rock values
-    "porosity_above_one": (CART + _rock(porosity="{constant: 1.5}"), "petrophysics.porosity.constant: 1.5 is above 1"),
-    "porosity_percent": (CART + _rock(porosity="{constant: 20}"), "petrophysics.porosity.constant: 20 is above 1 (porosity is a fraction from 0 to 1; give 0.2 for 20 %)"),
+    "porosity_above_one": (
+        CART + _rock(porosity="{constant: 1.5}"),
+        "petrophysics.porosity.constant: 1.5 is above 1",
+    ),
+    "porosity_percent": (
+        CART + _rock(porosity="{constant: 20}"),
+        "petrophysics.porosity.constant: 20 is above 1 (porosity is a fraction from 0 to 1; "
+        "give 0.2 for 20 %)",
+    ),
     "porosity_layers_percent": (
         CART + _rock(porosity="{layers: [0.2, 25]}"),
-        "petrophysics.porosity.layers[1]: 25 is above 1 (porosity is a fraction from 0 to 1; give 0.25 for 25 %)",
+        "petrophysics.porosity.layers[1]: 25 is above 1 (porosity is a fraction from 0 to 1; "
+        "give 0.25 for 25 %)",
     ),
     "porosity_bounds_reversed": (
         CART + _rock(porosity="{field: %s}" % (FIELD % ("0.2", "[0.35, 0.05]"))),
@@ -161,9 +190,13 @@ BROKEN = {
     ),
     "porosity_bounds_percent": (
         CART + _rock(porosity="{field: %s}" % (FIELD % ("0.2", "[5, 35]"))),
-        "petrophysics.porosity.field.bounds[0]: 5 is above 1 (porosity is a fraction from 0 to 1; give 0.05 for 5 %)",
+        "petrophysics.porosity.field.bounds[0]: 5 is above 1 (porosity is a fraction from 0 to 1; "
+        "give 0.05 for 5 %)",
     ),
-    "porosity_negative": (CART + _rock(porosity="{constant: -0.1}"), "petrophysics.porosity.constant: -0.1 is negative"),
+    "porosity_negative": (
+        CART + _rock(porosity="{constant: -0.1}"),
+        "petrophysics.porosity.constant: -0.1 is negative",
+    ),
     "permeability_negative": (
         CART + _rock(permeability="{constant: -5}"),
         "petrophysics.permeability.constant: -5 is negative (mD, permeability is at least 0)",
@@ -174,17 +207,27 @@ BROKEN = {
     ),
     "permeability_median_zero": (
         CART + _rock(permeability="{field: %s}" % (FIELD % ("0", "[0, 10]"))),
-        "petrophysics.permeability.field.mean: 0: the median permeability (mD) of the lognormal field must be positive",
+        "petrophysics.permeability.field.mean: 0: the median permeability (mD) of the lognormal field "
+        "must be positive",
     ),
     "ntg_above_one": (CART + _rock(ntg="{constant: 1.2}"), "petrophysics.ntg.constant: 1.2 is above 1"),
-    "porosity_layers_count": (CART + _rock(porosity="{layers: [0.2, 0.2, 0.2]}"), "petrophysics.porosity.layers: 3 values for 2 layers"),
+    "porosity_layers_count": (
+        CART + _rock(porosity="{layers: [0.2, 0.2, 0.2]}"),
+        "petrophysics.porosity.layers: 3 values for 2 layers",
+    ),
     # reversed ranges
     "tensor_axis_reversed": (
         "grid: {type: tensor, x: {start: 10, stop: 0, num: 3}, y: [0, 1]}\n",
         "grid.x: start 10 is not below stop 0 (node coordinates increase)",
     ),
-    "tensor_axis_not_increasing": ("grid: {type: tensor, x: [0, 2, 1], y: [0, 1]}\n", "grid.x[2]: 1 does not exceed 2"),
-    "lattice_reversed": (PEBI.replace("{start: 0, stop: 800, num: 9}", "{start: 800, stop: 0, num: 9}"), "horizons.lattice.y: start 800 is not below stop 0"),
+    "tensor_axis_not_increasing": (
+        "grid: {type: tensor, x: [0, 2, 1], y: [0, 1]}\n",
+        "grid.x[2]: 1 does not exceed 2",
+    ),
+    "lattice_reversed": (
+        PEBI.replace("{start: 0, stop: 800, num: 9}", "{start: 800, stop: 0, num: 9}"),
+        "horizons.lattice.y: start 800 is not below stop 0",
+    ),
     "rings_reversed": (
         PEBI + "wells:\n  - {name: W, point: [500, 400], rings: {inner: 50, outer: 5}}\n",
         "wells[0].rings.outer: 5 is below rings.inner 50",
@@ -194,12 +237,18 @@ BROKEN = {
         "domain.box.min[0]: 3 is above domain.box.max[0] 1",
     ),
     # coarse blocks against the grid
-    "coarsen_blocks_beyond_dims": (CART + "coarsen: {method: uniform, dims: [8, 2, 1]}\n", "coarsen.dims[0]: 8 blocks along i, but the grid has 4 cells there (grid.dims[0])"),
+    "coarsen_blocks_beyond_dims": (
+        CART + "coarsen: {method: uniform, dims: [8, 2, 1]}\n",
+        "coarsen.dims[0]: 8 blocks along i, but the grid has 4 cells there (grid.dims[0])",
+    ),
     "coarsen_blocks_beyond_layers": (
         CORNERPOINT + "coarsen: {method: uniform, dims: [2, 2, 5]}\n",
         "coarsen.dims[2]: 5 blocks along k, but the grid has 2 cells there (grid.layers)",
     ),
-    "coarsen_pebi_layers": (PEBI + "coarsen: {method: uniform, dims: [2, 2, 3]}\n", "coarsen.dims[2]: 3 blocks along k, but the grid has 2 cells"),
+    "coarsen_pebi_layers": (
+        PEBI + "coarsen: {method: uniform, dims: [2, 2, 3]}\n",
+        "coarsen.dims[2]: 3 blocks along k, but the grid has 2 cells",
+    ),
     "coarsen_tensor_axis": (
         "grid: {type: tensor, x: [0, 1, 2], y: [0, 1]}\ncoarsen: {method: uniform, dims: [3, 1]}\n",
         "coarsen.dims[0]: 3 blocks along i, but the grid has 2 cells there (grid.x)",
@@ -214,21 +263,37 @@ BROKEN = {
         "coarsen.dims[1]: 3 blocks along j, but the grid has 2 cells there (grid.file (small.grdecl: NY))",
     ),
     # too big for the machine (or the config's max_memory_gb)
-    "huge_cornerpoint": (HORIZONS + "grid: {type: cornerpoint, dims: [100000, 100000], layers: 1}\n", "grid.dims: 10,000,000,000 cells need about"),
-    "huge_cartesian": ("grid: {type: cartesian, dims: [100000, 100000, 1]}\n", "grid.dims: 10,000,000,000 cells need about"),
+    "huge_cornerpoint": (
+        HORIZONS + "grid: {type: cornerpoint, dims: [100000, 100000], layers: 1}\n",
+        "grid.dims: 10,000,000,000 cells need about",
+    ),
+    "huge_cartesian": (
+        "grid: {type: cartesian, dims: [100000, 100000, 1]}\n",
+        "grid.dims: 10,000,000,000 cells need about",
+    ),
     "huge_tensor": (
         "grid: {type: tensor, x: {start: 0, stop: 1, num: 100001}, y: {start: 0, stop: 1, num: 100001}, "
         "z: {start: 0, stop: 1, num: 2}}\n",
         "grid.x, grid.y, grid.z: 10,000,000,000 cells need about",
     ),
-    "huge_pebi": (PEBI.replace("cell_size: 100", "cell_size: 0.001"), "grid.cell_size: 1,847,520,861,406 cells need about"),
-    "huge_deck": ("grid: {type: deck, file: huge.DATA}\n", "grid.file (huge.DATA: DIMENS/SPECGRID): 10,000,000,000 cells need about"),
+    "huge_pebi": (
+        PEBI.replace("cell_size: 100", "cell_size: 0.001"),
+        "grid.cell_size: 1,847,520,861,406 cells need about",
+    ),
+    "huge_deck": (
+        "grid: {type: deck, file: huge.DATA}\n",
+        "grid.file (huge.DATA: DIMENS/SPECGRID): 10,000,000,000 cells need about",
+    ),
     "huge_layered": (
-        "grid: {type: layered, areal: {sites: {pattern: square, counts: [100000, 100000]}}, layers: {num_layers: 10}}\n",
+        "grid: {type: layered, areal: {sites: {pattern: square, counts: [100000, 100000]}}, "
+        "layers: {num_layers: 10}}\n",
         "grid.areal.sites: 100,000,000,000 cells need about",
     ),
-    "astronomic_dims": ("grid: {type: cartesian, dims: [1000000000000000000000000000000, 2]}\n", "grid.dims: 2e+30 cells need about"),
-}  # fmt: skip
+    "astronomic_dims": (
+        "grid: {type: cartesian, dims: [1000000000000000000000000000000, 2]}\n",
+        "grid.dims: 2e+30 cells need about",
+    ),
+}
 
 
 def _case_file(folder: Path, name: str) -> Path:
