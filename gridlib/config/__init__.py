@@ -150,9 +150,22 @@ def _describe(error: jsonschema.ValidationError) -> str:
     return error.message
 
 
+def _is_integer(checker: Any, value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+# JSON Schema counts 2.0 as an integer; a case's counts (dims, layers, num, seed) are whole
+# numbers as written: `dims: [4.0, 4]` is refused here rather than failing in a builder.
+CaseValidator = jsonschema.validators.extend(
+    jsonschema.Draft202012Validator,
+    type_checker=jsonschema.Draft202012Validator.TYPE_CHECKER.redefine("integer", _is_integer),
+)
+
+
 def validate(data: Any, schema: dict[str, Any], source: str) -> None:
-    """Raise InputError naming ``source`` and the key path of the most relevant error."""
-    validator = jsonschema.Draft202012Validator(schema)
+    """Raise InputError naming ``source`` and the key path of the most relevant error (an
+    integer is an int as YAML reads it: ``4.0`` is not one)."""
+    validator = CaseValidator(schema)
     errors = list(validator.iter_errors(data))
     if not errors:
         return

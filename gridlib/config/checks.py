@@ -25,7 +25,7 @@ def _num_layers(data: dict[str, Any]) -> int | None:
     if kind in ("cornerpoint", "pebi"):
         layers = grid["layers"]
         zones = len(data["horizons"]["surfaces"]) - 1
-        return int(layers) * zones if isinstance(layers, int) else int(sum(layers))
+        return int(sum(layers)) if isinstance(layers, list) else int(layers) * zones
     if kind == "layered":
         lay = grid["layers"]
         return len(lay["thickness"]) if "thickness" in lay else int(lay["num_layers"])
@@ -283,6 +283,11 @@ def _ranges_problem(data: dict[str, Any]) -> str | None:
                 )
     for k, well in enumerate(data.get("wells", [])):
         rings = well.get("rings") or {}
+        given = [key for key in ("outer", "growth", "count") if key in rings]
+        if len(given) == 3:
+            return f"wells[{k}].rings: give two of outer, growth and count, not all three"
+        if rings and not ("outer" in rings or len(given) == 2 or rings.get("count") == 1):
+            return f"wells[{k}].rings: give the outer radius, or the growth and the number of rings (count)"
         if "outer" in rings and rings["outer"] < rings["inner"]:
             return (
                 f"wells[{k}].rings.outer: {yaml_number(rings['outer'])} is below rings.inner "

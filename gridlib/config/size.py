@@ -68,7 +68,8 @@ def estimated_cells(data: dict[str, Any], path: Path) -> tuple[float, str] | Non
     if kind == "layered":
         return _sites(grid["areal"]["sites"]) * layers, "grid.areal.sites"
     if kind == "pebi":
-        return _pebi_columns(data) * layers, "grid.cell_size"
+        columns, key = _pebi_columns(data)
+        return columns * layers, key
     if kind == "deck":
         deck = named_file(path, grid["file"])
         dims = deck_dimensions(deck) if deck.is_file() else None
@@ -108,9 +109,10 @@ def _sites(sites: dict[str, Any]) -> float:
     return rings * sites["sectors"] + 1.0
 
 
-def _pebi_columns(data: dict[str, Any]) -> float:
-    """Areal cells of a PEBI grid: the lattice's sites in the domain, each well's rings, and the
-    sites along faults and well paths (two rows per cell size of trace)."""
+def _pebi_columns(data: dict[str, Any]) -> tuple[float, str]:
+    """Areal cells of a PEBI grid (the lattice's sites in the domain, each well's rings, the
+    sites along faults and well paths, two rows per cell size of trace, the padding rows) and
+    the key that gives the most of them."""
     import shapely
 
     grid = data["grid"]
@@ -118,22 +120,42 @@ def _pebi_columns(data: dict[str, Any]) -> float:
     area = shapely.box(*domain["rectangle"]) if isinstance(domain, dict) else shapely.Polygon(domain)
     size = float(grid["cell_size"])
     cell_area = size * size * (math.sqrt(3.0) / 2.0 if grid["pattern"] == "hexagonal" else 1.0)
-    columns = area.area / cell_area
-    for fault in data.get("faults", []):
-        columns += 2.0 * shapely.LineString(fault["trace"]).intersection(area).length / size
-    for well in data.get("wells", []):
+    parts = {"grid.cell_size": _ratio(area.area, cell_area)}
+    for k, fault in enumerate(data.get("faults", [])):
+        parts[f"faults[{k}].trace"] = _ratio(
+            2.0 * shapely.LineString(fault["trace"]).intersection(area).length, size
+        )
+    for k, well in enumerate(data.get("wells", [])):
         if "path" in well:
             spacing = float(well.get("spacing", size))
-            columns += 2.0 * shapely.LineString(well["path"]).length / spacing
-        rings = well.get("rings")
-        if rings is not None:
-            outer = float(rings.get("outer", size))
-            count = rings.get("count") or max(
-                math.log(max(outer / rings["inner"], 1.0)) / math.log(rings.get("growth", 1.5)), 1
-            )
-            sectors = rings.get("sectors") or max(2.0 * math.pi * outer / size, 3)
-            columns += float(count) * float(sectors)
-    return columns
+            parts[f"wells[{k}].spacing"] = _ratio(2.0 * shapely.LineString(well["path"]).length, spacing)
+        if well.get("rings") is not None:
+            parts[f"wells[{k}].rings"] = _ring_sites(well["rings"], size)
+    parts["grid.padding"] = float(grid.get("padding") or 0) * _ratio(area.length, size)
+    return sum(parts.values()), max(parts, key=parts.__getitem__)
+
+
+def _ratio(a: float, b: float) -> float:
+    """a / b, infinite where it overflows (a tiny cell size)."""
+    try:
+        return a / b
+    except ZeroDivisionError:
+        return math.inf if a > 0 else 0.0
+
+
+def _ring_sites(rings: dict[str, Any], size: float) -> float:
+    """Sites of a point well's rings, as :class:`gridlib.voronoi.wells.Rings` places them."""
+    inner = float(rings["inner"])
+    outer = rings.get("outer")
+    sectors = float(rings.get("sectors") or max(6.0, _ratio(2.0 * math.pi * float(outer or inner), size)))
+    if "count" in rings:
+        count = float(rings["count"])
+    elif outer is not None:
+        log_growth = math.log(rings["growth"]) if "growth" in rings else _ratio(2.0 * math.pi, sectors)
+        count = _ratio(math.log(max(_ratio(float(outer), inner), 1.0)), log_growth) + 1.0
+    else:
+        count = 1.0
+    return count * sectors
 
 
 def size_problem(data: dict[str, Any], path: Path, limit: int) -> str | None:
@@ -155,10 +177,14 @@ def size_problem(data: dict[str, Any], path: Path, limit: int) -> str | None:
 
 
 def _count(cells: float) -> str:
+    if not math.isfinite(cells):
+        return "more than 1e308"
     return f"{int(cells):,}" if cells < 1e15 else f"{cells:.3g}"
 
 
 def _gib(size: float) -> str:
+    if not math.isfinite(size):
+        return "more memory than any machine has"
     gib = size / GIB
     if gib >= 1e6:
         return f"{gib:.3g} GiB"
