@@ -5,6 +5,7 @@ case file."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -309,6 +310,8 @@ def _ranges_problem(data: dict[str, Any]) -> str | None:
 
 
 FRACTION_PROPERTIES = ("porosity", "ntg")  # fractions: in [0, 1]
+PERMEABILITY_SIGMAS = 8  # a field's extreme values, in standard deviations (1e-15 per cell)
+LOG_FLOAT_MAX = math.log(1e300)  # with room for the upscaling's sums
 
 
 def _rock_values_problem(data: dict[str, Any]) -> str | None:
@@ -336,6 +339,13 @@ def _rock_values_problem(data: dict[str, Any]) -> str | None:
                     "(give [low, high])"
                 )
             values += [(f"{base}.field.bounds[{k}]", v) for k, v in enumerate(field["bounds"])]
+        if prop == "permeability" and field.get("mean", 1) > 0:
+            median, std = float(field.get("mean", 100.0)), float(field.get("std", 0.0))
+            if math.log(median) + PERMEABILITY_SIGMAS * std > LOG_FLOAT_MAX:
+                return (
+                    f"{base}.field.std: {yaml_number(std)}: median x exp({PERMEABILITY_SIGMAS} std) "
+                    "is beyond any float (std is of ln k: 1 is a factor e)"
+                )
         if "mean" in field:
             if prop == "permeability" and not field["mean"] > 0:
                 return (
@@ -347,6 +357,31 @@ def _rock_values_problem(data: dict[str, Any]) -> str | None:
             problem = _rock_value_problem(prop, key, value)
             if problem is not None:
                 return problem
+        problem = _no_flow_problem(data, prop, spec)
+        if problem is not None:
+            return problem
+    return None
+
+
+POSITIVE_UPSCALING = ("harmonic", "geometric", "harmonic-arithmetic")  # need every k > 0
+
+
+def _no_flow_problem(data: dict[str, Any], prop: str, spec: dict[str, Any]) -> str | None:
+    """A porosity or permeability of 0 in every cell (nothing to flow through), or a zero
+    permeability where the coarse grid's upscaling divides by it."""
+    base = f"petrophysics.{prop}"
+    if prop in ("porosity", "permeability") and spec.get("constant") == 0:
+        return f"{base}.constant: 0 in every cell: no pore volume or flow anywhere"
+    if prop == "porosity" and spec.get("layers") and not any(spec["layers"]):
+        return f"{base}.layers: 0 in every layer: no pore volume anywhere"
+    coarsen = data.get("coarsen")
+    if prop == "permeability" and coarsen is not None and coarsen["permeability"] in POSITIVE_UPSCALING:
+        zeros = [k for k, v in enumerate(spec.get("layers", [])) if v == 0]
+        if zeros:
+            return (
+                f"{base}.layers[{zeros[0]}]: 0: coarsen.permeability {coarsen['permeability']} "
+                "averaging needs positive permeabilities (use arithmetic, or a small value)"
+            )
     return None
 
 

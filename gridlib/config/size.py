@@ -21,15 +21,16 @@ from ..io.grdecl.dimens import deck_dimensions
 from .files import named_file
 
 # Peak resident memory of `gridlib build` (every stage in one process: its heaviest stage
-# decides) per cell, from /usr/bin/time -v at 1e5 and 4e5 cells (the slope, start-up removed),
-# rounded up; config/README.md gives the measurements.
+# decides) per cell: the slope between two sizes (1e5 and 4e5 cells; PEBI 2.4e4 and 9.6e4) from
+# /usr/bin/time -v, Python's start-up removed, rounded up; config/README.md gives the figures.
+# Layered grids are extruded Voronoi grids as PEBI grids are: their figure is PEBI's.
 BYTES_PER_CELL = {
-    "cartesian": 1000,
-    "tensor": 1000,
-    "layered": 2000,
-    "cornerpoint": 1000,
-    "pebi": 2000,
-    "deck": 1000,
+    "cartesian": 1100,
+    "tensor": 1200,
+    "layered": 1700,
+    "cornerpoint": 1200,
+    "pebi": 1700,
+    "deck": 500,
 }
 GIB = 2**30
 

@@ -169,6 +169,19 @@ BROKEN = {
         "petrophysics.porosity.field.mean: .nan is not a finite number",
     ),
     "dims_inf": ("grid: {type: cartesian, dims: [.inf, 2]}\n", "grid.dims[0]: .inf is not a finite number"),
+    "seed_beyond_numpy": (
+        "seed: 9223372036854775808\n" + CART,
+        "seed: 9223372036854775808 is greater than the maximum",
+    ),
+    "twist_folds_cells": (
+        "grid: {type: cartesian, dims: [20, 20], twist: 0.5}\n",
+        "grid.twist: 0.5 is greater than the maximum of 0.1",
+    ),
+    "origin_astronomic": (
+        CART.replace("origin: [0, 0, 1000]", "origin: [0, 0, 1.0e+300]"),
+        "grid.origin[2]: 1e+300 is beyond 1e+12 in magnitude",
+    ),
+    "float_dims": ("grid: {type: cartesian, dims: [4.0, 4]}\n", "grid.dims[0]: 4.0 is not of type 'integer'"),
     # rock values
     "porosity_above_one": (
         CART + _rock(porosity="{constant: 1.5}"),
@@ -209,6 +222,18 @@ BROKEN = {
         CART + _rock(permeability="{field: %s}" % (FIELD % ("0", "[0, 10]"))),
         "petrophysics.permeability.field.mean: 0: the median permeability (mD) of the lognormal field "
         "must be positive",
+    ),
+    "permeability_std_overflows": (
+        CART + _rock(permeability="{field: {model: gaussian, len_scale: 100, mean: 100, std: 1000}}"),
+        "petrophysics.permeability.field.std: 1000: median x exp(8 std) is beyond any float",
+    ),
+    "porosity_zero_everywhere": (
+        CART + _rock(porosity="{constant: 0}"),
+        "petrophysics.porosity.constant: 0 in every cell: no pore volume or flow anywhere",
+    ),
+    "permeability_zero_layer_harmonic": (
+        CART + _rock(permeability="{layers: [100, 0]}") + "coarsen: {method: uniform, dims: [2, 2, 1]}\n",
+        "petrophysics.permeability.layers[1]: 0: coarsen.permeability harmonic-arithmetic averaging needs",
     ),
     "ntg_above_one": (CART + _rock(ntg="{constant: 1.2}"), "petrophysics.ntg.constant: 1.2 is above 1"),
     "porosity_layers_count": (
