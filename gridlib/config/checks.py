@@ -431,9 +431,17 @@ def _axis_cells(spec: Any) -> int:
 
 
 def _coarsen_problem(data: dict[str, Any], path: Path) -> str | None:
-    """Uniform blocks: at most one per cell along each logical axis (and per layer)."""
+    """Uniform blocks: at most one per cell along each logical axis (and per layer); METIS
+    blocks: at most one per cell where the case gives an upper bound of its cells."""
     coarsen = data.get("coarsen")
-    if coarsen is None or coarsen["method"] != "uniform":
+    if coarsen is None:
+        return None
+    if coarsen["method"] == "metis":
+        cells = grid_cells_per_axis(data, path)
+        if cells is not None and coarsen["blocks"] > math.prod(n for n, _ in cells):
+            total = math.prod(n for n, _ in cells)
+            blocks = coarsen["blocks"]
+            return f"coarsen.blocks: {blocks} blocks for at most {total} cells (one block per cell at most)"
         return None
     dims = coarsen["dims"]
     grid = data["grid"]

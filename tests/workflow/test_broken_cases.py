@@ -278,6 +278,14 @@ BROKEN = {
         "grid: {type: tensor, x: [0, 1, 2], y: [0, 1]}\ncoarsen: {method: uniform, dims: [3, 1]}\n",
         "coarsen.dims[0]: 3 blocks along i, but the grid has 2 cells there (grid.x)",
     ),
+    "coarsen_metis_beyond_cells": (
+        CART + "coarsen: {method: metis, blocks: 1000}\n",
+        "coarsen.blocks: 1000 blocks for at most 32 cells",
+    ),
+    "matern_nu_tiny": (
+        CART + _rock(porosity="{field: {model: matern, len_scale: 100, nu: 0.01}}"),
+        "petrophysics.porosity.field.nu: 0.01 is less than the minimum of 0.2",
+    ),
     # decks
     "deck_keyword_missing": (
         "grid: {type: deck, file: small.grdecl}\npetrophysics: {porosity: {deck: PORO}}\n",
