@@ -190,7 +190,8 @@ def _features_outside(data: dict[str, Any], kind: str, horizons: dict[str, Any] 
 def case_problem(data: dict[str, Any], path: Path) -> str | None:
     """The first problem of a validated case (defaults filled in) that the schema cannot see:
     names given twice, broken traces, reversed ranges, the keys against each other and the
-    files they name, rock values, coarse blocks against the grid, wells on PEBI faults."""
+    files they name, rock values, coarse blocks against the grid, PEBI wells on faults and
+    their rings."""
     for check in (_names_problem, _traces_problem, _ranges_problem):
         problem = check(data)
         if problem is not None:
@@ -199,7 +200,7 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
         _structure_problem(data, path)
         or _rock_values_problem(data)
         or _coarsen_problem(data, path)
-        or _well_on_fault_problem(data)
+        or _pebi_wells_problem(data)
     )
 
 
@@ -465,30 +466,53 @@ def _coarsen_problem(data: dict[str, Any], path: Path) -> str | None:
     return None
 
 
-WELL_FAULT_TOLERANCE = 1e-6  # of the PEBI cell size: a well point this close is on the fault
+# Of the PEBI domain's extent (the larger side of its bounding box): a point well this close to a
+# fault trace is on it, and a well's first ring this small merges with the well's site. The
+# builder fails from about 2e-6 of the extent whatever the cell size (measured: a well 1e-3 m
+# off a fault in a 1 km domain fails, 3e-3 m builds, 1e-2 and 3e-2 m in a 10 km one; a first
+# ring of 1e-3 m fails, 2e-3 m builds): the check keeps a margin of five.
+PEBI_TOLERANCE = 1e-5
 
 
-def _well_on_fault_problem(data: dict[str, Any]) -> str | None:
-    """A PEBI grid puts a cell centre (the well's site) at a point well; on a fault trace that
-    site would lie on the face the fault makes: the builder cannot place both."""
+def _pebi_wells_problem(data: dict[str, Any]) -> str | None:
+    """A PEBI grid puts a cell centre (the well's site) at a point well, with its rings around
+    it: on a fault trace that site would lie on the face the fault makes, and rings must
+    neither merge with the site nor grow beyond the domain."""
     import shapely
 
     grid = data["grid"]
     if grid["type"] != "pebi":
         return None
-    tolerance = WELL_FAULT_TOLERANCE * float(grid["cell_size"])
+    domain = grid["domain"]
+    area = shapely.box(*domain["rectangle"]) if isinstance(domain, dict) else shapely.Polygon(domain)
+    x0, y0, x1, y1 = area.bounds
+    extent = max(x1 - x0, y1 - y0)
+    tolerance = PEBI_TOLERANCE * extent
     for k, well in enumerate(data.get("wells", [])):
         if "point" not in well:
             continue
         point = shapely.Point(well["point"])
         for fault in data.get("faults", []):
-            distance = shapely.LineString(fault["trace"]).distance(point)
-            if distance <= tolerance:
+            if shapely.LineString(fault["trace"]).distance(point) <= tolerance:
                 at = ", ".join(yaml_number(v) for v in well["point"])
                 return (
                     f"wells[{k}].point: well '{well['name']}' at ({at}) lies on fault '{fault['name']}' "
-                    f"(within {yaml_number(tolerance)} m); move the well off the trace, into the block it "
-                    "is drilled in"
+                    f"(within {tolerance:.3g} m); move the well off the trace, into the block it is "
+                    "drilled in"
+                )
+        rings = well.get("rings") or {}
+        if rings and rings["inner"] <= tolerance:
+            return (
+                f"wells[{k}].rings.inner: {yaml_number(rings['inner'])} m is within {tolerance:.3g} m "
+                f"({PEBI_TOLERANCE:g} of the domain's extent): the first ring would merge with the "
+                "well's site"
+            )
+        if "growth" in rings and "count" in rings:
+            log_outer = math.log(rings["inner"]) + (rings["count"] - 1) * math.log(rings["growth"])
+            if log_outer > math.log(extent):
+                return (
+                    f"wells[{k}].rings: inner x growth^(count - 1) reaches beyond the domain's extent "
+                    f"({extent:g} m); give fewer rings or a smaller growth"
                 )
     return None
 

@@ -151,6 +151,14 @@ BROKEN = {
         PEBI + _faults("[[500, -50], [500, 850]]") + "wells:\n  - {name: INJ, point: [500, 400]}\n",
         "wells[0].point: well 'INJ' at (500, 400) lies on fault 'F0'",
     ),
+    "rings_merge_with_the_well": (
+        PEBI + "wells:\n  - {name: W, point: [300, 400], rings: {inner: 0.001, outer: 40}}\n",
+        "wells[0].rings.inner: 0.001 m is within 0.01 m (1e-05 of the domain's extent)",
+    ),
+    "rings_beyond_the_domain": (
+        PEBI + "wells:\n  - {name: W, point: [300, 400], rings: {inner: 2, count: 100000, growth: 2}}\n",
+        "wells[0].rings: inner x growth^(count - 1) reaches beyond the domain's extent (1000 m)",
+    ),
     # numbers that are no numbers
     "throw_nan": (
         PEBI + "faults:\n  - {name: F, trace: [[500, 0], [500, 800]], throw: .nan}\n",
