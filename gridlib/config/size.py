@@ -32,6 +32,9 @@ BYTES_PER_CELL = {
     "pebi": 1700,
     "deck": 500,
 }
+# The horizons stage, per lattice node and surface: measured as above with three dome surfaces
+# on 1001^2 and 2001^2 nodes (0.46 and 0.70 GiB: 28 B per node and surface), rounded up.
+BYTES_PER_LATTICE_NODE = 40
 GIB = 2**30
 
 
@@ -160,13 +163,29 @@ def _ring_sites(rings: dict[str, Any], size: float) -> float:
 
 
 def size_problem(data: dict[str, Any], path: Path, limit: int) -> str | None:
-    """``key: N cells need about X GiB in its heaviest stage; ...`` where the estimated peak
-    memory of the case's heaviest stage exceeds ``limit`` bytes (:func:`max_memory_bytes`)."""
+    """``key: N cells need about X GiB in the heaviest stage; ...`` where the estimated peak
+    memory of the case's heaviest stage exceeds ``limit`` bytes (:func:`max_memory_bytes`): the
+    grid's cells, or the horizons' lattice nodes (the horizons stage), whichever needs more."""
+    needs = []
     estimate = estimated_cells(data, path)
-    if estimate is None:
+    if estimate is not None:
+        cells, key = estimate
+        needs.append(
+            (
+                cells * BYTES_PER_CELL[data["grid"]["type"]],
+                f"{key}: {_count(cells)} cells",
+                "the heaviest stage",
+            )
+        )
+    horizons = data.get("horizons")
+    if horizons is not None:
+        nodes = float(math.prod(_axis_nodes(horizons["lattice"][a]) for a in ("x", "y")))
+        surfaces = len(horizons["surfaces"])
+        what = f"horizons.lattice: {_count(nodes)} nodes x {surfaces} surfaces"
+        needs.append((nodes * surfaces * BYTES_PER_LATTICE_NODE, what, "the horizons stage"))
+    if not needs:
         return None
-    cells, key = estimate
-    need = cells * BYTES_PER_CELL[data["grid"]["type"]]
+    need, what, where = max(needs, key=lambda n: n[0])
     if need <= limit:
         return None
     machine = physical_memory()
@@ -174,7 +193,11 @@ def size_problem(data: dict[str, Any], path: Path, limit: int) -> str | None:
         allowed = f"this machine has {_gib(machine)} (the config's max_memory_gb sets another limit)"
     else:
         allowed = f"the limit is {_gib(limit)} (config max_memory_gb; this machine has {_gib(machine)})"
-    return f"{key}: {_count(cells)} cells need about {_gib(need)} in the heaviest stage; {allowed}"
+    return f"{what} need about {_gib(need)} in {where}; {allowed}"
+
+
+def _axis_nodes(spec: Any) -> int:
+    return int(spec["num"]) if isinstance(spec, dict) else len(spec)
 
 
 def _count(cells: float) -> str:

@@ -330,6 +330,10 @@ BROKEN = {
         "layers: {num_layers: 10}}\n",
         "grid.areal.sites: 100,000,000,000 cells need about",
     ),
+    "huge_lattice": (
+        PEBI.replace("num: 11}", "num: 1000000}").replace("num: 9}", "num: 1000000}"),
+        "horizons.lattice: 1,000,000,000,000 nodes x 2 surfaces need about 74,506 GiB in the horizons stage",
+    ),
     "astronomic_dims": (
         "grid: {type: cartesian, dims: [1000000000000000000000000000000, 2]}\n",
         "grid.dims: 2e+30 cells need about",
