@@ -225,3 +225,15 @@ def test_the_memory_limit_is_the_machine_or_the_config(tmp_path):
     with pytest.raises(gl.InputError, match=r"c\.yaml: grid\.dims: 100,000,000 cells need about 102 GiB"):
         load_case(path, max_memory_gb=64)
     assert load_case(path, max_memory_gb=200).data["grid"]["dims"] == [1000, 1000, 100]
+
+
+def test_a_study_takes_the_memory_limit_of_the_workflow(tmp_path):
+    from gridlib.study import load_study
+
+    study = tmp_path / "s.yaml"
+    study.write_text(f"name: s\nbase: {(CASES / 'twisted.yaml').resolve()}\nvary: {{grid.twist: [0.01]}}\n")
+    assert len(load_study(study, tmp_path / "results").variants) == 1
+    with pytest.raises(
+        gl.InputError, match=r"s\.yaml: base: .*twisted\.yaml: grid\.dims: 600 cells need about"
+    ):
+        load_study(study, tmp_path / "results", max_memory_gb=1e-6)
