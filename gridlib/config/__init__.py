@@ -5,6 +5,12 @@ A case is a YAML file validated against ``gridlib/schemas/case.schema.yaml``
 Every problem is reported as one :class:`~gridlib.errors.InputError` naming the
 file and the key path, e.g. ``config/cases/x.yaml: grid.dims[1]: 0 is less
 than the minimum of 1``.
+
+Its modules, one concept each: :mod:`~gridlib.config.yaml_file` (YAML, a key given twice
+refused), :mod:`~gridlib.config.values` (finite numbers, keys as the case spells them),
+:mod:`~gridlib.config.checks` (what the schema cannot say), :mod:`~gridlib.config.size`
+(cells and peak memory from the case alone) and :mod:`~gridlib.config.files` (the files a case
+names). config/README.md lists every check in the order they run.
 """
 
 from __future__ import annotations
