@@ -98,10 +98,13 @@ def test_grid_errors_name_the_case_file(tmp_path):
     path = _write(
         tmp_path,
         "c",
-        CARTESIAN + "domain: {ellipsoid: {center: [9, 9], semi_axes: [1, 1]}}\n",
-    )
+        CARTESIAN + "domain: {ellipsoid: {center: [1, 1], semi_axes: [0.1, 0.1]}}\n",
+    )  # inside the grid's box, between its cell centroids: only the grid stage finds it empty
     with pytest.raises(gl.InputError, match=r"c\.yaml: grid: domain: no cell centroid lies inside"):
         build_grid(load_case(path))
+    path.write_text(CARTESIAN + "domain: {ellipsoid: {center: [9, 9], semi_axes: [1, 1]}}\n")
+    with pytest.raises(gl.InputError, match=r"c\.yaml: domain\.ellipsoid: lies outside the grid along x"):
+        load_case(path)  # outside the grid's box: refused when the case is read
     with pytest.raises(gl.InputError, match=r"nope\.yaml: case file not found"):
         load_case(tmp_path / "nope.yaml")
 

@@ -295,8 +295,14 @@ def _ranges_problem(data: dict[str, Any]) -> str | None:
                 f"wells[{k}].rings.outer: {yaml_number(rings['outer'])} is below rings.inner "
                 f"{yaml_number(rings['inner'])} (radii of the last and first ring)"
             )
+    problem = _domain_problem(data)
+    if problem is not None:
+        return problem
     if grid["type"] == "layered":
         sites = grid["areal"]["sites"]
+        problem = _sites_problem(sites.get("xy"))
+        if problem is not None:
+            return problem
         radii = sites.get("radii")
         if isinstance(radii, dict) and radii["log_stop"] < radii["log_start"]:
             return (
@@ -307,6 +313,60 @@ def _ranges_problem(data: dict[str, Any]) -> str | None:
             return (
                 f"grid.areal.sites.radii[{i}]: {yaml_number(radii[i])} does not exceed the radius before it"
             )
+    return None
+
+
+def _sites_problem(xy: list[list[float]] | None) -> str | None:
+    """Explicit sites of a layered grid: each given once, not all on one line."""
+    import shapely
+
+    if xy is None:
+        return None
+    first: dict[tuple[float, ...], int] = {}
+    for k, point in enumerate(xy):
+        at = first.setdefault(tuple(point), k)
+        if at != k:
+            shown = ", ".join(yaml_number(v) for v in point)
+            return f"grid.areal.sites.xy[{k}]: ({shown}) is also xy[{at}]; give each site once"
+    if shapely.MultiPoint(xy).convex_hull.area == 0:
+        return "grid.areal.sites.xy: every site lies on one line: their triangulation has no triangle"
+    return None
+
+
+def _grid_box(grid: dict[str, Any]) -> tuple[list[float], list[float]] | None:
+    """The (min, max) corners of a cartesian or tensor grid's box (m)."""
+    if grid["type"] == "cartesian":
+        dims = grid["dims"]
+        lengths = grid.get("lengths", [float(d) for d in dims])
+        origin = list(grid.get("origin") or [0.0] * len(dims))
+        origin += [0.0] * (len(dims) - len(origin))
+        return origin[: len(dims)], [o + n for o, n in zip(origin, lengths, strict=False)]
+    if grid["type"] == "tensor":
+        ranges = [_axis_range(grid[a]) for a in ("x", "y", "z") if a in grid]
+        return [lo for lo, _ in ranges], [hi for _, hi in ranges]
+    return None
+
+
+def _domain_problem(data: dict[str, Any]) -> str | None:
+    """A fictitious domain (box or ellipsoid) that does not reach the grid's box keeps no cell."""
+    domain = data.get("domain")
+    box = _grid_box(data["grid"])
+    if not domain or box is None:
+        return None
+    for key, shape in domain.items():
+        if key == "box":
+            lo, hi = shape["min"], shape["max"]
+        else:
+            lo = [c - r for c, r in zip(shape["center"], shape["semi_axes"], strict=False)]
+            hi = [c + r for c, r in zip(shape["center"], shape["semi_axes"], strict=False)]
+        for a in range(min(len(lo), len(box[0]))):
+            if hi[a] < box[0][a] or lo[a] > box[1][a]:
+                span = f"[{yaml_number(box[0][a])}, {yaml_number(box[1][a])}]"
+                axis = "xyz"[a]
+                return (
+                    f"domain.{key}: lies outside the grid along {axis} (the grid spans {span} m): "
+                    "no cell is kept"
+                )
     return None
 
 

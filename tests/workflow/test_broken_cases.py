@@ -269,6 +269,20 @@ BROKEN = {
         "grid: {type: cartesian, dims: [4, 4]}\ndomain: {box: {min: [3, 3], max: [1, 1]}}\n",
         "domain.box.min[0]: 3 is above domain.box.max[0] 1",
     ),
+    "sites_given_twice": (
+        "grid: {type: layered, areal: {sites: {pattern: points, xy: [[0, 0], [1, 0], [0, 0], [0, 1]]}}, "
+        "layers: {num_layers: 1}}\n",
+        "grid.areal.sites.xy[2]: (0, 0) is also xy[0]; give each site once",
+    ),
+    "sites_on_one_line": (
+        "grid: {type: layered, areal: {sites: {pattern: points, xy: [[0, 0], [1, 1], [2, 2]]}}, "
+        "layers: {num_layers: 1}}\n",
+        "grid.areal.sites.xy: every site lies on one line",
+    ),
+    "domain_outside_the_grid": (
+        CART + "domain: {box: {min: [1000, 0, 0], max: [2000, 400, 2000]}}\n",
+        "domain.box: lies outside the grid along x (the grid spans [0, 400] m): no cell is kept",
+    ),
     # coarse blocks against the grid
     "coarsen_blocks_beyond_dims": (
         CART + "coarsen: {method: uniform, dims: [8, 2, 1]}\n",
