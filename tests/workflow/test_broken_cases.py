@@ -102,6 +102,10 @@ BROKEN = {
         CART + ROCK + "simulation: {report_days: [10, 5]}\n",
         "simulation.report_days[1]: 5 does not come after 10 (days must increase)",
     ),
+    "name_not_the_file_name": (
+        "name: other\n" + CART,
+        "name: 'other' must equal the file name 'name_not_the_file_name'",
+    ),
     "seed_negative": ("seed: -1\n" + CART, "seed: -1 is less than the minimum of 0"),
     # YAML: a key given twice is not "the last wins"
     "grid_given_twice": (
@@ -358,7 +362,7 @@ BROKEN = {
 def _case_file(folder: Path, name: str) -> Path:
     text, _ = BROKEN[name]
     path = folder / f"{name}.yaml"
-    path.write_text(f"name: {name}\n{text}")
+    path.write_text(text if text.startswith("name:") else f"name: {name}\n{text}")
     for deck, body in DECKS.items():
         if deck in text and not (folder / deck).exists():
             (folder / deck).write_text(body)
