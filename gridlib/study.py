@@ -201,12 +201,18 @@ def _relocate_files(data: dict[str, Any], base_dir: Path, folder: Path) -> None:
         visit(data, keys)
 
 
-def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", check: bool = True) -> Study:
+def load_study(
+    path: str | os.PathLike,
+    results: str | os.PathLike = "results",
+    check: bool = True,
+    max_memory_gb: float | None = None,
+) -> Study:
     """Read and validate a study file and every variant of it (as a case that would live in
     ``results/<study>/<variant>/``). Problems raise one InputError line naming the study file
     and the key (and the variant, for a value that makes a variant invalid). ``check=False``
     skips validating the base case and each variant as a case (a job's process: the process
-    that planned the run has checked them)."""
+    that planned the run has checked them). ``max_memory_gb``: the memory limit of the size
+    check, as :func:`gridlib.config.load_case`."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: study file not found")
@@ -224,7 +230,7 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
         raise InputError(f"{p}: base: {base} is not a case (a mapping of keys)")
     try:
         if check:
-            check_case_data(base_data, base, str(base))
+            check_case_data(base_data, base, str(base), max_memory_gb)
     except InputError as exc:
         raise InputError(f"{p}: base: {exc}") from None
 
@@ -275,7 +281,7 @@ def load_study(path: str | os.PathLike, results: str | os.PathLike = "results", 
             _relocate_files(data, base.parent, folder)
             where = folder / f"{name}.yaml"
             if check:
-                checked = _check_variant(data, where, p, keys, name)
+                checked = _check_variant(data, where, p, keys, name, max_memory_gb)
             else:  # unchecked, the variant still needs its defaults and the section its deck implies
                 checked = with_deck_rock(with_defaults(data), where)
             variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
@@ -307,12 +313,12 @@ def artifacts_of(data: dict[str, Any]) -> tuple[str, ...]:
 
 
 def _check_variant(
-    data: dict[str, Any], where: Path, study: Path, keys: list[str], name: str
+    data: dict[str, Any], where: Path, study: Path, keys: list[str], name: str, max_memory_gb: float | None
 ) -> dict[str, Any]:
     """The variant's case validated like a case file at ``where``; a problem names the study
     file, the varied key it concerns (all of them where it is not one key's) and the variant."""
     try:
-        return check_case_data(data, where, "")
+        return check_case_data(data, where, "", max_memory_gb)
     except InputError as exc:
         message = str(exc).removeprefix(": ")
         concerned = [k for k in keys if message.startswith(_bracketed(k)) or message.startswith(k)]
@@ -321,11 +327,15 @@ def _check_variant(
 
 
 def load_studies(
-    paths: list[str | os.PathLike], results: str | os.PathLike = "results", check: bool = True
+    paths: list[str | os.PathLike],
+    results: str | os.PathLike = "results",
+    check: bool = True,
+    max_memory_gb: float | None = None,
 ) -> dict[str, Study]:
     """Every study file read and validated, keyed by name; one InputError with one line per
-    problem (as :func:`gridlib.config.load_cases`); ``check`` as :func:`load_study`."""
-    return load_named(paths, lambda path: load_study(path, results, check))
+    problem (as :func:`gridlib.config.load_cases`); ``check`` and ``max_memory_gb`` as
+    :func:`load_study`."""
+    return load_named(paths, lambda path: load_study(path, results, check, max_memory_gb))
 
 
 def write_if_changed(path: str | os.PathLike, text: str) -> bool:

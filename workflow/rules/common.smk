@@ -77,7 +77,7 @@ def discover_cases(spec):
     if not paths and isinstance(spec, str):
         stop(f"config: cases: no case file matches {spec!r}")
     try:
-        return load_cases(paths)
+        return load_cases(paths, config.get("max_memory_gb"))
     except InputError as exc:
         problems = str(exc).splitlines()
         stop(
@@ -219,7 +219,12 @@ def discover_studies(spec):
     try:
         # A job's process (spawned, or on a cluster node) trusts the checks of the process
         # that planned the run: parsing then costs little more with many variants.
-        studies = load_studies(paths, RESULTS, check=workflow.is_main_process)
+        studies = load_studies(
+            paths,
+            RESULTS,
+            check=workflow.is_main_process,
+            max_memory_gb=config.get("max_memory_gb"),
+        )
     except InputError as exc:
         problems = str(exc).splitlines()
         stop(
