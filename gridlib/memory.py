@@ -9,6 +9,7 @@ guard refuses what cannot work, not what might be slow.
 
 from __future__ import annotations
 
+import math
 import os
 
 __all__ = ["GIB", "count_text", "gib_text", "machine_memory", "memory_shortfall"]
@@ -25,22 +26,33 @@ def machine_memory() -> int | None:
     return pages * page_size if pages > 0 and page_size > 0 else None
 
 
-def count_text(n: int) -> str:
-    """A count for a message, 3 significant digits, exponents as people write them.
+def count_text(n: float) -> str:
+    """A count for a message: every digit with thousands separators below 1e15, else 3
+    significant digits.
 
-    >>> count_text(10**10), count_text(12), count_text(123456789)
-    ('1e10', '12', '1.23e8')
+    >>> count_text(10**10), count_text(12), count_text(2e30), count_text(float("inf"))
+    ('10,000,000,000', '12', '2e+30', 'more than 1e308')
     """
-    return f"{n:.3g}".replace("e+0", "e").replace("e+", "e")
+    if not math.isfinite(n):
+        return "more than 1e308"
+    return f"{int(n):,}" if n < 1e15 else f"{n:.3g}"
 
 
 def gib_text(n_bytes: float) -> str:
-    """A byte count in GiB for a message, 3 significant digits.
+    """A byte count in GiB for a message: whole GiB from 10 GiB, one decimal below, 3
+    significant digits from 1e6 GiB, 2 significant digits below 0.1 GiB.
 
-    >>> gib_text(8e12), gib_text(3 << 30), gib_text(1e6)
-    ('7.45e+03 GiB', '3 GiB', '0.000931 GiB')
+    >>> gib_text(8e12), gib_text(3 << 30), gib_text(1e6), gib_text(1e18)
+    ('7,451 GiB', '3.0 GiB', '0.00093 GiB', '9.31e+08 GiB')
     """
-    return f"{n_bytes / GIB:.3g} GiB"
+    if not math.isfinite(n_bytes):
+        return "more memory than any machine has"
+    gib = n_bytes / GIB
+    if gib >= 1e6:
+        return f"{gib:.3g} GiB"
+    if gib >= 10:
+        return f"{gib:,.0f} GiB"
+    return f"{gib:.1f} GiB" if gib >= 0.1 else f"{gib:.2g} GiB"
 
 
 def memory_shortfall(needed: float, what: str, purpose: str = "", available: int | None = None) -> str | None:
@@ -48,7 +60,7 @@ def memory_shortfall(needed: float, what: str, purpose: str = "", available: int
     end of a message: ``"{what} need about N GiB {purpose}; this machine has M GiB"``.
 
     >>> memory_shortfall(2e12, "1e10 cells", "to read", available=16 << 30)
-    '1e10 cells need about 1.86e+03 GiB to read; this machine has 16 GiB'
+    '1e10 cells need about 1,863 GiB to read; this machine has 16 GiB'
     >>> memory_shortfall(1e6, "10 cells", available=16 << 30) is None
     True
     """

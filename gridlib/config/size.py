@@ -13,11 +13,11 @@ array is allocated.
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 from typing import Any
 
 from ..io.grdecl.dimens import deck_dimensions
+from ..memory import GIB, count_text, gib_text, machine_memory
 from .files import named_file
 
 # Peak resident memory of `gridlib build` (every stage in one process: its heaviest stage
@@ -35,7 +35,6 @@ BYTES_PER_CELL = {
 # The horizons stage, per lattice node and surface: measured as above with three dome surfaces
 # on 1001^2 and 2001^2 nodes (0.46 and 0.70 GiB: 28 B per node and surface), rounded up.
 BYTES_PER_LATTICE_NODE = 40
-GIB = 2**30
 
 
 def max_memory_bytes(max_memory_gb: float | None = None) -> int:
@@ -48,11 +47,8 @@ def max_memory_bytes(max_memory_gb: float | None = None) -> int:
 
 
 def physical_memory() -> int:
-    """This machine's physical memory (bytes)."""
-    try:
-        return int(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # not POSIX: no limit from the machine
-        return 2**62
+    """This machine's physical memory (bytes); no limit where the system does not say."""
+    return machine_memory() or 2**62
 
 
 def estimated_cells(data: dict[str, Any], path: Path) -> tuple[float, str] | None:
@@ -173,7 +169,7 @@ def size_problem(data: dict[str, Any], path: Path, limit: int) -> str | None:
         needs.append(
             (
                 cells * BYTES_PER_CELL[data["grid"]["type"]],
-                f"{key}: {_count(cells)} cells",
+                f"{key}: {count_text(cells)} cells",
                 "the heaviest stage",
             )
         )
@@ -181,7 +177,7 @@ def size_problem(data: dict[str, Any], path: Path, limit: int) -> str | None:
     if horizons is not None:
         nodes = float(math.prod(_axis_nodes(horizons["lattice"][a]) for a in ("x", "y")))
         surfaces = len(horizons["surfaces"])
-        what = f"horizons.lattice: {_count(nodes)} nodes x {surfaces} surfaces"
+        what = f"horizons.lattice: {count_text(nodes)} nodes x {surfaces} surfaces"
         needs.append((nodes * surfaces * BYTES_PER_LATTICE_NODE, what, "the horizons stage"))
     if not needs:
         return None
@@ -190,26 +186,13 @@ def size_problem(data: dict[str, Any], path: Path, limit: int) -> str | None:
         return None
     machine = physical_memory()
     if limit == machine:
-        allowed = f"this machine has {_gib(machine)} (the config's max_memory_gb sets another limit)"
+        allowed = f"this machine has {gib_text(machine)} (the config's max_memory_gb sets another limit)"
     else:
-        allowed = f"the limit is {_gib(limit)} (config max_memory_gb; this machine has {_gib(machine)})"
-    return f"{what} need about {_gib(need)} in {where}; {allowed}"
+        allowed = (
+            f"the limit is {gib_text(limit)} (config max_memory_gb; this machine has {gib_text(machine)})"
+        )
+    return f"{what} need about {gib_text(need)} in {where}; {allowed}"
 
 
 def _axis_nodes(spec: Any) -> int:
     return int(spec["num"]) if isinstance(spec, dict) else len(spec)
-
-
-def _count(cells: float) -> str:
-    if not math.isfinite(cells):
-        return "more than 1e308"
-    return f"{int(cells):,}" if cells < 1e15 else f"{cells:.3g}"
-
-
-def _gib(size: float) -> str:
-    if not math.isfinite(size):
-        return "more memory than any machine has"
-    gib = size / GIB
-    if gib >= 1e6:
-        return f"{gib:.3g} GiB"
-    return f"{gib:,.0f} GiB" if gib >= 10 else f"{gib:.1f} GiB"

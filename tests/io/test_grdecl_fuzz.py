@@ -11,7 +11,6 @@ from __future__ import annotations
 import contextlib
 import re
 import signal
-import time
 from pathlib import Path
 
 import numpy as np
@@ -138,7 +137,6 @@ def check_one(path, data: bytes) -> str:
     """Read ``data`` as the deck ``path``, process it and compute its transmissibilities: 'ok',
     or how it was refused (always naming the deck file)."""
     path.write_bytes(data)
-    start = time.perf_counter()
     with deadline(SECONDS_PER_DECK):
         try:
             deck = read_grdecl(path)
@@ -153,7 +151,6 @@ def check_one(path, data: bytes) -> str:
         except (InputError, GridError) as exc:
             assert str(path) in str(exc), str(exc)
             return "refused"
-    assert time.perf_counter() - start < SECONDS_PER_DECK
     return "ok" if has_rock else "grid"
 
 
