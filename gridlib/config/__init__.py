@@ -252,7 +252,8 @@ def check_case_data(
     files it names (:func:`gridlib.config.checks.case_problem`), its values
     (:func:`~gridlib.config.checks.rock_problem`), its size against ``max_memory_gb``
     (:func:`gridlib.config.size.size_problem`: before any deck is read beyond its dimensions),
-    then what the deck's keywords decide (its rock, the simulation)."""
+    then a deck grid's deck read whole (each of its errors names the deck's file, line and
+    keyword) and what its keywords decide (its rock, the simulation)."""
     problem = non_finite_problem(data)
     if problem is not None:
         raise InputError(f"{source}: {problem}")
@@ -265,6 +266,8 @@ def check_case_data(
     if problem is not None:
         raise InputError(f"{source}: {problem}")
     try:
+        if data["grid"]["type"] == "deck":  # the whole deck read: its errors name file and line now
+            deck_cell_keywords(named_file(path, data["grid"]["file"]), data["grid"]["unknown_keywords"])
         data = with_deck_rock(data, path)
         problem = rock_problem(data, path) or simulation_problem(data)
     except InputError as exc:

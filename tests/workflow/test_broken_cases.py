@@ -56,7 +56,8 @@ SMALL_DECK = (
     + "/\nZCORN\n 16*0 16*10 /\nPERMX\n 4*100 /\n"
 )
 HUGE_DECK = "RUNSPEC\nDIMENS\n 10000 10000 100 /\nGRID\nDX\n 1000000000*10 /\n"
-DECKS = {"small.grdecl": SMALL_DECK, "huge.DATA": HUGE_DECK}
+SHORT_DECK = SMALL_DECK.replace("PERMX\n 4*100 /", "PERMX\n 3*100 /")
+DECKS = {"small.grdecl": SMALL_DECK, "huge.DATA": HUGE_DECK, "short.grdecl": SHORT_DECK}
 
 # name -> (the case file's text after its `name:` line, what its one line says after the key)
 BROKEN = {
@@ -316,6 +317,10 @@ BROKEN = {
     "deck_keyword_missing": (
         "grid: {type: deck, file: small.grdecl}\npetrophysics: {porosity: {deck: PORO}}\n",
         "petrophysics.porosity.deck: small.grdecl gives no PORO (it gives PERMX)",
+    ),
+    "deck_array_short": (  # the deck is read whole when the case is: its arrays against its dimensions
+        "grid: {type: deck, file: short.grdecl}\npetrophysics: {porosity: {constant: 0.2}}\n",
+        "short.grdecl:16: PERMX: has 3 values, expected 4",
     ),
     "deck_coarsen_beyond_dims": (
         "grid: {type: deck, file: small.grdecl}\ncoarsen: {method: uniform, dims: [1, 3, 1]}\n",
