@@ -9,6 +9,8 @@ console and a failure as one line without a traceback."""
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -264,3 +266,33 @@ def test_run_case_into_a_new_folder_leaves_no_folder(tmp_path):
     with pytest.raises(InputError):
         run_case(case_file, tmp_path / "results" / "inactive_case")
     assert not (tmp_path / "results" / "inactive_case").exists()
+
+
+def test_snakemake_prints_a_note_once_and_a_failure_as_one_line(tmp_path):
+    """One Snakemake run of the grid stage of two deck cases: the note of one (a MULTFLT naming
+    no fault) is printed once on the console, prefixed with the case and stage, as well as in
+    its log; the failure of the other (every cell inactive) is one line naming the case file
+    and the deck, with no traceback, and leaves no grid.nc."""
+    config = tmp_path / "config"
+    noted = write_case(config, "noted", Failure(deck_case("noted"), "grid", (), (("noted.GRDECL", deck()),)))
+    (config / "noted.GRDECL").write_text(deck() + "MULTFLT\n 'NOPE' 0.5 /\n/\n")
+    broken = write_case(config, "broken", FAILURES["deck_every_cell_inactive"])
+    targets = [f"results/{name}/grid.nc" for name in ("noted", "broken")]
+    result = subprocess.run(
+        [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(tmp_path),
+         "--cores", "2", "--keep-going", *targets, "--config", f"cases=[{noted},{broken}]", "studies=[]"],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    out = result.stdout + result.stderr
+    assert result.returncode != 0, out[-3000:]
+    notes = [line for line in out.splitlines() if "NOPE" in line]
+    assert len(notes) == 1 and notes[0].startswith("gridlib: noted: grid: note: "), out[-3000:]
+    log = (tmp_path / "results" / "logs" / "noted" / "grid.log").read_text()
+    assert notes[0].removeprefix("gridlib: noted: grid: ") in log
+    failures = [line for line in out.splitlines() if line.startswith("gridlib:") and str(broken) in line]
+    assert len(failures) == 1 and "inactive.GRDECL" in failures[0] and "no active cells" in failures[0], out[
+        -3000:
+    ]
+    assert "Traceback" not in out and 'File "' not in out, out[-3000:]
+    assert (tmp_path / "results" / "noted" / "grid.nc").is_file()
+    assert not (tmp_path / "results" / "broken" / "grid.nc").exists()
