@@ -49,9 +49,7 @@ def run_logged(
     Path(log_file).parent.mkdir(parents=True, exist_ok=True)
     handler = logging.FileHandler(log_file, mode="w")
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
-    console = logging.StreamHandler(sys.stderr)
-    console.setFormatter(logging.Formatter(f"gridlib: {label or name}: %(message)s"))
-    console.addFilter(_NotesOnce())
+    console = notes_on_console(label or name)
     root = logging.getLogger("gridlib")
     root.addHandler(handler)
     root.addHandler(console)
@@ -82,6 +80,16 @@ def run_logged(
             os.environ.pop(ENV, None)
         else:
             os.environ[ENV] = previous
+
+
+def notes_on_console(label: str) -> logging.Handler:
+    """A handler printing each note (a message ``note: ...``) and warning once on stderr,
+    prefixed ``gridlib: <label>:``; add it to the ``gridlib`` logger (:func:`run_logged`, the
+    ``gridlib build`` command)."""
+    console = logging.StreamHandler(sys.stderr)
+    console.setFormatter(logging.Formatter(f"gridlib: {label}: %(message)s"))
+    console.addFilter(_NotesOnce())
+    return console
 
 
 class _NotesOnce(logging.Filter):
