@@ -296,3 +296,37 @@ def test_snakemake_prints_a_note_once_and_a_failure_as_one_line(tmp_path):
     assert "Traceback" not in out and 'File "' not in out, out[-3000:]
     assert (tmp_path / "results" / "noted" / "grid.nc").is_file()
     assert not (tmp_path / "results" / "broken" / "grid.nc").exists()
+
+
+def test_a_stage_failing_at_its_second_file_leaves_the_first_as_it_was(tmp_path, monkeypatch):
+    """The grid stage of a deck case writes grid.nc, then grid.grdecl: when the second write
+    fails, grid.nc holds what it held before (and no file is left beside it)."""
+    import gridlib.stages.grid as grid_stage
+
+    def refuse(path, *args, **kwargs):
+        raise InputError(f"{path}: PERMX: not written (the test's failure)")
+
+    monkeypatch.setattr(grid_stage, "write_grdecl", refuse)
+    case_file = write_case(
+        tmp_path / "config", "two_files", Failure(deck_case("d"), "grid", (), (("d.GRDECL", deck()),))
+    )
+    paths = case_outputs("two_files", tmp_path / "results" / "two_files")
+    paths["grid"].parent.mkdir(parents=True)
+    for key in ("grid", "grdecl"):
+        paths[key].write_bytes(BEFORE)
+    with pytest.raises(InputError, match=r"stage grid: .*grid\.grdecl: PERMX: not written"):
+        run_stage("grid", case_file, paths)
+    assert sorted(p.name for p in paths["grid"].parent.iterdir()) == ["grid.grdecl", "grid.nc"]
+    assert paths["grid"].read_bytes() == paths["grdecl"].read_bytes() == BEFORE
+
+
+def test_the_horizons_stage_logs_the_repairs_of_its_horizons(tmp_path, caplog):
+    """The notes of the horizons (here: ordering 'erode' moving a crossing horizon down) reach the
+    stage's log, as the other stages' notes do."""
+    failure = FAILURES["points_cross_the_plane_above"]
+    text = failure.case.replace("  surfaces:", "  ordering: erode\n  surfaces:")
+    case_file = write_case(tmp_path / "config", "eroded", replace(failure, case=text))
+    with caplog.at_level("INFO", logger="gridlib"):
+        run_stage("horizons", case_file, {"horizons": tmp_path / "horizons.nc"})
+    notes = [r.getMessage() for r in caplog.records if r.getMessage().startswith("note:")]
+    assert notes == ["note: ordering 'erode': horizon 'base' moved down to a horizon above it at 22 nodes"]
