@@ -330,3 +330,40 @@ def test_the_horizons_stage_logs_the_repairs_of_its_horizons(tmp_path, caplog):
         run_stage("horizons", case_file, {"horizons": tmp_path / "horizons.nc"})
     notes = [r.getMessage() for r in caplog.records if r.getMessage().startswith("note:")]
     assert notes == ["note: ordering 'erode': horizon 'base' moved down to a horizon above it at 22 nodes"]
+
+
+def test_run_logged_prints_notes_once_and_a_failure_as_one_line(tmp_path, capsys):
+    """What a Snakemake job prints (workflow/scripts/stage.py runs its stage through run_logged):
+    each note once as it is logged, prefixed with the label; an InputError as its message; an
+    unexpected exception as one line naming the log, whose traceback stays in the log."""
+    import logging
+
+    from gridlib.stages import run_logged
+
+    log = logging.getLogger("gridlib.stages")
+
+    def noting():
+        for text in ("note: rings dropped", "note: rings dropped", "wrote a file", "note: a small angle"):
+            log.info(text)
+
+    run_logged(tmp_path / "ok.log", noting, label="case: grid")
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["gridlib: case: grid: note: rings dropped", "gridlib: case: grid: note: a small angle"]
+    assert (tmp_path / "ok.log").read_text().count("note: rings dropped") == 2  # the log keeps every line
+
+    def refusing():
+        raise InputError("case.yaml: stage grid: no active cells")
+
+    def failing():
+        raise KeyError("a bug")
+
+    with pytest.raises(SystemExit):
+        run_logged(tmp_path / "input.log", refusing, label="case: grid")
+    assert capsys.readouterr().err == "gridlib: case.yaml: stage grid: no active cells\n"
+    with pytest.raises(SystemExit):
+        run_logged(tmp_path / "bug.log", failing, label="case: grid")
+    (line,) = capsys.readouterr().err.splitlines()
+    assert (
+        line.startswith("gridlib: case: grid failed: KeyError: 'a bug'") and str(tmp_path / "bug.log") in line
+    )
+    assert "Traceback (most recent call last)" in (tmp_path / "bug.log").read_text()
