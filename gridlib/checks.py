@@ -42,7 +42,12 @@ _ROWS = 1 << 18  # faces per block of the duplicate-face search
 
 
 def _ids(mask: np.ndarray) -> str:
-    idx = np.flatnonzero(mask)
+    """The first indices where ``mask`` holds, the rest counted."""
+    return _ids_of(np.flatnonzero(mask))
+
+
+def _ids_of(idx: np.ndarray) -> str:
+    """The first of the 0-based indices ``idx``, the rest counted."""
     more = f" and {idx.size - _MAX_LISTED} more" if idx.size > _MAX_LISTED else ""
     return f"{idx[:_MAX_LISTED].tolist()}{more}"
 
@@ -284,17 +289,17 @@ def _degenerate_violations(grid: Grid, cells: DegenerateCells, tol: float) -> li
     if cells.non_positive_volume.size:
         what = "area" if grid.griddim == 2 else "volume"
         ids = cells.non_positive_volume
-        more = f" and {ids.size - _MAX_LISTED} more" if ids.size > _MAX_LISTED else ""
+        first = ", ".join(f"{v:.6g}" for v in cells.volumes[:3].tolist())
         out.append(
-            f"cells with non-positive {what}: {ids[:_MAX_LISTED].tolist()}{more} "
-            f"(first {what}s {cells.volumes[:3].tolist()})"
+            f"cells with non-positive {what}: {_ids_of(ids)}{_where(grid, ids[:_MAX_LISTED])} "
+            f"(first {what}s {first})"
         )
     if cells.not_closed.size:
         ids = cells.not_closed
-        more = f" and {ids.size - _MAX_LISTED} more" if ids.size > _MAX_LISTED else ""
         out.append(
             f"cells not closed (sum of outward normals / surface area up to {float(cells.closure.max()):.2e} "
-            f"> {tol:g}): {ids[:_MAX_LISTED].tolist()}{more}; a face is flipped, misordered or missing"
+            f"> {tol:g}): {_ids_of(ids)}{_where(grid, ids[:_MAX_LISTED])}; a face is flipped, misordered "
+            "or missing"
         )
     return out
 
@@ -302,6 +307,8 @@ def _degenerate_violations(grid: Grid, cells: DegenerateCells, tol: float) -> li
 def _broken(grid: Grid, geometry: Geometry | None, tol: float) -> tuple[list[str], DegenerateCells | None]:
     """Topology and geometry problems that no grid may have, and the degenerate cells (None when
     something is broken before they could be found)."""
+    if grid.num_cells == 0:
+        return ["the grid has no cells (every cell inactive or removed)"], None
     problems = topology_violations(grid)
     if problems:
         return problems, None
@@ -317,9 +324,10 @@ def _broken(grid: Grid, geometry: Geometry | None, tol: float) -> tuple[list[str
 
 
 def _raise(grid: Grid, problems: list[str]) -> None:
+    """One GridError listing ``problems``, the grid described by its size (no repr)."""
     if problems:
-        summary = "; ".join(problems)
-        raise GridError(f"check_grid: {len(problems)} problem(s) in {grid!r}: {summary}")
+        what = f"{grid.griddim}-D grid of {grid.num_cells:,d} cells and {grid.num_faces:,d} faces"
+        raise GridError(f"check_grid: {len(problems)} problem(s) in the {what}: {'; '.join(problems)}")
 
 
 def check_grid(grid: Grid, geometry: Geometry | None = None, *, tol: float = 1e-10) -> None:

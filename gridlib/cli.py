@@ -13,6 +13,7 @@ line) and exit status 2; a grid that fails ``check`` exits with status 1.
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -25,6 +26,7 @@ from .cornerpoint import process_grdecl
 from .cornerpoint.pore_volume import zero_pore_volume
 from .errors import GridError, InputError
 from .geometry import compute_geometry
+from .stages.common import notes_on_console
 from .stages.flow_deck import flow_deck_from_results
 from .stages.pipeline import run_case
 
@@ -111,8 +113,18 @@ def check(path: Path) -> str:
 
 def build(case_file: Path, outdir: Path) -> str:
     """Run every stage the case needs (horizons, grid, geometry, petrophysics, coarsen,
-    export) into ``outdir``; returns the list of files written."""
-    return "\n".join(str(p) for p in run_case(case_file, outdir))
+    export) into ``outdir``; returns the list of files written. The stages' notes are printed
+    on stderr as they come, once each; a failing stage leaves ``outdir`` as it was."""
+    logger = logging.getLogger("gridlib")
+    console = notes_on_console(case_file.stem)
+    level = logger.level
+    logger.addHandler(console)
+    logger.setLevel(logging.INFO)
+    try:
+        return "\n".join(str(p) for p in run_case(case_file, outdir))
+    finally:
+        logger.removeHandler(console)
+        logger.setLevel(level)
 
 
 def flow_deck(results_dir: Path, out_dir: Path, form: str | None, case: Path | None = None) -> str:

@@ -80,7 +80,7 @@ def compute_geometry(grid: Grid) -> Geometry:
     ([3.0, 3.0], [3.0, 3.0, 3.0])
     """
     if grid.num_cells == 0:
-        raise GridError("compute_geometry: the grid has no cells")
+        raise GridError("compute_geometry: the grid has no cells (every cell inactive or removed)")
     counts = _node_counts(grid.faces.node_pos)
     if grid.griddim == 3:
         if counts.min(initial=3) < 3:

@@ -103,7 +103,7 @@ def fault_blocks(faults: Sequence[Any], extent: Sequence[float]) -> FaultBlocks:
 
     xmin, xmax, ymin, ymax = (float(v) for v in extent)
     if not (xmax > xmin and ymax > ymin):
-        raise InputError(f"fault_blocks: the extent {tuple(extent)} is empty")
+        raise InputError(f"fault_blocks: the extent x {xmin:g} to {xmax:g}, y {ymin:g} to {ymax:g} is empty")
     box = shapely.box(xmin, ymin, xmax, ymax)
     diag = math.hypot(xmax - xmin, ymax - ymin)
     if isinstance(faults, FaultTrace) or (isinstance(faults, np.ndarray) and faults.ndim == 2):

@@ -15,9 +15,24 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
 
     A failed write therefore never leaves a partial file at ``path``.
     """
+    with _temporary_beside(Path(path), ".tmp") as tmp:
+        yield tmp
+
+
+def write_keeping_suffix(path: str | os.PathLike, write: Callable[[Path], object]) -> None:
+    """``write(tmp)`` to a temporary file beside ``path`` that keeps its suffix (VTK and
+    matplotlib pick their writer by it), then rename it to ``path``; on error it is removed."""
     target = Path(path)
+    with _temporary_beside(target, f".partial{target.suffix}") as tmp:
+        write(tmp)
+
+
+@contextlib.contextmanager
+def _temporary_beside(target: Path, suffix: str) -> Iterator[Path]:
+    """A temporary file of its own beside ``target`` (two runs writing one target do not share
+    it), renamed to ``target`` with the usual mode when the body ends, removed if it raises."""
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
     os.close(fd)
     tmp_path = Path(tmp)
     try:
@@ -28,17 +43,4 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         os.replace(tmp_path, target)
     except BaseException:
         tmp_path.unlink(missing_ok=True)
-        raise
-
-
-def write_keeping_suffix(path: str | os.PathLike, write: Callable[[Path], object]) -> None:
-    """``write(tmp)`` to a temporary file beside ``path`` that keeps its suffix (VTK and
-    matplotlib pick their writer by it), then rename it to ``path``; on error it is removed."""
-    target = Path(path)
-    tmp = target.with_name(f".{target.stem}.partial{target.suffix}")
-    try:
-        write(tmp)
-        os.replace(tmp, target)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
         raise

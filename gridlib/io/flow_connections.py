@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..cell_names import ijk_text
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
 from .eclipse_text import keyword_text, text_table
@@ -118,8 +119,8 @@ def box_depths(grid: ConnectionGrid) -> tuple[FloatArray, FloatArray]:
         bad = int(np.flatnonzero(gap <= 0)[0])
         a, b = int(index[order][bad]), int(index[order][bad + 1])
         raise InputError(
-            f"depth: Flow cells {a} and {b} of one logical column are not ordered top down "
-            f"(centre depths {float(cd[bad])!r} and {float(cd[bad + 1])!r})"
+            f"depth: Flow cells {ijk_text(a, grid.dims)} and {ijk_text(b, grid.dims)} of one logical "
+            f"column are not ordered top down (centre depths {cd[bad]:g} and {cd[bad + 1]:g})"
         )
     h = half[order]
     h[:-1] = np.minimum(h[:-1], 0.5 * gap)

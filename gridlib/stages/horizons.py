@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 
 import numpy as np
@@ -16,6 +17,8 @@ def stage_horizons(case: Case, *, horizons: str | os.PathLike) -> None:
     """Interpolate and order the case's horizons; write them to ``horizons`` (``horizons.nc``)."""
     ds = case_horizons(case)
     write_horizons(horizons, ds)
+    for note in json.loads(ds.attrs.get("notes", "[]")):  # interpolation and ordering repairs
+        log.info("note: %s", note)
     depth = ds["depth"].values
     log.info(
         "wrote %s: %d horizons on %d x %d nodes, depths %.6g to %.6g m",

@@ -3,14 +3,21 @@ variant jobs run): the stages of :data:`gridlib.artifacts.STAGES` the case has."
 
 from __future__ import annotations
 
+import contextlib
 import os
-from collections.abc import Callable, Mapping
+import re
+import shutil
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from importlib import import_module
 from pathlib import Path
 from typing import Any
 
 from .. import artifacts
 from ..config import Case, load_case
+from ..errors import GridError, InputError
+
+_BEFORE = ".before-run"  # the suffix of the hard links that keep an output as it was before a run
+_NUMPY_SCALAR = re.compile(r"np\.(?:float|int|uint|bool|complex)\w*\(([^()]*)\)")
 
 
 def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:
@@ -22,19 +29,32 @@ def case_outputs(name: str, folder: str | os.PathLike) -> dict[str, Path]:
 def run_case(case: Case | str | os.PathLike, folder: str | os.PathLike, simulate: bool = False) -> list[Path]:
     """Run every stage the case (a loaded case or its file) needs into ``folder``; returns the
     artifacts written. With ``simulate``, OPM Flow also runs the deck of a case with a
-    ``simulation`` section (the stages run only when asked)."""
+    ``simulation`` section (the stages run only when asked).
+
+    A failing stage raises its error (an InputError or GridError naming the case file and the
+    stage) and leaves ``folder`` as it was before the run: the files it held put back, those
+    the run wrote removed."""
     if not isinstance(case, Case):
         case = load_case(case)
     paths = artifacts.case_paths(case.name, folder)
-    Path(folder).mkdir(parents=True, exist_ok=True)
+    folder = Path(folder)
+    new_folder = not folder.exists()
+    folder.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
-    for stage in artifacts.STAGES:
-        if not stage.when(case) or (stage.on_request and not simulate):
-            continue
-        outputs = [a.key for a in stage.outputs_of(case)]
-        keys = artifacts.stage_inputs(stage, case) + tuple(outputs)
-        stage_function(stage)(case, **{key: paths[key] for key in keys})
-        written += [paths[key] for key in outputs]
+    try:
+        with restored_on_failure(sorted(p for p in folder.rglob("*") if _is_result(p)), sweep=folder):
+            for stage in artifacts.STAGES:
+                if not stage.when(case) or (stage.on_request and not simulate):
+                    continue
+                outputs = [a.key for a in stage.outputs_of(case)]
+                keys = artifacts.stage_inputs(stage, case) + tuple(outputs)
+                _call(stage, case, {key: paths[key] for key in keys})
+                written += [paths[key] for key in outputs]
+    except BaseException:
+        if new_folder:
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise
     dropped = {paths[key] for key in artifacts.dropped(case)}  # outputs.stage_files: false
     for path in dropped:
         path.unlink(missing_ok=True)
@@ -44,7 +64,9 @@ def run_case(case: Case | str | os.PathLike, folder: str | os.PathLike, simulate
 def run_stage(name: str, case: Case | str | os.PathLike, paths: Mapping[str, str | os.PathLike]) -> Any:
     """Run the stage ``name`` of :data:`gridlib.artifacts.STAGES` for ``case`` (loaded, or its
     file) with the paths of its inputs and outputs taken from ``paths`` (artifact key -> path;
-    other keys are ignored); returns what the stage function returns.
+    other keys are ignored); returns what the stage function returns. An InputError or GridError
+    raised in the stage names the case file and the stage; the stage's outputs are then as they
+    were before (:func:`restored_on_failure`).
 
     The Snakemake rules run their stage so (``workflow/scripts/stage.py``)."""
     if not isinstance(case, Case):
@@ -52,8 +74,82 @@ def run_stage(name: str, case: Case | str | os.PathLike, paths: Mapping[str, str
     stage = next((s for s in artifacts.STAGES if s.name == name), None)
     if stage is None:
         raise ValueError(f"no stage {name!r} (stages: {', '.join(s.name for s in artifacts.STAGES)})")
-    keys = artifacts.stage_inputs(stage, case) + tuple(a.key for a in stage.outputs_of(case))
-    return stage_function(stage)(case, **{key: Path(paths[key]) for key in keys if key in paths})
+    outputs = tuple(a.key for a in stage.outputs_of(case))
+    keys = artifacts.stage_inputs(stage, case) + outputs
+    with restored_on_failure([Path(paths[key]) for key in outputs if key in paths]):
+        return _call(stage, case, {key: Path(paths[key]) for key in keys if key in paths})
+
+
+def _call(stage: artifacts.Stage, case: Case, paths: dict[str, Path]) -> Any:
+    """The stage's function on ``case`` and ``paths``; an InputError or GridError raised inside
+    it names the case file and the stage (:func:`in_stage_message`)."""
+    try:
+        return stage_function(stage)(case, **paths)
+    except (InputError, GridError) as exc:
+        exc.args = (in_stage_message(str(exc), case, stage.name),)
+        raise
+
+
+def in_stage_message(message: str, case: Case, stage: str) -> str:
+    """``message`` of an error raised in ``stage`` of ``case`` as the user reads it: prefixed
+    with the case file and the stage where it does not name the case file already (a deck's
+    own messages name the deck, line and keyword; those of the builders name the case's keys),
+    numpy scalars written as plain numbers."""
+    message = _NUMPY_SCALAR.sub(r"\1", message)
+    if str(case.path) in message:
+        return message
+    return f"{case.path}: stage {stage}: {message}"
+
+
+@contextlib.contextmanager
+def restored_on_failure(paths: Iterable[Path], sweep: Path | None = None) -> Iterator[None]:
+    """Run the body; if it raises, put every one of ``paths`` back as it was before (the file it
+    was, or no file), and remove every file under ``sweep`` that the body created, so that a
+    failure leaves no result half-written. The files are kept by hard links (no copy), which
+    the atomic writers (:mod:`gridlib.io.atomic`) leave intact since they replace a file rather
+    than write into it."""
+    paths = list(dict.fromkeys(Path(p) for p in paths))
+    before = set(_entries(sweep)) if sweep is not None else set()
+    kept = {path: _keep(path) for path in paths if path.is_file()}
+    try:
+        yield
+    except BaseException:
+        for path in paths:
+            if path not in kept:
+                path.unlink(missing_ok=True)
+            elif path.exists() and os.path.samefile(path, kept[path]):  # untouched (rename would keep both)
+                kept[path].unlink()
+            else:
+                os.replace(kept[path], path)
+        if sweep is not None:
+            created = set(_entries(sweep)) - before - set(kept.values())
+            for path in sorted(created, key=lambda p: len(p.parts), reverse=True):  # files, then folders
+                with contextlib.suppress(OSError):
+                    path.rmdir() if path.is_dir() else path.unlink()
+        raise
+    else:
+        for backup in kept.values():
+            backup.unlink(missing_ok=True)
+
+
+def _keep(path: Path) -> Path:
+    """A hard link (a copy where the file system has none) to ``path`` beside it."""
+    backup = path.with_name(f".{path.name}{_BEFORE}")
+    backup.unlink(missing_ok=True)
+    try:
+        os.link(path, backup)
+    except OSError:
+        shutil.copy2(path, backup)
+    return backup
+
+
+def _is_result(path: Path) -> bool:
+    return path.is_file() and not path.name.endswith(_BEFORE)
+
+
+def _entries(folder: Path) -> list[Path]:
+    """The files and folders under ``folder``."""
+    return list(folder.rglob("*")) if folder.is_dir() else []
 
 
 def stage_function(stage: artifacts.Stage) -> Callable[..., Any]:

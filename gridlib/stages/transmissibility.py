@@ -68,6 +68,7 @@ from ..io.rock_file import read_rock
 from ..io.transmissibility_file import connections_dataset
 from ..pillars.nnc import NNC
 from ..transmissibility import Connections, deck_transmissibility, transmissibility
+from ..transmissibility.deck_connections import rock_arrays
 from ..units import UnitSystem, unit_system
 from .common import log
 
@@ -157,6 +158,9 @@ def _deck_case(
     bulk = stored.cell_data["bulk_volume"]
     cp = CornerPointGrid(grid, nnc, tuple(attrs.get("fault_names", ())), (), bulk)
     conn = deck_transmissibility(deck, cp)
+    said: list[str] = []  # PORO or NTG above 1 in the case's rock: the petrophysics stage noted them
+    rock_arrays(deck, said)
+    conn = replace(conn, notes=tuple(n for n in conn.notes if n not in said))
     porv = pore_volumes(deck, index, bulk)  # Flow's: EDIT PORV, else bulk x PORO x NTG x MULTPV
     if "PORV" in deck.cell_data:
         conn = replace(conn, notes=(*conn.notes, *_porv_notes(case, deck.cell_data["PORV"][index])))

@@ -17,6 +17,7 @@ import os
 import threading
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
 
 # What the fork server imports before it forks the workers (absent ones are skipped).
 PRELOAD = ("gridlib.stages", "gstools", "pyvista", "matplotlib.pyplot", "pymetis", "shapely", "pandas")
@@ -40,8 +41,8 @@ def _build(case_file: str, folder: str, log_file: str) -> None:
     from .pipeline import run_case
 
     try:
-        run_logged(log_file, run_case, case_file, folder, threads=1)
-    except SystemExit:  # run_logged's exit for a user error: the message is on stderr and in the log
+        run_logged(log_file, run_case, case_file, folder, threads=1, label=Path(case_file).stem)
+    except SystemExit:  # run_logged's exit for a failure: one line on stderr, the rest in the log
         raise RuntimeError(f"{case_file} failed (log: {log_file})") from None
 
 

@@ -191,7 +191,7 @@ def connection_factor(
     rw = _per_completion(radius, n, "radius")
     if (rw <= 0).any():
         i = int(np.flatnonzero(rw <= 0)[0])
-        raise InputError(f"radius: the well radius must be positive, completion {i} has {rw[i]!r}")
+        raise InputError(f"radius: the well radius must be positive, completion {i} has {float(rw[i]):g}")
     s = _per_completion(skin, n, "skin")
     rows = np.arange(n)
     order = np.array([_AXES[a] for a in range(3)])[axis]  # (n, 3): k1, k2, along

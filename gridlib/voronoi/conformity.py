@@ -80,7 +80,10 @@ def refine_factor(need: np.ndarray) -> np.ndarray:
     return np.clip(need, 0.05, 0.5)
 
 
-def raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
+def raise_fault_problem(problems, fs, dom: Domain, lay, times: int, ws=None) -> None:
+    """Raise the GridError naming the faults (and a well ``ws`` has close by) where the fault
+    sites still break the empty-circle condition after ``times`` refinements, and what in the
+    layout to change: the traces, the well's position or the cell size."""
     labels = lay.net.labels
     where = problems[0][0]
     d = np.linalg.norm(fs.centres - where, axis=1)
@@ -91,7 +94,8 @@ def raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
     if outside:
         raise GridError(
             f"{names}: its sites leave the domain near {dom.fmt(where)} even after refining the fault steps "
-            f"{times} times; the fault runs too close to the boundary there for max_refinements={times}"
+            f"{times} times: the trace runs too close to the boundary there; move it (its trace) or give "
+            "a smaller cell_size"
         )
     # the sharpest angle between traces at the nearest junction or bend, if there is one close by
     net = lay.net
@@ -103,12 +107,30 @@ def raise_fault_problem(problems, fs, dom: Domain, lay, times: int) -> None:
         ang = np.sort(np.mod(arctan2(v[:, 1], v[:, 0]), 2 * np.pi))
         gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
         angle = f" (they meet at {np.degrees(gaps.min()):.3g} degrees at {dom.fmt(net.nodes[node])})"
+    step = float(fs.centre_step.max())
+    well = _nearest_well(ws, where, 2.0 * step)
+    if well:
+        raise GridError(
+            f"{well} lies too close to {names} near {dom.fmt(where)}: no conforming PEBI sites there even "
+            f"after refining the fault steps {times} times (a site falls inside a fault circle); move the "
+            f"well (its point or path) further from the trace than the fault's circles reach (about "
+            f"{lay.ratio * step:.3g} m)"
+        )
     raise GridError(
         f"{names}: no conforming PEBI sites near {dom.fmt(where)} even after refining the fault steps "
         f"{times} times: a site falls inside a fault circle (the empty-circle condition), because the traces "
-        f"meet at too sharp an angle or run too close to each other or to a well{angle}; allow more "
-        "max_refinements, or widen the angle or the separation"
+        f"meet at too sharp an angle or run too close to each other{angle}; widen the angle or the "
+        "separation of the traces (their trace), or give a smaller cell_size"
     )
+
+
+def _nearest_well(ws, where: np.ndarray, reach: float) -> str:
+    """The label of the well with a site within ``reach`` of ``where`` (the nearest), or ""."""
+    if ws is None or not ws.sites.shape[0]:
+        return ""
+    d = np.linalg.norm(ws.sites - where, axis=1)
+    k = int(np.argmin(d))
+    return ws.labels[int(ws.site_well[k]) - 1] if d[k] <= reach else ""
 
 
 def snap_to_traces(coords: np.ndarray, fault_faces: np.ndarray, fs) -> None:
@@ -126,7 +148,7 @@ def verify(vor, dom: Domain, tags, fs, labels, ws, cell_well) -> None:
     total = float(vor.areas.sum())
     if not abs(total - dom.area) <= 1e-9 * dom.area:
         raise GridError(
-            f"pebi_grid: internal error: cell areas sum to {total!r}, the domain's area is {dom.area!r}"
+            f"pebi_grid: internal error: cell areas sum to {total:.17g}, the domain's area is {dom.area:.17g}"
         )
     if fs.trace_a.shape[0]:
         e = vor.face_nodes

@@ -393,7 +393,7 @@ def _conforming_fault_sites(
             hard = [p for p, why in zip(problems, kinds, strict=True) if why != FITTED]
             if not hard:  # only junctions whose arms were fitted to them: the sites conform
                 return ss, lay, attempt
-            raise_fault_problem(hard, fs, dom, lay, max_refinements)
+            raise_fault_problem(hard, fs, dom, lay, max_refinements, ws)
         lay = lay.refined((float(where[0]), float(where[1]), step) for where, step in problems)
         attempt += 1
 

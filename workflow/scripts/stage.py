@@ -1,6 +1,8 @@
 """Snakemake script of every stage rule (workflow/rules/stages.smk): the stage of
 gridlib.artifacts.STAGES named by the rule's ``stage`` parameter, run on the case (loaded once)
-with the rule's inputs and outputs (keyword arguments named after the artifacts' keys)."""
+with the rule's inputs and outputs (keyword arguments named after the artifacts' keys). Its notes
+reach the console once, prefixed with the case and the stage; a failure is one line there
+(gridlib.stages.run_logged), the traceback of an unexpected one in the rule's log."""
 
 from importlib import import_module
 
@@ -19,4 +21,5 @@ run_logged(
     threads=snakemake.threads,
     outputs=list(snakemake.output),
     name=f"stage_{snakemake.params.stage}",
+    label=f"{snakemake.wildcards.get('case', snakemake.input.case)}: {snakemake.params.stage}",
 )
