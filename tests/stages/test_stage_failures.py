@@ -114,12 +114,6 @@ FAILURES = {
         ("minpv.GRDECL", "below MINPV"),
         (("minpv.GRDECL", deck() + "MINPV\n 1e9 /\n"),),
     ),
-    "deck_pillar_not_finite": Failure(
-        deck_case("nan_pillar"),
-        "grid",
-        ("nan_pillar.GRDECL", "COORD", "NaN"),
-        (("nan_pillar.GRDECL", deck(coord=lambda p: "nan" + p[1:])),),
-    ),
     "deck_pillars_cross": Failure(
         deck_case("crossing"),
         "grid",
@@ -161,14 +155,6 @@ FAILURES = {
         "horizons",
         ("horizons 'top' and 'base' cross", "(x, y) = (0, 0)"),
         (("base.xyz", "0 0 990\n1000 0 990\n0 800 1050\n1000 800 1050\n500 400 1020\n"),),
-    ),
-    "pebi_well_on_a_fault": Failure(
-        PEBI
-        + "faults:\n  - {name: F1, trace: [[500, -50], [500, 850]], throw: 5}\n"
-        + "wells:\n  - {name: W1, point: [500, 400]}\n"
-        + ROCK,
-        "grid",
-        ("well 'W1' (wells[0])", "fault 'F1' (faults[0])", "move the well"),
     ),
     "pebi_wells_on_one_point": Failure(
         PEBI + "wells:\n  - {name: W1, point: [300, 400]}\n  - {name: W2, point: [300.001, 400]}\n" + ROCK,

@@ -57,7 +57,13 @@ SMALL_DECK = (
 )
 HUGE_DECK = "RUNSPEC\nDIMENS\n 10000 10000 100 /\nGRID\nDX\n 1000000000*10 /\n"
 SHORT_DECK = SMALL_DECK.replace("PERMX\n 4*100 /", "PERMX\n 3*100 /")
-DECKS = {"small.grdecl": SMALL_DECK, "huge.DATA": HUGE_DECK, "short.grdecl": SHORT_DECK}
+NAN_PILLAR_DECK = SMALL_DECK.replace("COORD\n 0 0 0", "COORD\n nan 0 0")
+DECKS = {
+    "small.grdecl": SMALL_DECK,
+    "huge.DATA": HUGE_DECK,
+    "short.grdecl": SHORT_DECK,
+    "nan_pillar.grdecl": NAN_PILLAR_DECK,
+}
 
 # name -> (the case file's text after its `name:` line, what its one line says after the key)
 BROKEN = {
@@ -321,6 +327,11 @@ BROKEN = {
     "deck_array_short": (  # the deck is read whole when the case is: its arrays against its dimensions
         "grid: {type: deck, file: short.grdecl}\npetrophysics: {porosity: {constant: 0.2}}\n",
         "short.grdecl:16: PERMX: has 3 values, expected 4",
+    ),
+    "deck_pillar_not_finite": (
+        "grid: {type: deck, file: nan_pillar.grdecl}\npetrophysics: {porosity: {constant: 0.2}}\n",
+        "nan_pillar.grdecl:3: COORD: 1 values are not finite numbers within +-1e+100 "
+        "(first nan, pillar (1, 1))",
     ),
     "deck_coarsen_beyond_dims": (
         "grid: {type: deck, file: small.grdecl}\ncoarsen: {method: uniform, dims: [1, 3, 1]}\n",
