@@ -22,8 +22,9 @@ import xarray as xr
 import yaml
 from artifacts import assert_same_files
 
+from gridlib.artifacts import case_paths
 from gridlib.errors import InputError
-from gridlib.stages import run_case
+from gridlib.stages import run_case, run_stage
 from gridlib.study import SEED_STEP, load_study
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -232,6 +233,8 @@ FILE_BASES = {
     "faulted_picks": ({"grid.layers": [2]}, 4800),  # 40 x 30 columns x 2 zones x 2 layers
     "spe9": ({"petrophysics.kv_kh": [0.01]}, 9000),  # 24 x 25 x 15, all active
 }
+# The value added to the study's `vary:` after its first build, and the stage reading the base's files.
+FILE_BASE_EDITS = {"faulted_picks": (3, "horizons"), "spe9": (0.1, "grid")}
 
 
 @pytest.mark.parametrize("base", sorted(FILE_BASES))
@@ -261,3 +264,15 @@ def test_a_base_case_that_names_files_gives_variants_that_find_them(tmp_path, mo
     assert [p.resolve() for p in named_files(case)] == base_files
     run_case(case, case.path.parent)
     assert json.loads((case.path.parent / "summary.json").read_text())["cells"] == cells
+
+    # An edit of `vary:` adds a variant: checked and written like the first, it finds the files too.
+    (key, values), (added, stage) = next(iter(vary.items())), FILE_BASE_EDITS[base]
+    _write(study, {**spec, "vary": {key: [*values, added]}})
+    edited = load_study(study, "results")
+    materialise(edited, "results")
+    (new,) = [v for v in edited.variants if v.name not in {v.name for v in loaded.variants}]
+    case = load_case(Path("results") / "sweep" / new.name / f"{new.name}.yaml")
+    assert [p.resolve() for p in named_files(case)] == base_files
+    paths = case_paths(case.name, case.path.parent)
+    run_stage(stage, case, paths)  # the stage that reads the base's files
+    assert paths[stage].is_file()
