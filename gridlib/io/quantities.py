@@ -37,7 +37,7 @@ VARIABLES: dict[str, str | None] = {
     "layer": None,
     "zone": None,
     "well": None,
-    "site": None,
+    "site": "length",  # the generating site (x, y) of a PEBI cell's column
     "degenerate": None,
     # rock (petrophysics.nc, coarse.nc, {case}.nc)
     "poro": "fraction",

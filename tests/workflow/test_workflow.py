@@ -542,7 +542,8 @@ def _expected_units(system: str, griddim: int) -> dict[str, str]:
     areas and its faces lengths."""
     length = {"FIELD": "ft", "METRIC": "m"}[system]
     cell, face = (f"{length}3", f"{length}2") if griddim == 3 else (f"{length}2", length)
-    units = dict.fromkeys(("node_x", "node_y", "node_z", "cell_centroid", "face_centroid", "depth"), length)
+    coordinates = ("node_x", "node_y", "node_z", "cell_centroid", "face_centroid", "depth", "site")
+    units = dict.fromkeys(coordinates, length)
     units |= dict.fromkeys(("cell_volume", "volume", "pore_volume", "cell_normal"), cell)
     units |= dict.fromkeys(("face_area", "face_normal"), face)
     units |= {
