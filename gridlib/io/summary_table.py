@@ -53,12 +53,13 @@ COLUMNS = (
 
 
 def column_units(name: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, list[str]]:
-    """The units of figure ``name`` over ``rows`` (summary.json contents), each with the rows'
-    unit systems (and grid dimensions, where the unit depends on them) it applies to; empty
-    for a figure without a unit (a count, a name, an unknown figure)."""
+    """The units of figure ``name`` over the ``rows`` (summary.json contents) that hold it, each
+    with the rows' unit systems (and grid dimensions, where the unit depends on them) it applies
+    to; empty for a figure without a unit (a count, a name, an unknown figure)."""
     quantity = COLUMN_QUANTITIES.get(name)
     if quantity is None:
         return {}
+    rows = [r for r in rows if r.get(name, "") not in ("", None)]
     per_dim = quantity in ("cell_measure", "face_measure") and len({r.get("griddim", 3) for r in rows}) > 1
     found: dict[str, list[str]] = {}
     for row in rows:

@@ -127,6 +127,7 @@ def test_table_headers_give_each_rows_unit(tmp_path):
     assert header("total_volume", rows) == "total_volume [m3: METRIC 3-D; ft3: FIELD 3-D; m2: METRIC 2-D]"
     assert header("total_volume", rows[:2]) == "total_volume [m3: METRIC; ft3: FIELD]"
     assert header("mean_permx", rows) == "mean_permx [mD]"  # the same in every system
+    assert header("total_volume", [*rows[:1], {**rows[1], "total_volume": ""}]) == "total_volume [m3]"
     assert header("cells", rows) == "cells" and figure_name("total_volume [m3]") == "total_volume"
     columns = ("case", "griddim", "unit_system", "cells", "total_volume", "mean_permx")
     write_csv(tmp_path / "t.csv", columns, rows[:2])
