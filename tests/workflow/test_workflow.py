@@ -556,8 +556,13 @@ def _expected_units(system: str, griddim: int) -> dict[str, str]:
     }
     units |= {"porv": {"FIELD": "rb", "METRIC": "rm3"}[system]}
     units |= {"trans": {"FIELD": "cP rb/(day psi)", "METRIC": "cP m3/(day bar)"}[system]}
-    units |= {"x": "m", "y": "m"}  # horizons.nc: the lattice of a case gridlib builds (metres)
     return units
+
+
+# horizons.nc: only for grids gridlib builds, in metres; the names of its horizons and the fault
+# block of each lattice node are no quantity.
+HORIZONS_UNITS = {"depth": "m", "depth_by_block": "m", "x": "m", "y": "m"}
+HORIZONS_NAMES = ("horizon", "source", "method", "block")
 
 
 def _base_name(name: str) -> str:
@@ -588,11 +593,12 @@ def test_every_physical_variable_of_every_netcdf_file_has_its_unit(workflow_run,
                 assert ds.attrs["unit_system"] == system, path.name
             for name in ds.variables:
                 base = _base_name(str(name))
-                if base in expected:
+                if path.name == "horizons.nc":
+                    assert ds[name].attrs.get("units") == HORIZONS_UNITS.get(name), name
+                    assert name in HORIZONS_UNITS or name in HORIZONS_NAMES, name
+                elif base in expected:
                     assert ds[name].attrs.get("units") == expected[base], (path.name, name)
                     seen.add(expected[base])
-                elif path.name == "horizons.nc" and name in ("horizon", "source", "method"):
-                    assert "units" not in ds[name].attrs  # names of horizons
                 else:
                     assert quantity_of(str(name)) is None, (path.name, name)  # KeyError: undecided
                     assert "units" not in ds[name].attrs, (path.name, name)
