@@ -44,6 +44,24 @@ HOUR = 3600.0  # s
 MILLIDARCY = 9.869232667160130e-16  # m2
 
 
+# What a written value measures (its unit follows from the unit system, :meth:`UnitSystem.unit`):
+# cell_measure and face_measure are a cell's volume and a face's area in 3-D, a cell's area and
+# a face's length in 2-D; porv is a pore volume at reservoir conditions (Flow's rm3, rb, rcc);
+# fraction is dimensionless (CF's units "1").
+QUANTITIES = (
+    "length",
+    "area",
+    "volume",
+    "cell_measure",
+    "face_measure",
+    "porv",
+    "pressure",
+    "permeability",
+    "transmissibility",
+    "fraction",
+)
+
+
 @dataclass(frozen=True)
 class UnitSystem:
     """An ECLIPSE unit system: the SI values of its units, the factors that convert into it,
@@ -68,6 +86,33 @@ class UnitSystem:
     transmissibility_label: str  # transmissibilities and well connection factors
     permeability_label: str = "mD"
     viscosity_label: str = "cP"
+
+    def unit(self, quantity: str, griddim: int = 3) -> str:
+        """The label of a :data:`QUANTITIES` member in this system, as gridlib writes it into
+        netCDF ``units`` attributes, table headers and axis labels; ``griddim`` sets what a
+        cell and a face measure (3: volume and area; 2: area and length).
+
+        >>> FIELD.unit("cell_measure"), FIELD.unit("face_measure", griddim=2), FIELD.unit("porv")
+        ('ft3', 'ft', 'rb')
+        """
+        length = self.length_label
+        measure = {"cell_measure": griddim, "face_measure": griddim - 1}
+        labels = {
+            "length": length,
+            "area": f"{length}2",
+            "volume": f"{length}3",
+            "porv": self.reservoir_volume_label,
+            "pressure": self.pressure_label,
+            "permeability": self.permeability_label,
+            "transmissibility": self.transmissibility_label,
+            "fraction": "1",
+        }
+        if quantity in measure:
+            power = measure[quantity]
+            return length if power == 1 else f"{length}{power}"
+        if quantity not in labels:
+            raise ValueError(f"unknown quantity {quantity!r}; expected one of {', '.join(QUANTITIES)}")
+        return labels[quantity]
 
     @property
     def transmissibility(self) -> float:

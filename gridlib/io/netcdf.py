@@ -41,8 +41,10 @@ from ..connectivity import cell_node_cycles_2d
 from ..errors import GridError, InputError
 from ..geometry import Geometry, compute_geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
+from ..units import UnitSystem, unit_system
 from .datasets import load_dataset, save_dataset
 from .netcdf_parts import read_extra
+from .quantities import label_units
 
 _AXES = ("x", "y", "z")
 
@@ -89,9 +91,9 @@ def _topology_vars(grid: Grid, prefix: str, dims: dict[str, str]) -> dict[str, x
     if grid.cells.index_map is not None:
         out[f"{p}cell_index_map"] = xr.Variable(dims["cell"], grid.cells.index_map)
     for i in range(grid.dim):
-        attrs = {"units": "m", "standard_name": f"projection_{_AXES[i]}_coordinate"}
+        attrs = {"standard_name": f"projection_{_AXES[i]}_coordinate"}
         if i == 2:
-            attrs = {"units": "m", "positive": "down", "long_name": "depth"}
+            attrs = {"positive": "down", "long_name": "depth"}
         out[f"{p}node_{_AXES[i]}"] = xr.Variable(dims["node"], grid.nodes.coords[:, i], attrs)
     return out
 
@@ -129,10 +131,10 @@ def _ugrid_mesh(areal: Grid, dims: dict[str, str]) -> dict[str, xr.Variable]:
     return {
         "mesh2d": xr.Variable((), np.int32(0), mesh_attrs),
         "mesh2d_node_x": xr.Variable(
-            dims["node"], areal.nodes.coords[:, 0], {"units": "m", "standard_name": "projection_x_coordinate"}
+            dims["node"], areal.nodes.coords[:, 0], {"standard_name": "projection_x_coordinate"}
         ),
         "mesh2d_node_y": xr.Variable(
-            dims["node"], areal.nodes.coords[:, 1], {"units": "m", "standard_name": "projection_y_coordinate"}
+            dims["node"], areal.nodes.coords[:, 1], {"standard_name": "projection_y_coordinate"}
         ),
         "mesh2d_face_nodes": xr.Variable((dims["cell"], "mesh2d_nMax_face_nodes"), table, conn),
         "mesh2d_edge_nodes": xr.Variable(
@@ -146,24 +148,18 @@ def _ugrid_mesh(areal: Grid, dims: dict[str, str]) -> dict[str, xr.Variable]:
 FACE_VECTORS = ("face_normal", "face_centroid")  # the geometry a file may leave out
 
 
-def _geometry_vars(
-    geo: Geometry, dims: dict[str, str], d: int, face_vectors: bool = True
-) -> dict[str, xr.Variable]:
+def _geometry_vars(geo: Geometry, dims: dict[str, str], face_vectors: bool = True) -> dict[str, xr.Variable]:
     c, f = dims["cell"], dims["face"]
     out = {
-        "cell_volume": xr.Variable(c, geo.cell_volumes, {"units": "m3" if d == 3 else "m2"}),
-        "cell_centroid": xr.Variable((c, "xyz"), geo.cell_centroids, {"units": "m"}),
-        "face_area": xr.Variable(f, geo.face_areas, {"units": "m2" if d == 3 else "m"}),
+        "cell_volume": xr.Variable(c, geo.cell_volumes),
+        "cell_centroid": xr.Variable((c, "xyz"), geo.cell_centroids),
+        "face_area": xr.Variable(f, geo.face_areas),
     }
     if face_vectors:
-        out["face_normal"] = xr.Variable(
-            (f, "xyz"),
-            geo.face_normals,
-            {"units": "m2" if d == 3 else "m", "long_name": "area-weighted normal"},
-        )
-        out["face_centroid"] = xr.Variable((f, "xyz"), geo.face_centroids, {"units": "m"})
+        out["face_normal"] = xr.Variable((f, "xyz"), geo.face_normals, {"long_name": "area-weighted normal"})
+        out["face_centroid"] = xr.Variable((f, "xyz"), geo.face_centroids)
     if geo.cell_normals is not None:
-        out["cell_normal"] = xr.Variable((c, "xyz3"), geo.cell_normals, {"units": "m2"})
+        out["cell_normal"] = xr.Variable((c, "xyz3"), geo.cell_normals)
     return out
 
 
@@ -204,9 +200,16 @@ def grid_to_dataset(
     attrs: Mapping[str, object] | None = None,
     *,
     face_vectors: bool = True,
+    units: UnitSystem | str | None = None,
 ) -> xr.Dataset:
     """The xarray Dataset that :func:`write_netcdf` writes; ``face_vectors=False`` leaves the
-    geometry's face normals and centroids out (readers recompute them)."""
+    geometry's face normals and centroids out (readers recompute them); ``units``: the unit
+    system of the grid's coordinates (default: the ``unit_system`` of ``attrs``, else METRIC),
+    written as the attribute ``unit_system`` and the ``units`` of every physical variable
+    (:mod:`gridlib.io.quantities`)."""
+    attrs = dict(attrs or {})
+    system = _unit_system_of(units, attrs)
+    attrs["unit_system"] = system.name
     dims = _dims(grid)
     variables = _topology_vars(grid, "", dims)
     ds_attrs: dict[str, object] = {"Conventions": "CF-1.11", "title": "gridlib grid"}
@@ -214,7 +217,7 @@ def grid_to_dataset(
     if geometry is not None:
         if geometry.cell_volumes.shape != (grid.num_cells,) or geometry.face_areas.shape != (grid.num_faces,):
             raise GridError("write_netcdf: the geometry does not belong to this grid (sizes differ)")
-        variables.update(_geometry_vars(geometry, dims, grid.griddim, face_vectors))
+        variables.update(_geometry_vars(geometry, dims, face_vectors))
     derived: dict[str, xr.Variable] = {}
     if grid.griddim == 2 and grid.dim == 2:
         derived.update(_ugrid_mesh(grid, dims))
@@ -253,7 +256,19 @@ def grid_to_dataset(
         if key.startswith(("gridlib_", "areal_gridlib_")) and key != "gridlib_version":
             raise GridError(f"write_netcdf: attribute name '{key}' is reserved")
         ds_attrs[key] = _attr_value(key, value)
-    return xr.Dataset({**variables, **derived, **user}, attrs=ds_attrs)
+    ds = xr.Dataset({**variables, **derived, **user}, attrs=ds_attrs)
+    label_units(ds.variables, system, grid.griddim)
+    return ds
+
+
+def _unit_system_of(units: UnitSystem | str | None, attrs: Mapping[str, object]) -> UnitSystem:
+    """``units``, else the ``unit_system`` of ``attrs``, else METRIC; a GridError where both
+    are given and differ."""
+    stated = attrs.get("unit_system")
+    system = unit_system(units if units is not None else (None if stated is None else str(stated)))
+    if stated is not None and unit_system(str(stated)) is not system:
+        raise GridError(f"write_netcdf: units {system.name} but attribute unit_system {stated}")
+    return system
 
 
 def write_netcdf(
@@ -267,19 +282,22 @@ def write_netcdf(
     extra: Mapping[str, xr.DataArray] | None = None,
     var_attrs: Mapping[str, Mapping[str, object]] | None = None,
     face_vectors: bool = True,
+    units: UnitSystem | str | None = None,
 ) -> Path:
     """Write a grid (and optionally geometry, cell/face data, attributes) to netCDF-4.
 
     ``extra``: variables with dimensions of their own (e.g. the NNC list, a partition of the
     fine cells); ``var_attrs``: attributes (units, long names) of data variables, by name;
-    ``face_vectors=False``: the geometry's face normals and centroids left out (see
-    :func:`grid_to_dataset`). The write is atomic: on any error no file is left at ``path``.
+    ``face_vectors=False``: the geometry's face normals and centroids left out; ``units``: the
+    unit system of the grid (see :func:`grid_to_dataset`; the ``units`` of the ``extra``
+    variables too). The write is atomic: on any error no file is left at ``path``.
     """
-    ds = grid_to_dataset(grid, geometry, cell_data, face_data, attrs, face_vectors=face_vectors)
+    ds = grid_to_dataset(grid, geometry, cell_data, face_data, attrs, face_vectors=face_vectors, units=units)
     for name, var in (extra or {}).items():
         ds[name] = var
     for name, meta in (var_attrs or {}).items():
         ds[name].attrs.update(meta)
+    label_units(ds.variables, unit_system(str(ds.attrs["unit_system"])), grid.griddim)
     return write_dataset(path, ds)
 
 
@@ -390,11 +408,20 @@ def _geometry_from(ds: xr.Dataset, grid: Grid | None = None) -> Geometry:
 
 
 def write_geometry_netcdf(
-    path: str | os.PathLike, geometry: Geometry, griddim: int, attrs: dict[str, object] | None = None
+    path: str | os.PathLike,
+    geometry: Geometry,
+    griddim: int,
+    attrs: dict[str, object] | None = None,
+    units: UnitSystem | str | None = None,
 ) -> Path:
-    """Geometry only (``cell`` and ``face`` dimensions), with units and a summary, atomically."""
+    """Geometry only (``cell`` and ``face`` dimensions), with a summary, atomically; ``units``:
+    the unit system of the grid's coordinates (default: the ``unit_system`` of ``attrs``, else
+    METRIC), written as the attribute ``unit_system`` and the ``units`` of every variable."""
     geo = geometry
-    variables = _geometry_vars(geo, {"cell": "cell", "face": "face"}, griddim)
+    system = _unit_system_of(units, attrs or {})
+    attrs = {**(attrs or {}), "unit_system": system.name}
+    variables = _geometry_vars(geo, {"cell": "cell", "face": "face"})
+    label_units(variables, system, griddim)
     summary = {
         "gridlib_griddim": np.int32(griddim),
         "total_volume": float(geo.cell_volumes.sum()),

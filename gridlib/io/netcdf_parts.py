@@ -11,6 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import InputError
+from ..units import UnitSystem, unit_system
 
 
 def read_extra(path: str | os.PathLike, names: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -44,6 +45,17 @@ def read_attrs(path: str | os.PathLike) -> dict[str, Any]:
     with xr.open_dataset(path, engine="netcdf4") as ds:
         attrs = dict(ds.attrs)
     return {key: _json_or_text(value) for key, value in attrs.items()}
+
+
+def stored_unit_system(path: str | os.PathLike, attrs: dict[str, Any]) -> UnitSystem:
+    """The unit system of a stage file from its attributes ``attrs`` (its ``unit_system``);
+    an InputError naming the file where it has none (a file of an older gridlib)."""
+    if "unit_system" not in attrs:
+        raise InputError(f"{path}: unit_system: attribute missing (written by an older gridlib: rebuild it)")
+    try:
+        return unit_system(str(attrs["unit_system"]))
+    except InputError as exc:
+        raise InputError(f"{path}: unit_system: {exc}") from None
 
 
 def _json_or_text(value: Any) -> Any:

@@ -13,6 +13,7 @@ from ..connectivity import cell_node_cycles_2d, offsets, ragged_arange
 from ..geometry import Geometry
 from ..grid import Grid
 from ..reproducible import log10
+from ..units import UnitSystem
 from .atomic import write_keeping_suffix
 
 
@@ -52,9 +53,16 @@ def grid_polydata(grid: Grid, values: np.ndarray, name: str):
 
 
 def render_grid(
-    path: Path, grid: Grid, values: np.ndarray, faults_vtp: Path, scalar: str, title: str
+    path: Path,
+    grid: Grid,
+    values: np.ndarray,
+    faults_vtp: Path,
+    scalar: str,
+    title: str,
+    bar_title: str | None = None,
 ) -> None:
-    """An off-screen picture of the grid coloured by ``scalar``, fault faces in red."""
+    """An off-screen picture of the grid coloured by ``scalar``, fault faces in red; the colour
+    bar titled ``bar_title`` (the quantity and its unit; default ``scalar``)."""
     import pyvista as pv
     from vtkmodules.vtkCommonCore import vtkLogger
 
@@ -74,7 +82,7 @@ def render_grid(
         scalars=scalar,
         show_edges=grid.num_cells < 60_000,
         cmap="viridis",
-        scalar_bar_args={"title": scalar},
+        scalar_bar_args={"title": bar_title or scalar},
     )
     if faults.n_cells:
         plotter.add_mesh(faults.scale(scale, inplace=False), color="red", line_width=3, opacity=0.8)
@@ -93,22 +101,36 @@ def plot_histograms(
     poro: np.ndarray | None,
     griddim: int,
     title: str,
-    trans: tuple[np.ndarray, str] | None = None,
+    units: UnitSystem,
+    trans: np.ndarray | None = None,
 ) -> None:
-    """Histograms of cell volumes, face areas, porosity and, with ``trans`` (T and its unit),
-    log10 T; logarithmic axes where values span more than two decades."""
+    """:func:`histogram_figure` saved as ``path``."""
+    save_figure(histogram_figure(geo, poro, griddim, title, units, trans), path)
+
+
+def histogram_figure(
+    geo: Geometry,
+    poro: np.ndarray | None,
+    griddim: int,
+    title: str,
+    units: UnitSystem,
+    trans: np.ndarray | None = None,
+):
+    """A matplotlib figure: histograms of cell volumes, face areas, porosity and, with
+    ``trans``, log10 T; every axis labelled with its unit in ``units`` (the case's unit system,
+    that of the values); logarithmic axes where values span more than two decades."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    panels = [("cell volumes (m3)" if griddim == 3 else "cell areas (m2)", geo.cell_volumes)]
-    panels.append(("face areas (m2)" if griddim == 3 else "face lengths (m)", geo.face_areas))
+    cell, face = ("cell volume", "face area") if griddim == 3 else ("cell area", "face length")
+    panels = [(f"{cell} [{units.unit('cell_measure', griddim)}]", geo.cell_volumes)]
+    panels.append((f"{face} [{units.unit('face_measure', griddim)}]", geo.face_areas))
     if poro is not None:
-        panels.append(("porosity", poro))
+        panels.append((f"porosity [{units.unit('fraction')}]", poro))
     if trans is not None:
-        t, unit = trans
-        panels.append((f"log10 T, T in {unit}", log10(t[t > 0])))
+        panels.append((f"log10 T, T in {units.unit('transmissibility')}", log10(trans[trans > 0])))
     linear = ("poro", "log10")
     fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 3.6))
     for ax, (label, values) in zip(np.atleast_1d(axes), panels, strict=True):
@@ -129,4 +151,4 @@ def plot_histograms(
         ax.set_ylabel("count")
     fig.suptitle(title)
     fig.tight_layout()
-    save_figure(fig, path)
+    return fig

@@ -13,10 +13,13 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..units import METRIC
 from .netcdf import write_dataset
+from .quantities import quantity_of
 
 PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
-UNITS = {"poro": "1", "permx": "mD", "permy": "mD", "permz": "mD", "ntg": "1"}
+# Fractions and mD in every unit system (gridlib.units), so the file needs none.
+UNITS = {name: METRIC.unit(quantity_of(name)) for name in PROPERTIES}
 
 
 def write_rock(

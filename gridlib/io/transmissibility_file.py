@@ -20,6 +20,7 @@ import xarray as xr
 from ..errors import InputError
 from ..transmissibility import KIND_NAMES, Connections
 from ..units import UnitSystem
+from .quantities import label_units
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
 CELL_VARS = ("porv", "cell_flow_index")
@@ -33,7 +34,6 @@ def connections_dataset(
     system: UnitSystem,
 ) -> xr.Dataset:
     """The variables of ``transmissibility.nc`` (also written into ``{case}.nc``)."""
-    volume = system.reservoir_volume_label
     data = {
         "connection_cells": xr.DataArray(
             conn.cells,
@@ -43,7 +43,7 @@ def connections_dataset(
         "trans": xr.DataArray(
             conn.trans,
             dims=("connection",),
-            attrs={"long_name": "transmissibility", "units": system.transmissibility_label},
+            attrs={"long_name": "transmissibility"},
         ),
         "connection_kind": xr.DataArray(
             np.asarray(conn.kind, dtype=np.int8),
@@ -61,7 +61,7 @@ def connections_dataset(
         "porv": xr.DataArray(
             np.asarray(porv, dtype=np.float64),
             dims=("cell",),
-            attrs={"long_name": "pore volume", "units": volume},
+            attrs={"long_name": "pore volume at reservoir conditions"},
         ),
         "cell_flow_index": xr.DataArray(
             np.asarray(flow_index, dtype=np.int64),
@@ -69,12 +69,13 @@ def connections_dataset(
             attrs={"long_name": "0-based linear index (i fastest) of the cell in the logical box flow_dims"},
         ),
     }
+    label_units(data, system, griddim=3)  # T and porv are the same in 2-D
     counts = conn.counts()
     attrs: dict[str, Any] = {
         "unit_system": system.name,
-        "trans_units": system.transmissibility_label,
-        "porv_units": volume,
-        "permeability_units": system.permeability_label,
+        "trans_units": system.unit("transmissibility"),
+        "porv_units": system.unit("porv"),
+        "permeability_units": system.unit("permeability"),
         "flow_dims": np.asarray(flow_dims, dtype=np.int64),
         "num_connections": np.int64(conn.num),
         **{f"{kind}_connections": np.int64(n) for kind, n in counts.items()},

@@ -19,7 +19,7 @@ from ..coarsen import coarse_grid, upscale_ntg, upscale_permeability, upscale_po
 from ..config import Case
 from ..io.coarse_file import write_coarse
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
-from ..io.netcdf_parts import read_extra
+from ..io.netcdf_parts import read_extra, stored_unit_system
 from ..io.rock_file import read_rock
 from .common import log
 
@@ -63,5 +63,5 @@ def stage_coarsen(
             cg, np.column_stack([rock["permx"], rock["permy"], rock["permz"]]), v, method
         )
         data |= {"permx": k[:, 0], "permy": k[:, 1], "permz": k[:, 2]}
-    write_coarse(coarse, cg, data, case.provenance())
+    write_coarse(coarse, cg, data, case.provenance(), stored_unit_system(grid, stored.attrs))
     log.info("wrote %s: %d blocks, %d coarse faces", coarse, cg.num_blocks, cg.faces.num)

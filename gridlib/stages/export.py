@@ -20,9 +20,14 @@
   how many have a non-positive polyhedral volume and how many do not close, and the first
   100 as 1-based (i, j, k).
 
-``pore_volume`` (geometric cell volume x porosity x NTG, m3) predates the
+Every value is in the case's unit system (``unit_system``: METRIC, or a deck's own, e.g.
+FIELD for SPE9: ft, ft2, ft3, rb, mD), and every file, picture and figure says so: the
+``units`` of each netCDF variable, the axis labels, ``unit_system`` in ``summary.json``
+(:mod:`gridlib.io.quantities`).
+
+``pore_volume`` (geometric cell volume x porosity x NTG, m3 or ft3) predates the
 transmissibility stage and is kept; ``porv`` is the simulator's pore volume (for
-corner-point decks from ECLIPSE's bulk volumes) in the case's unit system. They differ
+corner-point decks from ECLIPSE's bulk volumes) at reservoir conditions (rm3 or rb). They differ
 most on a deck's degenerate cells, whose polyhedral volume may be zero or negative:
 ``porv`` (``total_porv``) is the one a simulator uses.
 """
@@ -39,20 +44,23 @@ import numpy as np
 
 from ..cell_names import ijk
 from ..config import Case
+from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.atomic import atomic_path
 from ..io.coarse_file import read_partition
 from ..io.grid_nnc import nnc_variables, read_nnc
 from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netcdf
-from ..io.netcdf_parts import check_same_cells, read_attrs
+from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.pictures import plot_histograms, render_grid
+from ..io.quantities import units_of
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
 from ..io.vtp import write_fault_faces
 from ..io.vtu import write_vtu
 from ..pillars.nnc import NNC
 from ..transmissibility import face_connections
+from ..units import UnitSystem
 from .common import log
 
 
@@ -111,6 +119,7 @@ class _Gathered:
 
     grid: Grid
     geo: Geometry
+    units: UnitSystem
     fault_names: list[str]
     well_names: list[str]
     cell_data: dict[str, np.ndarray]
@@ -166,6 +175,7 @@ def _gather(
     """Read the artifacts and gather the cell data, NNCs, connection variables and attributes."""
     stored = read_netcdf(grid_nc)
     grid, attrs = stored.grid, read_attrs(grid_nc)
+    units = stored_unit_system(grid_nc, attrs)
     geo = read_cell_geometry(geometry_nc)
     check_same_cells(grid_nc, grid.num_cells, {geometry_nc: geo.cell_volumes.size})
     fault_names = list(attrs.get("fault_names", []))
@@ -178,17 +188,28 @@ def _gather(
     cell_data, var_attrs, depth = _cell_data(stored, geo, rock, partition, trans)
     blocks = None if partition is None else int(partition.max()) + 1
     nnc = read_nnc(grid_nc)
-    provenance = {**case.provenance(), "fault_names": fault_names, "well_names": well_names}
+    provenance = {
+        **case.provenance(),
+        "unit_system": units.name,
+        "fault_names": fault_names,
+        "well_names": well_names,
+    }
     extra = nnc_variables(nnc)
     face_trans = None
     if trans is not None:
         variables, tattrs = trans
         extra |= {name: variables[name] for name in CONNECTION_VARS}
-        provenance |= {k: tattrs[k] for k in ("unit_system", "trans_units", "porv_units", "flow_dims")}
+        if stored_unit_system(transmissibility_nc, tattrs) is not units:
+            raise InputError(
+                f"{transmissibility_nc}: unit_system {tattrs['unit_system']}, but {grid_nc} has "
+                f"{units.name} (stage files of different grids: build the case again)"
+            )
+        provenance |= {k: tattrs[k] for k in ("trans_units", "porv_units", "flow_dims")}
         face_trans = _face_trans(grid, variables)
     return _Gathered(
         grid,
         geo,
+        units,
         fault_names,
         well_names,
         cell_data,
@@ -247,6 +268,7 @@ def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
         attrs=g.provenance,
         var_attrs=g.var_attrs,
         face_vectors=False,
+        units=g.units,
     )
     if "vtu" in outputs:
         vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **g.cell_data}
@@ -262,10 +284,11 @@ def _pictures(outputs: dict[str, str], case: Case, g: _Gathered) -> None:
     scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
     title = f"{case.name}: {grid.num_cells:,d} cells"
     values = rock[scalar] if rock is not None else (depth if depth is not None else geo.cell_volumes)
-    render_grid(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title)
-    t_panel = None if trans is None else (trans[0]["trans"].values, str(trans[1]["trans_units"]))
+    bar_title = f"{scalar} [{units_of([scalar], g.units, grid.griddim)[scalar]}]"
+    render_grid(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title, bar_title)
+    t = None if trans is None else trans[0]["trans"].values
     poro = None if rock is None else rock["poro"]
-    plot_histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, t_panel)
+    plot_histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, g.units, t)
 
 
 def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
@@ -278,6 +301,7 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
         "cells": grid.num_cells,
         "faces": grid.num_faces,
         "nodes": grid.num_nodes,
+        "unit_system": g.units.name,
         "total_volume": _figure(geo.cell_volumes.sum()),
         "min_cell_volume": _figure(geo.cell_volumes.min()),
         "max_cell_volume": _figure(geo.cell_volumes.max()),

@@ -15,13 +15,15 @@ from ..checks import check_deck_grid, check_grid
 from ..config import Case
 from ..geometry import compute_geometry
 from ..io.netcdf import read_netcdf, write_geometry_netcdf
+from ..io.netcdf_parts import stored_unit_system
 from .common import log
 
 
 def stage_geometry(case: Case, *, grid: str | os.PathLike, geometry: str | os.PathLike) -> None:
     """Compute and check the geometry of the grid file ``grid``; write ``geometry``
     (``geometry.nc``)."""
-    mesh = read_netcdf(grid).grid
+    stored = read_netcdf(grid)
+    mesh = stored.grid
     t0 = time.perf_counter()
     geo = compute_geometry(mesh)
     log.info("geometry of %d cells in %.2f s", mesh.num_cells, time.perf_counter() - t0)
@@ -31,5 +33,6 @@ def stage_geometry(case: Case, *, grid: str | os.PathLike, geometry: str | os.Pa
             log.info("%d degenerate cells kept (see the grid stage's notes)", len(degenerate))
     else:
         check_grid(mesh, geo)
-    write_geometry_netcdf(geometry, geo, mesh.griddim, case.provenance())
+    units = stored_unit_system(grid, stored.attrs)  # the grid's: a FIELD deck's volumes are in ft3
+    write_geometry_netcdf(geometry, geo, mesh.griddim, case.provenance(), units=units)
     log.info("wrote %s (total volume %.6g)", geometry, geo.cell_volumes.sum())

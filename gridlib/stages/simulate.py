@@ -41,7 +41,7 @@ from ..io.netcdf import read_netcdf
 from ..io.pictures import save_figure
 from ..io.transmissibility_file import read_transmissibility
 from ..io.vtu import write_vtu
-from ..units import FIELD, METRIC
+from ..units import FIELD, METRIC, UnitSystem
 from .common import log
 
 FLOW_OUTPUTS = (".PRT", ".DBG", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST", ".INFOSTEP")
@@ -142,7 +142,7 @@ def stage_simulate(
     figures = simulation_figures(case, summary, fip, deck)
     with atomic_path(flow_summary) as path:
         path.write_text(json.dumps(figures, indent=2) + "\n")
-    plot_wells(Path(flow_wells), summary, f"{case.name}: wells ({figures['units']})")
+    plot_wells(Path(flow_wells), summary, f"{case.name}: wells", deck_unit_system(deck))
     if flow_vtu is not None:
         write_result_vtu(Path(flow_vtu), deck.parent / name, grid, transmissibility, summary)
     log.info(
@@ -158,10 +158,15 @@ def _figure(value: float) -> float:
     return float(f"{float(value):.8g}")  # the file holds float32: 8 digits are all there is
 
 
+def deck_unit_system(deck: Path) -> UnitSystem:
+    """The unit system of a deck gridlib wrote (FIELD or METRIC, in its first lines)."""
+    head = deck.read_text(errors="replace")[:4000]
+    return FIELD if re.search(r"^FIELD\s*$", head, re.M) else METRIC
+
+
 def simulation_figures(case, summary: FlowSummary, fip: dict, deck: Path) -> dict[str, Any]:
     """The figures of ``flow/summary.json``: the field's and the wells' at the last step."""
-    head = deck.read_text(errors="replace")[:4000]
-    system = FIELD if re.search(r"^FIELD\s*$", head, re.M) else METRIC  # the decks gridlib writes
+    system = deck_unit_system(deck)
     units = (system.surface_volume_label, system.rate_label, system.pressure_label)
     field = {k: _figure(summary[k][-1]) for k in FIELD_FIGURES if (k, "") in summary.values}
     wells = {
@@ -186,8 +191,14 @@ def simulation_figures(case, summary: FlowSummary, fip: dict, deck: Path) -> dic
     return out
 
 
-def plot_wells(path: Path, summary: FlowSummary, title: str) -> None:
-    """Surface rates (left) and bottom-hole pressures (right) of every well over time."""
+def plot_wells(path: Path, summary: FlowSummary, title: str, units: UnitSystem) -> None:
+    """:func:`wells_figure` saved as ``path``."""
+    save_figure(wells_figure(summary, title, units), path)
+
+
+def wells_figure(summary: FlowSummary, title: str, units: UnitSystem):
+    """A matplotlib figure: surface rates (left) and bottom-hole pressures (right) of every
+    well over time, the axes labelled with their units in ``units`` (the deck's)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -202,16 +213,16 @@ def plot_wells(path: Path, summary: FlowSummary, title: str) -> None:
                 rates.plot(t, values, label=f"{well} {label}")
         if ("WBHP", well) in summary.values:
             bhp.plot(t, summary[("WBHP", well)], label=well)
-    rates.set_xlabel("days")
-    rates.set_ylabel("surface rate")
-    bhp.set_xlabel("days")
-    bhp.set_ylabel("bottom-hole pressure")
+    rates.set_xlabel("time [day]")
+    rates.set_ylabel(f"surface rate [{units.rate_label}]")
+    bhp.set_xlabel("time [day]")
+    bhp.set_ylabel(f"bottom-hole pressure [{units.pressure_label}]")
     for ax in (rates, bhp):
         if ax.has_data():
             ax.legend(fontsize=8)
-    fig.suptitle(title)
+    fig.suptitle(f"{title} ({units.name})")
     fig.tight_layout()
-    save_figure(fig, path)
+    return fig
 
 
 def write_result_vtu(

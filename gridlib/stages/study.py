@@ -21,7 +21,7 @@ import yaml
 
 from ..io.netcdf import write_dataset
 from ..io.pictures import save_figure
-from ..io.summary_table import COLUMNS, write_csv
+from ..io.summary_table import COLUMNS, column_units, header, unit_text, write_csv
 from .common import log
 
 NOT_FIGURES = ("case", "seed", "case_sha256")
@@ -63,7 +63,9 @@ def study_rows(
 
 def study_dataset(manifest: Mapping[str, Any], columns: list[str], rows: list[dict]):
     """The table as an xarray Dataset over one dimension per varied key plus ``realisation``
-    (a zipped study fills the combinations it does not have with NaN, or "" for text)."""
+    (a zipped study fills the combinations it does not have with NaN, or "" for text); every
+    figure with a unit has its ``units`` (``units_by_unit_system`` where the variants' unit
+    systems differ: then each variant's values are in its ``unit_system``)."""
     import pandas as pd
 
     keys = list(manifest["keys"])
@@ -78,6 +80,12 @@ def study_dataset(manifest: Mapping[str, Any], columns: list[str], rows: list[di
     for name in ds.data_vars:
         if ds[name].dtype == object:
             ds[name] = ds[name].fillna("").astype(str)
+    for name in ds.data_vars:
+        units = column_units(str(name), rows)
+        if len(units) == 1:
+            ds[name].attrs["units"] = next(iter(units))
+        elif units:  # variants in different unit systems: each in its own (unit_system)
+            ds[name].attrs["units_by_unit_system"] = unit_text(units)
     ds.attrs = {"study": manifest["study"], "combine": manifest["combine"], "varied_keys": json.dumps(keys)}
     return ds
 
@@ -123,7 +131,7 @@ def plot_study(path: str | os.PathLike, manifest: Mapping[str, Any], rows: list[
             if i == len(figures) - 1:
                 ax.set_xlabel(key)
             if j == 0:
-                ax.set_ylabel(figure.replace("_", " "), fontsize=8)
+                ax.set_ylabel(header(figure, rows).replace("_", " "), fontsize=8)
             ax.tick_params(labelsize=7)
     fig.suptitle(f"study {manifest['study']}: {len(rows)} variants", fontsize=10)
     fig.tight_layout()

@@ -24,6 +24,7 @@ from artifacts import assert_same_files
 
 from gridlib.artifacts import case_paths
 from gridlib.errors import InputError
+from gridlib.io.summary_table import figure_name
 from gridlib.stages import run_case, run_stage
 from gridlib.study import SEED_STEP, load_study
 
@@ -100,17 +101,21 @@ def study_run(tmp_path_factory) -> Path:
     return workdir
 
 
-def _rows(workdir: Path) -> list[dict[str, str]]:
+def _rows(workdir: Path, units: bool = False) -> list[dict[str, str]]:
+    """The rows of study.csv, by column; by figure name (the header's unit left out) unless
+    ``units``."""
     with open(workdir / "results" / "sweep" / "study.csv", newline="") as f:
-        return list(csv.DictReader(f))
+        rows = list(csv.DictReader(f))
+    return rows if units else [{figure_name(k): v for k, v in r.items()} for r in rows]
 
 
 def test_study_csv_has_a_row_per_variant_with_its_values(study_run):
     rows = _rows(study_run)
     assert len(rows) == 24
-    header = list(rows[0])
+    header = list(_rows(study_run, units=True)[0])  # the figures' units in the header (issue 24)
     assert header[:5] == ["variant", "faults.0.throw", "grid.cell_size", "realisation", "seed"]
-    assert {"cells", "faces", "pore_volume", "nnc", "fault_connections", "median_trans"} <= set(header)
+    units = {"pore_volume [m3]", "median_trans [cP m3/(day bar)]", "mean_porosity [1]", "unit_system"}
+    assert {"cells", "faces", "nnc", "fault_connections"} | units <= set(header)
     combos = [(int(r["faults.0.throw"]), int(r["grid.cell_size"]), int(r["realisation"])) for r in rows]
     assert sorted(combos) == sorted((t, c, k) for t in THROWS for c in CELL_SIZES for k in range(3))
     for r in rows:

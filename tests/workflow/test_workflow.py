@@ -534,3 +534,137 @@ def test_stages_read_uncompressed_artifacts_of_older_gridlib(workflow_run, tmp_p
         assert set(got.data_vars) == set(want.data_vars)
         assert all(np.array_equal(got[v].values, want[v].values) for v in want.data_vars)
     assert json.loads(Path(outputs["summary"]).read_text()) == json.loads((kept / "summary.json").read_text())
+
+
+def _expected_units(system: str, griddim: int) -> dict[str, str]:
+    """The ``units`` of every physical variable gridlib writes, written out by hand: a FIELD
+    deck's in feet (spe9), every other sample case's in metres; a 2-D grid's cells measure
+    areas and its faces lengths."""
+    length = {"FIELD": "ft", "METRIC": "m"}[system]
+    cell, face = (f"{length}3", f"{length}2") if griddim == 3 else (f"{length}2", length)
+    coordinates = ("node_x", "node_y", "node_z", "cell_centroid", "face_centroid", "depth", "site")
+    units = dict.fromkeys(coordinates, length)
+    units |= dict.fromkeys(("cell_volume", "volume", "pore_volume", "cell_normal"), cell)
+    units |= dict.fromkeys(("face_area", "face_normal"), face)
+    units |= {
+        "bulk_volume": f"{length}3",
+        "poro": "1",
+        "ntg": "1",
+        "permx": "mD",
+        "permy": "mD",
+        "permz": "mD",
+    }
+    units |= {"porv": {"FIELD": "rb", "METRIC": "rm3"}[system]}
+    units |= {"trans": {"FIELD": "cP rb/(day psi)", "METRIC": "cP m3/(day bar)"}[system]}
+    return units
+
+
+# horizons.nc: only for grids gridlib builds, in metres; the names of its horizons and the fault
+# block of each lattice node are no quantity.
+HORIZONS_UNITS = {"depth": "m", "depth_by_block": "m", "x": "m", "y": "m"}
+HORIZONS_NAMES = ("horizon", "source", "method", "block")
+
+
+def _base_name(name: str) -> str:
+    """A UGRID footprint's or layered view's variable: the name of what it shows."""
+    for prefix in ("mesh2d_", "areal_"):
+        name = name.removeprefix(prefix) if name != "mesh2d" else name
+    return name.removesuffix("_layered")
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_every_physical_variable_of_every_netcdf_file_has_its_unit(workflow_run, case):
+    """Issue 24, item 7: every variable of every netCDF file of a case carries the unit of its
+    values in the case's unit system (spe9: FIELD, ft, ft2, ft3, rb, mD, cP rb/(day psi)), or is
+    no physical quantity (indices, flags, topology: no units, as CF wants)."""
+    from gridlib.io.quantities import quantity_of
+
+    folder = workflow_run / "results" / case
+    summary = json.loads((folder / "summary.json").read_text())
+    system = summary["unit_system"]
+    assert system == ("FIELD" if case == "spe9" else "METRIC")
+    expected = _expected_units(system, summary["griddim"])
+    paths = sorted(folder.glob("*.nc"))
+    assert {"grid.nc", "geometry.nc", f"{case}.nc"} <= {p.name for p in paths}
+    seen = set()
+    for path in paths:
+        with xr.open_dataset(path, decode_cf=False) as ds:
+            if path.name not in ("horizons.nc", "petrophysics.nc"):  # these are always METRIC/any
+                assert ds.attrs["unit_system"] == system, path.name
+            for name in ds.variables:
+                base = _base_name(str(name))
+                if path.name == "horizons.nc":
+                    assert ds[name].attrs.get("units") == HORIZONS_UNITS.get(name), name
+                    assert name in HORIZONS_UNITS or name in HORIZONS_NAMES, name
+                elif base in expected:
+                    assert ds[name].attrs.get("units") == expected[base], (path.name, name)
+                    seen.add(expected[base])
+                else:
+                    assert quantity_of(str(name)) is None, (path.name, name)  # KeyError: undecided
+                    assert "units" not in ds[name].attrs, (path.name, name)
+    if case == "spe9":
+        assert {"ft", "ft2", "ft3", "rb", "mD", "cP rb/(day psi)", "1"} <= seen
+        with xr.open_dataset(folder / "spe9.nc") as ds:
+            assert ds.attrs["unit_system"] == "FIELD" and ds.attrs["porv_units"] == "rb"
+
+
+def _units_in_header(column: str, row: dict[str, str]) -> str | None:
+    """The unit a summary.csv/study.csv header gives for ``row``: ``name [unit]`` or
+    ``name [unit: SYSTEM[ n-D][ / ...]; ...]``; None for a column without a unit."""
+    if " [" not in column:
+        return None
+    text = column.split(" [", 1)[1].removesuffix("]")
+    if ": " not in text:
+        return text
+    for part in text.split("; "):
+        unit, where = part.rsplit(": ", 1)
+        for condition in where.split(" / "):
+            words = condition.split()
+            if words[0] == row["unit_system"] and (len(words) == 1 or words[1] == f"{row['griddim']}-D"):
+                return unit
+    raise AssertionError(f"{column}: no unit for {row['unit_system']} {row['griddim']}-D")
+
+
+def test_summary_and_study_tables_give_every_figure_its_unit(workflow_run):
+    """summary.csv mixes spe9 (FIELD) with METRIC cases and the 2-D twisted: each row's unit in
+    the header, by its unit_system and griddim; the study of one METRIC case: one unit per
+    column, the same in study.nc."""
+    import csv
+
+    with open(workflow_run / "results" / "summary.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    by_case = {r["case"]: r for r in rows}
+    header = list(rows[0])
+
+    def unit(case: str, figure: str) -> str | None:
+        column = next(c for c in header if c.split(" [")[0] == figure)
+        return _units_in_header(column, by_case[case])
+
+    assert [unit("spe9", f) for f in ("total_volume", "pore_volume", "total_porv", "mean_permx")] == [
+        "ft3",
+        "ft3",
+        "rb",
+        "mD",
+    ]
+    assert (
+        unit("spe9", "max_trans") == "cP rb/(day psi)" and unit("anticline", "max_trans") == "cP m3/(day bar)"
+    )
+    assert [unit("anticline", f) for f in ("total_volume", "total_porv", "mean_porosity")] == [
+        "m3",
+        "rm3",
+        "1",
+    ]
+    assert unit("twisted", "total_volume") == "m2" and unit("twisted", "cells") is None
+    assert by_case["twisted"]["unit_system"] == "METRIC"  # every row says its system
+    study = workflow_run / "results" / "waterflood_throw"
+    with open(study / "study.csv", newline="") as f:
+        columns = next(csv.reader(f))
+    assert {
+        "pore_volume [m3]",
+        "total_porv [rm3]",
+        "median_trans [cP m3/(day bar)]",
+        "mean_porosity [1]",
+    } <= set(columns)
+    with xr.open_dataset(study / "study.nc") as ds:
+        assert ds["pore_volume"].attrs["units"] == "m3" and ds["total_porv"].attrs["units"] == "rm3"
+        assert ds["median_trans"].attrs["units"] == "cP m3/(day bar)" and "units" not in ds["cells"].attrs

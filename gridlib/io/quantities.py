@@ -1,0 +1,125 @@
+"""What every variable and table column gridlib writes measures: ONE table, from which every
+netCDF file's ``units`` attributes and every table header's unit come (the unit itself from
+the case's :class:`~gridlib.units.UnitSystem`, :meth:`~gridlib.units.UnitSystem.unit`).
+
+:data:`VARIABLES` maps a variable name to its quantity (:data:`gridlib.units.QUANTITIES`), or
+to None where the values are no physical quantity: indices, flags, counts, ids (no ``units``
+attribute, as CF wants for them). A variable of the same name means the same thing in every
+file (``cell_volume`` in ``geometry.nc`` and ``{case}.nc``, ``porv`` in ``transmissibility.nc``
+and ``{case}.nc``). The UGRID footprint of a layered grid (``mesh2d_*``, ``areal_*``) and the
+layered views of cell data (``<name>_layered``) measure what their base name measures.
+:data:`COLUMNS` does the same for the figures of ``summary.json`` (``summary.csv``,
+``study.csv``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from ..units import UnitSystem
+
+VARIABLES: dict[str, str | None] = {
+    # the grid (grid.nc, coarse.nc, {case}.nc): node coordinates, z is depth
+    "node_x": "length",
+    "node_y": "length",
+    "node_z": "length",
+    # geometry (geometry.nc, {case}.nc)
+    "cell_volume": "cell_measure",
+    "cell_centroid": "length",
+    "face_area": "face_measure",
+    "face_normal": "face_measure",  # area-weighted
+    "face_centroid": "length",
+    "cell_normal": "cell_measure",  # area-weighted normal of a surface cell
+    # the builders' cell data (grid.nc, {case}.nc)
+    "bulk_volume": "volume",  # ECLIPSE's bulk volume of a corner-point cell
+    "depth": "length",
+    "layer": None,
+    "zone": None,
+    "well": None,
+    "site": "length",  # the generating site (x, y) of a PEBI cell's column
+    "degenerate": None,
+    # rock (petrophysics.nc, coarse.nc, {case}.nc)
+    "poro": "fraction",
+    "ntg": "fraction",
+    "permx": "permeability",
+    "permy": "permeability",
+    "permz": "permeability",
+    "pore_volume": "cell_measure",  # geometric: cell volume x poro x ntg
+    # coarse.nc
+    "volume": "cell_measure",
+    "partition": None,
+    "block": None,
+    # connections (transmissibility.nc, {case}.nc)
+    "trans": "transmissibility",
+    "porv": "porv",
+    "connection_cells": None,
+    "connection_kind": None,
+    "connection_face": None,
+    "cell_flow_index": None,
+    # topology and indices
+    "cell_face_pos": None,
+    "cell_faces": None,
+    "face_node_pos": None,
+    "face_nodes": None,
+    "face_neighbors": None,
+    "face_tag": None,
+    "cell_face_tag": None,
+    "cell_index_map": None,
+    "index_map": None,
+    "cell_column": None,
+    "cell_layer": None,
+    "mesh2d": None,
+    "edge_nodes": None,  # mesh2d_edge_nodes
+    "nnc_cells": None,
+    "nnc_global_cells": None,
+    "nnc_kind": None,
+    "nnc_face": None,
+}
+
+COLUMNS: dict[str, str] = {
+    "total_volume": "cell_measure",
+    "min_cell_volume": "cell_measure",
+    "max_cell_volume": "cell_measure",
+    "total_face_area": "face_measure",
+    "total_bulk_volume": "volume",
+    "pore_volume": "cell_measure",
+    "mean_porosity": "fraction",
+    "mean_permx": "permeability",
+    "min_trans": "transmissibility",
+    "median_trans": "transmissibility",
+    "max_trans": "transmissibility",
+    "total_porv": "porv",
+}
+
+
+def quantity_of(name: str) -> str | None:
+    """The quantity variable ``name`` measures (None: no physical quantity); a KeyError for a
+    name :data:`VARIABLES` does not know."""
+    for prefix in ("mesh2d_", "areal_"):
+        if name.startswith(prefix) and name != "mesh2d":
+            name = name[len(prefix) :]
+    if name.endswith("_layered"):
+        name = name[: -len("_layered")]
+    return VARIABLES[name]
+
+
+def units_of(names: Any, system: UnitSystem, griddim: int) -> dict[str, str]:
+    """The ``units`` attribute of each of ``names`` that :data:`VARIABLES` knows as a physical
+    quantity, in ``system`` (names it does not know, a user's data, are left out)."""
+    out = {}
+    for name in names:
+        try:
+            quantity = quantity_of(str(name))
+        except KeyError:
+            continue
+        if quantity is not None:
+            out[str(name)] = system.unit(quantity, griddim)
+    return out
+
+
+def label_units(variables: Mapping[Any, Any], system: UnitSystem, griddim: int) -> None:
+    """Set the ``units`` attribute of every physical variable of ``variables`` (an xarray
+    Dataset's ``variables``, or a mapping of name to xarray Variable) in ``system``."""
+    for name, unit in units_of(variables, system, griddim).items():
+        variables[name].attrs["units"] = unit
