@@ -79,8 +79,13 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     for a in (0, 1):
         for b in (0, 1):
             pil_used[b : b + ny, a : a + nx] |= col_active
-    if not np.isfinite(lines[pil_used.ravel()]).all():
-        raise InputError(f"{src}: COORD: a pillar of an active cell is NaN or infinite")
+    bad_pillars = pil_used.ravel() & ~np.isfinite(lines).all(axis=(1, 2))
+    if bad_pillars.any():
+        jp, ip = divmod(int(np.flatnonzero(bad_pillars)[0]), nx + 1)
+        raise InputError(
+            f"{src}: COORD: pillar ({ip + 1}, {jp + 1}) of an active cell is NaN or infinite "
+            f"({int(bad_pillars.sum())} such pillars)"
+        )
 
     sign = _depth_sign(zc, active, src)
     if sign < 0:

@@ -156,6 +156,14 @@ def test_non_finite_active_corner_is_a_clear_error():
         process_grdecl(dataclasses.replace(deck, zcorn=z))
 
 
+def test_non_finite_pillar_of_an_active_cell_is_named():
+    deck = simple_grdecl([3, 2, 2], 0.0, flat=True)
+    coord = np.array(deck.coord, dtype=float).reshape(3, 4, 6)  # (ny + 1, nx + 1) pillars
+    coord[2, 1, 0] = np.inf  # pillar (2, 3): a corner of cells (1, 2) and (2, 2)
+    with pytest.raises(gl.InputError, match=r"COORD: pillar \(2, 3\) of an active cell is NaN.* \(1 such"):
+        process_grdecl(dataclasses.replace(deck, coord=coord.ravel()))
+
+
 def test_overlapping_layers_are_a_clear_error():
     deck = simple_grdecl([2, 2, 2], 0.0, flat=True)
     z = np.array(deck.zcorn).reshape(4, 4, 4)
