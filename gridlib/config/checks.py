@@ -10,8 +10,14 @@ from pathlib import Path
 from typing import Any
 
 from ..io.grdecl.dimens import deck_dimensions
+from ..reproducible import log as _reproducible_log
 from .files import deck_cell_keywords, named_file
 from .values import yaml_number
+
+
+def _log(x: float) -> float:
+    """The natural logarithm, the same on every machine (a limit must not depend on the libm)."""
+    return float(_reproducible_log(x))
 
 
 def _axis_range(spec: Any) -> tuple[float, float]:
@@ -372,7 +378,7 @@ def _domain_problem(data: dict[str, Any]) -> str | None:
 
 FRACTION_PROPERTIES = ("porosity", "ntg")  # fractions: in [0, 1]
 PERMEABILITY_SIGMAS = 8  # a field's extreme values, in standard deviations (1e-15 per cell)
-LOG_FLOAT_MAX = math.log(1e300)  # with room for the upscaling's sums
+LOG_FLOAT_MAX = _log(1e300)  # with room for the upscaling's sums
 
 
 def _rock_values_problem(data: dict[str, Any]) -> str | None:
@@ -402,7 +408,7 @@ def _rock_values_problem(data: dict[str, Any]) -> str | None:
             values += [(f"{base}.field.bounds[{k}]", v) for k, v in enumerate(field["bounds"])]
         if prop == "permeability" and field.get("mean", 1) > 0:
             median, std = float(field.get("mean", 100.0)), float(field.get("std", 0.0))
-            if math.log(median) + PERMEABILITY_SIGMAS * std > LOG_FLOAT_MAX:
+            if _log(median) + PERMEABILITY_SIGMAS * std > LOG_FLOAT_MAX:
                 return (
                     f"{base}.field.std: {yaml_number(std)}: median x exp({PERMEABILITY_SIGMAS} std) "
                     "is beyond any float (std is of ln k: 1 is a factor e)"
@@ -568,8 +574,8 @@ def _pebi_wells_problem(data: dict[str, Any]) -> str | None:
                 "well's site"
             )
         if "growth" in rings and "count" in rings:
-            log_outer = math.log(rings["inner"]) + (rings["count"] - 1) * math.log(rings["growth"])
-            if log_outer > math.log(extent):
+            log_outer = _log(rings["inner"]) + (rings["count"] - 1) * _log(rings["growth"])
+            if log_outer > _log(extent):
                 return (
                     f"wells[{k}].rings: inner x growth^(count - 1) reaches beyond the domain's extent "
                     f"({extent:g} m); give fewer rings or a smaller growth"

@@ -18,6 +18,7 @@ from typing import Any
 
 from ..io.grdecl.dimens import deck_dimensions
 from ..memory import GIB, count_text, gib_text, machine_memory
+from ..reproducible import log
 from .files import named_file
 
 # Peak resident memory of `gridlib build` (every stage in one process: its heaviest stage
@@ -151,8 +152,8 @@ def _ring_sites(rings: dict[str, Any], size: float) -> float:
     if "count" in rings:
         count = float(rings["count"])
     elif outer is not None:
-        log_growth = math.log(rings["growth"]) if "growth" in rings else _ratio(2.0 * math.pi, sectors)
-        count = _ratio(math.log(max(_ratio(float(outer), inner), 1.0)), log_growth) + 1.0
+        log_growth = float(log(rings["growth"])) if "growth" in rings else _ratio(2.0 * math.pi, sectors)
+        count = _ratio(float(log(max(_ratio(float(outer), inner), 1.0))), log_growth) + 1.0
     else:
         count = 1.0
     return count * sectors

@@ -63,9 +63,17 @@ written to the file block by block, and the corner-point geometry of a Cartesian
 :mod:`gridlib.cornerpoint.cartesian`.
 """
 
-from ..eclipse_text import DeckError
-from .keywords import SECTIONS, UNITS
-from .read import read_grdecl
-from .write import write_edit_grdecl, write_grdecl
+from ..._lazy import lazy_exports
 
-__all__ = ["SECTIONS", "UNITS", "DeckError", "read_grdecl", "write_edit_grdecl", "write_grdecl"]
+# Imported on first use: the case checks read a deck's DIMENS (.dimens) when the workflow is
+# parsed, without the reader's imports (the corner-point engine, pandas).
+_EXPORTS: dict[str, str] = {
+    "DeckError": "..eclipse_text",
+    "SECTIONS": ".keywords",
+    "UNITS": ".keywords",
+    "read_grdecl": ".read",
+    "write_edit_grdecl": ".write",
+    "write_grdecl": ".write",
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
+__all__ = sorted(_EXPORTS)
