@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .datasets import damaged, open_artifact, read_variable
 from .netcdf import write_dataset
 
 PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
@@ -36,6 +37,11 @@ def write_rock(
 
 
 def read_rock(path: str | os.PathLike) -> dict[str, np.ndarray]:
-    """The rock arrays of ``petrophysics.nc`` by name (:data:`PROPERTIES`)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return {name: ds[name].values for name in PROPERTIES}
+    """The rock arrays of ``petrophysics.nc`` by name (:data:`PROPERTIES`), one value per cell
+    each; one InputError naming the file if it is damaged or incomplete."""
+    with open_artifact(path) as ds:
+        rock = {name: read_variable(ds, name, "f", 1) for name in PROPERTIES}
+    sizes = {values.size for values in rock.values()}
+    if len(sizes) > 1:
+        raise damaged(path, f"its variables {', '.join(PROPERTIES)} differ in length ({sorted(sizes)})")
+    return rock
