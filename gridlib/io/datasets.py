@@ -37,6 +37,8 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import os
+import sys
+import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -86,9 +88,30 @@ def _reason(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
+@contextlib.contextmanager
+def _filters_quiet() -> Iterator[None]:
+    """Hold back what C code writes to standard error while HDF5 decodes chunks, and pass it
+    on only if the read succeeds: the Zstandard filter prints "zstd: Data corruption detected"
+    on a damaged chunk, which is then told once, by :func:`damaged`."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as held:
+        os.dup2(held.fileno(), 2)
+        try:
+            yield
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        held.seek(0)
+        text = held.read()
+    if text:
+        sys.stderr.write(text.decode(errors="replace"))
+
+
 def _values(variable: xr.Variable | xr.DataArray, name: str) -> np.ndarray:
     try:
-        return np.asarray(variable.values)
+        with _filters_quiet():
+            return np.asarray(variable.values)
     except Exception as exc:  # netCDF4 raises RuntimeError/OSError for HDF5's errors
         detail = "its checksum fails or its data is cut short" if "HDF error" in str(exc) else _reason(exc)
         raise _Unreadable(f"HDF error on variable '{name}': {detail}") from None
