@@ -244,3 +244,17 @@ def test_what_fletcher32_leaves_out_is_covered_by_the_digest(tmp_path):
         )
     save_dataset(path, back)  # a dataset read back is written with a digest of its own
     assert load_artifact(path)["mesh2d"].values == marker
+
+
+@pytest.mark.parametrize("damage", DAMAGES)
+def test_a_damaged_summary_is_one_error_naming_it(built, tmp_path, damage):
+    """The summary and study stages read every case's summary.json: a damaged one is named."""
+    from gridlib.stages.summary import stage_summary
+
+    _, folder = built
+    summary = tmp_path / "summary.json"
+    summary.write_bytes(DAMAGES[damage]((folder / "summary.json").read_bytes()))
+    with pytest.raises(InputError) as caught:
+        stage_summary([folder / "summary.json", summary], tmp_path / "summary.csv")
+    assert str(caught.value).startswith(f"{summary}: damaged or incomplete (")
+    assert str(caught.value).endswith(ADVICE) and not (tmp_path / "summary.csv").exists()
