@@ -23,10 +23,13 @@ variables (contiguous storage, strings in the unchecksummed global heap), the ch
 (a version-1 B-tree) and the dimension lists are not. Each file therefore also carries
 ``gridlib_digest``, a SHA-256 over all attributes (global and per variable), every variable's
 name, dimensions, type and shape, and the values of the variables without Fletcher32
-(:func:`uncovered_digest`): the few bytes a flip there would silently change, and it costs
-only the reading of those bytes. Together they mean that a flipped byte anywhere in the file
-either stops HDF5 or fails a checksum: a reader never gets wrong values. Files of older
-gridlib versions (no checksum, no digest) are read unverified.
+(:func:`uncovered_digest`): the few bytes a flip there would silently change (a changed
+scalar or string reads back without any HDF5 error), and it costs only the reading of those
+bytes. A damaged chunk index points at wrong bytes, which then fail Fletcher32. Together: a
+changed byte stops HDF5, fails a checksum or lies where no reader looks; a reader never
+gets wrong values. Files of older gridlib versions (no checksum, no digest) are read
+unverified. Every read of a gridlib file goes through :func:`open_artifact`, which turns any
+failure into one :func:`damaged` error naming the file.
 
 Cost of the checksum, measured on the project's 2-core VM (zstd, 1 MiB chunks): 4 bytes per
 chunk and no measurable write time; see ``docs`` of the damaged-artifact change for figures.
@@ -92,7 +95,8 @@ def _reason(exc: BaseException) -> str:
 def _filters_quiet() -> Iterator[None]:
     """Hold back what C code writes to standard error while HDF5 decodes chunks, and pass it
     on only if the read succeeds: the Zstandard filter prints "zstd: Data corruption detected"
-    on a damaged chunk, which is then told once, by :func:`damaged`."""
+    on a damaged chunk, which is then told once, by :func:`damaged`. (File descriptor 2 is the
+    process's: what another thread writes meanwhile comes out after the read.)"""
     sys.stderr.flush()
     saved = os.dup(2)
     with tempfile.TemporaryFile() as held:
@@ -113,8 +117,11 @@ def _values(variable: xr.Variable | xr.DataArray, name: str) -> np.ndarray:
         with _filters_quiet():
             return np.asarray(variable.values)
     except Exception as exc:  # netCDF4 raises RuntimeError/OSError for HDF5's errors
-        detail = "its checksum fails or its data is cut short" if "HDF error" in str(exc) else _reason(exc)
-        raise _Unreadable(f"HDF error on variable '{name}': {detail}") from None
+        if "HDF error" in str(exc):
+            raise _Unreadable(
+                f"HDF error on variable '{name}': its checksum fails or its data is cut short"
+            ) from None
+        raise _Unreadable(f"variable '{name}': {_reason(exc)}") from None
 
 
 def read_variable(ds: xr.Dataset, name: str, kinds: str = "biuf", ndim: int | None = None) -> np.ndarray:
