@@ -146,13 +146,11 @@ def load_all(ds: xr.Dataset) -> xr.Dataset:
     return ds.load()
 
 
-def uncovered_digest(path: str | os.PathLike) -> tuple[str, str | None]:
-    """The SHA-256 (hex) of what Fletcher32 does not cover in the netCDF file ``path``, and the
-    digest the file stores (None without one): every attribute but :data:`DIGEST`, every
-    variable's name, dimensions, dtype and shape, and the values of every variable stored
-    without Fletcher32 (scalars, strings, empty ones). Read raw (no masking or scaling)."""
-    import netCDF4
-
+def uncovered_digest(nc: Any) -> str:
+    """The SHA-256 (hex) of what Fletcher32 does not cover in the open ``netCDF4.Dataset``
+    ``nc``: every attribute but :data:`DIGEST`, every variable's name, dimensions, dtype and
+    shape, and the values of every variable stored without Fletcher32 (scalars, strings), read
+    raw (no masking or scaling)."""
     sha = hashlib.sha256()
 
     def add(*items: object) -> None:
@@ -164,36 +162,35 @@ def uncovered_digest(path: str | os.PathLike) -> tuple[str, str | None]:
                 sha.update(repr(np.asarray(item, dtype=object).tolist()).encode())
             sha.update(b"\0")
 
-    with netCDF4.Dataset(path, "r") as nc:
-        nc.set_auto_maskandscale(False)
-        stored = nc.getncattr(DIGEST) if DIGEST in nc.ncattrs() else None
-        for key in sorted(nc.ncattrs()):
-            if key != DIGEST:
-                add(key, nc.getncattr(key))
-        for name in sorted(nc.variables):
-            var = nc.variables[name]
-            add(name, var.dimensions, str(var.dtype), var.shape)
-            for key in sorted(var.ncattrs()):
-                add(key, var.getncattr(key))
-            filters = var.filters() or {}
-            if not filters.get("fletcher32") and var.size:
-                add(np.asarray(var[...]))
-    return sha.hexdigest(), None if stored is None else str(stored)
+    nc.set_auto_maskandscale(False)
+    for key in sorted(nc.ncattrs()):
+        if key != DIGEST:
+            add(key, nc.getncattr(key))
+    for name in sorted(nc.variables):
+        var = nc.variables[name]
+        add(name, var.dimensions, str(var.dtype), var.shape)
+        for key in sorted(var.ncattrs()):
+            add(key, var.getncattr(key))
+        if not (var.filters() or {}).get("fletcher32") and var.size:
+            add(np.asarray(var[...]))
+    return sha.hexdigest()
 
 
 def _write_digest(path: Path) -> None:
     import netCDF4
 
-    digest, _ = uncovered_digest(path)
     with netCDF4.Dataset(path, "a") as nc:
-        nc.setncattr(DIGEST, digest)
+        nc.setncattr(DIGEST, uncovered_digest(nc))
 
 
 def _verify_digest(path: Path) -> None:
-    """Raise if the file's :data:`DIGEST` disagrees with its contents (no digest: older gridlib)."""
-    digest, stored = uncovered_digest(path)
-    if stored is not None and stored != digest:
-        raise _Unreadable("digest mismatch: an attribute, a scalar or a string variable changed")
+    """Raise if the file's :data:`DIGEST` disagrees with its contents (none: older gridlib,
+    nothing to verify)."""
+    import netCDF4
+
+    with netCDF4.Dataset(path, "r") as nc:
+        if DIGEST in nc.ncattrs() and str(nc.getncattr(DIGEST)) != uncovered_digest(nc):
+            raise _Unreadable("digest mismatch: an attribute, a scalar or a string variable changed")
 
 
 def not_netcdf(path: str | os.PathLike, reason: str) -> InputError:
