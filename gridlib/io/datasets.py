@@ -31,8 +31,12 @@ gets wrong values. Files of older gridlib versions (no checksum, no digest) are 
 unverified. Every read of a gridlib file goes through :func:`open_artifact`, which turns any
 failure into one :func:`damaged` error naming the file.
 
-Cost of the checksum, measured on the project's 2-core VM (zstd, 1 MiB chunks): 4 bytes per
-chunk and no measurable write time; see ``docs`` of the damaged-artifact change for figures.
+Cost, measured on the project's 2-core VM (shared, so times are rough): Fletcher32 adds 4
+bytes a chunk plus its filter message, the digest one attribute and a second opening of the
+file after it is written. The sample cases' 63 netCDF files: 21.08 MB become 21.11 MB
+(+0.17 %, 0 to 2.4 kB a file), written in 2.2 s instead of 1.8 s (the reopening, about 5 ms a
+file). A 1e6-cell grid with its geometry (464 MiB raw, 38 MiB on disk): +6 kB, the write
+time unchanged within the noise (7.4 s), ``read_netcdf`` 3.4 s instead of 3.1 s.
 """
 
 from __future__ import annotations
