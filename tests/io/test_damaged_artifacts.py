@@ -137,7 +137,9 @@ def test_a_damaged_artifact_is_one_error_naming_it(built, tmp_path, key, damage)
                 run_stage(stage, case, {**inputs, **{k: outputs[k] for k in written}})
         except InputError as error:
             message = str(error)
-            assert message.startswith(f"{target}: damaged or incomplete ("), (stage, message)
+            # named by the stage that read it (gridlib.stages.pipeline.in_stage_message), and alone
+            within = "" if stage == "read_netcdf" else f"{case.path}: stage {stage}: "
+            assert message.startswith(f"{within}{target}: damaged or incomplete ("), (stage, message)
             assert message.endswith(f"; {ADVICE}"), (stage, message)
             assert "\n" not in message and "np." not in message, (stage, message)
             assert error.__cause__ is None and error.__suppress_context__, stage
@@ -173,9 +175,8 @@ def test_the_workflow_names_a_damaged_artifact_in_one_line(built, tmp_path):
     assert result.returncode != 0
     named = [line for line in out.splitlines() if "geometry.nc: damaged or incomplete" in line]
     reason = "HDF error on variable 'face_normal': its checksum fails or its data is cut short"
-    assert named == [f"gridlib: results/dented/geometry.nc: damaged or incomplete ({reason}); {ADVICE}"], out[
-        -3000:
-    ]
+    damage = f"results/dented/geometry.nc: damaged or incomplete ({reason}); {ADVICE}"
+    assert named == [f"gridlib: {config}: stage petrophysics: {damage}"], out[-3000:]
     assert "Traceback" not in out and 'File "' not in out and "zstd" not in out, out[-3000:]
 
 
@@ -202,7 +203,7 @@ def test_a_rock_file_with_values_no_stage_writes_is_blamed_not_the_deck(built, t
         with pytest.raises(InputError) as caught:
             run_stage(stage, case, {**paths, key: outputs[key]})
         assert str(caught.value) == (
-            f"{paths['petrophysics']}: damaged or incomplete (variable 'permx' has 1 negative or undefined "
+            f"{case.path}: stage {stage}: {paths['petrophysics']}: damaged or incomplete (variable 'permx' has 1 negative or undefined "
             f"values); {ADVICE}"
         )
 
