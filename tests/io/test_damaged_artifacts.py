@@ -203,7 +203,8 @@ def test_a_rock_file_with_values_no_stage_writes_is_blamed_not_the_deck(built, t
         with pytest.raises(InputError) as caught:
             run_stage(stage, case, {**paths, key: outputs[key]})
         assert str(caught.value) == (
-            f"{case.path}: stage {stage}: {paths['petrophysics']}: damaged or incomplete (variable 'permx' has 1 negative or undefined "
+            f"{case.path}: stage {stage}: {paths['petrophysics']}: damaged or incomplete "
+            "(variable 'permx' has 1 negative or undefined "
             f"values); {ADVICE}"
         )
 
