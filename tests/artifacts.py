@@ -22,8 +22,9 @@ def compared_files(folder: Path) -> list[str]:
     return sorted(names)
 
 
-# The provenance that names the case file a build came from (its path and SHA-256).
-PROVENANCE_ATTRS = ("case_file", "case_sha256")
+# The provenance that names the case file a build came from (its path and SHA-256), and the
+# file's digest, which covers every attribute (gridlib.io.datasets.DIGEST).
+PROVENANCE_ATTRS = ("case_file", "case_sha256", "gridlib_digest")
 PROVENANCE_LINES = (b"-- case file ", b"-- case sha256 ")
 
 

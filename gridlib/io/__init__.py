@@ -19,7 +19,9 @@ The stage files of a case's results folder, one module each: ``grid.nc`` and ``g
 ``petrophysics.nc`` (:mod:`.rock_file`), ``coarse.nc`` (:mod:`.coarse_file`),
 ``transmissibility.nc`` (:mod:`.transmissibility_file`); parts of any of them read alone, and
 the check that files read together describe one grid: :mod:`.netcdf_parts`; the table of every
-case's summary, ``summary.csv``: :mod:`.summary_table`.
+case's summary, ``summary.csv``: :mod:`.summary_table`. Every netCDF file is written with
+checksums and every stage file read through :func:`.datasets.open_artifact`: a damaged one is
+one InputError naming it (:func:`.datasets.damaged`).
 
 The per-format functions are also importable directly. OPM Flow decks, which are folders of
 files rather than one file: :func:`write_flow_deck` (:mod:`gridlib.io.flow`); the fault faces

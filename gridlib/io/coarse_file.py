@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import xarray as xr
 
+from .datasets import open_artifact, read_variable
 from .netcdf import write_netcdf
-from .netcdf_parts import read_extra
 
 if TYPE_CHECKING:
     from ..coarsen import CoarseGrid
@@ -44,5 +44,7 @@ def write_coarse(
 
 
 def read_partition(path: str | os.PathLike) -> np.ndarray:
-    """The block of every fine cell (``partition`` of ``coarse.nc``)."""
-    return read_extra(path, ("partition",))["partition"]
+    """The block of every fine cell (``partition`` of ``coarse.nc``); one InputError naming the
+    file if it is damaged or incomplete."""
+    with open_artifact(path) as ds:
+        return read_variable(ds, "partition", "iu", 1)

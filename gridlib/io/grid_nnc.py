@@ -15,6 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ..pillars.nnc import NNC
+from .datasets import damaged
 from .netcdf_parts import read_extra
 
 NNC_VARS = ("nnc_cells", "nnc_global_cells", "nnc_kind", "nnc_face")
@@ -41,8 +42,14 @@ def nnc_variables(nnc: NNC | None) -> dict[str, xr.DataArray]:
 
 
 def read_nnc(path: str | os.PathLike) -> NNC | None:
-    """The NNC list of a grid file; None where it has none (not all four ``nnc_*`` variables)."""
+    """The NNC list of a grid file; None where it has none (no ``nnc_*`` variable); one
+    InputError naming the file if it has some of them only, or is damaged."""
     extra = read_extra(path, NNC_VARS)
-    if len(extra) != len(NNC_VARS):
+    if not extra:
         return None
+    if len(extra) != len(NNC_VARS):
+        missing = ", ".join(n for n in NNC_VARS if n not in extra)
+        raise damaged(path, f"its NNC list is incomplete ({missing} missing)")
+    if len({values.shape[0] for values in extra.values()}) > 1:
+        raise damaged(path, "the variables of its NNC list differ in length")
     return NNC(extra["nnc_cells"], extra["nnc_global_cells"], extra["nnc_kind"], extra["nnc_face"])

@@ -26,7 +26,7 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ..horizons.build import SOURCES, HorizonSource, check_lattice, horizons_from_sources
 from ..horizons.surface import Surface, regular_increment
-from .datasets import load_dataset, save_dataset
+from .datasets import damaged, load_artifact, load_dataset, save_dataset
 from .irap import is_number
 from .registry import read
 
@@ -345,10 +345,12 @@ def write_horizons(path: str | os.PathLike, ds: xr.Dataset) -> Path:
 def read_horizons(path: str | os.PathLike) -> xr.Dataset:
     """Read a ``horizons.nc`` written by :func:`write_horizons` (checked: depth (horizon, y, x))."""
     p = Path(path)
-    ds = load_dataset(p)
+    ds = load_artifact(p)
     if "depth" not in ds or ds["depth"].dims != ("horizon", "y", "x"):
-        raise InputError(f"{p}: not a horizons file (needs a variable depth over (horizon, y, x))")
+        raise damaged(p, "not a horizons file: it needs a variable depth over (horizon, y, x)")
     for key in ("x", "y", "horizon"):
         if key not in ds.coords:
-            raise InputError(f"{p}: not a horizons file (coordinate '{key}' is missing)")
+            raise damaged(p, f"not a horizons file: coordinate '{key}' is missing")
+    if ds["depth"].dtype.kind != "f":
+        raise damaged(p, f"variable 'depth' has type {ds['depth'].dtype}, expected floats")
     return ds

@@ -38,12 +38,11 @@ import numpy as np
 import xarray as xr
 
 from ..connectivity import cell_node_cycles_2d
-from ..errors import GridError, InputError
+from ..errors import GridError
 from ..geometry import Geometry, compute_geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
 from ..units import UnitSystem, unit_system
-from .datasets import load_dataset, save_dataset
-from .netcdf_parts import read_extra
+from .datasets import open_artifact, read_variable, save_dataset
 from .quantities import label_units
 
 _AXES = ("x", "y", "z")
@@ -311,31 +310,30 @@ def write_dataset(path: str | os.PathLike, ds: xr.Dataset) -> Path:
     return save_dataset(path, ds, encoding)
 
 
-def _read_grid(ds: xr.Dataset, prefix: str, path: str) -> Grid:
+def _read_grid(ds: xr.Dataset, prefix: str) -> Grid:
+    """The grid (``prefix``: "" or "areal_") of a file opened by :func:`open_artifact`."""
     p = prefix
 
-    def var(name: str) -> np.ndarray:
-        if name not in ds.variables:
-            raise InputError(f"{path}: not a gridlib netCDF file (variable '{name}' is missing)")
-        return ds[name].values
+    def var(name: str, ndim: int = 1) -> np.ndarray:
+        return read_variable(ds, f"{p}{name}", "f" if name.startswith("node_") else "iu", ndim)
+
+    def optional(name: str) -> np.ndarray | None:
+        return var(name) if f"{p}{name}" in ds.variables else None
 
     griddim = int(ds.attrs.get(f"{p}gridlib_griddim", 0))
     if griddim not in (2, 3):
-        raise InputError(f"{path}: attribute '{p}gridlib_griddim' missing or not 2/3")
-    coords = np.column_stack([var(f"{p}node_{a}") for a in _AXES if f"{p}node_{a}" in ds.variables])
+        raise ValueError(f"attribute '{p}gridlib_griddim' missing or not 2/3")
+    axes = [var(f"node_{a}") for a in _AXES if f"{p}node_{a}" in ds.variables]
+    if len(axes) < 2:
+        raise ValueError(f"variable '{p}node_x' or '{p}node_y' is missing")
     cart = ds.attrs.get(f"{p}gridlib_cart_dims")
     history = tuple(json.loads(ds.attrs.get(f"{p}gridlib_history", "[]")))
     return Grid(
         cells=Cells(
-            var(f"{p}cell_face_pos"),
-            var(f"{p}cell_faces"),
-            ds[f"{p}cell_face_tag"].values if f"{p}cell_face_tag" in ds else None,
-            ds[f"{p}cell_index_map"].values if f"{p}cell_index_map" in ds else None,
+            var("cell_face_pos"), var("cell_faces"), optional("cell_face_tag"), optional("cell_index_map")
         ),
-        faces=Faces(
-            var(f"{p}face_node_pos"), var(f"{p}face_nodes"), var(f"{p}face_neighbors"), var(f"{p}face_tag")
-        ),
-        nodes=Nodes(coords),
+        faces=Faces(var("face_node_pos"), var("face_nodes"), var("face_neighbors", 2), var("face_tag")),
+        nodes=Nodes(np.column_stack(axes)),
         griddim=griddim,
         cart_dims=None if cart is None else tuple(int(v) for v in np.atleast_1d(cart)),
         history=history,
@@ -351,22 +349,24 @@ _RESERVED = {
 
 
 def read_netcdf(path: str | os.PathLike) -> GridDataset:
-    """Read a file written by :func:`write_netcdf` back into grid, geometry and data."""
-    p = str(path)
-    ds = load_dataset(p)
-    grid = _read_grid(ds, "", p)
+    """Read a file written by :func:`write_netcdf` back into grid, geometry and data; any error
+    reading it is one InputError naming the file (:func:`~gridlib.io.datasets.damaged`)."""
+    with open_artifact(path) as ds:
+        return _grid_dataset(ds)
+
+
+def _grid_dataset(ds: xr.Dataset) -> GridDataset:
+    grid = _read_grid(ds, "")
     if "cell_column" in ds and "areal_cell_faces" in ds:
-        areal = _read_grid(ds, "areal_", p)
+        areal = _read_grid(ds, "areal_")
         n_layers = int(ds.attrs["gridlib_num_layers"])
-        grid = Grid(
-            grid.cells,
-            grid.faces,
-            grid.nodes,
-            grid.griddim,
-            grid.cart_dims,
-            grid.history,
-            Layering(areal, ds["cell_column"].values, ds["cell_layer"].values, n_layers),
+        layering = Layering(
+            areal,
+            read_variable(ds, "cell_column", "iu", 1),
+            read_variable(ds, "cell_layer", "iu", 1),
+            n_layers,
         )
+        grid = Grid(grid.cells, grid.faces, grid.nodes, grid.griddim, grid.cart_dims, grid.history, layering)
     geometry = _geometry_from(ds, grid) if "cell_volume" in ds else None
     dims = _dims(grid)
     cell_data, face_data = {}, {}
@@ -375,9 +375,15 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
         if name in own:
             continue
         if v.dims and v.dims[0] == dims["cell"]:
-            cell_data[name] = v.values
+            cell_data[name] = read_variable(ds, str(name), "biufUSO")
         elif v.dims and v.dims[0] == dims["face"]:
-            face_data[name] = v.values
+            face_data[name] = read_variable(ds, str(name), "biufUSO")
+    for what, data, n in (("cell", cell_data, grid.num_cells), ("face", face_data, grid.num_faces)):
+        wrong = [name for name, values in data.items() if values.shape[:1] != (n,)]
+        if wrong:
+            raise ValueError(
+                f"{what} variable '{wrong[0]}' has {data[wrong[0]].shape[0]} values, expected {n}"
+            )
     internal = {
         "gridlib_griddim",
         "gridlib_history",
@@ -391,20 +397,41 @@ def read_netcdf(path: str | os.PathLike) -> GridDataset:
 
 def _geometry_from(ds: xr.Dataset, grid: Grid | None = None) -> Geometry:
     """The stored geometry; face normals and centroids recomputed from ``grid`` where the
-    file leaves them out."""
+    file leaves them out. Sizes are checked against ``grid``'s where given, else against each
+    other."""
     if all(name in ds for name in FACE_VECTORS):
-        normals, centroids = ds["face_normal"].values, ds["face_centroid"].values
+        normals, centroids = (read_variable(ds, name, "f", 2) for name in FACE_VECTORS)
     else:
         full = compute_geometry(grid)
         normals, centroids = full.face_normals, full.face_centroids
-    return Geometry(
-        ds["cell_volume"].values,
-        ds["cell_centroid"].values,
-        ds["face_area"].values,
+    geo = Geometry(
+        read_variable(ds, "cell_volume", "f", 1),
+        read_variable(ds, "cell_centroid", "f", 2),
+        read_variable(ds, "face_area", "f", 1),
         normals,
         centroids,
-        ds["cell_normal"].values if "cell_normal" in ds else None,
+        read_variable(ds, "cell_normal", "f", 2) if "cell_normal" in ds else None,
     )
+    _check_geometry_sizes(geo, grid)
+    return geo
+
+
+def _check_geometry_sizes(geo: Geometry, grid: Grid | None) -> None:
+    cells = grid.num_cells if grid is not None else geo.cell_volumes.size
+    faces = grid.num_faces if grid is not None else geo.face_areas.size
+    sizes = {
+        "cell_volume": (geo.cell_volumes.shape[0], cells),
+        "cell_centroid": (geo.cell_centroids.shape[0], cells),
+        "face_area": (geo.face_areas.shape[0], faces),
+    }
+    if geo.face_normals.size:
+        sizes |= {
+            "face_normal": (geo.face_normals.shape[0], faces),
+            "face_centroid": (geo.face_centroids.shape[0], faces),
+        }
+    for name, (got, expected) in sizes.items():
+        if got != expected:
+            raise ValueError(f"variable '{name}' has {got} rows, expected {expected}")
 
 
 def write_geometry_netcdf(
@@ -434,19 +461,10 @@ def write_geometry_netcdf(
 
 
 def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:
-    """Read a file written by :func:`write_geometry_netcdf`."""
-    if not Path(path).is_file():
-        raise InputError(f"{path}: no such file")
-    with xr.open_dataset(path, engine="netcdf4") as handle:
-        ds = handle.load()
-    missing = [
-        v
-        for v in ("cell_volume", "cell_centroid", "face_area", "face_normal", "face_centroid")
-        if v not in ds
-    ]
-    if missing:
-        raise InputError(f"{path}: not a gridlib geometry file (missing {', '.join(missing)})")
-    return _geometry_from(ds)
+    """Read a file written by :func:`write_geometry_netcdf` (one InputError naming the file if
+    it is missing, damaged or incomplete)."""
+    with open_artifact(path) as ds:
+        return _geometry_from(ds)
 
 
 def read_cell_geometry(path: str | os.PathLike) -> Geometry:
@@ -454,17 +472,17 @@ def read_cell_geometry(path: str | os.PathLike) -> Geometry:
     (and cell normals where stored), read alone; the face normals and centroids (most of the
     file) are left empty: they are not written to ``{case}.nc`` (its readers recompute them
     from the grid)."""
-    arrays = read_extra(path, ("cell_volume", "cell_centroid", "face_area", "cell_normal"))
-    missing = [n for n in ("cell_volume", "cell_centroid", "face_area") if n not in arrays]
-    if missing:
-        raise InputError(f"{path}: not a gridlib geometry file (missing {', '.join(missing)})")
-    d = arrays["cell_centroid"].shape[1]
-    empty = np.zeros((0, d))
-    return Geometry(
-        arrays["cell_volume"],
-        arrays["cell_centroid"],
-        arrays["face_area"],
-        empty,
-        empty,
-        arrays.get("cell_normal"),
-    )
+    with open_artifact(path) as ds:
+        volumes = read_variable(ds, "cell_volume", "f", 1)
+        centroids = read_variable(ds, "cell_centroid", "f", 2)
+        empty = np.zeros((0, centroids.shape[1]))
+        geo = Geometry(
+            volumes,
+            centroids,
+            read_variable(ds, "face_area", "f", 1),
+            empty,
+            empty,
+            read_variable(ds, "cell_normal", "f", 2) if "cell_normal" in ds else None,
+        )
+        _check_geometry_sizes(geo, None)
+        return geo

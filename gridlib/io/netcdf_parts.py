@@ -8,24 +8,25 @@ import os
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
 from ..errors import InputError
 from ..units import UnitSystem, unit_system
+from .datasets import damaged, open_artifact, read_variable
 
 
 def read_extra(path: str | os.PathLike, names: tuple[str, ...]) -> dict[str, np.ndarray]:
-    """The variables ``names`` present in a netCDF file (missing ones are left out)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return {n: ds[n].values for n in names if n in ds.variables}
+    """The variables ``names`` present in a gridlib netCDF file (missing ones are left out);
+    one InputError naming the file if it is damaged (:func:`~gridlib.io.datasets.open_artifact`)."""
+    with open_artifact(path) as ds:
+        return {n: read_variable(ds, n, "biufUSO") for n in names if n in ds.variables}
 
 
 def length_of(path: str | os.PathLike, name: str) -> int:
-    """The first dimension's length of variable ``name`` of a netCDF file, without reading it
-    (an InputError naming the file if the variable is missing)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        if name not in ds.variables:
-            raise InputError(f"{path}: {name}: missing")
+    """The first dimension's length of variable ``name`` of a gridlib netCDF file, without
+    reading it (one InputError naming the file if the variable is missing or the file damaged)."""
+    with open_artifact(path) as ds:
+        if name not in ds.variables or not ds[name].ndim:
+            raise damaged(path, f"variable '{name}' is missing")
         return int(ds[name].shape[0])
 
 
@@ -42,7 +43,7 @@ def check_same_cells(grid_nc: str | os.PathLike, num_cells: int, counts: dict[An
 
 def read_attrs(path: str | os.PathLike) -> dict[str, Any]:
     """Global attributes of a netCDF file, JSON lists decoded."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
+    with open_artifact(path) as ds:
         attrs = dict(ds.attrs)
     return {key: _json_or_text(value) for key, value in attrs.items()}
 

@@ -14,6 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ..units import METRIC
+from .datasets import damaged, open_artifact, read_variable
 from .netcdf import write_dataset
 from .quantities import quantity_of
 
@@ -39,6 +40,18 @@ def write_rock(
 
 
 def read_rock(path: str | os.PathLike) -> dict[str, np.ndarray]:
-    """The rock arrays of ``petrophysics.nc`` by name (:data:`PROPERTIES`)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return {name: ds[name].values for name in PROPERTIES}
+    """The rock arrays of ``petrophysics.nc`` by name (:data:`PROPERTIES`), one value per cell
+    each; one InputError naming the file if it is damaged or incomplete, or holds a value the
+    petrophysics stage never writes (negative or not finite: the stage's
+    :class:`~gridlib.petrophysics.Rock` refuses them). Checked here, so that such a file is
+    blamed, not the deck whose keywords its values replace later."""
+    with open_artifact(path) as ds:
+        rock = {name: read_variable(ds, name, "f", 1) for name in PROPERTIES}
+    sizes = {values.size for values in rock.values()}
+    if len(sizes) > 1:
+        raise damaged(path, f"its variables {', '.join(PROPERTIES)} differ in length ({sorted(sizes)})")
+    for name, values in rock.items():
+        bad = int(np.count_nonzero(~(np.isfinite(values) & (values >= 0))))
+        if bad:
+            raise damaged(path, f"variable '{name}' has {bad} negative or undefined values")
+    return rock

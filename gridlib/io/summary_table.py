@@ -1,5 +1,5 @@
 """``results/summary.csv``: every case's ``summary.json`` as one row (and the table writer the
-study's ``study.csv`` shares).
+study's ``study.csv`` shares); the ``summary.json`` files read back.
 
 Units are in the header: a column of a physical figure (:data:`gridlib.io.quantities.COLUMNS`)
 is named ``<figure> [<unit>]``, e.g. ``pore_volume [m3]``, when every row has that unit. Each
@@ -14,13 +14,16 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import os
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..units import unit_system
 from .atomic import atomic_path
+from .datasets import damaged
 from .quantities import COLUMNS as COLUMN_QUANTITIES
 
 COLUMNS = (
@@ -105,3 +108,20 @@ def write_csv(path: str | os.PathLike, columns: Sequence[str], rows: Sequence[Ma
     writer.writerows(rows)
     with atomic_path(path) as tmp:
         tmp.write_text(buffer.getvalue())
+
+
+def read_summaries(paths: Sequence[str | os.PathLike]) -> list[dict[str, Any]]:
+    """The ``summary.json`` files (each a JSON object), in order; one InputError naming the
+    file that is missing, not UTF-8 JSON or not an object (:func:`~gridlib.io.datasets.damaged`)."""
+    out = []
+    for path in paths:
+        try:
+            summary = json.loads(Path(path).read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise damaged(path, "no such file") from None
+        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise damaged(path, f"not JSON: {exc}") from None
+        if not isinstance(summary, dict) or "case" not in summary:
+            raise damaged(path, "not a case's summary (a JSON object with 'case')")
+        out.append(summary)
+    return out

@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..errors import InputError
 from ..transmissibility import KIND_NAMES, Connections
 from ..units import UnitSystem
+from .datasets import damaged, open_artifact, read_variable
 from .quantities import label_units
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
@@ -88,8 +88,9 @@ def read_transmissibility(
 ) -> tuple[dict[str, xr.DataArray], dict[str, Any]]:
     """The variables ``names`` (default: all; loaded, with their attributes) and the global
     attributes of ``transmissibility.nc`` (or of a ``{case}.nc`` that holds them)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
+    with open_artifact(path) as ds:
         missing = [n for n in CONNECTION_VARS + CELL_VARS if n not in ds.variables]
         if missing:
-            raise InputError(f"{path}: not a transmissibility file (missing {', '.join(missing)})")
-        return {n: ds[n].load() for n in names}, dict(ds.attrs)
+            raise damaged(path, f"not a transmissibility file: {', '.join(missing)} missing")
+        variables = {n: xr.DataArray(ds[n].variable.copy(data=read_variable(ds, n)), name=n) for n in names}
+        return variables, dict(ds.attrs)

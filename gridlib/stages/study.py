@@ -21,7 +21,7 @@ import yaml
 
 from ..io.netcdf import write_dataset
 from ..io.pictures import save_figure
-from ..io.summary_table import COLUMNS, column_units, header, unit_text, write_csv
+from ..io.summary_table import COLUMNS, column_units, header, read_summaries, unit_text, write_csv
 from .common import log
 
 NOT_FIGURES = ("case", "seed", "case_sha256")
@@ -144,7 +144,7 @@ def stage_study(
     """study.csv, study.nc and study.png (``outputs`` keys ``csv``, ``nc``, ``png``) from the
     study's manifest (results/<study>/variants.yaml) and its variants' summary.json files."""
     manifest = yaml.safe_load(Path(manifest_file).read_text(encoding="utf-8"))
-    loaded = [json.loads(Path(p).read_text(encoding="utf-8")) for p in summaries]
+    loaded = read_summaries(summaries)
     columns, rows = study_rows(manifest, loaded)
     write_csv(outputs["csv"], columns, rows)
     write_dataset(outputs["nc"], study_dataset(manifest, columns, rows))

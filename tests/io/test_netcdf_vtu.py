@@ -104,7 +104,7 @@ def test_reading_bad_files_names_the_file(tmp_path):
     with pytest.raises(gl.InputError, match=r"missing\.nc: no such file"):
         read_netcdf(tmp_path / "missing.nc")
     (tmp_path / "junk.nc").write_text("not netcdf")
-    with pytest.raises(gl.InputError, match=r"junk\.nc: cannot read as netCDF"):
+    with pytest.raises(gl.InputError, match=r"junk\.nc: damaged or incomplete \(not a netCDF-4 file"):
         read_netcdf(tmp_path / "junk.nc")
     xr.Dataset({"x": ("n", np.arange(3))}).to_netcdf(tmp_path / "other.nc")
     with pytest.raises(gl.InputError, match=r"other\.nc: .*gridlib_griddim"):
