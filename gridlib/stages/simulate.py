@@ -133,18 +133,19 @@ def stage_simulate(
         for line in (result.stdout or "").splitlines():
             if "time (seconds)" in line or line.startswith("Overall"):
                 log.info("flow: %s", line.strip())
+        figures = simulation_figures(case, summary, fip, deck)
+        with atomic_path(flow_summary) as path:
+            path.write_text(json.dumps(figures, indent=2) + "\n")
+        plot_wells(Path(flow_wells), summary, f"{case.name}: wells", deck_unit_system(deck))
+        if flow_vtu is not None:
+            write_result_vtu(Path(flow_vtu), base, grid, transmissibility, summary)
+        # Flow's own files join the deck last: a run that fails above leaves none of them
         for suffix in FLOW_OUTPUTS:
             produced = Path(f"{base}{suffix}")
             if produced.is_file():
                 os.replace(produced, deck.parent / produced.name)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    figures = simulation_figures(case, summary, fip, deck)
-    with atomic_path(flow_summary) as path:
-        path.write_text(json.dumps(figures, indent=2) + "\n")
-    plot_wells(Path(flow_wells), summary, f"{case.name}: wells", deck_unit_system(deck))
-    if flow_vtu is not None:
-        write_result_vtu(Path(flow_vtu), deck.parent / name, grid, transmissibility, summary)
     log.info(
         "simulated %s to day %g: %s",
         case.name,

@@ -221,6 +221,35 @@ def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
     assert sorted(p.name for p in folder.iterdir()) == before  # nothing left behind
 
 
+def test_a_run_failing_after_flow_leaves_none_of_flows_files(built, tmp_path):
+    """Flow runs to its end, then the results' VTU cannot be written (the grid file is missing):
+    the one error names the grid file, and none of Flow's files (UNRST, EGRID, PRT...) joins the
+    deck, as a failed run leaves them nowhere."""
+    folder = tmp_path / "late"
+    shutil.copytree(built["waterflood_cp"] / "flow", folder)
+    for produced in folder.glob("WATERFLOOD_CP.[!D]*"):  # leave the deck and its includes only
+        if produced.suffix != ".INC":
+            produced.unlink()
+    outputs = {
+        k: folder / f"out_{k}.{suffix}"
+        for k, suffix in (("summary", "json"), ("wells", "png"), ("vtu", "vtu"))
+    }
+    before = sorted(p.name for p in folder.iterdir())
+    missing = tmp_path / "no_such_grid.nc"
+    with pytest.raises(InputError, match=r"no_such_grid\.nc"):
+        stage_simulate(
+            load_case(CASES / "waterflood_cp.yaml"),
+            flow_deck=folder / "WATERFLOOD_CP.DATA",
+            grid=missing,
+            transmissibility=built["waterflood_cp"] / "transmissibility.nc",
+            **{f"flow_{key}": path for key, path in outputs.items()},
+        )
+    left = sorted(p.name for p in folder.iterdir() if not p.name.startswith("out_"))
+    assert (
+        left == before
+    )  # the summary and picture written before are the stage's outputs, removed by its caller
+
+
 def test_connections_below_flows_threshold_vanish_as_reported(tmp_path):
     """A synthetic connection form (cells missing from the box, boxes overlapping their
     neighbours before they are shrunk, tiny transmissibilities): Flow keeps every connection
