@@ -4,6 +4,7 @@ key -> quantity resolution of :mod:`gridlib.config.key_units`."""
 from __future__ import annotations
 
 import copy
+import json
 from pathlib import Path
 
 import pytest
@@ -192,3 +193,71 @@ def test_every_number_of_every_sample_case_resolves(case):
         quantity = key_quantity(key, data)
         last = next(p for p in reversed(key.split(".")) if not p.isdigit())
         assert (quantity.quantity is None) == (last in counts), key
+
+
+def _study_tables(tmp_path, monkeypatch, base: dict, vary: dict, summary: dict):
+    """study.csv's header, study.nc's coordinates' attributes and study.png's x labels of a
+    study of ``base`` (a case's data) varying ``vary``, from its manifest and made-up
+    summaries (``summary`` plus each variant's name): the stage in-process, no build."""
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    from gridlib.stages import study as stage
+    from gridlib.study import load_study, manifest_text
+
+    (tmp_path / "base.yaml").write_text(yaml.safe_dump(base | {"name": "base"}))
+    spec = {"name": "s", "base": "base.yaml", "vary": vary, "combine": "zip"}
+    (tmp_path / "s.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    study = load_study(tmp_path / "s.yaml", tmp_path / "results")
+    (tmp_path / "variants.yaml").write_text(manifest_text(study))
+    summaries = []
+    for v in study.variants:
+        summaries.append(tmp_path / f"{v.name}.json")
+        summaries[-1].write_text(json.dumps({"case": v.name, **summary}))
+    labels = []
+    monkeypatch.setattr(
+        stage,
+        "save_figure",
+        lambda fig, path: labels.extend(ax.get_xlabel() for ax in fig.axes) or plt.close(fig),
+    )
+    out = {k: str(tmp_path / f"study.{k}") for k in ("csv", "nc", "png")}
+    stage.stage_study(tmp_path / "variants.yaml", summaries, out)
+    with xr.open_dataset(out["nc"]) as ds:
+        coords = {key: dict(ds[key].attrs) for key in vary}
+    header = (tmp_path / "study.csv").read_text().splitlines()[0].split(",")
+    return header, coords, sorted(set(labels) - {""})
+
+
+def test_a_study_of_a_field_deck_labels_its_keys_in_feet(tmp_path, monkeypatch):
+    summary = {"unit_system": "FIELD", "griddim": 3, "cells": 9000, "pore_volume": 1.5e7}
+    vary = {"grid.tolerance": [0, 0.5], "petrophysics.kv_kh": [0.1, 0.2], "coarsen.dims.0": [3, 6]}
+    spe9 = _case("spe9")
+    spe9["grid"] |= {"file": str(CASES / spe9["grid"]["file"]), "tolerance": 0}
+    header, coords, labels = _study_tables(tmp_path, monkeypatch, spe9, vary, summary)
+    assert header[:6] == [
+        "variant",
+        "grid.tolerance [ft]",
+        "petrophysics.kv_kh [1]",
+        "coarsen.dims.0",
+        "realisation",
+        "seed",
+    ]
+    assert "pore_volume [ft3]" in header
+    assert coords == {
+        "grid.tolerance": {"units": "ft"},
+        "petrophysics.kv_kh": {"units": "1"},
+        "coarsen.dims.0": {},
+    }
+    assert labels == ["coarsen.dims.0", "grid.tolerance [ft]", "petrophysics.kv_kh [1]"]
+
+
+def test_a_study_of_a_built_grid_labels_its_keys_in_metres(tmp_path, monkeypatch):
+    summary = {"unit_system": "METRIC", "griddim": 3, "cells": 900, "pore_volume": 1.5e5}
+    vary = {"faults.0.throw": [0, 30], "petrophysics.permeability.field.mean": [100, 300]}
+    header, coords, labels = _study_tables(tmp_path, monkeypatch, _case("waterflood_pebi"), vary, summary)
+    assert header[1:3] == ["faults.0.throw [m]", "petrophysics.permeability.field.mean [mD]"]
+    assert coords == {
+        "faults.0.throw": {"units": "m"},
+        "petrophysics.permeability.field.mean": {"units": "mD"},
+    }
+    assert labels == ["faults.0.throw [m]", "petrophysics.permeability.field.mean [mD]"]
