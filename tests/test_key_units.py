@@ -261,3 +261,83 @@ def test_a_study_of_a_built_grid_labels_its_keys_in_metres(tmp_path, monkeypatch
         "petrophysics.permeability.field.mean": {"units": "mD"},
     }
     assert labels == ["faults.0.throw [m]", "petrophysics.permeability.field.mean [mD]"]
+
+
+# config/README.md's key tables (from "## A case" to "## Studies"), in order: the case keys
+# each table's rows are under; a row's `unit` cell is "<unit>" (the key's, and its unnamed
+# descendants'), "`a`, `b`: <unit>" (named keys below it; "; " between parts), "(...)" (said
+# elsewhere), "–" (no unit); a unit may be followed by a remark in parentheses.
+README_TABLES = [
+    [""],
+    ["horizons"],
+    ["horizons.surfaces.0"],
+    ["faults.0", "wells.0"],
+    ["grid"],
+    ["petrophysics"],
+    ["petrophysics.porosity", "petrophysics.permeability", "petrophysics.ntg"],
+    ["simulation"],
+    ["coarsen"],
+    ["outputs"],
+    ["domain"],
+]
+SAID_ELSEWHERE = "(said elsewhere)"
+ALIASES = {"grid.x": ("grid.y", "grid.z")}  # the row `x` says "also `y`, `z`"
+
+
+def _readme_units() -> list[tuple[str, str, str]]:
+    """(table's prefix, row key, unit cell) of every row of the README's case key tables."""
+    import re
+
+    text = (ROOT / "config" / "README.md").read_text()
+    text = text[text.index("## A case") : text.index("## Studies")]
+    tables = text.split("| key | unit | meaning |")[1:]
+    assert len(tables) == len(README_TABLES)
+    rows = []
+    for prefixes, table in zip(README_TABLES, tables, strict=True):
+        for key, cell in re.findall(r"^\| `([a-z_0-9]+)` \| ([^|]*) \|", table, flags=re.M):
+            rows += [(prefix, key, cell.strip()) for prefix in prefixes]
+    return rows
+
+
+def _cell_units(cell: str) -> tuple[str | None, dict[str, str]]:
+    """A unit cell as (the row's own unit or None, {named key: unit}); "–" is None's text."""
+    import re
+
+    own, named = None, {}
+    for part in cell.split("; "):
+        if part.startswith("("):
+            continue
+        m = re.match(r"^((?:`[a-z_0-9]+`(?:, )?)+): (.*)$", part)
+        text = m.group(2) if m else part
+        unit = SAID_ELSEWHERE if text.startswith("(") else text.split(" (")[0]
+        if m:
+            named |= dict.fromkeys(re.findall(r"`([a-z_0-9]+)`", m.group(1)), unit)
+        else:
+            own = unit
+    return own, named
+
+
+def test_config_readme_gives_every_numeric_key_its_unit():
+    from gridlib.config.key_units import numeric_keys
+
+    keys = numeric_keys()
+    covered: set[str] = set()
+    for prefix, row, cell in _readme_units():
+        own, named = _cell_units(cell)
+        heads = [f"{prefix}.{row}".lstrip(".")]
+        heads += list(ALIASES.get(heads[0], ()))
+        for key, quantity in keys.items():
+            head = next((h for h in heads if key == h or key.startswith(h + ".")), None)
+            if head is None:
+                continue
+            rest = [p for p in key[len(head) :].split(".") if p and not p.isdigit()]
+            unit = named.get(rest[-1]) if rest else None
+            unit = unit or (own if not rest or rest[-1] not in named else None)
+            if unit is None:
+                if cell.startswith("(") and not rest:
+                    covered.add(key)  # said elsewhere (a property's values)
+                continue
+            if unit != SAID_ELSEWHERE:  # a property's values: the unit of the property they give
+                assert unit == (quantity.unit(METRIC) or "–"), (key, cell)
+            covered.add(key)
+    assert sorted(set(keys) - covered) == []

@@ -198,3 +198,24 @@ def annotation_problems(schema: Mapping[str, Any] | None = None) -> list[str]:
 
     visit(root, "#", False)
     return problems
+
+
+def numeric_keys(schema: Mapping[str, Any] | None = None) -> dict[str, KeyQuantity]:
+    """Every dotted key of the schema whose value is a number or a list of numbers (list items
+    as ``0``: ``faults.0.throw``), in every branch, with what it measures (:func:`key_quantity`;
+    the keys config/README.md's ``unit`` column must cover)."""
+    root = shared_schema(SCHEMA_FILE) if schema is None else schema
+    found: dict[str, KeyQuantity] = {}
+
+    def visit(states: list[_At], path: tuple[str, ...]) -> None:
+        expanded = [e for at in states for e in _expand(at, root)]
+        if path and any(_is_number(at.node) for at, _ in expanded):
+            found[".".join(path)] = key_quantity(".".join(path), schema=root)
+        names = {n for at, _ in expanded for n in (at.node.get("properties") or {})}
+        for name in sorted(names):
+            visit([s for s in (_step(at, name) for at, _ in expanded) if s], (*path, name))
+        if any(isinstance(at.node.get("items"), dict) for at, _ in expanded):
+            visit([s for s in (_step(at, 0) for at, _ in expanded) if s], (*path, "0"))
+
+    visit([_At(root, None, None, None)], ())
+    return found
