@@ -341,3 +341,30 @@ def test_config_readme_gives_every_numeric_key_its_unit():
                 assert unit == (quantity.unit(METRIC) or "–"), (key, cell)
             covered.add(key)
     assert sorted(set(keys) - covered) == []
+
+
+def test_variants_in_different_unit_systems_give_each_unit_with_its_rows():
+    from gridlib.stages.study import key_header, key_units
+
+    manifest = {
+        "keys": ["grid.tolerance", "grid.file", "simulation.report_days.0"],
+        "key_quantities": {
+            "grid.tolerance": {"quantity": "length"},
+            "grid.file": {"quantity": None},
+            "simulation.report_days.0": {"quantity": "time", "unit_system": "METRIC"},
+        },
+    }
+    rows = [{"unit_system": "FIELD"}, {"unit_system": "METRIC"}, {"unit_system": "FIELD"}]
+    units = key_units(manifest, rows)
+    assert units == {
+        "grid.tolerance": {"ft": ["FIELD"], "m": ["METRIC"]},
+        "grid.file": {},
+        "simulation.report_days.0": {"day": ["FIELD", "METRIC"]},
+    }
+    assert [key_header(k, u) for k, u in units.items()] == [
+        "grid.tolerance [ft: FIELD; m: METRIC]",
+        "grid.file",
+        "simulation.report_days.0 [day]",
+    ]
+    with pytest.raises(InputError, match="the summary of variant v1 has no unit_system"):
+        key_units(manifest, [{"variant": "v1"}])

@@ -80,6 +80,9 @@ def key_units(
     for key in manifest["keys"]:
         quantity = KeyQuantity(**stated[key]) if key in stated else key_quantity(key)
         found: dict[str, list[str]] = {}
+        out[key] = found
+        if quantity.quantity is None:
+            continue
         for row in rows:
             system = row.get("unit_system")
             if system in ("", None):
@@ -87,13 +90,9 @@ def key_units(
                     f"the summary of variant {row.get('variant', '?')} has no unit_system (written by "
                     "an older gridlib: build the study again)"
                 )
-            unit = quantity.unit(str(system))
-            if unit is None:
-                break
-            systems = found.setdefault(unit, [])
+            systems = found.setdefault(str(quantity.unit(str(system))), [])
             if system not in systems:
                 systems.append(str(system))
-        out[key] = found
     return out
 
 
