@@ -7,7 +7,9 @@
                                      # a built case's OPM Flow deck (<NAME>.DATA + includes)
 
 Errors in the input end with one message naming the file (and key, keyword or
-line) and exit status 2; a grid that fails ``check`` exits with status 1.
+line) and exit status 2; a grid that fails ``check`` exits with status 1. ``info`` and ``check``
+say the file's unit system (``units: FIELD``: a deck's units keyword, a netCDF file's
+``unit_system``) and give every figure its unit in it (``total volume: 1.2e+07 ft3``).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from .geometry import compute_geometry
 from .stages.common import notes_on_console
 from .stages.flow_deck import flow_deck_from_results
 from .stages.pipeline import run_case
+from .units import UnitSystem, unit_system
 
 GRID_KINDS = (
     "deck",
@@ -47,6 +50,27 @@ def _describe_grid(grid, out: list[str]) -> None:
     out.append(f"history: {', '.join(grid.history)}")
 
 
+def _deck_units(units: str | None) -> tuple[UnitSystem, str]:
+    """A deck's unit system and its ``units:`` line (ECLIPSE's default where it gives none)."""
+    if units:
+        return unit_system(units), f"units: {units}"
+    return unit_system(None), "units: not given (ECLIPSE default METRIC)"
+
+
+def _file_units(attrs: dict[str, object]) -> tuple[UnitSystem, str]:
+    """A gridlib netCDF file's unit system and its ``units:`` line."""
+    if "unit_system" in attrs:
+        system = unit_system(str(attrs["unit_system"]))
+        return system, f"units: {system.name}"
+    return unit_system(None), "units: not recorded (a file of an older gridlib: METRIC)"
+
+
+def _depth_range(z: np.ndarray, system: UnitSystem) -> str | None:
+    z = z[np.isfinite(z)]
+    unit = system.unit("length")
+    return f"depth range: {z.min():.6g} to {z.max():.6g} {unit}" if z.size else None
+
+
 def info(path: Path) -> str:
     """A human-readable summary of a deck, EGRID or netCDF file."""
     out = [f"{path}"]
@@ -59,7 +83,8 @@ def info(path: Path) -> str:
         zero_pv = int(zero_pore_volume(deck).sum())
         if zero_pv:
             out.append(f"of them with zero pore volume (inactive, as in OPM Flow): {zero_pv:,d}")
-        out.append(f"units: {deck.units or 'not given (ECLIPSE default METRIC)'}")
+        system, units = _deck_units(deck.units)
+        out.append(units)
         if deck.cell_data:
             out.append(f"cell keywords: {', '.join(sorted(deck.cell_data))}")
         if deck.faults:
@@ -67,13 +92,16 @@ def info(path: Path) -> str:
             out.append(f"faults: {len(names)} ({len(deck.faults)} FAULTS lines): {', '.join(names[:20])}")
         if deck.nnc is not None:
             out.append(f"NNCs in the file: {deck.nnc.shape[0]:,d}")
-        z = deck.zcorn[np.isfinite(deck.zcorn)]
-        if z.size:
-            out.append(f"depth range: {z.min():.6g} to {z.max():.6g}")
+        depths = _depth_range(deck.zcorn, system)
+        out += [depths] if depths else []
         out += [f"note: {n}" for n in deck.notes]
     else:
         data = io.read(path, kind="grid")
         _describe_grid(data.grid, out)
+        system, units = _file_units(data.attrs)
+        out.append(units)
+        depths = _depth_range(data.grid.nodes.coords[:, 2], system) if data.grid.dim == 3 else None
+        out += [depths] if depths else []
         for key in ("case_name", "gridlib_version", "case_sha256", "seed"):
             if key in data.attrs:
                 out.append(f"{key}: {data.attrs[key]}")
@@ -88,25 +116,29 @@ def check(path: Path) -> str:
 
     out = [f"{path}"]
     if io.kind_of(path, GRID_KINDS) == "deck":
-        result = process_grdecl(io.read(path, kind="deck"))
+        deck = io.read(path, kind="deck")
+        system, units = _deck_units(deck.units)
+        result = process_grdecl(deck)
         grid = result.grid
         _describe_grid(grid, out)
+        out.append(units)
         out.append(f"non-neighbour connections: {result.nnc.num:,d}")
-        out.append(f"bulk volume (ECLIPSE convention): {result.bulk_volumes.sum():.9g}")
+        bulk = f"{result.bulk_volumes.sum():.9g} {system.unit('volume')}"
+        out.append(f"bulk volume (ECLIPSE convention): {bulk}")
         out += [f"note: {n}" for n in result.notes]
     else:
-        grid = io.read(path, kind="grid").grid
+        data = io.read(path, kind="grid")
+        grid = data.grid
         _describe_grid(grid, out)
+        system, units = _file_units(data.attrs)
+        out.append(units)
     geo = compute_geometry(grid)
     if io.kind_of(path, GRID_KINDS) == "deck":  # a deck's degenerate cells are kept and named
         out += [f"note: {n}" for n in check_deck_grid(grid, geo).notes(grid)]
     else:
         check_grid(grid, geo)
-    out.append(
-        f"total volume: {geo.cell_volumes.sum():.9g}"
-        if grid.griddim == 3
-        else f"total area: {geo.cell_volumes.sum():.9g}"
-    )
+    measure = "total volume" if grid.griddim == 3 else "total area"
+    out.append(f"{measure}: {geo.cell_volumes.sum():.9g} {system.unit('cell_measure', grid.griddim)}")
     out.append("OK: every invariant holds")
     return "\n".join(out)
 

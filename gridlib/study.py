@@ -53,6 +53,7 @@ from .config import (
     with_deck_rock,
     with_defaults,
 )
+from .config.key_units import KeyQuantity, key_quantity
 from .errors import InputError
 from .io.atomic import atomic_path
 
@@ -96,6 +97,8 @@ class Study:
     realisations: int
     seed: int
     variants: tuple[Variant, ...]
+    # what each varied key measures (its unit follows from the base case's unit system)
+    key_quantities: dict[str, KeyQuantity] = field(default_factory=dict)
 
     def folder(self, results: str | os.PathLike) -> Path:
         return Path(results) / self.name
@@ -301,7 +304,16 @@ def load_study(
         realisations=realisations,
         seed=seed,
         variants=tuple(variants),
+        key_quantities=_key_quantities(p, keys, base_data),
     )
+
+
+def _key_quantities(study: Path, keys: list[str], base: dict[str, Any]) -> dict[str, KeyQuantity]:
+    """What each varied key of the base case measures (:func:`gridlib.config.key_units.key_quantity`)."""
+    try:
+        return {key: key_quantity(key, base) for key in keys}
+    except InputError as exc:
+        raise InputError(f"{study}: vary.{exc}") from None
 
 
 def artifacts_of(data: dict[str, Any]) -> tuple[str, ...]:
@@ -350,11 +362,18 @@ def write_if_changed(path: str | os.PathLike, text: str) -> bool:
 
 
 def manifest_text(study: Study) -> str:
-    """The study's variant table (YAML): name, values, realisation and seed of each variant,
-    in order; the input of the study's table (study.csv, study.nc, study.png)."""
+    """The study's variant table (YAML): what each varied key measures (``key_quantities``:
+    its quantity, null for none, and the unit system where it has its own), then name, values,
+    realisation and seed of each variant, in order; the input of the study's table (study.csv,
+    study.nc, study.png)."""
+    quantities = {
+        k: {"quantity": q.quantity} | ({"unit_system": q.unit_system} if q.unit_system else {})
+        for k, q in study.key_quantities.items()
+    }
     doc = {
         "study": study.name,
         "keys": list(study.keys),
+        "key_quantities": quantities,
         "combine": study.combine,
         "variants": [
             {"name": v.name, "values": v.values, "realisation": v.realisation, "seed": v.seed}

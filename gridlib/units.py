@@ -47,7 +47,8 @@ MILLIDARCY = 9.869232667160130e-16  # m2
 # What a written value measures (its unit follows from the unit system, :meth:`UnitSystem.unit`):
 # cell_measure and face_measure are a cell's volume and a face's area in 3-D, a cell's area and
 # a face's length in 2-D; porv is a pore volume at reservoir conditions (Flow's rm3, rb, rcc);
-# fraction is dimensionless (CF's units "1").
+# fraction (porosity, net-to-gross) and dimensionless (ratios, factors) are CF's units "1";
+# rate is a surface rate, angle is in degrees in every system.
 QUANTITIES = (
     "length",
     "area",
@@ -59,6 +60,10 @@ QUANTITIES = (
     "permeability",
     "transmissibility",
     "fraction",
+    "dimensionless",
+    "angle",
+    "time",
+    "rate",
 )
 
 
@@ -86,6 +91,7 @@ class UnitSystem:
     transmissibility_label: str  # transmissibilities and well connection factors
     permeability_label: str = "mD"
     viscosity_label: str = "cP"
+    time_label: str = "day"
 
     def unit(self, quantity: str, griddim: int = 3) -> str:
         """The label of a :data:`QUANTITIES` member in this system, as gridlib writes it into
@@ -106,6 +112,10 @@ class UnitSystem:
             "permeability": self.permeability_label,
             "transmissibility": self.transmissibility_label,
             "fraction": "1",
+            "dimensionless": "1",
+            "angle": "degree",
+            "time": self.time_label,
+            "rate": self.rate_label,
         }
         if quantity in measure:
             power = measure[quantity]
@@ -197,6 +207,7 @@ LAB = UnitSystem(
     pressure_label="atm",
     density_label="g/cm3",
     transmissibility_label="cP cm3/(h atm)",
+    time_label="h",
 )
 PVT_M = UnitSystem(
     "PVT-M",

@@ -7,6 +7,11 @@ The table's columns: ``variant``, one per varied key (its dotted name), ``realis
 ``seed``, then every figure of the variants' ``summary.json`` (the columns of
 ``results/summary.csv`` first, then any other number the summaries hold; the lists of
 fault and well names and the case's hash are left out).
+
+Units: a varied key's column header, its study.nc coordinate and its study.png axis carry its
+unit (``faults.0.throw [m]``; the case schema's ``x-quantity``, :mod:`gridlib.config.key_units`)
+in the base case's unit system (METRIC for a grid gridlib builds, a deck's own: ``ft`` for a
+FIELD deck), the figures' theirs (:mod:`gridlib.io.summary_table`).
 """
 
 from __future__ import annotations
@@ -19,6 +24,8 @@ from typing import Any
 
 import yaml
 
+from ..config.key_units import KeyQuantity, key_quantity
+from ..errors import InputError
 from ..io.netcdf import write_dataset
 from ..io.pictures import save_figure
 from ..io.summary_table import COLUMNS, column_units, header, read_summaries, unit_text, write_csv
@@ -61,11 +68,45 @@ def study_rows(
     return ["variant", *keys, "realisation", "seed", *present], rows
 
 
+def key_units(
+    manifest: Mapping[str, Any], rows: Sequence[Mapping[str, Any]]
+) -> dict[str, dict[str, list[str]]]:
+    """Each varied key's units over the variants (``rows``), each with the unit systems it
+    applies to (as :func:`~gridlib.io.summary_table.column_units`; one unit where the variants
+    share a system, as a study's usually do); empty for a key without a unit. What a key measures
+    is the manifest's ``key_quantities``, its unit system each variant's ``unit_system``."""
+    stated = manifest.get("key_quantities") or {}
+    out: dict[str, dict[str, list[str]]] = {}
+    for key in manifest["keys"]:
+        quantity = KeyQuantity(**stated[key]) if key in stated else key_quantity(key)
+        found: dict[str, list[str]] = {}
+        out[key] = found
+        if quantity.quantity is None:
+            continue
+        for row in rows:
+            system = row.get("unit_system")
+            if system in ("", None):
+                raise InputError(
+                    f"the summary of variant {row.get('variant', '?')} has no unit_system (written by "
+                    "an older gridlib: build the study again)"
+                )
+            systems = found.setdefault(str(quantity.unit(str(system))), [])
+            if system not in systems:
+                systems.append(str(system))
+    return out
+
+
+def key_header(key: str, units: Mapping[str, Sequence[str]]) -> str:
+    """A varied key with its unit: ``faults.0.throw [m]`` (the key alone where it has none)."""
+    return f"{key} [{unit_text(units)}]" if units else key
+
+
 def study_dataset(manifest: Mapping[str, Any], columns: list[str], rows: list[dict]):
     """The table as an xarray Dataset over one dimension per varied key plus ``realisation``
     (a zipped study fills the combinations it does not have with NaN, or "" for text); every
-    figure with a unit has its ``units`` (``units_by_unit_system`` where the variants' unit
-    systems differ: then each variant's values are in its ``unit_system``)."""
+    figure and every varied key's coordinate with a unit has its ``units``
+    (``units_by_unit_system`` where the variants' unit systems differ: then each variant's
+    values are in its ``unit_system``)."""
     import pandas as pd
 
     keys = list(manifest["keys"])
@@ -86,6 +127,9 @@ def study_dataset(manifest: Mapping[str, Any], columns: list[str], rows: list[di
             ds[name].attrs["units"] = next(iter(units))
         elif units:  # variants in different unit systems: each in its own (unit_system)
             ds[name].attrs["units_by_unit_system"] = unit_text(units)
+    for key, units in key_units(manifest, rows).items():
+        if units:
+            ds[key].attrs["units" if len(units) == 1 else "units_by_unit_system"] = unit_text(units)
     ds.attrs = {"study": manifest["study"], "combine": manifest["combine"], "varied_keys": json.dumps(keys)}
     return ds
 
@@ -108,6 +152,7 @@ def plot_study(path: str | os.PathLike, manifest: Mapping[str, Any], rows: list[
     import numpy as np
 
     keys = list(manifest["keys"])
+    units = key_units(manifest, rows)
     figures = [f for f in PLOTTED if any(isinstance(r.get(f), int | float) for r in rows)]
     fig, axes = plt.subplots(
         len(figures), len(keys), figsize=(3.6 * len(keys), 2.4 * len(figures)), squeeze=False
@@ -129,7 +174,7 @@ def plot_study(path: str | os.PathLike, manifest: Mapping[str, Any], rows: list[
             )
             ax.set_xticks(xs, ticks, fontsize=7)
             if i == len(figures) - 1:
-                ax.set_xlabel(key)
+                ax.set_xlabel(key_header(key, units[key]))
             if j == 0:
                 ax.set_ylabel(header(figure, rows).replace("_", " "), fontsize=8)
             ax.tick_params(labelsize=7)
@@ -146,7 +191,12 @@ def stage_study(
     manifest = yaml.safe_load(Path(manifest_file).read_text(encoding="utf-8"))
     loaded = read_summaries(summaries)
     columns, rows = study_rows(manifest, loaded)
-    write_csv(outputs["csv"], columns, rows)
+    labels = {key: key_header(key, units) for key, units in key_units(manifest, rows).items()}
+    write_csv(
+        outputs["csv"],
+        [labels.get(c, c) for c in columns],
+        [{labels.get(name, name): value for name, value in row.items()} for row in rows],
+    )
     write_dataset(outputs["nc"], study_dataset(manifest, columns, rows))
     plot_study(outputs["png"], manifest, rows)
     log.info("wrote the table of study %s (%d variants)", manifest["study"], len(rows))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -19,12 +20,16 @@ def test_info_of_a_deck(decks_dir, capsys):
     out = capsys.readouterr().out
     assert "40 x 64 x 14 = 35,840 cells, 35,838 active" in out
     assert "faults: 6 (136 FAULTS lines)" in out and "units: METRIC" in out
+    assert re.search(r"^depth range: [0-9.]+ to [0-9.]+ m$", out, re.M)
 
 
 def test_check_of_a_deck_and_an_egrid(decks_dir, capsys):
     assert main(["check", str(decks_dir / "spe9" / "SPE9_CP.DATA")]) == 0
     out = capsys.readouterr().out
     assert "9,000 cells, 28,335 faces" in out and out.rstrip().endswith("OK: every invariant holds")
+    # FIELD: 24 x 25 columns of 300 ft x 300 ft, layers 359 ft thick in all: 1.9386e10 ft3
+    assert "units: FIELD" in out and "bulk volume (ECLIPSE convention): 1.9386e+10 ft3" in out
+    assert "total volume: 1.9386e+10 ft3" in out
     assert main(["check", str(decks_dir / "reek" / "REEK.EGRID")]) == 0
     assert "non-neighbour connections: 2,944" in capsys.readouterr().out
 
@@ -33,9 +38,13 @@ def test_build_then_info_and_check_of_the_netcdf(tmp_path, capsys):
     assert main(["build", str(ROOT / "config" / "cases" / "honeycomb.yaml"), str(tmp_path)]) == 0
     assert (tmp_path / "honeycomb.vtu").is_file()
     assert main(["info", str(tmp_path / "grid.nc")]) == 0
-    assert "case_name: honeycomb" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "case_name: honeycomb" in out and "units: METRIC" in out
+    assert re.search(r"^depth range: [0-9.]+ to [0-9.]+ m$", out, re.M)
     assert main(["check", str(tmp_path / "grid.nc")]) == 0
-    assert "total volume: 80.5403626" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "total volume: 80.5403626" in out
+    assert "units: METRIC" in out and "total volume: 80.5403626 m3" in out
 
 
 def test_flow_deck_of_a_built_case_in_either_form(tmp_path, capsys):

@@ -113,7 +113,7 @@ def test_study_csv_has_a_row_per_variant_with_its_values(study_run):
     rows = _rows(study_run)
     assert len(rows) == 24
     header = list(_rows(study_run, units=True)[0])  # the figures' units in the header (issue 24)
-    assert header[:5] == ["variant", "faults.0.throw", "grid.cell_size", "realisation", "seed"]
+    assert header[:5] == ["variant", "faults.0.throw [m]", "grid.cell_size [m]", "realisation", "seed"]
     units = {"pore_volume [m3]", "median_trans [cP m3/(day bar)]", "mean_porosity [1]", "unit_system"}
     assert {"cells", "faces", "nnc", "fault_connections"} | units <= set(header)
     combos = [(int(r["faults.0.throw"]), int(r["grid.cell_size"]), int(r["realisation"])) for r in rows]
@@ -157,6 +157,8 @@ def test_study_nc_has_a_dimension_per_varied_key_and_realisation(study_run):
     with xr.open_dataset(study_run / "results" / "sweep" / "study.nc") as ds:
         assert dict(ds.sizes) == {"faults.0.throw": 4, "grid.cell_size": 2, "realisation": 3}
         assert ds["faults.0.throw"].values.tolist() == THROWS
+        assert ds["faults.0.throw"].attrs["units"] == ds["grid.cell_size"].attrs["units"] == "m"
+        assert "units" not in ds["realisation"].attrs
         cells = ds["cells"].sel({"faults.0.throw": 20, "grid.cell_size": 80, "realisation": 1})
         row = next(r for r in _rows(study_run) if r["variant"] == "throw-20_cell_size-80_r1")
         assert int(cells) == int(row["cells"])

@@ -151,7 +151,7 @@ def test_the_sample_study_is_built(workflow_run):
     """config/studies/waterflood_throw.yaml: 2 throws x 2 realisations of waterflood_pebi."""
     study = workflow_run / "results" / "waterflood_throw"
     lines = (study / "study.csv").read_text().splitlines()
-    assert lines[0].startswith("variant,faults.0.throw,realisation,seed,")
+    assert lines[0].startswith("variant,faults.0.throw [m],realisation,seed,")
     variants = [f"throw-{t}_r{r}" for t in (0, 30) for r in (0, 1)]
     assert [line.split(",")[0] for line in lines[1:]] == variants
     assert (study / "throw-30_r1" / "flow" / "THROW-30_R1.DATA").is_file()
