@@ -460,22 +460,3 @@ def test_one_run_names_every_broken_case_and_runs_nothing(tmp_path):
     assert "Traceback" not in out and 'File "' not in out, out[-3000:]
     assert "Building DAG" not in out and "localrule" not in out and "Finished job" not in out
     assert not (tmp_path / "results").exists() or not any((tmp_path / "results").rglob("*"))
-
-
-def test_a_problem_only_a_stage_finds_leaves_nothing(tmp_path):
-    """Horizons that cross are found by the horizons stage: its job fails with one line naming the
-    case file, and nothing is left under results/{case}/."""
-    name = "crossing_horizons"
-    case = tmp_path / "config" / f"{name}.yaml"
-    case.parent.mkdir()
-    case.write_text(
-        f"name: {name}\n" + PEBI.replace("plane: {depth: 1040}", "plane: {depth: 990, dip: 5, azimuth: 90}")
-    )
-    result = _snakemake(tmp_path, [case])
-    out = result.stdout + result.stderr
-    assert result.returncode != 0
-    message = "horizons cross: horizons 'top' and 'base' cross at 18 nodes"
-    assert [line for line in out.splitlines() if str(case) in line and message in line], out[-3000:]
-    folder = tmp_path / "results" / name
-    left = [p for p in folder.rglob("*") if p.is_file()] if folder.exists() else []
-    assert left == [], f"{name} left {left}"
