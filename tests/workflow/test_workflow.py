@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -157,6 +158,17 @@ def test_the_sample_study_is_built(workflow_run):
     assert (study / "throw-30_r1" / "flow" / "THROW-30_R1.DATA").is_file()
     with xr.open_dataset(study / "study.nc") as ds:
         assert dict(ds.sizes) == {"faults.0.throw": 2, "realisation": 2}
+
+
+def test_the_readmes_study_example_runs_on_the_sample_study(workflow_run, monkeypatch, capsys):
+    """README.md's ```py block (a study's table and dataset read back) as written, in the
+    folder the workflow ran in."""
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    (code,) = [b for b in re.findall(r"```py\n(.*?)```", readme, flags=re.S) if "study.csv" in b]
+    monkeypatch.chdir(workflow_run)
+    exec(compile(code, "README.md", "exec"), {})
+    out = capsys.readouterr().out
+    assert "faults.0.throw" in out and "throw-30_r1" in out, out
 
 
 def test_the_report_zip_is_produced(workflow_run):
