@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..cell_names import cell_names
+from ..cell_names import cell_names, ijk_text
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.pore_volume import with_flow_activity
 from ..cornerpoint.process import CornerPointGrid, process_grdecl
@@ -120,7 +120,20 @@ def deck_transmissibility(
     pairs, trans, kind, f = apply_deck_edits(
         deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
     )
+    _check_finite(deck, trans, glob[pairs])
     return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes)
+
+
+def _check_finite(deck: Deck, trans: np.ndarray, cells: np.ndarray) -> None:
+    """Transmissibilities beyond float64 (a PERMX or multiplier of 1e300) are the deck's doing:
+    one InputError naming the deck and the first connection's cells."""
+    bad = np.flatnonzero(~np.isfinite(trans))
+    if bad.size:
+        a, b = (ijk_text(int(g), deck.cart_dims) for g in cells[bad[0]])
+        raise InputError(
+            f"{deck.source}: {bad.size} transmissibilities are beyond any float (first between cells "
+            f"{a} and {b}): check the permeabilities and multipliers there"
+        )
 
 
 def _smallest_multz(mult, ga, gb, ta, column, layer):

@@ -502,6 +502,16 @@ def test_bad_rock_and_multipliers_name_the_keyword(tmp_path, grid, message):
         deck_transmissibility(read_grdecl(path))
 
 
+def test_transmissibilities_beyond_any_float_name_the_deck_and_cells(tmp_path):
+    """PERMX 1e300: finite values whose harmonic combination (t1 t2 / (t1 + t2), as Flow) is not."""
+    path = _deck(tmp_path, "")
+    path.write_text(path.read_text().replace("PERMX\n 12*100 /", "PERMX\n 12*1e300 /"))
+    message = r"D\.DATA: 20 transmissibilities are beyond any float "
+    message += r"\(first between cells \(1, 1, 1\) and \(2, 1, 1\)\)"
+    with pytest.raises(InputError, match=message):
+        deck_transmissibility(read_grdecl(path))
+
+
 def test_missing_permeability_and_partial_regions(tmp_path):
     path = _deck(tmp_path, "")
     path.write_text(path.read_text().replace("PERMX\n 12*100 /\n", ""))
