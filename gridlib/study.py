@@ -56,6 +56,7 @@ from .config import (
 from .config.key_units import KeyQuantity, key_quantity
 from .errors import InputError
 from .io.atomic import atomic_path
+from .io.datasets import damaged
 
 STUDY_SCHEMA = "study.schema.yaml"
 SEED_STEP = 3  # a case's fields use seed, seed + 1, seed + 2
@@ -381,6 +382,33 @@ def manifest_text(study: Study) -> str:
         ],
     }
     return yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100)
+
+
+def read_manifest(path: str | os.PathLike) -> dict[str, Any]:
+    """The variant table :func:`manifest_text` wrote (results/<study>/variants.yaml), read back;
+    one InputError naming the file where it is missing, not YAML or not such a table
+    (:func:`gridlib.io.datasets.damaged`)."""
+    try:
+        doc = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise damaged(path, "no such file") from None
+    except (UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise damaged(path, f"not YAML: {' '.join(str(exc).split())}") from None
+    variant_keys = {"name", "values", "realisation", "seed"}
+    if (
+        not isinstance(doc, dict)
+        or not {"study", "keys", "combine", "variants"} <= set(doc)
+        or not isinstance(doc["keys"], list)
+        or not isinstance(doc["variants"], list)
+        or not all(isinstance(v, dict) and variant_keys <= set(v) for v in doc["variants"])
+        or not all(
+            isinstance(v["values"], dict) and set(doc["keys"]) <= set(v["values"]) for v in doc["variants"]
+        )
+    ):
+        raise damaged(
+            path, "not a study's variant table (study, keys, combine, variants with name and values)"
+        )
+    return doc
 
 
 def materialise(study: Study, results: str | os.PathLike) -> list[Path]:

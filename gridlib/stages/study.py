@@ -19,16 +19,15 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
-
-import yaml
 
 from ..config.key_units import KeyQuantity, key_quantity
 from ..errors import InputError
+from ..io.datasets import damaged
 from ..io.netcdf import write_dataset
 from ..io.pictures import save_figure
 from ..io.summary_table import COLUMNS, column_units, header, read_summaries, unit_text, write_csv
+from ..study import read_manifest
 from .common import log
 
 NOT_FIGURES = ("case", "seed", "case_sha256")
@@ -188,8 +187,11 @@ def stage_study(
 ) -> None:
     """study.csv, study.nc and study.png (``outputs`` keys ``csv``, ``nc``, ``png``) from the
     study's manifest (results/<study>/variants.yaml) and its variants' summary.json files."""
-    manifest = yaml.safe_load(Path(manifest_file).read_text(encoding="utf-8"))
+    manifest = read_manifest(manifest_file)
     loaded = read_summaries(summaries)
+    missing = sorted({v["name"] for v in manifest["variants"]} - {s["case"] for s in loaded})
+    if missing:
+        raise damaged(manifest_file, f"variants {', '.join(missing)} have no summary.json among the inputs")
     columns, rows = study_rows(manifest, loaded)
     labels = {key: key_header(key, units) for key, units in key_units(manifest, rows).items()}
     write_csv(

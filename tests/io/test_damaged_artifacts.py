@@ -260,3 +260,42 @@ def test_a_damaged_summary_is_one_error_naming_it(built, tmp_path, damage):
         stage_summary([folder / "summary.json", summary], tmp_path / "summary.csv")
     assert str(caught.value).startswith(f"{summary}: damaged or incomplete (")
     assert str(caught.value).endswith(ADVICE) and not (tmp_path / "summary.csv").exists()
+
+
+MANIFEST = {
+    "intact": lambda text: text,
+    "zeroed_header": lambda text: "\0" * 64 + text[64:],
+    "not_a_table": lambda text: "study: s\nvariants: 3\n",
+    "variant_renamed": lambda text: text.replace("name: dented", "name: dentex"),
+}
+
+
+@pytest.mark.parametrize("damage", MANIFEST)
+def test_a_damaged_study_manifest_is_one_error_naming_it(built, tmp_path, damage):
+    """The study stage reads results/<study>/variants.yaml (written when the workflow is parsed):
+    unreadable, not a variant table, or naming a variant whose summary is not among the inputs,
+    it is one error naming the manifest, and no table is written."""
+    import yaml
+
+    from gridlib.stages.study import stage_study
+
+    _, folder = built
+    manifest = tmp_path / "variants.yaml"
+    doc = {
+        "study": "s",
+        "keys": ["faults.0.throw"],
+        "key_quantities": {"faults.0.throw": {"quantity": "length"}},
+        "combine": "product",
+        "variants": [{"name": "dented", "values": {"faults.0.throw": 5}, "realisation": 0, "seed": 7}],
+    }
+    manifest.write_text(MANIFEST[damage](yaml.safe_dump(doc, sort_keys=False)))
+    outputs = {key: tmp_path / f"study.{key}" for key in ("csv", "nc", "png")}
+    if damage == "intact":
+        stage_study(manifest, [folder / "summary.json"], outputs)
+        assert outputs["csv"].read_text().splitlines()[1].startswith("dented,5,0,7,")
+        return
+    with pytest.raises(InputError) as caught:
+        stage_study(manifest, [folder / "summary.json"], outputs)
+    assert str(caught.value).startswith(f"{manifest}: damaged or incomplete (")
+    assert str(caught.value).endswith(ADVICE) and "\n" not in str(caught.value)
+    assert not any(path.exists() for path in outputs.values())
