@@ -46,6 +46,7 @@ import hashlib
 import os
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -95,15 +96,20 @@ def _reason(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
+_STDERR_SWAP = threading.Lock()  # file descriptor 2 is redirected by one thread at a time
+
+
 @contextlib.contextmanager
 def _filters_quiet() -> Iterator[None]:
     """Hold back what C code writes to standard error while HDF5 decodes chunks, and pass it
     on only if the read succeeds: the Zstandard filter prints "zstd: Data corruption detected"
     on a damaged chunk, which is then told once, by :func:`damaged`. (File descriptor 2 is the
-    process's: what another thread writes meanwhile comes out after the read.)"""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    with tempfile.TemporaryFile() as held:
+    process's: what another thread writes meanwhile comes out after the read; reads in threads
+    of one process take turns, as HDF5 has them do anyway, so that no thread restores another
+    thread's redirection.)"""
+    with _STDERR_SWAP, tempfile.TemporaryFile() as held:
+        sys.stderr.flush()
+        saved = os.dup(2)
         os.dup2(held.fileno(), 2)
         try:
             yield
