@@ -31,6 +31,7 @@ DepthFunction = Callable[[FloatArray, FloatArray], ArrayLike]
 
 _COINCIDENT = 1e-12  # two sticks closer than this (relative to the surface's extent) coincide
 _PARALLEL = 1e-13  # sticks whose drifts differ by less (relative to their coordinates) are parallel
+_PAIR_BUDGET = 1 << 20  # (depth, pair of strike segments) tests per block of the crossing check
 
 
 @dataclass(frozen=True, eq=False)
@@ -188,11 +189,12 @@ class FaultSurface:
         seg = np.zeros(px.shape, dtype=np.int64)
         tt = np.zeros(px.shape)
         side = np.zeros(px.shape)
-        a = self._sticks_at(np.zeros_like(seg), j, w)
+        lower, step = self.points[:-1], np.diff(self.points, axis=0)  # per level interval
+        ax, ay = (lower[j, 0, c] + w * step[j, 0, c] for c in (0, 1))
         for k in range(n_seg):  # one pass per strike segment, vectorised over the points
-            b = self._sticks_at(np.full_like(seg, k + 1), j, w)
-            dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
-            rx, ry = px - a[:, 0], py - a[:, 1]
+            bx, by = (lower[j, k + 1, c] + w * step[j, k + 1, c] for c in (0, 1))
+            dx, dy = bx - ax, by - ay
+            rx, ry = px - ax, py - ay
             length2 = dx * dx + dy * dy
             t = np.clip(
                 (rx * dx + ry * dy) / length2,
@@ -205,7 +207,7 @@ class FaultSurface:
             np.copyto(seg, k, where=better)
             np.copyto(tt, t, where=better)
             np.copyto(side, dx * ry - dy * rx, where=better)
-            a = b
+            ax, ay = bx, by
         # Nearest point at an interior stick: the point lies on the outer side of the turn there,
         # as far from it as the segment's cross product says elsewhere (|segment| * distance).
         vertex = np.where((tt == 0) & (seg > 0), seg, np.where((tt == 1) & (seg < n_seg - 1), seg + 1, -1))
@@ -224,7 +226,8 @@ class FaultSurface:
         """The depth (m) where the vertical line through every (x, y) meets the surface: the
         shallowest such depth, NaN where the line does not meet it (beside a vertical surface,
         or along it). Solves, per ruled patch, the quadratic in depth that puts the point on
-        the section's segment. x, y broadcast together, m."""
+        the section's segment: one pass over the points per patch (sticks - 1) x (levels - 1),
+        so meant for a grid's columns rather than its cells. x, y broadcast together, m."""
         px, py = (np.asarray(v, dtype=np.float64) for v in np.broadcast_arrays(x, y))
         shape = px.shape
         px, py = px.ravel(), py.ravel()
@@ -487,20 +490,27 @@ def _check_sections(depths: FloatArray, sections: FloatArray, label: str) -> Non
             f"{label}: the surface folds back on itself at stick {s + 2} (sticks {s + 1} and "
             f"{s + 3} lie on the same side of it) at depth {depths[k]:g} m"
         )
-    n_seg = strike.shape[1]
-    first, second = np.triu_indices(n_seg, k=2)
+    first, second = np.triu_indices(strike.shape[1], k=2)
+    # Only pairs whose boxes (each segment's extent over every depth) overlap can meet.
+    low = np.minimum(sections[:, :-1], sections[:, 1:]).min(axis=0)  # (n - 1, 2)
+    high = np.maximum(sections[:, :-1], sections[:, 1:]).max(axis=0)
+    near = np.all((low[first] <= high[second]) & (low[second] <= high[first]), axis=1)
+    first, second = first[near], second[near]
     if first.size == 0:
         return
-    p, q = sections[:, first], sections[:, first + 1]  # (K, pairs, 2)
-    r, t = sections[:, second], sections[:, second + 1]
-    crossing = _segments_meet(p, q, r, t)
-    if crossing.any():
-        k, pair = np.unravel_index(np.argmax(crossing), crossing.shape)
-        a, b = int(first[pair]), int(second[pair])
-        raise InputError(
-            f"{label}: the surface between sticks {a + 1} and {a + 2} crosses the surface between "
-            f"sticks {b + 1} and {b + 2} at depth {depths[k]:g} m"
-        )
+    step = max(1, _PAIR_BUDGET // first.size)
+    for start in range(0, depths.size, step):  # depths in blocks: (depths x pairs) stays small
+        block = sections[start : start + step]
+        p, q = block[:, first], block[:, first + 1]  # (depths, pairs, 2)
+        r, t = block[:, second], block[:, second + 1]
+        crossing = _segments_meet(p, q, r, t)
+        if crossing.any():
+            k, pair = np.unravel_index(np.argmax(crossing), crossing.shape)
+            a, b = int(first[pair]), int(second[pair])
+            raise InputError(
+                f"{label}: the surface between sticks {a + 1} and {a + 2} crosses the surface "
+                f"between sticks {b + 1} and {b + 2} at depth {depths[start + k]:g} m"
+            )
 
 
 def _segments_meet(p: FloatArray, q: FloatArray, r: FloatArray, t: FloatArray) -> np.ndarray:

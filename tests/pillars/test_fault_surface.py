@@ -271,3 +271,17 @@ def test_fault_trace_carries_an_optional_surface():
     assert FaultTrace(trace, throw=5.0, surface=surface).surface is surface
     with pytest.raises(InputError, match="surface must be a FaultSurface or None"):
         FaultTrace(trace, throw=5.0, surface="F1.xyz")
+
+
+@pytest.mark.parametrize("budget", [1, 1 << 20])
+def test_a_crossing_found_at_its_depth_whatever_the_block_size(monkeypatch, budget):
+    from gridlib.pillars import fault_surface
+
+    monkeypatch.setattr(fault_surface, "_PAIR_BUDGET", budget)
+    vertical = [
+        np.array([(x, y, 1000.0), (x, y, 1100.0)]) for x, y in ((0.0, 0.0), (0.0, 100.0), (100.0, 50.0))
+    ]
+    # Stick 4 runs west under stick 3: its segment reaches the first one (x = 0) at 1050 m.
+    sticks = [*vertical, np.array([(50.0, 50.0, 1000.0), (-50.0, 50.0, 1100.0)])]
+    with pytest.raises(InputError, match=r"between sticks 1 and 2 crosses .* sticks 3 and 4 at depth 1050 m"):
+        FaultSurface.from_sticks(sticks)
