@@ -201,3 +201,16 @@ def test_a_vertical_sticks_fault_with_a_side(tmp_path):
     (f,) = fault_traces(case, top=lambda x, y: np.full(np.shape(x), 1050.0))
     assert f.side == "left" and f.surface.is_vertical
     np.testing.assert_array_equal(f.points, [[300, 0], [300, 800]])
+
+
+def test_sticks_beyond_the_top_take_the_depth_of_the_nearest_that_meets_it(tmp_path):
+    shutil.copy(STICKS / "f1_sticks.xyz", tmp_path)
+    area = (455800, 5929800, 456800, 5931800)
+    case = load(tmp_path, "{name: F1, sticks: f1_sticks.xyz}", area=area)
+
+    def top(x, y):  # 1700 m, undefined north of y = 5931200 (the last stick is beyond it)
+        return np.where(np.asarray(y) <= 5931200.0, np.full(np.shape(x), 1700.0), np.nan)
+
+    (f1,) = fault_traces(case, top=top)
+    surface = f1.surface
+    np.testing.assert_allclose(f1.points, surface.section(1700.0), rtol=1e-12)

@@ -36,8 +36,10 @@ def fault_traces(case: Case, top: DepthFunction | None = None) -> list[FaultTrac
       round-off) and the vertices beyond take the top's depth there: the top is carried on
       flat along the trace, so the fault stays the same plane under every straight segment
       inside the area. The trace (``points``) is the case's.
-    * ``sticks``: ``points`` are where the sticks meet the top (:meth:`FaultSurface.on_horizon`),
-      ``side`` is the side they dip towards unless the case gives it.
+    * ``sticks``: ``points`` are where the sticks meet the top (:meth:`FaultSurface.on_horizon`;
+      a stick beyond the top's defined area where the nearest stick that meets it does: the top
+      carried on flat along the fault), ``side`` is the side they dip towards unless the case
+      gives it.
     """
     traces = []
     for k, spec in enumerate(case.data.get("faults", [])):
@@ -45,7 +47,7 @@ def fault_traces(case: Case, top: DepthFunction | None = None) -> list[FaultTrac
         throw = _throw(spec["throw"])
         if "sticks" in spec:
             surface = fault_sticks(case.path, spec).surface
-            points, _ = surface.on_horizon(_top(top, case, k, name, "is given by sticks"))
+            points, _ = surface.on_horizon(_top(top, case, k, name, "is given by sticks"), missing="nearest")
             side = spec.get("side") or surface.dip_side()
         else:
             points, side = spec["trace"], spec.get("side", "right")

@@ -268,15 +268,20 @@ class FaultSurface:
                     np.minimum(depth, np.where(ok, z, np.inf), out=depth)
         return np.where(np.isfinite(depth), depth, np.nan).reshape(shape)
 
-    def on_horizon(self, depth_fn: DepthFunction) -> tuple[FloatArray, FloatArray]:
+    def on_horizon(self, depth_fn: DepthFunction, missing: str = "error") -> tuple[FloatArray, FloatArray]:
         """Where every stick meets a horizon: ``depth_fn(x, y)`` gives the horizon's depth (m)
         at arrays of points (NaN outside it). Returns (xy (n, 2), z (n,)), m.
 
         Secant steps from the stick's first level (exact in one step for a plane horizon and a
         straight stick); a stick they do not settle is searched for its shallowest crossing
-        over the levels' depth range widened by its own span both ways, then bisected. One
-        :class:`~gridlib.errors.InputError` naming the fault and the stick if a stick does not
-        meet the horizon."""
+        over the levels' depth range widened by four times its span both ways, then bisected.
+        A stick that does not meet the horizon (it lies beyond the horizon's defined area, say)
+        is, with ``missing="error"``, one :class:`~gridlib.errors.InputError` naming the fault
+        and the stick; with ``missing="nearest"`` it takes the depth where the nearest stick
+        (in order along strike) that meets the horizon does (the horizon carried on flat along
+        the fault), an error only if none does."""
+        if missing not in ("error", "nearest"):
+            raise ValueError(f"missing must be 'error' or 'nearest', got {missing!r}")
         n = self.points.shape[1]
         sticks = np.arange(n)
 
@@ -305,9 +310,32 @@ class FaultSurface:
         tolerance = 1e-9 * np.maximum(1.0, np.abs(z))
         missed = ~(np.abs(g) <= tolerance)
         if missed.any():
-            z = np.where(missed, self._bisect_horizon(gap, missed), z)
+            z = np.where(missed, self._bisect_horizon(gap), z)
+        lost = np.isnan(z)
+        if lost.any() and (missing == "error" or lost.all()):
+            label = _label(self.name, self.source)
+            raise InputError(
+                f"{label}: stick {int(np.flatnonzero(lost)[0]) + 1} does not meet the horizon (the "
+                "horizon is undefined or too steep where the fault reaches it)"
+            )
+        if lost.any():
+            met = np.flatnonzero(~lost)
+            z = z[met[np.argmin(np.abs(sticks[:, None] - met[None, :]), axis=1)]]
         j, w = _interval(self.levels, z)
         return self._sticks_at(sticks, j, w), z
+
+    def check_sections(self, z_top: float, z_base: float) -> None:
+        """One :class:`~gridlib.errors.InputError` naming the fault and the sticks if at some
+        depth between ``z_top`` and ``z_base`` (m; a model's range) two sticks coincide or
+        cross, as :meth:`from_sticks` checks within the sticks' own depths (at every level in
+        the range and at eight depths in each interval between). For a fault from a dip: its
+        section at a depth is its trace moved by the mitred drifts, which a sharp bend of the
+        trace folds within a short depth."""
+        inner = self.levels[(self.levels > z_top) & (self.levels < z_base)]
+        knots = np.unique(np.concatenate([[float(z_top), float(z_base)], inner]))
+        fractions = np.linspace(0.0, 1.0, 9)[:-1]
+        depths = np.append((knots[:-1, None] + np.diff(knots)[:, None] * fractions).ravel(), knots[-1])
+        _check_sections(depths, self.section(depths), _label(self.name, self.source))
 
     def dip_side(self) -> str:
         """``'left'`` or ``'right'``: the side of the section (walked from the first stick to
@@ -329,31 +357,27 @@ class FaultSurface:
         """(N, 2): stick ``stick[p]`` at the depth given by interval ``j[p]`` and weight ``w[p]``."""
         return _lerp(self.points[j, stick], self.points[j + 1, stick], w[:, None])
 
-    def _bisect_horizon(self, gap: Callable[[FloatArray], FloatArray], missed: np.ndarray) -> FloatArray:
-        """The shallowest depth where every stick crosses the horizon, by a scan and bisection."""
-        label = _label(self.name, self.source)
+    def _bisect_horizon(self, gap: Callable[[FloatArray], FloatArray]) -> FloatArray:
+        """The shallowest depth where every stick crosses the horizon, by a scan and bisection
+        (NaN for a stick that does not cross it within the scan)."""
         span = self.levels[-1] - self.levels[0]
-        scan = np.linspace(self.levels[0] - span, self.levels[-1] + span, 257)
-        values = np.stack([gap(np.full(missed.size, z)) for z in scan])  # (257, n)
-        sign_change = (values[:-1] * values[1:] <= 0) & np.isfinite(values[:-1] * values[1:])
+        n = self.points.shape[1]
+        scan = np.linspace(self.levels[0] - 4.0 * span, self.levels[-1] + 4.0 * span, 513)
+        values = np.stack([gap(np.full(n, z)) for z in scan])  # (513, n)
+        with np.errstate(invalid="ignore"):
+            product = values[:-1] * values[1:]
+        sign_change = (product <= 0) & np.isfinite(product)
         found = sign_change.any(axis=0)
-        lost = missed & ~found
-        if lost.any():
-            raise InputError(
-                f"{label}: stick {int(np.flatnonzero(lost)[0]) + 1} does not meet the top horizon "
-                f"between depths {scan[0]:g} and {scan[-1]:g} m (the horizon is undefined or too "
-                "steep where the fault reaches it)"
-            )
         first = np.argmax(sign_change, axis=0)
         lo, hi = scan[first], scan[first + 1]
-        g_lo = values[first, np.arange(missed.size)]
+        g_lo = values[first, np.arange(n)]
         for _ in range(80):
             mid = 0.5 * (lo + hi)
             g_mid = gap(mid)
             same = np.sign(g_mid) == np.sign(g_lo)
             lo, g_lo = np.where(same, mid, lo), np.where(same, g_mid, g_lo)
             hi = np.where(same, hi, mid)
-        return 0.5 * (lo + hi)
+        return np.where(found, 0.5 * (lo + hi), np.nan)
 
 
 def _label(name: str | None, source: str | None) -> str:
