@@ -141,8 +141,12 @@ def test_geometry_keys_default_and_are_checked(tmp_path):
     [
         ("{name: F, trace: [[300, -100], [400, 900]], dip: 0}", "", r"faults\[0\]"),
         ("{name: F, trace: [[300, -100], [400, 900]], dip: {start: 60, end: 91}}", "", r"faults\[0\]"),
-        ("{name: F, trace: [[300, -100], [400, 900]], sticks: s.pol}", "", r"faults\[0\]"),
-        ("{name: F, throw: 3}", "", r"faults\[0\]"),
+        (
+            "{name: F, trace: [[300, -100], [400, 900]], sticks: s.pol}",
+            "",
+            r"faults\[0\]: give exactly one of trace, sticks \(got trace, sticks\)",
+        ),
+        ("{name: F, throw: 3}", "", r"faults\[0\]: give exactly one of trace, sticks \(got none\)"),
         (
             "{name: F, trace: [[300, -100], [400, 900]], sticks_format: rms}",
             "",
