@@ -202,8 +202,8 @@ def test_inconsistent_fault_keys_are_refused_on_load(tmp_path, fault, grid, mess
 def test_a_vertical_sticks_fault_with_a_side(tmp_path):
     (tmp_path / "v.pol").write_text("300 0 1000\n300 0 1100\n999 999 999\n300 800 1000\n300 800 1100\n")
     case = load(tmp_path, "{name: F, sticks: v.pol, side: left, throw: 2}")
-    (f,) = fault_traces(case, top=lambda x, y: np.full(np.shape(x), 1050.0))
-    assert f.side == "left" and f.surface.is_vertical
+    (f,) = fault_traces(case)  # a vertical fault: no top needed, no surface
+    assert f.side == "left" and f.surface is None
     np.testing.assert_array_equal(f.points, [[300, 0], [300, 800]])
 
 

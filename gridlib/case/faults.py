@@ -26,7 +26,8 @@ _SAMPLES = 64  # intervals per trace segment at which the top horizon's defined 
 def fault_traces(case: Case, top: DepthFunction | None = None) -> list[FaultTrace]:
     """The case's faults as FaultTraces (throw in m; 0 where none is given).
 
-    A vertical fault (no ``dip``, or 90 all along) is its trace, as ever (no ``surface``). An
+    A vertical fault (no ``dip``, or 90 all along; or vertical sticks, with the case's
+    ``side``) is its trace, as ever (no ``surface``). An
     inclined one gets its ``surface``, built at the top horizon, whose depth function ``top``
     (``top(x, y)`` -> depth in m for arrays of points, NaN outside its defined area) it then
     needs (an InputError without it):
@@ -47,8 +48,12 @@ def fault_traces(case: Case, top: DepthFunction | None = None) -> list[FaultTrac
         throw = _throw(spec["throw"])
         if "sticks" in spec:
             surface = fault_sticks(case.path, spec).surface
-            points, _ = surface.on_horizon(_top(top, case, k, name, "is given by sticks"), missing="nearest")
-            side = spec.get("side") or surface.dip_side()
+            if surface.is_vertical:  # a vertical fault, as if given by its trace
+                points, side, surface = surface.section(surface.levels[0]), spec["side"], None
+            else:
+                top_fn = _top(top, case, k, name, "is given by sticks")
+                points, _ = surface.on_horizon(top_fn, missing="nearest")
+                side = spec.get("side") or surface.dip_side()
         else:
             points, side = spec["trace"], spec.get("side", "right")
             dip = spec.get("dip", 90)
