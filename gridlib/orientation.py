@@ -16,7 +16,7 @@ area vector n_f (pointing from a to b) and cell centres c_a, c_b:
   neither does is left out of the K figures.
 
 Faces of zero area are left out (nothing flows through them), and so are faces whose two
-centres coincide. Angles come from ``atan2(|n x d|, n . d)``, accurate near 0 (where an
+centres coincide or are not finite (a deck's degenerate cell of zero volume has no centroid). Angles come from ``atan2(|n x d|, n . d)``, accurate near 0 (where an
 ``arccos`` of the cosine loses half the digits) and the same bits on every machine
 (:func:`gridlib.reproducible.arctan2`).
 
@@ -83,7 +83,7 @@ def vector_angles(u: ArrayLike, v: ArrayLike) -> FloatArray:
 class FaceAngles:
     """The orientation angles (degrees) of the measured interior faces; see the module docstring."""
 
-    faces: IntArray  # (m,) the faces measured: interior, non-zero area, distinct centres
+    faces: IntArray  # (m,) the faces measured: interior, non-zero area, distinct finite centres
     angles: FloatArray  # (m,) angle(n_f, c_b - c_a)
     k_angles: FloatArray | None = None  # (m,) max over the two cells of angle(K_i n_f, c_b - c_a);
     # NaN where neither cell has permeability across the face; None without a permeability
@@ -117,10 +117,8 @@ def face_angles(
         raise GridError(
             f"face_angles: neighbors name cell {int(nb.max())}, but there are {x.shape[0]} centres"
         )
-    if not np.isfinite(x).all():
-        cell = int(np.flatnonzero(~np.isfinite(x).all(axis=1))[0])
-        raise GridError(f"face_angles: the centre of cell {cell} (0-based) is not finite")
-    faces = np.flatnonzero((nb >= 0).all(axis=1))
+    finite = np.append(np.isfinite(x).all(axis=1), False)  # [-1]: outside
+    faces = np.flatnonzero(finite[nb[:, 0]] & finite[nb[:, 1]])
     a, b = nb[faces, 0], nb[faces, 1]
     nf, d = n[faces], x[b] - x[a]
     angles = vector_angles(nf, d)
