@@ -16,16 +16,17 @@ area vector n_f (pointing from a to b) and cell centres c_a, c_b:
   neither does is left out of the K figures.
 
 Faces of zero area are left out (nothing flows through them), and so are faces whose two
-centres coincide or are not finite (a deck's degenerate cell of zero volume has no centroid). Angles come from ``atan2(|n x d|, n . d)``, accurate near 0 (where an
-``arccos`` of the cosine loses half the digits) and the same bits on every machine
+centres coincide or are not finite (a deck's degenerate cell of zero volume has no centroid).
+Angles come from ``atan2(|n x d|, n . d)``, accurate near 0 (where an ``arccos`` of the
+cosine loses half the digits) and the same bits on every machine
 (:func:`gridlib.reproducible.arctan2`).
 
 Which centres: the caller's (:func:`face_angles` takes them), by default the cell centroids.
 The workflow's ``summary.json`` reports the angles for the centres its transmissibilities use
 (:mod:`gridlib.stages.export`): the generating sites of a PEBI grid (at each cell's centroid
 depth), the centroids of any other grid. (ECLIPSE's corner-point transmissibilities use the
-mean of each cell's 8 corners, which is the centroid for a parallelepiped cell and differs
-from it only to second order in the cell's distortion.)
+mean of each cell's 8 corners: the centroid for a parallelepiped cell, close to it for a
+mildly distorted one.)
 
 >>> import numpy as np
 >>> from gridlib import cart_grid, compute_geometry
