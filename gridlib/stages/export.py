@@ -22,8 +22,9 @@
   ``orientation_median``, ``orientation_p95`` and ``orientation_max`` of the angle between
   each interior face's normal and the line joining its two cells' centres, and with rock
   ``k_orientation_median``, ``_p95`` and ``_max`` of the angle between K n and that line
-  (the larger of the face's two cells). The centres are those of the transmissibility stage:
-  a PEBI grid's generating sites at each cell's centroid depth, else the centroids.
+  (the larger of the face's two cells), to 1e-6 degree. The centres are those of the
+  transmissibility stage: a PEBI grid's generating sites at each cell's centroid depth, else
+  the centroids.
 
 Every value is in the case's unit system (``unit_system``: METRIC, or a deck's own, e.g.
 FIELD for SPE9: ft, ft2, ft3, rb, mD), and every file, picture and figure says so: the
@@ -345,12 +346,18 @@ def orientation_summary(
     """The orientation figures (:mod:`gridlib.orientation`, degrees) of the interior faces with
     the cell ``centres`` (None: the centroids): ``orientation_median``, ``_p95`` and ``_max``
     of the angle between face normal and centre line, and with ``rock`` the same of K n,
-    ``k_orientation_*``."""
+    ``k_orientation_*``, rounded to 1e-6 degree."""
     perm = None
     if rock is not None:
         perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, : grid.dim]
     angles = grid_face_angles(grid, geo, centres, perm)
-    out = {f"orientation_{k}": _figure(v) for k, v in orientation_figures(angles.angles).items()}
+    out = {f"orientation_{k}": _degrees(v) for k, v in orientation_figures(angles.angles).items()}
     if angles.k_angles is not None:
-        out |= {f"k_orientation_{k}": _figure(v) for k, v in orientation_figures(angles.k_angles).items()}
+        out |= {f"k_orientation_{k}": _degrees(v) for k, v in orientation_figures(angles.k_angles).items()}
     return out
+
+
+def _degrees(angle: float) -> float:
+    """An angle rounded to 1e-6 degree: a face that is orthogonal up to round-off (a PEBI
+    grid's, about 1e-10 degree) reads 0, the same on every platform."""
+    return round(float(angle), 6) + 0.0  # + 0.0: no -0.0
