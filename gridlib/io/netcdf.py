@@ -425,10 +425,9 @@ def _check_geometry_sizes(geo: Geometry, grid: Grid | None) -> None:
         "face_area": (geo.face_areas.shape[0], faces),
     }
     if geo.face_normals.size:
-        sizes |= {
-            "face_normal": (geo.face_normals.shape[0], faces),
-            "face_centroid": (geo.face_centroids.shape[0], faces),
-        }
+        sizes["face_normal"] = (geo.face_normals.shape[0], faces)
+    if geo.face_centroids.size:
+        sizes["face_centroid"] = (geo.face_centroids.shape[0], faces)
     for name, (got, expected) in sizes.items():
         if got != expected:
             raise ValueError(f"variable '{name}' has {got} rows, expected {expected}")
@@ -468,20 +467,19 @@ def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:
 
 
 def read_cell_geometry(path: str | os.PathLike) -> Geometry:
-    """What the exports use of a geometry file: cell volumes and centroids and face areas
-    (and cell normals where stored), read alone; the face normals and centroids (most of the
-    file) are left empty: they are not written to ``{case}.nc`` (its readers recompute them
-    from the grid)."""
+    """What the exports use of a geometry file: cell volumes and centroids, face areas and
+    normals (the orientation figures need them), and cell normals where stored; the face
+    centroids (a third of the file) are left empty: they are not written to ``{case}.nc`` (its
+    readers recompute them from the grid)."""
     with open_artifact(path) as ds:
         volumes = read_variable(ds, "cell_volume", "f", 1)
         centroids = read_variable(ds, "cell_centroid", "f", 2)
-        empty = np.zeros((0, centroids.shape[1]))
         geo = Geometry(
             volumes,
             centroids,
             read_variable(ds, "face_area", "f", 1),
-            empty,
-            empty,
+            read_variable(ds, "face_normal", "f", 2),
+            np.zeros((0, centroids.shape[1])),
             read_variable(ds, "cell_normal", "f", 2) if "cell_normal" in ds else None,
         )
         _check_geometry_sizes(geo, None)

@@ -90,6 +90,12 @@ COLUMNS: dict[str, str] = {
     "median_trans": "transmissibility",
     "max_trans": "transmissibility",
     "total_porv": "porv",
+    "orientation_median": "angle",
+    "orientation_p95": "angle",
+    "orientation_max": "angle",
+    "k_orientation_median": "angle",
+    "k_orientation_p95": "angle",
+    "k_orientation_max": "angle",
 }
 
 

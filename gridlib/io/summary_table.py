@@ -51,6 +51,12 @@ COLUMNS = (
     "median_trans",
     "max_trans",
     "total_porv",
+    "orientation_median",
+    "orientation_p95",
+    "orientation_max",
+    "k_orientation_median",
+    "k_orientation_p95",
+    "k_orientation_max",
     "seed",
 )
 

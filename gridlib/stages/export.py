@@ -18,7 +18,13 @@
 * ``summary.json``: the case's figures (the regression tests compare them); for a deck case
   with degenerate cells (:mod:`gridlib.stages.grid`) also ``degenerate_cells``: their count,
   how many have a non-positive polyhedral volume and how many do not close, and the first
-  100 as 1-based (i, j, k).
+  100 as 1-based (i, j, k). The grid's orientation (:mod:`gridlib.orientation`), in degrees:
+  ``orientation_median``, ``orientation_p95`` and ``orientation_max`` of the angle between
+  each interior face's normal and the line joining its two cells' centres, and with rock
+  ``k_orientation_median``, ``_p95`` and ``_max`` of the angle between K n and that line
+  (the larger of the face's two cells), to 1e-6 degree. The centres are those of the
+  transmissibility stage: a PEBI grid's generating sites at each cell's centroid depth, else
+  the centroids.
 
 Every value is in the case's unit system (``unit_system``: METRIC, or a deck's own, e.g.
 FIELD for SPE9: ft, ft2, ft3, rb, mD), and every file, picture and figure says so: the
@@ -58,10 +64,12 @@ from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
 from ..io.vtp import write_fault_faces
 from ..io.vtu import write_vtu
+from ..orientation import grid_face_angles, orientation_figures
 from ..pillars.nnc import NNC
 from ..transmissibility import face_connections
 from ..units import UnitSystem
 from .common import log
+from .transmissibility import cell_centres
 
 
 def _face_trans(grid: Grid, variables) -> np.ndarray:
@@ -132,6 +140,7 @@ class _Gathered:
     extra: dict[str, Any]
     provenance: dict[str, Any]
     face_trans: np.ndarray | None
+    centres: np.ndarray | None  # the cell centres of the two-point flux (None: the centroids)
 
 
 def stage_export(
@@ -206,6 +215,7 @@ def _gather(
             )
         provenance |= {k: tattrs[k] for k in ("trans_units", "porv_units", "flow_dims")}
         face_trans = _face_trans(grid, variables)
+    centres, _ = cell_centres(case, grid_nc, stored, geo)
     return _Gathered(
         grid,
         geo,
@@ -222,6 +232,7 @@ def _gather(
         extra,
         provenance,
         face_trans,
+        centres,
     )
 
 
@@ -325,4 +336,28 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
         summary["coarse_blocks"] = g.blocks
     if g.trans is not None:
         summary |= transmissibility_figures(*g.trans)
+    summary |= orientation_summary(grid, geo, g.centres, rock)
     return summary
+
+
+def orientation_summary(
+    grid: Grid, geo: Geometry, centres: np.ndarray | None, rock: dict[str, np.ndarray] | None
+) -> dict[str, float]:
+    """The orientation figures (:mod:`gridlib.orientation`, degrees) of the interior faces with
+    the cell ``centres`` (None: the centroids): ``orientation_median``, ``_p95`` and ``_max``
+    of the angle between face normal and centre line, and with ``rock`` the same of K n,
+    ``k_orientation_*``, rounded to 1e-6 degree."""
+    perm = None
+    if rock is not None:
+        perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, : grid.dim]
+    angles = grid_face_angles(grid, geo, centres, perm)
+    out = {f"orientation_{k}": _degrees(v) for k, v in orientation_figures(angles.angles).items()}
+    if angles.k_angles is not None:
+        out |= {f"k_orientation_{k}": _degrees(v) for k, v in orientation_figures(angles.k_angles).items()}
+    return out
+
+
+def _degrees(angle: float) -> float:
+    """An angle rounded to 1e-6 degree: a face that is orthogonal up to round-off (a PEBI
+    grid's, about 1e-10 degree) reads 0, the same on every platform."""
+    return round(float(angle), 6) + 0.0  # + 0.0: no -0.0

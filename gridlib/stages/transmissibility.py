@@ -206,20 +206,33 @@ def _grid_case(
     d = grid.griddim
     perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, :d]
     ntg = None if (rock["ntg"] == 1.0).all() else rock["ntg"]
-    centres, what, distance = None, "centroids", "centroid"
-    if case.grid_type == "pebi":
-        site = stored.cell_data.get("site")
-        if site is None or site.shape != (grid.num_cells, 2):
-            raise InputError(
-                f"{grid_nc}: site: the PEBI sites are missing (written by an older gridlib: rebuild it)"
-            )
-        centres = np.column_stack([site, geo.cell_centroids[:, 2]]) if d == 3 else site
-        what, distance = "generating sites (x, y) at the centroid depth, distance to the face plane", "normal"
+    centres, what = cell_centres(case, grid_nc, stored, geo)
+    distance = "centroid"
+    if centres is not None:
+        what, distance = f"{what}, distance to the face plane", "normal"
     try:
         conn = transmissibility(grid, geo, perm, ntg, centres=centres, distance=distance, units=system)
     except InputError as exc:
         raise InputError(f"{case.path}: petrophysics: {exc}") from None
     return conn, what
+
+
+def cell_centres(
+    case: Case, grid_nc: str | os.PathLike, stored: GridDataset, geo: Geometry
+) -> tuple[np.ndarray | None, str]:
+    """The cell centres of the two-point flux of a grid that is not a deck's: for a PEBI grid
+    each cell's generating site (x, y) at its centroid's depth, else None (the centroids);
+    and what they are, in words."""
+    if case.grid_type != "pebi":
+        return None, "centroids"
+    grid = stored.grid
+    site = stored.cell_data.get("site")
+    if site is None or site.shape != (grid.num_cells, 2):
+        raise InputError(
+            f"{grid_nc}: site: the PEBI sites are missing (written by an older gridlib: rebuild it)"
+        )
+    centres = np.column_stack([site, geo.cell_centroids[:, 2]]) if grid.griddim == 3 else site
+    return centres, "generating sites (x, y) at the centroid depth"
 
 
 def _flow_index(grid: Grid) -> tuple[np.ndarray, tuple[int, ...]]:

@@ -27,7 +27,7 @@ import numpy as np
 from ..errors import GridError
 from ..geometry import compute_geometry
 from ..grid import Grid
-from ..reproducible import arccos
+from ..orientation import vector_angles
 from .pebi_result import PebiGrid
 
 
@@ -71,11 +71,6 @@ class PebiQuality:
         return "\n".join(lines)
 
 
-def _angles(normals: np.ndarray, d: np.ndarray) -> np.ndarray:
-    cosang = (normals * d).sum(axis=1) / (np.linalg.norm(normals, axis=1) * np.linalg.norm(d, axis=1))
-    return np.degrees(arccos(np.clip(cosang, -1.0, 1.0)))
-
-
 def grid_quality(obj: object) -> PebiQuality:
     """Quality figures of a :class:`PebiGrid` or of a planar 2-D :class:`Grid`."""
     sites = None
@@ -99,9 +94,9 @@ def grid_quality(obj: object) -> PebiQuality:
     inner = (nb >= 0).all(axis=1)
     n = geo.face_normals[inner]
     a, b = nb[inner, 0], nb[inner, 1]
-    cen = _angles(n, geo.cell_centroids[b] - geo.cell_centroids[a]) if inner.any() else np.zeros(1)
+    cen = vector_angles(n, geo.cell_centroids[b] - geo.cell_centroids[a]) if inner.any() else np.zeros(1)
     if sites is not None and inner.any():
-        site_max = float(_angles(n, sites[b] - sites[a]).max())
+        site_max = float(vector_angles(n, sites[b] - sites[a]).max())
     else:
         site_max = float("nan")
     area = geo.cell_volumes
