@@ -38,6 +38,7 @@ from ..pillars.fault_traces import FaultTrace, fault_displacement
 from ..pillars.horizon_maps import Horizon, check_horizon, interpolate_horizon
 from ..pillars.zones import check_layers, is_integer, layer_levels
 from .deck import Deck, FaultSegment, shown
+from .stair_steps import is_inclined, runs, stair_steps
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
 
@@ -140,7 +141,12 @@ def horizons_to_grdecl(
     Zn = layer_levels(H, nlay)  # node depths (nz + 1, ny + 1, nx + 1): proportional layers per zone
     nz = Zn.shape[0] - 1
     zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
-    segments = _apply_faults(faults, zc, PX, PY, box, notes) if faults else []
+    if not isinstance(faults, FaultTrace) and any(is_inclined(f) for f in faults):
+        steps = stair_steps(faults, zc, PX, PY, box)
+        zc, segments = steps.zcorn, list(steps.segments)
+        notes += steps.notes
+    else:
+        segments = _apply_faults(faults, zc, PX, PY, box, notes) if faults else []
     return _deck(zc, PX, PY, box, segments, notes)
 
 
@@ -290,22 +296,13 @@ def _fault_displacement(trace: FaultTrace, index: int, name: str, PX, PY, box) -
     )
 
 
-def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Runs of True along the last axis of a 2-D mask: (row, first, last), row-major."""
-    padded = np.pad(mask.astype(np.int8), ((0, 0), (1, 1)))
-    step = np.diff(padded, axis=1)
-    r0, c0 = np.nonzero(step == 1)
-    _, c1 = np.nonzero(step == -1)
-    return r0, c0, c1 - 1
-
-
 def _fault_segments(disp: np.ndarray, name: str, nz: int) -> list[FaultSegment]:
     """FAULTS segments of the cell edges across which this fault's displacement differs."""
     across_i = (disp[:, :-1, :, 1] != disp[:, 1:, :, 0]).any(axis=-1)  # (ny, nx - 1): +i face of (i, j)
     across_j = (disp[:-1, :, 1, :] != disp[1:, :, 0, :]).any(axis=-1)  # (ny - 1, nx): +j face of (i, j)
     segs = []
-    for i, j1, j2 in zip(*_runs(across_i.T), strict=True):  # runs along j in every column i
+    for i, j1, j2 in zip(*runs(across_i.T), strict=True):  # runs along j in every column i
         segs.append(FaultSegment(name, int(i), int(i), int(j1), int(j2), 0, nz - 1, "X"))
-    for j, i1, i2 in zip(*_runs(across_j), strict=True):  # runs along i in every row j
+    for j, i1, i2 in zip(*runs(across_j), strict=True):  # runs along i in every row j
         segs.append(FaultSegment(name, int(i1), int(i2), int(j), int(j), 0, nz - 1, "Y"))
     return segs
