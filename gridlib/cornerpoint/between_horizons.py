@@ -42,6 +42,8 @@ from .stair_steps import is_inclined, runs, stair_steps
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
 
+PINCH_THRESHOLD = 0.001  # m: ECLIPSE's default PINCH thickness, for the missing-section cells of stair steps
+
 
 def horizons_to_grdecl(
     horizons: Sequence[Horizon | Mapping[str, ArrayLike] | Any],
@@ -107,6 +109,15 @@ def horizons_to_grdecl(
     The displacement is the same for every layer of a column, so the layering
     (and ordering) is kept in each fault block.
 
+    A fault with an inclined ``surface`` (``FaultTrace.surface``, not vertical)
+    is stair-stepped cell by cell instead (:mod:`~gridlib.cornerpoint.stair_steps`,
+    ``fault_geometry: stair_steps``): every cell goes to the hanging wall or the
+    footwall by where its centre lies against the surface at its own depth, the
+    fault follows cell faces laterally and horizontally (FAULTS X, Y and Z),
+    missing-section cells get zero thickness and overlaps are clamped as OPM
+    Flow's ZCORN fixup would; where cells were cut out the deck gets PINCH
+    (0.001 m, ECLIPSE's defaults) so that the blocks connect across them.
+
     Returns a :class:`~gridlib.cornerpoint.deck.Deck` (source
     ``"horizons_to_grdecl"``), ``notes`` saying what was repaired.
 
@@ -143,10 +154,12 @@ def horizons_to_grdecl(
     zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
     if not isinstance(faults, FaultTrace) and any(is_inclined(f) for f in faults):
         steps = stair_steps(faults, zc, PX, PY, box)
-        zc, segments = steps.zcorn, list(steps.segments)
         notes += steps.notes
-    else:
-        segments = _apply_faults(faults, zc, PX, PY, box, notes) if faults else []
+        # The blocks meet across the removed missing-section cells as across pinch-outs: PINCH
+        # (ECLIPSE's defaults) gives them their vertical connection, in gridlib and in Flow.
+        pinch = (PINCH_THRESHOLD, 1e20) if steps.missing_cells or steps.gap_cells else None
+        return _deck(steps.zcorn, PX, PY, box, list(steps.segments), notes, pinch)
+    segments = _apply_faults(faults, zc, PX, PY, box, notes) if faults else []
     return _deck(zc, PX, PY, box, segments, notes)
 
 
@@ -186,9 +199,10 @@ def _apply_faults(faults, zc: np.ndarray, PX, PY, box, notes: list[str]) -> list
     return segments
 
 
-def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list[str]) -> Deck:
+def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list[str], pinch=None) -> Deck:
     """The deck of the corners ``zc``: cells with an undefined corner inactive, vertical pillars
-    through the pillar nodes spanning every defined depth."""
+    through the pillar nodes spanning every defined depth; ``pinch``: its PINCH threshold and
+    maximum gap, or None."""
     nz, ny, nx = (n // 2 for n in zc.shape)
     xmin, xmax, ymin, ymax = box
     with np.errstate(invalid="ignore"):
@@ -212,6 +226,7 @@ def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list
         zc.ravel(),
         active.ravel().astype(np.int32),
         faults=tuple(segments),
+        pinch=pinch,
         source="horizons_to_grdecl",
         notes=tuple(notes),
     )

@@ -25,15 +25,17 @@ a column, because every *cell* (not every column) is assigned to a block:
   cell was not removed), the footwall cell's top is clamped to the hanging-wall
   cell's bottom, corner by corner down every pillar: the rule OPM Flow applies to
   ZCORN itself (``ZcornMapper::fixupZCORN``), so Flow reads the deck unchanged.
-  A negative throw (reverse) moves the hanging wall up and leaves a gap above the
-  first footwall cell instead: repeated section cannot be represented, the gap has
-  no vertical connection;
+  Where the cells cut out are thicker than the throw (cells are whole: up to half a
+  cell on either side), or the throw is negative (reverse: repeated section cannot be
+  represented), a gap opens above the first footwall cell instead; the gaps are
+  counted. ``horizons_to_grdecl`` gives such decks PINCH so that the two blocks
+  connect across the removed cells;
 * several faults: each classifies every cell on its own (with its own throw); the
   displacements of the faults a cell is in the hanging wall of add up, and a cell
   missing for any fault is missing;
 * FAULTS segments: the lateral (X, Y) faces of cell k between columns whose cells k
-  differ in depth at the shared pillars, named after the first fault whose block differs
-  across them (at layer k, else at any layer of that pair of columns), and the
+  differ in depth at the shared pillars, named after the first fault that moves the two
+  cells differently (at layer k, else at any layer of that pair of columns), and the
   horizontal (Z) faces between a cell and the next non-missing cell below it in another
   block, so ``process_grdecl`` tags every step face with the fault's name and
   MULTFLT applies to all of them.
@@ -119,7 +121,7 @@ def stair_steps(
     corner_pillar = (j + b) * (nx + 1) + (i + a)  # corner (a, b) of column (i, j) is on pillar (i + a, j + b)
     pillars = np.column_stack([PX.ravel(), PY.ravel()])
 
-    names, blocks = [], []
+    names, blocks, x_moves, y_moves = [], [], [], []
     disp = np.zeros((nz, ny, nx, 2, 2))  # [k, j, i, b, a]: downward displacement of every corner
     for f, trace in enumerate(faults):
         if not isinstance(trace, FaultTrace):
@@ -131,11 +133,15 @@ def stair_steps(
         block, correction = _blocks(
             trace, (open_start, open_end), (t_start, t_end), cx, cy, depth, defined, throw
         )
-        disp += np.where(block == HANGING_WALL, 1.0, 0.0)[..., None, None] * (
+        mine = np.where(block == HANGING_WALL, 1.0, 0.0)[..., None, None] * (
             throw[None] - correction[..., None, None]
         )
+        disp += mine
+        x_move, y_move = _moves_across(mine, block == MISSING)
         names.append(name)
         blocks.append(block)
+        x_moves.append(x_move)
+        y_moves.append(y_move)
     block = np.stack(blocks).astype(np.int8)
     missing = (block == MISSING).any(axis=0)
 
@@ -154,14 +160,14 @@ def stair_steps(
     clamped_volume = float(lost[clamped].sum())
 
     notes: list[str] = []
-    segments = _segments(names, block, zcorn, kept, notes)
+    segments = _segments(names, block, np.stack(x_moves), np.stack(y_moves), zcorn, kept, notes)
     counts = (int((missing & defined).sum()), int(clamped.sum()), int(gaps.sum()))
     if any(counts):
         notes.append(
             f"stair-stepped faults: {counts[0]} cells of missing section (zero thickness; "
             f"{missing_volume:.6g} m3 of the layering), {counts[1]} cells clamped below the cell above "
             f"(OPM Flow's ZCORN rule; {clamped_volume:.6g} m3), {counts[2]} cells with a gap above them "
-            "(reverse throw: no vertical connection across)"
+            "(more layers cut out than the throw, or a reverse throw)"
         )
     return StairSteps(
         zcorn,
@@ -297,14 +303,29 @@ def _volumes(z: FloatArray, area: FloatArray) -> FloatArray:
 # --------------------------------------------------------------------------- FAULTS
 
 
-def _segments(names: list[str], block: np.ndarray, zcorn: FloatArray, kept: np.ndarray, notes: list[str]):
+def _moves_across(disp: np.ndarray, missing: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Where one fault moves cell k differently from cell k of the next column, along i
+    (nz, ny, nx - 1) and along j (nz, ny - 1, nx): its displacements (nz, ny, nx, b, a) differ
+    at the shared pillars, or one of the cells is missing section and the other not."""
+    x_move = (disp[:, :, :-1, :, 1] != disp[:, :, 1:, :, 0]).any(axis=-1) | (
+        missing[..., :-1] != missing[..., 1:]
+    )
+    y_move = (disp[:, :-1, :, 1, :] != disp[:, 1:, :, 0, :]).any(axis=-1) | (
+        missing[:, :-1] != missing[:, 1:]
+    )
+    return x_move, y_move
+
+
+def _segments(
+    names: list[str], block, x_moves, y_moves, zcorn: FloatArray, kept: np.ndarray, notes: list[str]
+):
     """FAULTS lines of every fault, fault by fault: X, then Y, then Z faces (see the module)."""
     nz, ny, nx = kept.shape
     z = zcorn.reshape(nz, 2, ny, 2, nx, 2)
     x_offset = ~_same(z[:, :, :, :, :-1, 1], z[:, :, :, :, 1:, 0]).all(axis=(1, 3))  # (nz, ny, nx - 1)
     y_offset = ~_same(z[:, :, :-1, 1], z[:, :, 1:, 0]).all(axis=(1, 4))  # (nz, ny - 1, nx)
-    x_cause, x_multi = _cause(block[..., :-1] != block[..., 1:], x_offset)
-    y_cause, y_multi = _cause(block[:, :, :-1] != block[:, :, 1:], y_offset)
+    x_cause, x_multi = _cause(x_moves, x_offset)
+    y_cause, y_multi = _cause(y_moves, y_offset)
     z_cause, z_multi = _z_cause(block, kept)
     segments: list[FaultSegment] = []
     for f, name in enumerate(names):
@@ -333,7 +354,8 @@ def _same(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _cause(differs: np.ndarray, offset: np.ndarray) -> tuple[np.ndarray, int]:
     """The fault (index, -1 = none) naming each lateral face of cell k (nz, ...): offset in depth,
-    and the first fault whose blocks differ across it at layer k, else at any layer of the pair."""
+    and the first fault that moves the cells on its two sides differently at layer k, else at any
+    layer of the pair of columns (a clamp below that fault's step)."""
     at_layer = differs.any(axis=0)
     anywhere = differs.any(axis=1, keepdims=True)
     cause = np.where(
