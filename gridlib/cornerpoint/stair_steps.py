@@ -147,21 +147,26 @@ def stair_steps(
 
     by_corner = disp.transpose(0, 1, 3, 2, 4)[:, None]  # (nz, 1, ny, 2, nx, 2): top and bottom alike
     nominal = zc + np.broadcast_to(by_corner, (nz, 2, ny, 2, nx, 2)).reshape(zc.shape)
-    work = _collapse(nominal, zc, _corners(missing))
-    zcorn = _monotone(work)
-    area = (PX[:-1, 1:] - PX[:-1, :-1]) * (PY[1:, :-1] - PY[:-1, :-1])
+    # Only columns whose cells move unlike each other (or lose some) can overlap or open gaps.
+    mixed = missing.any(axis=0) | (disp != disp[:1]).any(axis=(0, 3, 4))
+    area = ((PX[:-1, 1:] - PX[:-1, :-1]) * (PY[1:, :-1] - PY[:-1, :-1]))[mixed]
+    layering, moved = _columns(zc, mixed), _columns(nominal, mixed)  # (columns, 2 nz, 4 pillars)
+    cut_out = (missing & defined).transpose(1, 2, 0)[mixed]  # (columns, nz)
+    work = _collapse(moved, layering, np.repeat(cut_out, 2, axis=1)[..., None])
+    final = _monotone(work)
+    zcorn = nominal.copy()
+    _put_columns(zcorn, mixed, final)
     kept = defined & ~missing
+    kept_here = kept.transpose(1, 2, 0)[mixed]
     with np.errstate(invalid="ignore"):
-        clamped = kept & (zcorn != work).reshape(nz, 2, ny, 2, nx, 2).any(axis=(1, 3, 5))
-        lost = _volumes(work, area) - _volumes(zcorn, area)
-        top, bottom = zcorn[2::2], zcorn[1:-1:2]
-        gaps = (top > bottom).reshape(nz - 1, ny, 2, nx, 2).any(axis=(2, 4)) & kept[1:]
-    missing_volume = float(_volumes(zc, area)[missing & defined].sum())
-    clamped_volume = float(lost[clamped].sum())
+        clamped = kept_here & (final != work).reshape(-1, nz, 2, 4).any(axis=(2, 3))
+        gaps = (final[:, 2::2] > final[:, 1:-1:2]).any(axis=2) & kept_here[:, 1:]
+    missing_volume = float(_volumes(layering, area)[cut_out].sum())
+    clamped_volume = float((_volumes(work, area) - _volumes(final, area))[clamped].sum())
 
     notes: list[str] = []
     segments = _segments(names, block, np.stack(x_moves), np.stack(y_moves), zcorn, kept, notes)
-    counts = (int((missing & defined).sum()), int(clamped.sum()), int(gaps.sum()))
+    counts = (int(cut_out.sum()), int(clamped.sum()), int(gaps.sum()))
     if any(counts):
         notes.append(
             f"stair-stepped faults: {counts[0]} cells of missing section (zero thickness; "
@@ -213,20 +218,42 @@ def _blocks(trace: FaultTrace, open_ends, end_throws, cx, cy, depth, defined, th
         return np.broadcast_to(block, depth.shape), np.broadcast_to(correction.reshape(cx.shape), depth.shape)
 
     surface = trace.surface
-    x = np.broadcast_to(cx, depth.shape)[defined]
-    y = np.broadcast_to(cy, depth.shape)[defined]
-    z = depth[defined]
     correction = np.zeros(depth.shape)
     if not all(open_ends) and (t_start != 0.0 or t_end != 0.0):
-        seg, t = _nearest_on_sections(surface, x, y, z, *open_ends)
+        x, y = np.broadcast_to(cx, depth.shape)[defined], np.broadcast_to(cy, depth.shape)[defined]
+        seg, t = _nearest_on_sections(surface, x, y, depth[defined], *open_ends)
         n_seg = surface.points.shape[1] - 1
         correction[defined] = _tip_correction(seg, t, n_seg, open_ends, end_throws)
-    centre_throw = np.broadcast_to(throw.mean(axis=(2, 3)), depth.shape)[defined] - correction[defined]
-    footwall = sign * surface.side_value(x, y, z) <= 0.0
-    hanging = sign * surface.side_value(x, y, z + centre_throw) > 0.0
+    centre_throw = throw.mean(axis=(2, 3)) - correction  # (nz, ny, nx)
     block = np.full(depth.shape, FOOTWALL, dtype=np.int8)
-    block[defined] = np.where(footwall, FOOTWALL, np.where(hanging, HANGING_WALL, MISSING))
+    steady, hanging_column = _steady_columns(surface, sign, cx, cy, depth, depth + centre_throw, defined)
+    block[:, steady & hanging_column] = HANGING_WALL
+    cut = defined & ~steady  # columns the surface crosses between their shallowest and deepest test
+    z, z_moved = depth[cut], (depth + centre_throw)[cut]
+    x, y = np.broadcast_to(cx, depth.shape)[cut], np.broadcast_to(cy, depth.shape)[cut]
+    footwall = sign * surface.side_value(x, y, z) <= 0.0
+    hanging = sign * surface.side_value(x, y, z_moved) > 0.0
+    block[cut] = np.where(footwall, FOOTWALL, np.where(hanging, HANGING_WALL, MISSING))
     return block, correction
+
+
+def _steady_columns(surface, sign: float, cx, cy, depth, moved, defined) -> tuple[np.ndarray, np.ndarray]:
+    """Columns (ny, nx) on one side of the surface at every depth their cells are tested at (the
+    undisplaced and displaced centres), and whether that side is the hanging wall: the surface's
+    side at the shallowest and the deepest of those depths agree and the vertical line through
+    the column meets the surface nowhere between them (its shallowest crossing is outside)."""
+    with np.errstate(invalid="ignore"):
+        low = np.where(defined, depth, np.inf).min(axis=0)
+        high = np.where(defined, np.maximum(depth, moved), -np.inf).max(axis=0)
+    column = np.isfinite(low)
+    low, high = np.where(column, low, 0.0), np.where(column, high, 0.0)
+    top_side = sign * surface.side_value(cx, cy, low)
+    base_side = sign * surface.side_value(cx, cy, high)
+    crossing = surface.depth_at(cx, cy)
+    with np.errstate(invalid="ignore"):
+        crossed = (crossing >= low) & (crossing <= high)
+    steady = column & (np.sign(top_side) == np.sign(base_side)) & (top_side != 0) & ~crossed
+    return steady, top_side > 0
 
 
 def _tip_correction(seg, t, n_seg: int, open_ends, end_throws) -> np.ndarray:
@@ -270,34 +297,42 @@ def _nearest_on_sections(surface, x, y, z, open_start: bool, open_end: bool):
 # --------------------------------------------------------------------------- corners
 
 
-def _corners(cell_mask: np.ndarray) -> np.ndarray:
-    """A per-cell (nz, ny, nx) mask on every corner (2 nz, 2 ny, 2 nx)."""
-    return np.repeat(np.repeat(np.repeat(cell_mask, 2, axis=0), 2, axis=1), 2, axis=2)
+def _columns(z: FloatArray, mask: np.ndarray) -> FloatArray:
+    """The corner depths (2 nz, 2 ny, 2 nx) of the columns ``mask`` (ny, nx): (columns, 2 nz, 4),
+    every pillar's corners down the column, top and bottom of each cell in turn."""
+    n2z, n2y, n2x = z.shape
+    by_column = z.reshape(n2z, n2y // 2, 2, n2x // 2, 2).transpose(1, 3, 0, 2, 4)
+    return by_column[mask].reshape(-1, n2z, 4)
 
 
-def _collapse(nominal: FloatArray, zc: FloatArray, missing: np.ndarray) -> FloatArray:
-    """``nominal`` with every missing-section corner at the deepest corner above it on its pillar
-    (the bottom of the cell above), or, at the top of a column, at the shallowest corner below it."""
+def _put_columns(z: FloatArray, mask: np.ndarray, columns: FloatArray) -> None:
+    """Write ``columns`` (as :func:`_columns` gives them) back into ``z``, in place."""
+    n2z, n2y, n2x = z.shape
+    z.reshape(n2z, n2y // 2, 2, n2x // 2, 2).transpose(1, 3, 0, 2, 4)[mask] = columns.reshape(-1, n2z, 2, 2)
+
+
+def _collapse(nominal: FloatArray, layering: FloatArray, missing: np.ndarray) -> FloatArray:
+    """``nominal`` (columns, 2 nz, 4) with every missing-section corner at the deepest corner above
+    it on its pillar (the bottom of the cell above), or, at the top of a column, at the shallowest
+    corner below it."""
     with np.errstate(invalid="ignore"):
-        above = np.fmax.accumulate(np.where(missing, -np.inf, nominal), axis=0)
-        below = np.fmin.accumulate(np.where(missing, np.inf, nominal)[::-1], axis=0)[::-1]
-    fill = np.where(np.isfinite(above), above, np.where(np.isfinite(below), below, zc))
+        above = np.fmax.accumulate(np.where(missing, -np.inf, nominal), axis=1)
+        below = np.fmin.accumulate(np.where(missing, np.inf, nominal)[:, ::-1], axis=1)[:, ::-1]
+    fill = np.where(np.isfinite(above), above, np.where(np.isfinite(below), below, layering))
     return np.where(missing, fill, nominal)
 
 
 def _monotone(z: FloatArray) -> FloatArray:
-    """Every corner at least as deep as every corner above it on its pillar, through the column
+    """Every corner (columns, 2 nz, 4) at least as deep as every corner above it on its pillar
     (OPM Flow's ZCORN fixup, done once); undefined (NaN) corners stay NaN and are skipped."""
-    return np.where(np.isnan(z), np.nan, np.fmax.accumulate(z, axis=0))
+    return np.where(np.isnan(z), np.nan, np.fmax.accumulate(z, axis=1))
 
 
 def _volumes(z: FloatArray, area: FloatArray) -> FloatArray:
-    """Volume of every cell (nz, ny, nx) between vertical pillars on a rectilinear lattice: the
+    """Volume of every cell (columns, nz) between vertical pillars on a rectilinear lattice: the
     column's area times the mean of the thicknesses at its four pillars (exact: the top and bottom
     are bilinear)."""
-    nz, ny, nx = (n // 2 for n in z.shape)
-    thick = (z[1::2] - z[0::2]).reshape(nz, ny, 2, nx, 2).mean(axis=(2, 4))
-    return thick * area
+    return (z[:, 1::2] - z[:, 0::2]).mean(axis=2) * area[:, None]
 
 
 # --------------------------------------------------------------------------- FAULTS
