@@ -5,6 +5,7 @@ out; and against OPM Flow's dry run of a two-fault deck (cells, connections, T, 
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +14,7 @@ from flow_tools import assert_same_connections, flow_connections, read_keywords,
 from wedge_decks import write_data_deck
 
 from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
+from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.cornerpoint.stair_steps import FOOTWALL, HANGING_WALL, MISSING, stair_steps
 from gridlib.geometry import compute_geometry
@@ -223,3 +225,19 @@ def test_two_fault_deck_equals_flows_dry_run(two_faults):
     vertical_step = (column[:, 0] == column[:, 1]) & (k[:, 1] - k[:, 0] > 1)  # across missing section
     assert lateral_nnc.sum() > 0 and vertical_step.sum() > 0
     assert set(r.fault_names) == {"F1", "F2"}
+
+
+def test_faults_z_lines_name_the_bottom_and_top_faces_of_their_cells():
+    deck = horizons_to_grdecl(HORIZONS, (3, 1), 3)
+    lines = (FaultSegment("A", 0, 0, 0, 0, 0, 0, "Z"), FaultSegment("B", 1, 2, 0, 0, 2, 2, "Z-"))
+    r = process_grdecl(replace(deck, faults=lines))
+    g = r.grid
+    cell = g.cells.index_map
+    up, down = g.faces.neighbors[:, 0], g.faces.neighbors[:, 1]
+    named = {
+        (int(cell[u]), int(cell[d])): r.fault_names[t - 1]
+        for u, d, t in zip(up, down, g.faces.tag, strict=True)
+        if t > 0
+    }
+    # (i, j, k) -> i + 3 k: A is the bottom of (1, 1, 1); B the tops of (2, 1, 3) and (3, 1, 3)
+    assert named == {(0, 3): "A", (4, 7): "B", (5, 8): "B"}
