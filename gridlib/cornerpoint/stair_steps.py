@@ -243,7 +243,7 @@ def _steady_columns(surface, sign: float, cx, cy, depth, moved, defined) -> tupl
     side at the shallowest and the deepest of those depths agree and the vertical line through
     the column meets the surface nowhere between them (its shallowest crossing is outside)."""
     with np.errstate(invalid="ignore"):
-        low = np.where(defined, depth, np.inf).min(axis=0)
+        low = np.where(defined, np.minimum(depth, moved), np.inf).min(axis=0)
         high = np.where(defined, np.maximum(depth, moved), -np.inf).max(axis=0)
     column = np.isfinite(low)
     low, high = np.where(column, low, 0.0), np.where(column, high, 0.0)

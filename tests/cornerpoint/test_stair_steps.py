@@ -175,6 +175,11 @@ def test_reverse_throw_leaves_gaps_and_no_overlap():
     assert steps.missing_cells == 0 and steps.clamped_cells == 0 and steps.gap_cells > 0
     z = steps.zcorn
     assert (np.diff(z, axis=0) >= 0).all()
+    # Raised 4 m, a cell east of the plane at its depth is east of it 4 m higher too: no cell is
+    # missing, and the blocks are the plane's sides at the cells' own depths.
+    x, depth = centres(zc, PX)
+    east = plane_offset(fault, F1_DIP, x, depth) > 0
+    assert np.array_equal(steps.block[0], np.where(east, HANGING_WALL, FOOTWALL))
 
 
 def test_vertical_faults_take_todays_path_bit_for_bit():
