@@ -50,7 +50,7 @@ Units are metres; z is depth, positive downwards.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -150,42 +150,21 @@ def stair_steps(
     # Only columns whose cells move unlike each other (or lose some) can overlap or open gaps.
     mixed = missing.any(axis=0) | (disp != disp[:1]).any(axis=(0, 3, 4))
     area = ((PX[:-1, 1:] - PX[:-1, :-1]) * (PY[1:, :-1] - PY[:-1, :-1]))[mixed]
-    layering, moved = _columns(zc, mixed), _columns(nominal, mixed)  # (columns, 2 nz, 4 pillars)
-    cut_out = (missing & defined).transpose(1, 2, 0)[mixed]  # (columns, nz)
-    work = _collapse(moved, layering, np.repeat(cut_out, 2, axis=1)[..., None])
-    final = _monotone(work)
     zcorn = nominal.copy()
-    _put_columns(zcorn, mixed, final)
     kept = defined & ~missing
-    kept_here = kept.transpose(1, 2, 0)[mixed]
-    with np.errstate(invalid="ignore"):
-        clamped = kept_here & (final != work).reshape(-1, nz, 2, 4).any(axis=(2, 3))
-        gaps = (final[:, 2::2] > final[:, 1:-1:2]).any(axis=2) & kept_here[:, 1:]
-    missing_volume = float(_volumes(layering, area)[cut_out].sum())
-    clamped_volume = float((_volumes(work, area) - _volumes(final, area))[clamped].sum())
+    settled = _settle(zc, zcorn, mixed, (missing & defined).transpose(1, 2, 0)[mixed], kept, area)
 
     notes: list[str] = []
     segments = _segments(names, block, np.stack(x_moves), np.stack(y_moves), zcorn, kept, notes)
-    counts = (int(cut_out.sum()), int(clamped.sum()), int(gaps.sum()))
-    if any(counts):
+    if settled.missing_cells or settled.clamped_cells or settled.gap_cells:
         notes.append(
-            f"stair-stepped faults: {counts[0]} cells of missing section (zero thickness; "
-            f"{missing_volume:.6g} m3 of the layering), {counts[1]} cells clamped below the cell above "
-            f"(OPM Flow's ZCORN rule; {clamped_volume:.6g} m3), {counts[2]} cells with a gap above them "
-            "(more layers cut out than the throw, or a reverse throw)"
+            f"stair-stepped faults: {settled.missing_cells} cells of missing section (zero thickness; "
+            f"{settled.missing_volume:.6g} m3 of the layering), {settled.clamped_cells} cells clamped "
+            f"below the cell above (OPM Flow's ZCORN rule; {settled.clamped_volume:.6g} m3), "
+            f"{settled.gap_cells} cells with a gap above them (more layers cut out than the throw, "
+            "or a reverse throw)"
         )
-    return StairSteps(
-        zcorn,
-        nominal,
-        block,
-        tuple(segments),
-        counts[0],
-        missing_volume,
-        counts[1],
-        clamped_volume,
-        counts[2],
-        tuple(notes),
-    )
+    return StairSteps(zcorn, nominal, block, tuple(segments), *settled, tuple(notes))
 
 
 def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -295,6 +274,36 @@ def _nearest_on_sections(surface, x, y, z, open_start: bool, open_end: bool):
 
 
 # --------------------------------------------------------------------------- corners
+
+
+class _Settled(NamedTuple):
+    missing_cells: int
+    missing_volume: float
+    clamped_cells: int
+    clamped_volume: float
+    gap_cells: int
+
+
+def _settle(zc: FloatArray, zcorn: FloatArray, mixed, cut_out, kept, area) -> _Settled:
+    """Collapse the missing-section cells ``cut_out`` (columns, nz) of the columns ``mixed``
+    (ny, nx) and clamp their overlaps in ``zcorn`` (in place; ``zc`` the layering); what was cut
+    and clamped, and the gaps left (``kept``: (nz, ny, nx) cells neither missing nor undefined,
+    ``area``: of every mixed column)."""
+    layering, moved = _columns(zc, mixed), _columns(zcorn, mixed)  # (columns, 2 nz, 4 pillars)
+    work = _collapse(moved, layering, np.repeat(cut_out, 2, axis=1)[..., None])
+    final = _monotone(work)
+    _put_columns(zcorn, mixed, final)
+    kept_here = kept.transpose(1, 2, 0)[mixed]
+    with np.errstate(invalid="ignore"):
+        clamped = kept_here & (final != work).reshape(*kept_here.shape, 2, 4).any(axis=(2, 3))
+        gaps = (final[:, 2::2] > final[:, 1:-1:2]).any(axis=2) & kept_here[:, 1:]
+    return _Settled(
+        int(cut_out.sum()),
+        float(_volumes(layering, area)[cut_out].sum()),
+        int(clamped.sum()),
+        float((_volumes(work, area) - _volumes(final, area))[clamped].sum()),
+        int(gaps.sum()),
+    )
 
 
 def _columns(z: FloatArray, mask: np.ndarray) -> FloatArray:
