@@ -246,3 +246,20 @@ def test_faults_z_lines_name_the_bottom_and_top_faces_of_their_cells():
     }
     # (i, j, k) -> i + 3 k: A is the bottom of (1, 1, 1); B the tops of (2, 1, 3) and (3, 1, 3)
     assert named == {(0, 3): "A", (4, 7): "B", (5, 8): "B"}
+
+
+def test_a_kinked_fault_classifies_every_cell_by_its_surface_at_the_cells_depth():
+    """The per-column shortcut (one side test per column the surface does not cross) against the
+    rule applied to every cell: a trace kinked twice, dipping 40 degrees west, 6 m throw."""
+    trace = [(380.0, -10.0), (300.0, 90.0), (420.0, 210.0)]
+    surface = FaultSurface.from_dip(trace, TOP, 40.0, "left", "K")
+    fault = FaultTrace(trace, 6.0, "K", "left", surface)
+    zc, PX, PY = layering()
+    steps = stair_steps([fault], zc, PX, PY, (0.0, 600.0, 0.0, 200.0))
+    x, depth = centres(zc, PX)
+    y = np.broadcast_to(0.5 * (PY[:-1, :-1] + PY[1:, :-1]), depth.shape)
+    west_now = surface.side_value(x, y, depth) > 0  # left of the section walked north-ish: west
+    west_moved = surface.side_value(x, y, depth + 6.0) > 0
+    expected = np.where(~west_now, FOOTWALL, np.where(west_moved, HANGING_WALL, MISSING))
+    assert np.array_equal(steps.block[0], expected)
+    assert (expected == MISSING).sum() > 0 and (expected == HANGING_WALL).sum() > 0
