@@ -35,6 +35,7 @@ from ..grid import Grid
 from ..horizons import to_horizons
 from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
 from ..pillars.extrude import extrude
+from ..pillars.horizon_maps import check_horizon, interpolate_horizon
 from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
 from .deck import read_case_deck
@@ -101,12 +102,19 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
         deck = horizons_to_grdecl_by_block(
             stacks, blocks, spec["dims"], spec["layers"], fault_traces(case), ordering=ordering
         )
-    else:
-        deck = horizons_to_grdecl(
-            _horizon_list(case, horizons), spec["dims"], spec["layers"], fault_traces(case)
-        )
+    else:  # fault_geometry stair_steps: vertical pillars, inclined faults stepped cell by cell
+        hz = _horizon_list(case, horizons)
+        deck = horizons_to_grdecl(hz, spec["dims"], spec["layers"], _case_faults(case, hz[0]))
     deck = replace(deck, source=f"{case.path} (horizons_to_grdecl)")
     return _processed(deck, spec["tolerance"])
+
+
+def _case_faults(case: Case, top) -> list:
+    """The case's faults; inclined ones (a dip or sticks) are placed against the top horizon."""
+    if not any("dip" in f or "sticks" in f for f in case.data.get("faults", [])):
+        return fault_traces(case)
+    xa, ya, z = check_horizon(top, 0)
+    return fault_traces(case, top=lambda x, y: interpolate_horizon(xa, ya, z, np.asarray(x), np.asarray(y)))
 
 
 def _processed(deck: Deck, tolerance: float, pinch: bool = False) -> CaseGrid:
