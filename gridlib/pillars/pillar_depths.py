@@ -27,8 +27,9 @@ def depth_on_pillars(f: DepthFunction, lines: FloatArray, who: str) -> FloatArra
     vertical (OPM's rule). ``f`` returns NaN where the surface is undefined; the depth is then NaN.
 
     >>> lines = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 1.0]]])  # 45 degrees towards +x
-    >>> depth_on_pillars(lambda x, y: 10.0 + 0.5 * x, lines, "example").tolist()
-    [20.0]
+    >>> z = depth_on_pillars(lambda x, y: 10.0 + 0.5 * x, lines, "example")  # x = z there: z = 20
+    >>> round(float(z[0]), 9)
+    20.0
     """
     top, bot = lines[:, 0], lines[:, 1]
     dz = bot[:, 2] - top[:, 2]
