@@ -1,0 +1,211 @@
+"""``horizons_to_pillar_grdecl``: a corner-point deck between horizons whose pillars follow inclined faults.
+
+The ``fault_geometry: pillars`` mode of issue 25 (``docs/pillar-grids.md``), the sibling of
+:func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl` (same horizons, dims,
+layers, ordering and fault traces):
+
+* the lattice carries every fault on a line of its own at the top horizon, and the pillars
+  along it are rulings of the fault surface; the pillars around lean with it and relax back to
+  vertical over ``relax_distance``; junction pillars lie on the line where two surfaces meet,
+  boundary pillars in the boundary planes (:mod:`gridlib.cornerpoint.fault_lattice`);
+* every pillar is pinned at the top horizon; each horizon is evaluated where the pillar meets
+  it, and the layers divide each zone proportionally along the pillar;
+* the throw moves the hanging wall's corners down their pillars (vertical throw, along the
+  fault surface on the fault's pillars); a column is classified by its plan centre at the top,
+  which is exact here because no column straddles a fault surface;
+* COORD gives each pillar at the shallowest and deepest corner depth of the grid, so Flow and
+  ``process_grdecl`` read the same lines; ZCORN is monotone down every pillar;
+* no pillar crosses another and no column inverts at any depth of its cells
+  (:func:`~gridlib.pillars.drift.check_columns`), else one error suggesting a larger
+  ``relax_distance``.
+
+Units are metres; z is depth, positive downwards.
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import InputError
+from ..pillars.depth_order import ORDERINGS, order_depths
+from ..pillars.drift import check_columns, fault_rulings, relax_bound
+from ..pillars.fault_traces import FaultTrace, nearest_on_trace
+from ..pillars.horizon_maps import Horizon, interpolate_horizon
+from ..pillars.pillar_depths import depth_on_pillars
+from ..pillars.zones import check_layers, layer_levels
+from .between_horizons import _apply_faults, _check_horizons, _corner_index, _pillar_lattice
+from .deck import Deck, FaultSegment
+from .fault_lattice import FaultLattice, fault_lattice
+
+__all__ = ["horizons_to_pillar_grdecl"]
+
+WHO = "horizons_to_pillar_grdecl"
+
+
+def horizons_to_pillar_grdecl(
+    horizons: Sequence[Horizon | Mapping[str, ArrayLike] | Any],
+    dims: Sequence[int] | None = None,
+    layers: int | Sequence[int] = 1,
+    faults: Sequence[FaultTrace] = (),
+    *,
+    ordering: str = "error",
+    relax_distance: float | None = None,
+) -> Deck:
+    """A corner-point deck whose pillars follow the faults' surfaces (see the module docstring).
+
+    ``horizons``, ``dims``, ``layers`` and ``ordering`` as in
+    :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl`. ``faults``:
+    :class:`FaultTrace` s, their ``points`` the trace at the top horizon and ``surface`` the
+    fault surface (None: vertical); ``throw`` is vertical (m, positive = hanging wall down).
+    Each trace must be a graph over the axis it runs along (within 45 degrees of it); faults
+    along the same axis must not meet (a Y of two such faults is an error suggesting
+    stair_steps), faults along different axes may cross or end on one another.
+    ``relax_distance`` (m): how far from a fault the pillars relax back to vertical; default
+    2 H cot(dip), H the depth range of the horizons and dip the smallest of any stick.
+
+    Returns a :class:`~gridlib.cornerpoint.deck.Deck` (source ``"horizons_to_pillar_grdecl"``)
+    with inclined COORD, FAULTS on the fault lines and ``notes``.
+    """
+    surfaces = _check_horizons(horizons)
+    nlay = check_layers(layers, len(surfaces) - 1, who=WHO)
+    if ordering not in ORDERINGS:
+        raise InputError(f"{WHO}: ordering must be one of {', '.join(ORDERINGS)}, got {ordering!r}")
+    if isinstance(faults, FaultTrace) or not all(isinstance(f, FaultTrace) for f in faults):
+        raise InputError(f"{WHO}: faults must be a sequence of FaultTrace")
+    box, px, py = _pillar_lattice(surfaces, dims)
+    nx, ny = px.size - 1, py.size - 1
+    depth_fns = [_depth_function(s) for s in surfaces]
+    top = depth_fns[0]
+
+    VX, VY = np.meshgrid(px, py)
+    z_top, z_base = top(VX, VY), depth_fns[-1](VX, VY)
+    if not (np.isfinite(z_top).any() and np.isfinite(z_base).any()):
+        raise InputError(f"{WHO}: the top and the base horizon have no common area")
+    z_range = (float(np.nanmin(z_top)), float(np.nanmax(z_base)))
+    names = [t.name if t.name is not None else f"F{f + 1}" for f, t in enumerate(faults)]
+    rulings = [
+        fault_rulings(t, n, _clamped(surfaces[0]), z_range) for t, n in zip(faults, names, strict=True)
+    ]
+    bound = relax_bound(z_range[1] - z_range[0], max((r.max_drift for r in rulings), default=0.0))
+    relax = bound if relax_distance is None else _relax(relax_distance)
+    notes: list[str] = []
+    if any(r.max_drift > 0 for r in rulings):
+        notes.append(f"fault_geometry pillars: pillars relax back to vertical over {relax:g} m")
+
+    lattice = fault_lattice(box, (nx, ny), rulings, relax, top)
+    X, Y = lattice.xy[..., 0], lattice.xy[..., 1]
+    depth = np.where(np.isfinite(lattice.depth), lattice.depth, z_range[0])
+    point, drift = lattice.point.reshape(-1, 2), lattice.drift.reshape(-1, 2)
+    z0 = depth.ravel()
+    lines = np.stack([np.column_stack([point, z0]), np.column_stack([point + drift, z0 + 1.0])], axis=1)
+    H = np.stack(
+        [
+            depth_on_pillars(f, lines, f"{WHO}: horizon {h}").reshape(ny + 1, nx + 1)
+            for h, f in enumerate(depth_fns)
+        ]
+    )
+    H = order_depths(H, ordering, X, Y, notes, who=WHO)
+    Zn = layer_levels(H, nlay)
+    nz = Zn.shape[0] - 1
+    zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
+    segments = _apply_faults(faults, zc, X, Y, box, notes) if faults else []
+    _check_no_crossing(zc, point, drift, z0, rulings, lattice, relax, bound)
+    return _deck(zc, point, drift, z0, segments, notes)
+
+
+def _depth_function(surface):
+    xa, ya, z = surface
+
+    def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return interpolate_horizon(xa, ya, z, x, y)
+
+    return f
+
+
+def _clamped(surface):
+    """The horizon's depth with every point clamped into its box: fault sticks outside the grid
+    meet the top horizon's extension there (its edge values)."""
+    xa, ya, z = surface
+
+    def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return interpolate_horizon(xa, ya, z, np.clip(x, xa[0], xa[-1]), np.clip(y, ya[0], ya[-1]))
+
+    return f
+
+
+def _relax(value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value) or value <= 0:
+        raise InputError(f"{WHO}: relax_distance must be a positive number of metres, got {value!r}")
+    return float(value)
+
+
+def _check_no_crossing(zc, point, drift, z0, rulings, lattice: FaultLattice, relax, bound) -> None:
+    """Every active column's section convex and counter-clockwise at every depth of its cells."""
+    nz, ny, nx = (n // 2 for n in zc.shape)
+    block = zc.reshape(2 * nz, ny, 2, nx, 2)
+    with np.errstate(invalid="ignore"):
+        z_lo = np.nanmin(block, axis=(0, 2, 4)) if np.isfinite(block).any() else None
+    finite = np.isfinite(block).all(axis=(0, 2, 4))  # (ny, nx)
+    if z_lo is None or not finite.any():
+        return
+    z_lo = block.min(axis=(0, 2, 4))
+    z_hi = block.max(axis=(0, 2, 4))
+    ref = float(z_lo[finite].min())
+    q = point + (ref - z0)[:, None] * drift
+    jj, ii = np.nonzero(finite)
+    n0 = jj * (nx + 1) + ii  # the column's corners counter-clockwise: (i, j), (i+1, j), (i+1, j+1), (i, j+1)
+    ring = np.stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1], axis=1)
+    triples = np.stack([np.roll(ring, 1, axis=1), ring, np.roll(ring, -1, axis=1)], axis=-1).reshape(-1, 3)
+    column = np.repeat(jj * nx + ii, 4)
+    lo = np.repeat(z_lo[jj, ii] - ref, 4)
+    hi = np.repeat(z_hi[jj, ii] - ref, 4)
+    centres = lattice.xy[:-1, :-1].reshape(-1, 2) * 0.5 + lattice.xy[1:, 1:].reshape(-1, 2) * 0.5
+
+    def label(c: int) -> str:
+        return f"(i, j) = ({c % nx + 1}, {c // nx + 1})"
+
+    def nearest(c: int) -> str:
+        if not rulings:
+            return "?"
+        dist = []
+        for r in rulings:
+            seg, t, _ = nearest_on_trace(centres[c : c + 1], r.anchors, False, False)
+            a, _, _ = r.ruling(seg, t)
+            dist.append(float(np.hypot(*(a[0] - centres[c]))))
+        return rulings[int(np.argmin(dist))].name
+
+    check_columns(q, drift, triples, column, lo, hi, label, nearest, relax, bound)
+
+
+def _deck(zc, point, drift, z0, segments: list[FaultSegment], notes: list[str]) -> Deck:
+    """The deck: cells with an undefined corner inactive, every pillar given at the grid's
+    shallowest and deepest corner depth (a long line: OPM takes pillars whose ends differ by
+    less than 1e-6 in depth as vertical)."""
+    nz, ny, nx = (n // 2 for n in zc.shape)
+    with np.errstate(invalid="ignore"):
+        active = np.isfinite(zc).reshape(nz, 2, ny, 2, nx, 2).all(axis=(1, 3, 5))
+    if not active.any():
+        raise InputError(
+            f"{WHO}: the horizons have no common area: every cell has a corner where a horizon is undefined"
+        )
+    finite = zc[np.isfinite(zc)]
+    ztop, zbot = float(finite.min()), float(finite.max())
+    if zbot <= ztop:
+        zbot = ztop + 1.0
+    top = point + (ztop - z0)[:, None] * drift
+    bot = point + (zbot - z0)[:, None] * drift
+    coord = np.column_stack([top, np.full(len(top), ztop), bot, np.full(len(bot), zbot)])
+    return Deck(
+        (nx, ny, nz),
+        coord.ravel(),
+        zc.ravel(),
+        active.ravel().astype(np.int32),
+        faults=tuple(segments),
+        source=WHO,
+        notes=tuple(notes),
+    )
