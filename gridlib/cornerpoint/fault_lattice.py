@@ -225,7 +225,9 @@ def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax):
             seg, t, inside = _on_trace(fault, flat[nodes])
             nodes, seg, t = nodes[inside], seg[inside], t[inside]
             a, z, s = fault.ruling(seg, t)
-            strike = np.diff(fault.anchors, axis=0)[seg]
+            # The horizontal direction along the surface: anchors differ in depth, so their chord
+            # is no strike line; d/dt of the section at the ruling's depth is.
+            strike = np.diff(fault.anchors, axis=0)[seg] - np.diff(fault.depth)[seg][:, None] * s
             strike /= np.hypot(*strike.T)[:, None]
             planes.append((nodes, a, z, s, strike, False))
     node_of = np.concatenate([p[0] for p in planes])
@@ -238,23 +240,45 @@ def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax):
     starts = np.searchsorted(node_sorted, np.arange(flat.shape[0]))
     first[count > 0] = order[starts[count > 0]]
     one = count == 1
-    boundary_only = one & is_boundary[first.clip(0)]
-    # One fault plane: the ruling. One boundary plane: the blended drift along the boundary.
-    ruled = one & ~boundary_only
-    r = first[ruled]
-    point[ruled], depth[ruled], drift[ruled] = cat[1][r], cat[2][r], cat[3][r]
-    b = first[boundary_only]
-    along = (drift[boundary_only] * cat[4][b]).sum(axis=1)
-    drift[boundary_only] = along[:, None] * cat[4][b]
-    # Two planes: their line of intersection, through the depth of the top horizon at the node.
+    plane = first[one]  # the plane of every node on exactly one
+    # One fault plane: the ruling (its anchor and depth place the pillar in the surface).
+    fault_node = np.flatnonzero(one)[~is_boundary[plane]]
+    r = first[fault_node]
+    point[fault_node], depth[fault_node] = cat[1][r], cat[2][r]
+    # Two planes (a junction): their line of intersection, through the top horizon's depth.
     two = np.flatnonzero(count == 2)
     if two.size:
         p1 = order[starts[two]]
         p2 = order[starts[two] + 1]
-        point[two], drift[two] = _intersection(
-            [c[p1] for c in cat[1:]], [c[p2] for c in cat[1:]], depth[two], faults
-        )
+        blended = drift[two]
+        point[two], drift[two] = _intersection([c[p1] for c in cat[1:]], [c[p2] for c in cat[1:]], depth[two])
+        # Near a junction the pillars take its difference to the blended drift, tapering off over
+        # the relax distance: the pillars along a fault slide towards the junction gradually.
+        drift = _towards_junctions(flat, drift, two, drift[two] - blended, relax)
+    # Every node on one plane keeps to it: its drift projected onto the plane.
+    on_one = np.flatnonzero(one)
+    s_p, strike = cat[3][plane], cat[4][plane]
+    along = ((drift[on_one] - s_p) * strike).sum(axis=1)
+    drift[on_one] = s_p + along[:, None] * strike
     return point.reshape(*shape, 2), depth.reshape(shape), drift.reshape(*shape, 2)
+
+
+def _towards_junctions(
+    xy: FloatArray, drift: FloatArray, junction, jump: FloatArray, relax: float
+) -> FloatArray:
+    """``drift`` plus each junction's ``jump`` (its pillar's drift minus the blended one there)
+    weighted by smoothstep(1 - d / relax), d the distance to the junction, weights capped at 1."""
+    if relax <= 0:
+        return drift
+    correction = np.zeros_like(drift)
+    weight = np.zeros(xy.shape[0])
+    for n, jump_n in zip(junction, jump, strict=True):
+        w = smoothstep(1.0 - np.hypot(*(xy - xy[n]).T) / relax)
+        correction += w[:, None] * jump_n
+        weight += w
+    out = drift + correction / np.maximum(weight, 1.0)[:, None]
+    out[junction] = drift[junction]
+    return out
 
 
 def _on_trace(fault: FaultRulings, p: FloatArray):
@@ -274,7 +298,7 @@ def _on_trace(fault: FaultRulings, p: FloatArray):
     return seg, t, inside
 
 
-def _intersection(plane1, plane2, z0, faults):
+def _intersection(plane1, plane2, z0):
     """Point at depth ``z0`` and drift of the line where two planes meet; each plane is (anchor,
     depth, drift, strike) per node: the points a + (z - za) s + alpha * strike."""
     a1, za1, s1, t1 = plane1

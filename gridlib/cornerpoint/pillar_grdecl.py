@@ -34,11 +34,11 @@ from numpy.typing import ArrayLike
 from ..errors import InputError
 from ..pillars.depth_order import ORDERINGS, order_depths
 from ..pillars.drift import check_columns, fault_rulings, relax_bound
-from ..pillars.fault_traces import FaultTrace, nearest_on_trace
+from ..pillars.fault_traces import FaultTrace, fault_displacement, nearest_on_trace
 from ..pillars.horizon_maps import Horizon, interpolate_horizon
 from ..pillars.pillar_depths import depth_on_pillars
 from ..pillars.zones import check_layers, layer_levels
-from .between_horizons import _apply_faults, _check_horizons, _corner_index, _pillar_lattice
+from .between_horizons import _check_horizons, _corner_index, _pillar_lattice, _runs
 from .deck import Deck, FaultSegment
 from .fault_lattice import FaultLattice, fault_lattice
 
@@ -113,9 +113,82 @@ def horizons_to_pillar_grdecl(
     Zn = layer_levels(H, nlay)
     nz = Zn.shape[0] - 1
     zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
-    segments = _apply_faults(faults, zc, X, Y, box, notes) if faults else []
+    segments = _displace(faults, names, zc, lattice.xy, lattice.lines, box, notes)
     _check_no_crossing(zc, point, drift, z0, rulings, lattice, relax, bound)
     return _deck(zc, point, drift, z0, segments, notes)
+
+
+def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[FaultSegment]:
+    """Move the hanging-wall corners of every fault down by its throw (``zc`` in place), as
+    ``horizons_to_grdecl`` does on the lattice ``xy`` at the top horizon, except that an end of a
+    trace on another fault's trace is no tip: the fault's hanging wall ends at that fault (only
+    the cells on the fault's own side of it move). The FAULTS segments of the cell edges each
+    fault offsets, but for those on another fault's line which that fault offsets too (the faces
+    of a T's stem against its bar belong to the bar)."""
+    nz, ny, nx = (n // 2 for n in zc.shape)
+    xmin, xmax, ymin, ymax = box
+    tol = 1e-6 * max(xmax - xmin, ymax - ymin)
+    pillars = xy.reshape(-1, 2)
+    centres = (0.5 * (xy[:-1, :-1] + xy[1:, 1:])).reshape(-1, 2)
+    j, i, b, a = np.indices((ny, nx, 2, 2))
+    corner_pillar, corner_cell = (j + b) * (nx + 1) + (i + a), j * nx + i
+    segments: list[FaultSegment] = []
+    across = []
+    for f, trace in enumerate(faults):
+        pts = trace.points
+        ends_on = [_ends_on(pts[e], f, faults, tol) for e in (0, -1)]
+        open_ends = [
+            not (xmin < pts[e][0] < xmax and ymin < pts[e][1] < ymax) or ends_on[k] is not None
+            for k, e in enumerate((0, -1))
+        ]
+        disp = fault_displacement(
+            trace, f, names[f], pillars, centres, corner_pillar, corner_cell, *open_ends
+        )
+        for other, body in zip(ends_on, (pts[1], pts[-2]), strict=True):
+            if other is not None:  # keep the cells on the fault's own side of the other one
+                _, _, side = nearest_on_trace(np.vstack([centres, body]), faults[other].points, True, True)
+                disp *= (np.sign(side[:-1]) == np.sign(side[-1]))[corner_cell]
+        zc += disp.transpose(0, 2, 1, 3).reshape(2 * ny, 2 * nx)[None]
+        across.append(_across(disp))
+    for f, name in enumerate(names):
+        across_i, across_j = across[f]
+        for g, (family, index) in enumerate(lines):  # edges on another fault's line are its own
+            if g != f and family == "i":
+                across_i[:, index - 1] &= ~across[g][0][:, index - 1]
+            elif g != f and family == "j":
+                across_j[index - 1] &= ~across[g][1][index - 1]
+        segs = [
+            FaultSegment(name, int(i), int(i), int(j1), int(j2), 0, nz - 1, "X")
+            for i, j1, j2 in zip(*_runs(across_i.T), strict=True)
+        ]
+        segs += [
+            FaultSegment(name, int(i1), int(i2), int(j), int(j), 0, nz - 1, "Y")
+            for j, i1, i2 in zip(*_runs(across_j), strict=True)
+        ]
+        if not segs:
+            notes.append(f"fault '{name}' offsets no cell edge of the grid")
+        segments += segs
+    return segments
+
+
+def _across(disp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Which cell edges a fault's corner displacement (ny, nx, 2, 2) differs across: the +i faces
+    (ny, nx - 1) and the +j faces (ny - 1, nx)."""
+    across_i = (disp[:, :-1, :, 1] != disp[:, 1:, :, 0]).any(axis=-1)
+    across_j = (disp[:-1, :, 1, :] != disp[1:, :, 0, :]).any(axis=-1)
+    return across_i, across_j
+
+
+def _ends_on(point: np.ndarray, f: int, faults, tol: float) -> int | None:
+    """The first other fault whose trace passes within ``tol`` of ``point``, or None."""
+    for g, other in enumerate(faults):
+        if g != f:
+            seg, t, _ = nearest_on_trace(point[None], other.points, False, False)
+            v = other.points
+            near = v[seg[0]] + t[0] * (v[seg[0] + 1] - v[seg[0]])
+            if np.hypot(*(near - point)) <= tol:
+                return g
+    return None
 
 
 def _depth_function(surface):
