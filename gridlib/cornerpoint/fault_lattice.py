@@ -43,7 +43,8 @@ class FaultLattice:
 
     ``xy``: the nodes at the top horizon (plan view; what classifies the cells against the
     faults). Pillar (j, i) passes through ``point[j, i] + (z - depth[j, i]) * drift[j, i]`` at
-    depth z. ``lines[f]``: ``("i" or "j", index)`` of the lattice line carrying fault f.
+    depth z; ``depth`` is the top horizon's there (any depth where it is undefined).
+    ``lines[f]``: ``("i" or "j", index)`` of the lattice line carrying fault f.
     """
 
     xy: FloatArray
@@ -89,6 +90,8 @@ def fault_lattice(
     X, Y = _nodes(px, py, fixed_i, fixed_j)
     xy = np.stack([X, Y], axis=-1)
     z0 = top(X, Y)
+    # Where the top horizon is undefined the cells are inactive; any depth places the pillar.
+    z0 = np.where(np.isfinite(z0), z0, np.nanmin(z0) if np.isfinite(z0).any() else 0.0)
     point, depth, drift = _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax)
     lines: list[tuple[str, int]] = [("", -1)] * len(faults)
     for family, fixed in (("i", fixed_i), ("j", fixed_j)):

@@ -99,9 +99,8 @@ def horizons_to_pillar_grdecl(
 
     lattice = fault_lattice(box, (nx, ny), rulings, relax, top)
     X, Y = lattice.xy[..., 0], lattice.xy[..., 1]
-    depth = np.where(np.isfinite(lattice.depth), lattice.depth, z_range[0])
     point, drift = lattice.point.reshape(-1, 2), lattice.drift.reshape(-1, 2)
-    z0 = depth.ravel()
+    z0 = lattice.depth.ravel()
     lines = np.stack([np.column_stack([point, z0]), np.column_stack([point + drift, z0 + 1.0])], axis=1)
     H = np.stack(
         [

@@ -55,7 +55,7 @@ def tagged_nodes(grid, tag: int) -> np.ndarray:
 
 
 def column_areas(deck) -> np.ndarray:
-    """min_corner_areas of every column of the deck, from its COORD and ZCORN alone."""
+    """min_corner_areas of every column of the deck with cells, from its COORD and ZCORN alone."""
     nx, ny, nz = deck.cart_dims
     p = deck.pillars().reshape(-1, 2, 3)
     s = (p[:, 1, :2] - p[:, 0, :2]) / (p[:, 1, 2] - p[:, 0, 2])[:, None]
@@ -67,7 +67,8 @@ def column_areas(deck) -> np.ndarray:
     triples = np.stack([np.roll(ring, 1, axis=1), ring, np.roll(ring, -1, axis=1)], axis=-1).reshape(-1, 3)
     lo = np.repeat(zc.min(axis=(0, 2, 4)).ravel(), 4)
     hi = np.repeat(zc.max(axis=(0, 2, 4)).ravel(), 4)
-    return min_corner_areas(q, s, triples, lo, hi)
+    defined = np.isfinite(lo)  # columns with an undefined corner hold no active cell
+    return min_corner_areas(q, s, triples[defined], lo[defined], hi[defined])
 
 
 def processed(deck):
@@ -271,3 +272,15 @@ def test_a_fault_ending_on_another_and_two_crossing_faults_equal_flow(tmp_path):
     c = deck_transmissibility(read_grdecl(work / "CASE.DATA"))
     ours = dict(zip(map(tuple, c.global_cells.tolist()), c.trans.tolist(), strict=True))
     assert_same_connections(ours, flow_connections(case))
+
+
+def test_horizons_that_leave_cells_undefined_give_inactive_cells_and_finite_pillars():
+    x, y = np.linspace(0.0, 400.0, 9), np.linspace(0.0, 200.0, 5)
+    z = np.full((5, 9), Z0)
+    z[0, :3] = np.nan  # a hole at the south-west corner
+    base = Horizon(np.linspace(-50.0, 450.0, 11), y, np.full((5, 11), Z1))  # wider than the top
+    fault = dip_fault(TRACE, [Z0, Z0], 60.0, "right", 12.0, "F1")
+    deck = horizons_to_pillar_grdecl([Horizon(x, y, z), base], (10, 5), 3, [fault])
+    assert np.isfinite(deck.coord).all()
+    r, _ = processed(deck)
+    assert 0 < r.grid.num_cells == int(deck.actnum.sum()) < 150
