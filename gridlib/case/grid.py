@@ -29,12 +29,14 @@ import numpy as np
 from ..config import Case
 from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from ..cornerpoint.process import process_grdecl
 from ..errors import GridError, InputError
 from ..grid import Grid
 from ..horizons import to_horizons
 from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
 from ..pillars.extrude import extrude
+from ..pillars.horizon_maps import check_horizon, interpolate_horizon
 from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
 from .deck import read_case_deck
@@ -94,6 +96,8 @@ def _horizon_list(case: Case, horizons):
 
 
 def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
+    if spec.get("fault_geometry") == "pillars":
+        return _pillar_cornerpoint(case, spec, horizons)
     by_block = block_horizons(horizons) if horizons is not None else None
     ordering = case.data["horizons"]["ordering"]
     if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
@@ -106,6 +110,31 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
             _horizon_list(case, horizons), spec["dims"], spec["layers"], fault_traces(case)
         )
     deck = replace(deck, source=f"{case.path} (horizons_to_grdecl)")
+    return _processed(deck, spec["tolerance"])
+
+
+def _pillar_cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
+    """fault_geometry pillars: pillars that follow the faults' surfaces (horizons_to_pillar_grdecl)."""
+    if horizons is not None and block_horizons(horizons) is not None:
+        raise InputError(
+            f"{case.path}: grid: fault_geometry pillars does not take horizons picked per fault block "
+            "yet; use fault_geometry: stair_steps"
+        )
+    hz = _horizon_list(case, horizons)
+    top = hz[0]
+
+    def top_depth(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return interpolate_horizon(*check_horizon(top, 0), x, y)
+
+    deck = horizons_to_pillar_grdecl(
+        hz,
+        spec["dims"],
+        spec["layers"],
+        fault_traces(case, top=top_depth),
+        ordering=case.data["horizons"]["ordering"],
+        relax_distance=spec.get("relax_distance"),
+    )
+    deck = replace(deck, source=f"{case.path} (horizons_to_pillar_grdecl)")
     return _processed(deck, spec["tolerance"])
 
 
