@@ -217,16 +217,14 @@ def _relax(value: Any) -> float:
 
 
 def _check_no_crossing(zc, point, drift, z0, rulings, lattice: FaultLattice, relax, bound) -> None:
-    """Every active column's section convex and counter-clockwise at every depth of its cells."""
-    nz, ny, nx = (n // 2 for n in zc.shape)
-    block = zc.reshape(2 * nz, ny, 2, nx, 2)
-    with np.errstate(invalid="ignore"):
-        z_lo = np.nanmin(block, axis=(0, 2, 4)) if np.isfinite(block).any() else None
-    finite = np.isfinite(block).all(axis=(0, 2, 4))  # (ny, nx)
-    if z_lo is None or not finite.any():
+    """Every active column's section convex and counter-clockwise at every depth of its cells
+    (corner depths grow down every pillar, so a column's range is its first top to last bottom)."""
+    ny, nx = (n // 2 for n in zc.shape[1:])
+    z_lo = zc[0].reshape(ny, 2, nx, 2).min(axis=(1, 3))
+    z_hi = zc[-1].reshape(ny, 2, nx, 2).max(axis=(1, 3))
+    finite = np.isfinite(z_lo) & np.isfinite(z_hi)  # (ny, nx)
+    if not finite.any():
         return
-    z_lo = block.min(axis=(0, 2, 4))
-    z_hi = block.max(axis=(0, 2, 4))
     ref = float(z_lo[finite].min())
     q = point + (ref - z0)[:, None] * drift
     jj, ii = np.nonzero(finite)
