@@ -88,12 +88,17 @@ def horizons_to_pillar_grdecl(
         raise InputError(f"{WHO}: the top and the base horizon have no common area")
     z_range = (float(np.nanmin(z_top)), float(np.nanmax(z_base)))
     names = [t.name if t.name is not None else f"F{f + 1}" for f, t in enumerate(faults)]
-    rulings = [
-        fault_rulings(t, n, _clamped(surfaces[0]), z_range) for t, n in zip(faults, names, strict=True)
-    ]
+    rulings, notes = [], []
+    for trace, name in zip(faults, names, strict=True):
+        ruling, stray = fault_rulings(trace, name, _clamped(surfaces[0]), z_range)
+        rulings.append(ruling)
+        if stray > 1e-9 * _extent(box):
+            notes.append(
+                f"fault '{name}': its sticks bend; the pillars follow their straight chords between "
+                f"depths {z_range[0]:g} and {z_range[1]:g} m, up to {stray:.3g} m from the sticks"
+            )
     bound = relax_bound(z_range[1] - z_range[0], max((r.max_drift for r in rulings), default=0.0))
     relax = bound if relax_distance is None else _relax(relax_distance)
-    notes: list[str] = []
     if any(r.max_drift > 0 for r in rulings):
         notes.append(f"fault_geometry pillars: pillars relax back to vertical over {relax:g} m")
 
@@ -126,7 +131,7 @@ def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[Fault
     of a T's stem against its bar belong to the bar)."""
     nz, ny, nx = (n // 2 for n in zc.shape)
     xmin, xmax, ymin, ymax = box
-    tol = 1e-6 * max(xmax - xmin, ymax - ymin)
+    tol = 1e-6 * _extent(box)
     pillars = xy.reshape(-1, 2)
     centres = (0.5 * (xy[:-1, :-1] + xy[1:, 1:])).reshape(-1, 2)
     j, i, b, a = np.indices((ny, nx, 2, 2))
@@ -208,6 +213,10 @@ def _clamped(surface):
         return interpolate_horizon(xa, ya, z, np.clip(x, xa[0], xa[-1]), np.clip(y, ya[0], ya[-1]))
 
     return f
+
+
+def _extent(box) -> float:
+    return max(box[1] - box[0], box[3] - box[2])
 
 
 def _relax(value: Any) -> float:

@@ -69,17 +69,22 @@ class FaultRulings:
 
 def fault_rulings(
     trace: FaultTrace, name: str, top: DepthFunction, z_range: tuple[float, float]
-) -> FaultRulings:
+) -> tuple[FaultRulings, float]:
     """The rulings of ``trace``'s surface where they meet the top horizon ``top(x, y)`` (defined
-    everywhere, e.g. clamped to its box), the sticks taken as their chords over ``z_range`` (the
-    model's depths, m). No surface: a vertical fault on the trace."""
-    surface = getattr(trace, "surface", None)
+    everywhere, e.g. clamped to its box), and how far (m, horizontally) the sticks stray from the
+    straight chords that stand for them over ``z_range`` (the model's depths): 0 for straight
+    sticks; a listric (bent) stick cannot be followed by a straight pillar. No surface: a
+    vertical fault on the trace."""
+    surface = trace.surface
     if surface is None:
         anchors = np.array(trace.points, dtype=np.float64)
-        return FaultRulings(name, anchors, top(anchors[:, 0], anchors[:, 1]), np.zeros_like(anchors))
+        return FaultRulings(name, anchors, top(anchors[:, 0], anchors[:, 1]), np.zeros_like(anchors)), 0.0
     z_lo, z_hi = z_range
-    start = np.asarray(surface.section(z_lo), dtype=np.float64)
-    drift = np.asarray(surface.drift(z_lo, z_hi), dtype=np.float64)
+    start = surface.section(z_lo)
+    drift = surface.drift(z_lo, z_hi)
+    inside = (surface.levels > z_lo) & (surface.levels < z_hi)
+    chord = start[None] + (surface.levels[inside] - z_lo)[:, None, None] * drift[None]
+    stray = float(np.hypot(*(surface.points[inside] - chord).T).max(initial=0.0))
     lines = np.stack(
         [
             np.column_stack([start, np.full(len(start), z_lo)]),
@@ -94,7 +99,7 @@ def fault_rulings(
             f"fault '{name}': stick {k + 1} does not meet the top horizon (it is undefined there)"
         )
     anchors = start + (depth - z_lo)[:, None] * drift
-    return FaultRulings(name, anchors, depth, drift)
+    return FaultRulings(name, anchors, depth, drift), stray
 
 
 def relax_bound(thickness: float, max_drift: float) -> float:

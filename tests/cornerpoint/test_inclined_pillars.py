@@ -284,3 +284,47 @@ def test_horizons_that_leave_cells_undefined_give_inactive_cells_and_finite_pill
     assert np.isfinite(deck.coord).all()
     r, _ = processed(deck)
     assert 0 < r.grid.num_cells == int(deck.actnum.sum()) < 150
+
+
+# --------------------------------------------------------------------------- fault sticks
+
+
+def stick(x: float, y: float, drift: float) -> np.ndarray:
+    """A straight stick from depth 900 to 1200 m leaning ``drift`` m east per metre of depth."""
+    return np.array([[x, y, 900.0], [x + 300.0 * drift, y, 1200.0]])
+
+
+def distance_to_section(surface: FaultSurface, nodes: np.ndarray) -> np.ndarray:
+    """Plan distance (m) of every node (n, 3) from the surface's section at the node's depth."""
+    out = np.full(nodes.shape[0], np.inf)
+    sections = surface.section(nodes[:, 2])  # (n, sticks, 2)
+    for k in range(sections.shape[1] - 1):
+        a, b = sections[:, k], sections[:, k + 1]
+        t = np.clip(((nodes[:, :2] - a) * (b - a)).sum(axis=1) / ((b - a) ** 2).sum(axis=1), 0.0, 1.0)
+        out = np.minimum(out, np.hypot(*(a + t[:, None] * (b - a) - nodes[:, :2]).T))
+    return out
+
+
+def test_a_twisted_surface_of_sticks_carries_its_fault_faces():
+    """Three straight sticks dipping 60, 70 and 65 degrees: the surface between them is twisted
+    (linear between consecutive sticks at equal depth); every node of every fault face lies on it
+    (flat horizons: the faces run between rulings at equal depths); a bent stick is a note."""
+    sticks = [stick(180.0, -40.0, 0.577), stick(200.0, 100.0, 0.364), stick(230.0, 240.0, 0.466)]
+    surface = FaultSurface.from_sticks(sticks, name="S")
+    xy, _ = surface.on_horizon(lambda x, y: np.full(np.shape(x), Z0))
+    fault = FaultTrace(xy, 10.0, "S", "right", surface=surface)
+    deck = horizons_to_pillar_grdecl(flat_box(*BOX, Z0, Z1), (10, 5), 3, [fault])
+    r, _ = processed(deck)
+    assert_monotone_zcorn(deck)
+    nodes = tagged_nodes(r.grid, 1)
+    assert nodes.shape[0] > 0 and distance_to_section(surface, nodes).max() < 1e-9 * BOX[0]
+    assert not any("bend" in n for n in deck.notes)
+
+    bent = [sticks[0], np.vstack([sticks[1][0], [209.0, 100.0, 1050.0], [239.0, 100.0, 1200.0]]), sticks[2]]
+    fault = FaultTrace(xy, 10.0, "S", "right", surface=FaultSurface.from_sticks(bent, name="S"))
+    deck = horizons_to_pillar_grdecl(flat_box(*BOX, Z0, Z1), (10, 5), 3, [fault])
+    processed(deck)
+    assert any(
+        n.startswith("fault 'S': its sticks bend; the pillars follow their straight chords")
+        for n in deck.notes
+    )
