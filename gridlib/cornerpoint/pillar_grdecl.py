@@ -70,6 +70,20 @@ def horizons_to_pillar_grdecl(
 
     Returns a :class:`~gridlib.cornerpoint.deck.Deck` (source ``"horizons_to_pillar_grdecl"``)
     with inclined COORD, FAULTS on the fault lines and ``notes``.
+
+    >>> from gridlib.pillars.fault_surface import FaultSurface
+    >>> x, y = np.linspace(0.0, 400.0, 3), np.linspace(0.0, 200.0, 3)
+    >>> horizons = [Horizon(x, y, np.full((3, 3), 1000.0)), Horizon(x, y, np.full((3, 3), 1040.0))]
+    >>> trace = [(200.0, -10.0), (200.0, 210.0)]  # walking north: the hanging wall east (right)
+    >>> surface = FaultSurface.from_dip(trace, [1000.0, 1000.0], 60.0, "right")
+    >>> fault = FaultTrace(trace, 5.0, "F1", "right", surface=surface)
+    >>> deck = horizons_to_pillar_grdecl(horizons, (4, 2), 2, [fault])
+    >>> deck.faults
+    (FaultSegment(name='F1', i1=1, i2=1, j1=0, j2=1, k1=0, k2=1, face='X'),)
+    >>> deck.pillars()[0, 2].round(3).tolist()  # the fault's pillar: 45 m deep, 45 cot(60) m east
+    [[200.0, 0.0, 1000.0], [225.981, 0.0, 1045.0]]
+    >>> deck.pillars()[0, 0].tolist()  # the boundary's: vertical
+    [[0.0, 0.0, 1000.0], [0.0, 0.0, 1045.0]]
     """
     surfaces = _check_horizons(horizons)
     nlay = check_layers(layers, len(surfaces) - 1, who=WHO)
