@@ -10,6 +10,10 @@ own at the top horizon, and the pillars along it lie in the fault surface:
   parallel to its axis, untagged;
 * the grid's four boundary lines stay where they are, and the lines between two fixed lines
   of a family (boundary or fault) are blended linearly by index, so they keep their order;
+* a fault ending on another of its family (a Y) keeps its line beyond the junction mirrored
+  about the other's, and a straight line of the other family runs through the junction: the
+  lines between the two faults' then meet in one pillar there (wedge columns on both sides,
+  which OPM Flow and ``process_grdecl`` accept); faults of one family that cross are an error;
   a node is where its i-line and its j-line meet (a fixed point, contracting because every
   line is within 45 degrees of its axis);
 * the pillar of a node on one fault is that fault's ruling through it; of a node on two
@@ -59,12 +63,24 @@ class _Graph:
     """A fault's trace as v(u) along one axis (u = y for an i-line, v = x), continued beyond its
     ends parallel to that axis (so a line beyond a tip inside the grid stays inside it)."""
 
-    fault: int
+    fault: int  # -1: the straight line through a Y junction, no fault
     family: str
     u: FloatArray  # increasing
     v: FloatArray
+    # A fault ending on another of its family at u_J (a Y): beyond u_J (on the side ``sign``) its
+    # line mirrors its offset from the other's, so the two lines touch at the junction only.
+    mirror: tuple[_Graph, float, float] | None = None
 
     def __call__(self, u: FloatArray) -> FloatArray:
+        if self.mirror is None:
+            return self._base(u)
+        other, u_j, sign = self.mirror
+        beyond = sign * (u - u_j) > 0
+        back = np.where(beyond, 2.0 * u_j - u, u)
+        v = self._base(back)
+        return np.where(beyond, other(u) + (v - other(back)), v)
+
+    def _base(self, u: FloatArray) -> FloatArray:
         u = np.clip(u, self.u[0], self.u[-1])
         k = np.clip(np.searchsorted(self.u, u) - 1, 0, self.u.size - 2)
         t = (u - self.u[k]) / (self.u[k + 1] - self.u[k])
@@ -85,18 +101,26 @@ def fault_lattice(
     nx, ny = dims
     px, py = np.linspace(xmin, xmax, nx + 1), np.linspace(ymin, ymax, ny + 1)
     graphs = [_graph(f, fault) for f, fault in enumerate(faults)]
-    fixed_i = _fixed_lines([g for g in graphs if g.family == "i"], px, (ymin, ymax), faults, "x")
-    fixed_j = _fixed_lines([g for g in graphs if g.family == "j"], py, (xmin, xmax), faults, "y")
+    graphs, ys = _y_junctions(graphs, faults, 1e-6 * max(xmax - xmin, ymax - ymin))
+    for family, u_j, _, _, _ in ys:  # the other family gets a straight line through the junction
+        span = (xmin, xmax) if family == "i" else (ymin, ymax)
+        graphs.append(_Graph(-1, "j" if family == "i" else "i", np.array(span), np.array([u_j, u_j])))
+    touching = {frozenset((f, g)): u_j for _, u_j, _, f, g in ys}
+    fixed_i = _fixed_lines([g for g in graphs if g.family == "i"], px, (ymin, ymax), faults, "x", touching)
+    fixed_j = _fixed_lines([g for g in graphs if g.family == "j"], py, (xmin, xmax), faults, "y", touching)
     X, Y = _nodes(px, py, fixed_i, fixed_j)
     xy = np.stack([X, Y], axis=-1)
+    y_nodes = [_y_nodes(y, fixed_i, fixed_j) for y in ys]
+    for nodes in y_nodes:  # the nodes between the two lines in the junction's row are one point
+        xy.reshape(-1, 2)[nodes] = xy.reshape(-1, 2)[nodes[0]]
     z0 = top(X, Y)
     # Where the top horizon is undefined the cells are inactive; any depth places the pillar.
     z0 = np.where(np.isfinite(z0), z0, np.nanmin(z0) if np.isfinite(z0).any() else 0.0)
-    point, depth, drift = _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax)
+    point, depth, drift = _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax, y_nodes)
     lines: list[tuple[str, int]] = [("", -1)] * len(faults)
     for family, fixed in (("i", fixed_i), ("j", fixed_j)):
         for index, g in fixed.items():
-            if g is not None:
+            if g is not None and g.fault >= 0:
                 lines[g.fault] = (family, index)
     return FaultLattice(xy, point, depth, drift, tuple(lines))
 
@@ -123,11 +147,50 @@ def _graph(f: int, fault: FaultRulings) -> _Graph:
     return _Graph(f, family, u.copy(), v.copy())
 
 
+def _y_junctions(graphs: list[_Graph], faults, tol: float):
+    """Faults of one family of which one ends on the other's trace (a Y or a lambda): the ending
+    one's line mirrored beyond the junction (:class:`_Graph`), its end moved exactly onto the
+    other's line; and the junctions (family, u_J, v_J, ending fault, other fault)."""
+    ys = []
+    out = list(graphs)
+    for f, gf in enumerate(graphs):
+        for g, gg in enumerate(graphs):
+            if f == g or gf.family != gg.family:
+                continue
+            for end, sign in ((0, -1.0), (-1, 1.0)):
+                u_j = gf.u[end]
+                if not (gg.u[0] <= u_j <= gg.u[-1]) or abs(gf.v[end] - gg(np.array([u_j]))[0]) > tol:
+                    continue
+                if any(y[3] == f for y in ys):
+                    raise InputError(
+                        f"fault_geometry pillars: both ends of fault '{faults[f].name}' end on other faults "
+                        "along its lattice family; use fault_geometry: stair_steps"
+                    )
+                v = gf.v.copy()
+                v[end] = gg(np.array([u_j]))[0]
+                out[f] = _Graph(gf.fault, gf.family, gf.u, v, (gg, float(u_j), sign))
+                ys.append((gf.family, float(u_j), float(v[end]), gf.fault, gg.fault))
+    return out, ys
+
+
+def _y_nodes(y, fixed_i, fixed_j) -> np.ndarray:
+    """Flat indices of the lattice nodes at a Y junction: in the row of the line through it,
+    from the one fault's line to the other's."""
+    family, u_j, _, f, g = y
+    own, cross = (fixed_i, fixed_j) if family == "i" else (fixed_j, fixed_i)
+    at = [k for k, line in own.items() if line is not None and line.fault in (f, g)]
+    row = next(k for k, line in cross.items() if line is not None and line.fault < 0 and line.v[0] == u_j)
+    nx = max(fixed_i)
+    span = np.arange(min(at), max(at) + 1)
+    return row * (nx + 1) + span if family == "i" else span * (nx + 1) + row
+
+
 def _fixed_lines(
-    graphs: list[_Graph], axis: FloatArray, span: tuple[float, float], faults, name: str
+    graphs: list[_Graph], axis: FloatArray, span: tuple[float, float], faults, name: str, touching
 ) -> dict[int, _Graph | None]:
     """The fixed lines of one family: index -> fault graph (None for the two boundaries), checked
-    to keep their order over the whole grid."""
+    to keep their order over the whole grid, but for two faults of a Y at their junction
+    (``touching``: {frozenset of the two faults: u there})."""
     n = axis.size - 1
     h = axis[1] - axis[0]
     u = np.linspace(span[0], span[1], n + 1)
@@ -135,26 +198,28 @@ def _fixed_lines(
     for g in graphs:
         index = int(np.clip(np.rint((g(u).mean() - axis[0]) / h), 1, n - 1))
         if index in fixed:
-            other = fixed[index]
-            what = "the grid's boundary" if other is None else f"fault '{faults[other.fault].name}'"
             raise InputError(
-                f"fault_geometry pillars: fault '{faults[g.fault].name}' and {what} fall on the same "
-                f"lattice line ({name} line {index}); refine the grid, or use fault_geometry: stair_steps"
+                f"fault_geometry pillars: {_what(g, faults)} and {_what(fixed[index], faults)} fall on "
+                f"the same lattice line ({name} line {index}); refine the grid, or use fault_geometry: "
+                "stair_steps"
             )
         fixed[index] = g
     order = sorted(fixed)
     # Piecewise linear lines keep their order iff they do at every break point of both.
-    breaks = np.unique(np.concatenate([[span[0], span[1]], *(g.u for g in graphs)]))
+    mirrored = [2.0 * g.mirror[1] - g.u for g in graphs if g.mirror is not None]
+    breaks = np.unique(np.concatenate([[span[0], span[1]], *(g.u for g in graphs), *mirrored]))
     breaks = breaks[(breaks >= span[0]) & (breaks <= span[1])]
     for lo, hi in itertools.pairwise(order):
         v_lo = np.full(breaks.size, axis[0]) if fixed[lo] is None else fixed[lo](breaks)
         v_hi = np.full(breaks.size, axis[-1]) if fixed[hi] is None else fixed[hi](breaks)
-        if np.any(v_hi <= v_lo):
-            names = [
-                "the grid's boundary" if fixed[k] is None else f"fault '{faults[fixed[k].fault].name}'"
-                for k in (lo, hi)
-            ]
-            where = float(breaks[np.flatnonzero(v_hi <= v_lo)[0]])
+        bad = v_hi <= v_lo
+        if fixed[lo] is not None and fixed[hi] is not None:
+            u_j = touching.get(frozenset((fixed[lo].fault, fixed[hi].fault)))
+            if u_j is not None:
+                bad &= ~((breaks == u_j) & (np.abs(v_hi - v_lo) <= 1e-9 * (axis[-1] - axis[0])))
+        if np.any(bad):
+            names = [_what(fixed[k], faults) for k in (lo, hi)]
+            where = float(breaks[np.flatnonzero(bad)[0]])
             other = "y" if name == "x" else "x"
             raise InputError(
                 f"fault_geometry pillars: {names[0]} and {names[1]} meet or cross at the top horizon "
@@ -162,6 +227,14 @@ def _fixed_lines(
                 "use fault_geometry: stair_steps"
             )
     return fixed
+
+
+def _what(line: _Graph | None, faults) -> str:
+    if line is None:
+        return "the grid's boundary"
+    if line.fault < 0:
+        return "the lattice line through a Y junction"
+    return f"fault '{faults[line.fault].name}'"
 
 
 def _family_position(fixed: dict[int, _Graph | None], axis: FloatArray, u: FloatArray) -> FloatArray:
@@ -197,7 +270,7 @@ def _nodes(px, py, fixed_i, fixed_j) -> tuple[FloatArray, FloatArray]:
     )
 
 
-def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax):
+def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax, y_nodes):
     """Point, depth and drift of every node's pillar (see the module docstring)."""
     xmin, xmax, ymin, ymax = box
     shape = xy.shape[:2]
@@ -224,6 +297,8 @@ def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax):
                     (nodes, flat[nodes], depth[nodes], zero, np.tile(strike, (nodes.size, 1)), True)
                 )
                 continue
+            if g.fault < 0:  # the line through a Y junction: no plane
+                continue
             fault = faults[g.fault]
             seg, t, inside = _on_trace(fault, flat[nodes])
             nodes, seg, t = nodes[inside], seg[inside], t[inside]
@@ -242,22 +317,37 @@ def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax):
     node_sorted = node_of[order]
     starts = np.searchsorted(node_sorted, np.arange(flat.shape[0]))
     first[count > 0] = order[starts[count > 0]]
-    one = count == 1
+    in_y = np.zeros(flat.shape[0], dtype=bool)
+    for nodes in y_nodes:
+        in_y[nodes] = True
+    one = (count == 1) & ~in_y
     plane = first[one]  # the plane of every node on exactly one
     # One fault plane: the ruling (its anchor and depth place the pillar in the surface).
     fault_node = np.flatnonzero(one)[~is_boundary[plane]]
     r = first[fault_node]
     point[fault_node], depth[fault_node] = cat[1][r], cat[2][r]
-    # Two planes (a junction): their line of intersection, through the top horizon's depth.
-    two = np.flatnonzero(count == 2)
-    if two.size:
-        p1 = order[starts[two]]
-        p2 = order[starts[two] + 1]
-        blended = drift[two]
-        point[two], drift[two] = _intersection([c[p1] for c in cat[1:]], [c[p2] for c in cat[1:]], depth[two])
+    # Two planes (a junction): their line of intersection, through the top horizon's depth; at a
+    # Y the nodes between the two faults' lines are one point, on each fault's plane at its end.
+    two = np.flatnonzero((count == 2) & ~in_y)
+    p1, p2 = order[starts[two]], order[starts[two] + 1]
+    ends = [(nodes, first[nodes[0]], first[nodes[-1]]) for nodes in y_nodes]
+    if any(min(a, b) < 0 for _, a, b in ends):
+        raise InputError(
+            "fault_geometry pillars: a Y junction does not lie on both faults' lines; use stair_steps"
+        )
+    sources = np.concatenate([two, [nodes[0] for nodes, _, _ in ends]]).astype(np.int64)
+    p1 = np.concatenate([p1, [a for _, a, _ in ends]]).astype(np.int64)
+    p2 = np.concatenate([p2, [b for _, _, b in ends]]).astype(np.int64)
+    if sources.size:
+        blended = drift[sources]
+        point[sources], drift[sources] = _intersection(
+            [c[p1] for c in cat[1:]], [c[p2] for c in cat[1:]], depth[sources]
+        )
         # Near a junction the pillars take its difference to the blended drift, tapering off over
         # the relax distance: the pillars along a fault slide towards the junction gradually.
-        drift = _towards_junctions(flat, drift, two, drift[two] - blended, relax)
+        drift = _towards_junctions(flat, drift, sources, drift[sources] - blended, relax)
+        for nodes, _, _ in ends:
+            point[nodes], drift[nodes], depth[nodes] = point[nodes[0]], drift[nodes[0]], depth[nodes[0]]
     # Every node on one plane keeps to it: its drift projected onto the plane.
     on_one = np.flatnonzero(one)
     s_p, strike = cat[3][plane], cat[4][plane]

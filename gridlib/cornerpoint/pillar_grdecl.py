@@ -62,9 +62,12 @@ def horizons_to_pillar_grdecl(
     :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl`. ``faults``:
     :class:`FaultTrace` s, their ``points`` the trace at the top horizon and ``surface`` the
     fault surface (None: vertical); ``throw`` is vertical (m, positive = hanging wall down).
-    Each trace must be a graph over the axis it runs along (within 45 degrees of it); faults
-    along the same axis must not meet (a Y of two such faults is an error suggesting
-    stair_steps), faults along different axes may cross or end on one another.
+    Each trace must be a graph over the axis it runs along (within 45 degrees of it). Faults
+    along different axes may cross or end on one another (X, T); a fault may end on another
+    along the same axis (a Y: the lattice lines between them meet in one pillar at the
+    junction, wedge columns on both sides), but two such faults that cross are an error
+    suggesting stair_steps. A trace ending on another fault's trace (within 1e-6 of the grid's
+    extent) has no tip there: its hanging wall ends at that fault.
     ``relax_distance`` (m): how far from a fault the pillars relax back to vertical; default
     2 H cot(dip), H the depth range of the horizons and dip the smallest of any stick.
 
@@ -147,7 +150,8 @@ def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[Fault
     xmin, xmax, ymin, ymax = box
     tol = 1e-6 * _extent(box)
     pillars = xy.reshape(-1, 2)
-    centres = (0.5 * (xy[:-1, :-1] + xy[1:, 1:])).reshape(-1, 2)
+    # The mean of the four corners: inside every column, the wedges at a Y junction included.
+    centres = (0.25 * (xy[:-1, :-1] + xy[:-1, 1:] + xy[1:, :-1] + xy[1:, 1:])).reshape(-1, 2)
     j, i, b, a = np.indices((ny, nx, 2, 2))
     corner_pillar, corner_cell = (j + b) * (nx + 1) + (i + a), j * nx + i
     segments: list[FaultSegment] = []
@@ -168,8 +172,13 @@ def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[Fault
                 disp *= (np.sign(side[:-1]) == np.sign(side[-1]))[corner_cell]
         zc += disp.transpose(0, 2, 1, 3).reshape(2 * ny, 2 * nx)[None]
         across.append(_across(disp))
+    # Edges between coincident pillars (the row through a Y junction) have no face to fault.
+    point_i = (xy[:-1, 1:-1] == xy[1:, 1:-1]).all(axis=-1)  # +i face of cell (i, j): (ny, nx - 1)
+    point_j = (xy[1:-1, :-1] == xy[1:-1, 1:]).all(axis=-1)  # +j face of cell (i, j): (ny - 1, nx)
     for f, name in enumerate(names):
         across_i, across_j = across[f]
+        across_i &= ~point_i
+        across_j &= ~point_j
         for g, (family, index) in enumerate(lines):  # edges on another fault's line are its own
             if g != f and family == "i":
                 across_i[:, index - 1] &= ~across[g][0][:, index - 1]
@@ -257,6 +266,12 @@ def _check_no_crossing(zc, point, drift, z0, rulings, lattice: FaultLattice, rel
     column = np.repeat(jj * nx + ii, 4)
     lo = np.repeat(z_lo[jj, ii] - ref, 4)
     hi = np.repeat(z_hi[jj, ii] - ref, 4)
+    # Coincident pillars (the wedge columns at a Y junction): the corner between them has no
+    # triangle, the column's other corners decide.
+    line = np.concatenate([q, drift], axis=1)
+    same = [(line[triples[:, a]] == line[triples[:, b]]).all(axis=1) for a, b in ((0, 1), (1, 2), (0, 2))]
+    proper = ~(same[0] | same[1] | same[2])
+    triples, column, lo, hi = triples[proper], column[proper], lo[proper], hi[proper]
     centres = lattice.xy[:-1, :-1].reshape(-1, 2) * 0.5 + lattice.xy[1:, 1:].reshape(-1, 2) * 0.5
 
     def label(c: int) -> str:

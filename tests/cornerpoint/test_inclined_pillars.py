@@ -68,7 +68,10 @@ def column_areas(deck) -> np.ndarray:
     lo = np.repeat(zc.min(axis=(0, 2, 4)).ravel(), 4)
     hi = np.repeat(zc.max(axis=(0, 2, 4)).ravel(), 4)
     defined = np.isfinite(lo)  # columns with an undefined corner hold no active cell
-    return min_corner_areas(q, s, triples[defined], lo[defined], hi[defined])
+    line = np.concatenate([q, s], axis=1)  # coincident pillars (a Y's wedges) make no triangle
+    same = [(line[triples[:, a]] == line[triples[:, b]]).all(axis=1) for a, b in ((0, 1), (1, 2), (0, 2))]
+    keep = defined & ~(same[0] | same[1] | same[2])
+    return min_corner_areas(q, s, triples[keep], lo[keep], hi[keep])
 
 
 def processed(deck):
@@ -191,10 +194,10 @@ def test_vertical_faults_get_lattice_lines_and_vertical_pillars():
         assert geo.cell_volumes.sum() == pytest.approx(BOX[0] * BOX[1] * (Z1 - Z0), rel=1e-12)
 
 
-def test_two_faults_on_lines_of_one_family_that_meet_are_one_error():
-    """A Y of two faults both closer to north-south: the lattice cannot carry them."""
+def test_two_faults_on_lines_of_one_family_that_cross_are_one_error():
+    """An X of two faults both closer to north-south: the lattice cannot carry them."""
     a = dip_fault(TRACE, [Z0, Z0], 60.0, "right", 12.0, "A")
-    b = dip_fault([[200.0, 100.0], [330.0, 240.0]], [Z0, Z0], 70.0, "right", 5.0, "B")
+    b = dip_fault([[300.0, -40.0], [180.0, 240.0]], [Z0, Z0], 70.0, "right", 5.0, "B")
     with pytest.raises(
         InputError, match=r"fault 'A' and fault 'B' meet or cross .*use fault_geometry: stair_steps"
     ):
@@ -212,7 +215,8 @@ def sloping_top(x, y):
 
 def junction_case() -> tuple[list[Horizon], list[FaultTrace]]:
     """Sloping horizons; A crosses the box north-south dipping 60 degrees east, B comes from the
-    west and ends on A (a T), dipping 70 degrees north, C crosses A (an X) dipping 75 degrees south."""
+    west and ends on A (a T), dipping 70 degrees north, C crosses A (an X) dipping 75 degrees south,
+    D splays off A to the north-east (a Y of two faults closer to north-south) dipping 70 degrees."""
     QX, QY = np.meshgrid(X_AXIS, Y_AXIS)
     top = sloping_top(QX, QY)
     horizons = [Horizon(X_AXIS, Y_AXIS, top), Horizon(X_AXIS, Y_AXIS, top + 40.0 + 0.01 * QX)]
@@ -225,22 +229,27 @@ def junction_case() -> tuple[list[Horizon], list[FaultTrace]]:
     a = fault([[180.0, -50.0], [220.0, 250.0]], 60.0, "right", 8.0, "A")
     b = fault([[-50.0, 110.0], [180.0 + 40.0 * 160.0 / 300.0, 110.0]], 70.0, "left", 5.0, "B")
     c = fault([[-50.0, 60.0], [450.0, 40.0]], 75.0, "right", 4.0, "C")
-    return horizons, [a, b, c]
+    d = fault([[180.0 + 40.0 * 200.0 / 300.0, 150.0], [300.0, 260.0]], 70.0, "right", 3.0, "D")
+    return horizons, [a, b, c, d]
 
 
-def test_a_fault_ending_on_another_and_two_crossing_faults_equal_flow(tmp_path):
-    """The T (B on A) and the X (C across A) build; junction pillars lie in both planes; Flow's dry
-    run of the native deck (inclined COORD) keeps every ZCORN value (no fixupZCORN adjustment) and
-    gives gridlib's active cells, NNCs and transmissibilities (1e-6 relative)."""
+def test_t_x_and_y_junctions_equal_flow(tmp_path):
+    """The T (B on A), the X (C across A) and the Y (D off A: the lattice lines between A's and
+    D's meet in one pillar at the junction, wedge columns on both sides) build; junction pillars lie
+    in both planes; Flow's dry run of the native deck (inclined COORD) keeps every ZCORN value (no
+    fixupZCORN adjustment) and gives gridlib's active cells, NNCs and transmissibilities (1e-6)."""
     horizons, faults = junction_case()
     deck = horizons_to_pillar_grdecl(horizons, (10, 8), 2, faults)
     r, _ = processed(deck)
     assert_monotone_zcorn(deck)
-    assert set(r.fault_names) == {"A", "B", "C"}
+    assert set(r.fault_names) == {"A", "B", "C", "D"}
+    p = deck.pillars()[..., 0, :]
+    assert np.any((p[:, 1:] == p[:, :-1]).all(axis=-1))  # the Y's coincident pillars
     for name, fault, dip, side in (
         ("A", faults[0], 60.0, "right"),
         ("B", faults[1], 70.0, "left"),
         ("C", faults[2], 75.0, "right"),
+        ("D", faults[3], 70.0, "right"),
     ):
         nodes = tagged_nodes(r.grid, r.fault_names.index(name) + 1)
         (p, q) = fault.points
