@@ -345,7 +345,8 @@ def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax, y_nodes):
         )
         # Near a junction the pillars take its difference to the blended drift, tapering off over
         # the relax distance: the pillars along a fault slide towards the junction gradually.
-        drift = _towards_junctions(flat, drift, sources, drift[sources] - blended, relax)
+        steepest = max((f.max_drift for f in faults), default=0.0)
+        drift = _towards_junctions(flat, drift, sources, drift[sources] - blended, relax, steepest)
         for nodes, _, _ in ends:
             point[nodes], drift[nodes], depth[nodes] = point[nodes[0]], drift[nodes[0]], depth[nodes[0]]
     # Every node on one plane keeps to it: its drift projected onto the plane.
@@ -357,16 +358,19 @@ def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax, y_nodes):
 
 
 def _towards_junctions(
-    xy: FloatArray, drift: FloatArray, junction, jump: FloatArray, relax: float
+    xy: FloatArray, drift: FloatArray, junction, jump: FloatArray, relax: float, steepest: float
 ) -> FloatArray:
     """``drift`` plus each junction's ``jump`` (its pillar's drift minus the blended one there)
-    weighted by smoothstep(1 - d / relax), d the distance to the junction, weights capped at 1."""
+    weighted by smoothstep(1 - d / R), d the distance to the junction, weights capped at 1. R is
+    the relax distance scaled by the jump over the steepest fault's drift (when larger): the
+    relax distance bounds the drift's gradient for a change of that drift."""
     if relax <= 0:
         return drift
     correction = np.zeros_like(drift)
     weight = np.zeros(xy.shape[0])
     for n, jump_n in zip(junction, jump, strict=True):
-        w = smoothstep(1.0 - np.hypot(*(xy - xy[n]).T) / relax)
+        radius = relax * max(1.0, float(np.hypot(*jump_n)) / steepest) if steepest > 0 else relax
+        w = smoothstep(1.0 - np.hypot(*(xy - xy[n]).T) / radius)
         correction += w[:, None] * jump_n
         weight += w
     out = drift + correction / np.maximum(weight, 1.0)[:, None]

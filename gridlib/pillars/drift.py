@@ -10,7 +10,7 @@ fault the pillars lean with the fault and relax back to vertical away from it
   pillar lies in the surface at every depth;
 * any other pillar takes the drift of each fault's nearest ruling weighted by
   ``smoothstep(1 - d / R)`` (d the plan distance to the fault's trace at the top horizon,
-  R the relax distance), the weights of several faults capped to sum to at most 1.
+  R the relax distance); near several faults, their weighted mean times the largest weight.
 
 With the taper's steepest slope 1.5 / R, the map x -> x + dz s(x) over a depth range H keeps
 its orientation while 1.5 H cot(dip) / R < 1: :func:`relax_bound` is R = 2 H cot(dip), the
@@ -111,10 +111,12 @@ def relax_bound(thickness: float, max_drift: float) -> float:
 
 def blended_drift(xy: FloatArray, faults: list[FaultRulings], relax: float) -> FloatArray:
     """Drift (n, 2) of pillars through the points ``xy`` (n, 2) at the top horizon that lie on no
-    fault: each fault's nearest ruling's drift weighted by ``smoothstep(1 - d / relax)``, d the
-    plan distance to its trace (so it also tapers beyond a tip), weights capped to sum to 1."""
+    fault: the mean of the faults' nearest rulings' drifts weighted by ``w = smoothstep(1 - d /
+    relax)``, d the plan distance to the fault's trace (so it also tapers beyond a tip), times the
+    largest w: near one fault its drift times w, and two faults' drifts never add up."""
     total = np.zeros_like(xy)
     weight = np.zeros(xy.shape[0])
+    strongest = np.zeros(xy.shape[0])
     if relax <= 0:
         return total
     for fault in faults:
@@ -126,7 +128,10 @@ def blended_drift(xy: FloatArray, faults: list[FaultRulings], relax: float) -> F
         w = smoothstep(1.0 - d / relax)
         total += w[:, None] * s
         weight += w
-    return total / np.maximum(weight, 1.0)[:, None]
+        np.maximum(strongest, w, out=strongest)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(weight[:, None] > 0, total / weight[:, None], 0.0)
+    return mean * strongest[:, None]
 
 
 def smoothstep(u: FloatArray) -> FloatArray:
