@@ -121,10 +121,10 @@ def _pillar_cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
             "yet; use fault_geometry: stair_steps"
         )
     hz = _horizon_list(case, horizons)
-    top = hz[0]
+    top = check_horizon(hz[0], 0)
 
     def top_depth(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        return interpolate_horizon(*check_horizon(top, 0), x, y)
+        return interpolate_horizon(*top, x, y)
 
     deck = horizons_to_pillar_grdecl(
         hz,

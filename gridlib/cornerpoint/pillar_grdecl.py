@@ -67,7 +67,9 @@ def horizons_to_pillar_grdecl(
     along the same axis (a Y: the lattice lines between them meet in one pillar at the
     junction, wedge columns on both sides), but two such faults that cross are an error
     suggesting stair_steps. A trace ending on another fault's trace (within 1e-6 of the grid's
-    extent) has no tip there: its hanging wall ends at that fault.
+    extent) has no tip there: its hanging wall ends at that fault. At a tip inside the grid the
+    throw should taper to 0: a throw left at the tip ends the displaced block with a step
+    across the lattice (as in ``horizons_to_grdecl``), which is no part of the fault surface.
     ``relax_distance`` (m): how far from a fault the pillars relax back to vertical; default
     2 H cot(dip), H the depth range of the horizons and dip the smallest of any stick.
 

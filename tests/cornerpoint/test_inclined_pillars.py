@@ -12,6 +12,7 @@ from flow_tools import assert_same_connections, flow_connections, read_keywords,
 
 import gridlib as gl
 from gridlib.cornerpoint.between_horizons import Horizon
+from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.errors import InputError
@@ -337,3 +338,16 @@ def test_a_twisted_surface_of_sticks_carries_its_fault_faces():
         n.startswith("fault 'S': its sticks bend; the pillars follow their straight chords")
         for n in deck.notes
     )
+
+
+def test_a_fault_with_two_tips_inside_the_grid_tapering_its_throw():
+    """Tips inside the grid: the lattice line runs on beyond them untagged, and with the throw
+    tapering to 0 at both tips every fault face still lies on the plane."""
+    pts = np.array([[200.0, 40.0], [210.0, 160.0]])
+    fault = dip_fault(pts, [Z0, Z0], 60.0, "right", 0.0, "T")
+    fault = FaultTrace(pts, lambda s: 12.0 * np.sin(np.pi * s), "T", "right", surface=fault.surface)
+    deck = horizons_to_pillar_grdecl(flat_box(*BOX, Z0, Z1), (20, 10), 3, [fault])
+    r, _ = processed(deck)
+    assert deck.faults == (FaultSegment("T", 9, 9, 2, 7, 0, 2, "X"),)
+    nodes = tagged_nodes(r.grid, 1)
+    assert np.abs(plane_offset(nodes, pts[0], pts[1], Z0, Z0, 60.0, "right")).max() < 1e-9 * BOX[0]
