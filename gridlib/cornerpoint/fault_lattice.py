@@ -322,10 +322,10 @@ def _pillars(xy, z0, faults, fixed_i, fixed_j, box, relax, y_nodes):
         in_y[nodes] = True
     one = (count == 1) & ~in_y
     plane = first[one]  # the plane of every node on exactly one
-    # One fault plane: the ruling (its anchor and depth place the pillar in the surface).
+    # One fault plane: the ruling through the node (on the trace: its anchor there, to round-off),
+    # at the depth where the ruling meets the top horizon.
     fault_node = np.flatnonzero(one)[~is_boundary[plane]]
-    r = first[fault_node]
-    point[fault_node], depth[fault_node] = cat[1][r], cat[2][r]
+    depth[fault_node] = cat[2][first[fault_node]]
     # Two planes (a junction): their line of intersection, through the top horizon's depth; at a
     # Y the nodes between the two faults' lines are one point, on each fault's plane at its end.
     two = np.flatnonzero((count == 2) & ~in_y)

@@ -11,7 +11,7 @@ import pytest
 from flow_tools import assert_same_connections, flow_connections, read_keywords, rest_of_deck, run_flow_dry
 
 import gridlib as gl
-from gridlib.cornerpoint.between_horizons import Horizon
+from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from gridlib.cornerpoint.process import process_grdecl
@@ -351,3 +351,18 @@ def test_a_fault_with_two_tips_inside_the_grid_tapering_its_throw():
     assert deck.faults == (FaultSegment("T", 9, 9, 2, 7, 0, 2, "X"),)
     nodes = tagged_nodes(r.grid, 1)
     assert np.abs(plane_offset(nodes, pts[0], pts[1], Z0, Z0, 60.0, "right")).max() < 1e-9 * BOX[0]
+
+
+def test_vertical_faults_on_lattice_lines_give_horizons_to_grdecls_deck_bit_for_bit():
+    """Where the stair-stepped grid already follows the faults (vertical traces on lattice lines),
+    the pillar mode writes the very same deck: COORD, ZCORN, ACTNUM and FAULTS."""
+    QX, QY = np.meshgrid(X_AXIS, Y_AXIS)
+    horizons = [Horizon(X_AXIS, Y_AXIS, sloping_top(QX, QY)), Horizon(X_AXIS, Y_AXIS, 1040.0 + 0.03 * QX)]
+    f1 = FaultTrace([[200.0, -10.0], [200.0, 210.0]], lambda s: 5.0 + 3.0 * s, "F1", "right")
+    f2 = FaultTrace([[-10.0, 100.0], [410.0, 100.0]], 4.0, "F2", "left")
+    for faults in ([], [f1], [f1, f2]):
+        ref = horizons_to_grdecl(horizons, (8, 4), 3, faults)
+        deck = horizons_to_pillar_grdecl(horizons, (8, 4), 3, faults)
+        for key in ("coord", "zcorn", "actnum"):
+            np.testing.assert_array_equal(getattr(deck, key), getattr(ref, key))
+        assert deck.faults == ref.faults and deck.notes == ref.notes
