@@ -1,8 +1,9 @@
 """horizons_to_pillar_grdecl (issue 25, fault_geometry: pillars): corner-point pillars that follow
-inclined faults. The MRST book's simpleGrdecl fault pinned at the top (analytic volumes, fault
-areas, NNC counts), a tilted oblique fault (analytic block volumes, every fault node on the
-plane, no column inverting at any depth), a fault ending on another and two crossing faults
-against OPM Flow's dry run, vertical faults on lattice lines, and the errors."""
+inclined faults. MRST's simpleGrdecl fault, pinned at the top and as its own plane against
+gridlib's simple_grdecl deck (analytic volumes, fault areas, NNC counts); a tilted oblique fault
+(analytic block volumes, every fault node on the plane, no column inverting at any depth); a
+twisted surface of sticks; tips; T, X and Y junctions against OPM Flow's dry run; vertical faults
+on lattice lines (horizons_to_grdecl's deck bit for bit); and the errors."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from flow_tools import assert_same_connections, flow_connections, read_keywords,
 import gridlib as gl
 from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
+from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.errors import InputError
@@ -123,6 +125,39 @@ def test_simple_grdecl_fault_pinned_at_the_top(dims, nz, nnc):
     lean = (p[..., 1, 0] - p[..., 0, 0]) / (p[..., 1, 2] - p[..., 0, 2])
     np.testing.assert_allclose(lean[:, dims[0] // 2], 0.1, rtol=0, atol=1e-14)
     assert np.all(lean[:, [0, -1]] == 0)
+
+
+@pytest.mark.parametrize("dims", [(4, 2, 3), (8, 4, 5)])
+def test_simple_grdecl_fault_itself_equals_mrsts_deck(dims):
+    """The same plane as MRST's simpleGrdecl fault (x = 0.45 + 0.1 z: its trace at the top is
+    x = 0.45): the book's block volumes 0.2375 and 0.2625 - 0.05 d = 0.2565, and the fault faces
+    and NNCs of gridlib's own simple_grdecl deck (flat, drop 0.12), whose inner pillars lean
+    differently (the tent) but whose blocks, boundary and fault are the same."""
+    d = 0.12
+    fault = dip_fault([[0.45, -0.5], [0.45, 1.5]], [0.0, 0.0], np.degrees(np.arctan(10.0)), "right", d, "F")
+    deck = horizons_to_pillar_grdecl(
+        flat_box(1.0, 1.0, 0.0, 0.5), dims[:2], dims[2], [fault], relax_distance=0.5
+    )
+    r, geo = processed(deck)
+    ref = process_grdecl(simple_grdecl(dims, d, flat=True))
+    ref_geo = gl.compute_geometry(ref.grid)
+    west = r.grid.cells.index_map % dims[0] < dims[0] // 2
+    ref_west = ref.grid.cells.index_map % dims[0] < dims[0] // 2
+    assert geo.cell_volumes[west].sum() == pytest.approx(0.2375, rel=1e-12)
+    assert geo.cell_volumes[~west].sum() == pytest.approx(0.2625 - 0.05 * d, rel=1e-12)
+    assert ref_geo.cell_volumes[ref_west].sum() == pytest.approx(0.2375, rel=1e-12)
+    assert r.nnc.num == ref.nnc.num
+
+    def fault_area(grid, geometry) -> float:
+        """Area of the faces between the cells of columns i = nx/2 - 1 and nx/2 (any j, k)."""
+        nb = grid.faces.neighbors
+        i = np.where(nb >= 0, grid.cells.index_map[nb] % dims[0], -1)
+        return float(
+            geometry.face_areas[(i.min(axis=1) == dims[0] // 2 - 1) & (i.max(axis=1) == dims[0] // 2)].sum()
+        )
+
+    assert fault_area(r.grid, geo) == pytest.approx((0.5 - d) * np.sqrt(1.01), rel=1e-12)
+    assert fault_area(ref.grid, ref_geo) == pytest.approx((0.5 - d) * np.sqrt(1.01), rel=1e-12)
 
 
 # --------------------------------------------------------------------------- a tilted oblique fault
