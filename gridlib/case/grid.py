@@ -29,6 +29,7 @@ import numpy as np
 from ..config import Case
 from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from ..cornerpoint.process import process_grdecl
 from ..errors import GridError, InputError
 from ..grid import Grid
@@ -95,6 +96,8 @@ def _horizon_list(case: Case, horizons):
 
 
 def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
+    if spec.get("fault_geometry") == "pillars":
+        return _pillar_cornerpoint(case, spec, horizons)
     by_block = block_horizons(horizons) if horizons is not None else None
     ordering = case.data["horizons"]["ordering"]
     if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
@@ -115,6 +118,26 @@ def _case_faults(case: Case, top) -> list:
         return fault_traces(case)
     xa, ya, z = check_horizon(top, 0)
     return fault_traces(case, top=lambda x, y: interpolate_horizon(xa, ya, z, np.asarray(x), np.asarray(y)))
+
+
+def _pillar_cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
+    """fault_geometry pillars: pillars that follow the faults' surfaces (horizons_to_pillar_grdecl)."""
+    if horizons is not None and block_horizons(horizons) is not None:
+        raise InputError(
+            f"{case.path}: grid: fault_geometry pillars does not take horizons picked per fault block "
+            "yet; use fault_geometry: stair_steps"
+        )
+    hz = _horizon_list(case, horizons)
+    deck = horizons_to_pillar_grdecl(
+        hz,
+        spec["dims"],
+        spec["layers"],
+        _case_faults(case, hz[0]),
+        ordering=case.data["horizons"]["ordering"],
+        relax_distance=spec.get("relax_distance"),
+    )
+    deck = replace(deck, source=f"{case.path} (horizons_to_pillar_grdecl)")
+    return _processed(deck, spec["tolerance"])
 
 
 def _processed(deck: Deck, tolerance: float, pinch: bool = False) -> CaseGrid:
