@@ -1,0 +1,368 @@
+"""The pillars of an areal grid that conforms to inclined faults: in the fault surfaces on the
+faults, blending back to vertical away from them (the 2.5D grids of the seed's Fig. 3.24).
+
+The areal grid (a PEBI grid, or any polygons) has its edges along every fault's trace at the
+*top* horizon tagged with the fault (``faces.tag`` t = ``faults[t - 1]``); the pillars are pinned
+at the top horizon, so its cells are the areal cells there. Per areal node:
+
+* a node on one fault's edges: the straight line in the fault surface through it, the ruling of
+  the surface (linear between consecutive sticks at equal depth) through the point of the
+  surface below or above the node; its drift interpolates the two neighbouring sticks' chord
+  drifts between the model's top and base depths (mitred at trace kinks by the surface itself),
+  so the fault faces of the extruded grid lie on the surface (exactly for straight sticks);
+* a node on two faults' edges (a junction): the line where the two surfaces meet (through the
+  points where their horizontal sections cross at the top and base depths); on three or more
+  faults, the first two (a note);
+* a node on the domain boundary keeps its pillar in the boundary's vertical plane (the horizons
+  are known only inside): a fault node there follows the line where the fault surface meets
+  that plane, another node the along-boundary part of its drift; a corner of the boundary
+  stays vertical;
+* a node of a well's cells (``vertical_cells``) stays vertical, and the drift of the nodes near
+  wells is scaled down by 1 - :func:`~gridlib.pillars.inclined_lines.taper` of their distance to
+  the nearest such node;
+* every other node drifts by :func:`~gridlib.pillars.inclined_lines.relaxed_drift` of all faults
+  (vertical ones pull back to vertical), pinned at the top horizon.
+
+The relax distance defaults to :func:`~gridlib.pillars.inclined_lines.default_relax_distance`;
+then :func:`~gridlib.pillars.inclined_lines.first_crossing` checks every column over the depth
+range (one InputError naming the column's site and the depth where it folds).
+
+The throw needs nothing new: columns never straddle a fault surface, so the extrusion's
+plan-view classification of the cells by their sites against the top trace is exact.
+
+Units are metres; z is depth, positive downwards.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import InputError
+from ..grid import FloatArray, Grid
+from .column_inputs import ColumnCorners
+from .fault_traces import FaultTrace
+from .horizon_maps import check_horizon, interpolate_horizon
+from .inclined_lines import (
+    PillarLines,
+    check_relax_distance,
+    default_relax_distance,
+    first_crossing,
+    interior_drift,
+    relaxed_drift,
+    taper,
+)
+
+__all__ = ["FaultPillars", "depth_range", "fault_pillars", "horizon_function", "inclined"]
+
+DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True, eq=False)
+class FaultPillars:
+    """What :func:`fault_pillars` returns: ``lines`` (one per areal node), the ``relax_distance``
+    used (m), the depth range [``z_lo``, ``z_hi``] checked (m), ``notes``, and the lines that
+    the cells' ``sites`` follow (``site_lines``, one per areal cell, None without sites)."""
+
+    lines: PillarLines
+    relax_distance: float
+    z_lo: float
+    z_hi: float
+    notes: tuple[str, ...]
+    site_lines: PillarLines | None = None
+
+    def pillars(self) -> FloatArray:
+        """(n, 2, 3) top and bottom points for :func:`~gridlib.pillars.extrude.extrude`."""
+        return self.lines.as_pillars(self.z_lo, self.z_hi)
+
+    def sites_at(self, column: np.ndarray, depth: np.ndarray) -> FloatArray:
+        """(n, 2): where the site of areal cell ``column`` is at ``depth`` (m), per 3-D cell."""
+        if self.site_lines is None:
+            raise InputError("fault_pillars: no sites were given")
+        line = self.site_lines
+        return line.point[column, :2] + (depth - line.point[column, 2])[:, None] * line.drift[column]
+
+
+def inclined(faults: Sequence[FaultTrace]) -> bool:
+    """Whether any fault has a surface that is not vertical."""
+    return any(_surface(f) is not None for f in faults)
+
+
+def _surface(trace: FaultTrace):
+    surface = getattr(trace, "surface", None)
+    return None if surface is None or surface.is_vertical else surface
+
+
+def fault_pillars(
+    areal: Grid,
+    faults: Sequence[FaultTrace],
+    top: DepthFunction,
+    z_lo: float,
+    z_hi: float,
+    *,
+    vertical_cells: np.ndarray | None = None,
+    relax_distance: float | None = None,
+    sites: FloatArray | None = None,
+    who: str = "pillars",
+) -> FaultPillars:
+    """The pillars of ``areal`` (see the module docstring).
+
+    ``faults``: the faults, ``faces.tag`` t of ``areal`` being ``faults[t - 1]``'s edges; a fault
+    with a ``surface`` that is not vertical inclines its pillars. ``top``: the top horizon's
+    depth at plan points, ``top(x, y)`` vectorised (NaN outside). ``z_lo`` < ``z_hi``: the depths
+    (m) between which the model lies, throws included (the fault drifts are the chords of the
+    sticks between them, and the no-crossing check covers them). ``vertical_cells``: areal
+    cells whose nodes keep vertical pillars (wells). ``relax_distance``: R (m), default
+    2 (z_hi - z_lo) s_max. ``sites`` (n_cells, 2): a point inside every areal cell (the PEBI
+    sites) to follow the columns down (:func:`~gridlib.pillars.inclined_lines.interior_drift`,
+    pinned at the top horizon): ``FaultPillars.sites_at``. ``who`` begins the error messages.
+    """
+    if not z_hi > z_lo:
+        raise InputError(f"{who}: the model's depth range is empty ({z_lo:g} to {z_hi:g} m)")
+    xy = areal.nodes.coords[:, :2]
+    nn = xy.shape[0]
+    notes: list[str] = []
+    surfaces = [_surface(f) for f in faults]
+    drifts = [None if s is None else np.asarray(s.drift(z_lo, z_hi), dtype=np.float64) for s in surfaces]
+    references = [
+        f.points if s is None else np.asarray(s.on_horizon(top)[0], dtype=np.float64)
+        for f, s in zip(faults, surfaces, strict=True)
+    ]
+    max_drift = max((float(np.hypot(*d.T).max()) for d in drifts if d is not None), default=0.0)
+    if relax_distance is None:
+        relax = default_relax_distance(z_hi - z_lo, max_drift)
+    else:
+        relax = check_relax_distance(relax_distance, who)
+    sources = [
+        (ref, np.zeros_like(ref) if d is None else d) for ref, d in zip(references, drifts, strict=True)
+    ]
+
+    with np.errstate(invalid="ignore"):
+        pin = np.asarray(top(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
+    pin = np.where(np.isfinite(pin), pin, z_lo)
+    drift = relaxed_drift(xy, sources, relax)
+    corners = ColumnCorners.of(areal)
+    fixed = np.zeros(nn, dtype=bool)
+    if vertical_cells is not None and np.any(vertical_cells):
+        fixed[corners.ring[np.asarray(vertical_cells, dtype=bool)[corners.owner]]] = True
+        d_well, _ = cKDTree(xy[fixed]).query(xy)
+        drift *= (1.0 - taper(d_well, relax))[:, None]
+        drift[fixed] = 0.0
+    point = np.column_stack([xy, pin])
+
+    tangent, corner = _boundary(areal)
+    on_boundary = np.isfinite(tangent[:, 0]) | corner
+    along = np.where(np.isfinite(tangent), tangent, 0.0)
+    drift = np.where(on_boundary[:, None], (drift * along).sum(axis=1)[:, None] * along, drift)
+
+    fault_of_node = _fault_nodes(areal, len(faults))
+    for f, surface in enumerate(surfaces):
+        nodes = np.flatnonzero(fault_of_node[:, 0] == f)
+        nodes = nodes[(fault_of_node[nodes, 1] < 0) & ~on_boundary[nodes]]
+        if surface is None or nodes.size == 0:
+            drift[nodes] = 0.0  # in a vertical fault's plane
+            continue
+        point[nodes], drift[nodes] = _on_surface(surface, drifts[f], xy[nodes], pin[nodes])
+    if np.any(fixed & (fault_of_node[:, 0] >= 0)):
+        notes.append(
+            f"{int(np.count_nonzero(fixed & (fault_of_node[:, 0] >= 0)))} nodes of well cells lie on a "
+            "fault and follow its surface, not the vertical"
+        )
+    # Where two surfaces meet, or a surface meets the boundary: the line both lie in.
+    special = np.flatnonzero((fault_of_node[:, 0] >= 0) & ((fault_of_node[:, 1] >= 0) | on_boundary))
+    extent = float(np.ptp(xy, axis=0).max())
+    many = 0
+    for node in special.tolist():
+        f, g = (int(v) for v in fault_of_node[node, :2])
+        many += int(fault_of_node[node, 2] >= 0)
+        if surfaces[f] is None and (g < 0 or surfaces[g] is None):
+            drift[node] = 0.0
+            continue
+        if corner[node]:
+            drift[node] = 0.0
+            notes.append(
+                f"fault '{faults[f].name}' meets a corner of the domain at "
+                f"({xy[node, 0]:g}, {xy[node, 1]:g}): the pillar there stays vertical, off the fault surface"
+            )
+            continue
+        first = _section_polyline(surfaces[f], faults[f])
+        if g >= 0:
+            second = _section_polyline(surfaces[g], faults[g])
+        else:
+            t = tangent[node] * 2.0 * extent
+            line = np.array([xy[node] - t, xy[node] + t])
+
+            def second(z: float, line=line) -> FloatArray:
+                return line
+
+        ends = []
+        for z in (z_lo, z_hi):
+            p = _crossing(first(z), second(z), xy[node])
+            if p is None:
+                other = "the domain boundary" if g < 0 else f"fault '{faults[g].name}'"
+                raise InputError(
+                    f"{who}: fault '{faults[f].name}' and {other} meet at ({xy[node, 0]:g}, {xy[node, 1]:g}) "
+                    f"on the top horizon but not at depth {z:g} m: the pillar there cannot lie in both"
+                )
+            ends.append(p)
+        point[node] = (*ends[0], z_lo)
+        drift[node] = (ends[1] - ends[0]) / (z_hi - z_lo)
+    if many:
+        notes.append(f"{many} nodes where three or more faults meet follow the first two faults' surfaces")
+
+    lines = PillarLines(point, drift)
+    bad = first_crossing(lines, corners.pos, corners.ring, z_lo, z_hi)
+    if bad is not None:
+        x, y = lines.xy_at(np.full(nn, bad.depth))[bad.node]
+        raise InputError(
+            f"{who}: the inclined pillars fold areal cell {bad.column} at depth {bad.depth:g} m "
+            f"(its pillar through ({xy[bad.node, 0]:g}, {xy[bad.node, 1]:g}) on the top horizon is at "
+            f"({x:g}, {y:g}) there): the pillars relax to vertical over relax_distance {relax:g} m, "
+            "too short for the faults' inclination or for a well or boundary this close to a fault; "
+            "give a larger relax_distance"
+        )
+    site_lines = None
+    if sites is not None:
+        sites = np.asarray(sites, dtype=np.float64)
+        site_drift = interior_drift(lines, corners.pos, corners.ring, xy, sites)
+        with np.errstate(invalid="ignore"):
+            site_pin = np.asarray(top(sites[:, 0].copy(), sites[:, 1].copy()), dtype=np.float64)
+        site_pin = np.where(np.isfinite(site_pin), site_pin, z_lo)
+        site_lines = PillarLines(np.column_stack([sites, site_pin]), site_drift)
+    return FaultPillars(lines, relax, float(z_lo), float(z_hi), tuple(notes), site_lines)
+
+
+def horizon_function(horizon) -> DepthFunction:
+    """A gridded horizon (:class:`~gridlib.pillars.horizon_maps.Horizon`) as a depth function
+    ``f(x, y)`` (bilinear, NaN outside it)."""
+    x, y, z = check_horizon(horizon, 0)
+    return lambda px, py: interpolate_horizon(x, y, z, np.asarray(px), np.asarray(py))
+
+
+def depth_range(
+    top: DepthFunction, base: DepthFunction, xy: FloatArray, faults: Sequence[FaultTrace]
+) -> tuple[float, float]:
+    """The depths (m) between which a model lies: from the shallowest top to the deepest base
+    at plan points ``xy`` (n, 2), widened by the largest throw of ``faults`` both ways."""
+    with np.errstate(invalid="ignore"):
+        z_top = np.asarray(top(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
+        z_base = np.asarray(base(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
+    throw = 0.0
+    for f in faults:
+        values = f.throw(np.linspace(0.0, 1.0, 101)) if callable(f.throw) else f.throw
+        throw = max(throw, float(np.max(np.abs(values))))
+    return float(np.nanmin(z_top)) - throw, float(np.nanmax(z_base)) + throw
+
+
+def _on_surface(surface, drift: FloatArray, xy: FloatArray, top_depth: FloatArray):
+    """Points (n, 3) and drifts (n, 2) of the rulings of ``surface`` through plan points ``xy``
+    on its trace: pinned where the vertical line meets the surface (at the top horizon's depth
+    where it does not), the drift interpolated between the two sticks the point lies between."""
+    with np.errstate(invalid="ignore"):
+        z = np.asarray(surface.depth_at(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
+    z = np.where(np.isfinite(z), z, top_depth)
+    sections = np.asarray(surface.section(z), dtype=np.float64)  # (n, n_sticks, 2)
+    seg, t, q = _locate(xy, sections)
+    ruling = (1.0 - t)[:, None] * drift[seg] + t[:, None] * drift[seg + 1]
+    return np.column_stack([q, z]), ruling
+
+
+def _locate(xy: FloatArray, polylines: FloatArray):
+    """The nearest point of every polyline (n, k, 2) to its point xy (n, 2): segment, parameter
+    in [0, 1] and the point. One pass per segment, vectorised over the points."""
+    n, k, _ = polylines.shape
+    best = np.full(n, np.inf)
+    seg = np.zeros(n, dtype=np.int64)
+    tt = np.zeros(n)
+    for s in range(k - 1):
+        a, d = polylines[:, s], polylines[:, s + 1] - polylines[:, s]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.clip(((xy - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
+        t = np.nan_to_num(t)
+        dist = ((a + t[:, None] * d - xy) ** 2).sum(axis=1)
+        better = dist < best
+        best[better], seg[better], tt[better] = dist[better], s, t[better]
+    rows = np.arange(n)
+    a, c = polylines[rows, seg], polylines[rows, seg + 1]
+    return seg, tt, a + tt[:, None] * (c - a)
+
+
+def _section_polyline(surface, trace: FaultTrace) -> Callable[[float], FloatArray]:
+    """The fault's horizontal section at a depth: the surface's, or a vertical fault's trace."""
+    if surface is None:
+        return lambda z: trace.points
+    return lambda z: np.asarray(surface.section(np.float64(z)), dtype=np.float64)
+
+
+def _crossing(first: FloatArray, second: FloatArray, near: FloatArray) -> np.ndarray | None:
+    """The crossing of two polylines (k, 2) nearest to ``near``, their end segments extended
+    as rays; None if they do not cross."""
+    a, d = first[:-1], np.diff(first, axis=0)
+    b, e = second[:-1], np.diff(second, axis=0)
+    A, D = a[:, None], d[:, None]
+    B, E = b[None], e[None]
+    denom = D[..., 0] * E[..., 1] - D[..., 1] * E[..., 0]
+    rel = B - A
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (rel[..., 0] * E[..., 1] - rel[..., 1] * E[..., 0]) / denom
+        t = (rel[..., 0] * D[..., 1] - rel[..., 1] * D[..., 0]) / denom
+    ns, nt = d.shape[0], e.shape[0]
+    lo_s = np.where(np.arange(ns) == 0, -np.inf, 0.0)[:, None]
+    hi_s = np.where(np.arange(ns) == ns - 1, np.inf, 1.0)[:, None]
+    lo_t = np.where(np.arange(nt) == 0, -np.inf, 0.0)[None]
+    hi_t = np.where(np.arange(nt) == nt - 1, np.inf, 1.0)[None]
+    ok = (denom != 0) & (s >= lo_s) & (s <= hi_s) & (t >= lo_t) & (t <= hi_t)
+    if not ok.any():
+        return None
+    points = A + s[..., None] * D
+    dist = np.where(ok, ((points - near) ** 2).sum(axis=-1), np.inf)
+    i, j = np.unravel_index(int(np.argmin(dist)), dist.shape)
+    return points[i, j]
+
+
+def _fault_nodes(areal: Grid, n_faults: int) -> np.ndarray:
+    """(n_nodes, 3): the (0-based) faults whose tagged edges a node is on, up to three, -1 for none,
+    in fault order."""
+    nn = areal.num_nodes
+    tag = np.asarray(areal.faces.tag, dtype=np.int64)
+    edges = np.flatnonzero((tag > 0) & (tag <= n_faults))
+    en = areal.faces.nodes.reshape(-1, 2)[edges]
+    node = en.ravel()
+    fault = np.repeat(tag[edges] - 1, 2)
+    pairs = np.unique(node * (n_faults + 1) + fault)  # one row per (node, fault), sorted
+    node, fault = np.divmod(pairs, n_faults + 1)
+    rank = np.arange(node.size) - np.searchsorted(node, node)
+    out = np.full((nn, 3), -1, dtype=np.int64)
+    keep = rank < 3
+    out[node[keep], rank[keep]] = fault[keep]
+    return out
+
+
+def _boundary(areal: Grid) -> tuple[FloatArray, np.ndarray]:
+    """Per node: the unit direction of the straight boundary it lies on (NaN off the boundary
+    and at corners), and whether it is a corner of the boundary."""
+    nn = areal.num_nodes
+    xy = areal.nodes.coords[:, :2]
+    b = np.flatnonzero((areal.faces.neighbors < 0).any(axis=1))
+    en = areal.faces.nodes.reshape(-1, 2)[b]
+    d = xy[en[:, 1]] - xy[en[:, 0]]
+    d /= np.hypot(*d.T)[:, None]
+    node = en.ravel()
+    direction = np.repeat(d, 2, axis=0)
+    order = np.argsort(node, kind="stable")
+    node, direction = node[order], direction[order]
+    first = np.r_[True, node[1:] != node[:-1]]
+    start = np.flatnonzero(first)
+    count = np.diff(np.r_[start, node.size])
+    tangent = np.full((nn, 2), np.nan)
+    corner = np.zeros(nn, dtype=bool)
+    two = start[count == 2]
+    d1, d2 = direction[two], direction[two + 1]
+    straight = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) < 1e-9
+    tangent[node[two[straight]]] = d1[straight]
+    corner[node[two[~straight]]] = True
+    corner[node[start[count != 2]]] = True
+    return tangent, corner
