@@ -44,7 +44,7 @@ from scipy.spatial import cKDTree
 from ..errors import InputError
 from ..grid import FloatArray, Grid
 from .column_inputs import ColumnCorners
-from .fault_traces import FaultTrace
+from .fault_traces import FaultTrace, nearest_on_trace
 from .horizon_maps import check_horizon, interpolate_horizon
 from .inclined_lines import (
     PillarLines,
@@ -136,85 +136,99 @@ def fault_pillars(
         relax = default_relax_distance(z_hi - z_lo, max_drift)
     else:
         relax = check_relax_distance(relax_distance, who)
-    sources = [
-        (ref, np.zeros_like(ref) if d is None else d) for ref, d in zip(references, drifts, strict=True)
-    ]
-
     with np.errstate(invalid="ignore"):
         pin = np.asarray(top(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
     pin = np.where(np.isfinite(pin), pin, z_lo)
-    drift = relaxed_drift(xy, sources, relax)
-    corners = ColumnCorners.of(areal)
-    fixed = np.zeros(nn, dtype=bool)
-    if vertical_cells is not None and np.any(vertical_cells):
-        fixed[corners.ring[np.asarray(vertical_cells, dtype=bool)[corners.owner]]] = True
-        d_well, _ = cKDTree(xy[fixed]).query(xy)
-        drift *= (1.0 - taper(d_well, relax))[:, None]
-        drift[fixed] = 0.0
     point = np.column_stack([xy, pin])
-
+    corners = ColumnCorners.of(areal)
     tangent, corner = _boundary(areal)
     on_boundary = np.isfinite(tangent[:, 0]) | corner
-    along = np.where(np.isfinite(tangent), tangent, 0.0)
-    drift = np.where(on_boundary[:, None], (drift * along).sum(axis=1)[:, None] * along, drift)
-
     fault_of_node = _fault_nodes(areal, len(faults))
-    for f, surface in enumerate(surfaces):
-        nodes = np.flatnonzero(fault_of_node[:, 0] == f)
-        nodes = nodes[(fault_of_node[nodes, 1] < 0) & ~on_boundary[nodes]]
-        if surface is None or nodes.size == 0:
-            drift[nodes] = 0.0  # in a vertical fault's plane
-            continue
-        point[nodes], drift[nodes] = _on_surface(surface, drifts[f], xy[nodes], pin[nodes])
-    if np.any(fixed & (fault_of_node[:, 0] >= 0)):
-        notes.append(
-            f"{int(np.count_nonzero(fixed & (fault_of_node[:, 0] >= 0)))} nodes of well cells lie on a "
-            "fault and follow its surface, not the vertical"
-        )
+
     # Where two surfaces meet, or a surface meets the boundary: the line both lie in.
     special = np.flatnonzero((fault_of_node[:, 0] >= 0) & ((fault_of_node[:, 1] >= 0) | on_boundary))
+    special_point, special_drift = {}, {}
     extent = float(np.ptp(xy, axis=0).max())
     many = 0
     for node in special.tolist():
         f, g = (int(v) for v in fault_of_node[node, :2])
         many += int(fault_of_node[node, 2] >= 0)
-        if surfaces[f] is None and (g < 0 or surfaces[g] is None):
-            drift[node] = 0.0
-            continue
-        if corner[node]:
-            drift[node] = 0.0
-            notes.append(
-                f"fault '{faults[f].name}' meets a corner of the domain at "
-                f"({xy[node, 0]:g}, {xy[node, 1]:g}): the pillar there stays vertical, off the fault surface"
-            )
-            continue
-        first = _section_polyline(surfaces[f], faults[f])
-        if g >= 0:
-            second = _section_polyline(surfaces[g], faults[g])
-        else:
-            t = tangent[node] * 2.0 * extent
-            line = np.array([xy[node] - t, xy[node] + t])
-
-            def second(z: float, line=line) -> FloatArray:
-                return line
-
-        ends = []
-        for z in (z_lo, z_hi):
-            p = _crossing(first(z), second(z), xy[node])
-            if p is None:
-                other = "the domain boundary" if g < 0 else f"fault '{faults[g].name}'"
-                raise InputError(
-                    f"{who}: fault '{faults[f].name}' and {other} meet at ({xy[node, 0]:g}, {xy[node, 1]:g}) "
-                    f"on the top horizon but not at depth {z:g} m: the pillar there cannot lie in both"
+        if (surfaces[f] is None and (g < 0 or surfaces[g] is None)) or corner[node]:
+            if corner[node] and surfaces[f] is not None:
+                notes.append(
+                    f"fault '{faults[f].name}' meets a corner of the domain at ({xy[node, 0]:g}, "
+                    f"{xy[node, 1]:g}): the pillar there stays vertical, off the fault surface"
                 )
-            ends.append(p)
-        point[node] = (*ends[0], z_lo)
-        drift[node] = (ends[1] - ends[0]) / (z_hi - z_lo)
+            special_point[node], special_drift[node] = point[node], np.zeros(2)
+            continue
+        special_point[node], special_drift[node] = _meeting_line(
+            surfaces, faults, f, g, xy[node], tangent[node], z_lo, z_hi, extent, who
+        )
     if many:
         notes.append(f"{many} nodes where three or more faults meet follow the first two faults' surfaces")
 
-    lines = PillarLines(point, drift)
-    bad = first_crossing(lines, corners.pos, corners.ring, z_lo, z_hi)
+    # Every fault's drift along its trace, through its meeting lines where it is planar there.
+    sources, planar = [], []
+    for f, (ref, d) in enumerate(zip(references, drifts, strict=True)):
+        planar.append(_planar(surfaces[f], z_lo, z_hi, ref.shape[0]))
+        at = [n for n in special_drift if f in fault_of_node[n, :2]]
+        meeting = np.array([special_drift[n] for n in at]).reshape(-1, 2)
+        sources.append(
+            _with_meetings(ref, np.zeros_like(ref) if d is None else d, planar[f], xy[at], meeting)
+        )
+
+    along_traces = [
+        (points, d, _planar_between(points, p, ref))
+        for (points, d), p, ref in zip(sources, planar, references, strict=True)
+    ]
+    fixed = np.zeros(nn, dtype=bool)
+    if vertical_cells is not None and np.any(vertical_cells):
+        fixed[corners.ring[np.asarray(vertical_cells, dtype=bool)[corners.owner]]] = True
+    d_well = cKDTree(xy[fixed]).query(xy)[0] if fixed.any() else np.full(nn, np.inf)
+    along = np.where(np.isfinite(tangent), tangent, 0.0)
+    # The pillars on the faults, which the relax distance does not change.
+    on_fault = np.zeros(nn, dtype=bool)
+    fault_point, fault_drift = point.copy(), np.zeros((nn, 2))
+    for f, surface in enumerate(surfaces):
+        nodes = np.flatnonzero(fault_of_node[:, 0] == f)
+        nodes = nodes[(fault_of_node[nodes, 1] < 0) & ~on_boundary[nodes]]
+        on_fault[nodes] = True
+        if surface is not None and nodes.size:
+            fault_point[nodes], fault_drift[nodes] = _on_surface(
+                surface, drifts[f], planar[f], sources[f], xy[nodes], pin[nodes]
+            )
+    for node in special_drift:
+        on_fault[node] = True
+        fault_point[node], fault_drift[node] = special_point[node], special_drift[node]
+    if np.any(fixed & on_fault):
+        notes.append(
+            f"{int(np.count_nonzero(fixed & on_fault))} nodes of well cells lie on a fault and follow "
+            "its surface, not the vertical"
+        )
+
+    walls = _walls(areal, on_boundary)
+
+    def lines_for(relax: float) -> PillarLines:
+        drift = relaxed_drift(xy, along_traces, relax)
+        drift *= (1.0 - taper(d_well, relax))[:, None]
+        for a, b in walls:  # no drift out of the domain near its boundary, none across it on it
+            _, t, _ = nearest_on_trace(xy, np.array([a, b]), False, False)
+            normal = np.array([a[1] - b[1], b[0] - a[0]]) / np.hypot(*(b - a))
+            away = np.hypot(*(xy - a - t[:, None] * (b - a)).T)
+            drift -= (taper(away, relax) * (drift @ normal))[:, None] * normal
+        drift[fixed] = 0.0
+        drift = np.where(on_boundary[:, None], (drift * along).sum(axis=1)[:, None] * along, drift)
+        drift[on_fault] = fault_drift[on_fault]
+        return PillarLines(np.where(on_fault[:, None], fault_point, point), drift)
+
+    # The default relax distance is lengthened where the taper of several faults (or of faults and
+    # wells) folds a column with it: by half at a time, three times at most.
+    tries = [relax] if relax_distance is not None else [relax * 1.5**k for k in range(4)]
+    for relax in tries:
+        lines = lines_for(relax)
+        bad = first_crossing(lines, corners.pos, corners.ring, z_lo, z_hi)
+        if bad is None:
+            break
     if bad is not None:
         x, y = lines.xy_at(np.full(nn, bad.depth))[bad.node]
         raise InputError(
@@ -223,6 +237,11 @@ def fault_pillars(
             f"({x:g}, {y:g}) there): the pillars relax to vertical over relax_distance {relax:g} m, "
             "too short for the faults' inclination or for a well or boundary this close to a fault; "
             "give a larger relax_distance"
+        )
+    if relax != tries[0]:
+        notes.append(
+            f"the default relax distance {tries[0]:g} m (2 H cot(dip)) was lengthened to {relax:g} m: "
+            "with it, columns where faults meet (or near wells) would fold"
         )
     site_lines = None
     if sites is not None:
@@ -257,16 +276,110 @@ def depth_range(
     return float(np.nanmin(z_top)) - throw, float(np.nanmax(z_base)) + throw
 
 
-def _on_surface(surface, drift: FloatArray, xy: FloatArray, top_depth: FloatArray):
-    """Points (n, 3) and drifts (n, 2) of the rulings of ``surface`` through plan points ``xy``
-    on its trace: pinned where the vertical line meets the surface (at the top horizon's depth
-    where it does not), the drift interpolated between the two sticks the point lies between."""
-    with np.errstate(invalid="ignore"):
-        z = np.asarray(surface.depth_at(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
-    z = np.where(np.isfinite(z), z, top_depth)
-    sections = np.asarray(surface.section(z), dtype=np.float64)  # (n, n_sticks, 2)
-    seg, t, q = _locate(xy, sections)
-    ruling = (1.0 - t)[:, None] * drift[seg] + t[:, None] * drift[seg + 1]
+def _meeting_line(surfaces, faults, f, g, node_xy, tangent, z_lo, z_hi, extent, who):
+    """The line (a point (3,) and its drift (2,)) where fault f's surface meets fault g's
+    (g >= 0) or the vertical plane of the domain boundary through the node (g < 0, along
+    ``tangent``): through the crossings of their horizontal sections at z_lo and z_hi nearest the
+    node."""
+    first = _section_polyline(surfaces[f], faults[f])
+    if g >= 0:
+        second = _section_polyline(surfaces[g], faults[g])
+    else:
+        line = np.array([node_xy - 2.0 * extent * tangent, node_xy + 2.0 * extent * tangent])
+
+        def second(z: float) -> FloatArray:
+            return line
+
+    ends = []
+    for z in (z_lo, z_hi):
+        p = _crossing(first(z), second(z), node_xy)
+        if p is None:
+            other = "the domain boundary" if g < 0 else f"fault '{faults[g].name}'"
+            raise InputError(
+                f"{who}: fault '{faults[f].name}' and {other} meet at ({node_xy[0]:g}, {node_xy[1]:g}) "
+                f"on the top horizon but not at depth {z:g} m: the pillar there cannot lie in both"
+            )
+        if g < 0:  # along the boundary from the node: on its line to the last bit
+            p = node_xy + ((p - node_xy) @ tangent) * tangent
+        ends.append(p)
+    drift = (ends[1] - ends[0]) / (z_hi - z_lo)
+    if g < 0:
+        drift = (drift @ tangent) * tangent
+    return np.array([*ends[0], z_lo]), drift
+
+
+def _planar(surface, z_lo: float, z_hi: float, n: int) -> np.ndarray:
+    """(n - 1,) whether the surface between each pair of consecutive sticks is planar (over the
+    depth range; a vertical fault's everywhere): there any line of the plane lies in it, so the
+    pillars along the trace may also drift along strike."""
+    if surface is None:
+        return np.ones(n - 1, dtype=bool)
+    top, base = (np.asarray(surface.section(np.float64(z)), dtype=np.float64) for z in (z_lo, z_hi))
+    p0 = np.column_stack([top[:-1], np.full(n - 1, z_lo)])
+    e1 = np.column_stack([top[1:], np.full(n - 1, z_lo)]) - p0
+    e2 = np.column_stack([base[:-1], np.full(n - 1, z_hi)]) - p0
+    e3 = np.column_stack([base[1:], np.full(n - 1, z_hi)]) - p0
+    volume = np.abs(np.einsum("ij,ij->i", np.cross(e1, e2), e3))
+    size = np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1) * np.linalg.norm(e3, axis=1)
+    return volume <= 1e-12 * size
+
+
+def _with_meetings(ref, drift, planar, at_xy, at_drift):
+    """A fault's trace (k, 2) and its drift at each vertex (k, 2), with the points where it
+    meets another fault or the boundary inserted as vertices carrying the meeting line's drift,
+    on the planar stretches of the surface only (elsewhere only the rulings lie in it). Linear
+    between vertices, the drift along a planar stretch then stays in its plane."""
+    if at_xy.shape[0] == 0 or not planar.any():
+        return ref, drift
+    seg, t, _ = nearest_on_trace(at_xy, ref, False, False)
+    keep = planar[seg] & (t > 0) & (t < 1)
+    if not keep.any():
+        return ref, drift
+    order = np.lexsort((t[keep], seg[keep]))
+    position = np.concatenate([np.arange(ref.shape[0], dtype=np.float64), (seg + t)[keep][order]])
+    points = np.concatenate([ref, (ref[seg] + t[:, None] * (ref[seg + 1] - ref[seg]))[keep][order]])
+    drifts = np.concatenate([drift, at_drift[keep][order]])
+    rank = np.argsort(position, kind="stable")
+    return points[rank], drifts[rank]
+
+
+def _planar_between(points: FloatArray, planar: np.ndarray, ref: FloatArray) -> np.ndarray:
+    """Whether each segment of ``points`` (a trace ``ref`` with vertices inserted) lies on a planar
+    stretch (``planar`` per segment of ``ref``)."""
+    seg, _, _ = nearest_on_trace(0.5 * (points[1:] + points[:-1]), ref, False, False)
+    return planar[seg]
+
+
+def _on_surface(surface, drift: FloatArray, planar, along_trace, xy: FloatArray, top_depth: FloatArray):
+    """Points (n, 3) and drifts (n, 2) of the lines of ``surface`` through plan points ``xy``
+    near its trace at the top horizon: the depth where the surface passes through the point,
+    found from the top horizon's depth by Newton steps along the rulings (one step for a
+    plane; where the vertical line through a point meets a twisted surface twice, the meeting
+    nearest the top horizon); the drift that of the ruling there, interpolated between the two
+    sticks' chord drifts, or where the surface is ``planar`` between the sticks the drift along
+    the trace ``along_trace`` ((vertices, drifts), the meeting lines included)."""
+    z = top_depth.copy()
+    scale = 1e-12 * max(1.0, float(np.abs(xy).max()))
+    rows = np.arange(xy.shape[0])
+    for _ in range(50):
+        sections = np.asarray(surface.section(z), dtype=np.float64)
+        seg, t, q = _locate(xy, sections)
+        ruling = (1.0 - t)[:, None] * drift[seg] + t[:, None] * drift[seg + 1]
+        along = sections[rows, seg + 1] - sections[rows, seg]
+        normal = np.column_stack([-along[:, 1], along[:, 0]]) / np.hypot(*along.T)[:, None]
+        offset = ((xy - q) * normal).sum(axis=1)
+        rate = (ruling * normal).sum(axis=1)
+        step = np.where(np.abs(rate) > 1e-12, offset / np.where(rate == 0, 1.0, rate), 0.0)
+        if not (np.abs(offset) > scale).any() or not step.any():
+            break
+        z = z + step
+    verts, vdrift = along_trace
+    planar = planar[seg]
+    if planar.any():
+        k, u, _ = nearest_on_trace(xy, verts, False, False)
+        u = np.clip(u, 0.0, 1.0)
+        in_plane = (1.0 - u)[:, None] * vdrift[k] + u[:, None] * vdrift[k + 1]
+        ruling = np.where(planar[:, None], in_plane, ruling)
     return np.column_stack([q, z]), ruling
 
 
@@ -339,6 +452,27 @@ def _fault_nodes(areal: Grid, n_faults: int) -> np.ndarray:
     keep = rank < 3
     out[node[keep], rank[keep]] = fault[keep]
     return out
+
+
+def _walls(areal: Grid, on_boundary: np.ndarray) -> list[tuple[FloatArray, FloatArray]]:
+    """The straight edges (a, b) of the areal grid's outline: its boundary faces grouped by the
+    line they lie on, each from the first to the last of its nodes along the line."""
+    xy = areal.nodes.coords[:, :2]
+    b = np.flatnonzero((areal.faces.neighbors < 0).any(axis=1))
+    en = areal.faces.nodes.reshape(-1, 2)[b]
+    d = xy[en[:, 1]] - xy[en[:, 0]]
+    d /= np.hypot(*d.T)[:, None]
+    d *= np.where((d[:, 0] < 0) | ((d[:, 0] == 0) & (d[:, 1] < 0)), -1.0, 1.0)[:, None]  # one way per line
+    offset = d[:, 0] * xy[en[:, 0], 1] - d[:, 1] * xy[en[:, 0], 0]
+    scale = max(1.0, float(np.abs(xy).max()))
+    key = np.round(np.column_stack([d * 1e9, offset / scale * 1e9]))
+    _, line = np.unique(key, axis=0, return_inverse=True)
+    walls = []
+    for k in range(int(line.max(initial=-1)) + 1):
+        nodes = np.unique(en[line.ravel() == k])
+        along = xy[nodes] @ d[np.flatnonzero(line.ravel() == k)[0]]
+        walls.append((xy[nodes[np.argmin(along)]], xy[nodes[np.argmax(along)]]))
+    return walls
 
 
 def _boundary(areal: Grid) -> tuple[FloatArray, np.ndarray]:

@@ -9,8 +9,9 @@ of the surface's ruling; the other pillars take a drift that blends back to vert
   distance d from its trace, 1 on the trace, 0 from the *relax distance* R on, with zero
   slope at both ends;
 * :func:`relaxed_drift`: the drift field of several faults, each trace's own drift
-  (interpolated along strike between its vertices) weighted by the taper, the weights
-  scaled down where they add up to more than 1;
+  (interpolated along strike between its vertices) weighted by the taper; where several
+  faults reach a point, the drift that moves it across each fault as that fault asks
+  (least squares), so that near a junction the field is the junction line's drift;
 * :func:`default_relax_distance`: R = 2 H s_max (H the depth range of the model, s_max the
   largest fault drift, cot(dip) for a dip fault). The map X0 -> X0 + dz s(X0) preserves
   orientation while dz |grad s| < 1, and the taper's slope is at most 1.5 s_max / R: this R
@@ -53,6 +54,13 @@ __all__ = [
     "relaxed_drift",
     "taper",
 ]
+
+# How firmly relaxed_drift makes a point near a fault move across it as the fault does, beside 1
+# for keeping to the faults' mean drift: STIFFNESS w^POWER (3 on a trace). Chosen on junctions
+# of two planar faults (dips 45-70 degrees, meeting at 80-100 degrees) as the setting that
+# folds no column at the smallest relax distance.
+STIFFNESS = 3.0
+POWER = 2
 
 # The section of a column may turn the wrong way at a corner by this much (radians) without
 # folding: collinear pillars (one fault plane, one boundary edge) stay collinear up to round-off.
@@ -98,26 +106,54 @@ def default_relax_distance(depth_range: float, max_drift: float) -> float:
 
 
 def relaxed_drift(
-    points: FloatArray, traces: Sequence[tuple[FloatArray, FloatArray]], relax: float
+    points: FloatArray, traces: Sequence[tuple[FloatArray, FloatArray, np.ndarray]], relax: float
 ) -> FloatArray:
     """The drift (n, 2) at plan ``points`` (n, 2) of the faults ``traces``: per fault its trace's
-    vertices (k, 2) and the drift of the fault at each (k, 2), interpolated linearly along every
-    segment. A point takes each fault's drift at its nearest trace point times
-    :func:`taper` (distance, ``relax``) (past a trace's ends the distance to its end point, so the
-    drift also dies out beyond a tip); where the weights add up to more than 1 they are scaled
-    to sum to 1. A vertical fault (drift 0) pulls the points near it back to vertical."""
+    vertices (k, 2), the drift of the fault at each (k, 2), interpolated linearly along every
+    segment, and whether the fault is planar along each segment (k - 1,) (its pillars may then
+    also drift along strike, e.g. towards a junction's).
+
+    Fault f offers at a point its drift s_f at the nearest trace point, the trace's horizontal
+    unit normal n_f there and the weight w_f = :func:`taper` (distance, ``relax``) (past a
+    trace's ends the distance is to its end point, so the drift also dies out beyond a tip).
+    The drift is the blend s_mean = sum w_f s_f / max(1, sum w_f), corrected so that it moves
+    the point across every fault nearby as that fault asks: s minimises
+    |s - s_mean|^2 + sum_f K w_f^2 (s . n_f - w_f s_f . n_f)^2 (K = ``STIFFNESS``; where a fault is
+    not planar, the component along it is held alike). One fault:
+    s = w_f s_f exactly. Where two faults meet, s tends to their common drift, the one of the
+    line where the surfaces meet (the junction pillars'), so the columns there shear little; a
+    fault far away (small w_f) hardly constrains it. A vertical fault (drift 0) pulls the
+    points near it back to vertical."""
     n = points.shape[0]
-    total = np.zeros((n, 2))
+    m = np.zeros((n, 2, 2))
+    m[:, 0, 0] = m[:, 1, 1] = 1.0
+    rhs = np.zeros((n, 2))
+    mean = np.zeros((n, 2))
     weight = np.zeros(n)
     if relax <= 0:
-        return total
-    for verts, drift in traces:
+        return mean
+    for verts, drift, planar in traces:
         seg, t, _ = nearest_on_trace(points, verts, False, False)
         near = verts[seg] + t[:, None] * (verts[seg + 1] - verts[seg])
         w = taper(np.hypot(*(points - near).T), relax)
-        total += w[:, None] * ((1.0 - t)[:, None] * drift[seg] + t[:, None] * drift[seg + 1])
+        s = (1.0 - t)[:, None] * drift[seg] + t[:, None] * drift[seg + 1]
+        along = np.diff(verts, axis=0)[seg]
+        normal = np.column_stack([-along[:, 1], along[:, 0]]) / np.hypot(*along.T)[:, None]
+        stiffness = STIFFNESS * w**POWER
+        # across the fault; where it is not planar its pillars cannot drift along it either
+        held = normal[:, :, None] * normal[:, None, :] + (~np.asarray(planar)[seg])[:, None, None] * (
+            np.eye(2) - normal[:, :, None] * normal[:, None, :]
+        )
+        m += stiffness[:, None, None] * held
+        rhs += (stiffness * w)[:, None] * np.einsum("nij,nj->ni", held, s)
+        mean += w[:, None] * s
         weight += w
-    return total / np.maximum(weight, 1.0)[:, None]
+    rhs += mean / np.maximum(weight, 1.0)[:, None]
+    det = m[:, 0, 0] * m[:, 1, 1] - m[:, 0, 1] * m[:, 1, 0]
+    out = np.empty((n, 2))
+    out[:, 0] = (m[:, 1, 1] * rhs[:, 0] - m[:, 0, 1] * rhs[:, 1]) / det
+    out[:, 1] = (m[:, 0, 0] * rhs[:, 1] - m[:, 1, 0] * rhs[:, 0]) / det
+    return out
 
 
 @dataclass(frozen=True)
@@ -135,9 +171,9 @@ def first_crossing(
     lines: PillarLines, pos: IntArray, ring: IntArray, z_lo: float, z_hi: float
 ) -> Crossing | None:
     """The exact no-crossing test (module docstring) of the columns ``pos``/``ring`` (node cycles,
-    all walked the same way round; the orientation is taken from their total area at the pins)
-    over depths [``z_lo``, ``z_hi``]; None when every column stays convex and positively oriented.
-    Vectorised over all corners."""
+    all walked the same way round, as the cells of an areal grid: the way is that of their total
+    area at mid depth) over depths [``z_lo``, ``z_hi``]; None when every column stays convex and
+    oriented that way at every depth. Vectorised over all corners."""
     n_corner = ring.size
     owner = np.repeat(np.arange(pos.size - 1), np.diff(pos))
     nxt = np.arange(1, n_corner + 1)
@@ -155,7 +191,7 @@ def first_crossing(
     c0 = _cross(u, v)
     c1 = _cross(u, dv) + _cross(du, v)
     c2 = _cross(du, dv)
-    sign = np.where(np.bincount(owner, _cross(a, a[nxt]), minlength=pos.size - 1) < 0, -1.0, 1.0)[owner]
+    sign = -1.0 if _cross(a, a[nxt]).sum() < 0 else 1.0  # the grid's orientation: its total area
     h = 0.5 * (z_hi - z_lo)
     candidates = [np.full(n_corner, -h), np.full(n_corner, h)]
     with np.errstate(divide="ignore", invalid="ignore"):
