@@ -11,6 +11,8 @@ suffix, and an unknown suffix is one InputError naming the file:
   :mod:`.grdecl`), EGRID (``.egrid``, ``.fegrid``, read; :mod:`.egrid`);
 * ``surface``: netCDF (``.nc``, read), IRAP classic ASCII (any other suffix; :mod:`.irap`);
 * ``points``: CSV or whitespace-separated text (any suffix, read; :mod:`.horizon_files`);
+* ``sticks``: a fault's sticks, ``x y z id`` rows or RMS polygon text (any suffix, read;
+  :mod:`.fault_sticks`);
 * ``horizons``: horizons datasets (``.nc``; :mod:`.horizon_files`);
 * ``cube``: property cubes (``.nc``; :mod:`.cube_files`).
 

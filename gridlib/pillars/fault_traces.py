@@ -30,11 +30,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
+from .fault_surface import FaultSurface
 
 
 @dataclass(frozen=True, eq=False)
 class FaultTrace:
-    """A vertical fault given by its trace in plan view.
+    """A fault given by its trace in plan view: vertical, unless it has a ``surface``.
 
     ``points``: the polyline, (n >= 2, 2) x, y in metres. ``throw`` (m): the
     vertical displacement of the hanging wall, positive downwards (deeper); a
@@ -47,6 +48,10 @@ class FaultTrace:
     last, is the hanging wall, ``"left"`` or ``"right"`` as seen on a map with
     x to the right and y up. ``name``: the fault's name (default ``F1``, ``F2``,
     ... by position).
+    ``surface``: None for a vertical fault (all of the above); for an inclined one its
+    :class:`~gridlib.pillars.fault_surface.FaultSurface`, ``points`` being then the fault's
+    trace on the top horizon, ``side`` its hanging wall and ``throw`` still the *vertical*
+    displacement (the slip along the dip is ``throw / sin(dip)``, the heave ``throw / tan(dip)``).
 
     A trace should extend beyond the grid where the fault crosses it: an end
     point strictly inside the grid is a fault tip (see
@@ -62,6 +67,7 @@ class FaultTrace:
     throw: float | Callable[[NDArray[np.float64]], ArrayLike]
     name: str | None = None
     side: str = "right"
+    surface: FaultSurface | None = None
 
     def __post_init__(self) -> None:
         label = "fault trace" if self.name is None else f"fault trace '{self.name}'"
@@ -93,6 +99,8 @@ class FaultTrace:
             object.__setattr__(self, "throw", float(self.throw))
         if self.side not in ("left", "right"):
             raise InputError(f"{label}: side must be 'left' or 'right', got {self.side!r}")
+        if self.surface is not None and not isinstance(self.surface, FaultSurface):
+            raise InputError(f"{label}: surface must be a FaultSurface or None, got {self.surface!r:.60}")
 
 
 def nearest_on_trace(p: np.ndarray, verts: np.ndarray, open_start: bool, open_end: bool):

@@ -21,7 +21,9 @@ def test_every_kind_has_its_formats():
     assert table[("deck", "grdecl")] == (".grdecl", ".data", ".inc", ".grd")
     assert table[("deck", "egrid")] == (".egrid", ".fegrid")
     assert table[("surface", "irap")] == ("*",) and table[("points", "text")] == ("*",)
-    assert {k for k, _ in table} == {"grid", "geometry", "deck", "surface", "points", "horizons", "cube"}
+    assert table[("sticks", "text")] == ("*",)
+    kinds = {"grid", "geometry", "deck", "surface", "points", "sticks", "horizons", "cube"}
+    assert {k for k, _ in table} == kinds
 
 
 def test_grid_and_geometry_round_trip_exactly(tmp_path):
