@@ -15,17 +15,21 @@ at the top horizon, so its cells are the areal cells there. Per areal node:
   faults, the first two (a note);
 * a node on the domain boundary keeps its pillar in the boundary's vertical plane (the horizons
   are known only inside): a fault node there follows the line where the fault surface meets
-  that plane, another node the along-boundary part of its drift; a corner of the boundary
-  stays vertical;
-* a node of a well's cells (``vertical_cells``) stays vertical, and the drift of the nodes near
-  wells is scaled down by 1 - :func:`~gridlib.pillars.inclined_lines.taper` of their distance to
-  the nearest such node;
-* every other node drifts by :func:`~gridlib.pillars.inclined_lines.relaxed_drift` of all faults
-  (vertical ones pull back to vertical), pinned at the top horizon.
+  that plane (a chord where the surface is twisted), another node slides along the boundary;
+  a corner of the boundary stays vertical;
+* along a fault's planar stretches (a dip fault's straight segments) its pillars also drift
+  along strike, linearly between the lines where it meets other faults or the boundary, so
+  that they agree with those lines (any line of the plane lies in it);
+* a node of a well's cells (``vertical_cells``) stays vertical, as does every node farther
+  than the relax distance R from every inclined fault's trace;
+* every other node's drift is discrete-harmonic between those
+  (:func:`~gridlib.pillars.inclined_lines.harmonic_drift`), pinned at the top horizon.
 
-The relax distance defaults to :func:`~gridlib.pillars.inclined_lines.default_relax_distance`;
-then :func:`~gridlib.pillars.inclined_lines.first_crossing` checks every column over the depth
-range (one InputError naming the column's site and the depth where it folds).
+The relax distance defaults to :func:`~gridlib.pillars.inclined_lines.default_relax_distance`
+(2 H cot(dip)); :func:`~gridlib.pillars.inclined_lines.first_crossing` then checks every
+column over the depth range. Where a column folds, a default R is lengthened by half, up to
+three times (a note says so); a given one is not: one InputError names the areal cell, the
+depth and the relax distance.
 
 The throw needs nothing new: columns never straddle a fault surface, so the extrusion's
 plan-view classification of the cells by their sites against the top trace is exact.
@@ -39,7 +43,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..errors import InputError
 from ..grid import FloatArray, Grid
@@ -51,9 +54,8 @@ from .inclined_lines import (
     check_relax_distance,
     default_relax_distance,
     first_crossing,
+    harmonic_drift,
     interior_drift,
-    relaxed_drift,
-    taper,
 )
 
 __all__ = ["FaultPillars", "depth_range", "fault_pillars", "horizon_function", "inclined"]
@@ -177,15 +179,9 @@ def fault_pillars(
             _with_meetings(ref, np.zeros_like(ref) if d is None else d, planar[f], xy[at], meeting)
         )
 
-    along_traces = [
-        (points, d, _planar_between(points, p, ref))
-        for (points, d), p, ref in zip(sources, planar, references, strict=True)
-    ]
     fixed = np.zeros(nn, dtype=bool)
     if vertical_cells is not None and np.any(vertical_cells):
         fixed[corners.ring[np.asarray(vertical_cells, dtype=bool)[corners.owner]]] = True
-    d_well = cKDTree(xy[fixed]).query(xy)[0] if fixed.any() else np.full(nn, np.inf)
-    along = np.where(np.isfinite(tangent), tangent, 0.0)
     # The pillars on the faults, which the relax distance does not change.
     on_fault = np.zeros(nn, dtype=bool)
     fault_point, fault_drift = point.copy(), np.zeros((nn, 2))
@@ -206,23 +202,23 @@ def fault_pillars(
             "its surface, not the vertical"
         )
 
-    walls = _walls(areal, on_boundary)
+    edges = areal.faces.nodes.reshape(-1, 2)
+    far = np.full(nn, np.inf)  # plan distance to the nearest inclined fault's trace
+    for ref, surface in zip(references, surfaces, strict=True):
+        if surface is not None:
+            seg, t, _ = nearest_on_trace(xy, ref, False, False)
+            far = np.minimum(far, np.hypot(*(xy - ref[seg] - t[:, None] * (ref[seg + 1] - ref[seg])).T))
+    held = on_fault | fixed | corner
+    slide = np.where((on_boundary & ~held)[:, None], tangent, np.nan)
+
+    given = np.where(on_fault[:, None], fault_drift, 0.0)  # the faults' pillars; wells, corners: 0
 
     def lines_for(relax: float) -> PillarLines:
-        drift = relaxed_drift(xy, along_traces, relax)
-        drift *= (1.0 - taper(d_well, relax))[:, None]
-        for a, b in walls:  # no drift out of the domain near its boundary, none across it on it
-            _, t, _ = nearest_on_trace(xy, np.array([a, b]), False, False)
-            normal = np.array([a[1] - b[1], b[0] - a[0]]) / np.hypot(*(b - a))
-            away = np.hypot(*(xy - a - t[:, None] * (b - a)).T)
-            drift -= (taper(away, relax) * (drift @ normal))[:, None] * normal
-        drift[fixed] = 0.0
-        drift = np.where(on_boundary[:, None], (drift * along).sum(axis=1)[:, None] * along, drift)
-        drift[on_fault] = fault_drift[on_fault]
+        drift = harmonic_drift(xy, edges, held | (far >= relax), given, slide)
         return PillarLines(np.where(on_fault[:, None], fault_point, point), drift)
 
-    # The default relax distance is lengthened where the taper of several faults (or of faults and
-    # wells) folds a column with it: by half at a time, three times at most.
+    # The default relax distance is lengthened where the drift of several faults (or of faults,
+    # wells and boundaries) folds a column with it: by half at a time, three times at most.
     tries = [relax] if relax_distance is not None else [relax * 1.5**k for k in range(4)]
     for relax in tries:
         lines = lines_for(relax)
@@ -343,13 +339,6 @@ def _with_meetings(ref, drift, planar, at_xy, at_drift):
     return points[rank], drifts[rank]
 
 
-def _planar_between(points: FloatArray, planar: np.ndarray, ref: FloatArray) -> np.ndarray:
-    """Whether each segment of ``points`` (a trace ``ref`` with vertices inserted) lies on a planar
-    stretch (``planar`` per segment of ``ref``)."""
-    seg, _, _ = nearest_on_trace(0.5 * (points[1:] + points[:-1]), ref, False, False)
-    return planar[seg]
-
-
 def _on_surface(surface, drift: FloatArray, planar, along_trace, xy: FloatArray, top_depth: FloatArray):
     """Points (n, 3) and drifts (n, 2) of the lines of ``surface`` through plan points ``xy``
     near its trace at the top horizon: the depth where the surface passes through the point,
@@ -452,27 +441,6 @@ def _fault_nodes(areal: Grid, n_faults: int) -> np.ndarray:
     keep = rank < 3
     out[node[keep], rank[keep]] = fault[keep]
     return out
-
-
-def _walls(areal: Grid, on_boundary: np.ndarray) -> list[tuple[FloatArray, FloatArray]]:
-    """The straight edges (a, b) of the areal grid's outline: its boundary faces grouped by the
-    line they lie on, each from the first to the last of its nodes along the line."""
-    xy = areal.nodes.coords[:, :2]
-    b = np.flatnonzero((areal.faces.neighbors < 0).any(axis=1))
-    en = areal.faces.nodes.reshape(-1, 2)[b]
-    d = xy[en[:, 1]] - xy[en[:, 0]]
-    d /= np.hypot(*d.T)[:, None]
-    d *= np.where((d[:, 0] < 0) | ((d[:, 0] == 0) & (d[:, 1] < 0)), -1.0, 1.0)[:, None]  # one way per line
-    offset = d[:, 0] * xy[en[:, 0], 1] - d[:, 1] * xy[en[:, 0], 0]
-    scale = max(1.0, float(np.abs(xy).max()))
-    key = np.round(np.column_stack([d * 1e9, offset / scale * 1e9]))
-    _, line = np.unique(key, axis=0, return_inverse=True)
-    walls = []
-    for k in range(int(line.max(initial=-1)) + 1):
-        nodes = np.unique(en[line.ravel() == k])
-        along = xy[nodes] @ d[np.flatnonzero(line.ravel() == k)[0]]
-        walls.append((xy[nodes[np.argmin(along)]], xy[nodes[np.argmax(along)]]))
-    return walls
 
 
 def _boundary(areal: Grid) -> tuple[FloatArray, np.ndarray]:

@@ -5,20 +5,19 @@ straight line, given by one of its points (x, y, depth) and its *drift* (dx/dz, 
 horizontal metres it moves per metre of depth. A pillar in a fault surface takes the drift
 of the surface's ruling; the other pillars take a drift that blends back to vertical:
 
-* :func:`taper`: the weight w(d) = smoothstep(1 - d / R) of a fault's drift at plan
-  distance d from its trace, 1 on the trace, 0 from the *relax distance* R on, with zero
-  slope at both ends;
-* :func:`relaxed_drift`: the drift field of several faults, each trace's own drift
-  (interpolated along strike between its vertices) weighted by the taper; where several
-  faults reach a point, the drift that moves it across each fault as that fault asks
-  (least squares), so that near a junction the field is the junction line's drift;
+* :func:`harmonic_drift`: the drift of the free nodes of a plan graph, discrete-harmonic
+  between the given ones (the pillars on the faults; 0 at wells and beyond the *relax
+  distance* R from every inclined fault), sliding along a straight domain boundary: it blends
+  the faults' drifts back to vertical as smoothly as the graph allows, junctions included;
 * :func:`default_relax_distance`: R = 2 H s_max (H the depth range of the model, s_max the
   largest fault drift, cot(dip) for a dip fault). The map X0 -> X0 + dz s(X0) preserves
-  orientation while dz |grad s| < 1, and the taper's slope is at most 1.5 s_max / R: this R
-  keeps H |grad s| at 0.75;
+  orientation while dz |grad s| < 1; a drift falling from s_max to 0 over R evenly has
+  H |grad s| = 0.5 there;
 * :func:`first_crossing`: the exact test that no column of the grid inverts or folds at
-  any depth of the model (a sufficient bound is no proof for the taper of several faults,
-  wells and boundaries together).
+  any depth of the model (a bound is no proof where several faults, wells and boundaries
+  meet);
+* :func:`interior_drift`: the drift of a point inside a column that moves with it (the PEBI
+  sites, as the cells' centres at depth).
 
 The test: at depth z every pillar is at P(z) = a + z s, linear in z, so the signed area of
 the triangle (P_{c-1}, P_c, P_{c+1}) at every corner c of a column is a quadratic in z. If
@@ -36,7 +35,6 @@ cells as many as their polygon). Units are metres; z is depth, positive downward
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,23 +42,15 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
-from .fault_traces import nearest_on_trace
 
 __all__ = [
     "Crossing",
     "PillarLines",
     "default_relax_distance",
     "first_crossing",
-    "relaxed_drift",
-    "taper",
+    "harmonic_drift",
+    "interior_drift",
 ]
-
-# How firmly relaxed_drift makes a point near a fault move across it as the fault does, beside 1
-# for keeping to the faults' mean drift: STIFFNESS w^POWER (3 on a trace). Chosen on junctions
-# of two planar faults (dips 45-70 degrees, meeting at 80-100 degrees) as the setting that
-# folds no column at the smallest relax distance.
-STIFFNESS = 3.0
-POWER = 2
 
 # The section of a column may turn the wrong way at a corner by this much (radians) without
 # folding: collinear pillars (one fault plane, one boundary edge) stay collinear up to round-off.
@@ -92,68 +82,71 @@ class PillarLines:
         return out
 
 
-def taper(distance: ArrayLike, relax: float) -> FloatArray:
-    """w = smoothstep(1 - d / R): 1 at distance 0, 0 from ``relax`` on, slope 0 at both ends and
-    at most 1.5 / R in between."""
-    t = np.clip(1.0 - np.asarray(distance, dtype=np.float64) / relax, 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
-
-
 def default_relax_distance(depth_range: float, max_drift: float) -> float:
     """R = 2 H s_max (m): ``depth_range`` H the depth span of the model, ``max_drift`` the largest
     horizontal drift of a fault (cot(dip) for a dip fault). 0 when no fault is inclined."""
     return 2.0 * float(depth_range) * float(max_drift)
 
 
-def relaxed_drift(
-    points: FloatArray, traces: Sequence[tuple[FloatArray, FloatArray, np.ndarray]], relax: float
+def harmonic_drift(
+    xy: FloatArray,
+    edges: IntArray,
+    fixed: np.ndarray,
+    value: FloatArray,
+    slide: FloatArray | None = None,
 ) -> FloatArray:
-    """The drift (n, 2) at plan ``points`` (n, 2) of the faults ``traces``: per fault its trace's
-    vertices (k, 2), the drift of the fault at each (k, 2), interpolated linearly along every
-    segment, and whether the fault is planar along each segment (k - 1,) (its pillars may then
-    also drift along strike, e.g. towards a junction's).
+    """The drift (n, 2) of the nodes ``xy`` (n, 2) of a plan graph (``edges`` (m, 2)) that is
+    discrete-harmonic (every free node's drift the mean of its neighbours', weighted by 1 /
+    edge length) where it is not given: ``fixed`` (n,) nodes keep ``value`` (n, 2) (the fault
+    pillars, wells and nodes beyond the relax distance, 0); nodes with a ``slide`` direction (n, 2)
+    (unit, NaN for none; a straight domain boundary) drift only along it, harmonic along it.
+    A harmonic field has no interior extremum and spreads every change as evenly as the graph
+    allows: near a junction of two faults it blends their pillars' drifts without the kinks a
+    per-fault taper makes. One sparse solve (SuperLU), the same for any thread count."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.linalg import spsolve
 
-    Fault f offers at a point its drift s_f at the nearest trace point, the trace's horizontal
-    unit normal n_f there and the weight w_f = :func:`taper` (distance, ``relax``) (past a
-    trace's ends the distance is to its end point, so the drift also dies out beyond a tip).
-    The drift is the blend s_mean = sum w_f s_f / max(1, sum w_f), corrected so that it moves
-    the point across every fault nearby as that fault asks: s minimises
-    |s - s_mean|^2 + sum_f K w_f^2 (s . n_f - w_f s_f . n_f)^2 (K = ``STIFFNESS``; where a fault is
-    not planar, the component along it is held alike). One fault:
-    s = w_f s_f exactly. Where two faults meet, s tends to their common drift, the one of the
-    line where the surfaces meet (the junction pillars'), so the columns there shear little; a
-    fault far away (small w_f) hardly constrains it. A vertical fault (drift 0) pulls the
-    points near it back to vertical."""
-    n = points.shape[0]
-    m = np.zeros((n, 2, 2))
-    m[:, 0, 0] = m[:, 1, 1] = 1.0
-    rhs = np.zeros((n, 2))
-    mean = np.zeros((n, 2))
-    weight = np.zeros(n)
-    if relax <= 0:
-        return mean
-    for verts, drift, planar in traces:
-        seg, t, _ = nearest_on_trace(points, verts, False, False)
-        near = verts[seg] + t[:, None] * (verts[seg + 1] - verts[seg])
-        w = taper(np.hypot(*(points - near).T), relax)
-        s = (1.0 - t)[:, None] * drift[seg] + t[:, None] * drift[seg + 1]
-        along = np.diff(verts, axis=0)[seg]
-        normal = np.column_stack([-along[:, 1], along[:, 0]]) / np.hypot(*along.T)[:, None]
-        stiffness = STIFFNESS * w**POWER
-        # across the fault; where it is not planar its pillars cannot drift along it either
-        held = normal[:, :, None] * normal[:, None, :] + (~np.asarray(planar)[seg])[:, None, None] * (
-            np.eye(2) - normal[:, :, None] * normal[:, None, :]
-        )
-        m += stiffness[:, None, None] * held
-        rhs += (stiffness * w)[:, None] * np.einsum("nij,nj->ni", held, s)
-        mean += w[:, None] * s
-        weight += w
-    rhs += mean / np.maximum(weight, 1.0)[:, None]
-    det = m[:, 0, 0] * m[:, 1, 1] - m[:, 0, 1] * m[:, 1, 0]
-    out = np.empty((n, 2))
-    out[:, 0] = (m[:, 1, 1] * rhs[:, 0] - m[:, 0, 1] * rhs[:, 1]) / det
-    out[:, 1] = (m[:, 0, 0] * rhs[:, 1] - m[:, 1, 0] * rhs[:, 0]) / det
-    return out
+    n = xy.shape[0]
+    a, b = edges[:, 0], edges[:, 1]
+    w = 1.0 / np.hypot(*(xy[a] - xy[b]).T)
+    rows = np.concatenate([a, b, a, b])
+    cols = np.concatenate([a, b, b, a])
+    vals = np.concatenate([w, w, -w, -w])
+    lap = coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsr()
+    sliding = np.zeros(n, dtype=bool) if slide is None else np.isfinite(slide[:, 0]) & ~fixed
+    tangent = np.where(sliding[:, None], slide if slide is not None else 0.0, 0.0)
+    free = ~fixed & ~sliding
+    # Unknowns: x drifts then y drifts. Rows: free nodes' Laplacian per component; sliding
+    # nodes' Laplacian along the slide and no drift across it; fixed nodes their value.
+    blocks_r, blocks_c, blocks_v = [], [], []
+    lap_coo = lap.tocoo()
+    r, c, v = lap_coo.row, lap_coo.col, lap_coo.data
+    for comp in (0, 1):
+        keep = free[r]
+        blocks_r.append(r[keep] + comp * n)
+        blocks_c.append(c[keep] + comp * n)
+        blocks_v.append(v[keep])
+        keep = sliding[r]  # the tangent row of a sliding node: t . (L s)
+        blocks_r.append(r[keep])
+        blocks_c.append(c[keep] + comp * n)
+        blocks_v.append(v[keep] * tangent[r[keep], comp])
+        # the normal row of a sliding node: s . n = 0, n = (-t_y, t_x)
+        nodes = np.flatnonzero(sliding)
+        blocks_r.append(nodes + n)
+        blocks_c.append(nodes + comp * n)
+        blocks_v.append(tangent[nodes, 1 - comp] * (-1.0 if comp == 0 else 1.0))
+        nodes = np.flatnonzero(fixed)
+        blocks_r.append(nodes + comp * n)
+        blocks_c.append(nodes + comp * n)
+        blocks_v.append(np.ones(nodes.size))
+    matrix = coo_matrix(
+        (np.concatenate(blocks_v), (np.concatenate(blocks_r), np.concatenate(blocks_c))), shape=(2 * n, 2 * n)
+    ).tocsc()
+    rhs = np.zeros(2 * n)
+    rhs[np.flatnonzero(fixed)] = value[fixed, 0]
+    rhs[np.flatnonzero(fixed) + n] = value[fixed, 1]
+    solution = spsolve(matrix, rhs)
+    return np.column_stack([solution[:n], solution[n:]])
 
 
 @dataclass(frozen=True)
