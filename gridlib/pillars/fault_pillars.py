@@ -26,10 +26,10 @@ at the top horizon, so its cells are the areal cells there. Per areal node:
   (:func:`~gridlib.pillars.inclined_lines.harmonic_drift`), pinned at the top horizon.
 
 The relax distance defaults to :func:`~gridlib.pillars.inclined_lines.default_relax_distance`
-(2 H cot(dip)); :func:`~gridlib.pillars.inclined_lines.first_crossing` then checks every
-column over the depth range. Where a column folds, a default R is lengthened by half, up to
-three times (a note says so); a given one is not: one InputError names the areal cell, the
-depth and the relax distance.
+(2 H cot(dip)); :func:`~gridlib.pillars.inclined_lines.first_crossing` then checks that every
+column stays star-shaped around its site (followed down the column) over the depth range.
+Where a column folds, a default R is lengthened by half, up to three times (a note says so);
+a given one is not: one InputError names the areal cell, the depth and the relax distance.
 
 The throw needs nothing new: columns never straddle a fault surface, so the extrusion's
 plan-view classification of the cells by their sites against the top trace is exact.
@@ -220,9 +220,11 @@ def fault_pillars(
     # The default relax distance is lengthened where the drift of several faults (or of faults,
     # wells and boundaries) folds a column with it: by half at a time, three times at most.
     tries = [relax] if relax_distance is not None else [relax * 1.5**k for k in range(4)]
+    inside = _column_points(areal, corners, sites)
     for relax in tries:
         lines = lines_for(relax)
-        bad = first_crossing(lines, corners.pos, corners.ring, z_lo, z_hi)
+        centres = _follow(lines, corners, xy, inside, top, z_lo)
+        bad = first_crossing(lines, corners.pos, corners.ring, z_lo, z_hi, centres)
         if bad is None:
             break
     if bad is not None:
@@ -239,15 +241,29 @@ def fault_pillars(
             f"the default relax distance {tries[0]:g} m (2 H cot(dip)) was lengthened to {relax:g} m: "
             "with it, columns where faults meet (or near wells) would fold"
         )
-    site_lines = None
-    if sites is not None:
-        sites = np.asarray(sites, dtype=np.float64)
-        site_drift = interior_drift(lines, corners.pos, corners.ring, xy, sites)
-        with np.errstate(invalid="ignore"):
-            site_pin = np.asarray(top(sites[:, 0].copy(), sites[:, 1].copy()), dtype=np.float64)
-        site_pin = np.where(np.isfinite(site_pin), site_pin, z_lo)
-        site_lines = PillarLines(np.column_stack([sites, site_pin]), site_drift)
+    site_lines = None if sites is None else centres
     return FaultPillars(lines, relax, float(z_lo), float(z_hi), tuple(notes), site_lines)
+
+
+def _column_points(areal: Grid, corners: ColumnCorners, sites: FloatArray | None) -> FloatArray:
+    """A point inside every areal cell: its site, else the mean of its nodes (inside a convex
+    cell)."""
+    if sites is not None:
+        return np.asarray(sites, dtype=np.float64)
+    xy = areal.nodes.coords[:, :2]
+    count = np.diff(corners.pos)
+    return np.column_stack(
+        [np.bincount(corners.owner, xy[corners.ring, d], minlength=count.size) / count for d in (0, 1)]
+    )
+
+
+def _follow(lines: PillarLines, corners: ColumnCorners, xy, points, top, z_lo: float) -> PillarLines:
+    """The lines that ``points`` (one inside every column) follow down their columns, pinned at the
+    top horizon (:func:`~gridlib.pillars.inclined_lines.interior_drift`)."""
+    drift = interior_drift(lines, corners.pos, corners.ring, xy, points)
+    with np.errstate(invalid="ignore"):
+        pin = np.asarray(top(points[:, 0].copy(), points[:, 1].copy()), dtype=np.float64)
+    return PillarLines(np.column_stack([points, np.where(np.isfinite(pin), pin, z_lo)]), drift)
 
 
 def horizon_function(horizon) -> DepthFunction:

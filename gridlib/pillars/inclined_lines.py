@@ -161,12 +161,22 @@ class Crossing:
 
 
 def first_crossing(
-    lines: PillarLines, pos: IntArray, ring: IntArray, z_lo: float, z_hi: float
+    lines: PillarLines,
+    pos: IntArray,
+    ring: IntArray,
+    z_lo: float,
+    z_hi: float,
+    centres: PillarLines | None = None,
 ) -> Crossing | None:
     """The exact no-crossing test (module docstring) of the columns ``pos``/``ring`` (node cycles,
     all walked the same way round, as the cells of an areal grid: the way is that of their total
     area at mid depth) over depths [``z_lo``, ``z_hi``]; None when every column stays convex and
-    oriented that way at every depth. Vectorised over all corners."""
+    oriented that way at every depth. With ``centres`` (one line per column inside it, e.g. the
+    PEBI sites followed down), the weaker test that every column stays *star-shaped* around its
+    centre: the triangles (centre, P_c, P_c+1) keep their orientation, quadratics in z alike. A
+    star-shaped polygon is simple, so the column still neither folds nor crosses a neighbour,
+    but it may turn a little the wrong way at a short edge (a convex column need not stay
+    convex). Vectorised over all corners."""
     n_corner = ring.size
     owner = np.repeat(np.arange(pos.size - 1), np.diff(pos))
     nxt = np.arange(1, n_corner + 1)
@@ -179,8 +189,14 @@ def first_crossing(
     xy = lines.xy_at(z_mid)
     a = xy[ring] - xy[ring[pos[:-1]]][owner]
     s = lines.drift[ring]
-    u, du = a - a[prv], s - s[prv]
-    v, dv = a[nxt] - a, s[nxt] - s
+    if centres is None:  # the corner's turn
+        u, du = a - a[prv], s - s[prv]
+        v, dv = a[nxt] - a, s[nxt] - s
+    else:  # the triangle from the centre over the edge to the next node
+        c = (centres.xy_at(z_mid) - xy[ring[pos[:-1]]])[owner]
+        dc = centres.drift[owner]
+        u, du = a - c, s - dc
+        v, dv = a[nxt] - c, s[nxt] - dc
     c0 = _cross(u, v)
     c1 = _cross(u, dv) + _cross(du, v)
     c2 = _cross(du, dv)
