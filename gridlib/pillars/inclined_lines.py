@@ -26,7 +26,11 @@ positively oriented polygon at every depth: no two pillars of a column cross and
 column inverts (its cells then have positive volumes when their layers are in depth order).
 Corners whose three pillars are collinear (nodes along a straight fault trace, whose
 pillars lie in one plane, or along a straight domain boundary) stay collinear: the section
-may turn the wrong way there by no more than round-off, 1e-9 radians.
+may turn the wrong way there by no more than round-off, 1e-9 radians. Convexity is more than
+needed: with a line inside every column (its centre followed down it), the triangles from
+the centre over every edge keeping their orientation (quadratics alike) make every section
+star-shaped around the centre, hence simple: no fold, no crossing, while a short edge may
+turn a little (what the PEBI grids use).
 
 Columns are given as node cycles (``pos``/``ring``, as
 :class:`~gridlib.pillars.column_inputs.ColumnCorners`: corner-point cells have four, PEBI

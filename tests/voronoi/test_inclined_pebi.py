@@ -305,3 +305,18 @@ def test_flow_takes_the_connection_form_and_simulates_it(one_fault, tmp_path):
     summary = read_summary(tmp_path / "run" / "INCLINED")
     assert summary.time[-1] == 10.0 and summary["FOPT"][-1] > 0
     print(f"{len(ours)} connections ({int((conn.kind == 1).sum())} across the fault) equal to Flow's")
+
+
+def test_a_dent_is_no_fold_for_the_star_test():
+    """A node in the middle of a square's edge moving inwards with depth dents the column: no
+    longer convex, still star-shaped around its centre (no fold); moving past the centre, it
+    folds."""
+    point = np.array([[0, 0, 0], [5, 0, 0], [10, 0, 0], [10, 10, 0], [0, 10, 0]], dtype=np.float64)
+    pos, ring = np.array([0, 5]), np.arange(5)
+    centre = PillarLines(np.array([[5.0, 5.0, 0.0]]), np.zeros((1, 2)))
+    for inwards, folds in ((1.0, False), (20.0, True)):
+        drift = np.zeros((5, 2))
+        drift[1] = (0.0, inwards)
+        lines = PillarLines(point, drift)
+        assert first_crossing(lines, pos, ring, 0.0, 1.0) is not None  # not convex below the top
+        assert (first_crossing(lines, pos, ring, 0.0, 1.0, centre) is not None) == folds
