@@ -129,10 +129,6 @@ def fault_pillars(
     notes: list[str] = []
     surfaces = [_surface(f) for f in faults]
     drifts = [None if s is None else np.asarray(s.drift(z_lo, z_hi), dtype=np.float64) for s in surfaces]
-    references = [
-        f.points if s is None else np.asarray(s.on_horizon(top)[0], dtype=np.float64)
-        for f, s in zip(faults, surfaces, strict=True)
-    ]
     max_drift = max((float(np.hypot(*d.T).max()) for d in drifts if d is not None), default=0.0)
     if relax_distance is None:
         relax = default_relax_distance(z_hi - z_lo, max_drift)
@@ -171,13 +167,17 @@ def fault_pillars(
 
     # Every fault's drift along its trace, through its meeting lines where it is planar there.
     sources, planar = [], []
-    for f, (ref, d) in enumerate(zip(references, drifts, strict=True)):
-        planar.append(_planar(surfaces[f], z_lo, z_hi, ref.shape[0]))
+    for f, (surface, d) in enumerate(zip(surfaces, drifts, strict=True)):
+        n_sticks = 2 if surface is None else d.shape[0]
+        planar.append(_planar(surface, z_lo, z_hi, n_sticks))
         at = [n for n in special_drift if f in fault_of_node[n, :2]]
-        meeting = np.array([special_drift[n] for n in at]).reshape(-1, 2)
-        sources.append(
-            _with_meetings(ref, np.zeros_like(ref) if d is None else d, planar[f], xy[at], meeting)
-        )
+        if surface is None or not at:
+            sources.append((np.arange(float(n_sticks)), np.zeros((n_sticks, 2)) if d is None else d))
+            continue
+        at_points = np.array([special_point[n] for n in at])
+        seg, t, _ = _locate(at_points[:, :2], np.asarray(surface.section(at_points[:, 2]), dtype=np.float64))
+        meeting = np.array([special_drift[n] for n in at])
+        sources.append(_with_meetings(d, planar[f], seg + t, meeting))
 
     fixed = np.zeros(nn, dtype=bool)
     if vertical_cells is not None and np.any(vertical_cells):
@@ -204,8 +204,9 @@ def fault_pillars(
 
     edges = areal.faces.nodes.reshape(-1, 2)
     far = np.full(nn, np.inf)  # plan distance to the nearest inclined fault's trace
-    for ref, surface in zip(references, surfaces, strict=True):
-        if surface is not None:
+    for trace, surface in zip(faults, surfaces, strict=True):
+        if surface is not None:  # the trace at the top horizon
+            ref = trace.points
             seg, t, _ = nearest_on_trace(xy, ref, False, False)
             far = np.minimum(far, np.hypot(*(xy - ref[seg] - t[:, None] * (ref[seg + 1] - ref[seg])).T))
     held = on_fault | fixed | corner
@@ -336,23 +337,19 @@ def _planar(surface, z_lo: float, z_hi: float, n: int) -> np.ndarray:
     return volume <= 1e-12 * size
 
 
-def _with_meetings(ref, drift, planar, at_xy, at_drift):
-    """A fault's trace (k, 2) and its drift at each vertex (k, 2), with the points where it
-    meets another fault or the boundary inserted as vertices carrying the meeting line's drift,
-    on the planar stretches of the surface only (elsewhere only the rulings lie in it). Linear
-    between vertices, the drift along a planar stretch then stays in its plane."""
-    if at_xy.shape[0] == 0 or not planar.any():
-        return ref, drift
-    seg, t, _ = nearest_on_trace(at_xy, ref, False, False)
-    keep = planar[seg] & (t > 0) & (t < 1)
-    if not keep.any():
-        return ref, drift
-    order = np.lexsort((t[keep], seg[keep]))
-    position = np.concatenate([np.arange(ref.shape[0], dtype=np.float64), (seg + t)[keep][order]])
-    points = np.concatenate([ref, (ref[seg] + t[:, None] * (ref[seg + 1] - ref[seg]))[keep][order]])
-    drifts = np.concatenate([drift, at_drift[keep][order]])
-    rank = np.argsort(position, kind="stable")
-    return points[rank], drifts[rank]
+def _with_meetings(drift: FloatArray, planar: np.ndarray, at: FloatArray, at_drift: FloatArray):
+    """A fault's drift along strike: at the sticks (strike coordinate 0, 1, ..., their chord
+    drifts ``drift`` (k, 2)) and at the points ``at`` (strike coordinates: segment + fraction)
+    where it meets another fault or the boundary, the meeting line's drift, inserted on the
+    planar stretches only (elsewhere only the rulings lie in the surface). Linear between them,
+    the drift along a planar stretch stays in its plane. Returns (coordinates, drifts)."""
+    sticks = np.arange(float(drift.shape[0]))
+    seg = np.clip(np.floor(at).astype(np.int64), 0, planar.size - 1)
+    keep = planar[seg] & (at > seg) & (at < seg + 1)
+    coordinate = np.concatenate([sticks, at[keep]])
+    values = np.concatenate([drift, at_drift[keep]])
+    order = np.argsort(coordinate, kind="stable")
+    return coordinate[order], values[order]
 
 
 def _on_surface(surface, drift: FloatArray, planar, along_trace, xy: FloatArray, top_depth: FloatArray):
@@ -362,7 +359,7 @@ def _on_surface(surface, drift: FloatArray, planar, along_trace, xy: FloatArray,
     plane; where the vertical line through a point meets a twisted surface twice, the meeting
     nearest the top horizon); the drift that of the ruling there, interpolated between the two
     sticks' chord drifts, or where the surface is ``planar`` between the sticks the drift along
-    the trace ``along_trace`` ((vertices, drifts), the meeting lines included)."""
+    strike ``along_trace`` ((strike coordinates, drifts), the meeting lines included)."""
     z = top_depth.copy()
     scale = 1e-12 * max(1.0, float(np.abs(xy).max()))
     rows = np.arange(xy.shape[0])
@@ -378,12 +375,11 @@ def _on_surface(surface, drift: FloatArray, planar, along_trace, xy: FloatArray,
         if not (np.abs(offset) > scale).any() or not step.any():
             break
         z = z + step
-    verts, vdrift = along_trace
+    coordinate, values = along_trace
     planar = planar[seg]
     if planar.any():
-        k, u, _ = nearest_on_trace(xy, verts, False, False)
-        u = np.clip(u, 0.0, 1.0)
-        in_plane = (1.0 - u)[:, None] * vdrift[k] + u[:, None] * vdrift[k + 1]
+        at = seg + t
+        in_plane = np.column_stack([np.interp(at, coordinate, values[:, d]) for d in (0, 1)])
         ruling = np.where(planar[:, None], in_plane, ruling)
     return np.column_stack([q, z]), ruling
 

@@ -320,3 +320,69 @@ def test_a_dent_is_no_fold_for_the_star_test():
         lines = PillarLines(point, drift)
         assert first_crossing(lines, pos, ring, 0.0, 1.0) is not None  # not convex below the top
         assert (first_crossing(lines, pos, ring, 0.0, 1.0, centre) is not None) == folds
+
+
+CASE = """name: inclined_pebi_test
+horizons:
+  lattice:
+    x: {start: 0, stop: 1000, num: 11}
+    y: {start: 0, stop: 600, num: 7}
+  surfaces:
+    - {name: top, plane: {depth: 2000, dip: 0, azimuth: 90}}
+    - {name: base, plane: {depth: 2100, dip: 0, azimuth: 90}}
+faults:
+  - {name: F1, trace: [[400, -50], [450, 650]], throw: 20, DIP}
+wells:
+  - {name: P1, point: [800, 300], rings: {inner: 2.0, outer: 40}}
+grid:
+  type: pebi
+  domain: {rectangle: [0, 0, 1000, 600]}
+  cell_size: 50
+  layers: 3
+"""
+
+
+def case_grid(tmp_path, dip: str):
+    from gridlib.case.grid import build_case_grid
+    from gridlib.config import load_case
+    from gridlib.stages.horizons import case_horizons
+
+    folder = tmp_path / dip.replace(" ", "").replace(":", "_").replace(",", "_")
+    folder.mkdir()
+    path = folder / "inclined_pebi_test.yaml"
+    path.write_text(CASE.replace("DIP", dip))
+    case = load_case(path)
+    return build_case_grid(case, case_horizons(case))
+
+
+def test_a_case_with_a_dip_builds_the_inclined_grid_and_dip_90_todays(tmp_path):
+    """The case's `dip` reaches the grid: fault faces on the plane, the volume exact, the
+    sites followed down their columns; `dip: 90` gives today's grid bit for bit."""
+    built = case_grid(tmp_path, "side: right, dip: 60")
+    grid = built.grid
+    geo = gl.compute_geometry(grid)
+    gl.check_grid(grid, geo)
+    tagged = np.flatnonzero(grid.faces.tag > 0)
+    assert (
+        plane_distance(grid.nodes.coords[face_nodes(grid, tagged)], TRACE, 60.0, "right").max()
+        < 1e-9 * EXTENT
+    )
+    (xa, ya), (xb, yb) = TRACE
+    drift = plane_drift(TRACE, 60.0, "right")
+    expected = LX * LY * (Z1 - Z0) - LY * (Z1 - Z0) * 20.0 * (drift[0] - drift[1] * (xb - xa) / (yb - ya))
+    assert geo.cell_volumes.sum() == pytest.approx(expected, rel=1e-12)
+    site = built.cell_data["site"]
+    well = built.cell_data["well"] > 0
+    column = grid.layering.column
+    top_layer = grid.layering.layer == 0
+    # the well's columns are vertical: their sites the same in every layer
+    first = np.full(column.max() + 1, np.nan)
+    first[column[top_layer]] = site[top_layer, 0]
+    assert np.array_equal(site[well, 0], first[column[well]])
+    # elsewhere near the fault the sites move down-dip with their columns
+    assert np.ptp(site[column == column[np.argmax(np.abs(site[:, 0] - first[column]))], 0]) > 10.0
+    vertical, today = case_grid(tmp_path, "side: right, dip: 90"), case_grid(tmp_path, "side: right")
+    assert np.array_equal(vertical.grid.nodes.coords, today.grid.nodes.coords)
+    assert np.array_equal(vertical.grid.faces.nodes, today.grid.faces.nodes)
+    assert all(np.array_equal(vertical.cell_data[k], today.cell_data[k]) for k in today.cell_data)
+    assert vertical.notes == today.notes
