@@ -122,7 +122,9 @@ def harmonic_drift(
     free = ~fixed & ~sliding
     # Unknowns: x drifts then y drifts. Rows: free nodes' Laplacian per component; sliding
     # nodes' Laplacian along the slide and no drift across it; fixed nodes their value.
-    blocks_r, blocks_c, blocks_v = [], [], []
+    blocks_r: list[np.ndarray] = []
+    blocks_c: list[np.ndarray] = []
+    blocks_v: list[np.ndarray] = []
     lap_coo = lap.tocoo()
     r, c, v = lap_coo.row, lap_coo.col, lap_coo.data
     for comp in (0, 1):
@@ -145,11 +147,15 @@ def harmonic_drift(
         blocks_v.append(np.ones(nodes.size))
     matrix = coo_matrix(
         (np.concatenate(blocks_v), (np.concatenate(blocks_r), np.concatenate(blocks_c))), shape=(2 * n, 2 * n)
-    ).tocsc()
-    rhs = np.zeros(2 * n)
-    rhs[np.flatnonzero(fixed)] = value[fixed, 0]
-    rhs[np.flatnonzero(fixed) + n] = value[fixed, 1]
-    solution = spsolve(matrix, rhs)
+    ).tocsr()
+    # Only the free and sliding nodes are solved for (near the faults: a small part of a big grid).
+    known = np.concatenate([fixed, fixed])
+    solution = np.concatenate([np.where(fixed, value[:, 0], 0.0), np.where(fixed, value[:, 1], 0.0)])
+    unknown = np.flatnonzero(~known)
+    if unknown.size:
+        rows = matrix[unknown]
+        rhs = -(rows[:, np.flatnonzero(known)] @ solution[known])
+        solution[unknown] = spsolve(rows[:, unknown].tocsc(), rhs)
     return np.column_stack([solution[:n], solution[n:]])
 
 
