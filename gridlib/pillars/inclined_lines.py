@@ -174,45 +174,53 @@ def first_crossing(
     lines: PillarLines,
     pos: IntArray,
     ring: IntArray,
-    z_lo: float,
-    z_hi: float,
+    z_lo: ArrayLike,
+    z_hi: ArrayLike,
     centres: PillarLines | None = None,
 ) -> Crossing | None:
     """The exact no-crossing test (module docstring) of the columns ``pos``/``ring`` (node cycles,
     all walked the same way round, as the cells of an areal grid: the way is that of their total
-    area at mid depth) over depths [``z_lo``, ``z_hi``]; None when every column stays convex and
-    oriented that way at every depth. With ``centres`` (one line per column inside it, e.g. the
-    PEBI sites followed down), the weaker test that every column stays *star-shaped* around its
-    centre: the triangles (centre, P_c, P_c+1) keep their orientation, quadratics in z alike. A
-    star-shaped polygon is simple, so the column still neither folds nor crosses a neighbour,
-    but it may turn a little the wrong way at a short edge (a convex column need not stay
-    convex). Vectorised over all corners."""
+    area) over depths [``z_lo``, ``z_hi``] (m; numbers, or one range per column: the depths its
+    cells occupy); None when every column stays convex and oriented that way at every depth.
+    With ``centres`` (one line per column inside it, e.g. the PEBI sites followed down), the
+    weaker test that every column stays *star-shaped* around its centre: the triangles (centre,
+    P_c, P_c+1) keep their orientation, quadratics in z alike. A star-shaped polygon is simple,
+    so the column still neither folds nor crosses a neighbour, but it may turn a little the
+    wrong way at a short edge (a convex column need not stay convex). Two consecutive pillars of
+    a column that are the same line (a wedge column's collapsed edge) are passed over.
+    Vectorised over all corners."""
     n_corner = ring.size
-    owner = np.repeat(np.arange(pos.size - 1), np.diff(pos))
+    n_col = pos.size - 1
+    owner = np.repeat(np.arange(n_col), np.diff(pos))
     nxt = np.arange(1, n_corner + 1)
     nxt[pos[1:] - 1] = pos[:-1]
     prv = np.arange(-1, n_corner - 1)
     prv[pos[:-1]] = pos[1:] - 1
-    z_mid = 0.5 * (z_lo + z_hi)
-    # Positions at mid depth, relative to the column's first node (no digits lost at UTM sizes),
-    # and depths relative to mid depth: P = a + zeta s with zeta in [-h, h].
-    xy = lines.xy_at(z_mid)
-    a = xy[ring] - xy[ring[pos[:-1]]][owner]
+    lo = np.broadcast_to(np.asarray(z_lo, dtype=np.float64), (n_col,))
+    hi = np.broadcast_to(np.asarray(z_hi, dtype=np.float64), (n_col,))
+    z_mid = (0.5 * (lo + hi))[owner]
+    # Positions at the column's mid depth, relative to its first node (no digits lost at UTM
+    # sizes), and depths relative to mid depth: P = a + zeta s with zeta in [-h, h].
     s = lines.drift[ring]
+    at_mid = lines.point[ring, :2] + (z_mid - lines.point[ring, 2])[:, None] * s
+    a = at_mid - at_mid[pos[:-1]][owner]
     if centres is None:  # the corner's turn
         u, du = a - a[prv], s - s[prv]
         v, dv = a[nxt] - a, s[nxt] - s
+        same = np.all((u == 0) & (du == 0), axis=1) | np.all((v == 0) & (dv == 0), axis=1)
     else:  # the triangle from the centre over the edge to the next node
-        c = (centres.xy_at(z_mid) - xy[ring[pos[:-1]]])[owner]
+        c = centres.point[:, :2] + (0.5 * (lo + hi) - centres.point[:, 2])[:, None] * centres.drift
+        c = c[owner] - at_mid[pos[:-1]][owner]
         dc = centres.drift[owner]
         u, du = a - c, s - dc
         v, dv = a[nxt] - c, s[nxt] - dc
+        same = np.all((a[nxt] == a) & (s[nxt] == s), axis=1)
     c0 = _cross(u, v)
     c1 = _cross(u, dv) + _cross(du, v)
     c2 = _cross(du, dv)
     sign = -1.0 if _cross(a, a[nxt]).sum() < 0 else 1.0  # the grid's orientation: its total area
-    h = 0.5 * (z_hi - z_lo)
-    candidates = [np.full(n_corner, -h), np.full(n_corner, h)]
+    h = (0.5 * (hi - lo))[owner]
+    candidates = [-h, h]
     with np.errstate(divide="ignore", invalid="ignore"):
         vertex = np.where(c2 != 0, -c1 / (2.0 * c2), -h)
     candidates.append(np.clip(vertex, -h, h))
@@ -223,6 +231,7 @@ def first_crossing(
         lengths = np.hypot(*(u + zeta[:, None] * du).T) * np.hypot(*(v + zeta[:, None] * dv).T)
         with np.errstate(divide="ignore", invalid="ignore"):
             turn = np.where(lengths > 0, area / lengths, -1.0)  # a vanishing edge folds the column
+        turn[same] = np.inf
         lower = turn < worst_turn
         worst_turn[lower] = turn[lower]
         worst_zeta[lower] = zeta[lower]
@@ -230,7 +239,7 @@ def first_crossing(
     if bad.size == 0:
         return None
     q = int(bad[np.argmin(owner[bad])])
-    return Crossing(int(owner[q]), int(ring[q]), float(z_mid + worst_zeta[q]), float(worst_turn[q]))
+    return Crossing(int(owner[q]), int(ring[q]), float(z_mid[q] + worst_zeta[q]), float(worst_turn[q]))
 
 
 def interior_drift(

@@ -242,6 +242,11 @@ def test_the_crossing_test_sees_a_fold_between_the_ends():
     assert bad is not None and bad.column == 1 and bad.depth == pytest.approx(1.0)
     assert first_crossing(lines, pos, ring, 1.2, 2.0) is None
     assert first_crossing(lines, pos, ring, 0.0, 0.8) is None
+    # one depth range per column: the triangle's cells only below 1.2 m
+    assert first_crossing(lines, pos, ring, np.array([0.0, 1.2]), np.array([2.0, 2.0])) is None
+    # a wedge column (two of its pillars one line) is no fold
+    wedge = PillarLines(point[[0, 1, 2, 2]], np.zeros((4, 2)))
+    assert first_crossing(wedge, pos[:2], ring[:4], 0.0, 2.0) is None
 
 
 def test_flow_takes_the_connection_form_and_simulates_it(one_fault, tmp_path):
