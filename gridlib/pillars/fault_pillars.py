@@ -203,12 +203,15 @@ def fault_pillars(
         )
 
     edges = areal.faces.nodes.reshape(-1, 2)
-    far = np.full(nn, np.inf)  # plan distance to the nearest inclined fault's trace
-    for trace, surface in zip(faults, surfaces, strict=True):
+    far = np.full(nn, np.inf)  # plan distance to the nearest inclined fault's trace, and which
+    nearest = np.zeros(nn, dtype=np.int64)
+    for f, (trace, surface) in enumerate(zip(faults, surfaces, strict=True)):
         if surface is not None:  # the trace at the top horizon
             ref = trace.points
             seg, t, _ = nearest_on_trace(xy, ref, False, False)
-            far = np.minimum(far, np.hypot(*(xy - ref[seg] - t[:, None] * (ref[seg + 1] - ref[seg])).T))
+            d = np.hypot(*(xy - ref[seg] - t[:, None] * (ref[seg + 1] - ref[seg])).T)
+            nearest[d < far] = f
+            far = np.minimum(far, d)
     held = on_fault | fixed | corner
     slide = np.where((on_boundary & ~held)[:, None], tangent, np.nan)
 
@@ -230,12 +233,18 @@ def fault_pillars(
             break
     if bad is not None:
         x, y = lines.xy_at(np.full(nn, bad.depth))[bad.node]
+        name = faults[int(nearest[bad.node])].name
+        ring = corners.ring[corners.pos[bad.column] : corners.pos[bad.column + 1]]
+        cause = (
+            "a well's cells, which keep vertical pillars, are this close to the fault (move the well "
+            "or give a larger relax_distance)"
+            if fixed[ring].any()
+            else "give a larger relax_distance"
+        )
         raise InputError(
-            f"{who}: the inclined pillars fold areal cell {bad.column} at depth {bad.depth:g} m "
-            f"(its pillar through ({xy[bad.node, 0]:g}, {xy[bad.node, 1]:g}) on the top horizon is at "
-            f"({x:g}, {y:g}) there): the pillars relax to vertical over relax_distance {relax:g} m, "
-            "too short for the faults' inclination or for a well or boundary this close to a fault; "
-            "give a larger relax_distance"
+            f"{who}: the inclined pillars near fault '{name}' fold areal cell {bad.column} at depth "
+            f"{bad.depth:g} m (its pillar through ({xy[bad.node, 0]:g}, {xy[bad.node, 1]:g}) on the top "
+            f"horizon is at ({x:g}, {y:g}) there) with relax_distance {relax:g} m: {cause}"
         )
     if relax != tries[0]:
         notes.append(

@@ -217,8 +217,12 @@ def test_crossing_faults_meet_on_their_intersection_line():
 
 
 def test_a_relax_distance_too_short_for_the_dip_is_one_error():
-    with pytest.raises(InputError, match=r"fold areal cell \d+ at depth .* relax_distance 5 m"):
+    with pytest.raises(InputError, match=r"near fault 'F1' fold areal cell \d+ at depth .* relax_distance 5"):
         build([dip_fault(TRACE, 45.0, 0.0)], relax_distance=5.0)
+    # a well (vertical cells) on the hanging wall, where the fault passes below it: one error
+    well = Well((520.0, 300.0), name="P1", rings=Rings(inner=2.0, outer=40.0))
+    with pytest.raises(InputError, match=r"fault 'F1' .*: a well's cells, which keep vertical pillars"):
+        build([dip_fault(TRACE, 60.0, 20.0)], [well])
 
 
 def test_vertical_faults_change_nothing():
