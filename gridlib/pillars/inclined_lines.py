@@ -43,6 +43,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.sparse import coo_matrix
+from scipy.sparse.linalg import spsolve
 
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
@@ -106,10 +108,8 @@ def harmonic_drift(
     (unit, NaN for none; a straight domain boundary) drift only along it, harmonic along it.
     A harmonic field has no interior extremum and spreads every change as evenly as the graph
     allows: near a junction of two faults it blends their pillars' drifts without the kinks a
-    per-fault taper makes. One sparse solve (SuperLU), the same for any thread count."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.linalg import spsolve
-
+    per-fault taper makes. One sparse solve (SuperLU) for the free and sliding nodes only, the
+    same for any thread count."""
     n = xy.shape[0]
     a, b = edges[:, 0], edges[:, 1]
     w = 1.0 / np.hypot(*(xy[a] - xy[b]).T)
@@ -121,7 +121,7 @@ def harmonic_drift(
     tangent = np.where(sliding[:, None], slide if slide is not None else 0.0, 0.0)
     free = ~fixed & ~sliding
     # Unknowns: x drifts then y drifts. Rows: free nodes' Laplacian per component; sliding
-    # nodes' Laplacian along the slide and no drift across it; fixed nodes their value.
+    # nodes' Laplacian along the slide and no drift across it.
     blocks_r: list[np.ndarray] = []
     blocks_c: list[np.ndarray] = []
     blocks_v: list[np.ndarray] = []
@@ -141,14 +141,10 @@ def harmonic_drift(
         blocks_r.append(nodes + n)
         blocks_c.append(nodes + comp * n)
         blocks_v.append(tangent[nodes, 1 - comp] * (-1.0 if comp == 0 else 1.0))
-        nodes = np.flatnonzero(fixed)
-        blocks_r.append(nodes + comp * n)
-        blocks_c.append(nodes + comp * n)
-        blocks_v.append(np.ones(nodes.size))
     matrix = coo_matrix(
         (np.concatenate(blocks_v), (np.concatenate(blocks_r), np.concatenate(blocks_c))), shape=(2 * n, 2 * n)
     ).tocsr()
-    # Only the free and sliding nodes are solved for (near the faults: a small part of a big grid).
+    # The given drifts go to the right-hand side (most of a big grid is beyond the relax distance).
     known = np.concatenate([fixed, fixed])
     solution = np.concatenate([np.where(fixed, value[:, 0], 0.0), np.where(fixed, value[:, 1], 0.0)])
     unknown = np.flatnonzero(~known)
