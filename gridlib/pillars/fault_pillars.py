@@ -44,9 +44,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import GridError, InputError
 from ..grid import FloatArray, Grid
 from .column_inputs import ColumnCorners
+from .fault_surface import FaultSurface
 from .fault_traces import FaultTrace, nearest_on_trace
 from .horizon_maps import check_horizon, interpolate_horizon
 from .inclined_lines import (
@@ -83,7 +84,7 @@ class FaultPillars:
     def sites_at(self, column: np.ndarray, depth: np.ndarray) -> FloatArray:
         """(n, 2): where the site of areal cell ``column`` is at ``depth`` (m), per 3-D cell."""
         if self.site_lines is None:
-            raise InputError("fault_pillars: no sites were given")
+            raise GridError("FaultPillars.sites_at: fault_pillars was given no sites")
         line = self.site_lines
         return line.point[column, :2] + (depth - line.point[column, 2])[:, None] * line.drift[column]
 
@@ -93,8 +94,9 @@ def inclined(faults: Sequence[FaultTrace]) -> bool:
     return any(_surface(f) is not None for f in faults)
 
 
-def _surface(trace: FaultTrace):
-    surface = getattr(trace, "surface", None)
+def _surface(trace: FaultTrace) -> FaultSurface | None:
+    """The fault's surface if it is inclined, else None (a vertical fault)."""
+    surface = trace.surface
     return None if surface is None or surface.is_vertical else surface
 
 
@@ -143,41 +145,16 @@ def fault_pillars(
     on_boundary = np.isfinite(tangent[:, 0]) | corner
     fault_of_node = _fault_nodes(areal, len(faults))
 
-    # Where two surfaces meet, or a surface meets the boundary: the line both lie in.
-    special = np.flatnonzero((fault_of_node[:, 0] >= 0) & ((fault_of_node[:, 1] >= 0) | on_boundary))
-    special_point, special_drift = {}, {}
-    extent = float(np.ptp(xy, axis=0).max())
-    many = 0
-    for node in special.tolist():
-        f, g = (int(v) for v in fault_of_node[node, :2])
-        many += int(fault_of_node[node, 2] >= 0)
-        if (surfaces[f] is None and (g < 0 or surfaces[g] is None)) or corner[node]:
-            if corner[node] and surfaces[f] is not None:
-                notes.append(
-                    f"fault '{faults[f].name}' meets a corner of the domain at ({xy[node, 0]:g}, "
-                    f"{xy[node, 1]:g}): the pillar there stays vertical, off the fault surface"
-                )
-            special_point[node], special_drift[node] = point[node], np.zeros(2)
-            continue
-        special_point[node], special_drift[node] = _meeting_line(
-            surfaces, faults, f, g, xy[node], tangent[node], z_lo, z_hi, extent, who
-        )
-    if many:
-        notes.append(f"{many} nodes where three or more faults meet follow the first two faults' surfaces")
-
-    # Every fault's drift along its trace, through its meeting lines where it is planar there.
-    sources, planar = [], []
-    for f, (surface, d) in enumerate(zip(surfaces, drifts, strict=True)):
-        n_sticks = 2 if surface is None else d.shape[0]
-        planar.append(_planar(surface, z_lo, z_hi, n_sticks))
-        at = [n for n in special_drift if f in fault_of_node[n, :2]]
-        if surface is None or not at:
-            sources.append((np.arange(float(n_sticks)), np.zeros((n_sticks, 2)) if d is None else d))
-            continue
-        at_points = np.array([special_point[n] for n in at])
-        seg, t, _ = _locate(at_points[:, :2], np.asarray(surface.section(at_points[:, 2]), dtype=np.float64))
-        meeting = np.array([special_drift[n] for n in at])
-        sources.append(_with_meetings(d, planar[f], seg + t, meeting))
+    special_point, special_drift = _meeting_lines(
+        surfaces, faults, fault_of_node, xy, point, tangent, corner, z_lo, z_hi, notes, who
+    )
+    planar = [
+        _planar(s, z_lo, z_hi, 2 if d is None else d.shape[0]) for s, d in zip(surfaces, drifts, strict=True)
+    ]
+    sources = [
+        _strike_drift(f, surfaces[f], drifts[f], planar[f], fault_of_node, special_point, special_drift)
+        for f in range(len(faults))
+    ]
 
     fixed = np.zeros(nn, dtype=bool)
     if vertical_cells is not None and np.any(vertical_cells):
@@ -203,15 +180,7 @@ def fault_pillars(
         )
 
     edges = areal.faces.nodes.reshape(-1, 2)
-    far = np.full(nn, np.inf)  # plan distance to the nearest inclined fault's trace, and which
-    nearest = np.zeros(nn, dtype=np.int64)
-    for f, (trace, surface) in enumerate(zip(faults, surfaces, strict=True)):
-        if surface is not None:  # the trace at the top horizon
-            ref = trace.points
-            seg, t, _ = nearest_on_trace(xy, ref, False, False)
-            d = np.hypot(*(xy - ref[seg] - t[:, None] * (ref[seg + 1] - ref[seg])).T)
-            nearest[d < far] = f
-            far = np.minimum(far, d)
+    far, nearest = _nearest_inclined(xy, faults, surfaces)
     held = on_fault | fixed | corner
     slide = np.where((on_boundary & ~held)[:, None], tangent, np.nan)
 
@@ -296,6 +265,62 @@ def depth_range(
         values = f.throw(np.linspace(0.0, 1.0, 101)) if callable(f.throw) else f.throw
         throw = max(throw, float(np.max(np.abs(values))))
     return float(np.nanmin(z_top)) - throw, float(np.nanmax(z_base)) + throw
+
+
+def _nearest_inclined(xy: FloatArray, faults, surfaces) -> tuple[FloatArray, np.ndarray]:
+    """Per plan point: the distance (m) to the nearest inclined fault's trace at the top horizon
+    (inf without one) and that fault's index."""
+    far = np.full(xy.shape[0], np.inf)
+    nearest = np.zeros(xy.shape[0], dtype=np.int64)
+    for f, (trace, surface) in enumerate(zip(faults, surfaces, strict=True)):
+        if surface is not None:
+            ref = trace.points
+            seg, t, _ = nearest_on_trace(xy, ref, False, False)
+            d = np.hypot(*(xy - ref[seg] - t[:, None] * (ref[seg + 1] - ref[seg])).T)
+            nearest[d < far] = f
+            far = np.minimum(far, d)
+    return far, nearest
+
+
+def _meeting_lines(surfaces, faults, fault_of_node, xy, point, tangent, corner, z_lo, z_hi, notes, who):
+    """The pillars (points and drifts, by node) where two faults meet (the line where their
+    surfaces meet) and where a fault meets the domain boundary (the line where it meets the
+    boundary's vertical plane); vertical at a corner of the boundary and between vertical faults.
+    Notes (in place) what could not be honoured."""
+    on_boundary = np.isfinite(tangent[:, 0]) | corner
+    special = np.flatnonzero((fault_of_node[:, 0] >= 0) & ((fault_of_node[:, 1] >= 0) | on_boundary))
+    points, drifts = {}, {}
+    extent = float(np.ptp(xy, axis=0).max())
+    many = 0
+    for node in special.tolist():  # a few nodes: where traces meet or reach the boundary
+        f, g = (int(v) for v in fault_of_node[node, :2])
+        many += int(fault_of_node[node, 2] >= 0)
+        if (surfaces[f] is None and (g < 0 or surfaces[g] is None)) or corner[node]:
+            if corner[node] and surfaces[f] is not None:
+                notes.append(
+                    f"fault '{faults[f].name}' meets a corner of the domain at ({xy[node, 0]:g}, "
+                    f"{xy[node, 1]:g}): the pillar there stays vertical, off the fault surface"
+                )
+            points[node], drifts[node] = point[node], np.zeros(2)
+            continue
+        points[node], drifts[node] = _meeting_line(
+            surfaces, faults, f, g, xy[node], tangent[node], z_lo, z_hi, extent, who
+        )
+    if many:
+        notes.append(f"{many} nodes where three or more faults meet follow the first two faults' surfaces")
+    return points, drifts
+
+
+def _strike_drift(f, surface, drift, planar, fault_of_node, special_point, special_drift):
+    """Fault f's drift along strike (strike coordinates, drifts): its sticks', with the lines
+    where it meets other faults or the boundary inserted on its planar stretches."""
+    n_sticks = 2 if drift is None else drift.shape[0]
+    at = [n for n in special_drift if f in fault_of_node[n, :2]]
+    if surface is None or not at:
+        return np.arange(float(n_sticks)), (np.zeros((n_sticks, 2)) if drift is None else drift)
+    at_points = np.array([special_point[n] for n in at])
+    seg, t, _ = _locate(at_points[:, :2], np.asarray(surface.section(at_points[:, 2]), dtype=np.float64))
+    return _with_meetings(drift, planar, seg + t, np.array([special_drift[n] for n in at]))
 
 
 def _meeting_line(surfaces, faults, f, g, node_xy, tangent, z_lo, z_hi, extent, who):
