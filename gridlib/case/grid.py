@@ -32,10 +32,12 @@ from ..cornerpoint.deck import Deck
 from ..cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from ..cornerpoint.process import process_grdecl
 from ..errors import GridError, InputError
+from ..geometry import compute_geometry
 from ..grid import Grid
 from ..horizons import to_horizons
 from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
 from ..pillars.extrude import extrude
+from ..pillars.fault_pillars import FaultPillars, depth_range, fault_pillars, horizon_function, inclined
 from ..pillars.horizon_maps import check_horizon, interpolate_horizon
 from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
@@ -156,7 +158,8 @@ def _processed(deck: Deck, tolerance: float, pinch: bool = False) -> CaseGrid:
 
 def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     hz = _horizon_list(case, horizons)
-    traces = fault_traces(case)
+    top = horizon_function(hz[0])
+    traces = fault_traces(case, top=top)
     faults = [Fault(t.points, t.name) for t in traces]
     areal = pebi_grid(
         pebi_domain(spec),
@@ -168,9 +171,15 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     )
     specs = case.data.get("faults", [])
     moving = [t for t, f in zip(traces, specs, strict=True) if f["throw"] != 0.0]
-    r = extrude(areal.grid, hz, spec["layers"], moving, centres=areal.sites)
+    lines = _inclined_pillars(spec, areal, traces, top, horizon_function(hz[-1]), moving)
+    pillars = None if lines is None else lines.pillars()
+    r = extrude(areal.grid, hz, spec["layers"], moving, pillars=pillars, centres=areal.sites)
     grid, names = _one_tag_per_fault(r.grid, r.fault_names, areal.fault_names)
     column = grid.layering.column
+    if lines is None:
+        site = areal.sites[column]  # the generating site (x, y) of each cell's column
+    else:  # the site followed down its inclined column to the cell's centroid depth
+        site = lines.sites_at(column, compute_geometry(grid).cell_centroids[:, 2])
     return CaseGrid(
         grid,
         r.nnc,
@@ -180,9 +189,29 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
             "well": areal.cell_well[column],
             "zone": r.zone,
             "layer": grid.layering.layer,
-            "site": areal.sites[column],  # the generating site (x, y) of each cell's column
+            "site": site,
         },
-        notes=areal.notes + r.notes,
+        notes=areal.notes + (() if lines is None else lines.notes) + r.notes,
+    )
+
+
+def _inclined_pillars(spec, areal, traces, top, base, moving) -> FaultPillars | None:
+    """The pillars of a pebi grid with inclined faults (in the fault surfaces, relaxing back to
+    vertical; wells' cells vertical), or None when every fault is vertical."""
+    if not inclined(traces):
+        return None
+    xy = areal.grid.nodes.coords[:, :2]
+    z_lo, z_hi = depth_range(top, base, xy, moving)
+    return fault_pillars(
+        areal.grid,
+        traces,
+        top,
+        z_lo,
+        z_hi,
+        vertical_cells=areal.cell_well > 0,
+        relax_distance=spec.get("relax_distance"),
+        sites=areal.sites,
+        who="pebi grid",
     )
 
 

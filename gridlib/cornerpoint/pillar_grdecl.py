@@ -38,9 +38,10 @@ from ..pillars.fault_traces import FaultTrace, fault_displacement, nearest_on_tr
 from ..pillars.horizon_maps import Horizon, interpolate_horizon
 from ..pillars.pillar_depths import depth_on_pillars
 from ..pillars.zones import check_layers, layer_levels
-from .between_horizons import _check_horizons, _corner_index, _pillar_lattice, _runs
+from .between_horizons import _check_horizons, _corner_index, _pillar_lattice
 from .deck import Deck, FaultSegment
 from .fault_lattice import FaultLattice, fault_lattice
+from .stair_steps import runs as _runs
 
 __all__ = ["horizons_to_pillar_grdecl"]
 
