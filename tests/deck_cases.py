@@ -1,5 +1,7 @@
 """A deck case as the tests build it: a small faulted anisotropic deck written in a folder,
-a case file on it, and its stages run as the workflow runs them (``tests/stages``)."""
+a case file on it, and its stages run as the workflow runs them (``tests/stages``); any case's
+stages run in this process as the workflow's rules run them, each with its own log
+(:func:`run_as_the_workflow`)."""
 
 from __future__ import annotations
 
@@ -7,14 +9,16 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import pytest
 import yaml
 from flow_tools import rest_of_deck
 
+from gridlib import artifacts
 from gridlib.config import load_case
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.io.grdecl import write_grdecl
 from gridlib.io.transmissibility_file import read_transmissibility
-from gridlib.stages import run_stage
+from gridlib.stages import case_outputs, run_logged, run_stage
 
 DIMS = (6, 5, 4)  # nx even: the fault of simple_grdecl lies between columns 3 and 4
 SEED = 3
@@ -96,6 +100,39 @@ def build(case: Path, out: Path, flow_deck: bool = False) -> dict[str, Path]:
     for stage in stages:
         run_stage(stage, loaded, paths)
     return paths
+
+
+def run_as_the_workflow(case_file: Path, results: Path) -> Path:
+    """Every stage of the case (those it has, not those run on request) into
+    ``results/<case>/``, each as its Snakemake rule runs it (workflow/scripts/stage.py: through
+    run_logged, its log ``results/logs/<case>/<stage>[.<NAME>].log``), one after the other in
+    this process, without a Python start-up per stage; returns the case's folder. A failing
+    stage fails the test with its log."""
+    case = load_case(case_file)
+    folder = results / case.name
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = case_outputs(case.name, folder)
+    for stage in artifacts.STAGES:
+        outputs = stage.outputs_of(case)
+        if not outputs or stage.on_request:
+            continue
+        tag = f".{case.flow_name}" if any("NAME" in a.wildcards for a in outputs) else ""
+        log = results / "logs" / case.name / f"{stage.name}{tag}.log"
+        try:
+            run_logged(
+                log,
+                run_stage,
+                stage.name,
+                case,
+                paths,
+                threads=stage.threads,
+                outputs=[paths[a.key] for a in outputs],
+                name=f"stage_{stage.name}",
+                label=f"{case.name}: {stage.name}",
+            )
+        except SystemExit:
+            pytest.fail(f"{case.name}: stage {stage.name} failed:\n{log.read_text()[-3000:]}")
+    return folder
 
 
 def assert_close(ours: dict, ref: dict, what: str) -> None:

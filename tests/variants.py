@@ -69,12 +69,54 @@ def run_python(code: str, variant: dict[str, str], timeout: float = 600) -> str:
     return res.stdout
 
 
-def same_output_everywhere(code: str) -> None:
-    """Run ``code`` under every machine variant and assert identical stdout."""
-    variants = machine_variants()
+def outputs_everywhere(code: str) -> list[str]:
+    """The stdout of ``code`` under every machine variant (in the order of machine_variants)."""
     # The interpreters run side by side (one per core): a variant's bits cannot depend on it.
     with ThreadPoolExecutor(max_workers=max(1, os.cpu_count() or 1)) as pool:
-        outs = list(pool.map(lambda variant: run_python(code, variant), variants))
-    for env, out in zip(variants, outs, strict=True):
+        return list(pool.map(lambda variant: run_python(code, variant), machine_variants()))
+
+
+def assert_same_outputs(outs: list[str]) -> None:
+    """Assert that every variant printed what the first one did, naming where they differ."""
+    for env, out in zip(machine_variants(), outs, strict=True):
         diff = [a for a, b in zip(out.splitlines(), outs[0].splitlines(), strict=True) if a != b]
         assert out == outs[0], f"differs under {env}:\n  " + "\n  ".join(diff)
+
+
+def same_output_everywhere(code: str) -> None:
+    """Run ``code`` under every machine variant and assert identical stdout."""
+    assert_same_outputs(outputs_everywhere(code))
+
+
+# One interpreter per variant runs several programs (each in a namespace of its own), so
+# that the variants pay for Python's start-up and gridlib's imports once, not once per program.
+_SECTIONS = """
+import sys, traceback
+for name, code in {programs!r}.items():
+    print("#### program", name, flush=True)
+    try:
+        exec(compile(code, name, "exec"), {{"__name__": "__main__"}})
+    except BaseException:
+        print("#### failed", name)
+        traceback.print_exc(file=sys.stdout)
+    sys.stdout.flush()
+"""
+
+
+def sections_everywhere(programs: dict[str, str]) -> list[dict[str, str]]:
+    """What each of ``programs`` (name: code) printed under each machine variant, all of a
+    variant's programs run one after the other in one fresh interpreter."""
+    outs = outputs_everywhere(_SECTIONS.format(programs={k: textwrap.dedent(v) for k, v in programs.items()}))
+    sections = []
+    for out in outs:
+        parts = out.split("#### program ")[1:]
+        sections.append(dict(part.split("\n", 1) for part in parts))
+        assert list(sections[-1]) == list(programs), out[-3000:]
+    return sections
+
+
+def assert_same_section(sections: list[dict[str, str]], name: str) -> None:
+    """Assert that program ``name`` ran under every variant and printed the same everywhere."""
+    for env, section in zip(machine_variants(), sections, strict=True):
+        assert "#### failed" not in section[name], f"{name} under {env}:\n{section[name][-3000:]}"
+    assert_same_outputs([section[name] for section in sections])

@@ -1,7 +1,9 @@
-"""Decks that OPM Flow runs go through the workflow as ``deck`` cases, and the Flow deck the
-workflow writes gives Flow's own pore volumes and transmissibilities.
+"""Decks that OPM Flow runs, as ``deck`` cases of the workflow: the Flow deck the workflow
+writes gives Flow's own pore volumes and transmissibilities.
 
-One Snakemake run (the workflow of ``make run``) of two deck cases in a scratch directory:
+Two deck cases, every stage run as its Snakemake rule runs it (tests/deck_cases.py
+run_as_the_workflow: the stage with its own log, in this process; the sample deck case spe9
+goes through Snakemake itself in test_workflow.py):
 
 * ``wedges``: thin wedges beside a fault, three of four corners of each collapsed, two of them
   with a polyhedral volume below zero (and positive ECLIPSE bulk volumes): kept, each named in
@@ -17,14 +19,13 @@ of the original deck give the same PORV and T (1e-6), and so do gridlib's own
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
+from deck_cases import run_as_the_workflow
 from flow_tools import flow_connections, read_keywords, run_flow_dry
 from wedge_decks import wedge_deck, write_data_deck
 
@@ -33,7 +34,6 @@ from gridlib.cornerpoint.deck import Deck
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.io import read_geometry_netcdf, read_netcdf
 
-ROOT = Path(__file__).resolve().parents[2]
 ROCK_CASE = """petrophysics:
   porosity: {deck: PORO}
   permeability: {deck: PERMX}
@@ -60,7 +60,8 @@ def _deeper(deck: Deck, by: float) -> Deck:
 
 @pytest.fixture(scope="module")
 def deck_cases(tmp_path_factory):
-    """The workflow run on both cases; returns the scratch directory and the original decks."""
+    """Both cases built as the workflow builds them; returns the scratch directory and the
+    original decks."""
     work = tmp_path_factory.mktemp("deck_cases")
     config = work / "config"
     wedges = wedge_deck()
@@ -74,12 +75,8 @@ def deck_cases(tmp_path_factory):
         extra = "  ntg: {deck: NTG}\n" if name == "net_to_gross" else ""
         case.write_text(f"name: {name}\ngrid: {{type: deck, file: decks/{deck.name}}}\n{ROCK_CASE}{extra}")
         cases.append(str(case))
-    result = subprocess.run(
-        [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(work),
-         "--cores", "2", "--config", f"cases=[{','.join(cases)}]", "studies=[]"],
-        capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    for case in cases:
+        run_as_the_workflow(Path(case), work / "results")
     return work, originals
 
 

@@ -1,0 +1,83 @@
+"""pytest plugin: the CPU time of every test and test module, its subprocesses included.
+
+Run (one process, so that the figures do not depend on how xdist spreads the modules):
+
+    CPUTIME_OUT=cpu.json PYTHONPATH=.:bench .venv/bin/python -m pytest -p pytest_cputime \\
+        -p no:randomly -q -n 0 [tests/...]
+
+Wall time (``--durations``) varies by 2x with what else runs on the machine; CPU seconds much
+less. A test's CPU is this process's user + system time during its setup, call and teardown
+(its module fixtures count in the first and last test of the module), plus that of every
+process it started that ended meanwhile: Snakemake, its jobs, OPM Flow. This process is made a
+child subreaper (Linux), so that processes orphaned by their parent (e.g. the warm worker
+processes of a Snakemake run, whose fork server is left behind when Snakemake exits) come to
+it when they end and are counted too. Processes of other users of the machine (SLURM's jobs,
+run by slurmd) are not counted. ``CPUTIME_OUT`` receives {"modules": {path: [cpu, wall]},
+"tests": {nodeid: [cpu, wall]}} in seconds.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import resource
+import time
+from collections import defaultdict
+
+import pytest
+
+PR_SET_CHILD_SUBREAPER = 36
+
+_modules: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0])
+_tests: dict[str, list[float]] = {}
+
+
+def _reap_orphans() -> None:
+    """Wait for the ended processes that became this process's children as orphans."""
+    while True:
+        try:
+            pid, _ = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
+
+
+def _cpu() -> float:
+    _reap_orphans()
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
+    except (OSError, AttributeError):  # not Linux: orphans are not counted
+        pass
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None):
+    cpu, wall = _cpu(), time.perf_counter()
+    yield
+    cpu, wall = _cpu() - cpu, time.perf_counter() - wall
+    module = os.path.relpath(str(item.path), str(item.config.rootpath))
+    _modules[module][0] += cpu
+    _modules[module][1] += wall
+    _tests[item.nodeid] = [cpu, wall]
+
+
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    out = os.environ.get("CPUTIME_OUT")
+    if out:
+        with open(out, "w") as f:
+            json.dump({"modules": dict(_modules), "tests": _tests}, f, indent=1)
+
+
+def pytest_terminal_summary(terminalreporter) -> None:
+    total = sum(cpu for cpu, _ in _modules.values())
+    terminalreporter.write_sep("=", f"CPU time per module (self + subprocesses): {total:.1f} s in all")
+    for module, (cpu, wall) in sorted(_modules.items(), key=lambda kv: -kv[1][0])[:40]:
+        terminalreporter.write_line(f"{cpu:8.1f} s CPU {wall:8.1f} s wall  {module}")
