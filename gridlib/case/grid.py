@@ -116,8 +116,6 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
 
 def _case_faults(case: Case, top) -> list:
     """The case's faults; inclined ones (a dip or sticks) are placed against the top horizon."""
-    if not any("dip" in f or "sticks" in f for f in case.data.get("faults", [])):
-        return fault_traces(case)
     xa, ya, z = check_horizon(top, 0)
     return fault_traces(case, top=lambda x, y: interpolate_horizon(xa, ya, z, np.asarray(x), np.asarray(y)))
 

@@ -13,6 +13,9 @@ import pytest
 from flow_tools import assert_same_connections, flow_connections, read_keywords, run_flow_dry
 from wedge_decks import write_data_deck
 
+from gridlib.case.grid import build_case_grid
+from gridlib.case.horizons import case_horizons
+from gridlib.config import load_case
 from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.process import process_grdecl
@@ -263,3 +266,25 @@ def test_a_kinked_fault_classifies_every_cell_by_its_surface_at_the_cells_depth(
     expected = np.where(~west_now, FOOTWALL, np.where(west_moved, HANGING_WALL, MISSING))
     assert np.array_equal(steps.block[0], expected)
     assert (expected == MISSING).sum() > 0 and (expected == HANGING_WALL).sum() > 0
+
+
+CASE = """name: stairs
+horizons:
+  lattice: {x: {start: 0, stop: 600, num: 31}, y: {start: 0, stop: 200, num: 5}}
+  surfaces:
+    - {name: top, plane: {depth: 1000}}
+    - {name: base, plane: {depth: 1060}}
+faults:
+  - {name: F1, trace: [[200, -10], [200, 210]], dip: 30, throw: 7, side: right}
+grid: {type: cornerpoint, dims: [30, 4], layers: 12}
+"""
+
+
+def test_a_case_with_a_dip_fault_builds_the_stair_stepped_deck(tmp_path):
+    (tmp_path / "stairs.yaml").write_text(CASE)
+    case = load_case(tmp_path / "stairs.yaml")
+    built = build_case_grid(case, case_horizons(case))
+    direct = horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [dipping(200.0, F1_DIP, 7.0, "right", "F1")])
+    assert np.array_equal(built.deck.zcorn, direct.zcorn)
+    assert built.deck.faults == direct.faults and built.deck.pinch == direct.pinch
+    assert {seg.face for seg in built.deck.faults} == {"X", "Z"} and built.fault_names == ("F1",)
