@@ -201,10 +201,11 @@ def test_vertical_faults_take_todays_path_bit_for_bit():
 @pytest.fixture(scope="module")
 def two_faults(tmp_path_factory):
     """F1 (30 degrees east, 7 m) and F2, dipping 45 degrees west with a 5 m throw and a tip
-    inside the grid: a graben between them where both hanging walls meet."""
+    inside the grid: a graben between them where both hanging walls meet; MULTFLT 0.1 and 0.5."""
     f1 = dipping(200.0, F1_DIP, 7.0, "right", "F1")
     f2 = dipping(480.0, 45.0, 5.0, "left", "F2", y_end=120.0)
-    deck = horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [f1, f2])
+    # MULTFLT on both: Flow multiplies the X/Y/Z faces the FAULTS lines name (the Z steps too)
+    deck = replace(horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [f1, f2]), multflt={"F1": 0.1, "F2": 0.5})
     n = deck.num_cells
     rock = {"PORO": np.full(n, 0.2), "PERMX": np.full(n, 100.0), "PERMY": np.full(n, 80.0)}
     rock["PERMZ"] = np.full(n, 10.0)
