@@ -20,6 +20,7 @@ from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.cornerpoint.stair_steps import FOOTWALL, HANGING_WALL, MISSING, stair_steps
+from gridlib.errors import InputError
 from gridlib.geometry import compute_geometry
 from gridlib.io.grdecl import read_grdecl
 from gridlib.pillars.fault_surface import FaultSurface
@@ -289,3 +290,13 @@ def test_a_case_with_a_dip_fault_builds_the_stair_stepped_deck(tmp_path):
     assert np.array_equal(built.deck.zcorn, direct.zcorn)
     assert built.deck.faults == direct.faults and built.deck.pinch == direct.pinch
     assert {seg.face for seg in built.deck.faults} == {"X", "Z"} and built.fault_names == ("F1",)
+
+
+def test_horizons_per_fault_block_refuse_an_inclined_fault(tmp_path):
+    text = CASE.replace("throw: 7", "throw: 0").replace("  surfaces:", "  per_fault_block: true\n  surfaces:")
+    (tmp_path / "stairs.yaml").write_text(text)
+    case = load_case(tmp_path / "stairs.yaml")
+    with pytest.raises(
+        InputError, match=r"stairs\.yaml: grid: horizons picked per fault block take vertical "
+    ):
+        build_case_grid(case, case_horizons(case))
