@@ -31,6 +31,7 @@ from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from ..cornerpoint.process import process_grdecl
+from ..cornerpoint.stair_steps import is_inclined
 from ..errors import GridError, InputError
 from ..geometry import compute_geometry
 from ..grid import Grid
@@ -104,6 +105,12 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     ordering = case.data["horizons"]["ordering"]
     if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
         stacks, blocks = by_block
+        inclined = [t.name for t in _case_faults(case, stacks[0][0]) if is_inclined(t)]
+        if inclined:
+            raise InputError(
+                f"{case.path}: grid: horizons picked per fault block take vertical faults only (their "
+                f"blocks are cut by the traces in plan view); inclined: {', '.join(inclined)}"
+            )
         deck = horizons_to_grdecl_by_block(
             stacks, blocks, spec["dims"], spec["layers"], fault_traces(case), ordering=ordering
         )
@@ -116,8 +123,6 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
 
 def _case_faults(case: Case, top) -> list:
     """The case's faults; inclined ones (a dip or sticks) are placed against the top horizon."""
-    if not any("dip" in f or "sticks" in f for f in case.data.get("faults", [])):
-        return fault_traces(case)
     xa, ya, z = check_horizon(top, 0)
     return fault_traces(case, top=lambda x, y: interpolate_horizon(xa, ya, z, np.asarray(x), np.asarray(y)))
 

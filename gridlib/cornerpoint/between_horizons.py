@@ -19,7 +19,9 @@ In the spirit of MRST's ``convertHorizonsToGrid`` (MRST book §3.5, Figs. 3.18 a
   on its two sides, which is what a fault is in a corner-point grid. The faults
   are recorded as FAULTS segments so that ``process_grdecl`` tags their faces by
   name. (The displacement rules live in ``gridlib.pillars.fault_traces``, shared
-  with the 2.5D front end ``gridlib.pillars.extrude``.)
+  with the 2.5D front end ``gridlib.pillars.extrude``.) Inclined faults (a
+  ``FaultTrace.surface``) are stair-stepped cell by cell on the same vertical
+  pillars, laterally and vertically (:mod:`gridlib.cornerpoint.stair_steps`).
 
 Units are metres; z is depth, positive downwards.
 """

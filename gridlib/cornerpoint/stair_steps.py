@@ -220,9 +220,9 @@ def _steady_columns(surface, sign: float, cx, cy, depth, moved, defined) -> tupl
     """Columns (ny, nx) on one side of the surface at every depth their cells are tested at (the
     undisplaced and displaced centres), and whether that side is the hanging wall: the surface's
     side at the shallowest and the deepest of those depths agree and the vertical line through
-    the column does not meet the surface between them. Only its shallowest crossing is known
-    (FaultSurface.depth_at): below one above the range, a second crossing inside it shows as the
-    two sides differing; a third would take a surface folding back on itself (overturned)."""
+    the column does not meet the surface between them. Only the line's shallowest crossing is
+    known (FaultSurface.depth_at); if it lies above the range, another one inside the range makes
+    the two sides differ, and only a third (a surface folding back on itself) would go unseen."""
     with np.errstate(invalid="ignore"):
         low = np.where(defined, np.minimum(depth, moved), np.inf).min(axis=0)
         high = np.where(defined, np.maximum(depth, moved), -np.inf).max(axis=0)

@@ -13,10 +13,14 @@ import pytest
 from flow_tools import assert_same_connections, flow_connections, read_keywords, run_flow_dry
 from wedge_decks import write_data_deck
 
+from gridlib.case.grid import build_case_grid
+from gridlib.case.horizons import case_horizons
+from gridlib.config import load_case
 from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.cornerpoint.stair_steps import FOOTWALL, HANGING_WALL, MISSING, stair_steps
+from gridlib.errors import InputError
 from gridlib.geometry import compute_geometry
 from gridlib.io.grdecl import read_grdecl
 from gridlib.pillars.fault_surface import FaultSurface
@@ -198,10 +202,11 @@ def test_vertical_faults_take_todays_path_bit_for_bit():
 @pytest.fixture(scope="module")
 def two_faults(tmp_path_factory):
     """F1 (30 degrees east, 7 m) and F2, dipping 45 degrees west with a 5 m throw and a tip
-    inside the grid: a graben between them where both hanging walls meet."""
+    inside the grid: a graben between them where both hanging walls meet; MULTFLT 0.1 and 0.5."""
     f1 = dipping(200.0, F1_DIP, 7.0, "right", "F1")
     f2 = dipping(480.0, 45.0, 5.0, "left", "F2", y_end=120.0)
-    deck = horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [f1, f2])
+    # MULTFLT on both: Flow multiplies the X/Y/Z faces the FAULTS lines name (the Z steps too)
+    deck = replace(horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [f1, f2]), multflt={"F1": 0.1, "F2": 0.5})
     n = deck.num_cells
     rock = {"PORO": np.full(n, 0.2), "PERMX": np.full(n, 100.0), "PERMY": np.full(n, 80.0)}
     rock["PERMZ"] = np.full(n, 10.0)
@@ -263,3 +268,35 @@ def test_a_kinked_fault_classifies_every_cell_by_its_surface_at_the_cells_depth(
     expected = np.where(~west_now, FOOTWALL, np.where(west_moved, HANGING_WALL, MISSING))
     assert np.array_equal(steps.block[0], expected)
     assert (expected == MISSING).sum() > 0 and (expected == HANGING_WALL).sum() > 0
+
+
+CASE = """name: stairs
+horizons:
+  lattice: {x: {start: 0, stop: 600, num: 31}, y: {start: 0, stop: 200, num: 5}}
+  surfaces:
+    - {name: top, plane: {depth: 1000}}
+    - {name: base, plane: {depth: 1060}}
+faults:
+  - {name: F1, trace: [[200, -10], [200, 210]], dip: 30, throw: 7, side: right}
+grid: {type: cornerpoint, dims: [30, 4], layers: 12}
+"""
+
+
+def test_a_case_with_a_dip_fault_builds_the_stair_stepped_deck(tmp_path):
+    (tmp_path / "stairs.yaml").write_text(CASE)
+    case = load_case(tmp_path / "stairs.yaml")
+    built = build_case_grid(case, case_horizons(case))
+    direct = horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [dipping(200.0, F1_DIP, 7.0, "right", "F1")])
+    assert np.array_equal(built.deck.zcorn, direct.zcorn)
+    assert built.deck.faults == direct.faults and built.deck.pinch == direct.pinch
+    assert {seg.face for seg in built.deck.faults} == {"X", "Z"} and built.fault_names == ("F1",)
+
+
+def test_horizons_per_fault_block_refuse_an_inclined_fault(tmp_path):
+    text = CASE.replace("throw: 7", "throw: 0").replace("  surfaces:", "  per_fault_block: true\n  surfaces:")
+    (tmp_path / "stairs.yaml").write_text(text)
+    case = load_case(tmp_path / "stairs.yaml")
+    with pytest.raises(
+        InputError, match=r"stairs\.yaml: grid: horizons picked per fault block take vertical "
+    ):
+        build_case_grid(case, case_horizons(case))
