@@ -401,3 +401,41 @@ def test_vertical_faults_on_lattice_lines_give_horizons_to_grdecls_deck_bit_for_
         for key in ("coord", "zcorn", "actnum"):
             np.testing.assert_array_equal(getattr(deck, key), getattr(ref, key))
         assert deck.faults == ref.faults and deck.notes == ref.notes
+
+
+# --------------------------------------------------------------------------- a case
+
+
+def test_a_case_with_dipping_faults_builds_its_pillar_grid(tmp_path):
+    """grid.fault_geometry: pillars in a case: the faults' dips reach the deck (inclined COORD,
+    fault faces on their planes), relax_distance too, and the grid is sound."""
+    from gridlib.case.grid import build_case_grid
+    from gridlib.case.horizons import case_horizons
+    from gridlib.config import load_case
+
+    text = """name: dipping
+horizons:
+  lattice:
+    x: {start: 0, stop: 400, num: 5}
+    y: {start: 0, stop: 200, num: 3}
+  surfaces:
+    - {name: top, plane: {depth: 1000}}
+    - {name: base, plane: {depth: 1060}}
+faults:
+  - {name: A, trace: [[170, -40], [230, 240]], dip: 60, throw: 12, side: right}
+grid:
+  type: cornerpoint
+  dims: [10, 5]
+  layers: [3]
+  fault_geometry: pillars
+  relax_distance: 80
+"""
+    (tmp_path / "dipping.yaml").write_text(text)
+    case = load_case(tmp_path / "dipping.yaml")
+    built = build_case_grid(case, case_horizons(case))
+    assert built.fault_names == ("A",) and "relax back to vertical over 80 m" in " ".join(built.notes)
+    geo = gl.compute_geometry(built.grid)
+    gl.check_grid(built.grid, geo)
+    nodes = tagged_nodes(built.grid, 1)
+    assert np.abs(plane_offset(nodes, TRACE[0], TRACE[1], Z0, Z0, 60.0, "right")).max() < 1e-9 * BOX[0]
+    assert built.deck.source.endswith("(horizons_to_pillar_grdecl)")
