@@ -201,7 +201,7 @@ def _inclined_pillars(spec, areal, traces, top, base, moving) -> FaultPillars | 
     if not inclined(traces):
         return None
     xy = areal.grid.nodes.coords[:, :2]
-    z_lo, z_hi = depth_range(top, base, xy, moving)
+    z_lo, z_hi, thickness = depth_range(top, base, xy, moving)
     return fault_pillars(
         areal.grid,
         traces,
@@ -210,6 +210,7 @@ def _inclined_pillars(spec, areal, traces, top, base, moving) -> FaultPillars | 
         z_hi,
         vertical_cells=areal.cell_well > 0,
         relax_distance=spec.get("relax_distance"),
+        thickness=thickness,
         sites=areal.sites,
         who="pebi grid",
     )

@@ -109,6 +109,7 @@ def fault_pillars(
     *,
     vertical_cells: np.ndarray | None = None,
     relax_distance: float | None = None,
+    thickness: float | None = None,
     sites: FloatArray | None = None,
     who: str = "pillars",
 ) -> FaultPillars:
@@ -120,7 +121,9 @@ def fault_pillars(
     (m) between which the model lies, throws included (the fault drifts are the chords of the
     sticks between them, and the no-crossing check covers them). ``vertical_cells``: areal
     cells whose nodes keep vertical pillars (wells). ``relax_distance``: R (m), default
-    2 (z_hi - z_lo) s_max. ``sites`` (n_cells, 2): a point inside every areal cell (the PEBI
+    2 H s_max with ``thickness`` H the largest depth span one pillar carries (m; default
+    z_hi - z_lo; in a dipping model much less).
+    ``sites`` (n_cells, 2): a point inside every areal cell (the PEBI
     sites) to follow the columns down (:func:`~gridlib.pillars.inclined_lines.interior_drift`,
     pinned at the top horizon): ``FaultPillars.sites_at``. ``who`` begins the error messages.
     """
@@ -133,7 +136,7 @@ def fault_pillars(
     drifts = [None if s is None else np.asarray(s.drift(z_lo, z_hi), dtype=np.float64) for s in surfaces]
     max_drift = max((float(np.hypot(*d.T).max()) for d in drifts if d is not None), default=0.0)
     if relax_distance is None:
-        relax = default_relax_distance(z_hi - z_lo, max_drift)
+        relax = default_relax_distance(z_hi - z_lo if thickness is None else thickness, max_drift)
     else:
         relax = check_relax_distance(relax_distance, who)
     with np.errstate(invalid="ignore"):
@@ -254,9 +257,10 @@ def horizon_function(horizon) -> DepthFunction:
 
 def depth_range(
     top: DepthFunction, base: DepthFunction, xy: FloatArray, faults: Sequence[FaultTrace]
-) -> tuple[float, float]:
-    """The depths (m) between which a model lies: from the shallowest top to the deepest base
-    at plan points ``xy`` (n, 2), widened by the largest throw of ``faults`` both ways."""
+) -> tuple[float, float, float]:
+    """The depths (m) between which a model lies, from the shallowest top to the deepest base at
+    plan points ``xy`` (n, 2) widened by the largest throw of ``faults`` both ways, and the
+    largest depth span one pillar carries: the thickest top-to-base interval plus that throw."""
     with np.errstate(invalid="ignore"):
         z_top = np.asarray(top(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
         z_base = np.asarray(base(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
@@ -264,7 +268,8 @@ def depth_range(
     for f in faults:
         values = f.throw(np.linspace(0.0, 1.0, 101)) if callable(f.throw) else f.throw
         throw = max(throw, float(np.max(np.abs(values))))
-    return float(np.nanmin(z_top)) - throw, float(np.nanmax(z_base)) + throw
+    thickness = float(np.nanmax(z_base - z_top)) + throw
+    return float(np.nanmin(z_top)) - throw, float(np.nanmax(z_base)) + throw, thickness
 
 
 def _nearest_inclined(xy: FloatArray, faults, surfaces) -> tuple[FloatArray, np.ndarray]:
