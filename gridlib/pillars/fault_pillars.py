@@ -27,7 +27,8 @@ at the top horizon, so its cells are the areal cells there. Per areal node:
 
 The relax distance defaults to :func:`~gridlib.pillars.inclined_lines.default_relax_distance`
 (2 H cot(dip)); :func:`~gridlib.pillars.inclined_lines.first_crossing` then checks that every
-column stays star-shaped around its site (followed down the column) over the depth range.
+column stays star-shaped around its site (followed down the column) over the depths its cells
+can occupy (given the base horizon; else over the model's range).
 Where a column folds, a default R is lengthened by half, up to three times (a note says so);
 a given one is not: one InputError names the areal cell, the depth and the relax distance.
 
@@ -67,7 +68,7 @@ DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
 @dataclass(frozen=True, eq=False)
 class FaultPillars:
     """What :func:`fault_pillars` returns: ``lines`` (one per areal node), the ``relax_distance``
-    used (m), the depth range [``z_lo``, ``z_hi``] checked (m), ``notes``, and the lines that
+    used (m), the model's depth range [``z_lo``, ``z_hi``] (m), ``notes``, and the lines that
     the cells' ``sites`` follow (``site_lines``, one per areal cell, None without sites)."""
 
     lines: PillarLines
