@@ -206,15 +206,18 @@ def _inclined_pillars(spec, areal, traces, top, base, moving) -> FaultPillars | 
     if not inclined(traces):
         return None
     xy = areal.grid.nodes.coords[:, :2]
-    z_lo, z_hi = depth_range(top, base, xy, moving)
+    depths = depth_range(top, base, xy, moving)
     return fault_pillars(
         areal.grid,
         traces,
         top,
-        z_lo,
-        z_hi,
+        depths.z_lo,
+        depths.z_hi,
         vertical_cells=areal.cell_well > 0,
         relax_distance=spec.get("relax_distance"),
+        thickness=depths.thickness,
+        base=base,
+        throw=depths.throw,
         sites=areal.sites,
         who="pebi grid",
     )

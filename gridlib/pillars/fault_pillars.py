@@ -27,7 +27,8 @@ at the top horizon, so its cells are the areal cells there. Per areal node:
 
 The relax distance defaults to :func:`~gridlib.pillars.inclined_lines.default_relax_distance`
 (2 H cot(dip)); :func:`~gridlib.pillars.inclined_lines.first_crossing` then checks that every
-column stays star-shaped around its site (followed down the column) over the depth range.
+column stays star-shaped around its site (followed down the column) over the depths its cells
+can occupy (given the base horizon; else over the model's range).
 Where a column folds, a default R is lengthened by half, up to three times (a note says so);
 a given one is not: one InputError names the areal cell, the depth and the relax distance.
 
@@ -59,7 +60,7 @@ from .inclined_lines import (
     interior_drift,
 )
 
-__all__ = ["FaultPillars", "depth_range", "fault_pillars", "horizon_function", "inclined"]
+__all__ = ["FaultPillars", "ModelDepths", "depth_range", "fault_pillars", "horizon_function", "inclined"]
 
 DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
@@ -67,7 +68,7 @@ DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
 @dataclass(frozen=True, eq=False)
 class FaultPillars:
     """What :func:`fault_pillars` returns: ``lines`` (one per areal node), the ``relax_distance``
-    used (m), the depth range [``z_lo``, ``z_hi``] checked (m), ``notes``, and the lines that
+    used (m), the model's depth range [``z_lo``, ``z_hi``] (m), ``notes``, and the lines that
     the cells' ``sites`` follow (``site_lines``, one per areal cell, None without sites)."""
 
     lines: PillarLines
@@ -109,6 +110,9 @@ def fault_pillars(
     *,
     vertical_cells: np.ndarray | None = None,
     relax_distance: float | None = None,
+    thickness: float | None = None,
+    base: DepthFunction | None = None,
+    throw: float = 0.0,
     sites: FloatArray | None = None,
     who: str = "pillars",
 ) -> FaultPillars:
@@ -120,7 +124,11 @@ def fault_pillars(
     (m) between which the model lies, throws included (the fault drifts are the chords of the
     sticks between them, and the no-crossing check covers them). ``vertical_cells``: areal
     cells whose nodes keep vertical pillars (wells). ``relax_distance``: R (m), default
-    2 (z_hi - z_lo) s_max. ``sites`` (n_cells, 2): a point inside every areal cell (the PEBI
+    2 H s_max with ``thickness`` H the largest depth span one pillar carries (m; default
+    z_hi - z_lo; in a dipping model much less). ``base``: the base horizon's depth function:
+    then every column is checked over the depths its cells can occupy (where its pillars meet
+    the top and the base, widened by ``throw``, m), not over [z_lo, z_hi].
+    ``sites`` (n_cells, 2): a point inside every areal cell (the PEBI
     sites) to follow the columns down (:func:`~gridlib.pillars.inclined_lines.interior_drift`,
     pinned at the top horizon): ``FaultPillars.sites_at``. ``who`` begins the error messages.
     """
@@ -133,7 +141,7 @@ def fault_pillars(
     drifts = [None if s is None else np.asarray(s.drift(z_lo, z_hi), dtype=np.float64) for s in surfaces]
     max_drift = max((float(np.hypot(*d.T).max()) for d in drifts if d is not None), default=0.0)
     if relax_distance is None:
-        relax = default_relax_distance(z_hi - z_lo, max_drift)
+        relax = default_relax_distance(z_hi - z_lo if thickness is None else thickness, max_drift)
     else:
         relax = check_relax_distance(relax_distance, who)
     with np.errstate(invalid="ignore"):
@@ -197,7 +205,10 @@ def fault_pillars(
     for relax in tries:
         lines = lines_for(relax)
         centres = _follow(lines, corners, xy, inside, top, z_lo)
-        bad = first_crossing(lines, corners.pos, corners.ring, z_lo, z_hi, centres)
+        col_lo, col_hi = (
+            (z_lo, z_hi) if base is None else _column_ranges(lines, corners, top, base, throw, z_lo, z_hi)
+        )
+        bad = first_crossing(lines, corners.pos, corners.ring, col_lo, col_hi, centres)
         if bad is None:
             break
     if bad is not None:
@@ -252,11 +263,23 @@ def horizon_function(horizon) -> DepthFunction:
     return lambda px, py: interpolate_horizon(x, y, z, np.asarray(px), np.asarray(py))
 
 
+@dataclass(frozen=True)
+class ModelDepths:
+    """Where a model lies in depth (m): from ``z_lo`` (the shallowest top less the largest throw)
+    to ``z_hi`` (the deepest base plus it); ``thickness``, the largest depth span one pillar
+    carries (the thickest top-to-base interval plus the throw); ``throw``, the largest throw."""
+
+    z_lo: float
+    z_hi: float
+    thickness: float
+    throw: float
+
+
 def depth_range(
     top: DepthFunction, base: DepthFunction, xy: FloatArray, faults: Sequence[FaultTrace]
-) -> tuple[float, float]:
-    """The depths (m) between which a model lies: from the shallowest top to the deepest base
-    at plan points ``xy`` (n, 2), widened by the largest throw of ``faults`` both ways."""
+) -> ModelDepths:
+    """The :class:`ModelDepths` of the horizons ``top`` and ``base`` at plan points ``xy`` (n, 2)
+    with the throws of ``faults``."""
     with np.errstate(invalid="ignore"):
         z_top = np.asarray(top(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
         z_base = np.asarray(base(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
@@ -264,7 +287,35 @@ def depth_range(
     for f in faults:
         values = f.throw(np.linspace(0.0, 1.0, 101)) if callable(f.throw) else f.throw
         throw = max(throw, float(np.max(np.abs(values))))
-    return float(np.nanmin(z_top)) - throw, float(np.nanmax(z_base)) + throw
+    return ModelDepths(
+        float(np.nanmin(z_top)) - throw,
+        float(np.nanmax(z_base)) + throw,
+        float(np.nanmax(z_base - z_top)) + throw,
+        throw,
+    )
+
+
+def _column_ranges(lines: PillarLines, corners: ColumnCorners, top, base, throw: float, z_lo, z_hi):
+    """The depths (m) each column's cells can occupy: from the shallowest point where one of its
+    pillars meets the top horizon (less the throw) to the deepest where one meets the base (plus
+    it); where a pillar misses a horizon or the iteration does not settle, the model's range."""
+    ends = []
+    for horizon, shift, fallback in ((top, -throw, z_lo), (base, throw, z_hi)):
+        z = np.full(lines.point.shape[0], 0.5 * (z_lo + z_hi))
+        for _ in range(100):  # z = h(x(z), y(z)): settles while |grad h| |drift| < 1
+            p = lines.xy_at(z)
+            with np.errstate(invalid="ignore"):
+                new = np.asarray(horizon(p[:, 0], p[:, 1]), dtype=np.float64)
+            settled = np.abs(new - z) <= 1e-9 * (1.0 + np.abs(z))
+            z = new
+            if not np.any(~settled & np.isfinite(z)):
+                break
+        ends.append(np.where(settled & np.isfinite(z), z + shift, fallback))
+    lo = np.full(corners.pos.size - 1, np.inf)
+    hi = np.full(corners.pos.size - 1, -np.inf)
+    np.minimum.at(lo, corners.owner, ends[0][corners.ring])
+    np.maximum.at(hi, corners.owner, ends[1][corners.ring])
+    return lo, hi
 
 
 def _nearest_inclined(xy: FloatArray, faults, surfaces) -> tuple[FloatArray, np.ndarray]:

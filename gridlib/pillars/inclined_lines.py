@@ -9,7 +9,7 @@ of the surface's ruling; the other pillars take a drift that blends back to vert
   between the given ones (the pillars on the faults; 0 at wells and beyond the *relax
   distance* R from every inclined fault), sliding along a straight domain boundary: it blends
   the faults' drifts back to vertical as smoothly as the graph allows, junctions included;
-* :func:`default_relax_distance`: R = 2 H s_max (H the depth range of the model, s_max the
+* :func:`default_relax_distance`: R = 2 H s_max (H the largest depth span a pillar carries, s_max the
   largest fault drift, cot(dip) for a dip fault). The map X0 -> X0 + dz s(X0) preserves
   orientation while dz |grad s| < 1; a drift falling from s_max to 0 over R evenly has
   H |grad s| = 0.5 there;
@@ -88,10 +88,10 @@ class PillarLines:
         return out
 
 
-def default_relax_distance(depth_range: float, max_drift: float) -> float:
-    """R = 2 H s_max (m): ``depth_range`` H the depth span of the model, ``max_drift`` the largest
+def default_relax_distance(thickness: float, max_drift: float) -> float:
+    """R = 2 H s_max (m): ``thickness`` H the largest depth span a pillar carries, ``max_drift`` the largest
     horizontal drift of a fault (cot(dip) for a dip fault). 0 when no fault is inclined."""
-    return 2.0 * float(depth_range) * float(max_drift)
+    return 2.0 * float(thickness) * float(max_drift)
 
 
 def harmonic_drift(

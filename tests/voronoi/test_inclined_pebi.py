@@ -413,3 +413,53 @@ def test_a_kinked_dip_fault_keeps_both_planes():
     cot = 1 / np.tan(np.radians(55.0))
     n_a, n_b = (plane_drift(segment, 55.0, "right") / cot for segment in (kinked[:2], kinked[1:]))
     np.testing.assert_allclose(lines.lines.drift[kink], cot * (n_a + n_b) / (1 + n_a @ n_b), rtol=1e-12)
+
+
+def test_a_dipping_model_is_checked_where_its_cells_are():
+    """Horizons dipping 10 degrees (the model spans 206 m of depth, a pillar 100 m plus the
+    throw): given the base, every column is checked over the depths its own cells can occupy,
+    so the default relax distance (2 x 120 m x cot 60) stands; fault faces on the surface,
+    check_grid, positive volumes, and the volume between the parallel planes is Lx Ly H less
+    Ly H T times the fault plane's x shift per metre of depth, as for flat ones."""
+    from gridlib.pillars.fault_pillars import depth_range
+
+    slope = np.tan(np.radians(10.0))
+
+    def top(x, y):
+        return Z0 + slope * np.asarray(y)
+
+    def base(x, y):
+        return Z1 + slope * np.asarray(y)
+
+    trace = np.array(TRACE)
+    surface = FaultSurface.from_dip(trace, top(trace[:, 0], trace[:, 1]), 60.0, "right", name="F1")
+    fault = FaultTrace(trace, throw=20.0, name="F1", side="right", surface=surface)
+    areal = pebi_grid(((0.0, 0.0), (LX, LY)), 50.0, [Fault(trace, "F1")])
+    depths = depth_range(top, base, areal.grid.nodes.coords[:, :2], [fault])
+    assert depths.thickness == pytest.approx(120.0) and depths.z_hi - depths.z_lo > 200.0
+    lines = fault_pillars(
+        areal.grid,
+        [fault],
+        top,
+        depths.z_lo,
+        depths.z_hi,
+        thickness=depths.thickness,
+        base=base,
+        throw=depths.throw,
+        sites=areal.sites,
+    )
+    assert lines.relax_distance == pytest.approx(2 * 120.0 / np.tan(np.radians(60.0))) and not lines.notes
+    r = extrude(areal.grid, [top, base], 3, [fault], pillars=lines.pillars(), centres=areal.sites)
+    geo = gl.compute_geometry(r.grid)
+    gl.check_grid(r.grid, geo)
+    assert geo.cell_volumes.min() > 0
+    points = r.grid.nodes.coords[face_nodes(r.grid, np.flatnonzero(r.grid.faces.tag > 0))]
+    assert on_surface_distance(surface, points).max() < 1e-9 * EXTENT
+
+    def x_on_plane(z: float) -> float:  # where the plane's section at depth z crosses y = Ly / 2
+        (ax, ay), (bx, by) = surface.section(z)
+        return ax + (bx - ax) * (0.5 * LY - ay) / (by - ay)
+
+    shift = x_on_plane(Z0 + 1.0) - x_on_plane(Z0)  # the plane's x per metre of depth at fixed y
+    expected = LX * LY * (Z1 - Z0) - LY * (Z1 - Z0) * 20.0 * shift
+    assert geo.cell_volumes.sum() == pytest.approx(expected, rel=1e-12)
