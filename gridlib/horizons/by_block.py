@@ -25,12 +25,22 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..cornerpoint.between_horizons import horizons_to_grdecl
+from ..cornerpoint.between_horizons import PINCH_THRESHOLD, horizons_to_grdecl
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.stair_steps import (
+    FOOTWALL,
+    HANGING_WALL,
+    MISSING,
+    is_inclined,
+    settle_note,
+    settle_steps,
+    step_segments,
+)
 from ..errors import InputError
-from ..pillars.fault_traces import FaultTrace
+from ..grid import FloatArray
+from ..pillars.fault_traces import FaultTrace, nearest_on_trace
 from ..pillars.horizon_maps import Horizon
-from .blocks import FaultBlocks, fault_blocks
+from .blocks import FaultBlocks, fault_blocks, with_surfaces
 
 
 def block_horizons(ds: xr.Dataset) -> tuple[list[list[Horizon]], FaultBlocks] | None:
@@ -63,7 +73,16 @@ def horizons_to_grdecl_by_block(
     over the whole lattice); ``dims``, ``layers``, ``ordering``: as
     :func:`~gridlib.cornerpoint.between_horizons.horizons_to_grdecl`. ``faults``: the traces, with no
     throw (the offset is in the surfaces), recorded as FAULTS so that the fault faces carry
-    their names. Every cell belongs to the block that contains its centre.
+    their names. With vertical faults only, every column belongs to the block that contains its
+    centre in plan. With an inclined fault (a ``surface``; ``blocks`` cut by the same traces)
+    every *cell* is placed as :mod:`~gridlib.cornerpoint.stair_steps` places it: it belongs to
+    block b if its centre in block b's layering (plan centre, mean of its eight corner depths)
+    lies in block b by the fault surfaces at that depth
+    (:meth:`~gridlib.horizons.blocks.FaultBlocks.classify`); of several such blocks (a repeated
+    section) the deepest; of none, it is missing section (a normal fault's cut-out layers: zero
+    thickness, the cells above and below meet, overlaps clamped as OPM Flow would, PINCH set).
+    The fault faces (lateral and horizontal steps) are named after the fault whose sides differ
+    across them.
 
     >>> from gridlib.horizons import fault_blocks
     >>> x, y = np.linspace(0.0, 1000.0, 11), np.linspace(0.0, 500.0, 6)
@@ -100,6 +119,8 @@ def horizons_to_grdecl_by_block(
     coord[:, 2], coord[:, 5] = lines[:, :, 2].min(axis=0), lines[:, :, 5].max(axis=0)
     nx, ny, nz = first.cart_dims
     pillars = coord.reshape(ny + 1, nx + 1, 6)
+    if any(is_inclined(f) for f in faults):
+        return _stepped(decks, coord, pillars, with_surfaces(blocks, faults), faults)
     cx = 0.25 * (pillars[:-1, :-1, 0] + pillars[1:, :-1, 0] + pillars[:-1, 1:, 0] + pillars[1:, 1:, 0])
     cy = 0.25 * (pillars[:-1, :-1, 1] + pillars[1:, :-1, 1] + pillars[:-1, 1:, 1] + pillars[1:, 1:, 1])
     column_block = blocks.classify(cx, cy)  # (ny, nx)
@@ -126,6 +147,93 @@ def horizons_to_grdecl_by_block(
         notes=(*first.notes, *blocks.notes, note),
         source=f"{first.source} (per fault block)",
     )
+
+
+def _stepped(decks: list[Deck], coord, pillars, blocks: FaultBlocks, faults: Sequence[FaultTrace]) -> Deck:
+    """The deck whose cells are placed by the inclined faults' surfaces at their depth (see
+    :func:`horizons_to_grdecl_by_block`)."""
+    first = decks[0]
+    nx, ny, nz = first.cart_dims
+    PX, PY = pillars[..., 0], pillars[..., 1]
+    zcs = np.stack([d.zcorn_array() for d in decks])  # (blocks, 2 nz, 2 ny, 2 nx)
+    cell_block, cell_depth, missing = _place_cells(zcs, PX, PY, blocks)
+    corner_block = np.broadcast_to(cell_block[:, None, :, None, :, None], (nz, 2, ny, 2, nx, 2)).reshape(
+        zcs.shape[1:]
+    )
+    nominal = np.take_along_axis(zcs, corner_block[None], axis=0)[0]
+    defined = np.isfinite(cell_depth)
+    moved = (cell_block != cell_block[:1]).any(axis=0)
+    zcorn, settled = settle_steps(nominal, nominal, missing, defined, moved, PX, PY)
+    names = [f.name or f"F{k + 1}" for k, f in enumerate(faults)]
+    sides = _fault_sides(faults, PX, PY, cell_depth, missing)
+    segments, notes = step_segments(names, sides, zcorn, defined & ~missing)
+    actnum = _pick(np.stack([_actnum(d) for d in decks]), cell_block.ravel()).astype(np.int32)
+    counts = np.bincount(cell_block[~missing & defined], minlength=blocks.num)
+    notes.append(
+        f"horizons_to_grdecl_by_block: {blocks.num} fault blocks, each cell placed by the inclined fault "
+        f"surfaces at its depth; cells per block {counts.tolist()}"
+    )
+    note = settle_note(settled)
+    if note is not None:
+        notes.append(note)
+    pinch = (PINCH_THRESHOLD, 1e20) if settled.missing_cells or settled.gap_cells else None
+    return replace(
+        first,
+        coord=coord.ravel(),
+        zcorn=zcorn.ravel(),
+        faults=tuple(segments),
+        actnum=actnum,
+        pinch=pinch,
+        notes=(*first.notes, *blocks.notes, *notes),
+        source=f"{first.source} (per fault block, stair-stepped)",
+    )
+
+
+def _place_cells(zcs: FloatArray, PX, PY, blocks: FaultBlocks):
+    """Every cell's block (nz, ny, nx), its centre depth there, and whether it is missing section
+    (no block's layering puts it in that block; then its block is the one its plan centre is in)."""
+    n_blocks, n2z, n2y, n2x = zcs.shape
+    nz, ny, nx = n2z // 2, n2y // 2, n2x // 2
+    with np.errstate(invalid="ignore"):
+        depth = zcs.reshape(n_blocks, nz, 2, ny, 2, nx, 2).mean(axis=(2, 4, 6))
+    cx = np.broadcast_to(0.25 * (PX[:-1, :-1] + PX[:-1, 1:] + PX[1:, :-1] + PX[1:, 1:]), (nz, ny, nx))
+    cy = np.broadcast_to(0.25 * (PY[:-1, :-1] + PY[:-1, 1:] + PY[1:, :-1] + PY[1:, 1:]), (nz, ny, nx))
+    own = np.zeros(depth.shape, dtype=bool)  # [b]: the cell's centre in block b's layering lies in block b
+    for b in range(n_blocks):
+        ok = np.isfinite(depth[b])
+        own[b][ok] = blocks.classify(cx[ok], cy[ok], depth[b][ok]) == b
+    placed = own.any(axis=0)
+    deepest = np.where(own, depth, -np.inf).argmax(axis=0)
+    cell_block = np.where(placed, deepest, blocks.classify(cx[0], cy[0])[None])
+    cell_depth = np.take_along_axis(depth, cell_block[None], axis=0)[0]
+    return cell_block, cell_depth, ~placed & np.isfinite(cell_depth)
+
+
+def _fault_sides(faults: Sequence[FaultTrace], PX, PY, cell_depth, missing) -> np.ndarray:
+    """(fault, nz, ny, nx) FOOTWALL, HANGING_WALL or MISSING: every cell's side of every fault,
+    by its surface at the cell's centre depth (a vertical one: its trace in plan)."""
+    nz, ny, nx = cell_depth.shape
+    cx = 0.25 * (PX[:-1, :-1] + PX[:-1, 1:] + PX[1:, :-1] + PX[1:, 1:])
+    cy = 0.25 * (PY[:-1, :-1] + PY[:-1, 1:] + PY[1:, :-1] + PY[1:, 1:])
+    box = (PX.min(), PX.max(), PY.min(), PY.max())
+    sides = np.empty((len(faults), nz, ny, nx), dtype=np.int8)
+    for f, trace in enumerate(faults):
+        sign = 1.0 if trace.side == "left" else -1.0
+        if is_inclined(trace):
+            x, y = np.broadcast_to(cx, cell_depth.shape), np.broadcast_to(cy, cell_depth.shape)
+            with np.errstate(invalid="ignore"):
+                hanging = sign * trace.surface.side_value(x, y, np.nan_to_num(cell_depth)) > 0.0
+        else:
+            open_ends = [not _inside(trace.points[e], box) for e in (0, -1)]
+            _, _, side = nearest_on_trace(np.column_stack([cx.ravel(), cy.ravel()]), trace.points, *open_ends)
+            hanging = np.broadcast_to((sign * side > 0).reshape(ny, nx), cell_depth.shape)
+        sides[f] = np.where(missing, MISSING, np.where(hanging, HANGING_WALL, FOOTWALL))
+    return sides
+
+
+def _inside(q: np.ndarray, box) -> bool:
+    xmin, xmax, ymin, ymax = box
+    return bool(xmin < q[0] < xmax and ymin < q[1] < ymax)
 
 
 def _has_throw(fault: FaultTrace) -> bool:
