@@ -20,7 +20,6 @@ from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.cornerpoint.stair_steps import FOOTWALL, HANGING_WALL, MISSING, stair_steps
-from gridlib.errors import InputError
 from gridlib.geometry import compute_geometry
 from gridlib.io.grdecl import read_grdecl
 from gridlib.pillars.fault_surface import FaultSurface
@@ -292,11 +291,102 @@ def test_a_case_with_a_dip_fault_builds_the_stair_stepped_deck(tmp_path):
     assert {seg.face for seg in built.deck.faults} == {"X", "Z"} and built.fault_names == ("F1",)
 
 
-def test_horizons_per_fault_block_refuse_an_inclined_fault(tmp_path):
-    text = CASE.replace("throw: 7", "throw: 0").replace("  surfaces:", "  per_fault_block: true\n  surfaces:")
-    (tmp_path / "stairs.yaml").write_text(text)
-    case = load_case(tmp_path / "stairs.yaml")
-    with pytest.raises(
-        InputError, match=r"stairs\.yaml: grid: horizons picked per fault block take vertical "
-    ):
-        build_case_grid(case, case_horizons(case))
+PICKS_CASE = """name: picks
+horizons:
+  per_fault_block: true
+  lattice: {x: {start: 0, stop: 600, num: 31}, y: {start: 0, stop: 200, num: 5}}
+  surfaces:
+    - {name: top, points: top.csv, extrapolation: trend}
+    - {name: base, points: base.csv, extrapolation: trend}
+faults:
+  - {name: F1, trace: [[200, -10], [200, 210]], dip: 60, side: right}
+grid: {type: cornerpoint, dims: [30, 4], layers: 12}
+"""
+PICKED_THROW, PICKED_DIP = 12.0, 60.0
+
+
+def picked_fault_x(z):
+    """The 60-degree plane through the footwall cut-off x = 200 at the footwall top (1000 m)."""
+    return 200.0 + (np.asarray(z) - TOP) / np.tan(np.radians(PICKED_DIP))
+
+
+@pytest.fixture(scope="module")
+def picked_case(tmp_path_factory):
+    """Picks of two flat horizons faulted by a 60-degree fault: footwall (west, below the plane)
+    at 1000 and 1060 m, hanging wall 12 m lower; each picked only where it exists (no picks
+    between the hanging-wall and footwall cut-offs)."""
+    tmp = tmp_path_factory.mktemp("picked")
+    gx, gy = np.meshgrid(np.arange(5.0, 600.0, 10.0), np.arange(0.0, 201.0, 50.0))
+    x, y = gx.ravel(), gy.ravel()
+    for name, depth in (("top", TOP), ("base", BASE)):
+        footwall = x < picked_fault_x(depth)
+        hanging = x > picked_fault_x(depth + PICKED_THROW)
+        z = np.where(footwall, depth, depth + PICKED_THROW)
+        keep = footwall | hanging
+        np.savetxt(
+            tmp / f"{name}.csv", np.column_stack([x, y, z])[keep], delimiter=",", header="x,y,z", comments=""
+        )
+    (tmp / "picks.yaml").write_text(PICKS_CASE)
+    case = load_case(tmp / "picks.yaml")
+    horizons = case_horizons(case)
+    return horizons, build_case_grid(case, horizons)
+
+
+def test_picks_per_fault_block_with_a_dip_fault_build_its_stair_steps(picked_case):
+    """The footwall cut-off at x = 200 and the picks' offset give the grid that stair-stepping a
+    12 m throw into the unfaulted horizons gives (the same rule, cell by cell)."""
+    horizons, built = picked_case
+    by_block = horizons["depth_by_block"].values
+    for b, drop in ((0, 0.0), (1, PICKED_THROW)):  # every pick in its block: flat block surfaces
+        assert np.allclose(by_block[b], np.array([TOP, BASE])[:, None, None] + drop, rtol=0, atol=1e-9)
+    direct = horizons_to_grdecl(
+        HORIZONS, DIMS, LAYERS, [dipping(200.0, PICKED_DIP, PICKED_THROW, "right", "F1")]
+    )
+    assert np.allclose(built.deck.zcorn, direct.zcorn, rtol=0, atol=1e-9)
+    assert built.deck.faults == direct.faults and built.deck.pinch == direct.pinch
+    assert {seg.face for seg in built.deck.faults} == {"X", "Z"} and built.fault_names == ("F1",)
+    tagged = np.flatnonzero(built.grid.faces.tag > 0)
+    centroid = compute_geometry(built.grid).face_centroids[tagged]
+    distance = np.abs(centroid[:, 0] - picked_fault_x(centroid[:, 2])) * np.sin(np.radians(PICKED_DIP))
+    assert tagged.size > 0 and distance.max() <= np.hypot(np.hypot(20.0, 50.0), 5.0)  # within a cell
+
+
+def test_picks_per_fault_block_cells_on_their_side_and_the_volume_analytic(picked_case):
+    """Every cell against the plane (independent formula): footwall if its centre in the footwall
+    layering is west of the plane, hanging wall if its centre 12 m lower is east of it, missing
+    section otherwise; the bulk volume is the kept cells' less the clamps (the last hanging-wall
+    cell's bottom below the first footwall cell's top), and within half a column per layer of
+    each block's exact volume."""
+    _, built = picked_case
+    zc, PX, _ = layering()
+    x, depth = centres(zc, PX)
+    footwall = x < picked_fault_x(depth)
+    hanging = ~footwall & (x > picked_fault_x(depth + PICKED_THROW))
+    missing = ~footwall & ~hanging
+    z = built.deck.zcorn_array()
+    nz, ny, nx = x.shape
+    cell = lambda a: a.reshape(nz, 2, ny, 2, nx, 2).transpose(0, 2, 4, 1, 3, 5)  # noqa: E731
+    assert np.allclose(cell(z - zc)[hanging], PICKED_THROW, rtol=0, atol=1e-9)
+    assert np.allclose(cell(z - zc)[footwall][:, 1], 0.0, rtol=0, atol=1e-9)  # bottoms; tops may be clamped
+    assert np.allclose(cell(z)[missing][:, 1] - cell(z)[missing][:, 0], 0.0, rtol=0, atol=1e-9)
+    # Clamps, column by column: last hanging-wall bottom against the first footwall top.
+    k = np.arange(nz)[:, None, None]
+    last_hanging = np.where(hanging, k, -1).max(axis=0)
+    first_footwall = np.where(footwall, k, nz).min(axis=0)
+    both = (last_hanging >= 0) & (first_footwall < nz)
+    dz, area = (BASE - TOP) / nz, 20.0 * 50.0
+    overlap = np.maximum(TOP + (last_hanging + 1) * dz + PICKED_THROW - (TOP + first_footwall * dz), 0.0)
+    clamped = (overlap * both).sum() * area
+    kept = int((footwall | hanging).sum())
+    volume = built.cell_data["bulk_volume"]
+    assert clamped > 0 and missing.sum() > 0
+    assert volume.sum() == pytest.approx(kept * dz * area - clamped, rel=1e-12)
+    of_cell = np.where(footwall, 0, np.where(hanging, 1, 2)).ravel()[built.grid.cells.index_map]
+    cot = 1.0 / np.tan(np.radians(PICKED_DIP))
+    exact_footwall = 200.0 * ((BASE - TOP) * 200.0 + 0.5 * (BASE - TOP) ** 2 * cot)
+    exact_hanging = 200.0 * (
+        (BASE - TOP) * 400.0 - 0.5 * ((BASE - TOP + PICKED_THROW) ** 2 - PICKED_THROW**2) * cot
+    )
+    half_column_per_layer = nz * 10.0 * 200.0 * dz
+    assert abs(volume[of_cell == 0].sum() - exact_footwall) <= half_column_per_layer
+    assert abs(volume[of_cell == 1].sum() + clamped - exact_hanging) <= half_column_per_layer
