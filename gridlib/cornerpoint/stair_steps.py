@@ -170,7 +170,7 @@ def settle_steps(
     moved: np.ndarray,
     PX,
     PY,
-) -> tuple[FloatArray, _Settled]:
+) -> tuple[FloatArray, Settled]:
     """Stair-stepped corners (2 nz, 2 ny, 2 nx) from ``nominal`` (every cell's corners in its own
     block, before anything is cut out) on the rectilinear pillar lattice ``PX``, ``PY``: the
     ``missing`` cells (nz, ny, nx) collapsed and the overlaps clamped as :func:`stair_steps` does,
@@ -198,7 +198,7 @@ def step_segments(
     return _segments(names, block, x_moves, y_moves, zcorn, kept, notes), notes
 
 
-def settle_note(settled: _Settled) -> str | None:
+def settle_note(settled: Settled) -> str | None:
     """The note of what stair-stepping cut out, clamped and left open, or None."""
     if not (settled.missing_cells or settled.clamped_cells or settled.gap_cells):
         return None
@@ -322,7 +322,10 @@ def _nearest_on_sections(surface, x, y, z, open_start: bool, open_end: bool):
 # --------------------------------------------------------------------------- corners
 
 
-class _Settled(NamedTuple):
+class Settled(NamedTuple):
+    """What stair-stepping cut out (cells, m3 of the layering), clamped (cells, m3) and left open
+    (cells with a gap above them)."""
+
     missing_cells: int
     missing_volume: float
     clamped_cells: int
@@ -330,7 +333,7 @@ class _Settled(NamedTuple):
     gap_cells: int
 
 
-def _settle(zc: FloatArray, zcorn: FloatArray, mixed, cut_out, kept, area) -> _Settled:
+def _settle(zc: FloatArray, zcorn: FloatArray, mixed, cut_out, kept, area) -> Settled:
     """Collapse the missing-section cells ``cut_out`` (columns, nz) of the columns ``mixed``
     (ny, nx) and clamp their overlaps in ``zcorn`` (in place; ``zc`` the layering); what was cut
     and clamped, and the gaps left (``kept``: (nz, ny, nx) cells neither missing nor undefined,
@@ -343,7 +346,7 @@ def _settle(zc: FloatArray, zcorn: FloatArray, mixed, cut_out, kept, area) -> _S
     with np.errstate(invalid="ignore"):
         clamped = kept_here & (final != work).reshape(*kept_here.shape, 2, 4).any(axis=(2, 3))
         gaps = (final[:, 2::2] > final[:, 1:-1:2]).any(axis=2) & kept_here[:, 1:]
-    return _Settled(
+    return Settled(
         int(cut_out.sum()),
         float(_volumes(layering, area)[cut_out].sum()),
         int(clamped.sum()),

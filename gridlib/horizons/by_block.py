@@ -211,24 +211,28 @@ def _place_cells(zcs: FloatArray, PX, PY, blocks: FaultBlocks):
 
 def _fault_sides(faults: Sequence[FaultTrace], PX, PY, cell_depth, missing) -> np.ndarray:
     """(fault, nz, ny, nx) FOOTWALL, HANGING_WALL or MISSING: every cell's side of every fault,
-    by its surface at the cell's centre depth (a vertical one: its trace in plan)."""
+    by its surface at the cell's centre depth (a vertical one: its trace in plan). A missing cell
+    is missing for the faults that refuse it its plan-view block (their side at its depth there
+    is not their side in plan), or for all if none does."""
     nz, ny, nx = cell_depth.shape
     cx = 0.25 * (PX[:-1, :-1] + PX[:-1, 1:] + PX[1:, :-1] + PX[1:, 1:])
     cy = 0.25 * (PY[:-1, :-1] + PY[:-1, 1:] + PY[1:, :-1] + PY[1:, 1:])
     box = (PX.min(), PX.max(), PY.min(), PY.max())
-    sides = np.empty((len(faults), nz, ny, nx), dtype=np.int8)
+    hanging = np.empty((len(faults), nz, ny, nx), dtype=bool)
+    refuses = np.zeros_like(hanging)
     for f, trace in enumerate(faults):
         sign = 1.0 if trace.side == "left" else -1.0
+        open_ends = [not _inside(trace.points[e], box) for e in (0, -1)]
+        _, _, side = nearest_on_trace(np.column_stack([cx.ravel(), cy.ravel()]), trace.points, *open_ends)
+        in_plan = np.broadcast_to((sign * side > 0).reshape(ny, nx), cell_depth.shape)
+        hanging[f] = in_plan
         if is_inclined(trace):
             x, y = np.broadcast_to(cx, cell_depth.shape), np.broadcast_to(cy, cell_depth.shape)
             with np.errstate(invalid="ignore"):
-                hanging = sign * trace.surface.side_value(x, y, np.nan_to_num(cell_depth)) > 0.0
-        else:
-            open_ends = [not _inside(trace.points[e], box) for e in (0, -1)]
-            _, _, side = nearest_on_trace(np.column_stack([cx.ravel(), cy.ravel()]), trace.points, *open_ends)
-            hanging = np.broadcast_to((sign * side > 0).reshape(ny, nx), cell_depth.shape)
-        sides[f] = np.where(missing, MISSING, np.where(hanging, HANGING_WALL, FOOTWALL))
-    return sides
+                hanging[f] = sign * trace.surface.side_value(x, y, np.nan_to_num(cell_depth)) > 0.0
+            refuses[f] = missing & (hanging[f] != in_plan)
+    refuses |= (missing & ~refuses.any(axis=0))[None]
+    return np.where(refuses, MISSING, np.where(hanging, HANGING_WALL, FOOTWALL)).astype(np.int8)
 
 
 def _inside(q: np.ndarray, box) -> bool:

@@ -21,6 +21,8 @@ from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.cornerpoint.stair_steps import FOOTWALL, HANGING_WALL, MISSING, stair_steps
 from gridlib.geometry import compute_geometry
+from gridlib.horizons import fault_blocks
+from gridlib.horizons.by_block import horizons_to_grdecl_by_block
 from gridlib.io.grdecl import read_grdecl
 from gridlib.pillars.fault_surface import FaultSurface
 from gridlib.pillars.fault_traces import FaultTrace
@@ -390,3 +392,60 @@ def test_picks_per_fault_block_cells_on_their_side_and_the_volume_analytic(picke
     half_column_per_layer = nz * 10.0 * 200.0 * dz
     assert abs(volume[of_cell == 0].sum() - exact_footwall) <= half_column_per_layer
     assert abs(volume[of_cell == 1].sum() + clamped - exact_hanging) <= half_column_per_layer
+
+
+def block_stacks(*drops: float) -> list[list[Horizon]]:
+    """Per-block horizons: the flat top and base lowered by each block's drop."""
+    return [[Horizon(X, Y, np.full((5, 31), d + drop)) for d in (TOP, BASE)] for drop in drops]
+
+
+@pytest.mark.parametrize(("dip", "throw"), [(60.0, 12.0), (30.0, 7.0), (60.0, -4.0)])
+def test_blocks_offset_per_fault_block_give_the_stair_steps_of_that_throw(dip, throw):
+    """Horizons per block (the hanging wall's offset by the throw) with the fault given by its
+    footwall cut-off build the deck stair_steps gives the unfaulted horizons and that throw, bit
+    for bit: the same cells kept, cut out (normal) or left with gaps (reverse), the same faces."""
+    fault = dipping(200.0, dip, throw, "right", "F1")
+    direct = horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [fault])
+    unthrown = replace(fault, throw=0.0)
+    blocks = fault_blocks([unthrown], (0.0, 600.0, 0.0, 200.0))
+    deck = horizons_to_grdecl_by_block(block_stacks(0.0, throw), blocks, DIMS, LAYERS, [unthrown])
+    assert np.array_equal(deck.zcorn, direct.zcorn) and np.array_equal(deck.actnum, direct.actnum)
+    assert deck.faults == direct.faults and deck.pinch == direct.pinch
+    assert deck.notes[-1] == direct.notes[-1]  # the cells cut out, clamped and left with gaps
+
+
+def test_a_graben_per_fault_block_places_every_cell_by_both_surfaces_at_its_depth():
+    """Two faults dipping 60 degrees towards each other (x = 200 dipping east, x = 400 dipping
+    west), the graben between them 9 m down, the east block 3 m down: a cell is in the deepest
+    block whose layering puts its centre inside that block (independent formula), else cut out;
+    the step faces next to each fault carry its name."""
+    west_f = dipping(200.0, 60.0, 0.0, "right", "W")
+    east_f = dipping(400.0, 60.0, 0.0, "left", "E")
+    drops = (0.0, 9.0, 3.0)
+    blocks = fault_blocks([west_f, east_f], (0.0, 600.0, 0.0, 200.0))
+    deck = horizons_to_grdecl_by_block(block_stacks(*drops), blocks, DIMS, LAYERS, [west_f, east_f])
+    zc, PX, _ = layering()
+    x, depth = centres(zc, PX)
+    cot = 1.0 / np.tan(np.radians(60.0))
+    inside = [
+        x < 200.0 + (depth + drops[0] - TOP) * cot,
+        (x > 200.0 + (depth + drops[1] - TOP) * cot) & (x < 400.0 - (depth + drops[1] - TOP) * cot),
+        x > 400.0 - (depth + drops[2] - TOP) * cot,
+    ]
+    deepest = np.where(inside[1], 1, np.where(inside[2], 2, np.where(inside[0], 0, -1)))  # 9 > 3 > 0 m
+    assert (deepest == -1).any() and all((deepest == b).any() for b in range(3))
+    nz, ny, nx = x.shape
+    z = deck.zcorn_array().reshape(nz, 2, ny, 2, nx, 2)
+    moved = (z - zc.reshape(z.shape)).transpose(0, 2, 4, 1, 3, 5)
+    for b, drop in enumerate(drops):
+        if drop > 0:  # placed cells never clamped except footwall tops: check bottoms
+            assert np.allclose(moved[deepest == b][:, 1], drop, rtol=0, atol=1e-12)
+    thickness = (z[:, 1] - z[:, 0]).transpose(0, 1, 3, 2, 4)
+    assert (thickness[deepest == -1] == 0).all() and (thickness[deepest >= 0] > 0).all()
+    r = process_grdecl(deck)
+    assert r.fault_names == ("W", "E")
+    centroid = compute_geometry(r.grid).face_centroids
+    for tag, (x0, east) in enumerate(((200.0, 1.0), (400.0, -1.0)), start=1):
+        c = centroid[r.grid.faces.tag == tag]
+        assert c.shape[0] > 0
+        assert (np.abs(c[:, 0] - (x0 + east * (c[:, 2] - TOP) * cot)) <= 20.0 + 5.0 * cot + 9.0 * cot).all()
