@@ -414,16 +414,24 @@ def test_blocks_offset_per_fault_block_give_the_stair_steps_of_that_throw(dip, t
     assert deck.notes[-1] == direct.notes[-1]  # the cells cut out, clamped and left with gaps
 
 
-def test_a_graben_per_fault_block_places_every_cell_by_both_surfaces_at_its_depth():
+GRABEN_DROPS = (0.0, 9.0, 3.0)  # west, graben, east block
+
+
+@pytest.fixture(scope="module")
+def graben():
     """Two faults dipping 60 degrees towards each other (x = 200 dipping east, x = 400 dipping
-    west), the graben between them 9 m down, the east block 3 m down: a cell is in the deepest
-    block whose layering puts its centre inside that block (independent formula), else cut out;
-    the step faces next to each fault carry its name."""
+    west), given by their footwall cut-offs, the graben between them 9 m down, the east block
+    3 m down: a deck from per-block horizons."""
     west_f = dipping(200.0, 60.0, 0.0, "right", "W")
     east_f = dipping(400.0, 60.0, 0.0, "left", "E")
-    drops = (0.0, 9.0, 3.0)
     blocks = fault_blocks([west_f, east_f], (0.0, 600.0, 0.0, 200.0))
-    deck = horizons_to_grdecl_by_block(block_stacks(*drops), blocks, DIMS, LAYERS, [west_f, east_f])
+    return horizons_to_grdecl_by_block(block_stacks(*GRABEN_DROPS), blocks, DIMS, LAYERS, [west_f, east_f])
+
+
+def test_a_graben_per_fault_block_places_every_cell_by_both_surfaces_at_its_depth(graben):
+    """A cell is in the deepest block whose layering puts its centre inside that block
+    (independent formula), else cut out; the step faces next to each fault carry its name."""
+    deck, drops = graben, GRABEN_DROPS
     zc, PX, _ = layering()
     x, depth = centres(zc, PX)
     cot = 1.0 / np.tan(np.radians(60.0))
@@ -449,3 +457,32 @@ def test_a_graben_per_fault_block_places_every_cell_by_both_surfaces_at_its_dept
         c = centroid[r.grid.faces.tag == tag]
         assert c.shape[0] > 0
         assert (np.abs(c[:, 0] - (x0 + east * (c[:, 2] - TOP) * cot)) <= 20.0 + 5.0 * cot + 9.0 * cot).all()
+
+
+def test_the_graben_deck_per_fault_block_equals_flows_dry_run(graben, tmp_path):
+    """OPM Flow reads the per-block deck's ZCORN unchanged (no fixup) and finds gridlib's active
+    cells and connections (fault NNCs and PINCH connections across the cut-out cells) with their T."""
+    n = graben.num_cells
+    rock = {
+        "PORO": np.full(n, 0.2),
+        "PERMX": np.full(n, 100.0),
+        "PERMY": np.full(n, 80.0),
+        "PERMZ": np.full(n, 10.0),
+    }
+    path = write_data_deck(tmp_path, "GRABEN", graben, rock)
+    case = run_flow_dry(path, tmp_path / "out")
+    egrid = read_keywords(Path(f"{case}.EGRID"))
+    assert np.array_equal(egrid["ZCORN"], graben.zcorn.astype(np.float32))
+    ours = read_grdecl(path)
+    r = process_grdecl(ours)
+    flow_active = np.flatnonzero(egrid["ACTNUM"] > 0) if "ACTNUM" in egrid else np.arange(n)
+    assert np.array_equal(np.sort(r.grid.cells.index_map), flow_active)
+    c = deck_transmissibility(ours)
+    ref = flow_connections(case)
+    assert_same_connections(
+        dict(zip(map(tuple, c.global_cells.tolist()), c.trans.tolist(), strict=True)), ref
+    )
+    nx, ny, _ = graben.cart_dims
+    k, column = np.divmod(np.array(sorted(ref)), nx * ny)
+    assert ((column[:, 0] != column[:, 1]) & (k[:, 0] != k[:, 1])).sum() > 0  # fault NNCs
+    assert ((column[:, 0] == column[:, 1]) & (k[:, 1] - k[:, 0] > 1)).sum() > 0  # across cut-out cells
