@@ -20,6 +20,7 @@ from gridlib.cornerpoint.between_horizons import Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.deck import FaultSegment
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.cornerpoint.stair_steps import FOOTWALL, HANGING_WALL, MISSING, stair_steps
+from gridlib.errors import InputError
 from gridlib.geometry import compute_geometry
 from gridlib.horizons import fault_blocks
 from gridlib.horizons.by_block import horizons_to_grdecl_by_block
@@ -331,13 +332,13 @@ def picked_case(tmp_path_factory):
     (tmp / "picks.yaml").write_text(PICKS_CASE)
     case = load_case(tmp / "picks.yaml")
     horizons = case_horizons(case)
-    return horizons, build_case_grid(case, horizons)
+    return horizons, build_case_grid(case, horizons), tmp
 
 
 def test_picks_per_fault_block_with_a_dip_fault_build_its_stair_steps(picked_case):
     """The footwall cut-off at x = 200 and the picks' offset give the grid that stair-stepping a
     12 m throw into the unfaulted horizons gives (the same rule, cell by cell)."""
-    horizons, built = picked_case
+    horizons, built, _ = picked_case
     by_block = horizons["depth_by_block"].values
     for b, drop in ((0, 0.0), (1, PICKED_THROW)):  # every pick in its block: flat block surfaces
         assert np.allclose(by_block[b], np.array([TOP, BASE])[:, None, None] + drop, rtol=0, atol=1e-9)
@@ -359,7 +360,7 @@ def test_picks_per_fault_block_cells_on_their_side_and_the_volume_analytic(picke
     section otherwise; the bulk volume is the kept cells' less the clamps (the last hanging-wall
     cell's bottom below the first footwall cell's top), and within half a column per layer of
     each block's exact volume."""
-    _, built = picked_case
+    _, built, _ = picked_case
     zc, PX, _ = layering()
     x, depth = centres(zc, PX)
     footwall = x < picked_fault_x(depth)
@@ -392,6 +393,23 @@ def test_picks_per_fault_block_cells_on_their_side_and_the_volume_analytic(picke
     half_column_per_layer = nz * 10.0 * 200.0 * dz
     assert abs(volume[of_cell == 0].sum() - exact_footwall) <= half_column_per_layer
     assert abs(volume[of_cell == 1].sum() + clamped - exact_hanging) <= half_column_per_layer
+
+
+def test_picks_per_fault_block_refuse_pillars_and_sticks(picked_case):
+    """What per-fault-block picks do not take yet is one error naming the case: fault_geometry
+    pillars, and a fault given by sticks (the blocks are cut by traces)."""
+    horizons, _, tmp = picked_case
+    pillars = PICKS_CASE.replace("layers: 12}", "layers: 12, fault_geometry: pillars}")
+    (tmp / "pillars.yaml").write_text(pillars.replace("name: picks", "name: pillars"))
+    case = load_case(tmp / "pillars.yaml")
+    with pytest.raises(
+        InputError, match=r"pillars\.yaml: grid: fault_geometry pillars does not take horizons picked"
+    ):
+        build_case_grid(case, horizons)
+    sticks = PICKS_CASE.replace("trace: [[200, -10], [200, 210]], dip: 60", "sticks: f1.xyz")
+    (tmp / "sticks.yaml").write_text(sticks.replace("name: picks", "name: sticks"))
+    with pytest.raises(InputError, match=r"faults\[0\]\.sticks: fault 'F1': horizons\.per_fault_block cuts"):
+        load_case(tmp / "sticks.yaml")
 
 
 def block_stacks(*drops: float) -> list[list[Horizon]]:
