@@ -191,22 +191,56 @@ def _stepped(decks: list[Deck], coord, pillars, blocks: FaultBlocks, faults: Seq
 
 def _place_cells(zcs: FloatArray, PX, PY, blocks: FaultBlocks):
     """Every cell's block (nz, ny, nx), its centre depth there, and whether it is missing section
-    (no block's layering puts it in that block; then its block is the one its plan centre is in)."""
+    (no block's layering puts it in that block; then its block is the one its plan centre is in).
+    Only the columns an inclined surface crosses (:func:`_crossed_columns`) are placed cell by
+    cell; the others' cells are all in the block of their plan centre."""
     n_blocks, n2z, n2y, n2x = zcs.shape
     nz, ny, nx = n2z // 2, n2y // 2, n2x // 2
     with np.errstate(invalid="ignore"):
         depth = zcs.reshape(n_blocks, nz, 2, ny, 2, nx, 2).mean(axis=(2, 4, 6))
-    cx = np.broadcast_to(0.25 * (PX[:-1, :-1] + PX[:-1, 1:] + PX[1:, :-1] + PX[1:, 1:]), (nz, ny, nx))
-    cy = np.broadcast_to(0.25 * (PY[:-1, :-1] + PY[:-1, 1:] + PY[1:, :-1] + PY[1:, 1:]), (nz, ny, nx))
-    own = np.zeros(depth.shape, dtype=bool)  # [b]: the cell's centre in block b's layering lies in block b
+    cx = 0.25 * (PX[:-1, :-1] + PX[:-1, 1:] + PX[1:, :-1] + PX[1:, 1:])
+    cy = 0.25 * (PY[:-1, :-1] + PY[:-1, 1:] + PY[1:, :-1] + PY[1:, 1:])
+    plan = np.broadcast_to(blocks.classify(cx, cy), (nz, ny, nx))
+    crossed = np.broadcast_to(_crossed_columns(blocks, cx, cy, depth), (nz, ny, nx))
+    x, y = np.broadcast_to(cx, (nz, ny, nx))[crossed], np.broadcast_to(cy, (nz, ny, nx))[crossed]
+    own = np.zeros((n_blocks, x.size), dtype=bool)  # [b]: the cell's centre in block b's layering is in b
     for b in range(n_blocks):
-        ok = np.isfinite(depth[b])
-        own[b][ok] = blocks.classify(cx[ok], cy[ok], depth[b][ok]) == b
+        z = depth[b][crossed]
+        ok = np.isfinite(z)
+        own[b, ok] = blocks.classify(x[ok], y[ok], z[ok]) == b
     placed = own.any(axis=0)
-    deepest = np.where(own, depth, -np.inf).argmax(axis=0)
-    cell_block = np.where(placed, deepest, blocks.classify(cx[0], cy[0])[None])
+    deepest = np.where(own, depth[:, crossed], -np.inf).argmax(axis=0)
+    cell_block = plan.copy()
+    cell_block[crossed] = np.where(placed, deepest, plan[crossed])
     cell_depth = np.take_along_axis(depth, cell_block[None], axis=0)[0]
-    return cell_block, cell_depth, ~placed & np.isfinite(cell_depth)
+    missing = np.zeros((nz, ny, nx), dtype=bool)
+    missing[crossed] = ~placed & np.isfinite(cell_depth[crossed])
+    return cell_block, cell_depth, missing
+
+
+def _crossed_columns(blocks: FaultBlocks, cx, cy, depth) -> np.ndarray:
+    """Columns (ny, nx) whose centre line may meet an inclined fault's surface within the depths
+    of its cells in any block: not on the side of its trace in plan at the shallowest and the
+    deepest of those depths, or crossing the surface between them (only the shallowest crossing
+    is known, FaultSurface.depth_at: a surface folding back on itself could hide a second one, as
+    in :mod:`~gridlib.cornerpoint.stair_steps`)."""
+    with np.errstate(invalid="ignore"):
+        low = np.nanmin(np.where(np.isfinite(depth), depth, np.inf), axis=(0, 1))
+        high = np.nanmax(np.where(np.isfinite(depth), depth, -np.inf), axis=(0, 1))
+    defined = np.isfinite(low)
+    low, high = np.where(defined, low, 0.0), np.where(defined, high, 0.0)
+    crossed = np.zeros(cx.shape, dtype=bool)
+    for line, surface in zip(blocks.lines, blocks.surfaces, strict=True):
+        if surface is None or surface.is_vertical:
+            continue
+        _, _, plan = nearest_on_trace(np.column_stack([cx.ravel(), cy.ravel()]), line, True, True)
+        side = np.sign(plan.reshape(cx.shape))
+        top, base = np.sign(surface.side_value(cx, cy, low)), np.sign(surface.side_value(cx, cy, high))
+        crossing = surface.depth_at(cx, cy)
+        with np.errstate(invalid="ignore"):
+            between = (crossing >= low) & (crossing <= high)
+        crossed |= (side == 0) | (top != side) | (base != side) | between
+    return crossed & defined
 
 
 def _fault_sides(faults: Sequence[FaultTrace], PX, PY, cell_depth, missing) -> np.ndarray:
