@@ -13,6 +13,12 @@ fault faces and their non-neighbour connections as in any faulted deck.
 
 A trace that ends inside the area (a tip) does not separate blocks; there the picks on both
 sides are interpolated together (:func:`~gridlib.horizons.fault_blocks` notes it).
+
+An inclined fault (a ``surface``) is given by its footwall cut-off, its trace where it meets
+the top of the block on its footwall side (:func:`~gridlib.horizons.blocks.footwall_top`):
+picks and cells go to blocks by the surface at their own depth, and the throw in the picks
+appears as stair steps (:mod:`~gridlib.cornerpoint.stair_steps`: lateral and horizontal fault
+faces, the section a normal fault cut out removed).
 """
 
 from __future__ import annotations
