@@ -31,7 +31,6 @@ from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
 from ..cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from ..cornerpoint.process import process_grdecl
-from ..cornerpoint.stair_steps import is_inclined
 from ..errors import GridError, InputError
 from ..geometry import compute_geometry
 from ..grid import Grid
@@ -44,6 +43,7 @@ from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
 from .deck import read_case_deck
 from .faults import fault_traces
+from .horizons import block_fault_traces
 from .simple_grids import build_grid
 from .wells import pebi_wells
 
@@ -105,14 +105,10 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     ordering = case.data["horizons"]["ordering"]
     if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
         stacks, blocks = by_block
-        inclined = [t.name for t in _case_faults(case, stacks[0][0]) if is_inclined(t)]
-        if inclined:
-            raise InputError(
-                f"{case.path}: grid: horizons picked per fault block take vertical faults only (their "
-                f"blocks are cut by the traces in plan view); inclined: {', '.join(inclined)}"
-            )
+        tops = np.stack([s[0].z for s in stacks])  # inclined faults meet the footwall tops at their traces
+        faults = block_fault_traces(case, blocks, tops, stacks[0][0].x, stacks[0][0].y)
         deck = horizons_to_grdecl_by_block(
-            stacks, blocks, spec["dims"], spec["layers"], fault_traces(case), ordering=ordering
+            stacks, blocks, spec["dims"], spec["layers"], faults, ordering=ordering
         )
     else:  # fault_geometry stair_steps: vertical pillars, inclined faults stepped cell by cell
         hz = _horizon_list(case, horizons)

@@ -156,15 +156,59 @@ def stair_steps(
 
     notes: list[str] = []
     segments = _segments(names, block, np.stack(x_moves), np.stack(y_moves), zcorn, kept, notes)
-    if settled.missing_cells or settled.clamped_cells or settled.gap_cells:
-        notes.append(
-            f"stair-stepped faults: {settled.missing_cells} cells of missing section (zero thickness; "
-            f"{settled.missing_volume:.6g} m3 of the layering), {settled.clamped_cells} cells clamped "
-            f"below the cell above (OPM Flow's ZCORN rule; {settled.clamped_volume:.6g} m3), "
-            f"{settled.gap_cells} cells with a gap above them (more layers cut out than the throw, "
-            "or a reverse throw)"
-        )
+    note = settle_note(settled)
+    if note is not None:
+        notes.append(note)
     return StairSteps(zcorn, nominal, block, tuple(segments), *settled, tuple(notes))
+
+
+def settle_steps(
+    layering: FloatArray,
+    nominal: FloatArray,
+    missing: np.ndarray,
+    defined: np.ndarray,
+    moved: np.ndarray,
+    PX,
+    PY,
+) -> tuple[FloatArray, Settled]:
+    """Stair-stepped corners (2 nz, 2 ny, 2 nx) from ``nominal`` (every cell's corners in its own
+    block, before anything is cut out) on the rectilinear pillar lattice ``PX``, ``PY``: the
+    ``missing`` cells (nz, ny, nx) collapsed and the overlaps clamped as :func:`stair_steps` does,
+    in the columns with a missing cell or flagged in ``moved`` (ny, nx: cells in different
+    blocks); and what was cut, clamped and left open. ``defined``: (nz, ny, nx) cells whose
+    corners are all defined; ``layering``: the corners the missing volume is measured in."""
+    mixed = missing.any(axis=0) | moved
+    area = ((PX[:-1, 1:] - PX[:-1, :-1]) * (PY[1:, :-1] - PY[:-1, :-1]))[mixed]
+    zcorn = nominal.copy()
+    kept = defined & ~missing
+    settled = _settle(layering, zcorn, mixed, (missing & defined).transpose(1, 2, 0)[mixed], kept, area)
+    return zcorn, settled
+
+
+def step_segments(
+    names: list[str], block: NDArray[np.int8], zcorn: FloatArray, kept: np.ndarray
+) -> tuple[list[FaultSegment], list[str]]:
+    """FAULTS lines of cells placed per fault: ``block`` (n_faults, nz, ny, nx) FOOTWALL,
+    HANGING_WALL or MISSING; a lateral face is named after the first fault whose blocks differ
+    across it (at its layer, else in that pair of columns) where the corners are offset, a
+    horizontal one as in :func:`stair_steps`; and the notes."""
+    x_moves = block[..., :-1] != block[..., 1:]
+    y_moves = block[:, :, :-1] != block[:, :, 1:]
+    notes: list[str] = []
+    return _segments(names, block, x_moves, y_moves, zcorn, kept, notes), notes
+
+
+def settle_note(settled: Settled) -> str | None:
+    """The note of what stair-stepping cut out, clamped and left open, or None."""
+    if not (settled.missing_cells or settled.clamped_cells or settled.gap_cells):
+        return None
+    return (
+        f"stair-stepped faults: {settled.missing_cells} cells of missing section (zero thickness; "
+        f"{settled.missing_volume:.6g} m3 of the layering), {settled.clamped_cells} cells clamped "
+        f"below the cell above (OPM Flow's ZCORN rule; {settled.clamped_volume:.6g} m3), "
+        f"{settled.gap_cells} cells with a gap above them (more layers cut out than the throw, "
+        "or a reverse throw)"
+    )
 
 
 def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -278,7 +322,10 @@ def _nearest_on_sections(surface, x, y, z, open_start: bool, open_end: bool):
 # --------------------------------------------------------------------------- corners
 
 
-class _Settled(NamedTuple):
+class Settled(NamedTuple):
+    """What stair-stepping cut out (cells, m3 of the layering), clamped (cells, m3) and left open
+    (cells with a gap above them)."""
+
     missing_cells: int
     missing_volume: float
     clamped_cells: int
@@ -286,7 +333,7 @@ class _Settled(NamedTuple):
     gap_cells: int
 
 
-def _settle(zc: FloatArray, zcorn: FloatArray, mixed, cut_out, kept, area) -> _Settled:
+def _settle(zc: FloatArray, zcorn: FloatArray, mixed, cut_out, kept, area) -> Settled:
     """Collapse the missing-section cells ``cut_out`` (columns, nz) of the columns ``mixed``
     (ny, nx) and clamp their overlaps in ``zcorn`` (in place; ``zc`` the layering); what was cut
     and clamped, and the gaps left (``kept``: (nz, ny, nx) cells neither missing nor undefined,
@@ -299,7 +346,7 @@ def _settle(zc: FloatArray, zcorn: FloatArray, mixed, cut_out, kept, area) -> _S
     with np.errstate(invalid="ignore"):
         clamped = kept_here & (final != work).reshape(*kept_here.shape, 2, 4).any(axis=(2, 3))
         gaps = (final[:, 2::2] > final[:, 1:-1:2]).any(axis=2) & kept_here[:, 1:]
-    return _Settled(
+    return Settled(
         int(cut_out.sum()),
         float(_volumes(layering, area)[cut_out].sum()),
         int(clamped.sum()),

@@ -12,8 +12,8 @@ and its picks agree.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -22,6 +22,9 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_traces import FaultTrace, nearest_on_trace
+from ..pillars.horizon_maps import interpolate_horizon
+
+DepthFunction = Callable[[FloatArray, FloatArray], FloatArray]
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,3 +189,50 @@ def fault_blocks(faults: Sequence[Any], extent: Sequence[float]) -> FaultBlocks:
     return FaultBlocks(
         tuple(polygons), shapely.union_all(clipped), 1e-9 * diag, tuple(notes), tuple(polylines), surfaces
     )
+
+
+def with_surfaces(blocks: FaultBlocks, faults: Sequence[Any]) -> FaultBlocks:
+    """The same blocks (cut by the same traces), classifying points with a depth by the
+    ``surface`` of the faults (FaultTraces, in the order the blocks were cut by)."""
+    if len(faults) != len(blocks.lines):
+        raise InputError(f"fault blocks: {len(faults)} faults for {len(blocks.lines)} traces")
+    for k, (f, line) in enumerate(zip(faults, blocks.lines, strict=True)):
+        if not np.array_equal(_trace_points(f, k), line):
+            raise InputError(f"fault blocks: fault {k} does not follow the trace the blocks were cut by")
+    return replace(blocks, surfaces=tuple(getattr(f, "surface", None) for f in faults))
+
+
+def footwall_top(
+    blocks: FaultBlocks, tops: FloatArray, xa: FloatArray, ya: FloatArray, faults: Sequence[FaultTrace]
+) -> DepthFunction:
+    """The depth function of every fault's footwall top horizon along its trace.
+
+    ``tops``: (block, y, x) the top horizon of every block of ``blocks`` on the lattice of axes
+    ``xa``, ``ya``; ``faults``: the traces the blocks were cut by, with their ``side`` (the
+    hanging wall). At a point (x, y) (meant: on a trace) the function gives the top of the
+    block just on the footwall side of the nearest trace there (NaN outside the lattice): the
+    depth at which a fault given by its footwall cut-off meets the top horizon.
+    """
+    lines = [_trace_points(f, k) for k, f in enumerate(faults)]
+    towards_footwall = [1.0 if f.side == "right" else -1.0 for f in faults]  # +1: the trace's left
+    step = 1000.0 * blocks.tolerance
+
+    def depth(x: ArrayLike, y: ArrayLike) -> FloatArray:
+        px, py = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+        p = np.column_stack([px.ravel(), py.ravel()])
+        best = np.full(p.shape[0], np.inf)
+        probe = p.copy()
+        for line, sign in zip(lines, towards_footwall, strict=True):
+            seg, t, _ = nearest_on_trace(p, line, True, True)
+            d = np.diff(line, axis=0)[seg]
+            foot = line[seg] + t[:, None] * d
+            dist = np.hypot(*(p - foot).T)
+            left = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+            nearer = dist < best
+            best = np.where(nearer, dist, best)
+            probe = np.where(nearer[:, None], foot + sign * step * left, probe)
+        block = blocks.classify(probe[:, 0], probe[:, 1])
+        values = np.stack([interpolate_horizon(xa, ya, top, p[:, 0], p[:, 1]) for top in tops])
+        return values[block, np.arange(p.shape[0])].reshape(px.shape)
+
+    return depth

@@ -10,7 +10,7 @@ case (and the files they name) into sources and calls
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -21,12 +21,13 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ._constants import check_choice
 from .analytic import dome, peaks, plane
-from .blocks import bounding_box, fault_blocks
+from .blocks import DepthFunction, FaultBlocks, bounding_box, fault_blocks, footwall_top, with_surfaces
 from .dataset import horizon_dataset
 from .interpolate import interpolate_points
 from .ordering import order_horizons
 
 SOURCES = ("points", "surface", "plane", "dome", "peaks")
+MAX_PASSES = 8  # of the picks' classification by inclined fault surfaces placed at the footwall tops
 
 
 class HorizonSource(NamedTuple):
@@ -60,11 +61,14 @@ def horizons_from_sources(
     ordering: str = "error",
     faults: Sequence[Any] = (),
     per_block: bool = False,
+    fault_surfaces: Callable[[DepthFunction], Sequence[Any]] | None = None,
     attrs: Mapping[str, Any] | None = None,
 ) -> xr.Dataset:
     """The horizons Dataset of the sources ``loaded``, top first, on the lattice of axes ``xa``,
     ``ya`` (:func:`check_lattice`); the options as in
-    :func:`gridlib.io.horizon_files.build_horizons`.
+    :func:`gridlib.io.horizon_files.build_horizons`, and ``fault_surfaces`` (with ``per_block``):
+    the faults placed on a top horizon's depth function (``fault_surfaces(top)`` -> FaultTraces in
+    the order of ``faults``, inclined ones with their ``surface``); see :func:`block_surfaces`.
 
     >>> x, y = np.linspace(0.0, 400.0, 5), np.linspace(0.0, 200.0, 3)
     >>> top = HorizonSource("top", "top", "plane", {"depth": 1000.0}, {}, "plane")
@@ -89,7 +93,9 @@ def horizons_from_sources(
     if per_block:
         if not faulted:
             raise InputError("horizons: per-fault-block surfaces need fault traces")
-        by_block = _by_block(loaded, depths, fault_blocks(faults, extent), xa, ya, ordering)
+        by_block = block_surfaces(
+            loaded, depths, fault_blocks(faults, extent), faults, xa, ya, ordering, fault_surfaces, notes
+        )
         depths = list(np.take_along_axis(by_block, block[None, None], axis=0)[0])
     ds = horizon_dataset(
         np.stack(depths),
@@ -130,6 +136,55 @@ def _by_block_variable(by_block: FloatArray, faults: Sequence[Any], extent) -> x
             "traces": json.dumps(traces),
             "extent": list(extent),
         },
+    )
+
+
+def block_surfaces(
+    loaded: Sequence[HorizonSource],
+    depths: Sequence[FloatArray],
+    blocks: FaultBlocks,
+    faults: Sequence[Any],
+    xa: FloatArray,
+    ya: FloatArray,
+    ordering: str,
+    fault_surfaces: Callable[[DepthFunction], Sequence[Any]] | None,
+    notes: list[str],
+) -> FloatArray:
+    """(block, horizon, y, x): every horizon of every block of ``blocks`` (cut by the traces
+    ``faults``) over the whole lattice, from its own picks, ordered.
+
+    A pick goes to the block its position lies in, or, where a fault is inclined, to the block
+    on its side of the fault surface at the pick's own depth. An inclined fault's trace is its
+    footwall cut-off (where it meets the top horizon of the block on its footwall side), so its
+    surface (``fault_surfaces``) needs that block's top, which needs the picks' blocks: the picks
+    are first placed in plan, the surfaces built at the footwall tops
+    (:func:`~gridlib.horizons.blocks.footwall_top`), the picks placed by them, and so on until
+    the tops no longer change (one or two passes; an InputError after MAX_PASSES). The result is
+    a fixed point: the surfaces built at its tops place every pick where it is.
+    """
+    out = _by_block(loaded, depths, blocks, xa, ya, ordering)
+    if fault_surfaces is None:
+        return out
+    for passes in range(1, MAX_PASSES + 1):
+        placed = fault_surfaces(footwall_top(blocks, out[:, 0], xa, ya, faults))
+        inclined = [
+            f.name for f in placed if getattr(f, "surface", None) is not None and not f.surface.is_vertical
+        ]
+        if not inclined:
+            return out
+        new = _by_block(loaded, depths, with_surfaces(blocks, placed), xa, ya, ordering)
+        settled = np.array_equal(new[:, 0], out[:, 0], equal_nan=True)
+        out = new
+        if settled:
+            notes.append(
+                f"picks per fault block placed by the surfaces of the inclined faults {inclined} at the "
+                f"footwall tops: a fixed point after {passes} pass(es)"
+            )
+            return out
+    raise InputError(
+        f"horizons: the picks' blocks and the footwall tops of the inclined faults {inclined} do not "
+        f"settle in {MAX_PASSES} passes (picks of the top horizon that change sides as its surfaces move); "
+        "check the top horizon's picks next to the faults"
     )
 
 

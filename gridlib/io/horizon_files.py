@@ -61,6 +61,7 @@ def build_horizons(
     ordering: str = "error",
     faults: Sequence[Any] = (),
     per_block: bool = False,
+    fault_surfaces: Any = None,
     base_dir: str | os.PathLike = ".",
     attrs: Mapping[str, Any] | None = None,
 ) -> xr.Dataset:
@@ -86,6 +87,8 @@ def build_horizons(
     variable ``depth_by_block`` (fault_block, horizon, y, x), ordered per block, for
     :func:`~gridlib.horizons.by_block.horizons_to_grdecl_by_block`; ``depth`` is then each
     node's own block's value. Formulas and gridded surfaces are the same in every block.
+    ``fault_surfaces`` (inclined faults): see
+    :func:`~gridlib.horizons.build.horizons_from_sources`.
 
     Relative paths are relative to ``base_dir``. Errors name the spec, e.g.
     ``horizons[1] ('base'): method: unknown value 'spline'; expected one of ...``.
@@ -103,7 +106,14 @@ def build_horizons(
     base = Path(base_dir)
     loaded = [load_horizon_source(k, spec, base) for k, spec in enumerate(specs)]
     return horizons_from_sources(
-        loaded, xa, ya, ordering=ordering, faults=faults, per_block=per_block, attrs=attrs
+        loaded,
+        xa,
+        ya,
+        ordering=ordering,
+        faults=faults,
+        per_block=per_block,
+        fault_surfaces=fault_surfaces,
+        attrs=attrs,
     )
 
 

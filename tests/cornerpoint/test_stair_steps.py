@@ -22,6 +22,8 @@ from gridlib.cornerpoint.process import process_grdecl
 from gridlib.cornerpoint.stair_steps import FOOTWALL, HANGING_WALL, MISSING, stair_steps
 from gridlib.errors import InputError
 from gridlib.geometry import compute_geometry
+from gridlib.horizons import fault_blocks
+from gridlib.horizons.by_block import horizons_to_grdecl_by_block
 from gridlib.io.grdecl import read_grdecl
 from gridlib.pillars.fault_surface import FaultSurface
 from gridlib.pillars.fault_traces import FaultTrace
@@ -292,11 +294,213 @@ def test_a_case_with_a_dip_fault_builds_the_stair_stepped_deck(tmp_path):
     assert {seg.face for seg in built.deck.faults} == {"X", "Z"} and built.fault_names == ("F1",)
 
 
-def test_horizons_per_fault_block_refuse_an_inclined_fault(tmp_path):
-    text = CASE.replace("throw: 7", "throw: 0").replace("  surfaces:", "  per_fault_block: true\n  surfaces:")
-    (tmp_path / "stairs.yaml").write_text(text)
-    case = load_case(tmp_path / "stairs.yaml")
+PICKS_CASE = """name: picks
+horizons:
+  per_fault_block: true
+  lattice: {x: {start: 0, stop: 600, num: 31}, y: {start: 0, stop: 200, num: 5}}
+  surfaces:
+    - {name: top, points: top.csv, extrapolation: trend}
+    - {name: base, points: base.csv, extrapolation: trend}
+faults:
+  - {name: F1, trace: [[200, -10], [200, 210]], dip: 60, side: right}
+grid: {type: cornerpoint, dims: [30, 4], layers: 12}
+"""
+PICKED_THROW, PICKED_DIP = 12.0, 60.0
+
+
+def picked_fault_x(z):
+    """The 60-degree plane through the footwall cut-off x = 200 at the footwall top (1000 m)."""
+    return 200.0 + (np.asarray(z) - TOP) / np.tan(np.radians(PICKED_DIP))
+
+
+@pytest.fixture(scope="module")
+def picked_case(tmp_path_factory):
+    """Picks of two flat horizons faulted by a 60-degree fault: footwall (west, below the plane)
+    at 1000 and 1060 m, hanging wall 12 m lower; each picked only where it exists (no picks
+    between the hanging-wall and footwall cut-offs)."""
+    tmp = tmp_path_factory.mktemp("picked")
+    gx, gy = np.meshgrid(np.arange(5.0, 600.0, 10.0), np.arange(0.0, 201.0, 50.0))
+    x, y = gx.ravel(), gy.ravel()
+    for name, depth in (("top", TOP), ("base", BASE)):
+        footwall = x < picked_fault_x(depth)
+        hanging = x > picked_fault_x(depth + PICKED_THROW)
+        z = np.where(footwall, depth, depth + PICKED_THROW)
+        keep = footwall | hanging
+        np.savetxt(
+            tmp / f"{name}.csv", np.column_stack([x, y, z])[keep], delimiter=",", header="x,y,z", comments=""
+        )
+    (tmp / "picks.yaml").write_text(PICKS_CASE)
+    case = load_case(tmp / "picks.yaml")
+    horizons = case_horizons(case)
+    return horizons, build_case_grid(case, horizons), tmp
+
+
+def test_picks_per_fault_block_with_a_dip_fault_build_its_stair_steps(picked_case):
+    """The footwall cut-off at x = 200 and the picks' offset give the grid that stair-stepping a
+    12 m throw into the unfaulted horizons gives (the same rule, cell by cell)."""
+    horizons, built, _ = picked_case
+    by_block = horizons["depth_by_block"].values
+    for b, drop in ((0, 0.0), (1, PICKED_THROW)):  # every pick in its block: flat block surfaces
+        assert np.allclose(by_block[b], np.array([TOP, BASE])[:, None, None] + drop, rtol=0, atol=1e-9)
+    direct = horizons_to_grdecl(
+        HORIZONS, DIMS, LAYERS, [dipping(200.0, PICKED_DIP, PICKED_THROW, "right", "F1")]
+    )
+    assert np.allclose(built.deck.zcorn, direct.zcorn, rtol=0, atol=1e-9)
+    assert built.deck.faults == direct.faults and built.deck.pinch == direct.pinch
+    assert {seg.face for seg in built.deck.faults} == {"X", "Z"} and built.fault_names == ("F1",)
+    tagged = np.flatnonzero(built.grid.faces.tag > 0)
+    centroid = compute_geometry(built.grid).face_centroids[tagged]
+    distance = np.abs(centroid[:, 0] - picked_fault_x(centroid[:, 2])) * np.sin(np.radians(PICKED_DIP))
+    assert tagged.size > 0 and distance.max() <= np.hypot(np.hypot(20.0, 50.0), 5.0)  # within a cell
+
+
+def test_picks_per_fault_block_cells_on_their_side_and_the_volume_analytic(picked_case):
+    """Every cell against the plane (independent formula): footwall if its centre in the footwall
+    layering is west of the plane, hanging wall if its centre 12 m lower is east of it, missing
+    section otherwise; the bulk volume is the kept cells' less the clamps (the last hanging-wall
+    cell's bottom below the first footwall cell's top), and within half a column per layer of
+    each block's exact volume."""
+    _, built, _ = picked_case
+    zc, PX, _ = layering()
+    x, depth = centres(zc, PX)
+    footwall = x < picked_fault_x(depth)
+    hanging = ~footwall & (x > picked_fault_x(depth + PICKED_THROW))
+    missing = ~footwall & ~hanging
+    z = built.deck.zcorn_array()
+    nz, ny, nx = x.shape
+    cell = lambda a: a.reshape(nz, 2, ny, 2, nx, 2).transpose(0, 2, 4, 1, 3, 5)  # noqa: E731
+    assert np.allclose(cell(z - zc)[hanging], PICKED_THROW, rtol=0, atol=1e-9)
+    assert np.allclose(cell(z - zc)[footwall][:, 1], 0.0, rtol=0, atol=1e-9)  # bottoms; tops may be clamped
+    assert np.allclose(cell(z)[missing][:, 1] - cell(z)[missing][:, 0], 0.0, rtol=0, atol=1e-9)
+    # Clamps, column by column: last hanging-wall bottom against the first footwall top.
+    k = np.arange(nz)[:, None, None]
+    last_hanging = np.where(hanging, k, -1).max(axis=0)
+    first_footwall = np.where(footwall, k, nz).min(axis=0)
+    both = (last_hanging >= 0) & (first_footwall < nz)
+    dz, area = (BASE - TOP) / nz, 20.0 * 50.0
+    overlap = np.maximum(TOP + (last_hanging + 1) * dz + PICKED_THROW - (TOP + first_footwall * dz), 0.0)
+    clamped = (overlap * both).sum() * area
+    kept = int((footwall | hanging).sum())
+    volume = built.cell_data["bulk_volume"]
+    assert clamped > 0 and missing.sum() > 0
+    assert volume.sum() == pytest.approx(kept * dz * area - clamped, rel=1e-12)
+    of_cell = np.where(footwall, 0, np.where(hanging, 1, 2)).ravel()[built.grid.cells.index_map]
+    cot = 1.0 / np.tan(np.radians(PICKED_DIP))
+    exact_footwall = 200.0 * ((BASE - TOP) * 200.0 + 0.5 * (BASE - TOP) ** 2 * cot)
+    exact_hanging = 200.0 * (
+        (BASE - TOP) * 400.0 - 0.5 * ((BASE - TOP + PICKED_THROW) ** 2 - PICKED_THROW**2) * cot
+    )
+    half_column_per_layer = nz * 10.0 * 200.0 * dz
+    assert abs(volume[of_cell == 0].sum() - exact_footwall) <= half_column_per_layer
+    assert abs(volume[of_cell == 1].sum() + clamped - exact_hanging) <= half_column_per_layer
+
+
+def test_picks_per_fault_block_refuse_pillars_and_sticks(picked_case):
+    """What per-fault-block picks do not take yet is one error naming the case: fault_geometry
+    pillars, and a fault given by sticks (the blocks are cut by traces)."""
+    horizons, _, tmp = picked_case
+    pillars = PICKS_CASE.replace("layers: 12}", "layers: 12, fault_geometry: pillars}")
+    (tmp / "pillars.yaml").write_text(pillars.replace("name: picks", "name: pillars"))
+    case = load_case(tmp / "pillars.yaml")
     with pytest.raises(
-        InputError, match=r"stairs\.yaml: grid: horizons picked per fault block take vertical "
+        InputError, match=r"pillars\.yaml: grid: fault_geometry pillars does not take horizons picked"
     ):
-        build_case_grid(case, case_horizons(case))
+        build_case_grid(case, horizons)
+    sticks = PICKS_CASE.replace("trace: [[200, -10], [200, 210]], dip: 60", "sticks: f1.xyz")
+    (tmp / "sticks.yaml").write_text(sticks.replace("name: picks", "name: sticks"))
+    with pytest.raises(InputError, match=r"faults\[0\]\.sticks: fault 'F1': horizons\.per_fault_block cuts"):
+        load_case(tmp / "sticks.yaml")
+
+
+def block_stacks(*drops: float) -> list[list[Horizon]]:
+    """Per-block horizons: the flat top and base lowered by each block's drop."""
+    return [[Horizon(X, Y, np.full((5, 31), d + drop)) for d in (TOP, BASE)] for drop in drops]
+
+
+@pytest.mark.parametrize(("dip", "throw"), [(60.0, 12.0), (30.0, 7.0), (60.0, -4.0)])
+def test_blocks_offset_per_fault_block_give_the_stair_steps_of_that_throw(dip, throw):
+    """Horizons per block (the hanging wall's offset by the throw) with the fault given by its
+    footwall cut-off build the deck stair_steps gives the unfaulted horizons and that throw, bit
+    for bit: the same cells kept, cut out (normal) or left with gaps (reverse), the same faces."""
+    fault = dipping(200.0, dip, throw, "right", "F1")
+    direct = horizons_to_grdecl(HORIZONS, DIMS, LAYERS, [fault])
+    unthrown = replace(fault, throw=0.0)
+    blocks = fault_blocks([unthrown], (0.0, 600.0, 0.0, 200.0))
+    deck = horizons_to_grdecl_by_block(block_stacks(0.0, throw), blocks, DIMS, LAYERS, [unthrown])
+    assert np.array_equal(deck.zcorn, direct.zcorn) and np.array_equal(deck.actnum, direct.actnum)
+    assert deck.faults == direct.faults and deck.pinch == direct.pinch
+    assert deck.notes[-1] == direct.notes[-1]  # the cells cut out, clamped and left with gaps
+
+
+GRABEN_DROPS = (0.0, 9.0, 3.0)  # west, graben, east block
+
+
+@pytest.fixture(scope="module")
+def graben():
+    """Two faults dipping 60 degrees towards each other (x = 200 dipping east, x = 400 dipping
+    west), given by their footwall cut-offs, the graben between them 9 m down, the east block
+    3 m down: a deck from per-block horizons."""
+    west_f = dipping(200.0, 60.0, 0.0, "right", "W")
+    east_f = dipping(400.0, 60.0, 0.0, "left", "E")
+    blocks = fault_blocks([west_f, east_f], (0.0, 600.0, 0.0, 200.0))
+    return horizons_to_grdecl_by_block(block_stacks(*GRABEN_DROPS), blocks, DIMS, LAYERS, [west_f, east_f])
+
+
+def test_a_graben_per_fault_block_places_every_cell_by_both_surfaces_at_its_depth(graben):
+    """A cell is in the deepest block whose layering puts its centre inside that block
+    (independent formula), else cut out; the step faces next to each fault carry its name."""
+    deck, drops = graben, GRABEN_DROPS
+    zc, PX, _ = layering()
+    x, depth = centres(zc, PX)
+    cot = 1.0 / np.tan(np.radians(60.0))
+    inside = [
+        x < 200.0 + (depth + drops[0] - TOP) * cot,
+        (x > 200.0 + (depth + drops[1] - TOP) * cot) & (x < 400.0 - (depth + drops[1] - TOP) * cot),
+        x > 400.0 - (depth + drops[2] - TOP) * cot,
+    ]
+    deepest = np.where(inside[1], 1, np.where(inside[2], 2, np.where(inside[0], 0, -1)))  # 9 > 3 > 0 m
+    assert (deepest == -1).any() and all((deepest == b).any() for b in range(3))
+    nz, ny, nx = x.shape
+    z = deck.zcorn_array().reshape(nz, 2, ny, 2, nx, 2)
+    moved = (z - zc.reshape(z.shape)).transpose(0, 2, 4, 1, 3, 5)
+    for b, drop in enumerate(drops):
+        if drop > 0:  # placed cells never clamped except footwall tops: check bottoms
+            assert np.allclose(moved[deepest == b][:, 1], drop, rtol=0, atol=1e-12)
+    thickness = (z[:, 1] - z[:, 0]).transpose(0, 1, 3, 2, 4)
+    assert (thickness[deepest == -1] == 0).all() and (thickness[deepest >= 0] > 0).all()
+    r = process_grdecl(deck)
+    assert r.fault_names == ("W", "E")
+    centroid = compute_geometry(r.grid).face_centroids
+    for tag, (x0, east) in enumerate(((200.0, 1.0), (400.0, -1.0)), start=1):
+        c = centroid[r.grid.faces.tag == tag]
+        assert c.shape[0] > 0
+        assert (np.abs(c[:, 0] - (x0 + east * (c[:, 2] - TOP) * cot)) <= 20.0 + 5.0 * cot + 9.0 * cot).all()
+
+
+def test_the_graben_deck_per_fault_block_equals_flows_dry_run(graben, tmp_path):
+    """OPM Flow reads the per-block deck's ZCORN unchanged (no fixup) and finds gridlib's active
+    cells and connections (fault NNCs and PINCH connections across the cut-out cells) with their T."""
+    n = graben.num_cells
+    rock = {
+        "PORO": np.full(n, 0.2),
+        "PERMX": np.full(n, 100.0),
+        "PERMY": np.full(n, 80.0),
+        "PERMZ": np.full(n, 10.0),
+    }
+    path = write_data_deck(tmp_path, "GRABEN", graben, rock)
+    case = run_flow_dry(path, tmp_path / "out")
+    egrid = read_keywords(Path(f"{case}.EGRID"))
+    assert np.array_equal(egrid["ZCORN"], graben.zcorn.astype(np.float32))
+    ours = read_grdecl(path)
+    r = process_grdecl(ours)
+    flow_active = np.flatnonzero(egrid["ACTNUM"] > 0) if "ACTNUM" in egrid else np.arange(n)
+    assert np.array_equal(np.sort(r.grid.cells.index_map), flow_active)
+    c = deck_transmissibility(ours)
+    ref = flow_connections(case)
+    assert_same_connections(
+        dict(zip(map(tuple, c.global_cells.tolist()), c.trans.tolist(), strict=True)), ref
+    )
+    nx, ny, _ = graben.cart_dims
+    k, column = np.divmod(np.array(sorted(ref)), nx * ny)
+    assert ((column[:, 0] != column[:, 1]) & (k[:, 0] != k[:, 1])).sum() > 0  # fault NNCs
+    assert ((column[:, 0] == column[:, 1]) & (k[:, 1] - k[:, 0] > 1)).sum() > 0  # across cut-out cells
