@@ -37,6 +37,7 @@ _EXPORTS: dict[str, str] = {
     "Horizon": ".cornerpoint",
     "cut_grdecl": ".cornerpoint",
     "horizons_to_grdecl": ".cornerpoint",
+    "horizons_to_pillar_grdecl": ".cornerpoint",
     "make_model3": ".cornerpoint",
     "process_grdecl": ".cornerpoint",
     "simple_grdecl": ".cornerpoint",

@@ -29,12 +29,16 @@ import numpy as np
 from ..config import Case
 from ..cornerpoint.between_horizons import horizons_to_grdecl
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from ..cornerpoint.process import process_grdecl
 from ..errors import GridError, InputError
+from ..geometry import compute_geometry
 from ..grid import Grid
 from ..horizons import to_horizons
 from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
 from ..pillars.extrude import extrude
+from ..pillars.fault_pillars import FaultPillars, depth_range, fault_pillars, horizon_function, inclined
+from ..pillars.horizon_maps import check_horizon, interpolate_horizon
 from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
 from .deck import read_case_deck
@@ -94,6 +98,8 @@ def _horizon_list(case: Case, horizons):
 
 
 def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
+    if spec.get("fault_geometry") == "pillars":
+        return _pillar_cornerpoint(case, spec, horizons)
     by_block = block_horizons(horizons) if horizons is not None else None
     ordering = case.data["horizons"]["ordering"]
     if by_block is not None:  # picks of faulted surfaces: every cell from its own block's surfaces
@@ -101,11 +107,38 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
         deck = horizons_to_grdecl_by_block(
             stacks, blocks, spec["dims"], spec["layers"], fault_traces(case), ordering=ordering
         )
-    else:
-        deck = horizons_to_grdecl(
-            _horizon_list(case, horizons), spec["dims"], spec["layers"], fault_traces(case)
-        )
+    else:  # fault_geometry stair_steps: vertical pillars, inclined faults stepped cell by cell
+        hz = _horizon_list(case, horizons)
+        deck = horizons_to_grdecl(hz, spec["dims"], spec["layers"], _case_faults(case, hz[0]))
     deck = replace(deck, source=f"{case.path} (horizons_to_grdecl)")
+    return _processed(deck, spec["tolerance"])
+
+
+def _case_faults(case: Case, top) -> list:
+    """The case's faults; inclined ones (a dip or sticks) are placed against the top horizon."""
+    if not any("dip" in f or "sticks" in f for f in case.data.get("faults", [])):
+        return fault_traces(case)
+    xa, ya, z = check_horizon(top, 0)
+    return fault_traces(case, top=lambda x, y: interpolate_horizon(xa, ya, z, np.asarray(x), np.asarray(y)))
+
+
+def _pillar_cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
+    """fault_geometry pillars: pillars that follow the faults' surfaces (horizons_to_pillar_grdecl)."""
+    if horizons is not None and block_horizons(horizons) is not None:
+        raise InputError(
+            f"{case.path}: grid: fault_geometry pillars does not take horizons picked per fault block "
+            "yet; use fault_geometry: stair_steps"
+        )
+    hz = _horizon_list(case, horizons)
+    deck = horizons_to_pillar_grdecl(
+        hz,
+        spec["dims"],
+        spec["layers"],
+        _case_faults(case, hz[0]),
+        ordering=case.data["horizons"]["ordering"],
+        relax_distance=spec.get("relax_distance"),
+    )
+    deck = replace(deck, source=f"{case.path} (horizons_to_pillar_grdecl)")
     return _processed(deck, spec["tolerance"])
 
 
@@ -125,7 +158,8 @@ def _processed(deck: Deck, tolerance: float, pinch: bool = False) -> CaseGrid:
 
 def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     hz = _horizon_list(case, horizons)
-    traces = fault_traces(case)
+    top = horizon_function(hz[0])
+    traces = fault_traces(case, top=top)
     faults = [Fault(t.points, t.name) for t in traces]
     areal = pebi_grid(
         pebi_domain(spec),
@@ -137,9 +171,15 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     )
     specs = case.data.get("faults", [])
     moving = [t for t, f in zip(traces, specs, strict=True) if f["throw"] != 0.0]
-    r = extrude(areal.grid, hz, spec["layers"], moving, centres=areal.sites)
+    lines = _inclined_pillars(spec, areal, traces, top, horizon_function(hz[-1]), moving)
+    pillars = None if lines is None else lines.pillars()
+    r = extrude(areal.grid, hz, spec["layers"], moving, pillars=pillars, centres=areal.sites)
     grid, names = _one_tag_per_fault(r.grid, r.fault_names, areal.fault_names)
     column = grid.layering.column
+    if lines is None:
+        site = areal.sites[column]  # the generating site (x, y) of each cell's column
+    else:  # the site followed down its inclined column to the cell's centroid depth
+        site = lines.sites_at(column, compute_geometry(grid).cell_centroids[:, 2])
     return CaseGrid(
         grid,
         r.nnc,
@@ -149,9 +189,29 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
             "well": areal.cell_well[column],
             "zone": r.zone,
             "layer": grid.layering.layer,
-            "site": areal.sites[column],  # the generating site (x, y) of each cell's column
+            "site": site,
         },
-        notes=areal.notes + r.notes,
+        notes=areal.notes + (() if lines is None else lines.notes) + r.notes,
+    )
+
+
+def _inclined_pillars(spec, areal, traces, top, base, moving) -> FaultPillars | None:
+    """The pillars of a pebi grid with inclined faults (in the fault surfaces, relaxing back to
+    vertical; wells' cells vertical), or None when every fault is vertical."""
+    if not inclined(traces):
+        return None
+    xy = areal.grid.nodes.coords[:, :2]
+    z_lo, z_hi = depth_range(top, base, xy, moving)
+    return fault_pillars(
+        areal.grid,
+        traces,
+        top,
+        z_lo,
+        z_hi,
+        vertical_cells=areal.cell_well > 0,
+        relax_distance=spec.get("relax_distance"),
+        sites=areal.sites,
+        who="pebi grid",
     )
 
 

@@ -153,7 +153,20 @@ def _describe(error: jsonschema.ValidationError) -> str:
     if error.validator == "additionalProperties":
         allowed = sorted(error.schema.get("properties", {}))
         return f"{error.message}; allowed keys: {', '.join(allowed)}"
+    keys = _one_of_keys(error)
+    if keys is not None:
+        given = [k for k in keys if isinstance(error.instance, dict) and k in error.instance]
+        return f"give exactly one of {', '.join(keys)} (got {', '.join(given) or 'none'})"
     return error.message
+
+
+def _one_of_keys(error: jsonschema.ValidationError) -> list[str] | None:
+    """The keys of a oneOf whose alternatives each require one key and nothing else (a fault's
+    trace or sticks, a well's point or path), else None."""
+    alternatives = error.validator_value if error.validator == "oneOf" else None
+    if not alternatives or not all(set(a) == {"required"} and len(a["required"]) == 1 for a in alternatives):
+        return None
+    return [a["required"][0] for a in alternatives]
 
 
 def _is_integer(checker: Any, value: Any) -> bool:
@@ -179,7 +192,7 @@ def validate(data: Any, schema: dict[str, Any], source: str) -> None:
     # Prefer the deepest error: it names the offending key rather than a oneOf/if branch.
     deepest = max(errors, key=lambda e: (len(list(e.absolute_path)), e is best))
     chosen = deepest if len(list(deepest.absolute_path)) > len(list(best.absolute_path)) else best
-    while chosen.context:  # descend into oneOf/anyOf to the specific failure
+    while chosen.context and _one_of_keys(chosen) is None:  # into oneOf/anyOf: the specific failure
         chosen = max(chosen.context, key=lambda e: len(list(e.absolute_path)))
     raise InputError(f"{source}: {_key_path(chosen)}: {_describe(chosen)}")
 

@@ -9,9 +9,10 @@ import math
 from pathlib import Path
 from typing import Any
 
+from ..errors import InputError
 from ..io.grdecl.dimens import deck_dimensions
 from ..reproducible import log as _reproducible_log
-from .files import deck_cell_keywords, named_file
+from .files import deck_cell_keywords, fault_plan_trace, fault_sticks, named_file
 from .values import yaml_number
 
 
@@ -76,7 +77,7 @@ def _structure_problem(data: dict[str, Any], path: Path) -> str | None:
                 )
     if kind == "deck" and not named_file(path, grid["file"]).is_file():
         return f"grid.file: '{grid['file']}' not found (looked for {named_file(path, grid['file'])})"
-    problem = _features_outside(data, kind, horizons)
+    problem = _features_outside(data, path, kind, horizons)
     if problem is not None:
         return problem
     rock = data.get("petrophysics")
@@ -143,8 +144,11 @@ def simulation_problem(data: dict[str, Any]) -> str | None:
     return None
 
 
-def _features_outside(data: dict[str, Any], kind: str, horizons: dict[str, Any] | None) -> str | None:
-    """Faults must reach into the model's area and wells lie inside it."""
+def _features_outside(
+    data: dict[str, Any], path: Path, kind: str, horizons: dict[str, Any] | None
+) -> str | None:
+    """Faults must reach into the model's area (a sticks fault: the polyline of its sticks'
+    shallowest points) and wells lie inside it."""
     import shapely
 
     area = None
@@ -181,8 +185,9 @@ def _features_outside(data: dict[str, Any], kind: str, horizons: dict[str, Any] 
     if area is None:
         return None
     for k, fault in enumerate(data.get("faults", [])):
-        if not shapely.LineString(fault["trace"]).intersects(area):
-            return f"faults[{k}].trace: fault '{fault['name']}' lies entirely outside the domain"
+        if not shapely.LineString(fault_plan_trace(path, fault)).intersects(area):
+            key = "trace" if "trace" in fault else "sticks"
+            return f"faults[{k}].{key}: fault '{fault['name']}' lies entirely outside the domain"
     for k, well in enumerate(data.get("wells", [])):
         points = [well["point"]] if "point" in well else well["path"]
         for point in points:
@@ -203,10 +208,11 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
         if problem is not None:
             return problem
     return (
-        _structure_problem(data, path)
+        _fault_surfaces_problem(data, path)
+        or _structure_problem(data, path)
         or _rock_values_problem(data)
         or _coarsen_problem(data, path)
-        or _pebi_wells_problem(data)
+        or _pebi_wells_problem(data, path)
     )
 
 
@@ -233,7 +239,9 @@ def _traces_problem(data: dict[str, Any]) -> str | None:
     import shapely
 
     lines = [
-        (f"faults[{k}]", f"fault '{f['name']}'", f["trace"]) for k, f in enumerate(data.get("faults", []))
+        (f"faults[{k}]", f"fault '{f['name']}'", f["trace"])
+        for k, f in enumerate(data.get("faults", []))
+        if "trace" in f
     ]
     lines += [
         (f"wells[{k}]", f"well '{w['name']}'", w["path"])
@@ -248,6 +256,44 @@ def _traces_problem(data: dict[str, Any]) -> str | None:
                 return f"{key}.{field}[{i}]: ({at}) repeats the point before it; give each point once"
         if not shapely.LineString(points).is_simple:
             return f"{key}.{field}: {what}'s {field} crosses itself"
+    return None
+
+
+def _fault_surfaces_problem(data: dict[str, Any], path: Path) -> str | None:
+    """Inclined faults: ``dip`` goes with a trace and ``sticks_format`` with sticks; a sticks
+    file exists, reads and makes a surface (no sticks that coincide or cross); a ``side`` given
+    for sticks is the side they dip towards (the hanging wall of any fault is the side above it);
+    picks per fault block need traces."""
+    horizons = data.get("horizons")
+    for k, fault in enumerate(data.get("faults", [])):
+        name = fault["name"]
+        if "sticks" not in fault:
+            if "sticks_format" in fault:
+                return f"faults[{k}].sticks_format: fault '{name}' is given by its trace, not by sticks"
+            continue
+        if "dip" in fault:
+            return f"faults[{k}].dip: fault '{name}' is given by sticks, which give its dip; remove dip"
+        if horizons is not None and horizons["per_fault_block"]:
+            return (
+                f"faults[{k}].sticks: fault '{name}': horizons.per_fault_block cuts the area into "
+                "blocks by fault traces; give the fault by its trace (and dip)"
+            )
+        file = named_file(path, fault["sticks"])
+        if not file.is_file():
+            return f"faults[{k}].sticks: file '{fault['sticks']}' not found (looked for {file})"
+        try:
+            surface = fault_sticks(path, fault).surface
+            dips = None if surface.is_vertical else surface.dip_side()
+        except InputError as exc:
+            return f"faults[{k}].sticks: {exc}"
+        side = fault.get("side")
+        if dips is None and side is None:
+            return f"faults[{k}].side: fault '{name}': its sticks are vertical; give the hanging wall's side"
+        if dips is not None and side not in (None, dips):
+            return (
+                f"faults[{k}].side: fault '{name}' dips to the {dips} of its sticks walked from the "
+                f"first, so its hanging wall (the side above the fault) is on the {dips}, not the {side}"
+            )
     return None
 
 
@@ -540,7 +586,7 @@ def _coarsen_problem(data: dict[str, Any], path: Path) -> str | None:
 PEBI_TOLERANCE = 1e-5
 
 
-def _pebi_wells_problem(data: dict[str, Any]) -> str | None:
+def _pebi_wells_problem(data: dict[str, Any], path: Path) -> str | None:
     """A PEBI grid puts a cell centre (the well's site) at a point well, with its rings around
     it: on a fault trace that site would lie on the face the fault makes, and rings must
     neither merge with the site nor grow beyond the domain."""
@@ -559,7 +605,7 @@ def _pebi_wells_problem(data: dict[str, Any]) -> str | None:
             continue
         point = shapely.Point(well["point"])
         for fault in data.get("faults", []):
-            if shapely.LineString(fault["trace"]).distance(point) <= tolerance:
+            if shapely.LineString(fault_plan_trace(path, fault)).distance(point) <= tolerance:
                 at = ", ".join(yaml_number(v) for v in well["point"])
                 return (
                     f"wells[{k}].point: well '{well['name']}' at ({at}) lies on fault '{fault['name']}' "

@@ -1,10 +1,16 @@
-"""Files a case names: where they are, and what a deck gives, read as cheaply as possible."""
+"""Files a case names: where they are, and what a deck or a fault's sticks file gives, read as
+cheaply as possible."""
 
 from __future__ import annotations
 
 import functools
 import os
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+if TYPE_CHECKING:
+    from ..pillars.fault_surface import FaultSurface
 
 
 def named_file(case_file: Path, name: str | os.PathLike) -> Path:
@@ -35,3 +41,39 @@ def _deck_cell_keywords(path: Path, mtime_ns: int, size: int, unknown_keywords: 
 
     options = {"unknown_keywords": unknown_keywords} if find_format(path, "deck").name == "grdecl" else {}
     return frozenset(read(path, kind="deck", **options).cell_data)
+
+
+class FaultSticks(NamedTuple):
+    """A case's fault given by sticks: its surface and, in plan view, the shallowest point of
+    every stick (x, y, m), the polyline the case's checks take for its trace."""
+
+    surface: FaultSurface
+    tops: tuple[tuple[float, float], ...]
+
+
+def fault_sticks(case_file: Path, fault: Mapping[str, Any]) -> FaultSticks:
+    """The sticks file a case's fault names (``fault["sticks"]``, relative to ``case_file``), read
+    with its ``sticks_format`` and made a surface named after the fault: an InputError naming the
+    file, the line and the stick where it cannot be. Cached per process on the file's identity."""
+    path = named_file(case_file, fault["sticks"])
+    stat = path.stat()
+    fmt = fault.get("sticks_format", "auto")
+    return _fault_sticks(path, stat.st_mtime_ns, stat.st_size, fmt, fault["name"])
+
+
+@functools.lru_cache(maxsize=32)
+def _fault_sticks(path: Path, mtime_ns: int, size: int, fmt: str, name: str) -> FaultSticks:
+    from ..io.fault_sticks import read_fault_sticks  # deferred, as above
+    from ..pillars.fault_surface import FaultSurface as Surface
+
+    sticks = read_fault_sticks(path, fmt)
+    surface = Surface.from_sticks(sticks, name=name, source=str(path))
+    return FaultSticks(surface, tuple((float(s[0, 0]), float(s[0, 1])) for s in sticks))
+
+
+def fault_plan_trace(case_file: Path, fault: Mapping[str, Any]) -> list[list[float]]:
+    """A case's fault in plan view, for the checks that place it against the model's area: its
+    ``trace``, or its sticks' shallowest points (:class:`FaultSticks`)."""
+    if "trace" in fault:
+        return [list(p) for p in fault["trace"]]
+    return [list(p) for p in fault_sticks(case_file, fault).tops]

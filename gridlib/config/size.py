@@ -19,7 +19,7 @@ from typing import Any
 from ..io.grdecl.dimens import deck_dimensions
 from ..memory import GIB, count_text, gib_text, machine_memory
 from ..reproducible import log
-from .files import named_file
+from .files import fault_plan_trace, named_file
 
 # Peak resident memory of `gridlib build` (every stage in one process: its heaviest stage
 # decides) per cell: the slope between two sizes (1e5 and 4e5 cells; PEBI 2.4e4 and 9.6e4) from
@@ -69,7 +69,7 @@ def estimated_cells(data: dict[str, Any], path: Path) -> tuple[float, str] | Non
     if kind == "layered":
         return _sites(grid["areal"]["sites"]) * layers, "grid.areal.sites"
     if kind == "pebi":
-        columns, key = _pebi_columns(data)
+        columns, key = _pebi_columns(data, path)
         return columns * layers, key
     if kind == "deck":
         deck = named_file(path, grid["file"])
@@ -110,7 +110,7 @@ def _sites(sites: dict[str, Any]) -> float:
     return rings * sites["sectors"] + 1.0
 
 
-def _pebi_columns(data: dict[str, Any]) -> tuple[float, str]:
+def _pebi_columns(data: dict[str, Any], path: Path) -> tuple[float, str]:
     """Areal cells of a PEBI grid (the lattice's sites in the domain, each well's rings, the
     sites along faults and well paths, two rows per cell size of trace, the padding rows) and
     the key that gives the most of them."""
@@ -123,8 +123,9 @@ def _pebi_columns(data: dict[str, Any]) -> tuple[float, str]:
     cell_area = size * size * (math.sqrt(3.0) / 2.0 if grid["pattern"] == "hexagonal" else 1.0)
     parts = {"grid.cell_size": _ratio(area.area, cell_area)}
     for k, fault in enumerate(data.get("faults", [])):
-        parts[f"faults[{k}].trace"] = _ratio(
-            2.0 * shapely.LineString(fault["trace"]).intersection(area).length, size
+        key = f"faults[{k}].trace" if "trace" in fault else f"faults[{k}].sticks"
+        parts[key] = _ratio(
+            2.0 * shapely.LineString(fault_plan_trace(path, fault)).intersection(area).length, size
         )
     for k, well in enumerate(data.get("wells", [])):
         if "path" in well:

@@ -10,6 +10,7 @@ Cartesian front end), and generators of test and example decks.
 from .between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from .deck import FAULT_FACES, Deck, FaultSegment
 from .generators import cut_grdecl, make_model3, simple_grdecl
+from .pillar_grdecl import horizons_to_pillar_grdecl
 from .process import FAULT, NNC, PINCH, CornerPointGrid, process_grdecl
 
 __all__ = [
@@ -24,6 +25,7 @@ __all__ = [
     "Horizon",
     "cut_grdecl",
     "horizons_to_grdecl",
+    "horizons_to_pillar_grdecl",
     "make_model3",
     "process_grdecl",
     "simple_grdecl",

@@ -38,8 +38,11 @@ from ..pillars.fault_traces import FaultTrace, fault_displacement
 from ..pillars.horizon_maps import Horizon, check_horizon, interpolate_horizon
 from ..pillars.zones import check_layers, is_integer, layer_levels
 from .deck import Deck, FaultSegment, shown
+from .stair_steps import is_inclined, runs, stair_steps
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
+
+PINCH_THRESHOLD = 0.001  # m: ECLIPSE's default PINCH thickness, for the missing-section cells of stair steps
 
 
 def horizons_to_grdecl(
@@ -106,6 +109,15 @@ def horizons_to_grdecl(
     The displacement is the same for every layer of a column, so the layering
     (and ordering) is kept in each fault block.
 
+    A fault with an inclined ``surface`` (``FaultTrace.surface``, not vertical)
+    is stair-stepped cell by cell instead (:mod:`~gridlib.cornerpoint.stair_steps`,
+    ``fault_geometry: stair_steps``): every cell goes to the hanging wall or the
+    footwall by where its centre lies against the surface at its own depth, the
+    fault follows cell faces laterally and horizontally (FAULTS X, Y and Z),
+    missing-section cells get zero thickness and overlaps are clamped as OPM
+    Flow's ZCORN fixup would; where cells were cut out the deck gets PINCH
+    (0.001 m, ECLIPSE's defaults) so that the blocks connect across them.
+
     Returns a :class:`~gridlib.cornerpoint.deck.Deck` (source
     ``"horizons_to_grdecl"``), ``notes`` saying what was repaired.
 
@@ -140,6 +152,13 @@ def horizons_to_grdecl(
     Zn = layer_levels(H, nlay)  # node depths (nz + 1, ny + 1, nx + 1): proportional layers per zone
     nz = Zn.shape[0] - 1
     zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
+    if not isinstance(faults, FaultTrace) and any(is_inclined(f) for f in faults):
+        steps = stair_steps(faults, zc, PX, PY, box)
+        notes += steps.notes
+        # The blocks meet across the removed missing-section cells as across pinch-outs: PINCH
+        # (ECLIPSE's defaults) gives them their vertical connection, in gridlib and in Flow.
+        pinch = (PINCH_THRESHOLD, 1e20) if steps.missing_cells or steps.gap_cells else None
+        return _deck(steps.zcorn, PX, PY, box, list(steps.segments), notes, pinch)
     segments = _apply_faults(faults, zc, PX, PY, box, notes) if faults else []
     return _deck(zc, PX, PY, box, segments, notes)
 
@@ -180,9 +199,10 @@ def _apply_faults(faults, zc: np.ndarray, PX, PY, box, notes: list[str]) -> list
     return segments
 
 
-def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list[str]) -> Deck:
+def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list[str], pinch=None) -> Deck:
     """The deck of the corners ``zc``: cells with an undefined corner inactive, vertical pillars
-    through the pillar nodes spanning every defined depth."""
+    through the pillar nodes spanning every defined depth; ``pinch``: its PINCH threshold and
+    maximum gap, or None."""
     nz, ny, nx = (n // 2 for n in zc.shape)
     xmin, xmax, ymin, ymax = box
     with np.errstate(invalid="ignore"):
@@ -206,6 +226,7 @@ def _deck(zc: np.ndarray, PX, PY, box, segments: list[FaultSegment], notes: list
         zc.ravel(),
         active.ravel().astype(np.int32),
         faults=tuple(segments),
+        pinch=pinch,
         source="horizons_to_grdecl",
         notes=tuple(notes),
     )
@@ -290,22 +311,13 @@ def _fault_displacement(trace: FaultTrace, index: int, name: str, PX, PY, box) -
     )
 
 
-def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Runs of True along the last axis of a 2-D mask: (row, first, last), row-major."""
-    padded = np.pad(mask.astype(np.int8), ((0, 0), (1, 1)))
-    step = np.diff(padded, axis=1)
-    r0, c0 = np.nonzero(step == 1)
-    _, c1 = np.nonzero(step == -1)
-    return r0, c0, c1 - 1
-
-
 def _fault_segments(disp: np.ndarray, name: str, nz: int) -> list[FaultSegment]:
     """FAULTS segments of the cell edges across which this fault's displacement differs."""
     across_i = (disp[:, :-1, :, 1] != disp[:, 1:, :, 0]).any(axis=-1)  # (ny, nx - 1): +i face of (i, j)
     across_j = (disp[:-1, :, 1, :] != disp[1:, :, 0, :]).any(axis=-1)  # (ny - 1, nx): +j face of (i, j)
     segs = []
-    for i, j1, j2 in zip(*_runs(across_i.T), strict=True):  # runs along j in every column i
+    for i, j1, j2 in zip(*runs(across_i.T), strict=True):  # runs along j in every column i
         segs.append(FaultSegment(name, int(i), int(i), int(j1), int(j2), 0, nz - 1, "X"))
-    for j, i1, i2 in zip(*_runs(across_j), strict=True):  # runs along i in every row j
+    for j, i1, i2 in zip(*runs(across_j), strict=True):  # runs along i in every row j
         segs.append(FaultSegment(name, int(i1), int(i2), int(j), int(j), 0, nz - 1, "Y"))
     return segs

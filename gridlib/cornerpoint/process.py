@@ -241,11 +241,17 @@ def _faces(deck: Deck, cn, pinch_threshold: float | None, notes: list[str]):
     n_quads = lat_i.quads.num + lat_j.quads.num
     n_lat = n_quads + general.pair.size
     faces = _FaceArrays(n_lat + ver.num, 4 * (n_quads + ver.num) + general.nodes.size + t_nodes.size)
-    named = _NamedFaults(deck, pairs, seen).tags if seen else None
+    named_faults = _NamedFaults(deck, pairs, seen) if seen else None
+    named = named_faults.tags if named_faults is not None else None
     for lat, pieces, tags in ((lat_i, g_i, (E, W)), (lat_j, g_j, (N, S))):
         _add_quads(faces, lat.quads, cn.table, tags, named)
         _add_pieces(faces, general, pieces, g_fault, tags, named)
-    _add_vertical(faces, ver, cn.table, touched, t_pos, t_nodes)
+    added = _add_vertical(faces, ver, cn.table, touched, t_pos, t_nodes)
+    if named_faults is not None and named_faults.has_z:
+        layer = np.flatnonzero(cn.kept.ravel()) // (nx * ny)  # k of every kept cell
+        k_up = np.where(ver.upper >= 0, layer[ver.upper], -1)
+        k_down = np.where(ver.lower >= 0, layer[ver.lower], -1)
+        faces.fault[added] = named_faults.vertical_tags(ver.columns(), k_up, k_down)
 
     same_pillars = (cn.lines[pairs.p1] == cn.lines[pairs.p2]).all(axis=(1, 2))
     if same_pillars.any():
@@ -318,12 +324,13 @@ def _add_pieces(
 
 def _add_vertical(
     faces: _FaceArrays, ver, table: IntArray, touched: IntArray, t_pos: IntArray, t_nodes: IntArray
-):
+) -> slice:
     """The top and bottom faces; faces ``touched`` take the cycles (t_pos, t_nodes)."""
     added = faces.add_vertical(ver, table, touched, t_pos, t_nodes)
     faces.neighbors[added, 0], faces.neighbors[added, 1] = ver.upper, ver.lower
     faces.tags[added] = (B, T)
     faces.nnc_kind[added] = np.where(ver.skips_layers, PINCH, -1)
+    return added
 
 
 def _zero_area_faces(faces, coords, same_pillars, lat_pair, ver_column, nx: int, ny: int) -> np.ndarray:
@@ -539,9 +546,11 @@ class _NamedFaults:
     A line (box, face X) names the +i faces of its cells: the pairs at i + 1 for
     the box's rows j, and there the faces whose box-side layer (the A cell's k,
     or the B cell's where A is a void) lies in the box's layers. X- names the -i
-    faces (pairs at i, box side B); Y and Y- the same along j. Where lines
-    overlap, the later one wins (as if applied in order). Z faces are not
-    tagged (horizontal faults are rare).
+    faces (pairs at i, box side B); Y and Y- the same along j. Z names the bottom
+    faces of its cells (also one joining a cell further down across removed
+    cells), Z- their top faces: the horizontal steps of an inclined fault on
+    vertical pillars. Where lines overlap, the later one wins (as if applied in
+    order).
     """
 
     def __init__(self, deck: Deck, pairs: _PillarPairs, seen: dict[str, int]) -> None:
@@ -551,8 +560,12 @@ class _NamedFaults:
         self.line = np.zeros((2, nz, pairs.num), dtype=np.int32)
         i_view = self.line[:, :, :n_ipairs].reshape(2, nz, ny, nx + 1)
         j_view = self.line[:, :, n_ipairs:].reshape(2, nz, ny + 1, nx)
+        self.z_line = np.zeros((2, nz, ny * nx), dtype=np.int32)  # (Z: cell above, Z-: below; k, column)
+        z_view = self.z_line.reshape(2, nz, ny, nx)
         for n, seg in enumerate(deck.faults):
             if seg.face in ("Z", "Z-"):
+                below = int(seg.face == "Z-")
+                z_view[below, seg.k1 : seg.k2 + 1, seg.j1 : seg.j2 + 1, seg.i1 : seg.i2 + 1] = n + 1
                 continue
             plus = not seg.face.endswith("-")
             shift = 1 if plus else 0
@@ -562,6 +575,17 @@ class _NamedFaults:
             else:
                 i_view[0 if plus else 1, ks, seg.j1 : seg.j2 + 1, seg.i1 + shift : seg.i2 + shift + 1] = n + 1
         self.tag_of_line = np.array([0] + [seen[seg.name] for seg in deck.faults], dtype=np.int32)
+
+    @property
+    def has_z(self) -> bool:
+        return bool(self.z_line.any())
+
+    def vertical_tags(self, column: IntArray, k_up: IntArray, k_down: IntArray) -> IntArray:
+        """Name tags (0 = none) of the top/bottom faces in ``column`` between the cells of layers
+        k_up (above) and k_down (below), -1 = outside."""
+        line_up = np.where(k_up >= 0, self.z_line[0, np.maximum(k_up, 0), column], 0)
+        line_down = np.where(k_down >= 0, self.z_line[1, np.maximum(k_down, 0), column], 0)
+        return self.tag_of_line[np.maximum(line_up, line_down)]
 
     def tags(self, pair: IntArray, k_a: IntArray, k_b: IntArray) -> IntArray:
         """Name tags (0 = none) of the lateral faces on ``pair`` between layers k_a and k_b (-1 = void)."""

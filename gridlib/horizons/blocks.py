@@ -1,4 +1,13 @@
-"""Fault blocks: the areas fault traces cut a region into, for per-block interpolation."""
+"""Fault blocks: the areas fault traces cut a region into, for per-block interpolation.
+
+A point in plan view belongs to the block its position lies in. A point with a depth (a pick
+of a horizon) is placed by the fault *surface* at its own depth where the fault is inclined
+(a :class:`~gridlib.pillars.fault_traces.FaultTrace` with a ``surface``): a pick between the
+trace (where the fault cuts the top horizon) and the surface's section at the pick's depth
+lies on the other side of that fault than its plan position says, and goes to the block just
+across the trace, so that a stair-stepped grid (cells placed by the surface at their depth)
+and its picks agree.
+"""
 
 from __future__ import annotations
 
@@ -12,7 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ..pillars.fault_traces import FaultTrace
+from ..pillars.fault_traces import FaultTrace, nearest_on_trace
 
 
 @dataclass(frozen=True, eq=False)
@@ -22,28 +31,61 @@ class FaultBlocks:
     ``polygons``: the blocks (shapely polygons), block id = position;
     ``traces``: the traces as used (clipped shapely lines); ``tolerance``: the
     distance (m) within which a point lies on a trace; ``notes``: traces that
-    separate nothing along part of their length.
+    separate nothing along part of their length; ``lines`` and ``surfaces``: per
+    trace its polyline (n, 2) and its inclined
+    :class:`~gridlib.pillars.fault_surface.FaultSurface`, or None (vertical).
     """
 
     polygons: tuple[Any, ...]
     traces: Any
     tolerance: float
     notes: tuple[str, ...]
+    lines: tuple[FloatArray, ...] = ()
+    surfaces: tuple[Any, ...] = ()
 
     @property
     def num(self) -> int:
         return len(self.polygons)
 
-    def classify(self, px: ArrayLike, py: ArrayLike, *, on_trace: str = "lowest") -> NDArray[np.int64]:
+    def classify(
+        self, px: ArrayLike, py: ArrayLike, pz: ArrayLike | None = None, *, on_trace: str = "lowest"
+    ) -> NDArray[np.int64]:
         """Block id of every point ``(px, py)`` (matching shapes). A point on a trace (touching
         several blocks) gets the lowest of their ids (``on_trace="lowest"``) or -1 (``"none"``);
-        a point outside the rectangle gets the nearest block."""
-        import shapely
-
+        a point outside the rectangle gets the nearest block. ``pz``: the points' depths (m,
+        positive down): a point on the other side of an inclined fault's surface at its depth
+        than of its trace goes to the block just across the trace (see the module docstring)."""
         if on_trace not in ("lowest", "none"):
             raise InputError(f"FaultBlocks.classify: on_trace must be 'lowest' or 'none', got {on_trace!r}")
-        px, py = np.broadcast_arrays(np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64))
-        fx, fy = px.ravel(), py.ravel()
+        if pz is None:
+            px, py = np.broadcast_arrays(np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64))
+            return self._in_plan(px.ravel(), py.ravel(), on_trace).reshape(px.shape)
+        px, py, pz = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (px, py, pz)))
+        fx, fy = self._across_surfaces(px.ravel(), py.ravel(), pz.ravel())
+        return self._in_plan(fx, fy, on_trace).reshape(px.shape)
+
+    def _across_surfaces(self, x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The points, those on the other side of an inclined fault at their depth than in plan
+        moved just across its trace (1000 tolerances beyond its nearest point), fault by fault."""
+        x, y = x.copy(), y.copy()
+        for line, surface in zip(self.lines, self.surfaces, strict=True):
+            if surface is None or surface.is_vertical:
+                continue
+            seg, t, plan = nearest_on_trace(np.column_stack([x, y]), line, True, True)
+            at_depth = surface.side_value(x, y, z)
+            flip = np.flatnonzero((np.sign(at_depth) != np.sign(plan)) & (at_depth != 0))
+            if flip.size == 0:
+                continue
+            d = np.diff(line, axis=0)[seg[flip]]
+            left = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+            foot = line[seg[flip]] + t[flip, None] * d
+            across = foot + (np.sign(at_depth[flip]) * 1000.0 * self.tolerance)[:, None] * left
+            x[flip], y[flip] = across[:, 0], across[:, 1]
+        return x, y
+
+    def _in_plan(self, fx: FloatArray, fy: FloatArray, on_trace: str) -> NDArray[np.int64]:
+        import shapely
+
         ids = np.full(fx.size, -1, dtype=np.int64)
         for b, poly in enumerate(self.polygons):
             shapely.prepare(poly)
@@ -61,7 +103,7 @@ class FaultBlocks:
             on = touching >= 2
             first_touching = np.argmax(dist <= self.tolerance, axis=0)
             ids[rest] = np.where(on, first_touching if on_trace == "lowest" else -1, nearest)
-        return ids.reshape(px.shape)
+        return ids
 
 
 def bounding_box(*coords: ArrayLike) -> tuple[float, float, float, float]:
@@ -91,8 +133,8 @@ def fault_blocks(faults: Sequence[Any], extent: Sequence[float]) -> FaultBlocks:
     """Cut the rectangle ``extent = (xmin, xmax, ymin, ymax)`` (m) by fault traces into blocks.
 
     ``faults``: polylines in plan view, (n, 2) arrays of x, y or
-    :class:`~gridlib.cornerpoint.between_horizons.FaultTrace`. See the module docstring
-    for the rules.
+    :class:`~gridlib.cornerpoint.between_horizons.FaultTrace` (those with an inclined
+    ``surface`` classify points with a depth by it). See the module docstring for the rules.
 
     >>> b = fault_blocks([[(500.0, -1.0), (500.0, 101.0)]], (0.0, 1000.0, 0.0, 100.0))
     >>> b.num, b.classify([100.0, 900.0, 500.0], [50.0, 50.0, 50.0]).tolist()
@@ -108,9 +150,10 @@ def fault_blocks(faults: Sequence[Any], extent: Sequence[float]) -> FaultBlocks:
     diag = math.hypot(xmax - xmin, ymax - ymin)
     if isinstance(faults, FaultTrace) or (isinstance(faults, np.ndarray) and faults.ndim == 2):
         raise InputError("faults: expected a sequence of traces, got a single trace (wrap it in a list)")
-    lines, clipped = [], []
+    lines, clipped, polylines = [], [], []
     for k, f in enumerate(faults):
         pts = _trace_points(f, k)
+        polylines.append(pts)
         ext = pts.copy()  # overshoot both ends a little so that a trace that meets another one closes a block
         for end, nxt in ((0, 1), (-1, -2)):
             d = pts[end] - pts[nxt]
@@ -139,4 +182,7 @@ def fault_blocks(faults: Sequence[Any], extent: Sequence[float]) -> FaultBlocks:
                 "(it ends inside the area without meeting another trace or the boundary): the throw is "
                 "interpolated across there"
             )
-    return FaultBlocks(tuple(polygons), shapely.union_all(clipped), 1e-9 * diag, tuple(notes))
+    surfaces = tuple(getattr(f, "surface", None) for f in faults)
+    return FaultBlocks(
+        tuple(polygons), shapely.union_all(clipped), 1e-9 * diag, tuple(notes), tuple(polylines), surfaces
+    )

@@ -141,7 +141,7 @@ def _by_block(loaded, depths, blocks, xa, ya, ordering: str) -> FloatArray:
             out[:, k] = depths[k]
             continue
         pts, spec = item.data, item.spec
-        of_point = blocks.classify(pts[:, 0], pts[:, 1])
+        of_point = blocks.classify(pts[:, 0], pts[:, 1], pts[:, 2])  # by inclined faults at the depth
         for b in range(blocks.num):
             mine = pts[of_point == b]
             if mine.shape[0] < 3:

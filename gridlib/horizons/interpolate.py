@@ -106,7 +106,7 @@ def interpolate_points_at(
             extent = bounding_box(pts[:, 0], pts[:, 1], qx, qy)
         blocks = fault_blocks(faults, extent)
         notes.extend(f"{name}: {n}" for n in blocks.notes)
-        p_block = blocks.classify(pts[:, 0], pts[:, 1], on_trace="none")
+        p_block = blocks.classify(pts[:, 0], pts[:, 1], pts[:, 2], on_trace="none")
         q_block = blocks.classify(qx, qy, on_trace="lowest")
         dropped = int((p_block < 0).sum())
         if dropped:

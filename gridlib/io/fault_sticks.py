@@ -25,7 +25,6 @@ import numpy as np
 from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_surface import FaultSurface
-from .irap import is_number
 
 __all__ = ["STICK_FORMATS", "fault_surface_from_file", "read_fault_sticks"]
 
@@ -79,6 +78,17 @@ def fault_surface_from_file(
     return FaultSurface.from_sticks(read_fault_sticks(path, fmt), name=name, source=str(path))
 
 
+def _is_number(token: str) -> bool:
+    """Whether a text token reads as a float (``"1e3"``, ``"nan"``; not ``"X_UTME"``). Here, not
+    imported from the IRAP reader: a case's checks read stick files without the horizons'
+    modules."""
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
 def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
     """The data lines of the file split into fields, with their line numbers; a first line
     without any number is a header and skipped."""
@@ -96,7 +106,7 @@ def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
         if not line:
             continue
         fields = [f.strip() for f in line.split(",")] if "," in line else line.split()
-        if not rows and not header and not any(is_number(f) for f in fields):
+        if not rows and not header and not any(_is_number(f) for f in fields):
             header = True
             continue
         rows.append(fields)
@@ -110,7 +120,7 @@ def _numbers(p: Path, fields: list[str], number: int, stick: int) -> tuple[float
     """x, y, z of one row, finite."""
     values = []
     for column, field in zip("xyz", fields[:3], strict=True):
-        if not is_number(field):
+        if not _is_number(field):
             raise InputError(f"{p}:{number}: stick {stick}: {column}: {field!r} is not a number")
         values.append(float(field))
     if not np.isfinite(values).all():
@@ -143,7 +153,7 @@ def _id_sticks(p: Path, rows: list[list[str]], numbers: list[int]) -> list[list[
     seen: dict[object, int] = {}
     current: object = None
     for fields, number in zip(rows, numbers, strict=True):
-        ident = float(fields[3]) if is_number(fields[3]) else fields[3]
+        ident = float(fields[3]) if _is_number(fields[3]) else fields[3]
         if isinstance(ident, float) and not np.isfinite(ident):
             raise InputError(f"{p}:{number}: the stick id must be finite, got {fields[3]!r}")
         if not groups or ident != current:

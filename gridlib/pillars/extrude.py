@@ -48,6 +48,7 @@ from .depth_order import ORDERINGS, order_depths
 from .fault_traces import FaultTrace, cell_displacement, fault_displacement
 from .horizon_maps import Horizon, check_horizon, interpolate_horizon
 from .nnc import NNC
+from .pillar_depths import depth_on_pillars
 from .zones import check_layers, layer_levels
 
 __all__ = ["ExtrudedGrid", "extrude"]
@@ -249,7 +250,7 @@ def _evaluate(hz: Any, h: int, xy: FloatArray, lines: FloatArray | None) -> Floa
     if lines is None:
         z = f(xy[:, 0].copy(), xy[:, 1].copy())
     else:
-        z = _on_inclined_pillars(f, lines, h)
+        z = depth_on_pillars(f, lines, f"extrude: horizon {h}")
     if np.isinf(z).any():
         raise InputError(f"extrude: horizon {h}: infinite depths (use NaN for undefined ones)")
     return z
@@ -257,36 +258,6 @@ def _evaluate(hz: Any, h: int, xy: FloatArray, lines: FloatArray | None) -> Floa
 
 def _not_finite(h: int):
     raise InputError(f"extrude: horizon {h}: a constant depth must be finite")
-
-
-def _on_inclined_pillars(f, lines: FloatArray, h: int) -> FloatArray:
-    """Depth where every straight pillar meets the surface z = f(x, y): the fixed point of
-    z = f(x(z), y(z)) (it converges where |grad f| times the pillar's slope is below 1)."""
-    top, bot = lines[:, 0], lines[:, 1]
-    dz = bot[:, 2] - top[:, 2]
-    vertical = np.abs(dz) < 1e-6
-    slope = np.where(vertical[:, None], 0.0, (bot[:, :2] - top[:, :2]) / np.where(vertical, 1.0, dz)[:, None])
-
-    def xy_at(z: np.ndarray) -> np.ndarray:
-        d = np.where(np.isfinite(z), z - top[:, 2], 0.0)
-        return top[:, :2] + slope * d[:, None]
-
-    p = top[:, :2].copy()
-    z = f(p[:, 0], p[:, 1])
-    scale = 1.0 + float(np.nanmax(np.abs(z), initial=0.0))
-    for _ in range(200):
-        p = xy_at(z)
-        new = f(p[:, 0], p[:, 1])
-        with np.errstate(invalid="ignore"):
-            change = np.abs(new - z)
-        z = new
-        if not (change > 1e-12 * scale).any():
-            return z
-    bad = int(np.count_nonzero(change > 1e-12 * scale))
-    raise InputError(
-        f"extrude: horizon {h}: the depth where {bad} inclined pillars meet it does not converge "
-        "(the horizon is too steep for the pillars' inclination: |grad z| x slope must be below 1)"
-    )
 
 
 def _check_defined(H, act, zone_of_layer, pos, ring, owner, xy) -> None:

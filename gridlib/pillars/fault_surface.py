@@ -31,6 +31,7 @@ DepthFunction = Callable[[FloatArray, FloatArray], ArrayLike]
 
 _COINCIDENT = 1e-12  # two sticks closer than this (relative to the surface's extent) coincide
 _PARALLEL = 1e-13  # sticks whose drifts differ by less (relative to their coordinates) are parallel
+_PAIR_BUDGET = 1 << 20  # (depth, pair of strike segments) tests per block of the crossing check
 
 
 @dataclass(frozen=True, eq=False)
@@ -188,11 +189,12 @@ class FaultSurface:
         seg = np.zeros(px.shape, dtype=np.int64)
         tt = np.zeros(px.shape)
         side = np.zeros(px.shape)
-        a = self._sticks_at(np.zeros_like(seg), j, w)
+        lower, step = self.points[:-1], np.diff(self.points, axis=0)  # per level interval
+        ax, ay = (lower[j, 0, c] + w * step[j, 0, c] for c in (0, 1))
         for k in range(n_seg):  # one pass per strike segment, vectorised over the points
-            b = self._sticks_at(np.full_like(seg, k + 1), j, w)
-            dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
-            rx, ry = px - a[:, 0], py - a[:, 1]
+            bx, by = (lower[j, k + 1, c] + w * step[j, k + 1, c] for c in (0, 1))
+            dx, dy = bx - ax, by - ay
+            rx, ry = px - ax, py - ay
             length2 = dx * dx + dy * dy
             t = np.clip(
                 (rx * dx + ry * dy) / length2,
@@ -205,7 +207,7 @@ class FaultSurface:
             np.copyto(seg, k, where=better)
             np.copyto(tt, t, where=better)
             np.copyto(side, dx * ry - dy * rx, where=better)
-            a = b
+            ax, ay = bx, by
         # Nearest point at an interior stick: the point lies on the outer side of the turn there,
         # as far from it as the segment's cross product says elsewhere (|segment| * distance).
         vertex = np.where((tt == 0) & (seg > 0), seg, np.where((tt == 1) & (seg < n_seg - 1), seg + 1, -1))
@@ -224,7 +226,8 @@ class FaultSurface:
         """The depth (m) where the vertical line through every (x, y) meets the surface: the
         shallowest such depth, NaN where the line does not meet it (beside a vertical surface,
         or along it). Solves, per ruled patch, the quadratic in depth that puts the point on
-        the section's segment. x, y broadcast together, m."""
+        the section's segment: one pass over the points per patch (sticks - 1) x (levels - 1),
+        so meant for a grid's columns rather than its cells. x, y broadcast together, m."""
         px, py = (np.asarray(v, dtype=np.float64) for v in np.broadcast_arrays(x, y))
         shape = px.shape
         px, py = px.ravel(), py.ravel()
@@ -265,15 +268,20 @@ class FaultSurface:
                     np.minimum(depth, np.where(ok, z, np.inf), out=depth)
         return np.where(np.isfinite(depth), depth, np.nan).reshape(shape)
 
-    def on_horizon(self, depth_fn: DepthFunction) -> tuple[FloatArray, FloatArray]:
+    def on_horizon(self, depth_fn: DepthFunction, missing: str = "error") -> tuple[FloatArray, FloatArray]:
         """Where every stick meets a horizon: ``depth_fn(x, y)`` gives the horizon's depth (m)
         at arrays of points (NaN outside it). Returns (xy (n, 2), z (n,)), m.
 
         Secant steps from the stick's first level (exact in one step for a plane horizon and a
         straight stick); a stick they do not settle is searched for its shallowest crossing
-        over the levels' depth range widened by its own span both ways, then bisected. One
-        :class:`~gridlib.errors.InputError` naming the fault and the stick if a stick does not
-        meet the horizon."""
+        over the levels' depth range widened by four times its span both ways, then bisected.
+        A stick that does not meet the horizon (it lies beyond the horizon's defined area, say)
+        is, with ``missing="error"``, one :class:`~gridlib.errors.InputError` naming the fault
+        and the stick; with ``missing="nearest"`` it takes the depth where the nearest stick
+        (in order along strike) that meets the horizon does (the horizon carried on flat along
+        the fault), an error only if none does."""
+        if missing not in ("error", "nearest"):
+            raise ValueError(f"missing must be 'error' or 'nearest', got {missing!r}")
         n = self.points.shape[1]
         sticks = np.arange(n)
 
@@ -302,9 +310,32 @@ class FaultSurface:
         tolerance = 1e-9 * np.maximum(1.0, np.abs(z))
         missed = ~(np.abs(g) <= tolerance)
         if missed.any():
-            z = np.where(missed, self._bisect_horizon(gap, missed), z)
+            z = np.where(missed, self._bisect_horizon(gap), z)
+        lost = np.isnan(z)
+        if lost.any() and (missing == "error" or lost.all()):
+            label = _label(self.name, self.source)
+            raise InputError(
+                f"{label}: stick {int(np.flatnonzero(lost)[0]) + 1} does not meet the horizon (the "
+                "horizon is undefined or too steep where the fault reaches it)"
+            )
+        if lost.any():
+            met = np.flatnonzero(~lost)
+            z = z[met[np.argmin(np.abs(sticks[:, None] - met[None, :]), axis=1)]]
         j, w = _interval(self.levels, z)
         return self._sticks_at(sticks, j, w), z
+
+    def check_sections(self, z_top: float, z_base: float) -> None:
+        """One :class:`~gridlib.errors.InputError` naming the fault and the sticks if at some
+        depth between ``z_top`` and ``z_base`` (m; a model's range) two sticks coincide or
+        cross, as :meth:`from_sticks` checks within the sticks' own depths (at every level in
+        the range and at eight depths in each interval between). For a fault from a dip: its
+        section at a depth is its trace moved by the mitred drifts, which a sharp bend of the
+        trace folds within a short depth."""
+        inner = self.levels[(self.levels > z_top) & (self.levels < z_base)]
+        knots = np.unique(np.concatenate([[float(z_top), float(z_base)], inner]))
+        fractions = np.linspace(0.0, 1.0, 9)[:-1]
+        depths = np.append((knots[:-1, None] + np.diff(knots)[:, None] * fractions).ravel(), knots[-1])
+        _check_sections(depths, self.section(depths), _label(self.name, self.source))
 
     def dip_side(self) -> str:
         """``'left'`` or ``'right'``: the side of the section (walked from the first stick to
@@ -326,31 +357,27 @@ class FaultSurface:
         """(N, 2): stick ``stick[p]`` at the depth given by interval ``j[p]`` and weight ``w[p]``."""
         return _lerp(self.points[j, stick], self.points[j + 1, stick], w[:, None])
 
-    def _bisect_horizon(self, gap: Callable[[FloatArray], FloatArray], missed: np.ndarray) -> FloatArray:
-        """The shallowest depth where every stick crosses the horizon, by a scan and bisection."""
-        label = _label(self.name, self.source)
+    def _bisect_horizon(self, gap: Callable[[FloatArray], FloatArray]) -> FloatArray:
+        """The shallowest depth where every stick crosses the horizon, by a scan and bisection
+        (NaN for a stick that does not cross it within the scan)."""
         span = self.levels[-1] - self.levels[0]
-        scan = np.linspace(self.levels[0] - span, self.levels[-1] + span, 257)
-        values = np.stack([gap(np.full(missed.size, z)) for z in scan])  # (257, n)
-        sign_change = (values[:-1] * values[1:] <= 0) & np.isfinite(values[:-1] * values[1:])
+        n = self.points.shape[1]
+        scan = np.linspace(self.levels[0] - 4.0 * span, self.levels[-1] + 4.0 * span, 513)
+        values = np.stack([gap(np.full(n, z)) for z in scan])  # (513, n)
+        with np.errstate(invalid="ignore"):
+            product = values[:-1] * values[1:]
+        sign_change = (product <= 0) & np.isfinite(product)
         found = sign_change.any(axis=0)
-        lost = missed & ~found
-        if lost.any():
-            raise InputError(
-                f"{label}: stick {int(np.flatnonzero(lost)[0]) + 1} does not meet the top horizon "
-                f"between depths {scan[0]:g} and {scan[-1]:g} m (the horizon is undefined or too "
-                "steep where the fault reaches it)"
-            )
         first = np.argmax(sign_change, axis=0)
         lo, hi = scan[first], scan[first + 1]
-        g_lo = values[first, np.arange(missed.size)]
+        g_lo = values[first, np.arange(n)]
         for _ in range(80):
             mid = 0.5 * (lo + hi)
             g_mid = gap(mid)
             same = np.sign(g_mid) == np.sign(g_lo)
             lo, g_lo = np.where(same, mid, lo), np.where(same, g_mid, g_lo)
             hi = np.where(same, hi, mid)
-        return 0.5 * (lo + hi)
+        return np.where(found, 0.5 * (lo + hi), np.nan)
 
 
 def _label(name: str | None, source: str | None) -> str:
@@ -487,20 +514,27 @@ def _check_sections(depths: FloatArray, sections: FloatArray, label: str) -> Non
             f"{label}: the surface folds back on itself at stick {s + 2} (sticks {s + 1} and "
             f"{s + 3} lie on the same side of it) at depth {depths[k]:g} m"
         )
-    n_seg = strike.shape[1]
-    first, second = np.triu_indices(n_seg, k=2)
+    first, second = np.triu_indices(strike.shape[1], k=2)
+    # Only pairs whose boxes (each segment's extent over every depth) overlap can meet.
+    low = np.minimum(sections[:, :-1], sections[:, 1:]).min(axis=0)  # (n - 1, 2)
+    high = np.maximum(sections[:, :-1], sections[:, 1:]).max(axis=0)
+    near = np.all((low[first] <= high[second]) & (low[second] <= high[first]), axis=1)
+    first, second = first[near], second[near]
     if first.size == 0:
         return
-    p, q = sections[:, first], sections[:, first + 1]  # (K, pairs, 2)
-    r, t = sections[:, second], sections[:, second + 1]
-    crossing = _segments_meet(p, q, r, t)
-    if crossing.any():
-        k, pair = np.unravel_index(np.argmax(crossing), crossing.shape)
-        a, b = int(first[pair]), int(second[pair])
-        raise InputError(
-            f"{label}: the surface between sticks {a + 1} and {a + 2} crosses the surface between "
-            f"sticks {b + 1} and {b + 2} at depth {depths[k]:g} m"
-        )
+    step = max(1, _PAIR_BUDGET // first.size)
+    for start in range(0, depths.size, step):  # depths in blocks: (depths x pairs) stays small
+        block = sections[start : start + step]
+        p, q = block[:, first], block[:, first + 1]  # (depths, pairs, 2)
+        r, t = block[:, second], block[:, second + 1]
+        crossing = _segments_meet(p, q, r, t)
+        if crossing.any():
+            k, pair = np.unravel_index(np.argmax(crossing), crossing.shape)
+            a, b = int(first[pair]), int(second[pair])
+            raise InputError(
+                f"{label}: the surface between sticks {a + 1} and {a + 2} crosses the surface "
+                f"between sticks {b + 1} and {b + 2} at depth {depths[start + k]:g} m"
+            )
 
 
 def _segments_meet(p: FloatArray, q: FloatArray, r: FloatArray, t: FloatArray) -> np.ndarray:

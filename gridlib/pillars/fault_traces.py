@@ -170,6 +170,17 @@ def fault_displacement(
     >>> fault_displacement(trace, 0, "F1", pillars, centres, corner_pillar, corner_cell, True, True).tolist()
     [[0.0, 0.0], [2.0, 2.0]]
     """
+    t_pillar, t_start, t_end = pillar_throws(trace, index, name, pillar_xy, open_start, open_end)
+    hanging, correction = _hanging(trace, trace.points, centre_xy, open_start, open_end, t_start, t_end)
+    return np.where(hanging[corner_cell], t_pillar[corner_pillar] - correction[corner_cell], 0.0)
+
+
+def pillar_throws(
+    trace: FaultTrace, index: int, name: str, pillar_xy: FloatArray, open_start: bool, open_end: bool
+) -> tuple[FloatArray, float, float]:
+    """The throw (m) at every pillar (n_pillars,), ``throw(s_p)`` with ``s_p`` the normalised arc
+    length of the pillar's nearest point on the trace, and the throws at the trace's first and last
+    points; round-off zeros made exact (see :func:`fault_displacement` for the arguments)."""
     verts = trace.points
     seg_len = np.hypot(*np.diff(verts, axis=0).T)
     cum = np.concatenate([[0.0], np.cumsum(seg_len)])
@@ -191,11 +202,7 @@ def fault_displacement(
         raise InputError(f"{label}: throw(s) must be finite for s in [0, 1]")
     # Round-off zeros (3 * sin(pi) = 3.7e-16) are zeros: a tapered tip must match exactly.
     values = np.where(np.abs(values) <= 1e-12 * np.abs(values).max(), 0.0, values)
-    t_pillar = values[:-2]
-    t_start, t_end = values[-2], values[-1]
-
-    hanging, correction = _hanging(trace, verts, centre_xy, open_start, open_end, t_start, t_end)
-    return np.where(hanging[corner_cell], t_pillar[corner_pillar] - correction[corner_cell], 0.0)
+    return values[:-2], values[-2], values[-1]
 
 
 def cell_displacement(

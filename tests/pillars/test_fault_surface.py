@@ -189,7 +189,7 @@ def test_on_horizon_curved_and_partly_undefined():
     xy, z = surface.on_horizon(dome)
     np.testing.assert_allclose(z, dome(*xy.T), rtol=1e-12)
     np.testing.assert_allclose(xy[:, 0], z - 1000.0, rtol=1e-12)  # on the stick: x = z - 1000
-    with pytest.raises(InputError, match=r"fault 'F3': stick 1 does not meet the top horizon"):
+    with pytest.raises(InputError, match=r"fault 'F3': stick 1 does not meet the horizon"):
         surface.on_horizon(lambda x, y: np.full(np.shape(x), np.nan))
 
 
@@ -271,3 +271,47 @@ def test_fault_trace_carries_an_optional_surface():
     assert FaultTrace(trace, throw=5.0, surface=surface).surface is surface
     with pytest.raises(InputError, match="surface must be a FaultSurface or None"):
         FaultTrace(trace, throw=5.0, surface="F1.xyz")
+
+
+@pytest.mark.parametrize("budget", [1, 1 << 20])
+def test_a_crossing_found_at_its_depth_whatever_the_block_size(monkeypatch, budget):
+    from gridlib.pillars import fault_surface
+
+    monkeypatch.setattr(fault_surface, "_PAIR_BUDGET", budget)
+    vertical = [
+        np.array([(x, y, 1000.0), (x, y, 1100.0)]) for x, y in ((0.0, 0.0), (0.0, 100.0), (100.0, 50.0))
+    ]
+    # Stick 4 runs west under stick 3: its segment reaches the first one (x = 0) at 1050 m.
+    sticks = [*vertical, np.array([(50.0, 50.0, 1000.0), (-50.0, 50.0, 1100.0)])]
+    with pytest.raises(InputError, match=r"between sticks 1 and 2 crosses .* sticks 3 and 4 at depth 1050 m"):
+        FaultSurface.from_sticks(sticks)
+
+
+def test_on_horizon_carries_the_horizon_on_to_sticks_beyond_it():
+    trace = np.array([(0.0, 0.0), (0.0, 100.0), (0.0, 200.0), (0.0, 300.0)])
+    surface = FaultSurface.from_dip(trace, np.full(4, 1000.0), 45.0, "right", name="F4")
+
+    def south(x, y):  # 1100 + 0.1 y, undefined north of y = 150
+        y = np.asarray(y)
+        return np.where(y <= 150.0, 1100.0 + 0.1 * y, np.nan)
+
+    with pytest.raises(InputError, match="fault 'F4': stick 3 does not meet the horizon"):
+        surface.on_horizon(south)
+    xy, z = surface.on_horizon(south, missing="nearest")
+    np.testing.assert_allclose(z, [1100.0, 1110.0, 1110.0, 1110.0], rtol=1e-13)
+    np.testing.assert_allclose(xy, [[100.0, 0.0], [110.0, 100.0], [110.0, 200.0], [110.0, 300.0]], rtol=1e-12)
+    with pytest.raises(InputError, match="stick 1 does not meet the horizon"):
+        surface.on_horizon(lambda x, y: np.full(np.shape(x), np.nan), missing="nearest")
+
+
+def test_check_sections_finds_a_dip_fault_folded_by_a_sharp_bend():
+    # East, then back west-south-west, dipping into the acute bend: the stick under it drifts
+    # 20 m west per metre of depth, and the section folds a few metres below the top.
+    trace = [(0.0, 0.0), (100.0, 0.0), (0.0, -10.0)]
+    surface = FaultSurface.from_dip(trace, [1000.0] * 3, 45.0, "right", name="F5")
+    np.testing.assert_allclose(surface.drift(1000.0, 1100.0)[1], [-(np.sqrt(10100.0) + 100.0) / 10.0, -1.0])
+    surface.check_sections(900.0, 1000.0)  # above the top the bend opens outwards: no fold
+    with pytest.raises(InputError, match=r"^fault 'F5': .*sticks"):
+        surface.check_sections(1000.0, 1100.0)
+    gentle = FaultSurface.from_dip([(0.0, 0.0), (100.0, 0.0), (200.0, 30.0)], [1000.0] * 3, 45.0, "left")
+    gentle.check_sections(1000.0, 1100.0)
