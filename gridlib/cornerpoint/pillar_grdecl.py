@@ -34,7 +34,7 @@ from ..errors import InputError
 from ..pillars.depth_order import ORDERINGS, order_depths
 from ..pillars.drift import fault_rulings
 from ..pillars.fault_traces import FaultTrace, fault_displacement, nearest_on_trace
-from ..pillars.horizon_maps import Horizon, interpolate_horizon
+from ..pillars.horizon_maps import Horizon, depth_function
 from ..pillars.inclined_lines import PillarLines, check_relax_distance, default_relax_distance, first_crossing
 from ..pillars.pillar_depths import depth_on_pillars
 from ..pillars.zones import check_layers, layer_levels
@@ -99,7 +99,7 @@ def horizons_to_pillar_grdecl(
         raise InputError(f"{WHO}: faults must be a sequence of FaultTrace")
     box, px, py = _pillar_lattice(surfaces, dims)
     nx, ny = px.size - 1, py.size - 1
-    depth_fns = [_depth_function(s) for s in surfaces]
+    depth_fns = [depth_function(hz, h) for h, hz in enumerate(horizons)]
     top = depth_fns[0]
 
     VX, VY = np.meshgrid(px, py)
@@ -110,7 +110,7 @@ def horizons_to_pillar_grdecl(
     names = [t.name if t.name is not None else f"F{f + 1}" for f, t in enumerate(faults)]
     rulings, notes = [], []
     for trace, name in zip(faults, names, strict=True):
-        ruling, stray = fault_rulings(trace, name, _clamped(surfaces[0]), z_range)
+        ruling, stray = fault_rulings(trace, name, depth_function(horizons[0], clamped=True), z_range)
         rulings.append(ruling)
         if stray > 1e-9 * _extent(box):
             notes.append(
@@ -219,26 +219,6 @@ def _ends_on(point: np.ndarray, f: int, faults, tol: float) -> int | None:
             if np.hypot(*(near - point)) <= tol:
                 return g
     return None
-
-
-def _depth_function(surface):
-    xa, ya, z = surface
-
-    def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        return interpolate_horizon(xa, ya, z, x, y)
-
-    return f
-
-
-def _clamped(surface):
-    """The horizon's depth with every point clamped into its box: fault sticks outside the grid
-    meet the top horizon's extension there (its edge values)."""
-    xa, ya, z = surface
-
-    def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        return interpolate_horizon(xa, ya, z, np.clip(x, xa[0], xa[-1]), np.clip(y, ya[0], ya[-1]))
-
-    return f
 
 
 def _extent(box) -> float:

@@ -30,7 +30,8 @@ import numpy as np
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
 from .fault_traces import FaultTrace, nearest_on_trace
-from .pillar_depths import DepthFunction, depth_on_pillars
+from .horizon_maps import DepthFunction
+from .pillar_depths import depth_on_pillars
 
 
 @dataclass(frozen=True, eq=False)

@@ -50,7 +50,7 @@ from ..grid import FloatArray, Grid
 from .column_inputs import ColumnCorners
 from .fault_surface import FaultSurface
 from .fault_traces import FaultTrace, nearest_on_trace
-from .horizon_maps import check_horizon, interpolate_horizon
+from .horizon_maps import DepthFunction
 from .inclined_lines import (
     PillarLines,
     check_relax_distance,
@@ -60,9 +60,7 @@ from .inclined_lines import (
     interior_drift,
 )
 
-__all__ = ["FaultPillars", "ModelDepths", "depth_range", "fault_pillars", "horizon_function", "inclined"]
-
-DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
+__all__ = ["FaultPillars", "ModelDepths", "depth_range", "fault_pillars", "inclined"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -254,13 +252,6 @@ def _follow(lines: PillarLines, corners: ColumnCorners, xy, points, top, z_lo: f
     with np.errstate(invalid="ignore"):
         pin = np.asarray(top(points[:, 0].copy(), points[:, 1].copy()), dtype=np.float64)
     return PillarLines(np.column_stack([points, np.where(np.isfinite(pin), pin, z_lo)]), drift)
-
-
-def horizon_function(horizon) -> DepthFunction:
-    """A gridded horizon (:class:`~gridlib.pillars.horizon_maps.Horizon`) as a depth function
-    ``f(x, y)`` (bilinear, NaN outside it)."""
-    x, y, z = check_horizon(horizon, 0)
-    return lambda px, py: interpolate_horizon(x, y, z, np.asarray(px), np.asarray(py))
 
 
 @dataclass(frozen=True)

@@ -7,14 +7,11 @@ pillars). Units are metres; z is depth, positive downwards.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
 from ..errors import InputError
 from ..grid import FloatArray
-
-DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
+from .horizon_maps import DepthFunction
 
 
 def depth_on_pillars(f: DepthFunction, lines: FloatArray, who: str) -> FloatArray:
