@@ -39,9 +39,8 @@ from ..pillars.inclined_lines import PillarLines, check_relax_distance, default_
 from ..pillars.pillar_depths import depth_on_pillars
 from ..pillars.zones import check_layers, layer_levels
 from .between_horizons import _check_horizons, _corner_index, _pillar_lattice
-from .deck import Deck, FaultSegment
+from .deck import Deck, FaultSegment, runs
 from .fault_lattice import FaultLattice, fault_lattice
-from .stair_steps import runs as _runs
 
 __all__ = ["horizons_to_pillar_grdecl"]
 
@@ -189,11 +188,11 @@ def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[Fault
                 across_j[index - 1] &= ~across[g][1][index - 1]
         segs = [
             FaultSegment(name, int(i), int(i), int(j1), int(j2), 0, nz - 1, "X")
-            for i, j1, j2 in zip(*_runs(across_i.T), strict=True)
+            for i, j1, j2 in zip(*runs(across_i.T), strict=True)
         ]
         segs += [
             FaultSegment(name, int(i1), int(i2), int(j), int(j), 0, nz - 1, "Y")
-            for j, i1, i2 in zip(*_runs(across_j), strict=True)
+            for j, i1, i2 in zip(*runs(across_j), strict=True)
         ]
         if not segs:
             notes.append(f"fault '{name}' offsets no cell edge of the grid")

@@ -58,7 +58,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_traces import FaultTrace, nearest_on_trace, pillar_throws
-from .deck import FaultSegment
+from .deck import FaultSegment, runs
 
 FOOTWALL, HANGING_WALL, MISSING = 0, 1, 2
 
@@ -165,15 +165,6 @@ def stair_steps(
             "or a reverse throw)"
         )
     return StairSteps(zcorn, nominal, block, tuple(segments), *settled, tuple(notes))
-
-
-def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Runs of True along the last axis of a 2-D mask: (row, first, last), row-major."""
-    padded = np.pad(mask.astype(np.int8), ((0, 0), (1, 1)))
-    step = np.diff(padded, axis=1)
-    r0, c0 = np.nonzero(step == 1)
-    _, c1 = np.nonzero(step == -1)
-    return r0, c0, c1 - 1
 
 
 # --------------------------------------------------------------------------- blocks
