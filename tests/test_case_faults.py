@@ -12,6 +12,7 @@ import pytest
 from gridlib.case.faults import fault_traces
 from gridlib.config import load_case
 from gridlib.errors import InputError
+from gridlib.pillars.horizon_maps import Horizon, depth_function
 
 STICKS = Path(__file__).parent / "data" / "sticks"
 CASE = """name: c
@@ -228,3 +229,24 @@ def test_sticks_beyond_the_top_take_the_depth_of_the_nearest_that_meets_it(tmp_p
     surface = f1.surface
     np.testing.assert_allclose(f1.points, surface.section(1700.0), rtol=1e-12)
 
+
+def test_sticks_beyond_the_horizons_lattice_take_the_nearest_depth_that_meets_it(tmp_path):
+    """A stick south of the lattice (y = -50, the lattice from 0) and one north of it (y = 850),
+    against the case's own top: its lattice horizon as the case builds it (depth_function)."""
+    (tmp_path / "f.xyz").write_text(
+        "".join(
+            f"{x0 + dx} {y} {z} {stick}\n"
+            for stick, (x0, y) in enumerate([(300.0, -50.0), (320.0, 400.0), (340.0, 850.0)], 1)
+            for dx, z in ((0.0, 900.0), (300.0, 1200.0))  # 45 degrees east
+        )
+    )
+    case = load(tmp_path, "{name: F1, sticks: f.xyz, throw: 5}")
+    x, y = np.linspace(0.0, 1000.0, 11), np.linspace(0.0, 800.0, 9)
+    top = depth_function(Horizon(x, y, sloping(*np.meshgrid(x, y))))
+    (f1,) = fault_traces(case, top=top)
+    assert f1.side == "right"
+    # The middle stick meets the top; the outer two take its depth, on their own sticks.
+    z = float(top(*f1.points[1:2].T)[0])
+    np.testing.assert_allclose(f1.surface.section(z)[1], f1.points[1], rtol=1e-12)
+    np.testing.assert_allclose(f1.points, f1.surface.section(z), rtol=1e-12)
+    assert np.isnan(top(*f1.points[[0, 2]].T)).all()

@@ -286,9 +286,10 @@ class FaultSurface:
         sticks = np.arange(n)
 
         def gap(z: FloatArray) -> FloatArray:  # horizon depth minus z, at every stick's point at z
-            j, w = _interval(self.levels, z)
-            xy = self._sticks_at(sticks, j, w)
-            return np.asarray(depth_fn(xy[:, 0], xy[:, 1]), dtype=np.float64).reshape(n) - z
+            j, w = _interval(self.levels, z)  # z (..., n): one depth per stick, any leading shape
+            xy = _lerp(self.points[j, sticks], self.points[j + 1, sticks], w[..., None])
+            depth = depth_fn(xy[..., 0].ravel(), xy[..., 1].ravel())
+            return np.asarray(depth, dtype=np.float64).reshape(z.shape) - z
 
         z_prev = np.full(n, self.levels[0])
         g_prev = gap(z_prev)
@@ -363,7 +364,7 @@ class FaultSurface:
         span = self.levels[-1] - self.levels[0]
         n = self.points.shape[1]
         scan = np.linspace(self.levels[0] - 4.0 * span, self.levels[-1] + 4.0 * span, 513)
-        values = np.stack([gap(np.full(n, z)) for z in scan])  # (513, n)
+        values = gap(np.repeat(scan[:, None], n, axis=1))  # (513, n), in one call of depth_fn
         with np.errstate(invalid="ignore"):
             product = values[:-1] * values[1:]
         sign_change = (product <= 0) & np.isfinite(product)
