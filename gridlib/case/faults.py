@@ -5,11 +5,9 @@ sticks) also its :class:`~gridlib.pillars.fault_surface.FaultSurface`."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from ..config import Case
 from ..config.files import fault_sticks
@@ -17,8 +15,7 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_surface import FaultSurface
 from ..pillars.fault_traces import FaultTrace
-
-DepthFunction = Callable[[FloatArray, FloatArray], ArrayLike]
+from ..pillars.horizon_maps import DepthFunction
 
 _SAMPLES = 64  # intervals per trace segment at which the top horizon's defined area is looked for
 

@@ -26,8 +26,7 @@ from numpy.typing import ArrayLike
 from ..arrays import frozen_array, point_array
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
-
-DepthFunction = Callable[[FloatArray, FloatArray], ArrayLike]
+from .horizon_maps import DepthFunction
 
 _COINCIDENT = 1e-12  # two sticks closer than this (relative to the surface's extent) coincide
 _PARALLEL = 1e-13  # sticks whose drifts differ by less (relative to their coordinates) are parallel

@@ -15,14 +15,14 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 
 __all__ = ["DepthFunction", "Horizon", "check_horizon", "depth_function", "interpolate_horizon"]
 
 # A surface z = f(x, y): depth (m) at arrays of plan points, NaN where it is undefined.
-DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
+DepthFunction = Callable[[np.ndarray, np.ndarray], ArrayLike]
 
 
 @dataclass(frozen=True, eq=False)
