@@ -12,6 +12,7 @@ import pytest
 from gridlib.case.faults import fault_traces
 from gridlib.config import load_case
 from gridlib.errors import InputError
+from gridlib.pillars.horizon_maps import Horizon, depth_function
 
 STICKS = Path(__file__).parent / "data" / "sticks"
 CASE = """name: c
@@ -98,11 +99,20 @@ def test_a_trace_beyond_the_top_gets_sticks_where_it_leaves_it(tmp_path):
     edges = np.array([[0.0, 800.0 / 12.0], [1000.0, 800.0 * 11 / 12]])
     for k, edge in zip((1, 2), edges, strict=True):
         np.testing.assert_allclose(surface.section(sloping(*edge))[k], edge, atol=1e-9)
-    # The outer vertices take the depth at the edge: the top carried on flat along the trace.
-    np.testing.assert_allclose(surface.section(sloping(*edges[0]))[0], [-100.0, 0.0], atol=1e-9)
-    np.testing.assert_allclose(surface.section(sloping(*edges[1]))[3], [1100.0, 800.0], atol=1e-9)
-    # Inside, the fault is the plane through the trace at the top's depths: it cuts the top
-    # on the trace (mid-way along it, at a point of the top horizon, side value 0).
+    # The outer vertices take the top extrapolated linearly along the trace: on this planar
+    # top, its own depth there.
+    np.testing.assert_allclose(surface.section(sloping(-100.0, 0.0))[0], [-100.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(surface.section(sloping(1100.0, 800.0))[3], [1100.0, 800.0], atol=1e-9)
+    # So a straight trace on a planar top is one plane, within the area and beyond it: through
+    # the trace at the top's depths, dipping 45 degrees (left) in the plane normal to the trace.
+    along = np.array([1200.0, 800.0]) / np.hypot(1200.0, 800.0)
+    normal = np.array([-along[1], along[0]])  # left of the trace
+    slope = (sloping(1100, 800) - sloping(-100, 0)) / np.hypot(1200.0, 800.0)
+    gradient = slope * along + np.tan(np.radians(45.0)) * normal
+    z = np.linspace(900.0, 1300.0, 9)
+    plane = sloping(-100, 0) + (surface.section(z) - [-100.0, 0.0]) @ gradient
+    np.testing.assert_allclose(plane, np.broadcast_to(z[:, None], plane.shape), rtol=1e-12, atol=0)
+    # It cuts the top on the trace (mid-way along it, at a point of the top horizon, side value 0).
     mid = np.array([500.0, 400.0])
     assert abs(surface.side_value(*mid, sloping(*mid))) <= 1e-9 * 1000**2
 
@@ -218,3 +228,25 @@ def test_sticks_beyond_the_top_take_the_depth_of_the_nearest_that_meets_it(tmp_p
     (f1,) = fault_traces(case, top=top)
     surface = f1.surface
     np.testing.assert_allclose(f1.points, surface.section(1700.0), rtol=1e-12)
+
+
+def test_sticks_beyond_the_horizons_lattice_take_the_nearest_depth_that_meets_it(tmp_path):
+    """A stick south of the lattice (y = -50, the lattice from 0) and one north of it (y = 850),
+    against the case's own top: its lattice horizon as the case builds it (depth_function)."""
+    (tmp_path / "f.xyz").write_text(
+        "".join(
+            f"{x0 + dx} {y} {z} {stick}\n"
+            for stick, (x0, y) in enumerate([(300.0, -50.0), (320.0, 400.0), (340.0, 850.0)], 1)
+            for dx, z in ((0.0, 900.0), (300.0, 1200.0))  # 45 degrees east
+        )
+    )
+    case = load(tmp_path, "{name: F1, sticks: f.xyz, throw: 5}")
+    x, y = np.linspace(0.0, 1000.0, 11), np.linspace(0.0, 800.0, 9)
+    top = depth_function(Horizon(x, y, sloping(*np.meshgrid(x, y))))
+    (f1,) = fault_traces(case, top=top)
+    assert f1.side == "right"
+    # The middle stick meets the top; the outer two take its depth, on their own sticks.
+    z = float(top(*f1.points[1:2].T)[0])
+    np.testing.assert_allclose(f1.surface.section(z)[1], f1.points[1], rtol=1e-12)
+    np.testing.assert_allclose(f1.points, f1.surface.section(z), rtol=1e-12)
+    assert np.isnan(top(*f1.points[[0, 2]].T)).all()

@@ -5,11 +5,9 @@ sticks) also its :class:`~gridlib.pillars.fault_surface.FaultSurface`."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from ..config import Case
 from ..config.files import fault_sticks
@@ -17,8 +15,7 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_surface import FaultSurface
 from ..pillars.fault_traces import FaultTrace
-
-DepthFunction = Callable[[FloatArray, FloatArray], ArrayLike]
+from ..pillars.horizon_maps import DepthFunction
 
 _SAMPLES = 64  # intervals per trace segment at which the top horizon's defined area is looked for
 
@@ -34,9 +31,10 @@ def fault_traces(case: Case, top: DepthFunction | None = None) -> list[FaultTrac
 
     * ``dip``: :meth:`FaultSurface.from_dip` of the trace at the top's depths. Where the trace
       leaves the top's defined area, a stick is added at the point where it leaves (found to
-      round-off) and the vertices beyond take the top's depth there: the top is carried on
-      flat along the trace, so the fault stays the same plane under every straight segment
-      inside the area. The trace (``points``) is the case's.
+      round-off) and the vertices beyond take the top's depth extrapolated linearly along the
+      trace (in arc length) from the last two defined vertices (between two defined stretches,
+      interpolated): a straight trace on a planar top gives one exactly planar fault. With one
+      defined point only, its depth is carried on flat. The trace (``points``) is the case's.
     * ``sticks``: ``points`` are where the sticks meet the top (:meth:`FaultSurface.on_horizon`;
       a stick beyond the top's defined area where the nearest stick that meets it does: the top
       carried on flat along the fault), ``side`` is the side they dip towards unless the case
@@ -102,8 +100,8 @@ def _trace_on_top(
     trace: FloatArray, top: DepthFunction, name: str
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The trace's vertices with a vertex added wherever it enters or leaves the top's defined
-    area, their normalised arc lengths, and the top's depth at each (beyond the area, that of
-    the nearest vertex along the trace where it is defined)."""
+    area, their normalised arc lengths, and the top's depth at each (beyond the area linear in
+    arc length: :func:`_fill_along`)."""
     start, step = trace[:-1], np.diff(trace, axis=0)
     length = np.hypot(step[:, 0], step[:, 1])
     cum = np.concatenate([[0.0], np.cumsum(length)])
@@ -142,6 +140,21 @@ def _trace_on_top(
     )
     s = (cum[all_seg] + all_t * length[all_seg]) / cum[-1]
     z = np.asarray(top(vertices[:, 0], vertices[:, 1]), dtype=np.float64).reshape(-1)
+    return vertices, s, _fill_along(s, z)
+
+
+def _fill_along(s: FloatArray, z: FloatArray) -> FloatArray:
+    """The depths ``z`` at increasing arc lengths ``s`` with every NaN filled linearly in s:
+    between defined values interpolated, beyond the first (last) two extrapolated from them, so
+    a top that is linear along the trace stays so; flat with a single defined value.
+
+    >>> _fill_along(np.linspace(0.0, 1.0, 5), np.array([np.nan, 10.0, np.nan, 12.0, np.nan])).tolist()
+    [9.0, 10.0, 11.0, 12.0, 13.0]
+    """
     at = np.flatnonzero(np.isfinite(z))
-    nearest = at[np.argmin(np.abs(s[:, None] - s[at][None, :]), axis=1)]
-    return vertices, s, z[nearest]
+    filled = np.interp(s, s[at], z[at])  # flat beyond the ends
+    if at.size >= 2:
+        for end, inner, beyond in ((at[0], at[1], s < s[at[0]]), (at[-1], at[-2], s > s[at[-1]])):
+            slope = (z[end] - z[inner]) / (s[end] - s[inner])
+            filled = np.where(beyond, z[end] + (s - s[end]) * slope, filled)
+    return np.where(np.isfinite(z), z, filled)

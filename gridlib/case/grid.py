@@ -37,8 +37,8 @@ from ..grid import Grid
 from ..horizons import to_horizons
 from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
 from ..pillars.extrude import extrude
-from ..pillars.fault_pillars import FaultPillars, depth_range, fault_pillars, horizon_function, inclined
-from ..pillars.horizon_maps import check_horizon, interpolate_horizon
+from ..pillars.fault_pillars import FaultPillars, depth_range, fault_pillars, inclined
+from ..pillars.horizon_maps import depth_function
 from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
 from .deck import read_case_deck
@@ -119,8 +119,7 @@ def _cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
 
 def _case_faults(case: Case, top) -> list:
     """The case's faults; inclined ones (a dip or sticks) are placed against the top horizon."""
-    xa, ya, z = check_horizon(top, 0)
-    return fault_traces(case, top=lambda x, y: interpolate_horizon(xa, ya, z, np.asarray(x), np.asarray(y)))
+    return fault_traces(case, top=depth_function(top))
 
 
 def _pillar_cornerpoint(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
@@ -159,7 +158,7 @@ def _processed(deck: Deck, tolerance: float, pinch: bool = False) -> CaseGrid:
 
 def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     hz = _horizon_list(case, horizons)
-    top = horizon_function(hz[0])
+    top = depth_function(hz[0])
     traces = fault_traces(case, top=top)
     faults = [Fault(t.points, t.name) for t in traces]
     areal = pebi_grid(
@@ -172,7 +171,7 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     )
     specs = case.data.get("faults", [])
     moving = [t for t, f in zip(traces, specs, strict=True) if f["throw"] != 0.0]
-    lines = _inclined_pillars(spec, areal, traces, top, horizon_function(hz[-1]), moving)
+    lines = _inclined_pillars(spec, areal, traces, top, depth_function(hz[-1], len(hz) - 1), moving)
     pillars = None if lines is None else lines.pillars()
     r = extrude(areal.grid, hz, spec["layers"], moving, pillars=pillars, centres=areal.sites)
     grid, names = _one_tag_per_fault(r.grid, r.fault_names, areal.fault_names)

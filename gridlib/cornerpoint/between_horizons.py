@@ -39,8 +39,8 @@ from ..pillars.depth_order import ORDERINGS, order_depths
 from ..pillars.fault_traces import FaultTrace, fault_displacement
 from ..pillars.horizon_maps import Horizon, check_horizon, interpolate_horizon
 from ..pillars.zones import check_layers, is_integer, layer_levels
-from .deck import Deck, FaultSegment, shown
-from .stair_steps import is_inclined, runs, stair_steps
+from .deck import Deck, FaultSegment, runs, shown
+from .stair_steps import is_inclined, stair_steps
 
 __all__ = ["FaultTrace", "Horizon", "horizons_to_grdecl"]
 

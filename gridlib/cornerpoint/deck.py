@@ -91,6 +91,20 @@ class FaultSegment:
             )
 
 
+def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The runs of True along the last axis of a 2-D mask, (row, first, last) row-major, 0-based
+    and inclusive: the boxes of FaultSegments along a row of cell faces.
+
+    >>> [v.tolist() for v in runs(np.array([[True, True, False, True], [False, True, True, True]]))]
+    [[0, 0, 1], [0, 3, 1], [1, 3, 3]]
+    """
+    padded = np.pad(mask.astype(np.int8), ((0, 0), (1, 1)))
+    step = np.diff(padded, axis=1)
+    r0, c0 = np.nonzero(step == 1)
+    _, c1 = np.nonzero(step == -1)
+    return r0, c0, c1 - 1
+
+
 @dataclass(frozen=True, eq=False)
 class Deck:
     """A corner-point grid deck (GRID section), arrays read-only, ECLIPSE layout."""

@@ -16,7 +16,7 @@ layers, ordering and fault traces):
 * COORD gives each pillar at the shallowest and deepest corner depth of the grid, so Flow and
   ``process_grdecl`` read the same lines; ZCORN is monotone down every pillar;
 * no pillar crosses another and no column inverts at any depth of its cells
-  (:func:`~gridlib.pillars.drift.check_columns`), else one error suggesting a larger
+  (:func:`~gridlib.pillars.inclined_lines.first_crossing`), else one error suggesting a larger
   ``relax_distance``.
 
 Units are metres; z is depth, positive downwards.
@@ -24,7 +24,6 @@ Units are metres; z is depth, positive downwards.
 
 from __future__ import annotations
 
-import numbers
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -33,15 +32,15 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..pillars.depth_order import ORDERINGS, order_depths
-from ..pillars.drift import check_columns, fault_rulings, relax_bound
+from ..pillars.drift import fault_rulings
 from ..pillars.fault_traces import FaultTrace, fault_displacement, nearest_on_trace
-from ..pillars.horizon_maps import Horizon, interpolate_horizon
+from ..pillars.horizon_maps import Horizon, depth_function
+from ..pillars.inclined_lines import PillarLines, check_relax_distance, default_relax_distance, first_crossing
 from ..pillars.pillar_depths import depth_on_pillars
 from ..pillars.zones import check_layers, layer_levels
 from .between_horizons import _check_horizons, _corner_index, _pillar_lattice
-from .deck import Deck, FaultSegment
+from .deck import Deck, FaultSegment, runs
 from .fault_lattice import FaultLattice, fault_lattice
-from .stair_steps import runs as _runs
 
 __all__ = ["horizons_to_pillar_grdecl"]
 
@@ -99,7 +98,7 @@ def horizons_to_pillar_grdecl(
         raise InputError(f"{WHO}: faults must be a sequence of FaultTrace")
     box, px, py = _pillar_lattice(surfaces, dims)
     nx, ny = px.size - 1, py.size - 1
-    depth_fns = [_depth_function(s) for s in surfaces]
+    depth_fns = [depth_function(hz, h) for h, hz in enumerate(horizons)]
     top = depth_fns[0]
 
     VX, VY = np.meshgrid(px, py)
@@ -110,15 +109,15 @@ def horizons_to_pillar_grdecl(
     names = [t.name if t.name is not None else f"F{f + 1}" for f, t in enumerate(faults)]
     rulings, notes = [], []
     for trace, name in zip(faults, names, strict=True):
-        ruling, stray = fault_rulings(trace, name, _clamped(surfaces[0]), z_range)
+        ruling, stray = fault_rulings(trace, name, depth_function(horizons[0], clamped=True), z_range)
         rulings.append(ruling)
         if stray > 1e-9 * _extent(box):
             notes.append(
                 f"fault '{name}': its sticks bend; the pillars follow their straight chords between "
                 f"depths {z_range[0]:g} and {z_range[1]:g} m, up to {stray:.3g} m from the sticks"
             )
-    bound = relax_bound(z_range[1] - z_range[0], max((r.max_drift for r in rulings), default=0.0))
-    relax = bound if relax_distance is None else _relax(relax_distance)
+    bound = default_relax_distance(z_range[1] - z_range[0], max((r.max_drift for r in rulings), default=0.0))
+    relax = bound if relax_distance is None else check_relax_distance(relax_distance, WHO)
     if any(r.max_drift > 0 for r in rulings):
         notes.append(f"fault_geometry pillars: pillars relax back to vertical over {relax:g} m")
 
@@ -189,11 +188,11 @@ def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[Fault
                 across_j[index - 1] &= ~across[g][1][index - 1]
         segs = [
             FaultSegment(name, int(i), int(i), int(j1), int(j2), 0, nz - 1, "X")
-            for i, j1, j2 in zip(*_runs(across_i.T), strict=True)
+            for i, j1, j2 in zip(*runs(across_i.T), strict=True)
         ]
         segs += [
             FaultSegment(name, int(i1), int(i2), int(j), int(j), 0, nz - 1, "Y")
-            for j, i1, i2 in zip(*_runs(across_j), strict=True)
+            for j, i1, i2 in zip(*runs(across_j), strict=True)
         ]
         if not segs:
             notes.append(f"fault '{name}' offsets no cell edge of the grid")
@@ -221,34 +220,8 @@ def _ends_on(point: np.ndarray, f: int, faults, tol: float) -> int | None:
     return None
 
 
-def _depth_function(surface):
-    xa, ya, z = surface
-
-    def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        return interpolate_horizon(xa, ya, z, x, y)
-
-    return f
-
-
-def _clamped(surface):
-    """The horizon's depth with every point clamped into its box: fault sticks outside the grid
-    meet the top horizon's extension there (its edge values)."""
-    xa, ya, z = surface
-
-    def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        return interpolate_horizon(xa, ya, z, np.clip(x, xa[0], xa[-1]), np.clip(y, ya[0], ya[-1]))
-
-    return f
-
-
 def _extent(box) -> float:
     return max(box[1] - box[0], box[3] - box[2])
-
-
-def _relax(value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value) or value <= 0:
-        raise InputError(f"{WHO}: relax_distance must be a positive number of metres, got {value!r}")
-    return float(value)
 
 
 def _check_no_crossing(zc, point, drift, z0, rulings, lattice: FaultLattice, relax, bound) -> None:
@@ -257,40 +230,31 @@ def _check_no_crossing(zc, point, drift, z0, rulings, lattice: FaultLattice, rel
     ny, nx = (n // 2 for n in zc.shape[1:])
     z_lo = zc[0].reshape(ny, 2, nx, 2).min(axis=(1, 3))
     z_hi = zc[-1].reshape(ny, 2, nx, 2).max(axis=(1, 3))
-    finite = np.isfinite(z_lo) & np.isfinite(z_hi)  # (ny, nx)
-    if not finite.any():
-        return
-    ref = float(z_lo[finite].min())
-    q = point + (ref - z0)[:, None] * drift
-    jj, ii = np.nonzero(finite)
+    jj, ii = np.nonzero(np.isfinite(z_lo) & np.isfinite(z_hi))
     n0 = jj * (nx + 1) + ii  # the column's corners counter-clockwise: (i, j), (i+1, j), (i+1, j+1), (i, j+1)
-    ring = np.stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1], axis=1)
-    triples = np.stack([np.roll(ring, 1, axis=1), ring, np.roll(ring, -1, axis=1)], axis=-1).reshape(-1, 3)
-    column = np.repeat(jj * nx + ii, 4)
-    lo = np.repeat(z_lo[jj, ii] - ref, 4)
-    hi = np.repeat(z_hi[jj, ii] - ref, 4)
-    # Coincident pillars (the wedge columns at a Y junction): the corner between them has no
-    # triangle, the column's other corners decide.
-    line = np.concatenate([q, drift], axis=1)
-    same = [(line[triples[:, a]] == line[triples[:, b]]).all(axis=1) for a, b in ((0, 1), (1, 2), (0, 2))]
-    proper = ~(same[0] | same[1] | same[2])
-    triples, column, lo, hi = triples[proper], column[proper], lo[proper], hi[proper]
-    centres = lattice.xy[:-1, :-1].reshape(-1, 2) * 0.5 + lattice.xy[1:, 1:].reshape(-1, 2) * 0.5
+    ring = np.stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1], axis=1).ravel()
+    lines = PillarLines(np.column_stack([point, z0]), drift)
+    bad = first_crossing(lines, np.arange(0, ring.size + 1, 4), ring, z_lo[jj, ii], z_hi[jj, ii])
+    if bad is None:
+        return
+    j, i = int(jj[bad.column]), int(ii[bad.column])
+    centre = 0.5 * (lattice.xy[j, i] + lattice.xy[j + 1, i + 1])
+    raise InputError(
+        f"fault_geometry pillars: the pillars near fault '{_nearest_fault(rulings, centre)}' cross or "
+        f"invert {bad.columns} columns, first column (i, j) = ({i + 1}, {j + 1}): its pillars lean too "
+        f"differently over its depth range; increase relax_distance (now {relax:g} m; the bound "
+        f"2 H cot(dip) is {bound:g} m) or use fault_geometry: stair_steps"
+    )
 
-    def label(c: int) -> str:
-        return f"(i, j) = ({c % nx + 1}, {c // nx + 1})"
 
-    def nearest(c: int) -> str:
-        if not rulings:
-            return "?"
-        dist = []
-        for r in rulings:
-            seg, t, _ = nearest_on_trace(centres[c : c + 1], r.anchors, False, False)
-            a, _, _ = r.ruling(seg, t)
-            dist.append(float(np.hypot(*(a[0] - centres[c]))))
-        return rulings[int(np.argmin(dist))].name
-
-    check_columns(q, drift, triples, column, lo, hi, label, nearest, relax, bound)
+def _nearest_fault(rulings, xy: np.ndarray) -> str:
+    """The name of the fault whose trace at the top horizon is nearest the plan point ``xy``."""
+    dist = []
+    for r in rulings:
+        seg, t, _ = nearest_on_trace(xy[None], r.anchors, False, False)
+        a, _, _ = r.ruling(seg, t)
+        dist.append(float(np.hypot(*(a[0] - xy))))
+    return rulings[int(np.argmin(dist))].name if rulings else "?"
 
 
 def _deck(zc, point, drift, z0, segments: list[FaultSegment], notes: list[str]) -> Deck:

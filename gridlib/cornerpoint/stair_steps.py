@@ -58,7 +58,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_traces import FaultTrace, nearest_on_trace, pillar_throws
-from .deck import FaultSegment
+from .deck import FaultSegment, runs
 
 FOOTWALL, HANGING_WALL, MISSING = 0, 1, 2
 
@@ -211,15 +211,6 @@ def settle_note(settled: Settled) -> str | None:
     )
 
 
-def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Runs of True along the last axis of a 2-D mask: (row, first, last), row-major."""
-    padded = np.pad(mask.astype(np.int8), ((0, 0), (1, 1)))
-    step = np.diff(padded, axis=1)
-    r0, c0 = np.nonzero(step == 1)
-    _, c1 = np.nonzero(step == -1)
-    return r0, c0, c1 - 1
-
-
 # --------------------------------------------------------------------------- blocks
 
 
@@ -244,7 +235,7 @@ def _blocks(trace: FaultTrace, open_ends, end_throws, cx, cy, depth, defined, th
     correction = np.zeros(depth.shape)
     if not all(open_ends) and (t_start != 0.0 or t_end != 0.0):
         x, y = np.broadcast_to(cx, depth.shape)[defined], np.broadcast_to(cy, depth.shape)[defined]
-        seg, t = _nearest_on_sections(surface, x, y, depth[defined], *open_ends)
+        seg, t = surface.nearest_on_section(x, y, depth[defined], *open_ends)
         n_seg = surface.points.shape[1] - 1
         correction[defined] = _tip_correction(seg, t, n_seg, open_ends, end_throws)
     centre_throw = throw.mean(axis=(2, 3)) - correction  # (nz, ny, nx)
@@ -287,36 +278,6 @@ def _tip_correction(seg, t, n_seg: int, open_ends, end_throws) -> np.ndarray:
     beyond_start = (seg == 0) & (t <= 0) & (not open_start)
     beyond_end = (seg == n_seg - 1) & (t >= 1) & (not open_end)
     return np.where(beyond_start, end_throws[0], np.where(beyond_end, end_throws[1], 0.0))
-
-
-def _nearest_on_sections(surface, x, y, z, open_start: bool, open_end: bool):
-    """Segment and parameter of the nearest point of the surface's horizontal section at every
-    point's own depth (one pass per strike segment; ends extended as rays where open)."""
-    levels, points = np.asarray(surface.levels), np.asarray(surface.points)
-    lev = np.clip(np.searchsorted(levels, z) - 1, 0, levels.size - 2)
-    w = ((z - levels[lev]) / (levels[lev + 1] - levels[lev]))[:, None]
-
-    def stick(k: int) -> np.ndarray:  # (n, 2): stick k at every point's depth (linear beyond the ends)
-        return points[lev, k] + w * (points[lev + 1, k] - points[lev, k])
-
-    n_seg = points.shape[1] - 1
-    best = np.full(x.size, np.inf)
-    seg = np.zeros(x.size, dtype=np.int64)
-    tt = np.zeros(x.size)
-    start = stick(0)
-    for k in range(n_seg):
-        end = stick(k + 1)
-        dx, dy = end[:, 0] - start[:, 0], end[:, 1] - start[:, 1]
-        t = ((x - start[:, 0]) * dx + (y - start[:, 1]) * dy) / (dx * dx + dy * dy)
-        lo = -np.inf if (k == 0 and open_start) else 0.0
-        t = np.clip(t, lo, np.inf if (k == n_seg - 1 and open_end) else 1.0)
-        dist2 = (x - start[:, 0] - t * dx) ** 2 + (y - start[:, 1] - t * dy) ** 2
-        better = dist2 < best
-        np.copyto(best, dist2, where=better)
-        np.copyto(seg, k, where=better)
-        np.copyto(tt, t, where=better)
-        start = end
-    return seg, tt
 
 
 # --------------------------------------------------------------------------- corners

@@ -12,7 +12,7 @@ and its picks agree.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -22,9 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_traces import FaultTrace, nearest_on_trace
-from ..pillars.horizon_maps import interpolate_horizon
-
-DepthFunction = Callable[[FloatArray, FloatArray], FloatArray]
+from ..pillars.horizon_maps import DepthFunction, interpolate_horizon
 
 
 @dataclass(frozen=True, eq=False)

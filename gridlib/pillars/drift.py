@@ -1,4 +1,4 @@
-"""Pillar directions near inclined faults: the drift field and the no-crossing check.
+"""Pillar directions near inclined faults on a corner-point lattice: the smoothstep drift field.
 
 A straight pillar is a point ``p`` at depth ``zp`` and a *drift* ``s`` (horizontal metres
 per metre of depth): it passes through ``p + (z - zp) s`` at depth z. Near an inclined
@@ -13,12 +13,10 @@ fault the pillars lean with the fault and relax back to vertical away from it
   R the relax distance); near several faults, their weighted mean times the largest weight.
 
 With the taper's steepest slope 1.5 / R, the map x -> x + dz s(x) over a depth range H keeps
-its orientation while 1.5 H cot(dip) / R < 1: :func:`relax_bound` is R = 2 H cot(dip), the
-default. :func:`min_corner_areas` is the exact check that decides: for every column of pillars
-and every corner, the signed area of the triangle (previous, this, next corner) is a quadratic
-in depth; its minimum over the column's depth range must be positive, which makes every
-horizontal section of the column strictly convex and counter-clockwise, so no pillars cross and
-no cell inverts.
+its orientation while 1.5 H cot(dip) / R < 1, so the default R = 2 H cot(dip)
+(:func:`~gridlib.pillars.inclined_lines.default_relax_distance`) suffices for one fault; the
+exact check that decides, for the corner-point and the PEBI pillars alike, is
+:func:`~gridlib.pillars.inclined_lines.first_crossing`.
 
 Units are metres; z is depth, positive downwards.
 """
@@ -32,7 +30,8 @@ import numpy as np
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
 from .fault_traces import FaultTrace, nearest_on_trace
-from .pillar_depths import DepthFunction, depth_on_pillars
+from .horizon_maps import DepthFunction
+from .pillar_depths import depth_on_pillars
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,13 +101,6 @@ def fault_rulings(
     return FaultRulings(name, anchors, depth, drift), stray
 
 
-def relax_bound(thickness: float, max_drift: float) -> float:
-    """The default relax distance R = 2 H cot(dip) (m): ``thickness`` H the largest depth range a
-    pillar carries, ``max_drift`` cot of the smallest dip. Twice the heave over the model, so the
-    smoothstep taper (slope at most 1.5 / R) keeps every column's orientation."""
-    return 2.0 * float(thickness) * float(max_drift)
-
-
 def blended_drift(xy: FloatArray, faults: list[FaultRulings], relax: float) -> FloatArray:
     """Drift (n, 2) of pillars through the points ``xy`` (n, 2) at the top horizon that lie on no
     fault: the mean of the faults' nearest rulings' drifts weighted by ``w = smoothstep(1 - d /
@@ -138,71 +130,3 @@ def smoothstep(u: FloatArray) -> FloatArray:
     """3u^2 - 2u^3 of u clipped to [0, 1]: 0 -> 0, 1 -> 1, flat at both ends."""
     u = np.clip(u, 0.0, 1.0)
     return u * u * (3.0 - 2.0 * u)
-
-
-def min_corner_areas(
-    q: FloatArray, s: FloatArray, triples: IntArray, z_lo: FloatArray, z_hi: FloatArray
-) -> FloatArray:
-    """Smallest doubled signed area of every corner triangle over a depth range.
-
-    Pillar n passes through ``q[n] + z s[n]`` (z relative to any common reference depth).
-    ``triples`` (m, 3): the previous, this and next corner of a column's ring (counter-clockwise
-    seen from above, x east, y north); ``z_lo``, ``z_hi`` (m,): the depth range (same reference)
-    the column's cells occupy. The area is a quadratic a + b z + c z^2 in z; its minimum over
-    [z_lo, z_hi] is at an end or at the vertex. All positive: no pillar crosses another and no
-    column inverts anywhere in that range.
-
-    >>> q = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
-    >>> s = np.array([[0.0, 0.0], [-0.5, 0.0], [0.0, 0.0]])  # the second pillar leans west
-    >>> min_corner_areas(q, s, np.array([[2, 0, 1]]), np.array([0.0]), np.array([1.0])).tolist()
-    [0.5]
-    """
-    p0, p1, p2 = q[triples[:, 0]], q[triples[:, 1]], q[triples[:, 2]]
-    d0, d1, d2 = s[triples[:, 0]], s[triples[:, 1]], s[triples[:, 2]]
-    u0, u1 = p2 - p1, d2 - d1  # this -> next
-    v0, v1 = p0 - p1, d0 - d1  # this -> previous
-    a = _cross(u0, v0)
-    b = _cross(u0, v1) + _cross(u1, v0)
-    c = _cross(u1, v1)
-
-    def area(z: FloatArray) -> FloatArray:
-        return a + z * (b + z * c)
-
-    lo, hi = area(z_lo), area(z_hi)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        vertex = np.where(c > 0, -b / (2 * c), z_lo)
-    inside = (c > 0) & (vertex > z_lo) & (vertex < z_hi)
-    return np.minimum(np.minimum(lo, hi), np.where(inside, area(np.where(inside, vertex, z_lo)), np.inf))
-
-
-def _cross(u: FloatArray, v: FloatArray) -> FloatArray:
-    return u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-
-
-def check_columns(
-    q: FloatArray,
-    s: FloatArray,
-    triples: IntArray,
-    column: IntArray,
-    z_lo: FloatArray,
-    z_hi: FloatArray,
-    column_label,
-    nearest_fault,
-    relax: float,
-    bound: float,
-) -> None:
-    """:func:`min_corner_areas` of every corner positive, else one :class:`InputError` naming the
-    first failing column (``column_label(c)``, e.g. ``"(i, j) = (3, 5)"``), the fault nearest to it
-    (``nearest_fault(c)``) and the relax distance, suggesting a larger one."""
-    area = min_corner_areas(q, s, triples, z_lo, z_hi)
-    bad = ~(area > 0)
-    if not bad.any():
-        return
-    first = int(column[np.flatnonzero(bad)[0]])
-    n_bad = np.unique(column[bad]).size
-    raise InputError(
-        f"fault_geometry pillars: the pillars near fault '{nearest_fault(first)}' cross or invert "
-        f"{n_bad} columns, first column {column_label(first)}: its pillars lean too differently over "
-        f"its depth range; increase relax_distance (now {relax:g} m; the bound 2 H cot(dip) is "
-        f"{bound:g} m) or use fault_geometry: stair_steps"
-    )

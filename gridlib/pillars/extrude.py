@@ -46,7 +46,7 @@ from ..threads import num_threads
 from .columns import ColumnCorners, PillarPairs, extrude_column_corners, pillar_lines
 from .depth_order import ORDERINGS, order_depths
 from .fault_traces import FaultTrace, cell_displacement, fault_displacement
-from .horizon_maps import Horizon, check_horizon, interpolate_horizon
+from .horizon_maps import Horizon, depth_function
 from .nnc import NNC
 from .pillar_depths import depth_on_pillars
 from .zones import check_layers, layer_levels
@@ -222,12 +222,9 @@ def _evaluate(hz: Any, h: int, xy: FloatArray, lines: FloatArray | None) -> Floa
 
     elif isinstance(hz, (Horizon, Mapping)) or all(hasattr(hz, k) for k in ("x", "y", "z")):
         try:
-            xa, ya, zz = check_horizon(hz, h)
+            f = depth_function(hz, h)
         except InputError as exc:
             raise InputError(f"extrude: {exc}") from None
-
-        def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-            return interpolate_horizon(xa, ya, zz, x, y)
 
     elif isinstance(hz, numbers.Real) and not isinstance(hz, bool | np.bool_):
         return np.full(n, float(hz)) if np.isfinite(hz) else _not_finite(h)

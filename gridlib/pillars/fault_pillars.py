@@ -50,7 +50,7 @@ from ..grid import FloatArray, Grid
 from .column_inputs import ColumnCorners
 from .fault_surface import FaultSurface
 from .fault_traces import FaultTrace, nearest_on_trace
-from .horizon_maps import check_horizon, interpolate_horizon
+from .horizon_maps import DepthFunction
 from .inclined_lines import (
     PillarLines,
     check_relax_distance,
@@ -59,10 +59,9 @@ from .inclined_lines import (
     harmonic_drift,
     interior_drift,
 )
+from .pillar_depths import depth_on_pillars
 
-__all__ = ["FaultPillars", "ModelDepths", "depth_range", "fault_pillars", "horizon_function", "inclined"]
-
-DepthFunction = Callable[[np.ndarray, np.ndarray], np.ndarray]
+__all__ = ["FaultPillars", "ModelDepths", "depth_range", "fault_pillars", "inclined"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -256,13 +255,6 @@ def _follow(lines: PillarLines, corners: ColumnCorners, xy, points, top, z_lo: f
     return PillarLines(np.column_stack([points, np.where(np.isfinite(pin), pin, z_lo)]), drift)
 
 
-def horizon_function(horizon) -> DepthFunction:
-    """A gridded horizon (:class:`~gridlib.pillars.horizon_maps.Horizon`) as a depth function
-    ``f(x, y)`` (bilinear, NaN outside it)."""
-    x, y, z = check_horizon(horizon, 0)
-    return lambda px, py: interpolate_horizon(x, y, z, np.asarray(px), np.asarray(py))
-
-
 @dataclass(frozen=True)
 class ModelDepths:
     """Where a model lies in depth (m): from ``z_lo`` (the shallowest top less the largest throw)
@@ -299,18 +291,12 @@ def _column_ranges(lines: PillarLines, corners: ColumnCorners, top, base, throw:
     """The depths (m) each column's cells can occupy: from the shallowest point where one of its
     pillars meets the top horizon (less the throw) to the deepest where one meets the base (plus
     it); where a pillar misses a horizon or the iteration does not settle, the model's range."""
+    pillars = lines.as_pillars(z_lo, z_hi)
     ends = []
     for horizon, shift, fallback in ((top, -throw, z_lo), (base, throw, z_hi)):
-        z = np.full(lines.point.shape[0], 0.5 * (z_lo + z_hi))
-        for _ in range(100):  # z = h(x(z), y(z)): settles while |grad h| |drift| < 1
-            p = lines.xy_at(z)
-            with np.errstate(invalid="ignore"):
-                new = np.asarray(horizon(p[:, 0], p[:, 1]), dtype=np.float64)
-            settled = np.abs(new - z) <= 1e-9 * (1.0 + np.abs(z))
-            z = new
-            if not np.any(~settled & np.isfinite(z)):
-                break
-        ends.append(np.where(settled & np.isfinite(z), z + shift, fallback))
+        with np.errstate(invalid="ignore"):
+            z = depth_on_pillars(horizon, pillars, "fault_pillars", unsettled="nan")
+        ends.append(np.where(np.isfinite(z), z + shift, fallback))
     lo = np.full(corners.pos.size - 1, np.inf)
     hi = np.full(corners.pos.size - 1, -np.inf)
     np.minimum.at(lo, corners.owner, ends[0][corners.ring])

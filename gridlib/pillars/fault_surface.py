@@ -26,8 +26,7 @@ from numpy.typing import ArrayLike
 from ..arrays import frozen_array, point_array
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
-
-DepthFunction = Callable[[FloatArray, FloatArray], ArrayLike]
+from .horizon_maps import DepthFunction
 
 _COINCIDENT = 1e-12  # two sticks closer than this (relative to the surface's extent) coincide
 _PARALLEL = 1e-13  # sticks whose drifts differ by less (relative to their coordinates) are parallel
@@ -185,29 +184,10 @@ class FaultSurface:
         px, py = px.ravel(), py.ravel()
         j, w = _interval(self.levels, pz.ravel())
         n_seg = self.points.shape[1] - 1
-        best = np.full(px.shape, np.inf)
-        seg = np.zeros(px.shape, dtype=np.int64)
-        tt = np.zeros(px.shape)
-        side = np.zeros(px.shape)
-        lower, step = self.points[:-1], np.diff(self.points, axis=0)  # per level interval
-        ax, ay = (lower[j, 0, c] + w * step[j, 0, c] for c in (0, 1))
-        for k in range(n_seg):  # one pass per strike segment, vectorised over the points
-            bx, by = (lower[j, k + 1, c] + w * step[j, k + 1, c] for c in (0, 1))
-            dx, dy = bx - ax, by - ay
-            rx, ry = px - ax, py - ay
-            length2 = dx * dx + dy * dy
-            t = np.clip(
-                (rx * dx + ry * dy) / length2,
-                -np.inf if k == 0 else 0.0,
-                np.inf if k == n_seg - 1 else 1.0,
-            )
-            dist2 = (rx - t * dx) ** 2 + (ry - t * dy) ** 2
-            better = dist2 < best
-            np.copyto(best, dist2, where=better)
-            np.copyto(seg, k, where=better)
-            np.copyto(tt, t, where=better)
-            np.copyto(side, dx * ry - dy * rx, where=better)
-            ax, ay = bx, by
+        seg, tt, best = self._nearest(px, py, j, w, True, True)
+        lower, step = self.points[:-1], np.diff(self.points, axis=0)  # as _nearest computes them
+        ax, ay, bx, by = (lower[j, seg + s, c] + w * step[j, seg + s, c] for s in (0, 1) for c in (0, 1))
+        side = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
         # Nearest point at an interior stick: the point lies on the outer side of the turn there,
         # as far from it as the segment's cross product says elsewhere (|segment| * distance).
         vertex = np.where((tt == 0) & (seg > 0), seg, np.where((tt == 1) & (seg < n_seg - 1), seg + 1, -1))
@@ -221,6 +201,46 @@ class FaultSurface:
             value = -np.sign(turn) * np.sqrt(best[at]) * np.hypot(segment[:, 0], segment[:, 1])
             side[at] = np.where(turn != 0, value, side[at])
         return side.reshape(shape)
+
+    def nearest_on_section(
+        self, x: ArrayLike, y: ArrayLike, z: ArrayLike, open_start: bool = True, open_end: bool = True
+    ) -> tuple[IntArray, FloatArray]:
+        """The nearest point of the surface's horizontal section at every point's own depth: its
+        strike segment (0-based, between sticks ``seg`` and ``seg + 1``) and the fraction ``t``
+        along it, as :func:`~gridlib.pillars.fault_traces.nearest_on_trace` gives them for a
+        trace (t beyond [0, 1] on the first or last segment where that end is open: a ray).
+        x, y, z broadcast together, m; returns arrays of their (flattened) size."""
+        px, py, pz = (np.asarray(v, dtype=np.float64).ravel() for v in np.broadcast_arrays(x, y, z))
+        j, w = _interval(self.levels, pz)
+        seg, t, _ = self._nearest(px, py, j, w, open_start, open_end)
+        return seg, t
+
+    def _nearest(self, px, py, j: IntArray, w: FloatArray, open_start: bool, open_end: bool):
+        """(segment, t, squared distance) of the nearest point of the section at depth interval
+        ``j``, weight ``w`` of every point (px, py): one pass per strike segment."""
+        n_seg = self.points.shape[1] - 1
+        best = np.full(px.shape, np.inf)
+        seg = np.zeros(px.shape, dtype=np.int64)
+        tt = np.zeros(px.shape)
+        lower, step = self.points[:-1], np.diff(self.points, axis=0)  # per level interval
+        ax, ay = (lower[j, 0, c] + w * step[j, 0, c] for c in (0, 1))
+        for k in range(n_seg):  # vectorised over the points
+            bx, by = (lower[j, k + 1, c] + w * step[j, k + 1, c] for c in (0, 1))
+            dx, dy = bx - ax, by - ay
+            rx, ry = px - ax, py - ay
+            length2 = dx * dx + dy * dy
+            t = np.clip(
+                (rx * dx + ry * dy) / length2,
+                -np.inf if (k == 0 and open_start) else 0.0,
+                np.inf if (k == n_seg - 1 and open_end) else 1.0,
+            )
+            dist2 = (rx - t * dx) ** 2 + (ry - t * dy) ** 2
+            better = dist2 < best
+            np.copyto(best, dist2, where=better)
+            np.copyto(seg, k, where=better)
+            np.copyto(tt, t, where=better)
+            ax, ay = bx, by
+        return seg, tt, best
 
     def depth_at(self, x: ArrayLike, y: ArrayLike) -> FloatArray:
         """The depth (m) where the vertical line through every (x, y) meets the surface: the
@@ -286,9 +306,10 @@ class FaultSurface:
         sticks = np.arange(n)
 
         def gap(z: FloatArray) -> FloatArray:  # horizon depth minus z, at every stick's point at z
-            j, w = _interval(self.levels, z)
-            xy = self._sticks_at(sticks, j, w)
-            return np.asarray(depth_fn(xy[:, 0], xy[:, 1]), dtype=np.float64).reshape(n) - z
+            j, w = _interval(self.levels, z)  # z (..., n): one depth per stick, any leading shape
+            xy = _lerp(self.points[j, sticks], self.points[j + 1, sticks], w[..., None])
+            depth = depth_fn(xy[..., 0].ravel(), xy[..., 1].ravel())
+            return np.asarray(depth, dtype=np.float64).reshape(z.shape) - z
 
         z_prev = np.full(n, self.levels[0])
         g_prev = gap(z_prev)
@@ -363,7 +384,7 @@ class FaultSurface:
         span = self.levels[-1] - self.levels[0]
         n = self.points.shape[1]
         scan = np.linspace(self.levels[0] - 4.0 * span, self.levels[-1] + 4.0 * span, 513)
-        values = np.stack([gap(np.full(n, z)) for z in scan])  # (513, n)
+        values = gap(np.repeat(scan[:, None], n, axis=1))  # (513, n), in one call of depth_fn
         with np.errstate(invalid="ignore"):
             product = values[:-1] * values[1:]
         sign_change = (product <= 0) & np.isfinite(product)

@@ -2,23 +2,27 @@
 
 A :class:`Horizon` is the input both pillar front ends accept for a surface
 (``horizons_to_grdecl`` and ``extrude``); :func:`check_horizon` brings it to
-increasing 1-D axes and ``z[j, i]``, and :func:`interpolate_horizon` evaluates
-it anywhere, NaN where it is undefined. Units are metres; z is depth, positive
-downwards.
+increasing 1-D axes and ``z[j, i]``, :func:`interpolate_horizon` evaluates
+it anywhere, NaN where it is undefined, and :func:`depth_function` makes it the
+function ``f(x, y)`` that places pillars and fault surfaces. Units are metres; z is
+depth, positive downwards.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 
-__all__ = ["Horizon", "check_horizon", "interpolate_horizon"]
+__all__ = ["DepthFunction", "Horizon", "check_horizon", "depth_function", "interpolate_horizon"]
+
+# A surface z = f(x, y): depth (m) at arrays of plan points, NaN where it is undefined.
+DepthFunction = Callable[[np.ndarray, np.ndarray], ArrayLike]
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,6 +107,27 @@ def check_horizon(hz: Any, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if np.isnan(z).all():
         raise InputError(f"horizon {h}: z is undefined (NaN) everywhere")
     return np.ascontiguousarray(xa), np.ascontiguousarray(ya), np.ascontiguousarray(z)
+
+
+def depth_function(horizon: Any, index: int = 0, *, clamped: bool = False) -> DepthFunction:
+    """A gridded horizon (as :func:`check_horizon` takes it; errors name it ``horizon {index}``)
+    as the depth function ``f(x, y)`` (m, arrays of any shape): bilinear, NaN outside its box and
+    where it is undefined. ``clamped``: every point is first clamped into the box, so the
+    horizon's edge values carry on beyond it (where fault sticks outside the grid meet it).
+
+    >>> f = depth_function(Horizon([0.0, 10.0], [0.0, 10.0], [[100.0, 110.0], [100.0, 110.0]]))
+    >>> f(np.array([5.0, 20.0]), np.array([5.0, 5.0])).tolist()
+    [105.0, nan]
+    """
+    xa, ya, z = check_horizon(horizon, index)
+
+    def f(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+        if clamped:
+            x, y = np.clip(x, xa[0], xa[-1]), np.clip(y, ya[0], ya[-1])
+        return interpolate_horizon(xa, ya, z, x, y)
+
+    return f
 
 
 def _field(h: Any, key: str, index: int) -> Any:

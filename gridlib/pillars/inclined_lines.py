@@ -158,12 +158,13 @@ def harmonic_drift(
 @dataclass(frozen=True)
 class Crossing:
     """The first column (0-based) whose section turns the wrong way, at which corner (its node)
-    and depth (m), and by how much (the sine of the wrong turn)."""
+    and depth (m), by how much (the sine of the wrong turn), and how many columns do."""
 
     column: int
     node: int
     depth: float
     turn: float
+    columns: int = 1
 
 
 def first_crossing(
@@ -235,7 +236,8 @@ def first_crossing(
     if bad.size == 0:
         return None
     q = int(bad[np.argmin(owner[bad])])
-    return Crossing(int(owner[q]), int(ring[q]), float(z_mid[q] + worst_zeta[q]), float(worst_turn[q]))
+    depth, columns = float(z_mid[q] + worst_zeta[q]), int(np.unique(owner[bad]).size)
+    return Crossing(int(owner[q]), int(ring[q]), depth, float(worst_turn[q]), columns)
 
 
 def interior_drift(
@@ -269,11 +271,12 @@ def _cross(p: FloatArray, q: FloatArray) -> FloatArray:
 
 
 def check_relax_distance(relax: float, who: str) -> float:
-    """``relax`` as a float, or one InputError naming ``who`` if it is not a positive length."""
+    """``relax`` as a float, or one InputError naming ``who`` if it is not a positive number of
+    metres."""
     try:
-        value = float(relax)
+        value = float(relax) if not isinstance(relax, bool) else np.nan
     except (TypeError, ValueError):
-        raise InputError(f"{who}: relax_distance must be a length in metres, got {relax!r}") from None
+        value = np.nan
     if not np.isfinite(value) or value <= 0:
-        raise InputError(f"{who}: relax_distance must be a positive length in metres, got {relax!r}")
+        raise InputError(f"{who}: relax_distance must be a positive number of metres, got {relax!r}")
     return value

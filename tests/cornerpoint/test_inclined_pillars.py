@@ -19,9 +19,9 @@ from gridlib.cornerpoint.pillar_grdecl import horizons_to_pillar_grdecl
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.errors import InputError
 from gridlib.io.grdecl import read_grdecl, write_grdecl
-from gridlib.pillars.drift import min_corner_areas
 from gridlib.pillars.fault_surface import FaultSurface
 from gridlib.pillars.fault_traces import FaultTrace
+from gridlib.pillars.inclined_lines import PillarLines, first_crossing
 from gridlib.transmissibility import deck_transmissibility
 
 
@@ -57,24 +57,19 @@ def tagged_nodes(grid, tag: int) -> np.ndarray:
     return grid.nodes.coords[np.unique(idx)]
 
 
-def column_areas(deck) -> np.ndarray:
-    """min_corner_areas of every column of the deck with cells, from its COORD and ZCORN alone."""
+def column_crossing(deck):
+    """first_crossing of every column of the deck with cells, from its COORD and ZCORN alone."""
     nx, ny, nz = deck.cart_dims
     p = deck.pillars().reshape(-1, 2, 3)
     s = (p[:, 1, :2] - p[:, 0, :2]) / (p[:, 1, 2] - p[:, 0, 2])[:, None]
-    q = p[:, 0, :2] - p[:, 0, 2][:, None] * s  # at depth 0
     zc = deck.zcorn_array().reshape(2 * nz, ny, 2, nx, 2)
-    jj, ii = np.divmod(np.arange(nx * ny), nx)
+    lo, hi = zc.min(axis=(0, 2, 4)).ravel(), zc.max(axis=(0, 2, 4)).ravel()
+    jj, ii = np.divmod(np.flatnonzero(np.isfinite(lo)), nx)  # columns with an undefined corner hold no cell
     n0 = jj * (nx + 1) + ii
-    ring = np.stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1], axis=1)
-    triples = np.stack([np.roll(ring, 1, axis=1), ring, np.roll(ring, -1, axis=1)], axis=-1).reshape(-1, 3)
-    lo = np.repeat(zc.min(axis=(0, 2, 4)).ravel(), 4)
-    hi = np.repeat(zc.max(axis=(0, 2, 4)).ravel(), 4)
-    defined = np.isfinite(lo)  # columns with an undefined corner hold no active cell
-    line = np.concatenate([q, s], axis=1)  # coincident pillars (a Y's wedges) make no triangle
-    same = [(line[triples[:, a]] == line[triples[:, b]]).all(axis=1) for a, b in ((0, 1), (1, 2), (0, 2))]
-    keep = defined & ~(same[0] | same[1] | same[2])
-    return min_corner_areas(q, s, triples[keep], lo[keep], hi[keep])
+    ring = np.stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1], axis=1).ravel()
+    lines = PillarLines(p[:, 0], s)
+    keep = jj * nx + ii
+    return first_crossing(lines, np.arange(0, ring.size + 1, 4), ring, lo[keep], hi[keep])
 
 
 def processed(deck):
@@ -82,7 +77,7 @@ def processed(deck):
     geo = gl.compute_geometry(r.grid)
     gl.check_grid(r.grid, geo)
     assert geo.cell_volumes.min() > 0
-    assert column_areas(deck).min() > 0
+    assert column_crossing(deck) is None
     return r, geo
 
 
@@ -205,7 +200,7 @@ def test_tilted_oblique_fault_blocks_and_fault_faces_are_exact():
 
 def test_a_small_relax_distance_is_one_error_naming_the_fault_and_column():
     deck = tilted(dims=(20, 5))  # 20 m cells, the fault leans 42 m over the 72 m the pillars carry
-    assert column_areas(deck).min() > 0
+    assert column_crossing(deck) is None
     with pytest.raises(InputError, match=r"fault 'F1' cross or invert \d+ columns, first column \(i, j\) = "):
         tilted(dims=(20, 5), relax_distance=10.0)
     with pytest.raises(InputError, match="increase relax_distance \\(now 10 m"):

@@ -48,6 +48,20 @@ def test_straight_trace_under_a_sloping_top_is_one_plane():
     assert not surface.is_vertical and surface.dip_side() == "right"
 
 
+def test_nearest_on_section_is_nearest_on_trace_of_the_section_at_each_points_depth():
+    trace = np.array([(0.0, 0.0), (500.0, 0.0), (800.0, 400.0), (800.0, 900.0), (400.0, 1300.0)])
+    surface = FaultSurface.from_dip(trace, sloping_top(*trace.T), 50.0, "left")
+    rng = np.random.default_rng(11)
+    points = rng.uniform(-300.0, 1400.0, (80, 2))
+    z = rng.uniform(900.0, 1300.0, 80)
+    for open_start, open_end in ((True, True), (False, True), (False, False)):
+        seg, t = surface.nearest_on_section(points[:, 0], points[:, 1], z, open_start, open_end)
+        for p, depth, s, u in zip(points, z, seg, t, strict=True):
+            want_seg, want_t, _ = nearest_on_trace(p[None], surface.section(depth), open_start, open_end)
+            assert (s, u) == pytest.approx((want_seg[0], want_t[0]), rel=1e-9, abs=1e-12)
+        assert (t < 0).any() == open_start and (t > 1).any() == open_end
+
+
 @pytest.mark.parametrize("top_fn", [lambda x, y: np.full(np.shape(x), 1500.0), sloping_top])
 def test_kinked_trace_keeps_every_segment_on_its_own_plane(top_fn):
     trace = np.array([(0.0, 0.0), (500.0, 0.0), (800.0, 400.0), (800.0, 900.0), (400.0, 1300.0)])
