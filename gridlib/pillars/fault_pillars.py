@@ -199,7 +199,7 @@ def fault_pillars(
 
     # The default relax distance is lengthened where the drift of several faults (or of faults,
     # wells and boundaries) folds a column with it: by half at a time, three times at most.
-    tries = [relax] if relax_distance is not None else [relax * 1.5**k for k in range(4)]
+    tries = [relax] if relax_distance is not None else [relax * f for f in (1.0, 1.5, 2.25, 3.375)]
     inside = _column_points(areal, corners, sites)
     for relax in tries:
         lines = lines_for(relax)
@@ -384,11 +384,12 @@ def _meeting_line(surfaces, faults, f, g, node_xy, tangent, z_lo, z_hi, extent, 
                 f"on the top horizon but not at depth {z:g} m: the pillar there cannot lie in both"
             )
         if g < 0:  # along the boundary from the node: on its line to the last bit
-            p = node_xy + ((p - node_xy) @ tangent) * tangent
+            along = (p[0] - node_xy[0]) * tangent[0] + (p[1] - node_xy[1]) * tangent[1]
+            p = node_xy + along * tangent
         ends.append(p)
     drift = (ends[1] - ends[0]) / (z_hi - z_lo)
     if g < 0:
-        drift = (drift @ tangent) * tangent
+        drift = (drift[0] * tangent[0] + drift[1] * tangent[1]) * tangent
     return np.array([*ends[0], z_lo]), drift
 
 

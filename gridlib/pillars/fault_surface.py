@@ -118,7 +118,8 @@ class FaultSurface:
         along = step / length[:, None]
         towards = 1.0 if side == "left" else -1.0
         normal = towards * np.stack([-along[:, 1], along[:, 0]], axis=1)
-        cot = np.where(dip == 90, 0.0, 1.0 / np.tan(np.radians(dip)))
+        rad = np.radians(dip)
+        cot = np.where(dip == 90, 0.0, np.cos(rad) / np.sin(rad))  # reproducible: no np.tan
         drift = _vertex_drift(along, normal, np.diff(z0) / length, cot)
 
         # Straight sticks: any two levels hold them exactly; these are well apart.

@@ -150,7 +150,7 @@ def harmonic_drift(
     unknown = np.flatnonzero(~known)
     if unknown.size:
         rows = matrix[unknown]
-        rhs = -(rows[:, np.flatnonzero(known)] @ solution[known])
+        rhs = -(rows[:, np.flatnonzero(known)] @ solution[known])  # machine-independent: scipy's sparse loop
         solution[unknown] = spsolve(rows[:, unknown].tocsc(), rhs)
     return np.column_stack([solution[:n], solution[n:]])
 
