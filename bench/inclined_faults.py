@@ -1,12 +1,14 @@
 """Benchmark: a 1e6-cell corner-point grid cut by three faults, vertical and inclined.
 
 Run:  .venv/bin/python bench/inclined_faults.py [--dims 200 200] [--layers 10 15] [--dip 60]
-                                               [--repeat 1] [--modes vertical pillars stair_steps]
+          [--horizons planes|dome] [--relax-distance R] [--repeat 1]
+          [--modes vertical pillars stair_steps]
 
-The case (written to a scratch folder as a case file, as a user would) is the dome of
-bench/cases/million.yaml, 200 x 200 columns in 25 layers, with three faults: F1 crossing the
-model from south to north, F2 and F3 ending inside it (a tip each), 25, 15 and 20 m of throw.
-Each mode builds the same case:
+The case (written to a scratch folder as a case file, as a user would) is 3 x 2 km, 200 x 200
+columns in 25 layers of two zones between three horizons (``--horizons planes``: dipping 2
+degrees east; ``dome``: the dome of bench/cases/million.yaml), with three faults: F1 crossing
+the model from south to north, F2 and F3 from the east and west boundaries ending inside it (a
+tip each), 25, 15 and 20 m of throw. Each mode builds the same case:
 
 * ``vertical``: the faults as today (``dip`` 90, the default);
 * ``pillars``: every fault dipping ``--dip`` degrees, ``grid.fault_geometry: pillars``
@@ -21,7 +23,8 @@ each inclined mode's grid + geometry time to the vertical case's (issue 25's tar
 2x) and the grid's orientation figures (:mod:`gridlib.orientation`: median, 95th percentile
 and maximum angle between face normal and the line joining the cell centroids), which show
 what each mode costs in K-orthogonality. A mode the installed gridlib cannot build (a case key
-it does not know) is reported as such. No peer builds inclined-fault grids from a dip or
+it does not know, or a grid it refuses, e.g. pillars that would cross with the relax
+distance given) is reported as such. No peer builds inclined-fault grids from a dip or
 sticks in Python (xtgeo and resdata read such grids, they do not make them), so none is timed.
 """
 
@@ -46,23 +49,34 @@ from gridlib.orientation import grid_face_angles, orientation_figures
 MODES = ("vertical", "pillars", "stair_steps")
 
 
-def case_data(dims: list[int], layers: list[int], mode: str, dip: float) -> dict[str, Any]:
+def case_data(
+    dims: list[int],
+    layers: list[int],
+    mode: str,
+    dip: float,
+    relax_distance: float | None = None,
+    horizons: str = "planes",
+) -> dict[str, Any]:
     """The benchmark case in ``mode`` (module docstring)."""
     faults: list[dict[str, Any]] = [
         {"name": "F1", "trace": [[1000, -100], [1450, 2100]], "throw": 25},
-        {
-            "name": "F2",
-            "trace": [[1900, 600], [3100, 1000]],
-            "throw": {"start": 0, "end": 15},
-            "side": "left",
-        },
-        {"name": "F3", "trace": [[-100, 1500], [700, 1650]], "throw": {"start": 20, "end": 0}},
+        {"name": "F2", "trace": [[3100, 1000], [1500, 600]], "throw": {"start": 15, "end": 0}},
+        {"name": "F3", "trace": [[-100, 1500], [1200, 1700]], "throw": {"start": 20, "end": 0}},
     ]
     grid: dict[str, Any] = {"type": "cornerpoint", "dims": dims, "layers": layers}
     if mode != "vertical":
         faults = [f | {"dip": dip} for f in faults]
         grid["fault_geometry"] = mode
-    dome = {"relief": 120, "radius": 1200, "x0": 1500, "y0": 1000}
+        if mode == "pillars" and relax_distance is not None:
+            grid["relax_distance"] = relax_distance
+    depths = (("top", 2000, 120, 1200), ("middle", 2030, 125, 1250), ("base", 2080, 130, 1300))
+    if horizons == "dome":
+        centre = {"x0": 1500, "y0": 1000}
+        surfaces = [
+            {"name": n, "dome": {"depth": z, "relief": r, "radius": a} | centre} for n, z, r, a in depths
+        ]
+    else:
+        surfaces = [{"name": n, "plane": {"depth": z, "dip": 2.0, "azimuth": 90}} for n, z, _, _ in depths]
     return {
         "name": f"inclined_{mode}",
         "seed": 11,
@@ -72,11 +86,7 @@ def case_data(dims: list[int], layers: list[int], mode: str, dip: float) -> dict
                 "x": {"start": 0, "stop": 3000, "num": 121},
                 "y": {"start": 0, "stop": 2000, "num": 81},
             },
-            "surfaces": [
-                {"name": "top", "dome": dome | {"depth": 2000}},
-                {"name": "middle", "dome": dome | {"depth": 2030, "relief": 125, "radius": 1250}},
-                {"name": "base", "dome": dome | {"depth": 2080, "relief": 130, "radius": 1300}},
-            ],
+            "surfaces": surfaces,
         },
         "faults": faults,
         "grid": grid,
@@ -93,21 +103,26 @@ def summary(times: list[float]) -> str:
     return f"median {statistics.median(times):7.3f} s (min {min(times):.3f}, max {max(times):.3f})"
 
 
-def run_mode(folder: Path, dims: list[int], layers: list[int], mode: str, dip: float, repeat: int):
-    """Build the case of ``mode`` ``repeat`` times: prints the timings and figures, returns the
-    median grid + geometry time (None if this gridlib cannot build the mode)."""
+def run_mode(folder: Path, args: argparse.Namespace, mode: str):
+    """Build the case of ``mode`` ``args.repeat`` times: prints the timings and figures, returns
+    the median grid + geometry time (None if this gridlib cannot build the mode)."""
     path = folder / f"inclined_{mode}.yaml"
-    path.write_text(yaml.safe_dump(case_data(dims, layers, mode, dip), sort_keys=False))
+    data = case_data(args.dims, args.layers, mode, args.dip, args.relax_distance, args.horizons)
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
     try:
         case = load_case(path)
     except InputError as exc:
         print(f"{mode}: not built: this gridlib does not take the case ({exc})")
         return None
     hz, grids, geoms = [], [], []
-    for _ in range(repeat):
+    for _ in range(args.repeat):
         horizons, t = timed(case_horizons, case)
         hz.append(t)
-        built, t = timed(build_case_grid, case, horizons)
+        try:
+            built, t = timed(build_case_grid, case, horizons)
+        except InputError as exc:
+            print(f"{mode}: not built: {exc}")
+            return None
         grids.append(t)
         geo, t = timed(gl.compute_geometry, built.grid)
         geoms.append(t)
@@ -133,13 +148,17 @@ def main() -> None:
     parser.add_argument("--dims", type=int, nargs=2, default=[200, 200])
     parser.add_argument("--layers", type=int, nargs="+", default=[10, 15], help="layers per zone (2 zones)")
     parser.add_argument("--dip", type=float, default=60.0, help="degrees from horizontal")
+    parser.add_argument("--horizons", choices=("planes", "dome"), default="planes")
+    parser.add_argument(
+        "--relax-distance", type=float, default=None, help="pillars mode (m; default: the case's default)"
+    )
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--modes", nargs="+", choices=MODES, default=list(MODES))
     args = parser.parse_args()
     times: dict[str, float | None] = {}
     with tempfile.TemporaryDirectory() as tmp:
         for mode in args.modes:
-            times[mode] = run_mode(Path(tmp), args.dims, args.layers, mode, args.dip, args.repeat)
+            times[mode] = run_mode(Path(tmp), args, mode)
     base = times.get("vertical")
     if base:
         for mode, t in times.items():

@@ -49,6 +49,9 @@ def _absolute_files(data: dict[str, Any], case: Path) -> dict[str, Any]:
         for key in ("points", "surface"):
             if key in surface:
                 surface[key] = str(named_file(case, surface[key]).resolve())
+    for fault in data.get("faults", []):
+        if "sticks" in fault:
+            fault["sticks"] = str(named_file(case, fault["sticks"]).resolve())
     return data
 
 

@@ -249,7 +249,13 @@ def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(w
     result = _snakemake(workflow_run, "simulate", *config)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     simulated = [case for case, sample in SAMPLES.items() if sample.has_simulation]
-    assert sorted(simulated) == ["waterflood_cp", "waterflood_pebi"]
+    assert sorted(simulated) == [
+        "inclined_pebi",
+        "waterflood_cp",
+        "waterflood_pebi",
+        "y_faults_pillars",
+        "y_faults_stairs",
+    ]
     for case in simulated:
         folder = workflow_run / "results" / case / "flow"
         figures = json.loads((folder / "summary.json").read_text())
