@@ -73,7 +73,9 @@ def horizons_to_pillar_grdecl(
     throw should taper to 0: a throw left at the tip ends the displaced block with a step
     across the lattice (as in ``horizons_to_grdecl``), which is no part of the fault surface.
     ``relax_distance`` (m): how far from a fault the pillars relax back to vertical; default
-    2 H cot(dip), H the depth range of the horizons and dip the smallest of any stick.
+    2 H cot(dip), H the depth range of the horizons plus every fault's largest |throw| (a
+    hanging wall's corners reach that much further along their pillars) and dip the smallest
+    of any stick.
 
     Returns a :class:`~gridlib.cornerpoint.deck.Deck` (source ``"horizons_to_pillar_grdecl"``)
     with inclined COORD, FAULTS on the fault lines and ``notes``.
@@ -120,7 +122,10 @@ def horizons_to_pillar_grdecl(
                 f"fault '{name}': its sticks bend; the pillars follow their straight chords between "
                 f"depths {z_range[0]:g} and {z_range[1]:g} m, up to {stray:.3g} m from the sticks"
             )
-    bound = relax_bound(z_range[1] - z_range[0], max((r.max_drift for r in rulings), default=0.0))
+    # The throws move hanging-wall corners further down (or up) their pillars than the horizons
+    # reach, by each fault whose hanging wall holds them.
+    reach = z_range[1] - z_range[0] + sum(_largest_throw(t) for t in faults)
+    bound = relax_bound(reach, max((r.max_drift for r in rulings), default=0.0))
     relax = bound if relax_distance is None else _relax(relax_distance)
     if any(r.max_drift > 0 for r in rulings):
         notes.append(f"fault_geometry pillars: pillars relax back to vertical over {relax:g} m")
@@ -229,6 +234,14 @@ def _ends_on(point: np.ndarray, f: int, faults, tol: float) -> int | None:
             if np.hypot(*(near - point)) <= tol:
                 return g
     return None
+
+
+def _largest_throw(trace: FaultTrace) -> float:
+    """The largest |throw| (m) along the trace (a function of arc length sampled at 1 % steps)."""
+    if not callable(trace.throw):
+        return abs(float(trace.throw))
+    throw = np.asarray(trace.throw(np.linspace(0.0, 1.0, 101)), dtype=np.float64)
+    return float(np.abs(throw).max(initial=0.0))
 
 
 def _depth_function(surface):
