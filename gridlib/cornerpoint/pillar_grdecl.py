@@ -24,6 +24,7 @@ Units are metres; z is depth, positive downwards.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -71,7 +72,9 @@ def horizons_to_pillar_grdecl(
     throw should taper to 0: a throw left at the tip ends the displaced block with a step
     across the lattice (as in ``horizons_to_grdecl``), which is no part of the fault surface.
     ``relax_distance`` (m): how far from a fault the pillars relax back to vertical; default
-    2 H cot(dip), H the depth range of the horizons and dip the smallest of any stick.
+    2 H cot(dip), H the depth range of the horizons plus every fault's largest |throw| (a
+    hanging wall's corners reach that much further along their pillars) and dip the smallest
+    of any stick.
 
     Returns a :class:`~gridlib.cornerpoint.deck.Deck` (source ``"horizons_to_pillar_grdecl"``)
     with inclined COORD, FAULTS on the fault lines and ``notes``.
@@ -108,15 +111,22 @@ def horizons_to_pillar_grdecl(
     z_range = (float(np.nanmin(z_top)), float(np.nanmax(z_base)))
     names = [t.name if t.name is not None else f"F{f + 1}" for f, t in enumerate(faults)]
     rulings, notes = [], []
+    # The lattice lines follow the traces at the top horizon to a thousandth of a cell.
+    tolerance = 1e-3 * min((box[1] - box[0]) / nx, (box[3] - box[2]) / ny)
     for trace, name in zip(faults, names, strict=True):
-        ruling, stray = fault_rulings(trace, name, depth_function(horizons[0], clamped=True), z_range)
+        ruling, stray = fault_rulings(
+            trace, name, depth_function(horizons[0], clamped=True), z_range, tolerance
+        )
         rulings.append(ruling)
         if stray > 1e-9 * _extent(box):
             notes.append(
                 f"fault '{name}': its sticks bend; the pillars follow their straight chords between "
                 f"depths {z_range[0]:g} and {z_range[1]:g} m, up to {stray:.3g} m from the sticks"
             )
-    bound = default_relax_distance(z_range[1] - z_range[0], max((r.max_drift for r in rulings), default=0.0))
+    # The throws move hanging-wall corners further down (or up) their pillars than the horizons
+    # reach, by each fault whose hanging wall holds them.
+    reach = z_range[1] - z_range[0] + sum(_largest_throw(t) for t in faults)
+    bound = default_relax_distance(reach, max((r.max_drift for r in rulings), default=0.0))
     relax = bound if relax_distance is None else check_relax_distance(relax_distance, WHO)
     if any(r.max_drift > 0 for r in rulings):
         notes.append(f"fault_geometry pillars: pillars relax back to vertical over {relax:g} m")
@@ -136,18 +146,25 @@ def horizons_to_pillar_grdecl(
     Zn = layer_levels(H, nlay)
     nz = Zn.shape[0] - 1
     zc = Zn[np.ix_(_corner_index(nz), _corner_index(ny), _corner_index(nx))]
-    segments = _displace(faults, names, zc, lattice.xy, lattice.lines, box, notes)
+    # Cells are classified against the surface's trace at the top horizon, which the lattice line
+    # follows: on a curved top it leaves the chord between the sticks (fault_rulings).
+    on_top = [
+        t if r.anchors.shape == t.points.shape else dataclasses.replace(t, points=r.anchors)
+        for t, r in zip(faults, rulings, strict=True)
+    ]
+    segments = _displace(on_top, faults, names, zc, lattice.xy, lattice.lines, box, notes)
     _check_no_crossing(zc, point, drift, z0, rulings, lattice, relax, bound)
     return _deck(zc, point, drift, z0, segments, notes)
 
 
-def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[FaultSegment]:
+def _displace(faults, given, names, zc, xy, lines, box, notes: list[str]) -> list[FaultSegment]:
     """Move the hanging-wall corners of every fault down by its throw (``zc`` in place), as
     ``horizons_to_grdecl`` does on the lattice ``xy`` at the top horizon, except that an end of a
     trace on another fault's trace is no tip: the fault's hanging wall ends at that fault (only
     the cells on the fault's own side of it move). The FAULTS segments of the cell edges each
     fault offsets, but for those on another fault's line which that fault offsets too (the faces
-    of a T's stem against its bar belong to the bar)."""
+    of a T's stem against its bar belong to the bar). ``faults``: the traces at the top horizon
+    that classify the columns; ``given``: as given, whose ends say where a fault ends on another."""
     nz, ny, nx = (n // 2 for n in zc.shape)
     xmin, xmax, ymin, ymax = box
     tol = 1e-6 * _extent(box)
@@ -159,8 +176,8 @@ def _displace(faults, names, zc, xy, lines, box, notes: list[str]) -> list[Fault
     segments: list[FaultSegment] = []
     across = []
     for f, trace in enumerate(faults):
-        pts = trace.points
-        ends_on = [_ends_on(pts[e], f, faults, tol) for e in (0, -1)]
+        pts = given[f].points
+        ends_on = [_ends_on(pts[e], f, given, tol) for e in (0, -1)]
         open_ends = [
             not (xmin < pts[e][0] < xmax and ymin < pts[e][1] < ymax) or ends_on[k] is not None
             for k, e in enumerate((0, -1))
@@ -218,6 +235,14 @@ def _ends_on(point: np.ndarray, f: int, faults, tol: float) -> int | None:
             if np.hypot(*(near - point)) <= tol:
                 return g
     return None
+
+
+def _largest_throw(trace: FaultTrace) -> float:
+    """The largest |throw| (m) along the trace (a function of arc length sampled at 1 % steps)."""
+    if not callable(trace.throw):
+        return abs(float(trace.throw))
+    throw = np.asarray(trace.throw(np.linspace(0.0, 1.0, 101)), dtype=np.float64)
+    return float(np.abs(throw).max(initial=0.0))
 
 
 def _extent(box) -> float:

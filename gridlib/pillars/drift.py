@@ -67,13 +67,24 @@ class FaultRulings:
 
 
 def fault_rulings(
-    trace: FaultTrace, name: str, top: DepthFunction, z_range: tuple[float, float]
+    trace: FaultTrace,
+    name: str,
+    top: DepthFunction,
+    z_range: tuple[float, float],
+    tolerance: float = np.inf,
 ) -> tuple[FaultRulings, float]:
     """The rulings of ``trace``'s surface where they meet the top horizon ``top(x, y)`` (defined
     everywhere, e.g. clamped to its box), and how far (m, horizontally) the sticks stray from the
     straight chords that stand for them over ``z_range`` (the model's depths): 0 for straight
     sticks; a listric (bent) stick cannot be followed by a straight pillar. No surface: a
-    vertical fault on the trace."""
+    vertical fault on the trace.
+
+    A plane meets a curved top horizon (a dome) along a curve, not along the chord between its
+    sticks' anchors: rulings are inserted between sticks (exactly, the surface being linear
+    between them at equal depth) until the anchors' polyline is within ``tolerance`` (m) of the
+    trace at the top horizon at every segment's midpoint. Otherwise the lattice line on the chord
+    would sit off the trace and its pillars, pinned at the chord's depth, would cross their
+    neighbours pinned at the top horizon. A flat or planar top needs no insertion."""
     surface = trace.surface
     if surface is None:
         anchors = np.array(trace.points, dtype=np.float64)
@@ -84,6 +95,24 @@ def fault_rulings(
     inside = (surface.levels > z_lo) & (surface.levels < z_hi)
     chord = start[None] + (surface.levels[inside] - z_lo)[:, None, None] * drift[None]
     stray = float(np.hypot(*(surface.points[inside] - chord).T).max(initial=0.0))
+    anchors, depth = _anchors(start, drift, z_lo, top, name)
+    for _ in range(30):  # each round halves the segments still off the trace
+        mid_start, mid_drift = 0.5 * (start[:-1] + start[1:]), 0.5 * (drift[:-1] + drift[1:])
+        mid_anchor, mid_depth = _anchors(mid_start, mid_drift, z_lo, top, name)
+        split = np.flatnonzero(np.hypot(*(mid_anchor - 0.5 * (anchors[:-1] + anchors[1:])).T) > tolerance)
+        if split.size == 0:
+            break
+        start = np.insert(start, split + 1, mid_start[split], axis=0)
+        drift = np.insert(drift, split + 1, mid_drift[split], axis=0)
+        anchors = np.insert(anchors, split + 1, mid_anchor[split], axis=0)
+        depth = np.insert(depth, split + 1, mid_depth[split])
+    return FaultRulings(name, anchors, depth, drift), stray
+
+
+def _anchors(
+    start: FloatArray, drift: FloatArray, z_lo: float, top: DepthFunction, name: str
+) -> tuple[FloatArray, FloatArray]:
+    """Where the rulings through ``start`` (n, 2) at depth ``z_lo`` with ``drift`` meet the top."""
     lines = np.stack(
         [
             np.column_stack([start, np.full(len(start), z_lo)]),
@@ -97,8 +126,7 @@ def fault_rulings(
         raise InputError(
             f"fault '{name}': stick {k + 1} does not meet the top horizon (it is undefined there)"
         )
-    anchors = start + (depth - z_lo)[:, None] * drift
-    return FaultRulings(name, anchors, depth, drift), stray
+    return start + (depth - z_lo)[:, None] * drift, depth
 
 
 def blended_drift(xy: FloatArray, faults: list[FaultRulings], relax: float) -> FloatArray:

@@ -434,3 +434,77 @@ grid:
     nodes = tagged_nodes(built.grid, 1)
     assert np.abs(plane_offset(nodes, TRACE[0], TRACE[1], Z0, Z0, 60.0, "right")).max() < 1e-9 * BOX[0]
     assert built.deck.source.endswith("(horizons_to_pillar_grdecl)")
+
+
+# --------------------------------------------------------------------------- folds (bench cases)
+
+
+def dome(x, y, depth: float, relief: float, radius: float):
+    """bench/inclined_faults.py's dome (gridlib.horizons.analytic.dome), crest at (1500, 1000)."""
+    return depth + relief * (1.0 - np.exp(-((x - 1500.0) ** 2 + (y - 1000.0) ** 2) / radius**2))
+
+
+def test_a_dipping_plane_on_a_dome_follows_its_curved_trace_at_the_top():
+    """The bench's F1 (60 degrees east, 25 m throw) on its dome: the plane through the trace's
+    ends meets the dome up to about 34 m west of the chord between them. The fault's lattice
+    line follows that curve (pillars pinned at the chord's depth folded the columns beside the
+    fault at every relax distance): every relax distance builds, no column folds, every fault
+    node lies on the plane, and the fault is one run of X faces along one lattice line (the
+    columns are classified against the curve their line follows)."""
+    x, y = np.linspace(0.0, 3000.0, 61), np.linspace(0.0, 2000.0, 41)
+    X, Y = np.meshgrid(x, y)
+    horizons = [
+        Horizon(x, y, dome(X, Y, z, r, a)) for z, r, a in ((2000.0, 120.0, 1200.0), (2080.0, 130.0, 1300.0))
+    ]
+    trace = np.array([[1000.0, -100.0], [1450.0, 2100.0]])
+    z_ends = dome(np.clip(trace[:, 0], 0.0, 3000.0), np.clip(trace[:, 1], 0.0, 2000.0), 2000.0, 120.0, 1200.0)
+    fault = dip_fault(trace, z_ends, 60.0, "right", 25.0, "F1")
+    for relax in (None, 150.0, 400.0):
+        deck = horizons_to_pillar_grdecl(horizons, (100, 5), 2, [fault], relax_distance=relax)
+        r, _ = processed(deck)
+        assert_monotone_zcorn(deck)
+        (seg,) = deck.faults
+        assert (seg.j1, seg.j2, seg.face) == (0, 4, "X")
+        nodes = tagged_nodes(r.grid, r.fault_names.index("F1") + 1)
+        assert np.abs(plane_offset(nodes, *trace, *z_ends, 60.0, "right")).max() < 1e-9 * 3000.0
+    # The fault's pillars where they meet the top: west of the chord by (chord's depth - top's
+    # depth) cot(60) along the normal, 32.5 m in x at y = 800 m (row 2).
+    p = deck.pillars()[:, seg.i1 + 1, 0]
+    chord_x = trace[0, 0] + (p[:, 1] - trace[0, 1]) * (trace[1, 0] - trace[0, 0]) / (
+        trace[1, 1] - trace[0, 1]
+    )
+    top = dome(p[:, 0], p[:, 1], 2000.0, 120.0, 1200.0)
+    at_top = p[:, 0] + (top - p[:, 2]) * (deck.pillars()[:, seg.i1 + 1, 1, 0] - p[:, 0]) / (
+        deck.pillars()[:, seg.i1 + 1, 1, 2] - p[:, 2]
+    )
+    assert (chord_x - at_top).max() > 30.0
+
+
+def test_the_default_relax_distance_counts_the_throws():
+    """The bench's F1 (25 m throw) and its former F2 ending inside F1's hanging wall (15 m at the
+    boundary, 0 at the tip) on flat horizons 80 m apart: corners in both hanging walls reach
+    80 + 25 + 15 m below the pillars' pinning at the top. 2 H cot(dip) with H the horizons'
+    80 m alone (92.4 m) folds the columns beside F2; the default counts the throws."""
+    x, y = np.linspace(0.0, 3000.0, 3), np.linspace(0.0, 2000.0, 3)
+    horizons = [Horizon(x, y, np.full((3, 3), z)) for z in (2000.0, 2080.0)]
+    f1 = dip_fault([[1000.0, -100.0], [1450.0, 2100.0]], [2000.0, 2000.0], 60.0, "right", 25.0, "F1")
+    pts = np.array([[1900.0, 600.0], [3100.0, 1000.0]])
+    surface = FaultSurface.from_dip(pts, [2000.0, 2000.0], 60.0, "left", name="F2")
+    f2 = FaultTrace(pts, lambda s: 15.0 * np.asarray(s), "F2", "left", surface=surface)
+    deck = horizons_to_pillar_grdecl(horizons, (100, 50), 2, [f1, f2])
+    bound = 2.0 * (80.0 + 25.0 + 15.0) / np.tan(np.radians(60.0))
+    assert f"fault_geometry pillars: pillars relax back to vertical over {bound:g} m" in deck.notes
+    r, _ = processed(deck)
+    assert_monotone_zcorn(deck)
+    for name, fault, side in (("F1", f1, "right"), ("F2", f2, "left")):
+        nodes = tagged_nodes(r.grid, r.fault_names.index(name) + 1)
+        # F2's tip (x = 1900 m) lies between two nodes of its line: the face across it has its
+        # nodes beyond the tip on a relaxing pillar, off the plane; the nodes along F2 are on it.
+        a, b = fault.points
+        nodes = nodes[(nodes[:, :2] - a) @ (b - a) >= 0.0]
+        offset = plane_offset(nodes, *fault.points, 2000.0, 2000.0, 60.0, side)
+        assert np.abs(offset).max() < 1e-9 * 3000.0, name
+    with pytest.raises(InputError, match=r"near fault 'F2' cross or invert \d+ columns"):
+        horizons_to_pillar_grdecl(
+            horizons, (100, 50), 2, [f1, f2], relax_distance=2.0 * 80.0 / np.tan(np.radians(60.0))
+        )
