@@ -170,13 +170,23 @@ STAGES: tuple[Stage, ...] = (
         doc="Connections (cell pairs, T, kind, face), pore volumes and the simulator's cell index.",
     ),
     Stage(
+        "wells",
+        "gridlib.stages.wells:stage_wells",
+        ("grid", "grdecl", "geometry", "petrophysics"),
+        (Artifact("wells", "wells.nc"),),
+        when=lambda case: case.has_deviated_wells,
+        doc="The trajectory and survey wells: their paths, the cells they cross and their connection "
+        "factors.",
+    ),
+    Stage(
         "export",
         "gridlib.stages.export:stage_export",
-        ("grid", "geometry", "petrophysics", "coarse", "transmissibility"),
+        ("grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells"),
         (
             Artifact("nc", "{case}.nc"),
             Artifact("vtu", "{case}.vtu", when=lambda case: case.writes_vtu),
             Artifact("faults", "{case}_faults.vtp"),
+            Artifact("well_paths", "{case}_wells.vtp", when=lambda case: case.has_deviated_wells),
             Artifact("png", "{case}.png", report=Report("grid.rst", PICTURES)),
             Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
             Artifact("summary", "summary.json"),

@@ -1,16 +1,88 @@
-"""A case's wells (``wells``) as :class:`~gridlib.voronoi.Well` objects for pebi grids: a well's
-``point`` + ``rings`` or ``path`` (and ``spacing``)."""
+"""A case's wells (``wells``) as gridlib objects: the deviated wells' paths
+(:func:`case_well_paths`: a trajectory file or a survey, with branches, perforations, radius and
+skin) and, for pebi grids, every well as a :class:`~gridlib.voronoi.Well` the sites follow
+(:func:`pebi_wells`: a point well's ``point`` + ``rings``, a map ``path`` with ``spacing``).
+
+Files are relative to the case file; lengths, depths and MD in the case's length unit (m; a
+FIELD deck's ft), z depth. What is read and checked, and how branches join their parents:
+:mod:`gridlib.config.well_paths` (the checks run when the case is loaded, so these calls do not
+fail on a case that loaded).
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import numpy as np
+
 from ..config import Case
+from ..config.well_paths import is_deviated, well_paths
 from ..voronoi import Rings, Well
+from ..wells.path import WellPath
+
+
+@dataclass(frozen=True, eq=False)
+class CaseWellPath:
+    """A trajectory or survey well of a case.
+
+    ``path`` is its main path and ``branches`` its laterals in the case's order; ``parents[b]``
+    is the path branch ``b`` starts on (0 the main path, ``b' + 1`` branch ``b'``);
+    ``perforations[p]`` the open MD intervals (k, 2), sorted, of path ``p`` (0 the main path,
+    ``b + 1`` branch ``b``; the whole path where the case gives none). ``radius`` (None: the
+    default, 0.1 m in the case's length unit) and ``skin`` give its connection factors. ``key``
+    names it in messages (``wells[2]``), ``spacing`` its PEBI sites' spacing (None: the cell
+    size).
+    """
+
+    name: str
+    path: WellPath
+    branches: tuple[WellPath, ...]
+    parents: tuple[int, ...]
+    perforations: tuple[np.ndarray, ...]
+    radius: float | None
+    skin: float
+    key: str
+    spacing: float | None = None
+
+    @property
+    def paths(self) -> tuple[WellPath, ...]:
+        """The main path, then the branches."""
+        return (self.path, *self.branches)
+
+
+def case_well_paths(case: Case) -> tuple[CaseWellPath, ...]:
+    """The case's trajectory and survey wells, in the case's order (point and map-path wells
+    are left out)."""
+    wells = []
+    for k, spec in enumerate(case.data.get("wells", [])):
+        if not is_deviated(spec):
+            continue
+        key = f"wells[{k}]"
+        read = well_paths(case.path, spec, key)
+        radius = spec.get("radius")
+        spacing = spec.get("spacing")
+        wells.append(
+            CaseWellPath(
+                name=str(spec["name"]),
+                path=read.paths[0],
+                branches=read.paths[1:],
+                parents=read.parents,
+                perforations=read.perforations,
+                radius=None if radius is None else float(radius),
+                skin=float(spec.get("skin", 0.0)),
+                key=key,
+                spacing=None if spacing is None else float(spacing),
+            )
+        )
+    return tuple(wells)
 
 
 def pebi_wells(case: Case) -> list[Well]:
-    """The case's wells as voronoi Wells (the cell sites follow them)."""
+    """The case's point and map-path wells as voronoi Wells (the cell sites follow them)."""
     wells = []
     for spec in case.data.get("wells", []):
+        if is_deviated(spec):
+            continue
         rings = None
         if "rings" in spec:
             r = spec["rings"]

@@ -9,8 +9,9 @@ than the minimum of 1``.
 Its modules, one concept each: :mod:`~gridlib.config.yaml_file` (YAML, a key given twice
 refused), :mod:`~gridlib.config.values` (finite numbers, keys as the case spells them),
 :mod:`~gridlib.config.checks` (what the schema cannot say), :mod:`~gridlib.config.size`
-(cells and peak memory from the case alone) and :mod:`~gridlib.config.files` (the files a case
-names). config/README.md lists every check in the order they run.
+(cells and peak memory from the case alone), :mod:`~gridlib.config.files` (the files a case
+names) and :mod:`~gridlib.config.well_paths` (deviated wells' paths, read and checked).
+config/README.md lists every check in the order they run.
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ from .checks import case_problem, rock_problem, simulation_problem
 from .files import deck_cell_keywords, named_file
 from .size import max_memory_bytes, size_problem
 from .values import non_finite_problem
+from .well_paths import is_deviated
 from .yaml_file import parse_yaml
 
 T = TypeVar("T")
@@ -115,6 +117,12 @@ class Case:
         if grid["type"] == "tensor":
             return "z" in grid
         return True
+
+    @property
+    def has_deviated_wells(self) -> bool:
+        """The case has a trajectory or survey well (:mod:`gridlib.config.well_paths`): its
+        ``wells`` stage writes their connections to ``wells.nc``."""
+        return any(is_deviated(well) for well in self.data.get("wells", []))
 
     @property
     def has_simulation(self) -> bool:

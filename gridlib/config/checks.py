@@ -9,11 +9,14 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..errors import InputError
 from ..io.grdecl.dimens import deck_dimensions
 from ..reproducible import log as _reproducible_log
 from .files import deck_cell_keywords, fault_plan_trace, fault_sticks, named_file
 from .values import yaml_number
+from .well_paths import deviated_wells_problem, is_deviated, well_paths
 
 
 def _log(x: float) -> float:
@@ -189,6 +192,11 @@ def _features_outside(
             key = "trace" if "trace" in fault else "sticks"
             return f"faults[{k}].{key}: fault '{fault['name']}' lies entirely outside the domain"
     for k, well in enumerate(data.get("wells", [])):
+        if is_deviated(well):
+            problem = _deviated_outside(path, well, f"wells[{k}]", area)
+            if problem is not None:
+                return problem
+            continue
         points = [well["point"]] if "point" in well else well["path"]
         for point in points:
             if not area.contains(shapely.Point(point)):
@@ -196,6 +204,20 @@ def _features_outside(
                 at = f"({point[0]:g}, {point[1]:g})"
                 return f"wells[{k}].{key}: well '{well['name']}' at {at} lies outside the domain"
     return None
+
+
+def _deviated_outside(path: Path, well: dict[str, Any], key: str, area: Any) -> str | None:
+    """A trajectory or survey well none of whose paths comes into the model's ``area`` in plan
+    view (its files were read and checked before, by the same cached readers)."""
+    import shapely
+
+    paths = well_paths(path, well, key).paths
+    plan = shapely.MultiPoint(np.concatenate([p.xyz[:, :2] for p in paths]))
+    lines = [shapely.LineString(p.xyz[:, :2]) for p in paths]
+    if any(line.intersects(area) for line in lines) or plan.intersects(area):
+        return None
+    given = "trajectory" if "trajectory" in well else "survey"
+    return f"{key}.{given}: well '{well['name']}' lies entirely outside the domain (in plan view)"
 
 
 def case_problem(data: dict[str, Any], path: Path) -> str | None:
@@ -209,6 +231,7 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
             return problem
     return (
         _fault_surfaces_problem(data, path)
+        or deviated_wells_problem(data, path)
         or _structure_problem(data, path)
         or _rock_values_problem(data)
         or _coarsen_problem(data, path)

@@ -8,7 +8,10 @@ Every numeric key of ``case.schema.yaml`` says what it measures with the custom 
 counts, seeds); or ``inherit`` for a value that measures what the key it belongs to measures (a
 property's ``constant`` or ``field.mean``: a fraction under ``porosity``, mD under
 ``permeability``). ``x-unit-system`` beside it fixes the system whatever the case's
-(``carman_kozeny.grain_diameter`` is in m, ``report_days`` in days).
+(``carman_kozeny.grain_diameter`` is in m, ``report_days`` in days). A row whose columns measure
+different things (a survey station: md, inclination, azimuth) gives each column its own
+``x-quantity`` under ``prefixItems``; its keys name the column (``wells.0.survey.stations.0.1``, an
+inclination).
 
 A case's keys are in the case's unit system: METRIC for every grid gridlib builds, the deck's
 own (FIELD for the sample ``spe9``) for a ``deck`` case, whose coordinates, depths, pressures and
@@ -114,10 +117,12 @@ def _step(at: _At, part: str | int) -> _At | None:
     """The node of key component ``part`` below ``at`` (a property, or an array's item)."""
     node, data = at.node, at.data
     if isinstance(part, int):
-        if not isinstance(node.get("items"), dict):
+        prefix = node.get("prefixItems")
+        item_node = prefix[part] if isinstance(prefix, list) and part < len(prefix) else node.get("items")
+        if not isinstance(item_node, dict):
             return None
         item = data[part] if isinstance(data, list) and part < len(data) else None
-        return _At(node["items"], item, at.context, at.quantity)  # an item measures what its array does
+        return _At(item_node, item, at.context, at.quantity)  # an item measures what its array does
     properties = node.get("properties")
     if not isinstance(properties, dict) or part not in properties:
         return None
@@ -192,7 +197,7 @@ def annotation_problems(schema: Mapping[str, Any] | None = None) -> list[str]:
             visit(sub, f"{where}/properties/{name}", False)  # a key states its own quantity
         for name, sub in (node.get("$defs") or {}).items():
             visit(sub, f"{where}/$defs/{name}", False)
-        for keyword in ("items", "oneOf", "anyOf", "allOf", "then", "else"):
+        for keyword in ("items", "prefixItems", "oneOf", "anyOf", "allOf", "then", "else"):
             if keyword in node:
                 visit(node[keyword], f"{where}/{keyword}", covered)
 
@@ -214,8 +219,12 @@ def numeric_keys(schema: Mapping[str, Any] | None = None) -> dict[str, KeyQuanti
         names = {n for at, _ in expanded for n in (at.node.get("properties") or {})}
         for name in sorted(names):
             visit([s for s in (_step(at, name) for at, _ in expanded) if s], (*path, name))
+        # the columns of a row (a survey station: md, inclination, azimuth), else one item for all
+        positions = max((len(at.node.get("prefixItems") or ()) for at, _ in expanded), default=0)
         if any(isinstance(at.node.get("items"), dict) for at, _ in expanded):
-            visit([s for s in (_step(at, 0) for at, _ in expanded) if s], (*path, "0"))
+            positions = max(positions, 1)
+        for k in range(positions):
+            visit([s for s in (_step(at, k) for at, _ in expanded) if s], (*path, str(k)))
 
     visit([_At(root, None, None, None)], ())
     return found

@@ -1,10 +1,12 @@
 """Pictures of a grid, written atomically as PNG: an off-screen rendering coloured by one cell
-value with the fault faces in red (pyvista), histograms of its geometry, porosity and
-transmissibilities (matplotlib), and :func:`save_figure` for any matplotlib figure."""
+value with the fault faces in red and the deviated wells' paths in black (pyvista), histograms
+of its geometry, porosity and transmissibilities (matplotlib), and :func:`save_figure` for any
+matplotlib figure."""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -60,9 +62,13 @@ def render_grid(
     scalar: str,
     title: str,
     bar_title: str | None = None,
+    wells: Sequence[tuple[str, Sequence[np.ndarray]]] = (),
 ) -> None:
     """An off-screen picture of the grid coloured by ``scalar``, fault faces in red; the colour
-    bar titled ``bar_title`` (the quantity and its unit; default ``scalar``)."""
+    bar titled ``bar_title`` (the quantity and its unit; default ``scalar``). ``wells``: (name,
+    paths) of deviated wells, each path an (n, 3) polyline (x, y, z depth), drawn as black lines
+    named at the first point of their main path; the grid is then drawn half transparent, so
+    that the paths inside it show."""
     import pyvista as pv
     from vtkmodules.vtkCommonCore import vtkLogger
 
@@ -83,9 +89,11 @@ def render_grid(
         show_edges=grid.num_cells < 60_000,
         cmap="viridis",
         scalar_bar_args={"title": bar_title or scalar},
+        opacity=0.45 if wells else 1.0,
     )
     if faults.n_cells:
         plotter.add_mesh(faults.scale(scale, inplace=False), color="red", line_width=3, opacity=0.8)
+    _add_wells(plotter, wells, scale)
     plotter.add_text(title, font_size=12)
     if griddim == 2 or span[2] == 0:
         plotter.view_xy()
@@ -93,6 +101,23 @@ def render_grid(
         plotter.view_isometric()
     write_keeping_suffix(path, lambda p: plotter.screenshot(str(p)))
     plotter.close()
+
+
+def _add_wells(plotter, wells: Sequence[tuple[str, Sequence[np.ndarray]]], scale: tuple[float, ...]) -> None:
+    """The wells' paths as black lines, each well named at the top of its main path."""
+    import pyvista as pv
+
+    heads, names = [], []
+    for name, paths in wells:
+        for xyz in paths:
+            line = pv.lines_from_points(np.asarray(xyz, dtype=np.float64) * np.asarray(scale))
+            plotter.add_mesh(line, color="black", line_width=4)
+        heads.append(np.asarray(paths[0], dtype=np.float64)[0] * np.asarray(scale))
+        names.append(name)
+    if heads:
+        plotter.add_point_labels(
+            np.array(heads), names, font_size=14, point_size=8, always_visible=True, shape_opacity=0.6
+        )
 
 
 def plot_histograms(

@@ -57,6 +57,29 @@ VARIABLES: dict[str, str | None] = {
     "connection_kind": None,
     "connection_face": None,
     "cell_flow_index": None,
+    # wells.nc: deviated wells, their paths and connections (gridlib.io.wells_file)
+    "well_name": None,
+    "well_radius": "length",
+    "well_skin": "dimensionless",
+    "well_path_pos": None,
+    "well_completion_pos": None,
+    "path_name": None,
+    "path_parent": None,
+    "path_point_pos": None,
+    "path_perforation_pos": None,
+    "path_xyz": "length",
+    "path_md": "length",
+    "perforation_md": "length",
+    "completion_cell": None,
+    "completion_ijk": None,
+    "completion_entry_md": "length",
+    "completion_exit_md": "length",
+    "completion_entry": "length",
+    "completion_exit": "length",
+    "completion_length": "length",
+    "completion_axis_length": "length",
+    "completion_factor": "transmissibility",  # a well's connection factor: a transmissibility
+    "completion_direction": None,
     # topology and indices
     "cell_face_pos": None,
     "cell_faces": None,
@@ -96,6 +119,9 @@ COLUMNS: dict[str, str] = {
     "k_orientation_median": "angle",
     "k_orientation_p95": "angle",
     "k_orientation_max": "angle",
+    # per well of summary.json's ``trajectory_wells``
+    "completed_length": "length",
+    "total_factor": "transmissibility",
 }
 
 

@@ -9,9 +9,9 @@ version, case file hash, seed). :func:`run_case` runs every stage a case has, in
 ``gridlib build`` command, a study's variants); the Snakemake rules run one stage each
 (``workflow/scripts/stage.py``, through :func:`run_stage`).
 
-Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and transmissibility -> export
--> flow_deck (the OPM Flow deck), then summary over all cases; on request simulate (OPM
-Flow runs the deck).
+Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and transmissibility -> wells
+(trajectory and survey wells) -> export -> flow_deck (the OPM Flow deck), then summary over all
+cases; on request simulate (OPM Flow runs the deck).
 """
 
 from .._lazy import lazy_exports
@@ -33,6 +33,7 @@ _EXPORTS: dict[str, str] = {
     "stage_simulate": ".simulate",
     "stage_summary": ".summary",
     "stage_transmissibility": ".transmissibility",
+    "stage_wells": ".wells",
 }
 
 __all__ = sorted(_EXPORTS)

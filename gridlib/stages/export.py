@@ -12,9 +12,12 @@
   fault id (names in the field data ``fault_names``) and, where the case has
   transmissibilities, ``trans``: the T of the connection the face belongs to (of
   the face's cell pair: faces between the same two cells share it), 0 where none;
+* ``{case}_wells.vtp`` (cases with trajectory or survey wells): the paths of ``wells.nc``
+  as polylines with their MD (:func:`gridlib.io.vtp.write_well_paths`);
 * ``{case}.png``: the grid rendered off-screen, coloured by porosity (or
-  depth), fault faces in red; ``{case}_histograms.png``: cell volumes, face
-  areas, porosity (the MRST book's Fig. 3.33) and log10 T;
+  depth), fault faces in red, deviated wells' paths in black with their names;
+  ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's
+  Fig. 3.33) and log10 T;
 * ``summary.json``: the case's figures (the regression tests compare them); for a deck case
   with degenerate cells (:mod:`gridlib.stages.grid`) also ``degenerate_cells``: their count,
   how many have a non-positive polyhedral volume and how many do not close, and the first
@@ -24,7 +27,8 @@
   ``k_orientation_median``, ``_p95`` and ``_max`` of the angle between K n and that line
   (the larger of the face's two cells), to 1e-6 degree. The centres are those of the
   transmissibility stage: a PEBI grid's generating sites at each cell's centroid depth, else
-  the centroids.
+  the centroids. Cases with trajectory or survey wells also get ``trajectory_wells``: per well
+  its connections, ``completed_length`` and ``total_factor`` (:func:`wells_summary`).
 
 Every value is in the case's unit system (``unit_system``: METRIC, or a deck's own, e.g.
 FIELD for SPE9: ft, ft2, ft3, rb, mD), and every file, picture and figure says so: the
@@ -42,6 +46,7 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -62,8 +67,9 @@ from ..io.pictures import plot_histograms, render_grid
 from ..io.quantities import units_of
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
-from ..io.vtp import write_fault_faces
+from ..io.vtp import write_fault_faces, write_well_paths
 from ..io.vtu import write_vtu
+from ..io.wells_file import WellRecord, read_wells
 from ..orientation import grid_face_angles, orientation_figures
 from ..pillars.nnc import NNC
 from ..transmissibility import face_connections
@@ -151,23 +157,28 @@ def stage_export(
     petrophysics: str | os.PathLike | None = None,
     coarse: str | os.PathLike | None = None,
     transmissibility: str | os.PathLike | None = None,
+    wells: str | os.PathLike | None = None,
     nc: str | os.PathLike,
     vtu: str | os.PathLike | None = None,
     faults: str | os.PathLike,
+    well_paths: str | os.PathLike | None = None,
     png: str | os.PathLike,
     histograms: str | os.PathLike,
     summary: str | os.PathLike,
 ) -> None:
     """Write the case's exports from its stage files (``grid``, ``geometry`` and, where the case
-    has them, ``petrophysics``, ``coarse``, ``transmissibility``): ``nc`` ({case}.nc), ``vtu``
-    (where ``outputs.vtu``), ``faults``, the pictures ``png`` and ``histograms``, and ``summary``
-    (summary.json)."""
+    has them, ``petrophysics``, ``coarse``, ``transmissibility``, ``wells``): ``nc`` ({case}.nc),
+    ``vtu`` (where ``outputs.vtu``), ``faults``, ``well_paths`` (where the case has deviated
+    wells), the pictures ``png`` and ``histograms``, and ``summary`` (summary.json)."""
     written = {"nc": nc, "vtu": vtu, "faults": faults, "png": png, "histograms": histograms}
     outputs = {key: str(path) for key, path in written.items() if path is not None}
     g = _gather(case, grid, geometry, petrophysics, coarse, transmissibility)
+    records = read_wells(wells) if wells is not None else ()
+    if well_paths is not None:
+        write_well_paths(Path(well_paths), [(r.name, r.paths) for r in records])
     n_fault_faces = _write_files(outputs, g)
-    _pictures(outputs, case, g)
-    figures = _summary(case, g, n_fault_faces)
+    _pictures(outputs, case, g, records)
+    figures = _summary(case, g, n_fault_faces) | wells_summary(records)
     with atomic_path(summary) as tmp:
         tmp.write_text(json.dumps(figures, indent=2) + "\n")
     log.info("wrote the exports of %s (%d cells)", case.name, g.grid.num_cells)
@@ -289,14 +300,16 @@ def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
     return write_fault_faces(Path(outputs["faults"]), grid, g.fault_names, g.face_trans)
 
 
-def _pictures(outputs: dict[str, str], case: Case, g: _Gathered) -> None:
-    """``{case}.png`` (coloured by porosity, else depth, else volume) and ``{case}_histograms.png``."""
+def _pictures(outputs: dict[str, str], case: Case, g: _Gathered, wells: Sequence[WellRecord] = ()) -> None:
+    """``{case}.png`` (coloured by porosity, else depth, else volume; the deviated ``wells``
+    drawn in it) and ``{case}_histograms.png``."""
     grid, geo, rock, depth, trans = g.grid, g.geo, g.rock, g.depth, g.trans
     scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
     title = f"{case.name}: {grid.num_cells:,d} cells"
     values = rock[scalar] if rock is not None else (depth if depth is not None else geo.cell_volumes)
     bar_title = f"{scalar} [{units_of([scalar], g.units, grid.griddim)[scalar]}]"
-    render_grid(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title, bar_title)
+    paths = [(r.name, [p.xyz for p in r.paths]) for r in wells]
+    render_grid(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title, bar_title, paths)
     t = None if trans is None else trans[0]["trans"].values
     poro = None if rock is None else rock["poro"]
     plot_histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, g.units, t)
@@ -338,6 +351,26 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
         summary |= transmissibility_figures(*g.trans)
     summary |= orientation_summary(grid, geo, g.centres, rock)
     return summary
+
+
+def wells_summary(wells: Sequence[WellRecord]) -> dict[str, Any]:
+    """``trajectory_wells``: per deviated well its number of connections, the length of its
+    paths inside them (``completed_length``, the length unit) and the sum of its connection
+    factors (``total_factor``, the transmissibility unit; absent without rock), in the case's
+    unit system (:mod:`gridlib.io.quantities`); nothing for a case without such wells."""
+    if not wells:
+        return {}
+    out = {}
+    for r in wells:
+        c = r.connections
+        figures: dict[str, Any] = {
+            "connections": int(c.cell.size),
+            "completed_length": _figure(c.length.sum()),
+        }
+        if np.isfinite(c.factor).all():
+            figures["total_factor"] = _figure(c.factor.sum())
+        out[r.name] = figures
+    return {"trajectory_wells": out}
 
 
 def orientation_summary(

@@ -1,0 +1,190 @@
+"""Stage ``wells``: the connections of a case's trajectory and survey wells, as ``wells.nc``.
+
+For every deviated well of the case (:func:`gridlib.case.wells.case_well_paths`) and every path
+of it (the main path, then its branches), each open MD interval (its ``perforations``; the whole
+path by default) is followed through the grid (:func:`gridlib.wells.intersect.path_cells`, one
+spatial index for all wells), its pieces turned into one connection per cell with the
+directional factor of the piece's lengths along the cell's axes
+(:func:`gridlib.wells.connections.well_connections`), and the paths of a multilateral merged
+into one well (:func:`gridlib.wells.connections.merge_connections`: a cell two branches cross is
+one connection, the factors summed; rows in MD order of first entry).
+
+The factors are Peaceman's, in the grid's unit system (METRIC: cP m3/(day bar)), with the
+well's ``radius`` (default 0.1 m in the case's length unit) and ``skin``, the rock of
+``petrophysics.nc`` (PERMX/Y/Z, NTG) and the cells' extents: for corner-point and deck grids
+those OPM Flow takes from the deck's corners
+(:func:`~gridlib.transmissibility.peaceman.deck_cell_extents` of ``grid.grdecl``), as the
+flow-deck stage does for vertical wells, so that an axis-aligned piece gets COMPDAT's own
+factor; for other grids the grid's (:func:`~gridlib.transmissibility.peaceman.cell_extents`).
+A case without rock gets the paths and the cells they cross, without factors (NaN).
+
+A well none of whose open intervals crosses an active cell is an InputError naming the well
+(its path misses the grid, or its perforations lie where the grid has no cell); an interval
+that crosses none while others do is named in a note.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..case.wells import CaseWellPath, case_well_paths
+from ..config import Case
+from ..errors import InputError
+from ..geometry import Geometry
+from ..grid import Grid
+from ..io.grdecl import read_grdecl
+from ..io.netcdf import read_geometry_netcdf, read_netcdf
+from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.rock_file import read_rock
+from ..io.wells_file import WellRecord, write_wells
+from ..transmissibility.peaceman import deck_cell_extents
+from ..units import UnitSystem
+from ..wells.connections import WellConnections, merge_connections, well_connections
+from ..wells.intersect import CellIndex, PathCells, cell_index, path_cells
+from .common import log
+
+WELL_RADIUS = 0.1  # m, the default well radius (as the flow-deck stage's vertical wells)
+
+
+def stage_wells(
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    wells: str | os.PathLike,
+    petrophysics: str | os.PathLike | None = None,
+    grdecl: str | os.PathLike | None = None,
+) -> tuple[WellRecord, ...]:
+    """Write ``wells`` (``wells.nc``) from the case's deviated wells and its stage files
+    ``grid``, ``geometry``, ``petrophysics`` (without it: no factors) and, for corner-point and
+    deck cases, ``grdecl`` (the extents Flow uses); returns the wells written."""
+    stored = read_netcdf(grid)
+    mesh = stored.grid
+    units = stored_unit_system(grid, read_attrs(grid))
+    geo = read_geometry_netcdf(geometry)
+    counts = {geometry: geo.cell_volumes.size}
+    rock = None
+    if petrophysics is not None:
+        rock = read_rock(petrophysics)
+        counts[petrophysics] = rock["poro"].size
+    check_same_cells(grid, mesh.num_cells, counts)
+    extents = None
+    if grdecl is not None and mesh.cells.index_map is not None:
+        extents = deck_cell_extents(read_grdecl(grdecl), mesh.cells.index_map)
+    if rock is None:
+        perm, ntg = np.ones((mesh.num_cells, 3)), np.ones(mesh.num_cells)
+    else:
+        perm, ntg = np.column_stack([rock["permx"], rock["permy"], rock["permz"]]), rock["ntg"]
+    model = _Model(mesh, geo, cell_index(mesh, geo), perm, ntg, rock is not None, extents, units)
+    records = tuple(_record(case, well, model) for well in case_well_paths(case))
+    write_wells(
+        wells,
+        records,
+        units,
+        attrs={**case.provenance()},
+        cart_dims=mesh.cart_dims,
+        index_map=mesh.cells.index_map,
+        has_factors=rock is not None,
+    )
+    for r in records:
+        log.info("%s: %d connections", r.name, r.connections.cell.size)
+    log.info("wrote %s (%d wells)", wells, len(records))
+    return records
+
+
+@dataclass(frozen=True, eq=False)
+class _Model:
+    """What the wells are placed on: the grid, its geometry and spatial index, the permeability
+    (nc, 3) and NTG per cell (without rock, a unit rock whose factors become NaN), the cells'
+    extents (None: the grid's), the unit system."""
+
+    grid: Grid
+    geo: Geometry
+    index: CellIndex
+    perm: np.ndarray
+    ntg: np.ndarray
+    has_rock: bool
+    extents: np.ndarray | None
+    units: UnitSystem
+
+
+def _record(case: Case, well: CaseWellPath, model: _Model) -> WellRecord:
+    """One well's connections (module docstring), as a record of ``wells.nc``."""
+    radius = WELL_RADIUS * model.units.length_from_metric if well.radius is None else well.radius
+    per_path = []
+    for p, path in enumerate(well.paths):
+        pieces = []
+        for a, b in well.perforations[p]:
+            found = path_cells(model.grid, model.geo, path.between(float(a), float(b)), index=model.index)
+            if found.cell.size == 0 and len(well.perforations[p]) > 1:
+                log.info(
+                    "note: %s: well '%s', path '%s': the open interval MD %g to %g crosses no active cell",
+                    case.path,
+                    well.name,
+                    path.name,
+                    a,
+                    b,
+                )
+            pieces.append(found)
+        joined = _joined(pieces)
+        if joined.cell.size:
+            per_path.append(_connections(case, well, model, joined, radius))
+    if not per_path:
+        open_md = "; ".join(
+            f"{path.name} MD {f[0, 0]:g} to {f[-1, 1]:g}"
+            for path, f in zip(well.paths, well.perforations, strict=True)
+        )
+        raise InputError(
+            f"{case.path}: {well.key}: well '{well.name}' crosses no active cell of the grid where it is "
+            f"open ({open_md}): its path misses the grid, or its perforations lie outside it"
+        )
+    connections = per_path[0] if len(per_path) == 1 else merge_connections(*per_path)
+    if not model.has_rock:
+        connections = replace(connections, factor=np.full(connections.cell.size, np.nan))
+    return WellRecord(
+        name=well.name,
+        paths=well.paths,
+        connections=connections,
+        parents=well.parents,
+        perforations=well.perforations,
+        radius=float(radius),
+        skin=well.skin,
+    )
+
+
+def _connections(
+    case: Case, well: CaseWellPath, model: _Model, pieces: PathCells, radius: float
+) -> WellConnections:
+    try:
+        return well_connections(
+            model.grid,
+            model.geo,
+            model.perm,
+            model.ntg,
+            pieces,
+            radius,
+            well.skin,
+            units=model.units,
+            extents=model.extents,
+        )
+    except InputError as exc:
+        raise InputError(f"{case.path}: {well.key}: well '{well.name}': {exc}") from None
+
+
+def _joined(pieces: list[PathCells]) -> PathCells:
+    """The pieces of one path's open intervals as one :class:`PathCells`, in MD order, their runs
+    numbered on (a run does not reach across intervals)."""
+    if len(pieces) == 1:
+        return pieces[0]
+    shift = np.cumsum([0] + [int(p.run.max()) + 1 if p.run.size else 0 for p in pieces[:-1]])
+    return PathCells(
+        cell=np.concatenate([p.cell for p in pieces]),
+        entry_md=np.concatenate([p.entry_md for p in pieces]),
+        exit_md=np.concatenate([p.exit_md for p in pieces]),
+        entry=np.concatenate([p.entry for p in pieces]),
+        exit=np.concatenate([p.exit for p in pieces]),
+        run=np.concatenate([p.run + s for p, s in zip(pieces, shift, strict=True)]),
+    )
