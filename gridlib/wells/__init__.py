@@ -8,6 +8,9 @@ Names are imported on first use, so that importing the package costs little.
 from .._lazy import lazy_exports
 
 _EXPORTS: dict[str, str] = {
+    "WellConnections": ".connections",
+    "merge_connections": ".connections",
+    "well_connections": ".connections",
     "axis_lengths": ".factors",
     "cell_axes": ".factors",
     "main_direction": ".factors",

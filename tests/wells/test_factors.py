@@ -5,7 +5,7 @@ combination computed here with scalar math, and the cell axes ResInsight's const
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +17,7 @@ from gridlib.errors import InputError
 from gridlib.grid import Nodes
 from gridlib.transmissibility import cell_extents, well_index
 from gridlib.units import FIELD, METRIC
+from gridlib.wells.connections import merge_connections, well_connections
 from gridlib.wells.factors import axis_lengths, cell_axes, main_direction, trajectory_factors
 
 FLOAT32 = 1e-6  # Flow's restart file stores the factors as float32
@@ -351,3 +352,106 @@ def test_bad_input_names_the_argument():
         axis_lengths([[[1.0, 0, 0], [2.0, 0, 0], [0, 0, 1.0]]], [[1.0, 0, 0]])
     with pytest.raises(InputError, match=r"^axes, vectors: expected shapes"):
         axis_lengths(np.eye(3), [[1.0, 0, 0]])
+
+
+# ------------------------------------------------------------------ a well's connections
+
+
+@dataclass(frozen=True, eq=False)
+class Pieces:
+    """PathCells' fields (gridlib.wells.intersect), written out by hand."""
+
+    cell: np.ndarray
+    entry_md: np.ndarray
+    exit_md: np.ndarray
+    entry: np.ndarray
+    exit: np.ndarray
+    run: np.ndarray
+
+
+def pieces_of(points: list[tuple[float, float, float]], cells: list[int], runs: list[int]) -> Pieces:
+    """Pieces between consecutive ``points``, MD their cumulative length."""
+    p = np.array(points, dtype=np.float64)
+    md = np.r_[0.0, np.cumsum(np.sqrt(((p[1:] - p[:-1]) ** 2).sum(axis=1)))]
+    return Pieces(np.array(cells), md[:-1], md[1:], p[:-1], p[1:], np.array(runs))
+
+
+def test_pieces_make_runs_and_a_cell_entered_twice_one_connection():
+    g = gl.tensor_grid(
+        [0.0, 10.0, 20.0, 30.0], [0.0, 10.0, 20.0], [1000.0, 1010.0]
+    )  # cells 0, 1, 2 at y < 10
+    geo = gl.compute_geometry(g)
+    perm = np.tile([200.0, 100.0, 20.0], (g.num_cells, 1))
+    ntg = np.full(g.num_cells, 0.9)
+    # into cell 0, bending in it, over to cell 1 and back to cell 0, then east through 1 and 2
+    points = [(1, 5, 1002), (5, 5, 1004), (10, 5, 1005), (15, 5, 1006), (10, 5, 1007), (5, 5, 1008)]
+    points += [(10, 5, 1008), (20, 5, 1008), (25, 5, 1008)]
+    pieces = pieces_of(points, [0, 0, 1, 1, 0, 0, 1, 2], [0, 0, 1, 2, 3, 3, 4, 5])
+    conn = well_connections(g, geo, perm, ntg, pieces, 0.1, 1.0, units="METRIC")
+    md = pieces.exit_md
+    np.testing.assert_array_equal(conn.cell, [0, 1, 2])
+    np.testing.assert_array_equal(conn.entry_md, [0.0, md[1], md[6]])
+    np.testing.assert_array_equal(conn.exit_md, [md[5], md[6], md[7]])
+    np.testing.assert_array_equal(conn.entry, [points[0], points[2], points[7]])
+    np.testing.assert_array_equal(conn.exit, [points[6], points[7], points[8]])
+    np.testing.assert_allclose(
+        conn.length, [md[1] + md[5] - md[3], md[3] - md[1] + md[6] - md[5], 5.0], rtol=1e-15
+    )
+    # per piece |dx|, |dy|, |dz| (the global axes of a box), summed over the cell's pieces
+    np.testing.assert_array_equal(conn.axis_length, [[19.0, 0.0, 4.0], [20.0, 0.0, 2.0], [5.0, 0.0, 0.0]])
+    # per run the factor of its lengths; a cell's runs add up
+    runs = np.array(
+        [[9.0, 0.0, 3.0], [5.0, 0.0, 1.0], [5.0, 0.0, 1.0], [10.0, 0.0, 1.0], [10.0, 0.0, 0.0], [5.0, 0, 0]]
+    )
+    f, _ = trajectory_factors(g, geo, perm, [0, 1, 1, 0, 1, 2], runs, 0.1, 1.0, ntg=ntg)
+    np.testing.assert_array_equal(conn.factor, [f[0] + f[3], (f[1] + f[2]) + f[4], f[5]])
+    np.testing.assert_array_equal(conn.direction, [0, 0, 0])
+    assert len(conn) == 3 and not conn.factor.flags.writeable
+
+    # Flow's extents given per grid cell: the same factors here (boxes), direction by share
+    ext = np.tile([10.0, 10.0, 10.0], (g.num_cells, 1))
+    same = well_connections(g, geo, perm, ntg, pieces, 0.1, 1.0, units="METRIC", extents=ext)
+    np.testing.assert_allclose(same.factor, conn.factor, rtol=1e-14)
+
+
+def test_a_cells_direction_is_its_strongest_runs_and_branches_merge():
+    g = gl.tensor_grid([0.0, 10.0, 20.0, 30.0], [0.0, 10.0, 20.0], [1000.0, 1010.0])
+    geo = gl.compute_geometry(g)
+    perm = np.full(g.num_cells, 100.0)
+    # a short run north in cell 0, out to cell 3 and back, then down in cell 0
+    points = [(8, 8, 1001), (8, 10, 1001), (8, 12, 1001.5), (8, 10, 1002), (8, 9, 1009)]
+    parent = pieces_of(points, [0, 3, 3, 0], [0, 1, 1, 2])
+    conn = well_connections(g, geo, perm, None, parent, 0.1, 0.0, units="METRIC")
+    np.testing.assert_array_equal(conn.cell, [0, 3])
+    np.testing.assert_array_equal(conn.axis_length, [[0.0, 3.0, 7.0], [0.0, 4.0, 1.0]])
+    assert conn.direction.tolist() == [2, 1]  # cell 0: its vertical run has the larger factor
+
+    # a branch from cell 3 east into cell 4: cell 3 is shared, one connection
+    branch = pieces_of([(3, 15, 1002), (10, 15, 1002), (14, 15, 1002)], [3, 4], [0, 1])
+    lateral = well_connections(g, geo, perm, None, branch, 0.1, 0.0, units="METRIC")
+    merged = merge_connections(conn, lateral)
+    np.testing.assert_array_equal(merged.cell, [0, 3, 4])
+    np.testing.assert_array_equal(
+        merged.factor, [conn.factor[0], conn.factor[1] + lateral.factor[0], lateral.factor[1]]
+    )
+    np.testing.assert_array_equal(merged.axis_length[1], [7.0, 4.0, 1.0])
+    np.testing.assert_array_equal(merged.entry_md, [conn.entry_md[0], conn.entry_md[1], lateral.entry_md[1]])
+    np.testing.assert_array_equal(merged.exit[1], lateral.exit[0])  # the last branch's
+    assert lateral.factor[0] > conn.factor[1]
+    assert merged.direction.tolist() == [2, 0, 0]  # cell 3: the branch's 7 m along x has the larger factor
+    assert len(merge_connections()) == 0 and merge_connections(conn).cell.tolist() == [0, 3]
+
+
+def test_bad_pieces_are_named():
+    g = gl.cart_grid([2, 1, 1], [20.0, 10.0, 2.0])
+    geo = gl.compute_geometry(g)
+    good = pieces_of([(1, 5, 1), (15, 5, 1)], [0], [0])
+    with pytest.raises(InputError, match=r"^pieces: run ids must be 0, 1, \.\.\."):
+        well_connections(g, geo, 100.0, None, replace(good, run=np.array([1])), 0.1, 0.0, units="METRIC")
+    two = pieces_of([(1, 5, 1), (5, 5, 1), (15, 5, 1)], [0, 1], [0, 0])
+    with pytest.raises(InputError, match=r"^pieces: a run's pieces must all be in one cell"):
+        well_connections(g, geo, 100.0, None, two, 0.1, 0.0, units="METRIC")
+    with pytest.raises(InputError, match=r"^skin: expected one value or one per piece \(1\)"):
+        well_connections(g, geo, 100.0, None, good, 0.1, [0.0, 1.0], units="METRIC")
+    with pytest.raises(InputError, match=r"^extents: expected \(dx, dy, dz\) per grid cell, shape \(2, 3\)"):
+        well_connections(g, geo, 100.0, None, good, 0.1, 0.0, units="METRIC", extents=np.ones((1, 3)))
