@@ -116,40 +116,20 @@ def well_index(
     >>> round(float(cf[0]), 9)  # 2 pi 100 mD 10 m 0.0085270170 / ln(0.14 sqrt(2) 100 m / 0.1 m)
     10.131361493
     """
-    if permeability is None:
-        raise InputError("permeability: required, in mD per cell (one value, (nc,), (nc, d) or tensors)")
-    nc, dim = grid.num_cells, grid.griddim
-    rows = _cells(cells, nc)
-    n = rows.size
-    k = permeability_tensors(permeability, nc, dim)
-    k = (k if k.ndim == 2 else np.diagonal(k, axis1=1, axis2=2))[rows]
-    if dim == 2:
-        k = np.column_stack([k, np.zeros(n)])
-    axis = _directions(direction, n)
-    if dim == 2 and (axis != 2).any():
+    rows = completion_cells(cells, grid.num_cells)
+    k, ext, net = completion_rock(grid, geometry, permeability, rows, ntg=ntg, extents=extents)
+    axis = _directions(direction, rows.size)
+    if grid.griddim == 2 and (axis != 2).any():
         raise InputError("direction: a 2-D grid has vertical ('z') completions only")
     if form not in FORMS:
         raise InputError(f"form: expected one of {', '.join(FORMS)}, got {form!r}")
-    if extents is None:
-        ext = cell_extents(grid, geometry, rows)
-    else:
-        ext = np.array(extents, dtype=np.float64)
-        if ext.shape != (n, 3) or not np.isfinite(ext).all() or (ext < 0).any():
-            raise InputError(
-                f"extents: expected finite, non-negative (dx, dy, dz) per completion, shape ({n}, 3)"
-            )
-    pebi = np.zeros(n, dtype=bool)
+    pebi = np.zeros(rows.size, dtype=bool)
     if form == "pebi" or (form == "auto" and grid.cells.face_tag is None):
         pebi = axis == 2
         if form == "pebi" and not pebi.all():
             raise InputError("direction: the PEBI form is for vertical ('z') completions only")
-    with np.errstate(divide="ignore", invalid="ignore"):
-        area = np.where(pebi & (ext[:, 2] > 0), geometry.cell_volumes[rows] / ext[:, 2], 0.0)
-    if ntg is not None:
-        g = np.asarray(ntg, dtype=np.float64)
-        if g.shape != (nc,) or not np.isfinite(g).all() or (g < 0).any() or (g > 1).any():
-            raise InputError(f"ntg: expected one value in [0, 1] per cell ({nc} cells)")
-        ext[:, 2] *= g[rows]
+    area = horizontal_area(geometry, rows, ext, pebi)
+    ext[:, 2] *= net
     return connection_factor(k, ext, axis, radius, skin, unit_system(units), pebi=pebi, area=area)
 
 
@@ -170,6 +150,49 @@ def deck_well_index(
     ext[:, 2] *= ntg[glob]
     axis = _directions(direction, glob.size)
     return connection_factor(perm[glob], ext, axis, radius, skin, unit_system(deck.units))
+
+
+def completion_rock(
+    grid: Grid,
+    geometry: Geometry,
+    permeability: ArrayLike | None,
+    rows: IntArray,
+    *,
+    ntg: ArrayLike | None = None,
+    extents: ArrayLike | None = None,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The checked inputs of completions in cells ``rows``: diagonal permeability (n, 3) mD
+    (kz = 0 in 2-D), extents (n, 3) without NTG (``extents`` or :func:`cell_extents`) and
+    the NTG (n,) of each completion's cell (1 without ``ntg``). A fresh ``extents`` array."""
+    if permeability is None:
+        raise InputError("permeability: required, in mD per cell (one value, (nc,), (nc, d) or tensors)")
+    nc, dim = grid.num_cells, grid.griddim
+    n = rows.size
+    k = permeability_tensors(permeability, nc, dim)
+    k = (k if k.ndim == 2 else np.diagonal(k, axis1=1, axis2=2))[rows]
+    if dim == 2:
+        k = np.column_stack([k, np.zeros(n)])
+    if extents is None:
+        ext = cell_extents(grid, geometry, rows)
+    else:
+        ext = np.array(extents, dtype=np.float64)
+        if ext.shape != (n, 3) or not np.isfinite(ext).all() or (ext < 0).any():
+            raise InputError(
+                f"extents: expected finite, non-negative (dx, dy, dz) per completion, shape ({n}, 3)"
+            )
+    if ntg is None:
+        return k, ext, np.ones(n)
+    g = np.asarray(ntg, dtype=np.float64)
+    if g.shape != (nc,) or not np.isfinite(g).all() or (g < 0).any() or (g > 1).any():
+        raise InputError(f"ntg: expected one value in [0, 1] per cell ({nc} cells)")
+    return k, ext, g[rows]
+
+
+def horizontal_area(geometry: Geometry, rows: IntArray, extents: FloatArray, pebi: np.ndarray) -> FloatArray:
+    """The horizontal area V / dz of the cells ``rows`` where ``pebi`` (0 elsewhere and where
+    dz = 0), for the PEBI form; ``extents`` without NTG."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(pebi & (extents[:, 2] > 0), geometry.cell_volumes[rows] / extents[:, 2], 0.0)
 
 
 def connection_factor(
@@ -257,8 +280,7 @@ def cell_extents(grid: Grid, geometry: Geometry, cells: ArrayLike) -> FloatArray
     pos = grid.cells.face_pos
     counts = pos[rows + 1] - pos[rows]
     owner = np.repeat(np.arange(rows.size), counts)
-    half = ragged_arange(pos[rows], counts)
-    faces = grid.cells.faces[half]
+    faces = grid.cells.faces[ragged_arange(pos[rows], counts)]
     box = _bounding_box(grid, faces, owner, rows.size)
     if grid.griddim == 2:
         thickness = np.ones(rows.size)
@@ -270,9 +292,30 @@ def cell_extents(grid: Grid, geometry: Geometry, cells: ArrayLike) -> FloatArray
     ext = np.column_stack([box, thickness])
     if grid.cells.face_tag is None:
         return ext
-    tag = grid.cells.face_tag[half].astype(np.int64)
+    centre, found = side_centroids(grid, geometry, rows)
+    horizontal = slice(0, 2)
+    dx = np.hypot(*(centre[:, E, horizontal] - centre[:, W, horizontal]).T)
+    dy = np.hypot(*(centre[:, N, horizontal] - centre[:, S, horizontal]).T)
+    dz = centre[:, B, 2] - centre[:, T, 2] if grid.griddim == 3 else np.ones(rows.size)
+    logical = np.column_stack([dx, dy, dz])
+    return np.where(found[:, None], logical, ext)
+
+
+def side_centroids(grid: Grid, geometry: Geometry, cells: ArrayLike) -> tuple[FloatArray, np.ndarray]:
+    """The centroids (n, 6, dim) of the W, E, S, N, T, B sides (``gridlib.grid`` order) of
+    cells (rows) of a logically Cartesian grid (``cells.face_tag``): per side the
+    area-weighted mean of its faces' centroids (a side split by a fault is several faces).
+    ``found`` (n,): the cell has every side (W..N in 2-D); other rows hold NaN or garbage."""
+    if grid.cells.face_tag is None:
+        raise ValueError("side_centroids: the grid is not logically Cartesian (no cells.face_tag)")
+    rows = np.asarray(cells, dtype=np.int64).ravel()
+    pos = grid.cells.face_pos
+    counts = pos[rows + 1] - pos[rows]
+    owner = np.repeat(np.arange(rows.size), counts)
+    half = ragged_arange(pos[rows], counts)
+    faces = grid.cells.faces[half]
+    bins = owner * 6 + grid.cells.face_tag[half].astype(np.int64)
     area = geometry.face_areas[faces]
-    bins = owner * 6 + tag
     total = np.bincount(bins, area, rows.size * 6).reshape(-1, 6)
     dim = grid.dim
     centre = np.stack(
@@ -281,13 +324,7 @@ def cell_extents(grid: Grid, geometry: Geometry, cells: ArrayLike) -> FloatArray
     ).reshape(-1, 6, dim)
     found = (total > 0).all(axis=1) if grid.griddim == 3 else (total[:, :4] > 0).all(axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        centre = centre / total[:, :, None]
-    horizontal = slice(0, 2)
-    dx = np.hypot(*(centre[:, E, horizontal] - centre[:, W, horizontal]).T)
-    dy = np.hypot(*(centre[:, N, horizontal] - centre[:, S, horizontal]).T)
-    dz = centre[:, B, 2] - centre[:, T, 2] if grid.griddim == 3 else np.ones(rows.size)
-    logical = np.column_stack([dx, dy, dz])
-    return np.where(found[:, None], logical, ext)
+        return centre / total[:, :, None], found
 
 
 def _bounding_box(grid: Grid, faces: IntArray, owner: IntArray, n: int) -> FloatArray:
@@ -304,7 +341,8 @@ def _bounding_box(grid: Grid, faces: IntArray, owner: IntArray, n: int) -> Float
     return hi - lo
 
 
-def _cells(cells: ArrayLike, num_cells: int) -> IntArray:
+def completion_cells(cells: ArrayLike, num_cells: int) -> IntArray:
+    """``cells`` as 0-based int64 rows of a grid of ``num_cells`` cells, checked (InputError)."""
     c = np.asarray(cells)
     if c.ndim > 1 or not (c.size == 0 or np.issubdtype(c.dtype, np.integer)):
         raise InputError(f"cells: expected integer cell indices (rows of the grid), got {c.dtype} {c.shape}")
@@ -321,7 +359,7 @@ def _cells(cells: ArrayLike, num_cells: int) -> IntArray:
 
 def _deck_cells(deck: Deck, cells: ArrayLike) -> IntArray:
     nx, ny, _ = deck.cart_dims
-    c = _cells(cells, deck.num_cells)
+    c = completion_cells(cells, deck.num_cells)
     inactive = ~deck.active[c]
     if inactive.any():
         i = int(np.flatnonzero(inactive)[0])

@@ -1,5 +1,6 @@
 """Deviated and horizontal wells: their paths (:mod:`.path`; surveys by minimum curvature,
-:mod:`.survey`), the cells a path crosses, and the connection factors of those cells.
+:mod:`.survey`), the cells a path crosses, and the connection factors of those cells
+(:mod:`.factors`, :mod:`.connections`).
 
 Names are imported on first use, so that importing the package costs little.
 """
@@ -9,6 +10,13 @@ from .._lazy import lazy_exports
 _EXPORTS: dict[str, str] = {
     "WellPath": ".path",
     "minimum_curvature": ".survey",
+    "WellConnections": ".connections",
+    "merge_connections": ".connections",
+    "well_connections": ".connections",
+    "axis_lengths": ".factors",
+    "cell_axes": ".factors",
+    "main_direction": ".factors",
+    "trajectory_factors": ".factors",
 }
 
 __all__ = sorted(_EXPORTS)
