@@ -266,7 +266,8 @@ def test_a_study_of_a_built_grid_labels_its_keys_in_metres(tmp_path, monkeypatch
 # config/README.md's key tables (from "## A case" to "## Studies"), in order: the case keys
 # each table's rows are under; a row's `unit` cell is "<unit>" (the key's, and its unnamed
 # descendants'), "`a`, `b`: <unit>" (named keys below it; "; " between parts), "(...)" (said
-# elsewhere), "–" (no unit); a unit may be followed by a remark in parentheses.
+# elsewhere), "–" (no unit); a unit may be followed by a remark in parentheses; "<u1>, <u2>, ..."
+# gives the units of a row's columns in order (a survey station's md, inclination, azimuth).
 README_TABLES = [
     [""],
     ["horizons"],
@@ -333,6 +334,8 @@ def test_config_readme_gives_every_numeric_key_its_unit():
             rest = [p for p in key[len(head) :].split(".") if p and not p.isdigit()]
             unit = named.get(rest[-1]) if rest else None
             unit = unit or (own if not rest or rest[-1] not in named else None)
+            if unit is not None and ", " in unit:  # a row's columns (a survey station's md, angles)
+                unit = unit.split(", ")[int(key.rsplit(".", 1)[-1])]
             if unit is None:
                 if cell.startswith("(") and not rest:
                     covered.add(key)  # said elsewhere (a property's values)

@@ -208,10 +208,14 @@ def _features_outside(
 
 def _deviated_outside(path: Path, well: dict[str, Any], key: str, area: Any) -> str | None:
     """A trajectory or survey well none of whose paths comes into the model's ``area`` in plan
-    view (its files were read and checked before, by the same cached readers)."""
+    view (a well whose paths cannot be read is left to :func:`deviated_wells_problem`, which
+    runs next and names the problem)."""
     import shapely
 
-    paths = well_paths(path, well, key).paths
+    try:
+        paths = well_paths(path, well, key).paths
+    except InputError:
+        return None
     plan = shapely.MultiPoint(np.concatenate([p.xyz[:, :2] for p in paths]))
     lines = [shapely.LineString(p.xyz[:, :2]) for p in paths]
     if any(line.intersects(area) for line in lines) or plan.intersects(area):
@@ -223,16 +227,16 @@ def _deviated_outside(path: Path, well: dict[str, Any], key: str, area: Any) -> 
 def case_problem(data: dict[str, Any], path: Path) -> str | None:
     """The first problem of a validated case (defaults filled in) that the schema cannot see:
     names given twice, broken traces, reversed ranges, the keys against each other and the
-    files they name, rock values, coarse blocks against the grid, PEBI wells on faults and
-    their rings."""
+    files they name, trajectory and survey wells (:mod:`gridlib.config.well_paths`), rock
+    values, coarse blocks against the grid, PEBI wells on faults and their rings."""
     for check in (_names_problem, _traces_problem, _ranges_problem):
         problem = check(data)
         if problem is not None:
             return problem
     return (
         _fault_surfaces_problem(data, path)
-        or deviated_wells_problem(data, path)
         or _structure_problem(data, path)
+        or deviated_wells_problem(data, path)
         or _rock_values_problem(data)
         or _coarsen_problem(data, path)
         or _pebi_wells_problem(data, path)
