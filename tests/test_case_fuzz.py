@@ -52,6 +52,14 @@ def _absolute_files(data: dict[str, Any], case: Path) -> dict[str, Any]:
     for fault in data.get("faults", []):
         if "sticks" in fault:
             fault["sticks"] = str(named_file(case, fault["sticks"]).resolve())
+    for well in data.get("wells", []):
+        for spec in (well, *well.get("branches", [])):
+            if isinstance(spec.get("trajectory"), str):
+                spec["trajectory"] = str(named_file(case, spec["trajectory"]).resolve())
+            elif isinstance(spec.get("trajectory"), dict):
+                spec["trajectory"]["file"] = str(named_file(case, spec["trajectory"]["file"]).resolve())
+            if "file" in spec.get("survey", {}):
+                spec["survey"]["file"] = str(named_file(case, spec["survey"]["file"]).resolve())
     return data
 
 

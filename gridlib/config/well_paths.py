@@ -47,6 +47,7 @@ if TYPE_CHECKING:
 
 BRANCH_TOLERANCE = 1.0  # the case's length unit: how far a branch may start from its parent's path
 SURVEY_STEP = 10.0  # default largest MD step between a survey path's points along its arcs
+MAX_SURVEY_POINTS = 1e6  # a survey path's points at most (a 10 km hole at a 1 cm step)
 PATH_KEYS = ("trajectory", "survey")  # a deviated well is given by one of these
 TRAJECTORY_ONLY = ("perforations", "radius", "skin", "branches")  # keys of those wells only
 
@@ -146,6 +147,13 @@ def _survey(case_file: Path, spec: Mapping[str, Any], key: str, name: str) -> We
         _check_stations(stations, f"{key}.stations")
         where = f"{key}.stations"
     step = float(spec.get("step", SURVEY_STEP))
+    points = float(np.ceil(np.diff(stations[:, 0]) / step).sum()) + 1.0
+    if not points <= MAX_SURVEY_POINTS:
+        md = stations[[0, -1], 0]
+        raise InputError(
+            f"{key}.step: {yaml_number(step)} makes {points:.3g} points along MD {yaml_number(md[0])} to "
+            f"{yaml_number(md[1])} (at most {MAX_SURVEY_POINTS:.0e}); give a larger step"
+        )
     try:
         return minimum_curvature(spec["head"], stations, name=name, step=step, source=where)
     except InputError as exc:

@@ -27,12 +27,20 @@ P2 = np.array(
 )
 CASE = {
     "name": "c",
-    "grid": {"type": "cartesian", "dims": [10, 8, 4], "lengths": [1000.0, 800.0, 40.0], "origin": [0, 0, 2000]},
+    "grid": {
+        "type": "cartesian",
+        "dims": [10, 8, 4],
+        "lengths": [1000.0, 800.0, 40.0],
+        "origin": [0, 0, 2000],
+    },
     "wells": [
         {"name": "P2", "trajectory": "data/p2.xyz", "perforations": [[2100, 2700]], "radius": 0.108},
         {
             "name": "I1",
-            "survey": {"head": [500.0, 200.0, 1800.0], "stations": [[1800, 0, 90], [2000, 45, 90], [2100, 45, 90]]},
+            "survey": {
+                "head": [500.0, 200.0, 1800.0],
+                "stations": [[1800, 0, 90], [2000, 45, 90], [2100, 45, 90]],
+            },
         },
     ],
 }
@@ -109,15 +117,18 @@ MISTAKES = [
     ),
     (
         _set("wells.0.perforations", [[2400, 2150]]),
-        "wells[0].perforations[0]: MD interval [2400, 2150]: 2400 is not below 2150; give [from, to] with from < to",
+        "wells[0].perforations[0]: MD interval [2400, 2150]: 2400 is not below 2150; give [from, to] with "
+        "from < to",
     ),
     (
         _set("wells.0.perforations", [[2100, 2800]]),
-        "wells[0].perforations[0]: MD interval [2100, 2800] reaches beyond the path of 'P2' (MD 1950 to 2790)",
+        "wells[0].perforations[0]: MD interval [2100, 2800] reaches beyond the path of 'P2' (MD 1950 to "
+        "2790)",
     ),
     (
         _set("wells.0.perforations", [[2500, 2700], [2100, 2550]]),
-        "wells[0].perforations[1]: MD interval [2100, 2550] overlaps perforations[0] [2500, 2700]; give each MD once",
+        "wells[0].perforations[1]: MD interval [2100, 2550] overlaps perforations[0] [2500, 2700]; give "
+        "each MD once",
     ),
     (
         _set("wells.0.trajectory", "data/p3.xyz"),
