@@ -5,6 +5,7 @@ The package is named ``voronoi`` so that ``gridlib.pebi`` stays the MRST-named
 function and ``import gridlib.voronoi.dual`` works.
 """
 
+from .areal import areal_path
 from .domain import rectangle
 from .dual import pebi
 from .fault_network import Fault
@@ -19,6 +20,7 @@ __all__ = [
     "PebiTuning",
     "Rings",
     "Well",
+    "areal_path",
     "grid_quality",
     "pebi",
     "pebi_grid",

@@ -5,7 +5,7 @@ The generating points ("sites") are, in this order of precedence:
 * **fault sites** (:mod:`.fault_sites`): mirrored pairs along every fault trace, so
   that Voronoi edges lie exactly on the trace, plus tip sites beyond free ends;
 * **well sites** (:mod:`.wells`): a centre and radial rings for vertical wells,
-  a row of sites along well paths;
+  a row of sites along well paths and mirrored rows beside them (:mod:`.path_sites`);
 * **background sites** (:mod:`.sites`): a hexagonal or Cartesian lattice of
   spacing ``cell_size`` (or graded by a size function), optionally with rows of
   Cartesian cells along the boundary; lattice sites inside the fault circles,
@@ -109,7 +109,7 @@ from .fault_layout import FaultLayout, Refinement, layout, ring_room
 from .fault_network import Fault
 from .fault_sites import FaultSites, build_sites, circle_violations
 from .lattice import Lattice
-from .pebi_result import ADDED, BACKGROUND, FAULT, FAULT_TIP, PADDING_SITE, WELL, PebiGrid
+from .pebi_result import ADDED, BACKGROUND, FAULT, FAULT_TIP, PADDING_SITE, WELL, WELL_SIDE, PebiGrid
 from .ridges import Ridges
 from .sites import PADDING, Background, background_sites
 from .size_notes import KIND_NAMES, size_notes
@@ -253,7 +253,7 @@ def pebi_grid(
     tags = _fault_tags(vor, fs, n_bg, n_sites)
     grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
     cell_well = np.zeros(n_sites, dtype=np.int64)
-    cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.site_well
+    cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.cell_well
     if ws.absorbed.shape[0]:  # the cells holding the points of well paths given no site (fault cells)
         holder = cKDTree(sites).query(ws.absorbed)[1]
         free = cell_well[holder] == 0
@@ -261,7 +261,7 @@ def pebi_grid(
     site_kind = np.full(n_sites, ADDED, dtype=np.int8)
     site_kind[:n_bg] = np.where(bg.padding[keep], PADDING_SITE, BACKGROUND)
     site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)
-    site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = WELL
+    site_kind[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = np.where(ws.site_side, WELL_SIDE, WELL)
     n_given = clipped.site_size.size  # the sites before those added for cut-off pieces
     site_size = np.concatenate([clipped.site_size, size(sites[n_given:])])
     verify(vor, dom, tags, fs, fault_labels, ws, cell_well)

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..grid import Grid
 
-BACKGROUND, PADDING_SITE, FAULT, FAULT_TIP, WELL, ADDED = range(6)  # PebiGrid.site_kind
+BACKGROUND, PADDING_SITE, FAULT, FAULT_TIP, WELL, ADDED, WELL_SIDE = range(7)  # PebiGrid.site_kind
 
 
 @dataclass(frozen=True, eq=False)
@@ -22,11 +22,13 @@ class PebiGrid:
     generating point of every cell (m). ``notes``: what was adjusted (clipped
     or extended faults, sites added). ``site_kind`` (nc,): what generated each
     cell: ``BACKGROUND`` 0, ``PADDING_SITE`` 1, ``FAULT`` 2 (a mirrored pair),
-    ``FAULT_TIP`` 3, ``WELL`` 4, ``ADDED`` 5 (where a concave boundary cut a cell).
+    ``FAULT_TIP`` 3, ``WELL`` 4, ``ADDED`` 5 (where a concave boundary cut a cell),
+    ``WELL_SIDE`` 6 (the mirrored rows beside a well path; not the well's cells).
     ``site_size`` (nc,): the target size of each cell (m), the square root of the area
     it is meant to have: the lattice spacing for background sites, the step along the
     trace for fault sites (in an acute wedge, the wedge's step; its first step is longer),
-    sqrt(arc spacing x radial width) for well rings, the spacing along a well path, the
+    sqrt(arc spacing x radial width) for well rings, the step along a well path (also for its
+    side rows), the
     cell size for added sites. ``fault_traces``: for every fault (by id - 1) the pieces of
     trace its faces follow, as segments (k, 2, 2) in metres: the input clipped to the
     domain, with the extensions and joins the notes name.

@@ -21,7 +21,8 @@ import numpy as np
 
 AREA_RATIO_MIN = 0.1  # cells smaller than this x h^2 are noted
 FACE_RATIO_MIN = 0.01  # faces shorter than this x h are noted
-KIND_NAMES = ("background", "padding", "fault", "fault tip", "well", "added")  # PebiGrid.site_kind
+# PebiGrid.site_kind
+KIND_NAMES = ("background", "padding", "fault", "fault tip", "well", "added", "well side row")
 
 
 def size_notes(

@@ -1,13 +1,16 @@
-"""Well sites: radial rings around vertical wells, a row of sites along well paths.
+"""Well sites: radial rings around vertical wells, rows of sites on and beside well paths.
 
 A vertical well (``Well(point, rings=Rings(...))``) gets its centre site plus
 rings of ``sectors`` sites at geometrically graded radii (MRST book §3.3.2 and
 §3.5.2, Figs. 3.25 and 3.37); background sites closer to the centre than the
 outer radius plus half a cell are removed. A well without rings is one site.
-A well path (``Well(path=polyline)``) gets sites along the polyline, at all its
-vertices and ``spacing`` apart in between; background sites closer than half
-the larger of the spacing and the cell size to the path are removed. The cells
-of a well's sites are that well's cells (``PebiGrid.cell_well``).
+A well path (``Well(path=polyline)``, or several branches and points of one well:
+``Well(path=[polyline, polyline, point])``) gets sites on the polyline, at all its
+vertices and about ``spacing`` apart in between, and mirrored rows of sites beside
+it so that the path's cells are symmetric about it where it runs straight: their
+centroids lie on the path (:mod:`.path_sites`). Background sites in a band of about
+1.5 cells around the path are removed. The cells of a well's sites are that well's
+cells (``PebiGrid.cell_well``); the cells of the side rows are not.
 
 Near a fault, a well's rings end a quarter step outside the fault's circles (the
 circles that keep the fault's faces on its trace must hold no site): rings reaching
@@ -36,9 +39,11 @@ import shapely
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
+from ..connectivity import ragged_arange
 from ..errors import GridError
 from ..reproducible import exp, log, power
 from .domain import Domain
+from .path_sites import EDGE, MERGE, PathGraph, band, clearance, path_graph, path_rows, segment_steps
 
 
 def _positive(value: object, what: str) -> float:
@@ -108,8 +113,11 @@ class Rings:
 class Well:
     """A vertical well at ``point`` (with optional ``rings``) or a well ``path``.
 
-    ``name`` defaults to ``W<k>`` (k = 1-based position). ``spacing`` (m) is the
-    distance between sites along a path (default: the cell size there).
+    ``path``: one polyline (n, 2), or a sequence of pieces of one well, each a polyline
+    (k, 2) or a point (1, 2): branches meeting at a point (a multilateral well), or the parts
+    of a trajectory inside the reservoir (:func:`~.areal.areal_path`), a vertical part
+    being a point. ``name`` defaults to ``W<k>`` (k = 1-based position). ``spacing`` (m) is
+    the distance between sites along a path (default: the cell size there).
 
     >>> Well((100.0, 50.0), name="I1", rings=Rings(inner=1.0, outer=20.0)).name
     'I1'
@@ -122,6 +130,20 @@ class Well:
     spacing: float | None = None
 
 
+@dataclass(frozen=True, eq=False)
+class PathZone:
+    """A path well's zone (local frame, m): its ``geometry`` (segments and points), ``probes``
+    on it (every point of the path within ``spread`` of one), the ``band`` where background
+    sites are removed and the ``clearance`` other wells keep."""
+
+    well: int
+    geometry: shapely.Geometry
+    probes: np.ndarray
+    spread: float
+    band: float
+    clearance: float
+
+
 @dataclass
 class WellSites:
     """Sites of all wells and the zones where background sites are removed (local frame)."""
@@ -129,11 +151,12 @@ class WellSites:
     sites: np.ndarray  # (k, 2)
     site_well: np.ndarray  # (k,) well id 1..m
     site_size: np.ndarray  # (k,) target size (m) of each site's cell: sqrt of the area it is meant to have
+    site_side: np.ndarray  # (k,) bool: a site of a path's side rows (its cell is not the well's)
     disc_centre: np.ndarray  # (w, 2) point wells: centre
     disc_radius: np.ndarray  # (w,) outer ring radius (0 without rings)
     disc_margin: np.ndarray  # (w,) background clearance beyond the outer ring
     disc_well: np.ndarray  # (w,)
-    paths: list[tuple[int, np.ndarray, float]]  # (well id, polyline, half-width)
+    paths: list[PathZone]
     labels: list[str]
     absorbed: np.ndarray  # (a, 2) points of well paths given no site, next to or on a fault trace
     absorbed_well: np.ndarray  # (a,) their well ids: the cells holding them become that well's
@@ -141,6 +164,11 @@ class WellSites:
     @property
     def count(self) -> int:
         return len(self.labels)
+
+    @property
+    def cell_well(self) -> np.ndarray:
+        """The well id of every site's cell: 0 for the side rows."""
+        return np.where(self.site_side, 0, self.site_well)
 
 
 def well_label(well: Well, i: int) -> str:
@@ -164,9 +192,9 @@ def build_wells(
     cells there become the well's. ``notes`` says so.
     """
     sites, site_well = [np.zeros((0, 2))], [np.zeros(0, dtype=np.int64)]
-    site_size = [np.zeros(0)]
+    site_size, site_side = [np.zeros(0)], [np.zeros(0, dtype=bool)]
     dc, dr, dm, dw = [], [], [], []
-    paths: list[tuple[int, np.ndarray, float]] = []
+    paths: list[PathZone] = []
     absorbed: list[np.ndarray] = []
     absorbed_well: list[np.ndarray] = []
     labels = []
@@ -182,19 +210,23 @@ def build_wells(
             sites.append(xy)
             site_well.append(np.full(xy.shape[0], i + 1))
             site_size.append(sizes)
+            site_side.append(np.zeros(xy.shape[0], dtype=bool))
             dc.append(c)
             dr.append(radius)
             dm.append(0.5 * h)
             dw.append(i + 1)
         else:
-            ps, ps_size, gone, xy, half = _path_well_sites(well, label, domain, size, fault_room, notes)
+            ps, ps_size, side, side_size, gone, zone = _path_well_sites(
+                well, i + 1, label, domain, size, fault_room, notes
+            )
             if gone is not None:
                 absorbed.append(gone)
                 absorbed_well.append(np.full(gone.shape[0], i + 1))
-            sites.append(ps)
-            site_well.append(np.full(ps.shape[0], i + 1))
-            site_size.append(ps_size)
-            paths.append((i + 1, xy, half))
+            sites += [ps, side]
+            site_well.append(np.full(ps.shape[0] + side.shape[0], i + 1))
+            site_size += [ps_size, side_size]
+            site_side += [np.zeros(ps.shape[0], dtype=bool), np.ones(side.shape[0], dtype=bool)]
+            paths.append(zone)
     empty = np.zeros((0, 2))
     if not absorbed:
         absorbed, absorbed_well = [empty], [np.zeros(0, dtype=np.int64)]
@@ -202,6 +234,7 @@ def build_wells(
         sites=np.concatenate(sites),
         site_well=np.concatenate(site_well),
         site_size=np.concatenate(site_size),
+        site_side=np.concatenate(site_side),
         disc_centre=np.asarray(dc).reshape(-1, 2) if dc else empty,
         disc_radius=np.asarray(dr, dtype=np.float64),
         disc_margin=np.asarray(dm, dtype=np.float64),
@@ -264,43 +297,30 @@ def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fa
     return np.concatenate(pts), np.concatenate(sizes), c, radius, h
 
 
-def _path_well_sites(well: Well, label: str, domain: Domain, size: Callable, fault_room, notes):
-    """The sites of a well path: a row along it at its spacing (those with no room next to a
-    fault dropped), their target sizes, the points of the path given to the fault cells (or
-    None), the path (local frame) and half the width of its clearance band."""
-    tol = domain.tol
+def _path_well_sites(well: Well, wid: int, label: str, domain: Domain, size: Callable, fault_room, notes):
+    """The sites of a well path (:mod:`.path_sites`): the sites on it (those with no room next to
+    a fault dropped) and their target sizes, its side rows (those outside the domain, next to its
+    boundary or to a fault dropped) and theirs, the points of the path given to the fault cells
+    (or None) and the zone where background sites are removed."""
     if well.rings is not None:
         raise GridError(f"{label}: rings apply to a vertical well (point), not to a path")
-    xy = domain.to_local(_points(well.path, label, "path"))
-    if xy.ndim != 2 or xy.shape[0] < 2:
-        raise GridError(f"{label}: a path needs at least 2 (x, y) points")
-    seg = np.linalg.norm(np.diff(xy, axis=0), axis=1)
-    if np.any(seg <= tol):
-        raise GridError(f"{label}: path points {int(np.argmin(seg))} and {int(np.argmin(seg)) + 1} coincide")
-    if not shapely.LineString(xy).is_simple:
-        raise GridError(f"{label}: the path crosses itself")
-    out = ~domain.covers(xy)
-    if out.any() or not shapely.LineString(xy).within(domain.polygon.buffer(tol)):
-        k = int(np.flatnonzero(out)[0]) if out.any() else 0
-        raise GridError(f"{label}: the path leaves the domain (near {domain.fmt(xy[k])})")
-    if well.spacing is not None:
-        sp = np.full(seg.size, _positive(well.spacing, f"{label}: spacing"))
-    else:
-        sp = size(0.5 * (xy[1:] + xy[:-1]))
-    n = np.maximum(1, np.round(seg / sp).astype(np.int64))
-    pts = [xy[:1]]
-    for k in range(seg.size):  # loop over path segments
-        t = np.arange(1, n[k] + 1) / n[k]
-        pts.append(xy[k] + t[:, None] * (xy[k + 1] - xy[k]))
-    ps = np.concatenate(pts)
-    step = seg / n
-    ps_size = np.concatenate([step[:1], np.repeat(step, n)])
+    graph = path_graph(_path_pieces(well.path, label, domain), domain.tol, label)
+    spacing = None if well.spacing is None else _positive(well.spacing, f"{label}: spacing")
+    n, node_step = segment_steps(graph, spacing, size)
+    rows = path_rows(graph, n, node_step)
+    ps, ps_size, side, side_size = rows.on_path, rows.on_size, rows.side, rows.side_size
+    ok = domain.inside(side)
+    ok[ok] = domain.boundary_distance(side[ok]) >= EDGE * side_size[ok]
+    side, side_size = side[ok], side_size[ok]
+    probes = ps
     absorbed = None
     if fault_room is not None:  # sites on or next to a fault trace: the fault's cells serve
+        clear = fault_room(side)[0] >= 0
+        side, side_size = side[clear], side_size[clear]
         room, by, _ = fault_room(ps)
         gone = room < 0
         if gone.any():
-            fine = _resample(xy, 0.125 * float(step.min()))  # the path through those cells
+            fine = _resample(graph, 0.125 * float(np.min(ps_size)))  # the path through those cells
             absorbed = fine[fault_room(fine)[0] < 0]
             names = ", ".join(dict.fromkeys(b for b, g in zip(by, gone.tolist(), strict=True) if g))
             (notes if notes is not None else []).append(
@@ -308,9 +328,34 @@ def _path_well_sites(well: Well, label: str, domain: Domain, size: Callable, fau
                 f"{names}; the fault cells it runs through there are the well's"
             )
             ps, ps_size = ps[~gone], ps_size[~gone]
-    h = float(np.max(size(xy)))
-    half = 0.5 * max(float(np.max(seg / n)), h)
-    return ps, ps_size, absorbed, xy, half
+    s_max = float(np.max(rows.on_size))
+    h = float(np.max(size(probes)))
+    zone = PathZone(wid, graph.geometry, probes, 0.5 * s_max, band(s_max, h), clearance(s_max, h))
+    return ps, ps_size, side, side_size, absorbed, zone
+
+
+def _path_pieces(value: object, label: str, domain: Domain) -> list[np.ndarray]:
+    """The pieces of a well's ``path`` in the local frame: one polyline (n, 2), or a sequence of
+    polylines and points ((k, 2) each, k >= 1), each inside the domain."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+        raw = [arr] if arr.ndim == 2 else list(arr) if arr.ndim == 3 else [arr]
+    except (TypeError, ValueError):  # pieces of different lengths
+        raw = list(value) if isinstance(value, Sequence) and not isinstance(value, str) else [value]
+    pieces = []
+    for j, piece in enumerate(raw):  # loop over the pieces of one well
+        what = f"path[{j}]" if len(raw) > 1 else "path"
+        xy = _points(piece, label, what)
+        if xy.ndim != 2 or xy.shape[0] == 0:
+            raise GridError(f"{label}: {what} must be (x, y) points, shape (n, 2), got {np.shape(piece)}")
+        xy = domain.to_local(xy)
+        out = ~domain.covers(xy)
+        line = shapely.LineString(xy) if xy.shape[0] > 1 else shapely.Point(xy[0])
+        if out.any() or not line.within(domain.polygon.buffer(domain.tol)):
+            k = int(np.flatnonzero(out)[0]) if out.any() else 0
+            raise GridError(f"{label}: the {what} leaves the domain (near {domain.fmt(xy[k])})")
+        pieces.append(xy)
+    return pieces
 
 
 def _fit_rings(
@@ -354,15 +399,13 @@ def _ring_sizes(radii: np.ndarray, sectors: int, h: float) -> list[np.ndarray]:
     return [np.array([centre]), np.repeat(np.sqrt(arc * width), sectors)]
 
 
-def _resample(xy: np.ndarray, spacing: float) -> np.ndarray:
-    """Points along a polyline (m), its vertices and at most ``spacing`` apart in between."""
-    seg = np.hypot(*np.diff(xy, axis=0).T)
-    n = np.maximum(1, np.ceil(seg / spacing).astype(np.int64))
-    out = [xy[:1]]
-    for k in range(seg.size):  # loop over path segments
-        t = np.arange(1, n[k] + 1) / n[k]
-        out.append(xy[k] + t[:, None] * (xy[k + 1] - xy[k]))
-    return np.concatenate(out)
+def _resample(graph: PathGraph, spacing: float) -> np.ndarray:
+    """Points along a path (m): its nodes and at most ``spacing`` apart along every segment."""
+    a, b = graph.nodes[graph.seg[:, 0]], graph.nodes[graph.seg[:, 1]]
+    n = np.maximum(1, np.ceil(np.hypot(*(b - a).T) / spacing).astype(np.int64))
+    si = np.repeat(np.arange(n.size), n + 1)
+    t = ragged_arange(np.zeros(n.size), n + 1) / n[si]
+    return np.concatenate([a[si] + t[:, None] * (b - a)[si], graph.nodes[graph.isolated]])
 
 
 def _points(value: object, label: str, what: str) -> np.ndarray:
@@ -377,38 +420,29 @@ def _points(value: object, label: str, what: str) -> np.ndarray:
     return xy
 
 
-def _dist_to_polyline(p: np.ndarray, xy: np.ndarray) -> np.ndarray:
-    a, b = xy[:-1], xy[1:]
-    d = np.full(p.shape[0], np.inf)
-    for k in range(a.shape[0]):  # loop over path segments
-        s = b[k] - a[k]
-        rel = p - a[k]
-        t = np.clip((rel[:, 0] * s[0] + rel[:, 1] * s[1]) / (s[0] * s[0] + s[1] * s[1]), 0.0, 1.0)
-        d = np.minimum(d, np.linalg.norm(rel - t[:, None] * s, axis=1))
-    return d
-
-
 def removal_mask(ws: WellSites, pts: np.ndarray, tree: cKDTree) -> np.ndarray:
-    """Background points inside a well's clearance zone."""
+    """Background points inside a well's clearance zone: a point well's disc, a path's band, the
+    surroundings of a side site (``MERGE`` x its step)."""
     gone = np.zeros(pts.shape[0], dtype=bool)
     if ws.disc_centre.shape[0]:
         hits = tree.query_ball_point(ws.disc_centre, ws.disc_radius + ws.disc_margin)
         gone[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = True
-    for _, xy, half in ws.paths:
-        hits = tree.query_ball_point(xy, _max_seg(xy) / 2 + half)
+    for z in ws.paths:  # loop over wells
+        hits = tree.query_ball_point(z.probes, z.spread + z.band)
         cand = np.unique(np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64))
         if cand.size:
-            near = _dist_to_polyline(pts[cand], xy) < half
+            near = shapely.distance(shapely.points(pts[cand]), z.geometry) < z.band
             gone[cand[near]] = True
+    if ws.site_side.any():
+        hits = tree.query_ball_point(ws.sites[ws.site_side], MERGE * ws.site_size[ws.site_side])
+        gone[np.fromiter(itertools.chain.from_iterable(hits), dtype=np.int64)] = True
     return gone
 
 
-def _max_seg(xy: np.ndarray) -> float:
-    return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).max())
-
-
 def check_clearances(ws: WellSites) -> None:
-    """Wells must keep clear of each other.
+    """Wells must keep clear of each other: a point well's rings and clearance from another's,
+    a path's clearance (its side rows and a little more, :func:`~.path_sites.clearance`) from
+    the others'.
 
     Wells near or across faults are fine: rings are fitted and paths give the fault cells
     they run through to the well (:func:`build_wells`), and the fault's steps are refined
@@ -429,21 +463,20 @@ def check_clearances(ws: WellSites) -> None:
                 f"{d[a, b]:.4g} m apart, their rings and clearances need {need[a, b]:.4g} m"
             )
     # paths vs point wells and paths vs paths
-    for k, (wid, xy, half) in enumerate(ws.paths):
-        line = shapely.LineString(xy)
+    for k, z in enumerate(ws.paths):  # loop over wells
         if nw:
-            dist = _dist_to_polyline(ws.disc_centre, xy)
-            bad = dist < ws.disc_radius + np.maximum(ws.disc_margin, half)
+            dist = shapely.distance(shapely.points(ws.disc_centre), z.geometry)
+            bad = dist < ws.disc_radius + np.maximum(ws.disc_margin, z.clearance)
             if bad.any():
                 a = int(np.flatnonzero(bad)[0])
                 raise GridError(
-                    f"{ws.labels[wid - 1]} and {ws.labels[ws.disc_well[a] - 1]} are too close: "
+                    f"{ws.labels[z.well - 1]} and {ws.labels[ws.disc_well[a] - 1]} are too close: "
                     f"{dist[a]:.4g} m apart"
                 )
-        for wid2, xy2, half2 in ws.paths[k + 1 :]:
-            dd = line.distance(shapely.LineString(xy2))
-            if dd < half + half2:
+        for z2 in ws.paths[k + 1 :]:
+            dd = float(shapely.distance(z.geometry, z2.geometry))
+            if dd < z.clearance + z2.clearance:
                 raise GridError(
-                    f"{ws.labels[wid - 1]} and {ws.labels[wid2 - 1]} are too close: {dd:.4g} m apart, "
-                    f"they need {half + half2:.4g} m"
+                    f"{ws.labels[z.well - 1]} and {ws.labels[z2.well - 1]} are too close: {dd:.4g} m apart, "
+                    f"they need {z.clearance + z2.clearance:.4g} m"
                 )
