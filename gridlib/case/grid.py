@@ -14,7 +14,9 @@ gridlib objects here:
   :class:`~gridlib.pillars.fault_traces.FaultTrace` (both grid builders apply
   it to the restored horizons), and for pebi grids also a
   :class:`~gridlib.voronoi.Fault` the cell faces follow;
-* a well's ``point`` + ``rings`` or ``path`` give a :class:`~gridlib.voronoi.Well`.
+* a well's ``point`` + ``rings`` or ``path`` give a :class:`~gridlib.voronoi.Well`, and
+  so does a trajectory or survey well in a pebi grid: its plan view where it is in the
+  reservoir (:func:`~gridlib.case.wells.pebi_wells`).
 
 Paths in the case (deck files) are relative to the case file.
 """
@@ -37,8 +39,8 @@ from ..grid import Grid
 from ..horizons import to_horizons
 from ..horizons.by_block import block_horizons, horizons_to_grdecl_by_block
 from ..pillars.extrude import extrude
-from ..pillars.fault_pillars import FaultPillars, depth_range, fault_pillars, inclined
-from ..pillars.horizon_maps import depth_function
+from ..pillars.fault_pillars import FaultPillars, depth_range, fault_pillars, inclined, largest_throw
+from ..pillars.horizon_maps import DepthFunction, depth_function
 from ..pillars.nnc import NNC
 from ..voronoi import Fault, pebi_grid, rectangle
 from .deck import read_case_deck
@@ -161,16 +163,16 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
     top = depth_function(hz[0])
     traces = fault_traces(case, top=top)
     faults = [Fault(t.points, t.name) for t in traces]
+    specs = case.data.get("faults", [])
+    moving = [t for t, f in zip(traces, specs, strict=True) if f["throw"] != 0.0]
     areal = pebi_grid(
         pebi_domain(spec),
         spec["cell_size"],
         faults,
-        pebi_wells(case),
+        pebi_wells(case, *_reservoir(hz, largest_throw(moving))),
         pattern=spec["pattern"],
         padding=spec.get("padding"),
     )
-    specs = case.data.get("faults", [])
-    moving = [t for t, f in zip(traces, specs, strict=True) if f["throw"] != 0.0]
     lines = _inclined_pillars(spec, areal, traces, top, depth_function(hz[-1], len(hz) - 1), moving)
     pillars = None if lines is None else lines.pillars()
     r = extrude(areal.grid, hz, spec["layers"], moving, pillars=pillars, centres=areal.sites)
@@ -193,6 +195,16 @@ def _pebi(case: Case, spec: dict[str, Any], horizons) -> CaseGrid:
         },
         notes=areal.notes + (() if lines is None else lines.notes) + r.notes,
     )
+
+
+def _reservoir(hz, throw: float) -> tuple[DepthFunction, DepthFunction]:
+    """The depths (m, f(x, y)) between which a pebi grid's deviated wells are refined: the top
+    horizon less and the base horizon plus the largest throw (a hanging wall lies deeper by up
+    to it; the wells' sites then reach a little beyond the reservoir near faults, never fall
+    short), each carried on beyond its lattice from its edge."""
+    top = depth_function(hz[0], clamped=True)
+    base = depth_function(hz[-1], len(hz) - 1, clamped=True)
+    return (lambda x, y: top(x, y) - throw), (lambda x, y: base(x, y) + throw)
 
 
 def _inclined_pillars(spec, areal, traces, top, base, moving) -> FaultPillars | None:

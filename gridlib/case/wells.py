@@ -1,7 +1,8 @@
 """A case's wells (``wells``) as gridlib objects: the deviated wells' paths
 (:func:`case_well_paths`: a trajectory file or a survey, with branches, perforations, radius and
 skin) and, for pebi grids, every well as a :class:`~gridlib.voronoi.Well` the sites follow
-(:func:`pebi_wells`: a point well's ``point`` + ``rings``, a map ``path`` with ``spacing``).
+(:func:`pebi_wells`: a point well's ``point`` + ``rings``, a map ``path`` with ``spacing``, a
+deviated well's plan view inside the reservoir).
 
 Files are relative to the case file; lengths, depths and MD in the case's length unit (m; a
 FIELD deck's ft), z depth. What is read and checked, and how branches join their parents:
@@ -17,7 +18,8 @@ import numpy as np
 
 from ..config import Case
 from ..config.well_paths import is_deviated, well_paths
-from ..voronoi import Rings, Well
+from ..pillars.horizon_maps import DepthFunction
+from ..voronoi import Rings, Well, areal_path
 from ..wells.path import WellPath
 
 
@@ -77,11 +79,21 @@ def case_well_paths(case: Case) -> tuple[CaseWellPath, ...]:
     return tuple(wells)
 
 
-def pebi_wells(case: Case) -> list[Well]:
-    """The case's point and map-path wells as voronoi Wells (the cell sites follow them)."""
+def pebi_wells(case: Case, top: DepthFunction | None = None, base: DepthFunction | None = None) -> list[Well]:
+    """The case's wells as voronoi Wells (the cell sites follow them): point wells with their
+    rings, map paths, and, given the reservoir's ``top`` and ``base`` depth functions (m, z
+    down; ``f(x, y)``), each trajectory or survey well as the plan view of the parts of its
+    paths between them (:func:`~gridlib.voronoi.areal_path`; a vertical part a point), inside
+    the domain by half a cell (:func:`deviated_plan_view`). A deviated well that never enters
+    the reservoir there gets no sites (its wells stage names it if no cell connects)."""
     wells = []
-    for spec in case.data.get("wells", []):
+    deviated = {w.key: w for w in case_well_paths(case)} if top is not None and base is not None else {}
+    for k, spec in enumerate(case.data.get("wells", [])):
         if is_deviated(spec):
+            well = deviated.get(f"wells[{k}]")
+            parts = [] if well is None else deviated_plan_view(case, well, top, base)
+            if parts:
+                wells.append(Well(None, well.name, path=parts, spacing=well.spacing))
             continue
         rings = None
         if "rings" in spec:
@@ -90,3 +102,34 @@ def pebi_wells(case: Case) -> list[Well]:
         path, spacing = spec.get("path"), spec.get("spacing")
         wells.append(Well(spec.get("point"), spec["name"], rings=rings, path=path, spacing=spacing))
     return wells
+
+
+PLAN_TOLERANCE = 0.1  # of the site spacing: a path's plan view is simplified within this
+
+
+def deviated_plan_view(
+    case: Case, well: CaseWellPath, top: DepthFunction, base: DepthFunction
+) -> list[np.ndarray]:
+    """The plan view ((k, 2) polylines, k = 1 a point) of the parts of ``well``'s paths (main
+    and branches, all of them: perforations do not change the grid) between ``top`` and
+    ``base``, simplified within :data:`PLAN_TOLERANCE` of its sites' spacing (a file's
+    centimetre noise or a survey's dense points along a straight stretch make no sites of
+    their own), clipped to the pebi domain shrunk by half a cell (sites on the outline would
+    make cells of no width there)."""
+    import shapely
+
+    grid = case.data["grid"]
+    size = float(grid["cell_size"])
+    spacing = well.spacing or size
+    domain = grid["domain"]
+    area = shapely.box(*domain["rectangle"]) if isinstance(domain, dict) else shapely.Polygon(domain)
+    inner = area.buffer(-0.5 * size)
+    parts = []
+    for path in well.paths:
+        for part in areal_path(path.xyz, top, base, tolerance=PLAN_TOLERANCE * spacing):
+            shape = shapely.Point(part[0]) if part.shape[0] == 1 else shapely.LineString(part)
+            clipped = shape.intersection(inner)
+            for piece in getattr(clipped, "geoms", [clipped]):
+                if not piece.is_empty and piece.geom_type in ("Point", "LineString"):
+                    parts.append(np.asarray(piece.coords, dtype=np.float64)[:, :2])
+    return parts

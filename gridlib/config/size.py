@@ -20,6 +20,7 @@ from ..io.grdecl.dimens import deck_dimensions
 from ..memory import GIB, count_text, gib_text, machine_memory
 from ..reproducible import log
 from .files import fault_plan_trace, named_file
+from .well_paths import is_deviated, well_paths
 
 # Peak resident memory of `gridlib build` (every stage in one process: its heaviest stage
 # decides) per cell: the slope between two sizes (1e5 and 4e5 cells; PEBI 2.4e4 and 9.6e4) from
@@ -112,8 +113,8 @@ def _sites(sites: dict[str, Any]) -> float:
 
 def _pebi_columns(data: dict[str, Any], path: Path) -> tuple[float, str]:
     """Areal cells of a PEBI grid (the lattice's sites in the domain, each well's rings, the
-    sites along faults and well paths, two rows per cell size of trace, the padding rows) and
-    the key that gives the most of them."""
+    sites along faults and well paths, two rows per cell size of trace, a deviated well's three
+    rows along its whole plan view, the padding rows) and the key that gives the most of them."""
     import shapely
 
     grid = data["grid"]
@@ -131,6 +132,10 @@ def _pebi_columns(data: dict[str, Any], path: Path) -> tuple[float, str]:
         if "path" in well:
             spacing = float(well.get("spacing", size))
             parts[f"wells[{k}].spacing"] = _ratio(2.0 * shapely.LineString(well["path"]).length, spacing)
+        elif is_deviated(well):  # its plan view, with a row of sites on either side
+            spacing = float(well.get("spacing", size))
+            plan = sum(shapely.LineString(p.xyz[:, :2]).length for p in well_paths(path, well, "").paths)
+            parts[f"wells[{k}].spacing"] = _ratio(6.0 * plan, spacing)
         if well.get("rings") is not None:
             parts[f"wells[{k}].rings"] = _ring_sites(well["rings"], size)
     parts["grid.padding"] = float(grid.get("padding") or 0) * _ratio(area.length, size)

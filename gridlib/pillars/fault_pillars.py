@@ -267,6 +267,16 @@ class ModelDepths:
     throw: float
 
 
+def largest_throw(faults: Sequence[FaultTrace]) -> float:
+    """The largest |throw| (m) of ``faults`` anywhere along them (a varying throw sampled at 101
+    points along the trace); 0 without faults."""
+    throw = 0.0
+    for f in faults:
+        values = f.throw(np.linspace(0.0, 1.0, 101)) if callable(f.throw) else f.throw
+        throw = max(throw, float(np.max(np.abs(values))))
+    return throw
+
+
 def depth_range(
     top: DepthFunction, base: DepthFunction, xy: FloatArray, faults: Sequence[FaultTrace]
 ) -> ModelDepths:
@@ -275,10 +285,7 @@ def depth_range(
     with np.errstate(invalid="ignore"):
         z_top = np.asarray(top(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
         z_base = np.asarray(base(xy[:, 0].copy(), xy[:, 1].copy()), dtype=np.float64)
-    throw = 0.0
-    for f in faults:
-        values = f.throw(np.linspace(0.0, 1.0, 101)) if callable(f.throw) else f.throw
-        throw = max(throw, float(np.max(np.abs(values))))
+    throw = largest_throw(faults)
     return ModelDepths(
         float(np.nanmin(z_top)) - throw,
         float(np.nanmax(z_base)) + throw,
