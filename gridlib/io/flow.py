@@ -23,7 +23,8 @@ Two forms, one writer:
   (``<NAME>_NNC.INC``; the NNC keyword's value is added to the 0 of a connection the
   layout makes, and no multiplier applies to it), and PORV in the EDIT section
   (``<NAME>_PORV.INC``) overwrites the pore volumes. Wells get our connection factors
-  in COMPDAT item 8, since Flow's own would come from the boxes.
+  in COMPDAT item 8, since Flow's own would come from the boxes. (Trajectory wells get
+  them in both forms: Flow 2022.10 computes factors for wells along a cell axis only.)
 
   Flow 2022.10 sets connections that are not between logical neighbours (index
   difference 1, nx or nx ny) and have a transmissibility below 1e-6 (deck units) to 0:
@@ -37,7 +38,8 @@ The deck (both forms): RUNSPEC, GRID, EDIT, PROPS (a fluid preset of
 :mod:`gridlib.fluids`), SOLUTION (EQUIL with item 9 = 0: every cell's saturation at its
 centre depth, the only point the connection form's boxes share with the cell), SUMMARY
 (field, and well vectors when there are wells) and SCHEDULE (restart files at every
-report step, WELSPECS, COMPORD INPUT, one COMPDAT record per completion, top down,
+report step, WELSPECS, COMPORD INPUT, one COMPDAT record per completion in the order
+given (vertical wells top down, trajectory wells by measured depth) with its direction,
 WCONINJE/WCONPROD and TSTEP), every keyword with a comment saying what its items are.
 Without wells or report days the deck only initialises the model.
 
