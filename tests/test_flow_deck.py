@@ -5,6 +5,7 @@ cells a vertical well crosses."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -101,6 +102,62 @@ def test_connection_form_reads_back_exactly(tmp_path):
     expected = np.flatnonzero(~np.isin(step, [1, nx, nx * ny]) & (grid.trans < 1e-6))
     np.testing.assert_array_equal(deck.vanished, expected)
     assert "vanish" in deck.notes[0] and f"{expected.size} of them" in (tmp_path / "CASE_NNC.INC").read_text()
+
+
+def test_trajectory_wells_get_one_compdat_record_per_connection(tmp_path):
+    """A trajectory well (directions, factors, reference depth) beside a vertical well whose
+    records are today's (native form: Flow's factor, 'Z'): WELSPECS at the first connection's
+    I J, COMPORD INPUT, COMPDAT in the order given with each connection's factor and axis."""
+    deck = gl.simple_grdecl([4, 3, 2], flat=True, phys_dims=(400.0, 300.0, 20.0))
+    rock = {"PORO": np.full(24, 0.2), "PERMX": np.full(24, 100.0)}
+    deck = replace(deck, zcorn=deck.zcorn + 1000.0, cell_data=rock, units="METRIC")
+    vertical = FlowWell("V", "injector", [5, 17], 0.1, rate=100.0, bhp=300.0)
+    # 0-based rows in MD order: I J K (2, 1, 2) to (4, 1, 2) along x, then to (4, 3, 2) along y
+    cells = [13, 14, 15, 19, 23]
+    factors = [12.5, 20.25, 7.0, 3.0000000000000004, 1e-3]
+    horizontal = FlowWell(
+        "H1",
+        "producer",
+        cells,
+        0.108,
+        1.5,
+        factors,
+        bhp=150.0,
+        directions=[0, 0, 1, 1, 2],
+        reference_depth=1012.5,
+    )
+    sim = Simulation("oil-water", 1000.0, 200.0, 1030.0, (vertical, horizontal), (30.0,))
+    text = write_flow_deck(tmp_path, "traj", deck, sim).path.read_text().splitlines()
+    welspecs = text.index("WELSPECS")
+    assert text[welspecs + 3 : welspecs + 6] == [
+        " 'V' 'G' 2 2 1* 'WATER' /",
+        " 'H1' 'G' 2 1 1012.5 'OIL' /",
+        "/",
+    ]
+    compord = text.index("COMPORD")
+    assert text[compord + 2 : compord + 5] == [" 'V' 'INPUT' /", " 'H1' 'INPUT' /", "/"]
+    compdat = text.index("COMPDAT")
+    assert text[compdat + 3 : compdat + 11] == [
+        " 'V' 2 2 1 1 'OPEN' 1* 1* 0.2 1* 0 1* 'Z' /",
+        " 'V' 2 2 2 2 'OPEN' 1* 1* 0.2 1* 0 1* 'Z' /",
+        " 'H1' 2 1 2 2 'OPEN' 1* 12.5 0.216 1* 1.5 1* 'X' /",
+        " 'H1' 3 1 2 2 'OPEN' 1* 20.25 0.216 1* 1.5 1* 'X' /",
+        " 'H1' 4 1 2 2 'OPEN' 1* 7.0 0.216 1* 1.5 1* 'Y' /",
+        " 'H1' 4 2 2 2 'OPEN' 1* 3.0000000000000004 0.216 1* 1.5 1* 'Y' /",
+        " 'H1' 4 3 2 2 'OPEN' 1* 0.001 0.216 1* 1.5 1* 'Z' /",
+        "/",
+    ]
+    assert text[text.index("WELLDIMS") + 2] == " 2 5 1 2 /"
+    for directions, message in (
+        ([0, 0, 1, 3, 2], "0, 1 or 2"),
+        (["X"] * 5, "0, 1 or 2"),
+        ([0, 1], "0, 1 or 2"),
+    ):
+        bad = replace(horizontal, directions=np.asarray(directions))
+        with pytest.raises(
+            InputError, match=rf"wells\[1\] \('H1'\): expected one direction per completion, {message}"
+        ):
+            write_flow_deck(tmp_path / "bad", "traj", deck, replace(sim, wells=(vertical, bad)))
 
 
 def test_boxes_keep_the_centre_depths_and_never_overlap():

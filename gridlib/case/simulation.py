@@ -27,16 +27,23 @@ class InitialState:
 
 @dataclass(frozen=True)
 class SimulatedWell:
-    """One of ``simulation.wells``: a vertical well of the case's ``wells`` at ``point``."""
+    """One of ``simulation.wells``: a vertical well of the case's ``wells`` at ``point``, or
+    (``point`` None) a well with a trajectory or survey, whose connections (cells, factors,
+    directions) are those of ``wells.nc`` and whose radius and skin are the case well's."""
 
     name: str
     kind: Literal["injector", "producer"]
-    point: tuple[float, float]  # (x, y) of the case's well
+    point: tuple[float, float] | None  # (x, y) of the case's well; None: a trajectory well
     rate: float | None  # surface rate (water injected, liquid produced), None: bhp controls
     bhp: float | None  # bottom-hole pressure: the control, or the limit of a rate
-    radius: float | None  # None: 0.1 m in the case's length unit
+    radius: float | None  # None: 0.1 m in the case's length unit (vertical wells)
     skin: float
     key: str  # where the case gives it, for messages: "simulation.wells[k]"
+
+    @property
+    def has_trajectory(self) -> bool:
+        """The well is completed along its path (``wells.nc``), not vertically at a point."""
+        return self.point is None
 
 
 @dataclass(frozen=True)
@@ -51,7 +58,7 @@ class CaseSimulation:
 
 def case_simulation(case: Case) -> CaseSimulation:
     """The case's ``simulation`` section (validated by :func:`gridlib.config.load_case`: every
-    simulated well is one of the case's wells and has a point)."""
+    simulated well is one of the case's wells, at a point or with a trajectory or survey)."""
     spec: dict[str, Any] = case.data["simulation"] if case.has_simulation else section_defaults("simulation")
     initial = spec.get("initial", {})
     points = {w["name"]: w.get("point") for w in case.data.get("wells", [])}
@@ -59,11 +66,11 @@ def case_simulation(case: Case) -> CaseSimulation:
         SimulatedWell(
             name=w["name"],
             kind=w["type"],
-            point=(float(points[w["name"]][0]), float(points[w["name"]][1])),
+            point=_point(points[w["name"]]),
             rate=_optional(w.get("rate")),
             bhp=_optional(w.get("bhp")),
             radius=_optional(w.get("radius")),
-            skin=float(w["skin"]),
+            skin=float(w.get("skin", 0.0)),
             key=f"simulation.wells[{k}]",
         )
         for k, w in enumerate(spec.get("wells", []))
@@ -74,6 +81,10 @@ def case_simulation(case: Case) -> CaseSimulation:
         wells=wells,
         report_days=tuple(float(d) for d in spec.get("report_days", ())),
     )
+
+
+def _point(point: Any) -> tuple[float, float] | None:
+    return None if point is None else (float(point[0]), float(point[1]))
 
 
 def _optional(value: Any) -> float | None:

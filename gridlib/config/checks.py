@@ -140,11 +140,23 @@ def simulation_problem(data: dict[str, Any]) -> str | None:
                 f"simulation.wells[{k}].name: '{name}': a simulated well's name has at most "
                 f"{WELL_NAME_LENGTH} ASCII characters, without spaces, quotes or slashes"
             )
-        if "point" not in case_wells[name]:
+        case_well = case_wells[name]
+        if "point" not in case_well and not TRAJECTORY_KEYS & case_well.keys():
             return (
-                f"simulation.wells[{k}].name: well '{name}' is a path; vertical wells (a point) are simulated"
+                f"simulation.wells[{k}].name: well '{name}' is a plan-view path (it refines a pebi grid); "
+                "simulated wells are vertical at a point or have a trajectory or survey"
+            )
+        given = sorted(key for key in ("radius", "skin") if key in well)
+        if given and "point" not in case_well:
+            at = list(case_wells).index(name)
+            return (
+                f"simulation.wells[{k}].{given[0]}: well '{name}' has a trajectory: its radius and skin "
+                f"are the case well's (wells[{at}], used for the factors in wells.nc)"
             )
     return None
+
+
+TRAJECTORY_KEYS = {"trajectory", "survey"}  # a case well's keys that give it a path in depth
 
 
 def _features_outside(

@@ -23,7 +23,8 @@ Two forms, one writer:
   (``<NAME>_NNC.INC``; the NNC keyword's value is added to the 0 of a connection the
   layout makes, and no multiplier applies to it), and PORV in the EDIT section
   (``<NAME>_PORV.INC``) overwrites the pore volumes. Wells get our connection factors
-  in COMPDAT item 8, since Flow's own would come from the boxes.
+  in COMPDAT item 8, since Flow's own would come from the boxes. (Trajectory wells get
+  them in both forms: Flow 2022.10 computes factors for wells along a cell axis only.)
 
   Flow 2022.10 sets connections that are not between logical neighbours (index
   difference 1, nx or nx ny) and have a transmissibility below 1e-6 (deck units) to 0:
@@ -37,7 +38,8 @@ The deck (both forms): RUNSPEC, GRID, EDIT, PROPS (a fluid preset of
 :mod:`gridlib.fluids`), SOLUTION (EQUIL with item 9 = 0: every cell's saturation at its
 centre depth, the only point the connection form's boxes share with the cell), SUMMARY
 (field, and well vectors when there are wells) and SCHEDULE (restart files at every
-report step, WELSPECS, COMPORD INPUT, one COMPDAT record per completion, top down,
+report step, WELSPECS, COMPORD INPUT, one COMPDAT record per completion in the order
+given (vertical wells top down, trajectory wells by measured depth) with its direction,
 WCONINJE/WCONPROD and TSTEP), every keyword with a comment saying what its items are.
 Without wells or report days the deck only initialises the model.
 
@@ -94,15 +96,21 @@ START_DATE = " 1 'JAN' 2020 /"
 
 @dataclass(frozen=True, eq=False)
 class FlowWell:
-    """A vertical well and its completions.
+    """A well and its completions (connections), one COMPDAT record each.
 
     ``cells``: the Flow cells it is completed in (0-based linear indices of the deck's
-    box), in the order Flow is to take them (top down). ``factors``: the connection
-    factor of each completion (deck units), None to let Flow compute Peaceman's from its
-    own grid (native form). ``radius`` (length unit) and ``skin`` go to COMPDAT.
-    ``kind``: "injector" (water) or "producer"; ``rate`` (surface rate, water for an
-    injector, liquid for a producer) and ``bhp``: the controls, at least one of them;
-    with both, the rate is the target and the bottom-hole pressure the limit.
+    box), in the order Flow is to take them (COMPORD INPUT): a vertical well's top down, a
+    trajectory well's in measured-depth order (a multilateral's branches merged into one
+    well, as ``wells.nc`` gives them). ``factors``: the connection factor of each
+    completion (deck units), None to let Flow compute Peaceman's from its own grid (native
+    form, for wells along the cells' axes only). ``directions``: the axis each completion
+    runs along, 0, 1, 2 for COMPDAT's 'X', 'Y', 'Z' (one per completion; None: all 'Z',
+    a vertical well). ``radius`` (length unit) and ``skin`` go to COMPDAT.
+    ``reference_depth``: the depth of the bottom-hole pressure (WELSPECS item 5; None: 1*,
+    which Flow takes as the depth of the first connection). ``kind``: "injector" (water)
+    or "producer"; ``rate`` (surface rate, water for an injector, liquid for a producer)
+    and ``bhp``: the controls, at least one of them; with both, the rate is the target and
+    the bottom-hole pressure the limit.
     """
 
     name: str
@@ -113,11 +121,15 @@ class FlowWell:
     factors: FloatArray | None = None
     rate: float | None = None
     bhp: float | None = None
+    directions: IntArray | None = None
+    reference_depth: float | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "cells", np.asarray(self.cells, dtype=np.int64).ravel())
         if self.factors is not None:
             object.__setattr__(self, "factors", np.asarray(self.factors, dtype=np.float64).ravel())
+        if self.directions is not None:
+            object.__setattr__(self, "directions", np.asarray(self.directions).ravel())
 
 
 @dataclass(frozen=True)
@@ -265,6 +277,13 @@ def _check_simulation(sim: Simulation, dims: tuple[int, ...], active: np.ndarray
             raise InputError(f"{where}: expected one finite, non-negative connection factor per completion")
         if not (well.radius > 0):
             raise InputError(f"{where}: the well radius must be positive")
+        d = well.directions
+        if d is not None and (
+            d.shape != well.cells.shape or not np.issubdtype(d.dtype, np.integer) or ((d < 0) | (d > 2)).any()
+        ):
+            raise InputError(f"{where}: expected one direction per completion, 0, 1 or 2 (X, Y or Z)")
+        if well.reference_depth is not None and not np.isfinite(well.reference_depth):
+            raise InputError(f"{where}: the reference depth must be finite")
 
 
 # --- the DATA file ----------------------------------------------------------------------------
@@ -428,13 +447,20 @@ def _schedule(sim: Simulation, dims: tuple[int, ...]) -> list[str]:
     if sim.wells:
         out += [
             "WELSPECS",
-            "-- name, group, I J of the wellhead, BHP reference depth (top completion), phase",
+            "-- name, group, I J of the first connection, BHP reference depth (1*: the first",
+            "-- connection's), phase",
         ]
         for w in sim.wells:
             g = int(w.cells[0])
             phase = "WATER" if w.kind == "injector" or sim.fluid == "water" else "OIL"
-            out.append(f" '{w.name}' 'G' {g % nx + 1} {g // nx % ny + 1} 1* '{phase}' /")
-        out += ["/", "", "COMPORD", "-- completions in the order given (top down)"]
+            depth = "1*" if w.reference_depth is None else _num(w.reference_depth)
+            out.append(f" '{w.name}' 'G' {g % nx + 1} {g // nx % ny + 1} {depth} '{phase}' /")
+        out += [
+            "/",
+            "",
+            "COMPORD",
+            "-- connections in the order given (vertical wells top down, trajectories by measured depth)",
+        ]
         out += [f" '{w.name}' 'INPUT' /" for w in sim.wells] + ["/", ""]
         out += [
             "COMPDAT",
@@ -442,12 +468,7 @@ def _schedule(sim: Simulation, dims: tuple[int, ...]) -> list[str]:
             "-- Kh, skin, D factor, direction",
         ]
         for w in sim.wells:
-            factors = [None] * w.cells.size if w.factors is None else w.factors.tolist()
-            for g, cf in zip(w.cells.tolist(), factors, strict=True):
-                i, j, k = g % nx + 1, g // nx % ny + 1, g // (nx * ny) + 1
-                item = "1*" if cf is None else repr(cf)
-                rest = f"{_num(2.0 * w.radius)} 1* {_num(w.skin)} 1* 'Z'"
-                out.append(f" '{w.name}' {i} {j} {k} {k} 'OPEN' 1* {item} {rest} /")
+            out += _compdat(w, nx, ny)
         out += ["/", ""]
         for kind, keyword, comment, rate_control, record in _CONTROLS:
             out += _controls([w for w in sim.wells if w.kind == kind], keyword, comment, rate_control, record)
@@ -456,6 +477,21 @@ def _schedule(sim: Simulation, dims: tuple[int, ...]) -> list[str]:
         out += ["TSTEP", "-- report steps (days): " + " ".join(_num(d) for d in sim.report_days)]
         out += [" " + " ".join(_num(s) for s in steps) + " /", ""]
     return out
+
+
+def _compdat(well: FlowWell, nx: int, ny: int) -> list[str]:
+    """The COMPDAT records of ``well``, one per connection: 1-based I J K (K1 = K2), its
+    connection factor (1*: Flow's Peaceman) and direction."""
+    g = well.cells
+    i, j, k = g % nx + 1, g // nx % ny + 1, g // (nx * ny) + 1
+    n = g.size
+    factors = ["1*"] * n if well.factors is None else [repr(cf) for cf in well.factors.tolist()]
+    axes = np.full(n, 2) if well.directions is None else well.directions
+    rest = f"{_num(2.0 * well.radius)} 1* {_num(well.skin)} 1*"
+    return [
+        f" '{well.name}' {a} {b} {c} {c} 'OPEN' 1* {cf} {rest} '{'XYZ'[d]}' /"
+        for a, b, c, cf, d in zip(i.tolist(), j.tolist(), k.tolist(), factors, axes.tolist(), strict=True)
+    ]
 
 
 # Per kind of well: its control keyword, the keyword's comment, the control by rate, a record.
