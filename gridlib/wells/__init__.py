@@ -1,0 +1,1 @@
+"""Wells along any path: trajectories, the cells they cross, their connection factors."""
