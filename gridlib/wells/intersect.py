@@ -104,7 +104,7 @@ def path_cells(grid: Grid, geometry: Geometry, path: WellPath, *, index: CellInd
         index = cell_index(grid, geometry)
     elif index.num_cells != grid.num_cells:
         raise GridError("path_cells: the index is not this grid's (a different number of cells)")
-    a, b = path.xyz[:-1], path.xyz[1:]
+    a, b = path.segments
     seg, cand = segment_cells(index, a, b)
     t_seg, t = _crossings(grid, seg, cand, a, b)
     same = SAME_POINT * float(np.max(index.size * index.shape))  # of the grid's extent
