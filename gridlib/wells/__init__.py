@@ -8,8 +8,12 @@ Names are imported on first use, so that importing the package costs little.
 from .._lazy import lazy_exports
 
 _EXPORTS: dict[str, str] = {
+    "CellIndex": ".cell_index",
+    "PathCells": ".intersect",
     "WellPath": ".path",
+    "cell_index": ".cell_index",
     "minimum_curvature": ".survey",
+    "path_cells": ".intersect",
     "WellConnections": ".connections",
     "merge_connections": ".connections",
     "well_connections": ".connections",
