@@ -9,12 +9,14 @@ from .._lazy import lazy_exports
 
 _EXPORTS: dict[str, str] = {
     "WellConnections": ".connections",
-    "merge_connections": ".connections",
-    "well_connections": ".connections",
+    "WellPath": ".path",
     "axis_lengths": ".factors",
     "cell_axes": ".factors",
     "main_direction": ".factors",
+    "merge_connections": ".connections",
+    "minimum_curvature": ".survey",
     "trajectory_factors": ".factors",
+    "well_connections": ".connections",
 }
 
 __all__ = sorted(_EXPORTS)
