@@ -10,17 +10,17 @@ from .._lazy import lazy_exports
 _EXPORTS: dict[str, str] = {
     "CellIndex": ".cell_index",
     "PathCells": ".intersect",
-    "WellPath": ".path",
-    "cell_index": ".cell_index",
-    "minimum_curvature": ".survey",
-    "path_cells": ".intersect",
     "WellConnections": ".connections",
-    "merge_connections": ".connections",
-    "well_connections": ".connections",
+    "WellPath": ".path",
     "axis_lengths": ".factors",
     "cell_axes": ".factors",
+    "cell_index": ".cell_index",
     "main_direction": ".factors",
+    "merge_connections": ".connections",
+    "minimum_curvature": ".survey",
+    "path_cells": ".intersect",
     "trajectory_factors": ".factors",
+    "well_connections": ".connections",
 }
 
 __all__ = sorted(_EXPORTS)

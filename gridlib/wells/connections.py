@@ -199,14 +199,12 @@ def _runs(pieces: PathCells) -> tuple[IntArray, IntArray, IntArray]:
     cell = np.asarray(pieces.cell, dtype=np.int64)
     run = np.asarray(pieces.run, dtype=np.int64)
     m = cell.size
-    shapes = {"cell": cell.shape, "run": run.shape}
-    for name in ("entry_md", "exit_md"):
-        shapes[name] = np.shape(getattr(pieces, name))
-    for name in ("entry", "exit"):
-        shapes[name] = (
-            np.shape(getattr(pieces, name))[:1] if np.shape(getattr(pieces, name))[1:] == (3,) else ()
-        )
-    if any(shape != (m,) for shape in shapes.values()):
+    shapes = {
+        name: np.shape(getattr(pieces, name))
+        for name in ("cell", "run", "entry_md", "exit_md", "entry", "exit")
+    }
+    expected = {name: (m, 3) if name in ("entry", "exit") else (m,) for name in shapes}
+    if shapes != expected:
         raise InputError(f"pieces: inconsistent shapes {shapes} (expected {m} pieces)")
     if m == 0:
         return cell, run, np.zeros(0, dtype=np.int64)

@@ -448,6 +448,8 @@ def test_bad_pieces_are_named():
     good = pieces_of([(1, 5, 1), (15, 5, 1)], [0], [0])
     with pytest.raises(InputError, match=r"^pieces: run ids must be 0, 1, \.\.\."):
         well_connections(g, geo, 100.0, None, replace(good, run=np.array([1])), 0.1, 0.0, units="METRIC")
+    with pytest.raises(InputError, match=r"^pieces: inconsistent shapes .*'entry': \(1, 2\)"):
+        well_connections(g, geo, 100.0, None, replace(good, entry=np.zeros((1, 2))), 0.1, 0.0, units="METRIC")
     two = pieces_of([(1, 5, 1), (5, 5, 1), (15, 5, 1)], [0, 1], [0, 0])
     with pytest.raises(InputError, match=r"^pieces: a run's pieces must all be in one cell"):
         well_connections(g, geo, 100.0, None, two, 0.1, 0.0, units="METRIC")
