@@ -67,8 +67,8 @@ def render_grid(
     """An off-screen picture of the grid coloured by ``scalar``, fault faces in red; the colour
     bar titled ``bar_title`` (the quantity and its unit; default ``scalar``). ``wells``: (name,
     paths) of deviated wells, each path an (n, 3) polyline (x, y, z depth), drawn as black lines
-    named at the first point of their main path; the grid is then drawn half transparent, so
-    that the paths inside it show."""
+    near the grid, named where their main path comes into the picture; the grid is then drawn
+    half transparent, so that the paths inside it show."""
     import pyvista as pv
     from vtkmodules.vtkCommonCore import vtkLogger
 
@@ -93,7 +93,7 @@ def render_grid(
     )
     if faults.n_cells:
         plotter.add_mesh(faults.scale(scale, inplace=False), color="red", line_width=3, opacity=0.8)
-    _add_wells(plotter, wells, scale)
+    _add_wells(plotter, wells, scale, (float(mesh.bounds[4]), float(mesh.bounds[5])))
     plotter.add_text(title, font_size=12)
     if griddim == 2 or span[2] == 0:
         plotter.view_xy()
@@ -103,21 +103,62 @@ def render_grid(
     plotter.close()
 
 
-def _add_wells(plotter, wells: Sequence[tuple[str, Sequence[np.ndarray]]], scale: tuple[float, ...]) -> None:
-    """The wells' paths as black lines, each well named at the top of its main path."""
+def _add_wells(
+    plotter,
+    wells: Sequence[tuple[str, Sequence[np.ndarray]]],
+    scale: tuple[float, ...],
+    depths: tuple[float, float],
+) -> None:
+    """The wells' paths as black lines where they are within half the grid's thickness of its
+    depth range ``depths`` (the hole down to the reservoir would dwarf it), each well named at
+    the top of the drawn part of its main path."""
     import pyvista as pv
 
+    top, bottom = depths
+    margin = 0.5 * (bottom - top)
     heads, names = [], []
     for name, paths in wells:
-        for xyz in paths:
-            line = pv.lines_from_points(np.asarray(xyz, dtype=np.float64) * np.asarray(scale))
-            plotter.add_mesh(line, color="black", line_width=4)
-        heads.append(np.asarray(paths[0], dtype=np.float64)[0] * np.asarray(scale))
-        names.append(name)
+        for k, xyz in enumerate(paths):
+            a, b = depth_window(np.asarray(xyz, dtype=np.float64), top - margin, bottom + margin)
+            if not a.size:
+                continue
+            points = np.empty((2 * a.shape[0], 3))
+            points[0::2], points[1::2] = a, b
+            cells = np.column_stack(
+                [np.full(a.shape[0], 2), np.arange(0, points.shape[0], 2), np.arange(1, points.shape[0], 2)]
+            )
+            plotter.add_mesh(
+                pv.PolyData(points * np.asarray(scale), lines=cells.ravel()), color="black", line_width=4
+            )
+            if k == 0:
+                heads.append(a[0] * np.asarray(scale))
+                names.append(name)
     if heads:
         plotter.add_point_labels(
             np.array(heads), names, font_size=14, point_size=8, always_visible=True, shape_opacity=0.6
         )
+
+
+def depth_window(xyz: np.ndarray, top: float, bottom: float) -> tuple[np.ndarray, np.ndarray]:
+    """The parts of the polyline ``xyz`` (n, 3; z depth) between the depths ``top`` and
+    ``bottom``, as the start and end points (k, 3) of its segments' parts there, in order.
+
+    >>> a, b = depth_window(np.array([[0.0, 0, 0], [0, 0, 100], [100, 0, 100]]), 50.0, 200.0)
+    >>> a.tolist(), b.tolist()
+    ([[0.0, 0.0, 50.0], [0.0, 0.0, 100.0]], [[0.0, 0.0, 100.0], [100.0, 0.0, 100.0]])
+    """
+    p, q = xyz[:-1], xyz[1:]
+    dz = q[:, 2] - p[:, 2]
+    lo, hi = np.zeros(dz.size), np.ones(dz.size)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_top, t_bottom = (top - p[:, 2]) / dz, (bottom - p[:, 2]) / dz
+    down, up = dz > 0, dz < 0
+    lo = np.where(down, np.maximum(lo, t_top), np.where(up, np.maximum(lo, t_bottom), lo))
+    hi = np.where(down, np.minimum(hi, t_bottom), np.where(up, np.minimum(hi, t_top), hi))
+    flat_outside = (dz == 0) & ((p[:, 2] < top) | (p[:, 2] > bottom))
+    keep = (lo < hi) & ~flat_outside
+    d = (q - p)[keep]
+    return p[keep] + lo[keep, None] * d, p[keep] + hi[keep, None] * d
 
 
 def plot_histograms(
