@@ -196,7 +196,7 @@ STAGES: tuple[Stage, ...] = (
     Stage(
         "flow_deck",
         "gridlib.stages.flow_deck:stage_flow_deck",
-        ("grid", "grdecl", "geometry", "petrophysics", "transmissibility"),
+        ("grid", "grdecl", "geometry", "petrophysics", "transmissibility", "wells"),
         (Artifact("flow_deck", "flow/{NAME}.DATA"),),
         when=lambda case: case.writes_flow_deck,
         doc="The case's OPM Flow deck flow/<NAME>.DATA and its includes.",

@@ -26,7 +26,7 @@ that crosses none while others do is named in a note.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -141,7 +141,7 @@ def _record(case: Case, well: CaseWellPath, model: _Model) -> WellRecord:
             f"{case.path}: {well.key}: well '{well.name}' crosses no active cell of the grid where it is "
             f"open ({open_md}): its path misses the grid, or its perforations lie outside it"
         )
-    connections = per_path[0] if len(per_path) == 1 else merge_connections(*per_path)
+    connections = per_path[0] if len(per_path) == 1 else _in_md_order(merge_connections(*per_path))
     if not model.has_rock:
         connections = replace(connections, factor=np.full(connections.cell.size, np.nan))
     return WellRecord(
@@ -172,6 +172,13 @@ def _connections(
         )
     except InputError as exc:
         raise InputError(f"{case.path}: {well.key}: well '{well.name}': {exc}") from None
+
+
+def _in_md_order(c: WellConnections) -> WellConnections:
+    """``c``'s rows by MD of first entry (a multilateral's branches interleaved as their MDs
+    fall; ties in the order of ``c``)."""
+    order = np.argsort(c.entry_md, kind="stable")
+    return WellConnections(**{f.name: getattr(c, f.name)[order] for f in fields(WellConnections)})
 
 
 def _joined(pieces: list[PathCells]) -> PathCells:

@@ -106,23 +106,29 @@ def test_a_plugin_that_does_not_import_stops_the_run_naming_it(tmp_path):
 
 def test_every_sample_case_has_the_artifacts_of_its_sections():
     """What the table says each sample case builds (the stage files, grid.grdecl for corner-point
-    and deck grids, the exports, the Flow deck where it has rock)."""
+    and deck grids, wells.nc where it has trajectory or survey wells, the exports with their
+    paths, the Flow deck where it has rock)."""
     expected = {
         "anticline": "horizons grid grdecl geometry petrophysics coarse transmissibility flow_deck",
         "composite_wells": "horizons grid geometry",
         "ellipsoid": "grid geometry",
         "faulted_pebi": "horizons grid geometry petrophysics coarse transmissibility flow_deck",
         "spe9": "grid grdecl geometry petrophysics coarse transmissibility flow_deck",
+        "trajectories_cp": "horizons grid grdecl geometry petrophysics transmissibility wells flow_deck",
     }
-    exports = ["nc", "vtu", "faults", "png", "histograms", "summary"]
     for name, keys in expected.items():
         case = load_case(ROOT / "config" / "cases" / f"{name}.yaml")
         got = [a.key for a in artifacts.case_artifacts(case)]
         stage_files = keys.split()
+        wells = "wells" in stage_files
+        exports = (
+            ["nc", "vtu", "faults"] + (["well_paths"] if wells else []) + ["png", "histograms", "summary"]
+        )
         assert got == [k for k in stage_files if k != "flow_deck"] + exports + (
             ["flow_deck"] if "flow_deck" in stage_files else []
         ), name
         assert artifacts.dropped(case) == ()
+        assert ("wells" in artifacts.stage_inputs(artifacts.producers()["flow_deck"], case)) == wells
 
 
 def test_a_case_without_stage_files_drops_them_and_its_grdecl_where_its_flow_deck_repeats_it():

@@ -1,0 +1,169 @@
+"""The ``wells`` stage (issue 26): a corner-point case with a deviated well from a file (two
+perforations and a branch) and a survey well, built as the workflow builds it; wells.nc holds
+exactly the connections of the library called directly on the stage files (path_cells,
+well_connections with Flow's extents from grid.grdecl, merge_connections), the exports draw
+and count them, and a well that misses the grid stops the stage naming it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from gridlib.case.wells import case_well_paths
+from gridlib.config import load_case
+from gridlib.errors import InputError
+from gridlib.io.grdecl import read_grdecl
+from gridlib.io.netcdf import read_geometry_netcdf, read_netcdf
+from gridlib.io.rock_file import read_rock
+from gridlib.io.wells_file import read_wells
+from gridlib.stages import case_outputs, run_stage
+from gridlib.transmissibility.peaceman import deck_cell_extents
+from gridlib.units import METRIC
+from gridlib.wells.connections import merge_connections, well_connections
+from gridlib.wells.intersect import cell_index, path_cells
+
+# 6 x 4 columns, 3 layers between planes dipping 2 degrees east; a fault of 10 m throw.
+CASE = {
+    "name": "wellbox",
+    "horizons": {
+        "lattice": {"x": {"start": 0, "stop": 600, "num": 7}, "y": {"start": 0, "stop": 400, "num": 5}},
+        "surfaces": [
+            {"name": "top", "plane": {"depth": 2000, "dip": 2.0, "azimuth": 90}},
+            {"name": "base", "plane": {"depth": 2030, "dip": 2.0, "azimuth": 90}},
+        ],
+    },
+    "faults": [{"name": "F1", "trace": [[310, -10], [330, 410]], "throw": 10}],
+    "wells": [
+        {
+            "name": "P1",
+            "trajectory": "data/p1.xyz",
+            "perforations": [[2000, 2150], [2200, 2400]],
+            "radius": 0.1,
+            "skin": 1.5,
+            "branches": [{"trajectory": "data/p1b.xyz"}],
+        },
+        {
+            "name": "I1",
+            "survey": {
+                "head": [500, 100, 1900],
+                "stations": [[1900, 0, 0], [2000, 40, 300], [2100, 40, 300]],
+            },
+        },
+    ],
+    "grid": {"type": "cornerpoint", "dims": [6, 4], "layers": 3},
+    "petrophysics": {
+        "porosity": {"constant": 0.2},
+        "permeability": {"layers": [100.0, 300.0, 50.0]},
+        "ntg": {"constant": 0.8},
+    },
+}
+P1_POINTS = np.array([[50.0, 210, 1950], [100, 210, 2010], [500, 230, 2035]])  # down in, then across F1
+P1_MD = 1950.0 + np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P1_POINTS, axis=0), axis=1))])
+P1 = "".join(
+    f"{x!r} {y!r} {z!r} {md!r}\n" for (x, y, z), md in zip(P1_POINTS.tolist(), P1_MD.tolist(), strict=True)
+)
+P1_BRANCH = "200 215 2016.25\n250 380 2030\n"  # off P1 at x = 200, northwards
+
+
+def _case(folder: Path, data: dict) -> Path:
+    (folder / "data").mkdir(parents=True, exist_ok=True)
+    (folder / "data" / "p1.xyz").write_text(P1)
+    (folder / "data" / "p1b.xyz").write_text(P1_BRANCH)
+    path = folder / f"{data['name']}.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return path
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("wells_stage")
+    case = load_case(_case(folder, CASE))
+    paths = case_outputs(case.name, folder / "out")
+    (folder / "out").mkdir()
+    for stage in ("horizons", "grid", "geometry", "petrophysics", "transmissibility", "wells", "export"):
+        run_stage(stage, case, paths)
+    return case, paths
+
+
+def test_the_stage_writes_the_connections_of_the_library_called_directly(built):
+    case, paths = built
+    grid = read_netcdf(paths["grid"]).grid
+    geo = read_geometry_netcdf(paths["geometry"])
+    rock = read_rock(paths["petrophysics"])
+    perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])
+    extents = deck_cell_extents(read_grdecl(paths["grdecl"]), grid.cells.index_map)
+    index = cell_index(grid, geo)
+    written = read_wells(paths["wells"])
+    assert [w.name for w in written] == ["P1", "I1"]
+    for well, record in zip(case_well_paths(case), written, strict=True):
+        radius = 0.1 if well.radius is None else well.radius
+        per_path = []
+        for path, intervals in zip(well.paths, well.perforations, strict=True):
+            for a, b in intervals:
+                pieces = path_cells(grid, geo, path.between(a, b), index=index)
+                if pieces.cell.size:
+                    per_path.append(
+                        well_connections(
+                            grid,
+                            geo,
+                            perm,
+                            rock["ntg"],
+                            pieces,
+                            radius,
+                            well.skin,
+                            units=METRIC,
+                            extents=extents,
+                        )
+                    )
+        direct = merge_connections(*per_path)
+        order = np.argsort(direct.entry_md, kind="stable")  # the stage: rows in MD order
+        got = record.connections
+        for field in ("cell", "entry_md", "exit_md", "entry", "exit", "length", "axis_length", "factor"):
+            np.testing.assert_array_equal(getattr(got, field), getattr(direct, field)[order], err_msg=field)
+        assert (record.radius, record.skin) == (radius, well.skin)
+    p1, i1 = written
+    assert len(p1.paths) == 2 and p1.parents == (0,)
+    assert p1.perforations[0].tolist() == [[2000.0, 2150.0], [2200.0, 2400.0]]
+    assert np.all(np.diff(p1.connections.entry_md) >= 0)
+    assert p1.connections.cell.size > 5 and i1.connections.cell.size == 3
+
+
+def test_the_exports_draw_and_count_the_wells(built):
+    import pyvista as pv
+
+    _, paths = built
+    written = read_wells(paths["wells"])
+    vtp = pv.read(paths["well_paths"])
+    assert vtp.n_cells == 3 and vtp.field_data["well_names"].tolist() == ["P1", "I1"]
+    assert vtp.field_data["path_names"].tolist() == ["P1", "P1:1", "I1"]
+    np.testing.assert_array_equal(
+        vtp.point_data["md"], np.concatenate([p.md for w in written for p in w.paths])
+    )
+    summary = json.loads(Path(paths["summary"]).read_text())["trajectory_wells"]
+    for w in written:
+        assert summary[w.name] == {
+            "connections": int(w.connections.cell.size),
+            "completed_length": float(f"{w.connections.length.sum():.12g}"),
+            "total_factor": float(f"{w.connections.factor.sum():.12g}"),
+        }
+
+
+def test_a_well_that_misses_the_grid_stops_the_stage_naming_it(built, tmp_path):
+    _, paths = built
+    data = {
+        **CASE,
+        "wells": [{**CASE["wells"][1], "survey": {**CASE["wells"][1]["survey"], "head": [500, 100, 100]}}],
+    }
+    missing = load_case(_case(tmp_path, data))
+    out = case_outputs(missing.name, tmp_path / "out")
+    with pytest.raises(InputError) as info:
+        run_stage("wells", missing, {**paths, "wells": out["wells"]})
+    assert str(info.value) == (
+        f"{missing.path}: wells[0]: well 'I1' crosses no active cell of the grid where it is open (I1 MD "
+        "1900 to 2100): its path misses the grid, or its perforations lie outside it"
+    )
+    assert not out["wells"].exists()
