@@ -25,11 +25,14 @@ e.g. FIELD). Without it, the deck has the oil-water preset and no wells and only
 initialises the model; defaults of the initial state: datum at the top of the model,
 pressure hydrostatic (the preset's water from 1 atm at the surface, to 0.01 bar or psi),
 oil-water contact at the base of the model (both rounded outwards to whole metres or
-feet). Wells are completed in every cell their vertical line
+feet). Wells at a point are completed in every cell their vertical line
 crosses (:func:`~gridlib.completions.vertical_well_cells`), top down, with radius 0.1 m
 unless the case says. Their connection factors in the connection form: Peaceman's as
 Flow computes it for corner-point cases, :func:`~gridlib.transmissibility.well_index`
-(the PEBI form for vertical wells in PEBI cells) for the others.
+(the PEBI form for vertical wells in PEBI cells) for the others. Wells with a trajectory
+or survey are completed as ``wells.nc`` (stage ``wells``) says: its cells in measured-depth
+order, each connection's factor and direction, in both forms; the bottom-hole pressure is
+referred to the depth of the first connection's cell centre.
 """
 
 from __future__ import annotations
@@ -42,7 +45,7 @@ import numpy as np
 
 from ..artifacts import artifacts, case_paths
 from ..case.rock import deck_with_rock
-from ..case.simulation import case_simulation
+from ..case.simulation import CaseSimulation, SimulatedWell, case_simulation
 from ..completions import vertical_well_cells
 from ..config import Case, load_case
 from ..cornerpoint.corners import corner_depths
@@ -57,6 +60,7 @@ from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..io.netcdf_parts import check_same_cells, length_of, read_attrs, read_extra
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CELL_VARS, CONNECTION_VARS, read_transmissibility
+from ..io.wells_file import WellRecord, read_wells
 from ..transmissibility import deck_well_index, well_index
 from ..units import ATM, UnitSystem, unit_system
 from ..version import __version__
@@ -74,12 +78,14 @@ def stage_flow_deck(
     transmissibility: str | os.PathLike,
     flow_deck: str | os.PathLike,
     grdecl: str | os.PathLike | None = None,
+    wells: str | os.PathLike | None = None,
     form: str | None = None,
 ) -> FlowDeck:
     """Write the case's OPM Flow deck ``flow_deck`` (``<folder>/<NAME>.DATA``) and its includes
     next to it, from its stage files ``grid``, ``geometry``, ``petrophysics``,
-    ``transmissibility`` and (cornerpoint and deck cases) ``grdecl``; ``form``: "native",
-    "connections" or None (native for cornerpoint and deck cases, connections otherwise)."""
+    ``transmissibility``, (cornerpoint and deck cases) ``grdecl`` and (cases with trajectory
+    wells) ``wells``; ``form``: "native", "connections" or None (native for cornerpoint and
+    deck cases, connections otherwise)."""
     if not case.writes_flow_deck:
         raise InputError(f"{case.path}: petrophysics: an OPM Flow deck needs rock properties on a 3-D grid")
     flow_deck = Path(flow_deck)
@@ -99,10 +105,12 @@ def stage_flow_deck(
     stored = read_netcdf(grid)
     mesh = stored.grid
     # What is read is what the deck's form needs: a corner-point deck's depths come from its
-    # corners and its T are Flow's own, so geometry only for wells, connections only for
-    # the connection form.
-    wells = bool(case_simulation(case).wells)
-    geo = read_geometry_netcdf(geometry) if (not corner or wells) else None
+    # corners and its T are Flow's own, so geometry only for vertical wells, connections only
+    # for the connection form.
+    spec = case_simulation(case)
+    vertical = any(not w.has_trajectory for w in spec.wells)
+    geo = read_geometry_netcdf(geometry) if (not corner or vertical) else None
+    records = _trajectory_records(case, spec, wells)
     rock = read_rock(petrophysics)
     names = CONNECTION_VARS + CELL_VARS if form == "connections" else CELL_VARS
     variables, tattrs = read_transmissibility(transmissibility, names)
@@ -124,7 +132,7 @@ def stage_flow_deck(
         deck = replace(deck, source=f"grid.grdecl of case '{case.name}' with its rock")  # no path
     flow_index = variables["cell_flow_index"].values
     depth, thickness = _depths(mesh, geo, deck)
-    model = _Model(mesh, geo, rock, deck, flow_index, system)
+    model = _Model(mesh, geo, rock, deck, flow_index, system, records)
     sim = _simulation(case, model, depth, thickness, form)
     header = _header(case)
     if form == "native":
@@ -202,15 +210,16 @@ class _Model:
     deck: Deck | None
     flow_index: np.ndarray
     system: UnitSystem
+    records: dict[str, WellRecord]
 
 
 def _simulation(case: Case, model: _Model, depth: np.ndarray, thickness: np.ndarray, form: str) -> Simulation:
     """The deck's simulation (:class:`~gridlib.io.flow.Simulation`): the case's `simulation`
     section with the initial state's defaults from the cells' ``depth`` and ``thickness``
     (datum at the top, hydrostatic pressure, the oil-water contact at the base) and its wells'
-    cells and, in the connection form, connection factors."""
+    cells, directions and connection factors (vertical wells' in the connection form only)."""
     spec = case_simulation(case)
-    grid, geo, rock, deck, system = model.grid, model.geo, model.rock, model.deck, model.system
+    system = model.system
     fluid, initial = spec.fluid, spec.initial
     top = float(np.floor((depth - thickness / 2.0).min()))  # whole length units: a deck a person reads
     base = float(np.ceil((depth + thickness / 2.0).max()))
@@ -218,31 +227,78 @@ def _simulation(case: Case, model: _Model, depth: np.ndarray, thickness: np.ndar
     hydrostatic = round(ATM / 1e5 * system.pressure_from_metric + water_gradient(system) * datum, 2)
     pressure = hydrostatic if initial.pressure is None else initial.pressure
     owc = None if fluid == "water" else (base if initial.owc is None else initial.owc)
-    wells = []
+    wells = tuple(
+        _trajectory_well(case, w, model, depth) if w.has_trajectory else _vertical_well(case, w, model, form)
+        for w in spec.wells
+    )
+    return Simulation(fluid, datum, pressure, owc, wells, spec.report_days)
+
+
+def _vertical_well(case: Case, w: SimulatedWell, model: _Model, form: str) -> FlowWell:
+    """A vertical well at its point, completed top down in every cell its line crosses; its
+    factors in the connection form (Flow computes them in the native form)."""
+    grid, geo, rock, deck, system = model.grid, model.geo, model.rock, model.deck, model.system
+    key = f"{case.path}: {w.key}"
+    cells = vertical_well_cells(grid, geo, w.point)
+    if cells.size == 0:
+        raise InputError(
+            f"{key}.name: well '{w.name}' at ({w.point[0]:g}, {w.point[1]:g}) lies outside every "
+            "active cell of the grid"
+        )
+    radius = WELL_RADIUS * system.length_from_metric if w.radius is None else w.radius
+    factors = None
+    try:
+        if form == "connections":
+            if deck is not None:
+                factors = deck_well_index(deck, grid.cells.index_map[cells], radius, w.skin)
+            else:
+                perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])
+                factors = well_index(grid, geo, perm, cells, radius, w.skin, ntg=rock["ntg"], units=system)
+    except InputError as exc:
+        raise InputError(f"{key}.radius: well '{w.name}': {exc}") from None
+    in_box = model.flow_index[cells]
+    return FlowWell(w.name, w.kind, in_box, radius, w.skin, factors, w.rate, w.bhp)
+
+
+def _trajectory_well(case: Case, w: SimulatedWell, model: _Model, depth: np.ndarray) -> FlowWell:
+    """A well along its path: the connections of ``wells.nc`` (cells in measured-depth order,
+    branches merged), their factors and directions in both forms (Flow 2022.10 computes
+    factors for wells along the cells' axes only), the bottom-hole pressure referred to the
+    depth of the first connection's cell centre, which is where Flow puts the connection."""
+    record = model.records[w.name]
+    c = record.connections
+    radius = WELL_RADIUS * model.system.length_from_metric if record.radius is None else record.radius
+    return FlowWell(
+        w.name,
+        w.kind,
+        model.flow_index[c.cell],
+        radius,
+        record.skin,
+        c.factor,
+        w.rate,
+        w.bhp,
+        directions=c.direction,
+        reference_depth=float(depth[c.cell[0]]),
+    )
+
+
+def _trajectory_records(
+    case: Case, spec: CaseSimulation, wells: str | os.PathLike | None
+) -> dict[str, WellRecord]:
+    """The ``wells.nc`` records of the simulated trajectory wells, by name (none: {})."""
+    names = [w.name for w in spec.wells if w.has_trajectory]
+    if not names:
+        return {}
+    if wells is None:
+        raise InputError(
+            f"{case.path}: simulation.wells: well '{names[0]}' has a trajectory: its deck needs wells.nc "
+            "(the stage 'wells')"
+        )
+    records = {r.name: r for r in read_wells(wells)}
     for w in spec.wells:
-        key = f"{case.path}: {w.key}"
-        cells = vertical_well_cells(grid, geo, w.point)
-        if cells.size == 0:
-            raise InputError(
-                f"{key}.name: well '{w.name}' at ({w.point[0]:g}, {w.point[1]:g}) lies outside every "
-                "active cell of the grid"
-            )
-        radius = WELL_RADIUS * system.length_from_metric if w.radius is None else w.radius
-        factors = None
-        try:
-            if form == "connections":
-                if deck is not None:
-                    factors = deck_well_index(deck, grid.cells.index_map[cells], radius, w.skin)
-                else:
-                    perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])
-                    factors = well_index(
-                        grid, geo, perm, cells, radius, w.skin, ntg=rock["ntg"], units=system
-                    )
-        except InputError as exc:
-            raise InputError(f"{key}.radius: well '{w.name}': {exc}") from None
-        in_box = model.flow_index[cells]
-        wells.append(FlowWell(w.name, w.kind, in_box, radius, w.skin, factors, w.rate, w.bhp))
-    return Simulation(fluid, datum, pressure, owc, tuple(wells), spec.report_days)
+        if w.has_trajectory and (w.name not in records or records[w.name].connections.cell.size == 0):
+            raise InputError(f"{case.path}: {w.key}.name: well '{w.name}' has no connection in {wells}")
+    return records
 
 
 def flow_deck_from_results(
@@ -281,11 +337,13 @@ def flow_deck_from_results(
         )
     paths = case_paths(case.name, results_dir)
     grdecl = paths["grdecl"] if case.writes_grdecl else None
+    wells = paths["wells"] if case.has_deviated_wells else None
     deck = artifacts()["flow_deck"].path_in(out_dir, case.name).name
     return stage_flow_deck(
         case,
         **{key: paths[key] for key in stage_files},
         flow_deck=Path(out_dir) / deck,
         grdecl=grdecl,
+        wells=wells,
         form=form,
     )
