@@ -270,6 +270,9 @@ simulation:
 """
 
 
+SURVEY_WELL = "{name: INJ, survey: {head: [200, 400, 990], stations: [[0, 30, 90], [60, 30, 90]]}}"
+
+
 @pytest.mark.parametrize(
     ("changes", "message"),
     [
@@ -321,3 +324,41 @@ def test_the_simulation_section_as_typed_objects(tmp_path):
     bare = tmp_path / "bare.yaml"
     bare.write_text(path.read_text().replace("name: sim", "name: bare").split("simulation:")[0])
     assert case_simulation(load_case(bare)) == CaseSimulation("oil-water", InitialState(), (), ())
+
+
+@pytest.mark.parametrize(
+    ("well", "simulated", "message"),
+    [
+        (
+            "{name: INJ, path: [[100, 400], [300, 400]]}",
+            "{name: INJ, type: injector, rate: 100}",
+            "simulation.wells[0].name: well 'INJ' is a plan-view path (it refines a pebi grid); simulated "
+            "wells are vertical at a point or have a trajectory or survey",
+        ),
+        (
+            SURVEY_WELL,
+            "{name: INJ, type: injector, rate: 100, skin: 2}",
+            "simulation.wells[0].skin: well 'INJ' has a trajectory: its radius and skin are the case "
+            "well's (wells[0], used for the factors in wells.nc)",
+        ),
+    ],
+)
+def test_a_simulated_well_needs_a_point_or_a_path_in_depth(tmp_path, well, simulated, message):
+    path = tmp_path / "sim.yaml"
+    text = CASE.format(name="sim", inj="[200, 400]", prod="PROD", days="[30, 60]")
+    text = text.replace("{name: INJ, point: [200, 400]}", well)
+    path.write_text(text.replace("{name: INJ, type: injector, rate: 100}", simulated))
+    with pytest.raises(InputError) as exc:
+        load_case(path)
+    assert str(exc.value) == f"{path}: {message}"
+
+
+def test_a_trajectory_well_is_simulated_without_a_point(tmp_path):
+    from gridlib.case.simulation import SimulatedWell, case_simulation
+
+    path = tmp_path / "sim.yaml"
+    text = CASE.format(name="sim", inj="[200, 400]", prod="PROD", days="[30, 60]")
+    path.write_text(text.replace("{name: INJ, point: [200, 400]}", SURVEY_WELL))
+    injector, producer = case_simulation(load_case(path)).wells
+    assert injector == SimulatedWell("INJ", "injector", None, 100.0, None, None, 0.0, "simulation.wells[0]")
+    assert injector.has_trajectory and not producer.has_trajectory
