@@ -8,8 +8,8 @@ producer and a deviated injector, built by the workflow's stages and simulated b
   the first connection at the bottom-hole pressure's reference depth;
 * both simulations run to day 900, the producer produces and the injector injects its rate;
   the two grids of the same reservoir give the same oil within 1 %;
-* a box case's trajectory wells along x, y and z: Flow's own COMPDAT factor (item 8 defaulted)
-  equals ours in wells.nc.
+* a box case's trajectory wells along x, y and z (one with a lateral: one well, its cells in
+  MD order): Flow's own COMPDAT factor (item 8 defaulted) equals ours in wells.nc.
 
 Three Flow runs (two simulations of about 1,400 and 1,900 cells, one step of a 72-cell box).
 """
@@ -51,7 +51,12 @@ BOX = {
         ],
     },
     "wells": [
-        {"name": "HX", "survey": {"head": [-50, 120, 1015], "stations": [[0, 90, 90], [700, 90, 90]]}},
+        {
+            "name": "HX",
+            "survey": {"head": [-50, 120, 1015], "stations": [[0, 90, 90], [700, 90, 90]]},
+            # a lateral north from x = 350 (MD 400): one well, the shared cell once
+            "branches": [{"survey": {"head": [350, 120, 1015], "stations": [[400, 90, 0], [700, 90, 0]]}}],
+        },
         {
             "name": "HY",
             "survey": {"head": [250, -50, 1005], "stations": [[0, 90, 0], [500, 90, 0]]},
@@ -239,10 +244,26 @@ def test_flows_own_factors_of_axis_aligned_trajectories_are_ours(built, tmp_path
     flow = flow_connection_factors(copy, tmp_path / "run")
     with xr.open_dataset(folder / "transmissibility.nc") as ds:
         index = ds["cell_flow_index"].values
-    count = {"HX": 6, "HY": 5, "VZ": 3}  # whole cells crossed along x, y and z
+    nx, ny = 6, 5
+    # per well: its cells' 0-based (i, j, k) in MD order of first entry and directions; HX: the
+    # main path along x through row 1 (entering column i at MD 50 + 100 i), its lateral along y
+    # from MD 400 in column 3 (the cell it shares with the main path; row j from MD 280 + 80 j)
+    main, lateral = [(i, 1, 1) for i in range(6)], [(3, j, 1) for j in (2, 3, 4)]
+    expected = {
+        "HX": (
+            [*main[:4], lateral[0], main[4], lateral[1], main[5], lateral[2]],
+            [0, 0, 0, 0, 1, 0, 1, 0, 1],
+        ),
+        "HY": ([(2, j, 0) for j in range(5)], [1] * 5),
+        "VZ": ([(4, 4, k) for k in range(3)], [2] * 3),
+    }
     for record in read_wells(folder / "wells.nc"):
         c = record.connections
-        assert c.cell.size == count[record.name]
-        np.testing.assert_array_equal(c.direction, "XYZ".index(record.name[1]))
-        theirs = [flow[(record.name, int(g))] for g in index[c.cell]]
-        np.testing.assert_allclose(theirs, c.factor, rtol=FLOAT32, err_msg=record.name)
+        cells, directions = expected[record.name]
+        np.testing.assert_array_equal(index[c.cell], [i + nx * (j + ny * k) for i, j, k in cells])
+        np.testing.assert_array_equal(c.direction, directions)
+        theirs = np.array([flow[(record.name, int(g))] for g in index[c.cell]])
+        whole = index[c.cell] != 3 + nx * (1 + ny)  # but the cell both of HX's paths complete
+        np.testing.assert_allclose(theirs[whole], c.factor[whole], rtol=FLOAT32, err_msg=record.name)
+        # there ours adds the lateral's 40 m along y in parallel to Flow's factor of the x crossing
+        assert (c.factor[~whole] > 1.1 * theirs[~whole]).all()
