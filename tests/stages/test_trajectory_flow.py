@@ -27,9 +27,11 @@ import yaml
 from flow_tools import flow_connection_factors, flow_executable
 
 from gridlib.config import load_case
+from gridlib.errors import InputError
 from gridlib.io.flow_results import read_summary
 from gridlib.io.wells_file import read_wells
 from gridlib.stages import case_outputs, run_stage
+from gridlib.stages.flow_deck import flow_deck_from_results, stage_flow_deck
 from gridlib.stages.simulate import run_flow
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -267,3 +269,27 @@ def test_flows_own_factors_of_axis_aligned_trajectories_are_ours(built, tmp_path
         np.testing.assert_allclose(theirs[whole], c.factor[whole], rtol=FLOAT32, err_msg=record.name)
         # there ours adds the lateral's 40 m along y in parallel to Flow's factor of the x crossing
         assert (c.factor[~whole] > 1.1 * theirs[~whole]).all()
+
+
+def test_the_connection_form_of_the_corner_point_case_has_the_same_wells(built, tmp_path):
+    """``gridlib flow-deck --form connections`` of trajectories_cp: the same WELSPECS and
+    COMPDAT records as the native deck (our factors in both forms); without wells.nc the
+    stage names the well that needs it."""
+    folder = built["trajectories_cp"]
+    case_file = CASES / "trajectories_cp.yaml"
+    written = flow_deck_from_results(folder, tmp_path, form="connections", case_file=case_file)
+    assert written.form == "connections"
+
+    def wells(text: str) -> list[str]:
+        return [line for line in text.splitlines() if line.startswith((" 'I1' ", " 'P1H' "))]
+
+    native = wells((folder / "flow" / "TRAJECTORIES_CP.DATA").read_text())
+    assert wells(written.path.read_text()) == native and len(native) == 2 + 2 + 17 + 2
+    paths = case_outputs("trajectories_cp", folder)
+    inputs = {key: paths[key] for key in ("grid", "geometry", "petrophysics", "transmissibility", "grdecl")}
+    with pytest.raises(InputError) as exc:
+        stage_flow_deck(load_case(case_file), **inputs, flow_deck=tmp_path / "x" / "TRAJECTORIES_CP.DATA")
+    assert str(exc.value) == (
+        f"{case_file}: simulation.wells: well 'I1' has a trajectory: its deck needs wells.nc "
+        "(the stage 'wells')"
+    )
