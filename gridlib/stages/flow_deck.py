@@ -286,13 +286,13 @@ def _trajectory_records(
     case: Case, spec: CaseSimulation, wells: str | os.PathLike | None
 ) -> dict[str, WellRecord]:
     """The ``wells.nc`` records of the simulated trajectory wells, by name (none: {})."""
-    names = [w.name for w in spec.wells if w.has_trajectory]
-    if not names:
+    deviated = [w for w in spec.wells if w.has_trajectory]
+    if not deviated:
         return {}
     if wells is None:
         raise InputError(
-            f"{case.path}: simulation.wells: well '{names[0]}' has a trajectory: its deck needs wells.nc "
-            "(the stage 'wells')"
+            f"{case.path}: {deviated[0].key}.name: well '{deviated[0].name}' has a trajectory: its deck "
+            "needs wells.nc (the stage 'wells')"
         )
     records = {r.name: r for r in read_wells(wells)}
     for w in spec.wells:

@@ -290,6 +290,6 @@ def test_the_connection_form_of_the_corner_point_case_has_the_same_wells(built, 
     with pytest.raises(InputError) as exc:
         stage_flow_deck(load_case(case_file), **inputs, flow_deck=tmp_path / "x" / "TRAJECTORIES_CP.DATA")
     assert str(exc.value) == (
-        f"{case_file}: simulation.wells: well 'I1' has a trajectory: its deck needs wells.nc "
+        f"{case_file}: simulation.wells[0].name: well 'I1' has a trajectory: its deck needs wells.nc "
         "(the stage 'wells')"
     )
