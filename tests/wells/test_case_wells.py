@@ -186,7 +186,14 @@ MISTAKES = [
         "(MD 2190 to 2490.041664)",
     ),
 ]
+MISTAKES.append(
+    (
+        _set("wells.0.trajectory", "data/broken.xyz"),
+        "wells[0].trajectory: {tmp}/data/broken.xyz: line 2: expected 4 fields, found 3",
+    )
+)
 BRANCHES = {
+    "broken.xyz": "100 400 1950 1950\n160 400 2030\n",
     "b1.xyz": "300 410 2030\n300 700 2035\n",  # 10 m off P2
     "b2.xyz": "300 400 2030 2180\n300 700 2035 2481\n",  # MD 10 m short of P2's there
     "b3.xyz": "300 400 2030\n300 700 2035\n",
