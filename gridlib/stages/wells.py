@@ -30,7 +30,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from ..case.wells import CaseWellPath, case_well_paths
+from ..case.wells import WELL_RADIUS, CaseWellPath, case_well_paths
 from ..config import Case
 from ..errors import InputError
 from ..geometry import Geometry
@@ -45,8 +45,6 @@ from ..units import UnitSystem
 from ..wells.connections import WellConnections, merge_connections, well_connections
 from ..wells.intersect import CellIndex, PathCells, cell_index, path_cells
 from .common import log
-
-WELL_RADIUS = 0.1  # m, the default well radius (as the flow-deck stage's vertical wells)
 
 
 def stage_wells(
