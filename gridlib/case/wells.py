@@ -22,7 +22,6 @@ from ..pillars.horizon_maps import DepthFunction
 from ..voronoi import Rings, Well, areal_path
 from ..wells.path import WellPath
 
-
 WELL_RADIUS = 0.1  # m: a well's radius where the case gives none (in a FIELD case, its value in ft)
 
 
