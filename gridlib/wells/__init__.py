@@ -7,10 +7,10 @@ Names are imported on first use, so that importing the package costs little.
 from .._lazy import lazy_exports
 
 _EXPORTS: dict[str, str] = {
-    "CellIndex": ".cell_index",
+    "CellIndex": ".intersect",
     "PathCells": ".intersect",
     "WellPath": ".path",
-    "cell_index": ".cell_index",
+    "cell_index": ".intersect",
     "minimum_curvature": ".survey",
     "path_cells": ".intersect",
 }
