@@ -101,7 +101,17 @@ def path_cells(
     """The pieces of ``path`` inside the cells of the 3-D ``grid`` (module docstring).
 
     ``index`` (:func:`cell_index` of the same grid) is built when not given; build it once
-    to locate many wells."""
+    to locate many wells. ``geometry`` is the grid's (only its size is used: cells are
+    located from the nodes).
+
+    >>> from gridlib import cart_grid, compute_geometry
+    >>> g = cart_grid([2, 1, 2], [20.0, 10.0, 20.0])
+    >>> pc = path_cells(g, compute_geometry(g), WellPath.from_points([(5, 5, -5), (15, 5, 15), (25, 5, 15)]))
+    >>> pc.cell.tolist(), pc.run.tolist()  # into cell 3 across the path's vertex: one run
+    ([0, 1, 3, 3], [0, 1, 2, 2])
+    >>> pc.entry_md.round(4).tolist(), pc.exit_md.round(4).tolist()
+    ([5.5902, 11.1803, 16.7705, 22.3607], [11.1803, 16.7705, 22.3607, 27.3607])
+    """
     if grid.griddim != 3 or grid.dim != 3:
         raise InputError(f"well {path.name!r}: locating a well path needs a 3-D grid")
     if index is None:

@@ -319,6 +319,7 @@ def test_one_index_serves_many_wells_and_bad_grids_are_refused():
 def xtgeo_runs(deck, tmp_path, points: np.ndarray) -> pd.DataFrame:
     """xtgeo's cells along the path (active cells only), with entry and exit MDs."""
     import xtgeo  # a test extra; imported here, where it is used (it takes a second)
+
     path = tmp_path / "deck.grdecl"
     write_grdecl(path, deck)
     md = WellPath.from_points(points).md
