@@ -13,6 +13,8 @@ suffix, and an unknown suffix is one InputError naming the file:
 * ``points``: CSV or whitespace-separated text (any suffix, read; :mod:`.horizon_files`);
 * ``sticks``: a fault's sticks, ``x y z id`` rows or RMS polygon text (any suffix, read;
   :mod:`.fault_sticks`);
+* ``well_path``: a well's trajectory, ``x y z [md]`` text or CSV with named columns, or an RMS
+  well file (any suffix, read; :mod:`.well_paths`);
 * ``horizons``: horizons datasets (``.nc``; :mod:`.horizon_files`);
 * ``cube``: property cubes (``.nc``; :mod:`.cube_files`).
 

@@ -15,6 +15,7 @@ shorter: a path whose MD grows less than its length (up to a relative 1e-9) is r
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +25,7 @@ from ..arrays import frozen_array, point_array
 from ..errors import InputError
 from ..grid import FloatArray
 
-__all__ = ["MD_TOLERANCE", "WellPath", "check_path"]
+__all__ = ["MD_TOLERANCE", "WellPath", "check_path", "fill_md"]
 
 MD_TOLERANCE = 1e-9  # relative: an MD step may be this much shorter than its straight line
 
@@ -33,33 +34,52 @@ def _where(name: str) -> str:
     return f"well path {name!r}" if name else "well path"
 
 
-def check_path(xyz: ArrayLike, md: ArrayLike, where: str) -> tuple[FloatArray, FloatArray]:
+def _point(i: int) -> str:
+    return f"point {i}"
+
+
+def check_path(
+    xyz: ArrayLike,
+    md: ArrayLike,
+    where: str,
+    *,
+    names: Callable[[int], str] = _point,
+    slack: FloatArray | None = None,
+) -> tuple[FloatArray, FloatArray]:
     """``xyz`` (n, 3) and ``md`` (n,) as float arrays, checked as a :class:`WellPath`'s: finite,
     n >= 2, MD strictly increasing, consecutive points distinct, and every MD step at least the
-    straight distance between its two points (up to a relative :data:`MD_TOLERANCE`).
+    straight distance between its two points (up to a relative :data:`MD_TOLERANCE`, and the
+    absolute ``slack`` (n - 1,) of each step if given: a file reader's rounding).
 
     The first problem is one :class:`~gridlib.errors.InputError` starting with ``where`` and
-    naming the point (0-based), e.g. ``well path 'P1': point 3: MD 1205 is not greater than
-    point 2's MD 1210``.
+    naming the point by ``names(i)`` (``point i``, 0-based, unless given; a file reader names
+    lines), e.g. ``well path 'P1': point 3: MD 1205 is not greater than point 2's MD 1210``.
     """
-    xyz = point_array(xyz, 3, where, min_points=2)
     try:
+        xyz = np.asarray(xyz, dtype=np.float64)
         md = np.asarray(md, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"{where}: md: expected numbers ({exc})") from exc
+        raise InputError(f"{where}: expected numbers for the points and their MD ({exc})") from exc
+    if xyz.ndim != 2 or xyz.shape[1] != 3 or xyz.shape[0] < 2:
+        raise InputError(f"{where}: expected an (n >= 2, 3) array of x, y, z, got shape {xyz.shape}")
     if md.shape != (xyz.shape[0],):
         raise InputError(f"{where}: md: expected {xyz.shape[0]} values (one per point), got shape {md.shape}")
+    bad = np.flatnonzero(~np.isfinite(xyz).all(axis=1))
+    if bad.size:
+        raise InputError(
+            f"{where}: {names(int(bad[0]))}: x, y and z must be finite, got {xyz[bad[0]].tolist()}"
+        )
     bad = np.flatnonzero(~np.isfinite(md))
     if bad.size:
-        raise InputError(f"{where}: point {bad[0]}: MD {md[bad[0]]} is not finite")
+        raise InputError(f"{where}: {names(int(bad[0]))}: MD {md[bad[0]]} is not finite")
     step = np.diff(md)
     chord = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
     checks = (
-        (step <= 0, "MD {md1:.10g} is not greater than point {i}'s MD {md0:.10g}"),
-        (chord == 0, "the same point as point {i} ({x})"),
+        (chord == 0, "the same point as {before} ({x})"),
+        (step <= 0, "MD {md1:.10g} is not greater than {before}'s MD {md0:.10g}"),
         (
-            step < chord * (1.0 - MD_TOLERANCE),
-            "MD step {step:.10g} from point {i} is shorter than the straight line between them "
+            step < chord * (1.0 - MD_TOLERANCE) - (0.0 if slack is None else slack),
+            "MD step {step:.10g} from {before} is shorter than the straight line between them "
             "({chord:.10g}): measured depth cannot be shorter than the path",
         ),
     )
@@ -68,10 +88,34 @@ def check_path(xyz: ArrayLike, md: ArrayLike, where: str) -> tuple[FloatArray, F
         if bad.size:
             i = int(bad[0])
             text = message.format(
-                i=i, md0=md[i], md1=md[i + 1], step=step[i], chord=chord[i], x=xyz[i].tolist()
+                before=names(i), md0=md[i], md1=md[i + 1], step=step[i], chord=chord[i], x=xyz[i].tolist()
             )
-            raise InputError(f"{where}: point {i + 1}: {text}")
+            raise InputError(f"{where}: {names(i + 1)}: {text}")
     return xyz, md
+
+
+def fill_md(xyz: FloatArray, md: FloatArray | None, start_md: float = 0.0) -> FloatArray:
+    """Measured depths for the points ``xyz`` (n, 3) where ``md`` (n,) is NaN or not given: the
+    MD of the point before plus the straight distance between them (for the first point:
+    ``start_md``). A new array; the given MDs are kept as they are.
+
+    >>> fill_md(np.array([(0, 0, 0), (0, 0, 10), (0, 3, 14)], float), np.array([5, np.nan, 40])).tolist()
+    [5.0, 15.0, 40.0]
+    """
+    chord = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
+    run = np.concatenate(([0.0], np.cumsum(chord)))  # the straight length up to each point
+    if md is None:
+        return start_md + run
+    md = np.array(md, dtype=np.float64)
+    missing = np.isnan(md)
+    if missing.any():
+        # each missing MD counts from the last given one (or from start_md before any)
+        given = np.where(missing, -1, np.arange(md.size))
+        last = np.maximum.accumulate(given)
+        anchor_md = np.where(last >= 0, md[np.maximum(last, 0)], start_md)
+        anchor_run = np.where(last >= 0, run[np.maximum(last, 0)], 0.0)
+        md[missing] = (anchor_md + (run - anchor_run))[missing]
+    return md
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,24 +162,13 @@ class WellPath:
         """
         where = source or _where(name)
         xyz = point_array(xyz, 3, where, min_points=2)
-        chord = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
-        run = np.concatenate(([0.0], np.cumsum(chord)))  # the straight length up to each point
-        if md is None:
-            md = start_md + run
-        else:
-            md = np.array(md, dtype=np.float64)  # a copy: filled below
+        if md is not None:
+            md = np.asarray(md, dtype=np.float64)
             if md.shape != (xyz.shape[0],):
                 raise InputError(
                     f"{where}: md: expected {xyz.shape[0]} values (one per point), got shape {md.shape}"
                 )
-            missing = np.isnan(md)
-            if missing.any():
-                # each missing MD counts from the last given one (or from start_md before any)
-                given = np.where(missing, -1, np.arange(md.size))
-                last = np.maximum.accumulate(given)
-                anchor_md = np.where(last >= 0, md[np.maximum(last, 0)], start_md)
-                anchor_run = np.where(last >= 0, run[np.maximum(last, 0)], 0.0)
-                md[missing] = (anchor_md + (run - anchor_run))[missing]
+        md = fill_md(xyz, md, start_md)
         check_path(xyz, md, where)
         return cls(xyz, md, name)
 

@@ -21,8 +21,8 @@ def test_every_kind_has_its_formats():
     assert table[("deck", "grdecl")] == (".grdecl", ".data", ".inc", ".grd")
     assert table[("deck", "egrid")] == (".egrid", ".fegrid")
     assert table[("surface", "irap")] == ("*",) and table[("points", "text")] == ("*",)
-    assert table[("sticks", "text")] == ("*",)
-    kinds = {"grid", "geometry", "deck", "surface", "points", "sticks", "horizons", "cube"}
+    assert table[("sticks", "text")] == ("*",) and table[("well_path", "text")] == ("*",)
+    kinds = {"grid", "geometry", "deck", "surface", "points", "sticks", "well_path", "horizons", "cube"}
     assert {k for k, _ in table} == kinds
 
 

@@ -1,0 +1,207 @@
+"""Benchmark: the cells 100 deviated wells of 3 km cross in a 1e6-cell faulted corner-point grid.
+
+Run:  .venv/bin/python bench/wells.py [--dims 200 200 25] [--phys 5000 3000 15] [--wells 100]
+                                      [--repeat 3] [--peer-python PY] [--profile]
+
+Grid: ``make_model3(dims, phys)`` (bench/cornerpoint.py's anticline cut by two faults, with
+inactive cells), here on a 5 km x 3 km area so that 3 km laterals fit (cells 25 x 15 x 0.6 m),
+processed by ``process_grdecl`` (not timed). Wells: 3 km of hole each, all of it near the
+reservoir: a heel at a random point of the middle of the area, in the middle of the reservoir, and a
+lateral whose inclination swings between 87 and 93 degrees (400 m period: it crosses the
+layers up and down, 3.3 m either way) and whose azimuth turns by up to 30 degrees, as points every 10 m.
+Times ``cell_index(grid, geometry)`` once and ``path_cells`` for every well (CPU and wall
+seconds; the median of ``--repeat`` runs), and prints the pieces and cells found.
+
+Target (issue 26, not asserted): index + 100 wells <= 5 s.
+
+If xtgeo (>= 4.27, ``Well.get_cell_intersections``) is importable (here, or by
+``--peer-python``), it reads the deck written as GRDECL (not timed) and its intersections of
+the same wells (active cells only, ``sampling_step`` 1 m, its default) are timed, with the
+number of wells where its cells (and run order) are ours, and the largest MD difference.
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import json
+import pstats
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gridlib import compute_geometry
+from gridlib.completions import vertical_well_cells
+from gridlib.cornerpoint.generators import make_model3
+from gridlib.cornerpoint.process import process_grdecl
+from gridlib.io.grdecl import write_grdecl
+from gridlib.wells.intersect import cell_index, path_cells
+from gridlib.wells.path import WellPath
+
+XTGEO = """
+import json, sys, time
+import numpy as np, pandas as pd
+path, wells_npz, out = sys.argv[1], sys.argv[2], sys.argv[3]
+try:
+    import xtgeo
+except ImportError:
+    print(json.dumps({}))
+    raise SystemExit
+grid = xtgeo.grid_from_file(path, fformat="grdecl")
+data = np.load(wells_npz)
+wells = []
+for name in sorted(data.files, key=lambda n: int(n[1:])):
+    p = data[name]
+    df = pd.DataFrame({"X_UTME": p[:, 0], "Y_UTMN": p[:, 1], "Z_TVDSS": p[:, 2], "MD": p[:, 3]})
+    wells.append(xtgeo.Well(0.0, p[0, 0], p[0, 1], name, df, mdlogname="MD"))
+t, c = time.perf_counter(), time.process_time()
+found = [w.get_cell_intersections(grid, active_only=True, zerobased=True) for w in wells]
+wall, cpu = time.perf_counter() - t, time.process_time() - c
+arrays = {}
+for i, r in enumerate(found):
+    arrays[f"w{i}"] = np.column_stack([r.I, r.J, r.K, r.ENTRY_MD, r.EXIT_MD]).astype(float)
+np.savez(out, **arrays)
+print(json.dumps({"version": xtgeo.__version__, "wall": wall, "cpu": cpu}))
+"""
+
+
+def lateral_wells(
+    grid, geo, n: int, phys, length: float = 3000.0, step: float = 10.0, seed: int = 0
+) -> list[WellPath]:
+    """``n`` laterals of ``length`` (module docstring), as points every ``step``."""
+    rng = np.random.default_rng(seed)
+    md = np.arange(0.0, length + step / 2, step)
+    wells = []
+    while len(wells) < n:
+        w = len(wells)
+        heel = np.array([rng.uniform(0.3, 0.7) * phys[0], rng.uniform(0.3, 0.7) * phys[1], 0.0])
+        column = vertical_well_cells(grid, geo, heel[:2])
+        if column.size == 0:
+            continue
+        heel[2] = geo.cell_centroids[column, 2].mean()  # the middle of the reservoir there
+        towards = np.array([phys[0] / 2, phys[1] / 2]) - heel[:2]
+        az0 = np.arctan2(towards[0], towards[1]) + rng.uniform(-1.0, 1.0)  # radians from north
+        turn = rng.uniform(-0.5, 0.5)
+        phase = rng.uniform(0, 2 * np.pi)
+        inc = np.radians(90.0 + 3.0 * np.sin(2 * np.pi * md / 400.0 + phase))
+        az = az0 + turn * md / length
+        direction = np.column_stack([np.sin(inc) * np.sin(az), np.sin(inc) * np.cos(az), np.cos(inc)])
+        xyz = heel + np.concatenate(
+            [[np.zeros(3)], np.cumsum(step * 0.5 * (direction[1:] + direction[:-1]), 0)]
+        )
+        wells.append(WellPath.from_points(xyz, md, name=f"w{w}"))
+    return wells
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    parser.add_argument("--dims", type=int, nargs=3, default=[200, 200, 25])
+    parser.add_argument("--phys", type=float, nargs=3, default=[5000.0, 3000.0, 15.0])
+    parser.add_argument("--wells", type=int, default=100)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--peer-python", default=sys.executable, help="interpreter with xtgeo")
+    parser.add_argument("--profile", action="store_true")
+    args = parser.parse_args()
+
+    deck = make_model3(args.dims, args.phys)
+    cp = process_grdecl(deck)
+    grid = cp.grid
+    geo = compute_geometry(grid)
+    wells = lateral_wells(grid, geo, args.wells, args.phys)
+    print(
+        f"make_model3({args.dims}, {args.phys}): {grid.num_cells:,d} active cells, {grid.num_faces:,d} faces "
+        f"({int((grid.faces.tag > 0).sum()):,d} on faults); {len(wells)} wells of "
+        f"{wells[0].length:.0f} m, {wells[0].xyz.shape[0]} points each"
+    )
+
+    def run():
+        index = cell_index(grid, geo)
+        found = [path_cells(grid, geo, w, index=index) for w in wells]
+        return index, found
+
+    walls, cpus, index_walls = [], [], []
+    for _ in range(args.repeat):
+        t, c = time.perf_counter(), time.process_time()
+        index = cell_index(grid, geo)
+        index_walls.append(time.perf_counter() - t)
+        found = [path_cells(grid, geo, w, index=index) for w in wells]
+        walls.append(time.perf_counter() - t)
+        cpus.append(time.process_time() - c)
+    pieces = sum(f.num for f in found)
+    runs = sum(int(f.run[-1]) + 1 for f in found if f.num)
+    inside = sum(float(f.length.sum()) for f in found)
+    print(
+        f"  {pieces:,d} pieces in {runs:,d} runs; {inside / 1000:.1f} km of "
+        f"{len(wells) * wells[0].length / 1000:.1f} km of hole inside cells"
+    )
+    print(
+        f"  cell_index + path_cells: median {statistics.median(walls):.2f} s wall (min {min(walls):.2f}), "
+        f"{statistics.median(cpus):.2f} s CPU; the index alone {statistics.median(index_walls):.2f} s wall"
+    )
+    print(f"    target <= 5 s: {'met' if statistics.median(walls) <= 5.0 else 'NOT met'}")
+    if args.profile:
+        profile = cProfile.Profile()
+        profile.runcall(run)
+        pstats.Stats(profile).sort_stats("tottime").print_stats(15)
+    peer(args, deck, grid, wells, found)
+
+
+def peer(args, deck, grid, wells, found) -> None:
+    """xtgeo's intersections of the same wells, timed in ``--peer-python``."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "model3.grdecl"
+        write_grdecl(path, deck)
+        np.savez(Path(tmp) / "wells.npz", **{w.name: np.column_stack([w.xyz, w.md]) for w in wells})
+        out = Path(tmp) / "out.npz"
+        done = subprocess.run(
+            [args.peer_python, "-c", XTGEO, str(path), str(Path(tmp) / "wells.npz"), str(out)],
+            capture_output=True,
+            text=True,
+        )
+        lines = done.stdout.strip().splitlines()
+        result = json.loads(lines[-1]) if done.returncode == 0 and lines else {}
+        if not result:
+            print("  (xtgeo not importable: no peer timing; see --peer-python)")
+            if done.returncode and done.stderr.strip():
+                print("  " + done.stderr.strip().splitlines()[-1])
+            return
+        theirs = np.load(out)
+        print(
+            f"  xtgeo {result['version']} Well.get_cell_intersections: {result['wall']:.2f} s wall, "
+            f"{result['cpu']:.2f} s CPU"
+        )
+        compare(deck, grid, found, [theirs[f"w{i}"] for i in range(len(wells))])
+
+
+def compare(deck, grid, found, theirs, step: float = 1.0) -> None:
+    """Wells whose runs (cells in order) are xtgeo's, once our runs shorter than its sampling
+    step (which it may step over) are left out, and the largest MD difference there."""
+    nx, ny, _ = deck.cart_dims
+    same, short, worst = 0, 0, 0.0
+    for f, t in zip(found, theirs, strict=True):
+        start = np.r_[0, np.flatnonzero(np.diff(f.run)) + 1]
+        end = np.r_[start[1:] - 1, f.num - 1]
+        long = f.exit_md[end] - f.entry_md[start] >= step
+        short += int((~long).sum())
+        ours = grid.cells.index_map[f.cell[start]]
+        glob = (t[:, 0] + nx * (t[:, 1] + ny * t[:, 2])).astype(np.int64)
+        kept = np.isin(glob, ours[long])
+        if np.array_equal(ours[long], glob[kept]):
+            same += 1
+            after_long = np.r_[True, long[:-1]][long]  # entries not moved by a run left out before
+            gap = np.abs(f.entry_md[start][long] - t[kept, 3])[after_long]
+            worst = max(worst, float(gap.max(initial=0.0)))
+    print(
+        f"    the same runs as ours in {same} of {len(found)} wells, leaving out our {short} runs shorter "
+        f"than its {step:g} m step (and its own runs in their cells); there, the entry MDs of runs after"
+        f" a run of both within {worst:.3g} m"
+    )
+
+
+if __name__ == "__main__":
+    main()
