@@ -176,7 +176,7 @@ def segment_steps(
     None: the cell size ``size`` at each segment's midpoint."""
     a, b = graph.nodes[graph.seg[:, 0]], graph.nodes[graph.seg[:, 1]]
     length = np.hypot(*(b - a).T)
-    want = np.full(length.size, spacing) if spacing is not None else size(0.5 * (a + b))
+    want = np.full(length.size, spacing) if spacing is not None or not length.size else size(0.5 * (a + b))
     n = np.maximum(1, np.rint(length / want)).astype(np.int64)
     step = length / n
     nn = graph.nodes.shape[0]

@@ -65,7 +65,8 @@ first site (two straight faults crossing), they are made to share it exactly.
 
 Fault faces carry ``faces.tag`` = fault id (1-based position in ``faults``),
 every other face 0; ``cell_well`` is the 1-based well id of the cells generated
-by a well's sites (and of the fault cells a well path runs through), else 0. Coordinates are metres in the
+by a well's sites (not by the side rows of its path) and of the other free cells a
+well path runs through (fault cells where it has no site), else 0. Coordinates are metres in the
 caller's frame (UTM-sized coordinates are fine: everything is computed in a
 local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
 2-D faces are edges whose normal (dy, -dx) points from ``neighbors[:, 0]`` to
