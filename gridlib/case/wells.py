@@ -22,6 +22,8 @@ from ..pillars.horizon_maps import DepthFunction
 from ..voronoi import Rings, Well, areal_path
 from ..wells.path import WellPath
 
+WELL_RADIUS = 0.1  # m: a well's radius where the case gives none (in a FIELD case, its value in ft)
+
 
 @dataclass(frozen=True, eq=False)
 class CaseWellPath:

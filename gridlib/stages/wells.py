@@ -30,7 +30,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from ..case.wells import CaseWellPath, case_well_paths
+from ..case.wells import WELL_RADIUS, CaseWellPath, case_well_paths
 from ..config import Case
 from ..errors import InputError
 from ..geometry import Geometry
@@ -45,8 +45,6 @@ from ..units import UnitSystem
 from ..wells.connections import WellConnections, merge_connections, well_connections
 from ..wells.intersect import CellIndex, PathCells, cell_index, path_cells
 from .common import log
-
-WELL_RADIUS = 0.1  # m, the default well radius (as the flow-deck stage's vertical wells)
 
 
 def stage_wells(
@@ -71,15 +69,20 @@ def stage_wells(
         rock = read_rock(petrophysics)
         counts[petrophysics] = rock["poro"].size
     check_same_cells(grid, mesh.num_cells, counts)
+    index = cell_index(mesh, geo)
+    well_list = case_well_paths(case)
+    pieces = [_pieces(case, well, mesh, geo, index) for well in well_list]
     extents = None
-    if grdecl is not None and mesh.cells.index_map is not None:
-        extents = deck_cell_extents(read_grdecl(grdecl), mesh.cells.index_map)
+    if grdecl is not None and mesh.cells.index_map is not None:  # Flow's, of the cells the wells cross
+        crossed = np.unique(np.concatenate([np.zeros(0, np.int64)] + [p.cell for w in pieces for p in w]))
+        extents = np.zeros((mesh.num_cells, 3))
+        extents[crossed] = deck_cell_extents(read_grdecl(grdecl), mesh.cells.index_map[crossed])
     if rock is None:
         perm, ntg = np.ones((mesh.num_cells, 3)), np.ones(mesh.num_cells)
     else:
         perm, ntg = np.column_stack([rock["permx"], rock["permy"], rock["permz"]]), rock["ntg"]
-    model = _Model(mesh, geo, cell_index(mesh, geo), perm, ntg, rock is not None, extents, units)
-    records = tuple(_record(case, well, model) for well in case_well_paths(case))
+    model = _Model(mesh, geo, perm, ntg, rock is not None, extents, units)
+    records = tuple(_record(case, w, p, model) for w, p in zip(well_list, pieces, strict=True))
     write_wells(
         wells,
         records,
@@ -97,13 +100,12 @@ def stage_wells(
 
 @dataclass(frozen=True, eq=False)
 class _Model:
-    """What the wells are placed on: the grid, its geometry and spatial index, the permeability
-    (nc, 3) and NTG per cell (without rock, a unit rock whose factors become NaN), the cells'
-    extents (None: the grid's), the unit system."""
+    """What the wells' factors come from: the grid and its geometry, the permeability (nc, 3)
+    and NTG per cell (without rock, a unit rock whose factors become NaN), the cells' extents
+    (None: the grid's), the unit system."""
 
     grid: Grid
     geo: Geometry
-    index: CellIndex
     perm: np.ndarray
     ntg: np.ndarray
     has_rock: bool
@@ -111,15 +113,14 @@ class _Model:
     units: UnitSystem
 
 
-def _record(case: Case, well: CaseWellPath, model: _Model) -> WellRecord:
-    """One well's connections (module docstring), as a record of ``wells.nc``."""
-    radius = WELL_RADIUS * model.units.length_from_metric if well.radius is None else well.radius
+def _pieces(case: Case, well: CaseWellPath, grid: Grid, geo: Geometry, index: CellIndex) -> list[PathCells]:
+    """The pieces of each of ``well``'s paths inside the cells, where the path is open (its
+    perforations), one :class:`PathCells` per path."""
     per_path = []
-    for p, path in enumerate(well.paths):
-        pieces = []
-        for a, b in well.perforations[p]:
-            found = path_cells(model.grid, model.geo, path.between(float(a), float(b)), index=model.index)
-            if found.cell.size == 0 and len(well.perforations[p]) > 1:
+    for path, intervals in zip(well.paths, well.perforations, strict=True):
+        found = [path_cells(grid, geo, path.between(float(a), float(b)), index=index) for a, b in intervals]
+        for (a, b), f in zip(intervals, found, strict=True):
+            if f.cell.size == 0 and len(intervals) > 1:
                 log.info(
                     "note: %s: well '%s', path '%s': the open interval MD %g to %g crosses no active cell",
                     case.path,
@@ -128,10 +129,15 @@ def _record(case: Case, well: CaseWellPath, model: _Model) -> WellRecord:
                     a,
                     b,
                 )
-            pieces.append(found)
-        joined = _joined(pieces)
-        if joined.cell.size:
-            per_path.append(_connections(case, well, model, joined, radius))
+        per_path.append(_joined(found))
+    return per_path
+
+
+def _record(case: Case, well: CaseWellPath, pieces: list[PathCells], model: _Model) -> WellRecord:
+    """One well's connections from its paths' ``pieces`` (module docstring), as a record of
+    ``wells.nc``."""
+    radius = WELL_RADIUS * model.units.length_from_metric if well.radius is None else well.radius
+    per_path = [_connections(case, well, model, p, radius) for p in pieces if p.cell.size]
     if not per_path:
         open_md = "; ".join(
             f"{path.name} MD {f[0, 0]:g} to {f[-1, 1]:g}"

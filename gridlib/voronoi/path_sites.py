@@ -176,7 +176,7 @@ def segment_steps(
     None: the cell size ``size`` at each segment's midpoint."""
     a, b = graph.nodes[graph.seg[:, 0]], graph.nodes[graph.seg[:, 1]]
     length = np.hypot(*(b - a).T)
-    want = np.full(length.size, spacing) if spacing is not None else size(0.5 * (a + b))
+    want = np.full(length.size, spacing) if spacing is not None or not length.size else size(0.5 * (a + b))
     n = np.maximum(1, np.rint(length / want)).astype(np.int64)
     step = length / n
     nn = graph.nodes.shape[0]
@@ -300,3 +300,42 @@ def clearance(step_max: float, size_max: float) -> float:
     """Other wells keep this distance (m) from a path (its side rows and a little more): their
     sites then lie outside every circle bounding a path cell (2/sqrt(3) s from the path)."""
     return SIDE * step_max + CLEAR * max(step_max, size_max)
+
+
+def steps_of(graph: PathGraph, n: np.ndarray) -> np.ndarray:
+    """The path as its steps (p, 2, 2) (local frame, m), an isolated point as a step of length 0."""
+    nodes, seg = graph.nodes, graph.seg
+    si = np.repeat(np.arange(seg.shape[0]), n)
+    k = ragged_arange(np.zeros(seg.shape[0]), n)
+    a, d = nodes[seg[si, 0]], (nodes[seg[si, 1]] - nodes[seg[si, 0]]) / n[si][:, None]
+    steps = np.stack([a + k[:, None] * d, a + (k + 1)[:, None] * d], axis=1)
+    point = nodes[graph.isolated]
+    return np.concatenate([steps, np.stack([point, point], axis=1)])
+
+
+def cells_along(
+    nearest: Callable[[np.ndarray], np.ndarray], steps: np.ndarray, owner: np.ndarray, tol: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The cells of a Voronoi diagram that segments ``steps`` (p, 2, 2) run through, and the
+    ``owner`` (p,) of the segment for each: ``nearest(points)`` gives the site (cell) of points.
+
+    A segment meets a convex cell in one interval, so a half whose two ends lie in the same cell
+    lies in it entirely: the halves whose ends differ are bisected until shorter than ``tol``
+    (m), which finds every cell the segments cross for more than ``tol``.
+    """
+    a, b = steps[:, 0], steps[:, 1]
+    ha, hb = nearest(a), nearest(b)
+    cells, whose = [ha, hb], [owner, owner]
+    split = (ha != hb) & (np.hypot(*(b - a).T) > tol)
+    a, b, ha, hb, owner = a[split], b[split], ha[split], hb[split], owner[split]
+    while a.shape[0]:  # the halves get shorter every round: about log2(step / tol) rounds
+        m = 0.5 * (a + b)
+        hm = nearest(m)
+        cells.append(hm)
+        whose.append(owner)
+        long = np.hypot(*(b - a).T) > 2 * tol
+        left, right = (ha != hm) & long, (hm != hb) & long
+        a, b = np.concatenate([a[left], m[right]]), np.concatenate([m[left], b[right]])
+        ha, hb = np.concatenate([ha[left], hm[right]]), np.concatenate([hm[left], hb[right]])
+        owner = np.concatenate([owner[left], owner[right]])
+    return np.concatenate(cells), np.concatenate(whose)

@@ -65,7 +65,8 @@ first site (two straight faults crossing), they are made to share it exactly.
 
 Fault faces carry ``faces.tag`` = fault id (1-based position in ``faults``),
 every other face 0; ``cell_well`` is the 1-based well id of the cells generated
-by a well's sites (and of the fault cells a well path runs through), else 0. Coordinates are metres in the
+by a well's sites (not by the side rows of its path) and of the other free cells a
+well path runs through (fault cells where it has no site), else 0. Coordinates are metres in the
 caller's frame (UTM-sized coordinates are fine: everything is computed in a
 local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
 2-D faces are edges whose normal (dy, -dx) points from ``neighbors[:, 0]`` to
@@ -109,6 +110,7 @@ from .fault_layout import FaultLayout, Refinement, layout, ring_room
 from .fault_network import Fault
 from .fault_sites import FaultSites, build_sites, circle_violations
 from .lattice import Lattice
+from .path_sites import cells_along
 from .pebi_result import ADDED, BACKGROUND, FAULT, FAULT_TIP, PADDING_SITE, WELL, WELL_SIDE, PebiGrid
 from .ridges import Ridges
 from .sites import PADDING, Background, background_sites
@@ -254,10 +256,11 @@ def pebi_grid(
     grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
     cell_well = np.zeros(n_sites, dtype=np.int64)
     cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.cell_well
-    if ws.absorbed.shape[0]:  # the cells holding the points of well paths given no site (fault cells)
-        holder = cKDTree(sites).query(ws.absorbed)[1]
-        free = cell_well[holder] == 0
-        cell_well[holder[free]] = ws.absorbed_well[free]
+    if ws.along.shape[0]:  # the free cells a well path runs through (fault cells where it has no site)
+        tree = cKDTree(sites)
+        cells, owner = cells_along(lambda p: tree.query(p)[1], ws.along, ws.along_well, dom.tol)
+        free = cell_well[cells] == 0
+        cell_well[cells[free]] = owner[free]
     site_kind = np.full(n_sites, ADDED, dtype=np.int8)
     site_kind[:n_bg] = np.where(bg.padding[keep], PADDING_SITE, BACKGROUND)
     site_kind[n_bg : n_bg + n_f] = np.where(fs.is_tip, FAULT_TIP, FAULT)

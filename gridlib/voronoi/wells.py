@@ -17,7 +17,8 @@ circles that keep the fault's faces on its trace must hold no site): rings reach
 farther are shrunk to that radius, same inner radius and growth, or dropped if not
 even the first ring fits (the well is then one cell), and a note says so. A well path
 crossing a fault, or running along it, has no sites that close to the trace: the
-fault cells it runs through there are the well's (``WellSites.absorbed``). The well
+fault cells it runs through there are the well's (every cell holding a point of the
+path is, ``WellSites.along``). The well
 and fault sites then coexist; where one still falls into a fault circle (a circle at
 a junction is larger), the fault's steps are refined there. Wells must keep clear of
 each other.
@@ -39,11 +40,10 @@ import shapely
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
-from ..connectivity import ragged_arange
 from ..errors import GridError
 from ..reproducible import exp, log, power
 from .domain import Domain
-from .path_sites import EDGE, MERGE, PathGraph, band, clearance, path_graph, path_rows, segment_steps
+from .path_sites import EDGE, MERGE, band, clearance, path_graph, path_rows, segment_steps, steps_of
 
 
 def _positive(value: object, what: str) -> float:
@@ -158,8 +158,8 @@ class WellSites:
     disc_well: np.ndarray  # (w,)
     paths: list[PathZone]
     labels: list[str]
-    absorbed: np.ndarray  # (a, 2) points of well paths given no site, next to or on a fault trace
-    absorbed_well: np.ndarray  # (a,) their well ids: the cells holding them become that well's
+    along: np.ndarray  # (a, 2, 2) the steps of the well paths
+    along_well: np.ndarray  # (a,) their well ids: the free cells they run through become that well's
 
     @property
     def count(self) -> int:
@@ -188,15 +188,15 @@ def build_wells(
     from it and stay clear of the fault circles, the limiting fault's label and its
     distance (m). A point well's rings reaching farther are shrunk (same inner radius and
     growth, fewer rings), or dropped if not even the first ring fits; a path's sites with
-    no room (on or next to a trace) are dropped, the points kept as ``absorbed``: the fault
-    cells there become the well's. ``notes`` says so.
+    no room (on or next to a trace) are dropped: the fault cells there become the well's, as
+    does every free cell the path runs through (``along``). ``notes`` says so.
     """
     sites, site_well = [np.zeros((0, 2))], [np.zeros(0, dtype=np.int64)]
     site_size, site_side = [np.zeros(0)], [np.zeros(0, dtype=bool)]
     dc, dr, dm, dw = [], [], [], []
     paths: list[PathZone] = []
-    absorbed: list[np.ndarray] = []
-    absorbed_well: list[np.ndarray] = []
+    along: list[np.ndarray] = [np.zeros((0, 2, 2))]
+    along_well: list[np.ndarray] = [np.zeros(0, dtype=np.int64)]
     labels = []
     for i, well in enumerate(wells):  # loop over wells
         if not isinstance(well, Well):
@@ -216,20 +216,17 @@ def build_wells(
             dm.append(0.5 * h)
             dw.append(i + 1)
         else:
-            ps, ps_size, side, side_size, gone, zone = _path_well_sites(
+            ps, ps_size, side, side_size, steps, zone = _path_well_sites(
                 well, i + 1, label, domain, size, fault_room, notes
             )
-            if gone is not None:
-                absorbed.append(gone)
-                absorbed_well.append(np.full(gone.shape[0], i + 1))
+            along.append(steps)
+            along_well.append(np.full(steps.shape[0], i + 1))
             sites += [ps, side]
             site_well.append(np.full(ps.shape[0] + side.shape[0], i + 1))
             site_size += [ps_size, side_size]
             site_side += [np.zeros(ps.shape[0], dtype=bool), np.ones(side.shape[0], dtype=bool)]
             paths.append(zone)
     empty = np.zeros((0, 2))
-    if not absorbed:
-        absorbed, absorbed_well = [empty], [np.zeros(0, dtype=np.int64)]
     return WellSites(
         sites=np.concatenate(sites),
         site_well=np.concatenate(site_well),
@@ -241,8 +238,8 @@ def build_wells(
         disc_well=np.asarray(dw, dtype=np.int64),
         paths=paths,
         labels=labels,
-        absorbed=np.concatenate(absorbed),
-        absorbed_well=np.concatenate(absorbed_well),
+        along=np.concatenate(along),
+        along_well=np.concatenate(along_well),
     )
 
 
@@ -300,8 +297,9 @@ def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fa
 def _path_well_sites(well: Well, wid: int, label: str, domain: Domain, size: Callable, fault_room, notes):
     """The sites of a well path (:mod:`.path_sites`): the sites on it (those with no room next to
     a fault dropped) and their target sizes, its side rows (those outside the domain, next to its
-    boundary or to a fault dropped) and theirs, the points of the path given to the fault cells
-    (or None) and the zone where background sites are removed."""
+    boundary or to a fault dropped) and theirs, the path's steps (the free cells they run through
+    become the well's: the fault cells where its sites were dropped) and the zone where
+    background sites are removed."""
     if well.rings is not None:
         raise GridError(f"{label}: rings apply to a vertical well (point), not to a path")
     graph = path_graph(_path_pieces(well.path, label, domain), domain.tol, label)
@@ -313,25 +311,23 @@ def _path_well_sites(well: Well, wid: int, label: str, domain: Domain, size: Cal
     ok[ok] = domain.boundary_distance(side[ok]) >= EDGE * side_size[ok]
     side, side_size = side[ok], side_size[ok]
     probes = ps
-    absorbed = None
     if fault_room is not None:  # sites on or next to a fault trace: the fault's cells serve
         clear = fault_room(side)[0] >= 0
         side, side_size = side[clear], side_size[clear]
         room, by, _ = fault_room(ps)
         gone = room < 0
         if gone.any():
-            fine = _resample(graph, 0.125 * float(np.min(ps_size)))  # the path through those cells
-            absorbed = fine[fault_room(fine)[0] < 0]
             names = ", ".join(dict.fromkeys(b for b, g in zip(by, gone.tolist(), strict=True) if g))
             (notes if notes is not None else []).append(
                 f"{label}: {int(gone.sum())} of its {ps.shape[0]} sites would lie in the circles of "
                 f"{names}; the fault cells it runs through there are the well's"
             )
             ps, ps_size = ps[~gone], ps_size[~gone]
+    along = steps_of(graph, n)
     s_max = float(np.max(rows.on_size))
     h = float(np.max(size(probes)))
     zone = PathZone(wid, graph.geometry, probes, 0.5 * s_max, band(s_max, h), clearance(s_max, h))
-    return ps, ps_size, side, side_size, absorbed, zone
+    return ps, ps_size, side, side_size, along, zone
 
 
 def _path_pieces(value: object, label: str, domain: Domain) -> list[np.ndarray]:
@@ -397,15 +393,6 @@ def _ring_sizes(radii: np.ndarray, sectors: int, h: float) -> list[np.ndarray]:
     arc = 2 * np.pi * radii / sectors
     centre = 0.5 * radii[0] * np.sqrt(sectors * np.sin(np.pi / sectors) / np.cos(np.pi / sectors))
     return [np.array([centre]), np.repeat(np.sqrt(arc * width), sectors)]
-
-
-def _resample(graph: PathGraph, spacing: float) -> np.ndarray:
-    """Points along a path (m): its nodes and at most ``spacing`` apart along every segment."""
-    a, b = graph.nodes[graph.seg[:, 0]], graph.nodes[graph.seg[:, 1]]
-    n = np.maximum(1, np.ceil(np.hypot(*(b - a).T) / spacing).astype(np.int64))
-    si = np.repeat(np.arange(n.size), n + 1)
-    t = ragged_arange(np.zeros(n.size), n + 1) / n[si]
-    return np.concatenate([a[si] + t[:, None] * (b - a)[si], graph.nodes[graph.isolated]])
 
 
 def _points(value: object, label: str, what: str) -> np.ndarray:

@@ -8,13 +8,13 @@ Names are imported on first use, so that importing the package costs little.
 from .._lazy import lazy_exports
 
 _EXPORTS: dict[str, str] = {
-    "CellIndex": ".cell_index",
+    "CellIndex": ".intersect",
     "PathCells": ".intersect",
     "WellConnections": ".connections",
     "WellPath": ".path",
     "axis_lengths": ".factors",
     "cell_axes": ".factors",
-    "cell_index": ".cell_index",
+    "cell_index": ".intersect",
     "main_direction": ".factors",
     "merge_connections": ".connections",
     "minimum_curvature": ".survey",

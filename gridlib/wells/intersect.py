@@ -8,7 +8,7 @@ fault walls, and each cell's volume is the one ``compute_geometry`` reports.
 
 For every straight segment of the path (in MD order):
 
-1. the candidate cells are those whose bounding box it crosses (:mod:`.cell_index`);
+1. the candidate cells are those whose bounding box it crosses (:mod:`.spatial_index`);
 2. the segment's parameters t in [0, 1] where it crosses a triangle of a candidate cell's
    faces come from the Möller-Trumbore test, vectorised over all (segment, triangle) pairs;
    the test is inclusive (barycentric coordinates down to -1e-9) so that a path along a face
@@ -45,8 +45,8 @@ from ..connectivity import offsets, ragged_arange, repeat_ids
 from ..errors import GridError, InputError
 from ..geometry import Geometry
 from ..grid import FloatArray, Grid, IntArray
-from .cell_index import CellIndex, cell_index, point_cells, segment_cells
 from .path import WellPath
+from .spatial_index import CellIndex, cell_index, point_cells, segment_cells
 
 __all__ = ["CellIndex", "PathCells", "cell_index", "path_cells"]
 
@@ -80,7 +80,9 @@ class PathCells:
             ("exit", np.float64, 2),
             ("run", np.int64, 1),
         ):
-            object.__setattr__(self, name, frozen_array(getattr(self, name), dtype, f"PathCells.{name}", ndim))
+            object.__setattr__(
+                self, name, frozen_array(getattr(self, name), dtype, f"PathCells.{name}", ndim)
+            )
 
     @property
     def num(self) -> int:
@@ -93,11 +95,23 @@ class PathCells:
         return np.sqrt(np.einsum("ij,ij->i", d, d))
 
 
-def path_cells(grid: Grid, geometry: Geometry, path: WellPath, *, index: CellIndex | None = None) -> PathCells:
+def path_cells(
+    grid: Grid, geometry: Geometry, path: WellPath, *, index: CellIndex | None = None
+) -> PathCells:
     """The pieces of ``path`` inside the cells of the 3-D ``grid`` (module docstring).
 
     ``index`` (:func:`cell_index` of the same grid) is built when not given; build it once
-    to locate many wells."""
+    to locate many wells. ``geometry`` is the grid's (only its size is used: cells are
+    located from the nodes).
+
+    >>> from gridlib import cart_grid, compute_geometry
+    >>> g = cart_grid([2, 1, 2], [20.0, 10.0, 20.0])
+    >>> pc = path_cells(g, compute_geometry(g), WellPath.from_points([(5, 5, -5), (15, 5, 15), (25, 5, 15)]))
+    >>> pc.cell.tolist(), pc.run.tolist()  # into cell 3 across the path's vertex: one run
+    ([0, 1, 3, 3], [0, 1, 2, 2])
+    >>> pc.entry_md.round(4).tolist(), pc.exit_md.round(4).tolist()
+    ([5.5902, 11.1803, 16.7705, 22.3607], [11.1803, 16.7705, 22.3607, 27.3607])
+    """
     if grid.griddim != 3 or grid.dim != 3:
         raise InputError(f"well {path.name!r}: locating a well path needs a 3-D grid")
     if index is None:

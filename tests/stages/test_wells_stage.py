@@ -7,6 +7,7 @@ and count them, and a well that misses the grid stops the stage naming it."""
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -167,3 +168,62 @@ def test_a_well_that_misses_the_grid_stops_the_stage_naming_it(built, tmp_path):
         "1900 to 2100): its path misses the grid, or its perforations lie outside it"
     )
     assert not out["wells"].exists()
+
+
+def test_a_field_deck_case_has_its_wells_in_feet_and_a_vertical_one_gets_compdats_factors(tmp_path):
+    """A FIELD deck (a flat 3 x 2 x 2 box of 100 x 100 x 10 ft cells at 5000 ft): the default
+    radius is 0.1 m in ft, everything is labelled in FIELD units, and a vertical trajectory
+    through a column's centre gets in each cell exactly the factor Flow computes for its COMPDAT
+    (deck_well_index: the deck's PERMX, PERMY, NTG and corners)."""
+    import xarray as xr
+
+    from gridlib.cornerpoint.generators import simple_grdecl
+    from gridlib.io.grdecl import write_grdecl
+    from gridlib.transmissibility.peaceman import deck_well_index
+    from gridlib.units import FIELD
+
+    deck = simple_grdecl((3, 2, 2), flat=True, undisturbed=True, phys_dims=(300.0, 200.0, 20.0))
+    deck = replace(deck, zcorn=deck.zcorn + 5000.0, units="FIELD")
+    rng = np.random.default_rng(7)
+    rock = {
+        "PORO": rng.uniform(0.1, 0.3, 12),
+        "PERMX": rng.lognormal(4, 1, 12),
+        "PERMY": rng.lognormal(3, 1, 12),
+        "PERMZ": rng.lognormal(1, 1, 12),
+        "NTG": rng.uniform(0.5, 1.0, 12),
+    }
+    write_grdecl(tmp_path / "BOX.GRDECL", deck, rock)
+    (tmp_path / "BOX.DATA").write_text("RUNSPEC\nDIMENS\n 3 2 2 /\nFIELD\nGRID\nINCLUDE\n 'BOX.GRDECL' /\n")
+    (tmp_path / "data").mkdir()
+    (tmp_path / "data" / "v1.xyz").write_text("150 50 4990 4990\n150 50 5030 5030\n")
+    data = {
+        "name": "box",
+        "grid": {"type": "deck", "file": "BOX.DATA"},
+        "wells": [{"name": "V1", "trajectory": "data/v1.xyz"}],
+    }
+    (tmp_path / "box.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    case = load_case(tmp_path / "box.yaml")
+    paths = case_outputs(case.name, tmp_path / "out")
+    (tmp_path / "out").mkdir()
+    for stage in ("grid", "geometry", "petrophysics", "wells"):
+        run_stage(stage, case, paths)
+    (v1,) = read_wells(paths["wells"])
+    radius = 0.1 / 0.3048
+    assert v1.radius == radius
+    np.testing.assert_array_equal(v1.connections.cell, [1, 7])  # (2, 1, 1) and (2, 1, 2)
+    np.testing.assert_array_equal(v1.connections.direction, [2, 2])
+    np.testing.assert_allclose(v1.connections.length, [10.0, 10.0], rtol=1e-12)
+    flow = deck_well_index(deck_with(deck, rock), [1, 7], radius, 0.0, "z")
+    np.testing.assert_allclose(v1.connections.factor, flow, rtol=1e-12)
+    with xr.open_dataset(paths["wells"]) as ds:
+        assert ds.attrs["unit_system"] == "FIELD"
+        assert ds["completion_factor"].attrs["units"] == FIELD.unit("transmissibility") == "cP rb/(day psi)"
+        assert ds["well_radius"].attrs["units"] == "ft" and ds["completion_ijk"].values.tolist() == [
+            [2, 1, 1],
+            [2, 1, 2],
+        ]
+
+
+def deck_with(deck, rock):
+    """``deck`` with the cell keywords ``rock``."""
+    return replace(deck, cell_data={**deck.cell_data, **{k: np.asarray(v) for k, v in rock.items()}})

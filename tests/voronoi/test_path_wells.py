@@ -7,10 +7,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
+from scipy.spatial import cKDTree
 
 import gridlib as gl
 from gridlib.errors import GridError
 from gridlib.voronoi import Fault, Well, areal_path, grid_quality, pebi_grid, rectangle
+from gridlib.voronoi.path_sites import cells_along
 from gridlib.voronoi.pebi_result import FAULT, WELL, WELL_SIDE
 
 H = 10.0
@@ -239,3 +241,14 @@ def test_areal_path_pieces_points_and_callables():
 def test_areal_path_errors(args, message):
     with pytest.raises(GridError, match=message):
         areal_path(*args)
+
+
+def test_cells_along_finds_a_cell_the_path_only_clips():
+    """Sites A (0, 0), B (2, 0), C (1, 1): the segment at y = 1e-6 from x = 0.1 to 1.7 runs through
+    C's cell for 2e-6 m around x = 1 (where x + y > 1 and x - y < 1); sampling at its ends and
+    midpoint sees A and B only, the bisection finds C too."""
+    sites = np.array([(0.0, 0.0), (2.0, 0.0), (1.0, 1.0)])
+    tree = cKDTree(sites)
+    steps = np.array([[(0.1, 1e-6), (1.7, 1e-6)], [(0.2, 0.5), (0.4, 0.5)]])
+    cells, owner = cells_along(lambda p: tree.query(p)[1], steps, np.array([7, 8]), 1e-12)
+    assert sorted(set(zip(owner.tolist(), cells.tolist(), strict=True))) == [(7, 0), (7, 1), (7, 2), (8, 0)]

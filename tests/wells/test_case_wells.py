@@ -186,7 +186,14 @@ MISTAKES = [
         "(MD 2190 to 2490.041664)",
     ),
 ]
+MISTAKES.append(
+    (
+        _set("wells.0.trajectory", "data/broken.xyz"),
+        "wells[0].trajectory: {tmp}/data/broken.xyz: line 2: expected 4 fields, found 3",
+    )
+)
 BRANCHES = {
+    "broken.xyz": "100 400 1950 1950\n160 400 2030\n",
     "b1.xyz": "300 410 2030\n300 700 2035\n",  # 10 m off P2
     "b2.xyz": "300 400 2030 2180\n300 700 2035 2481\n",  # MD 10 m short of P2's there
     "b3.xyz": "300 400 2030\n300 700 2035\n",
@@ -196,3 +203,46 @@ BRANCHES = {
 @pytest.mark.parametrize(("change", "message"), MISTAKES)
 def test_every_mistake_is_one_message_naming_the_case_file_and_the_key(tmp_path, change, message):
     _raises(tmp_path, _with(change), message.format(tmp=tmp_path), BRANCHES)
+
+
+PEBI = {
+    "name": "c",
+    "horizons": {
+        "lattice": {"x": {"start": 0, "stop": 1000, "num": 11}, "y": {"start": 0, "stop": 800, "num": 9}},
+        "surfaces": [
+            {"name": "top", "plane": {"depth": 2000, "dip": 0.0, "azimuth": 90}},
+            {"name": "base", "plane": {"depth": 2040, "dip": 0.0, "azimuth": 90}},
+        ],
+    },
+    "grid": {"type": "pebi", "domain": {"rectangle": [0, 0, 1000, 800]}, "cell_size": 50, "layers": 2},
+    "wells": [
+        {"name": "P1", "point": [150, 150]},
+        {
+            "name": "D1",  # straight from (100, 400, 1900) to (600, 400, 2150): x 300 to 380 at 2000 to 2040
+            "survey": {
+                "head": [100, 400, 1900],
+                "stations": [[0, 63.434948822922, 90], [559.0169943749474, 63.434948822922, 90]],
+            },
+            "branches": [
+                {"survey": {"head": [600, 400, 2150], "stations": [[559.0169943749474, 0, 0], [600, 0, 0]]}}
+            ],
+        },
+    ],
+}
+
+
+def test_a_pebi_grid_refines_along_the_plan_view_of_a_deviated_well_in_the_reservoir(tmp_path):
+    case = load_case(_case(tmp_path, PEBI))
+    point, deviated = pebi_wells(
+        case, lambda x, y: np.full(np.shape(x), 2000.0), lambda x, y: np.full(np.shape(x), 2040.0)
+    )
+    assert (point.name, deviated.name) == ("P1", "D1")
+    (lateral,) = deviated.path  # the vertical branch stays below the base: no part
+    np.testing.assert_allclose(lateral, [[300.0, 400.0], [380.0, 400.0]], rtol=0, atol=1e-6)
+    shallower = pebi_wells(
+        case, lambda x, y: np.full(np.shape(x), 1900.0), lambda x, y: np.full(np.shape(x), 2200.0)
+    )
+    lateral, vertical = shallower[1].path  # the whole lateral; the branch a point
+    np.testing.assert_allclose(lateral, [[100.0, 400.0], [600.0, 400.0]], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(vertical, [[600.0, 400.0]], rtol=0, atol=1e-6)
+    assert [w.name for w in pebi_wells(case)] == ["P1"]  # without the reservoir's depths: none

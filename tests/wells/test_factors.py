@@ -1,11 +1,13 @@
-"""Directional connection factors of well pieces (gridlib.wells.factors): pieces along the cell
-axes equal OPM Flow's own COMPDAT factors (one Flow run), deviated pieces the documented
-combination computed here with scalar math, and the cell axes ResInsight's construction."""
+"""Directional connection factors of well pieces (gridlib.wells.factors) and a well's
+connections (gridlib.wells.connections): pieces along the cell axes, and paths located by
+path_cells, equal OPM Flow's own COMPDAT factors (one Flow run); deviated pieces the
+documented combination computed here with scalar math; the cell axes ResInsight's
+construction; runs and cells entered twice, and merged branches, exact arrays."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -17,8 +19,10 @@ from gridlib.errors import InputError
 from gridlib.grid import Nodes
 from gridlib.transmissibility import cell_extents, well_index
 from gridlib.units import FIELD, METRIC
+from gridlib.wells import WellPath, cell_index, path_cells
 from gridlib.wells.connections import merge_connections, well_connections
 from gridlib.wells.factors import axis_lengths, cell_axes, main_direction, trajectory_factors
+from gridlib.wells.intersect import PathCells
 
 FLOAT32 = 1e-6  # Flow's restart file stores the factors as float32
 C = METRIC.darcy_constant
@@ -178,6 +182,33 @@ def test_pieces_along_the_axes_equal_flows_compdat_factors(flow_factors):
     # exactly COMPDAT's factor for that direction (well_index), NTG and skin included
     same = well_index(g, geo, k, cells, radius, skin, np.array(["x", "y", "z"])[axis], ntg=ntg)
     np.testing.assert_array_equal(cf, same)
+
+
+def test_paths_through_the_box_make_flows_connections(flow_factors):
+    """Whole chain: a vertical and an east-west path, located (path_cells) and connected
+    (well_connections), give Flow's COMPDAT factors for V1 and HX."""
+    g = box_grid()
+    geo = gl.compute_geometry(g)
+    k, ntg = rock()
+    x_mid, y_mid = 0.5 * DX[0], DY[0] + 0.5 * DY[1]
+    paths = {
+        "V1": WellPath.from_points([(x_mid, 0.5 * DY[0], TOP - 10.0), (x_mid, 0.5 * DY[0], TOP + 20.0)]),
+        "HX": WellPath.from_points(
+            [(-10.0, y_mid, TOP + 7.5), (sum(DX) + 10.0, y_mid, TOP + 7.5)], start_md=500.0
+        ),
+    }
+    index = cell_index(g, geo)
+    for name, path in paths.items():
+        ijk, diameter, skin, direction = WELLS[name]
+        conn = well_connections(
+            g, geo, k, ntg, path_cells(g, geo, path, index=index), diameter / 2, skin, units="METRIC"
+        )
+        cells = [i - 1 + NX * (j - 1 + NY * (kk - 1)) for i, j, kk in ijk]
+        assert conn.cell.tolist() == cells
+        assert conn.direction.tolist() == ["XYZ".index(direction)] * len(cells)
+        np.testing.assert_allclose(conn.factor, [flow_factors[(name, c)] for c in cells], rtol=FLOAT32)
+    np.testing.assert_allclose(conn.entry_md, 500.0 + 10.0 + np.r_[0.0, np.cumsum(DX[:-1])], rtol=1e-14)
+    np.testing.assert_allclose(conn.length, DX, rtol=1e-12)
 
 
 # ------------------------------------------------------------------ deviated pieces, by hand
@@ -357,23 +388,11 @@ def test_bad_input_names_the_argument():
 # ------------------------------------------------------------------ a well's connections
 
 
-@dataclass(frozen=True, eq=False)
-class Pieces:
-    """PathCells' fields (gridlib.wells.intersect), written out by hand."""
-
-    cell: np.ndarray
-    entry_md: np.ndarray
-    exit_md: np.ndarray
-    entry: np.ndarray
-    exit: np.ndarray
-    run: np.ndarray
-
-
-def pieces_of(points: list[tuple[float, float, float]], cells: list[int], runs: list[int]) -> Pieces:
+def pieces_of(points: list[tuple[float, float, float]], cells: list[int], runs: list[int]) -> PathCells:
     """Pieces between consecutive ``points``, MD their cumulative length."""
     p = np.array(points, dtype=np.float64)
     md = np.r_[0.0, np.cumsum(np.sqrt(((p[1:] - p[:-1]) ** 2).sum(axis=1)))]
-    return Pieces(np.array(cells), md[:-1], md[1:], p[:-1], p[1:], np.array(runs))
+    return PathCells(np.array(cells), md[:-1], md[1:], p[:-1], p[1:], np.array(runs))
 
 
 def test_pieces_make_runs_and_a_cell_entered_twice_one_connection():

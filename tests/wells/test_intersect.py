@@ -6,6 +6,7 @@ and xtgeo's ``Well.get_cell_intersections`` as a peer on faulted corner-point de
 
 from __future__ import annotations
 
+import itertools
 import warnings
 from dataclasses import replace
 
@@ -50,7 +51,7 @@ def box_pieces(points: np.ndarray, dims, spacing):
     n = np.asarray(dims)
     h = np.asarray(spacing, dtype=float)
     cells, t_in, t_out, segs = [], [], [], []
-    for s, (a, b) in enumerate(zip(points[:-1], points[1:], strict=True)):
+    for s, (a, b) in enumerate(itertools.pairwise(points)):
         ts = [0.0, 1.0]
         for axis in range(3):
             if b[axis] != a[axis]:
@@ -58,7 +59,7 @@ def box_pieces(points: np.ndarray, dims, spacing):
                 t = (planes - a[axis]) / (b[axis] - a[axis])
                 ts += t[(t > 0) & (t < 1)].tolist()
         ts = np.unique(ts)
-        for t0, t1 in zip(ts[:-1], ts[1:], strict=True):
+        for t0, t1 in itertools.pairwise(ts):
             mid = a + 0.5 * (t0 + t1) * (b - a)
             ijk = np.floor(mid / h).astype(int)
             if np.all(ijk >= 0) and np.all(ijk < n):
@@ -104,9 +105,10 @@ def faulted_cornerpoint() -> gl.Grid:
 def pebi_with_thrown_fault() -> gl.Grid:
     rng = np.random.default_rng(26)
     edge = np.linspace(0.0, 1000.0, 9)
+    inner = edge[1:-1]
     square = np.concatenate(
         [np.column_stack([edge, 0 * edge]), np.column_stack([edge, 0 * edge + 1000.0]),
-         np.column_stack([0 * edge[1:-1], edge[1:-1]]), np.column_stack([0 * edge[1:-1] + 1000.0, edge[1:-1]])]
+         np.column_stack([0 * inner, inner]), np.column_stack([0 * inner + 1000.0, inner])]
     )  # fmt: skip
     areal = gl.pebi(gl.triangle_grid(np.concatenate([square, rng.uniform(50.0, 950.0, (60, 2))])))
     fault = FaultTrace([(420.0, -10.0), (610.0, 1010.0)], 7.0, name="F")
@@ -122,7 +124,10 @@ def tetrahedra() -> gl.Grid:
 
 GRIDS = {
     # (grid, a path inside it: its length inside is the path's)
-    "cornerpoint": (faulted_cornerpoint, [[0.05, 0.1, 0.3], [0.5, 0.5, 0.25], [0.93, 0.93, 0.34], [0.3, 0.8, 0.27]]),
+    "cornerpoint": (
+        faulted_cornerpoint,
+        [[0.05, 0.1, 0.3], [0.5, 0.5, 0.25], [0.93, 0.93, 0.34], [0.3, 0.8, 0.27]],
+    ),
     "pebi": (pebi_with_thrown_fault, [[30.0, 40.0, 1006.0], [500.0, 520.0, 1020.0], [980.0, 900.0, 1028.0]]),
     "tetrahedral": (tetrahedra, [[0.01, 0.02, 0.03], [0.7, 0.4, 0.9], [0.2, 0.95, 0.5], [0.99, 0.5, 0.01]]),
     "twisted": (
@@ -144,7 +149,7 @@ def test_lengths_add_up_on_every_grid(name):
     assert np.unique(run_cells(pc)).size >= 8
     # Consecutive runs are neighbours: they share a face (or touch at an edge or a node).
     nodes = [set(cell_nodes(grid, c)) for c in run_cells(pc)]
-    assert all(a & b for a, b in zip(nodes[:-1], nodes[1:], strict=True))
+    assert all(a & b for a, b in itertools.pairwise(nodes))
 
 
 def cell_nodes(grid: gl.Grid, c: int) -> np.ndarray:
@@ -190,7 +195,7 @@ def reference_on_boundaries(a, b, breaks, cells_at):
     of the cells ``cells_at(midpoint)`` (the tie rule), consecutive equal cells merged."""
     ts = np.unique(np.clip(np.r_[0.0, 1.0, breaks], 0.0, 1.0))
     out = []
-    for t0, t1 in zip(ts[:-1], ts[1:], strict=True):
+    for t0, t1 in itertools.pairwise(ts):
         c = min(cells_at(a + 0.5 * (t0 + t1) * (b - a)), default=None)
         if c is None:
             continue
@@ -203,7 +208,6 @@ def reference_on_boundaries(a, b, breaks, cells_at):
 
 def faulted_cells_at(p) -> list[int]:
     """The cells of the planar faulted box whose closed box holds p."""
-    x, y, z = p
     found = []
     for i in range(4):
         top = DROP if i >= 2 else 0.0
@@ -235,7 +239,11 @@ def test_paths_along_faces_edges_nodes_and_fault_walls(name):
     a, b = points
     d = b - a
     breaks = []
-    for axis, planes in ((0, np.arange(5) * DX), (1, np.arange(3) * DY), (2, np.r_[np.arange(5) * DZ, DROP + np.arange(5) * DZ])):
+    for axis, planes in (
+        (0, np.arange(5) * DX),
+        (1, np.arange(3) * DY),
+        (2, np.r_[np.arange(5) * DZ, DROP + np.arange(5) * DZ]),
+    ):
         if d[axis]:
             breaks += ((planes - a[axis]) / d[axis]).tolist()
     ref = reference_on_boundaries(a, b, np.array(breaks), faulted_cells_at)
@@ -271,7 +279,9 @@ def test_leaving_and_reentering_the_grid():
     pc = pieces_of(grid, [[0.1, 0.25, 0.1], [0.125, 0.25, -0.1], [0.15, 0.25, 0.1]])
     assert glob[pc.cell].tolist() == [cell_at(0, 0, 0)] * 2 and pc.run.tolist() == [0, 1]
     half = np.hypot(0.025, 0.2)
-    np.testing.assert_allclose(np.c_[pc.entry_md, pc.exit_md], [[0, half / 2], [1.5 * half, 2 * half]], atol=1e-13)
+    np.testing.assert_allclose(
+        np.c_[pc.entry_md, pc.exit_md], [[0, half / 2], [1.5 * half, 2 * half]], atol=1e-13
+    )
 
 
 def test_inactive_cells_are_a_hole():
@@ -280,7 +290,9 @@ def test_inactive_cells_are_a_hole():
     grid, glob = planar_faulted(actnum)
     pc = pieces_of(grid, [[0.1, 0.25, 0.19], [0.9, 0.25, 0.19]])
     assert glob[pc.cell].tolist() == [cell_at(0, 0, 1), cell_at(2, 0, 0), cell_at(3, 0, 0)]
-    np.testing.assert_allclose(np.c_[pc.entry_md, pc.exit_md], [[0, 0.15], [0.4, 0.65], [0.65, 0.8]], atol=1e-13)
+    np.testing.assert_allclose(
+        np.c_[pc.entry_md, pc.exit_md], [[0, 0.15], [0.4, 0.65], [0.65, 0.8]], atol=1e-13
+    )
     assert pc.run.tolist() == [0, 1, 2]
     # All of a path in the hole, or outside the grid: nothing.
     for points in ([[0.3, 0.1, 0.15], [0.45, 0.9, 0.24]], [[2.0, 0.0, 0.0], [3.0, 1.0, 1.0]]):
@@ -306,7 +318,8 @@ def test_one_index_serves_many_wells_and_bad_grids_are_refused():
 
 def xtgeo_runs(deck, tmp_path, points: np.ndarray) -> pd.DataFrame:
     """xtgeo's cells along the path (active cells only), with entry and exit MDs."""
-    xtgeo = pytest.importorskip("xtgeo")
+    import xtgeo  # a test extra; imported here, where it is used (it takes a second)
+
     path = tmp_path / "deck.grdecl"
     write_grdecl(path, deck)
     md = WellPath.from_points(points).md
@@ -316,3 +329,76 @@ def xtgeo_runs(deck, tmp_path, points: np.ndarray) -> pd.DataFrame:
         df = pd.DataFrame({"X_UTME": points[:, 0], "Y_UTMN": points[:, 1], "Z_TVDSS": points[:, 2], "MD": md})
         well = xtgeo.Well(0.0, points[0, 0], points[0, 1], "W", df, mdlogname="MD")
         return well.get_cell_intersections(grid, sampling_step=0.01, active_only=True, zerobased=True)
+
+
+def runs_of(pc: PathCells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(cell, entry MD, exit MD) of every run."""
+    start = np.r_[0, np.flatnonzero(np.diff(pc.run)) + 1]
+    end = np.r_[start[1:] - 1, pc.num - 1]
+    return pc.cell[start], pc.entry_md[start], pc.exit_md[end]
+
+
+def test_xtgeo_agrees_on_a_planar_faulted_deck(tmp_path):
+    """simpleGrdecl with flat layers (its skewed pillars keep every face planar), an 8 m drop
+    and two inactive cells: xtgeo's ray tracing of planar cells gives the same runs and MDs
+    (to its float32 coordinates)."""
+    deck = simple_grdecl([6, 5, 4], 8.0, flat=True, phys_dims=(600.0, 500.0, 40.0))
+    actnum = np.ones(deck.num_cells, np.int32)
+    actnum[[1 + 6 * (2 + 5 * 1), 2 + 6 * (2 + 5 * 1)]] = 0
+    deck = replace(deck, actnum=actnum)
+    grid = process_grdecl(deck).grid
+    for points in (
+        [[20.0, 30.0, -10.0], [250.0, 260.0, 18.0], [580.0, 470.0, 45.0]],
+        [[590.0, 20.0, 5.0], [10.0, 480.0, 30.0]],
+    ):
+        points = np.array(points)
+        cell, entry_md, exit_md = runs_of(pieces_of(grid, points))
+        theirs = xtgeo_runs(deck, tmp_path, points)
+        glob = (theirs.I + 6 * (theirs.J + 5 * theirs.K)).to_numpy()
+        np.testing.assert_array_equal(grid.cells.index_map[cell], glob)
+        np.testing.assert_allclose(entry_md, theirs.ENTRY_MD, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(exit_md, theirs.EXIT_MD, rtol=0, atol=1e-6)
+
+
+def test_xtgeo_agrees_on_make_model3(tmp_path):
+    """MRST's makeModel3 (two faults, pinch-outs, inactive cells, non-planar tops and bases):
+    the same runs as xtgeo's (which samples the path every 1 cm and bisects: the paths have no
+    run shorter than that), and MDs that differ no more than the two cell models can: the
+    tops and bases are non-planar quads, which xtgeo and the hinge triangles fill differently,
+    both inside the quad's hull, whose depth range is half its twist |z00 + z11 - z01 - z10|;
+    a path crossing the quad at a vertical rate dz/dMD, against a surface of slope <= s, may
+    then cross it a MD twist / 2 / (|dz/dMD| - s) apart. The vertical faces are planar: there
+    the MDs agree to 1e-6."""
+    deck = make_model3([20, 15, 5])
+    nx, ny, nz = deck.cart_dims
+    grid = process_grdecl(deck).grid
+    zc = deck.zcorn_array()  # (2 nz, 2 ny, 2 nx)
+    quads = zc.reshape(2 * nz, ny, 2, nx, 2)  # per (layer side, j, corner j, i, corner i)
+    twist = np.abs(quads[:, :, 0, :, 0] + quads[:, :, 1, :, 1] - quads[:, :, 0, :, 1] - quads[:, :, 1, :, 0])
+    cell_twist = np.maximum(twist[0::2], twist[1::2]).ravel()  # (k, j, i): in global order
+    # The steepest slope of a top or base: its edges' slopes along x and y, combined
+    slope = np.hypot(
+        np.abs(zc[:, :, 1::2] - zc[:, :, 0::2]).max() / (1000.0 / nx),
+        np.abs(zc[:, 1::2, :] - zc[:, 0::2, :]).max() / (600.0 / ny),
+    )
+    assert slope < 0.05
+    for points in (  # zig-zags across the faults (x = 500 and 600, y = 200 and 320), dz/dMD 0.16
+        [[450.0, 100.0, -10.0], [650.0, 250.0, 30.0], [850.0, 400.0, -10.0], [650.0, 550.0, 30.0]],
+        [[100.0, 500.0, -10.0], [300.0, 350.0, 30.0], [500.0, 200.0, -10.0], [700.0, 50.0, 30.0]],
+    ):
+        points = np.array(points)
+        pc = pieces_of(grid, points)
+        cell, entry_md, exit_md = runs_of(pc)
+        theirs = xtgeo_runs(deck, tmp_path, points)
+        assert np.all(exit_md - entry_md >= 0.01)  # none that xtgeo's sampling could step over
+        glob = grid.cells.index_map[cell]
+        np.testing.assert_array_equal(glob, (theirs.I + nx * (theirs.J + ny * theirs.K)).to_numpy())
+        path = WellPath.from_points(points)
+        seg = np.searchsorted(path.md, entry_md, side="right") - 1
+        rate = np.abs(np.diff(points[:, 2]) / np.diff(path.md))[np.minimum(seg, len(points) - 2)]
+        previous = np.r_[glob[:1], glob[:-1]]
+        bound = np.maximum(cell_twist[glob], cell_twist[previous]) / 2 / (rate - slope) + 1e-6
+        difference = np.abs(entry_md - theirs.ENTRY_MD.to_numpy())
+        assert glob.size >= 20 and np.all(difference <= bound)
+        lateral = cell_twist[glob] == 0  # both models agree exactly where nothing is twisted
+        assert difference.max() > 1e-3 and np.all(difference[lateral & (cell_twist[previous] == 0)] <= 1e-6)

@@ -6,11 +6,13 @@ by looking up the bins the query touches, with no loop over cells or queries.
 
 Bins are boxes of a uniform lattice over the grid's bounding box, twice the median cell
 extent along each axis (so a reservoir grid of thin layers gets flat bins), enlarged where
-needed so that there are at most 8 bins per cell. Every cell is listed in every bin its
-bounding box overlaps; a cell and a query box overlapping in several bins are reported once,
-from the bin holding the lower corner of their overlap. Bounding boxes are padded by
-1e-9 of the grid's extent (plus a few ulps of its coordinates), so that points on a cell's
-surface, computed with rounding, are still in its box. Lengths in the grid's unit; z is depth.
+needed so that there are at most 8 bins per cell. A cell no larger than a bin along every
+axis (nearly all of them) is listed once, in the bin of its box's lower corner, so a query
+looks from one bin below its own lower corner up; a larger cell is listed in every bin its
+box overlaps, and reported once, from the bin holding the lower corner of its overlap with
+the query. Bounding boxes are padded by 1e-9 of the grid's extent (plus a few ulps of its
+coordinates), so that points on a cell's surface, computed with rounding, are still in its
+box. Lengths in the grid's unit; z is depth.
 """
 
 from __future__ import annotations
@@ -33,8 +35,9 @@ PAD = 1e-9  # bounding boxes grow by this fraction of the grid's extent
 @dataclass(frozen=True, eq=False)
 class CellIndex:
     """Padded cell bounding boxes ``lo``/``hi`` (nc, 3) and the lattice of bins: ``origin`` (3,),
-    bin ``size`` (3,), ``shape`` (bins per axis, x fastest in a bin's number) and the cells of
-    bin b, ``cells[pos[b]:pos[b + 1]]`` (ascending)."""
+    bin ``size`` (3,), ``shape`` (bins per axis, x fastest in a bin's number), the cells listed
+    in bin b, ``cells[pos[b]:pos[b + 1]]``, and which cells are ``big`` (larger than a bin,
+    listed in every bin they overlap; the others in the bin of their lower corner)."""
 
     lo: FloatArray
     hi: FloatArray
@@ -43,6 +46,7 @@ class CellIndex:
     shape: tuple[int, int, int]
     pos: IntArray
     cells: IntArray
+    big: np.ndarray
     pad: float
 
     def __post_init__(self) -> None:
@@ -50,6 +54,7 @@ class CellIndex:
             object.__setattr__(self, name, frozen_array(getattr(self, name), np.float64, name, ndim))
         for name in ("pos", "cells"):
             object.__setattr__(self, name, frozen_array(getattr(self, name), np.int64, name, 1))
+        object.__setattr__(self, "big", frozen_array(self.big, np.bool_, "big", 1))
 
     @property
     def num_cells(self) -> int:
@@ -65,7 +70,7 @@ def cell_boxes(grid: Grid) -> tuple[FloatArray, FloatArray]:
     lo = np.empty((grid.num_cells, 3))
     hi = np.empty((grid.num_cells, 3))
     for axis in range(3):
-        v = grid.nodes.coords[:, axis][grid.faces.nodes]
+        v = np.ascontiguousarray(grid.nodes.coords[:, axis])[grid.faces.nodes]
         face_lo = np.minimum.reduceat(v, npos[:-1])
         face_hi = np.maximum.reduceat(v, npos[:-1])
         del v
@@ -92,16 +97,19 @@ def cell_index(grid: Grid, geometry: Geometry | None = None) -> CellIndex:
     size = BIN_CELLS * np.median(hi - lo, axis=0)
     size = np.where(size > 0, size, span)
     shape = np.maximum(np.ceil(span / size), 1)
-    too_many = float(np.prod(shape)) / (BINS_PER_CELL * grid.num_cells)
-    if too_many > 1.0:
-        size = size * np.cbrt(too_many)
+    while float(np.prod(shape)) > BINS_PER_CELL * grid.num_cells:  # coarsen: a few steps at most
+        size = size * 1.25
         shape = np.maximum(np.ceil(span / size), 1)
     shape = tuple(int(n) for n in shape)
-    index = CellIndex(lo, hi, glo, size, shape, np.zeros(2, np.int64), np.zeros(0, np.int64), pad)
-    cell, bins = _box_bins(index, lo, hi)
-    order = np.argsort(bins, kind="stable")  # cells ascending within every bin
+    big = np.any(hi - lo > size, axis=1)
+    index = CellIndex(lo, hi, glo, size, shape, np.zeros(2, np.int64), np.zeros(0, np.int64), big, pad)
+    large = np.flatnonzero(big)
+    box, big_bins = _box_bins(index, lo[large], hi[large])
+    cell = np.concatenate([np.flatnonzero(~big), large[box]])
+    bins = np.concatenate([_bin_of(index, lo[~big]), big_bins])
+    order = np.argsort(bins, kind="stable")
     pos = offsets(np.bincount(bins, minlength=int(np.prod(shape))))
-    return CellIndex(lo, hi, glo, size, shape, pos, cell[order], pad)
+    return CellIndex(lo, hi, glo, size, shape, pos, cell[order], big, pad)
 
 
 def _bin_range(index: CellIndex, lo: FloatArray, hi: FloatArray) -> tuple[IntArray, IntArray]:
@@ -122,7 +130,9 @@ def _bin_of(index: CellIndex, p: FloatArray) -> IntArray:
 def _box_bins(index: CellIndex, lo: FloatArray, hi: FloatArray) -> tuple[IntArray, IntArray]:
     """(box, bin) for every bin each box lo..hi (k, 3) overlaps, box-major; boxes wholly
     outside the lattice overlap none."""
-    inside = np.all(hi >= index.origin, axis=1) & np.all(lo <= index.origin + index.size * index.shape, axis=1)
+    inside = np.all(hi >= index.origin, axis=1) & np.all(
+        lo <= index.origin + index.size * index.shape, axis=1
+    )
     first, last = _bin_range(index, lo, hi)
     n = np.where(inside[:, None], last - first + 1, 0)
     counts = n[:, 0] * n[:, 1] * n[:, 2]
@@ -137,28 +147,23 @@ def _box_bins(index: CellIndex, lo: FloatArray, hi: FloatArray) -> tuple[IntArra
 
 def box_cells(index: CellIndex, lo: FloatArray, hi: FloatArray) -> tuple[IntArray, IntArray]:
     """(box, cell): every cell whose bounding box overlaps box lo..hi (k, 3), once, box-major."""
-    box, bins = _box_bins(index, lo, hi)
+    box, bins = _box_bins(index, lo - index.size, hi)  # from a bin below: small cells' corners
     n = index.pos[bins + 1] - index.pos[bins]
     box = np.repeat(box, n)
     cell = index.cells[ragged_arange(index.pos[bins], n)]
     bins = np.repeat(bins, n)
     overlap = np.all(index.lo[cell] <= hi[box], axis=1) & np.all(index.hi[cell] >= lo[box], axis=1)
     box, cell, bins = box[overlap], cell[overlap], bins[overlap]
-    corner = np.maximum(index.lo[cell], lo[box])  # the overlap's lower corner: one bin per pair
-    once = _bin_of(index, corner) == bins
+    big = index.big[cell]
+    corner = np.maximum(index.lo[cell[big]], lo[box[big]])  # the overlap's lower corner: one bin
+    once = ~big
+    once[big] = _bin_of(index, corner) == bins[big]
     return box[once], cell[once]
 
 
 def point_cells(index: CellIndex, p: FloatArray) -> tuple[IntArray, IntArray]:
     """(point, cell): every cell whose bounding box holds point p (k, 3), point-major."""
-    inside = np.all(p >= index.origin, axis=1) & np.all(p <= index.origin + index.size * index.shape, axis=1)
-    point = np.flatnonzero(inside)
-    bins = _bin_of(index, p[point])
-    n = index.pos[bins + 1] - index.pos[bins]
-    point = np.repeat(point, n)
-    cell = index.cells[ragged_arange(index.pos[bins], n)]
-    hold = np.all(index.lo[cell] <= p[point], axis=1) & np.all(index.hi[cell] >= p[point], axis=1)
-    return point[hold], cell[hold]
+    return box_cells(index, p, p)
 
 
 def segment_cells(index: CellIndex, a: FloatArray, b: FloatArray) -> tuple[IntArray, IntArray]:
