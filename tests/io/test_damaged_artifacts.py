@@ -3,8 +3,8 @@ with 64 bytes flipped in its middle makes every stage that reads it fail with on
 naming that file (never a silent success, never another exception), and the workflow's
 console shows that one line without a traceback.
 
-One small case (corner-point, from horizons, with rock, coarsening and a Flow deck) is built
-once in-process; each test damages one copy of one of its files."""
+One small case (corner-point, from horizons, with rock, coarsening, a deviated well and a Flow
+deck) is built once in-process; each test damages one copy of one of its files."""
 
 from __future__ import annotations
 
@@ -43,13 +43,19 @@ CASE = {
     "grid": {"type": "cornerpoint", "dims": [24, 18], "layers": [4]},  # files mostly of data chunks
     "petrophysics": {"porosity": {"layers": [0.2, 0.25, 0.1, 0.3]}, "permeability": {"constant": 100.0}},
     "coarsen": {"method": "uniform", "dims": [2, 2, 1]},
+    "wells": [  # a deviated well: wells.nc
+        {
+            "name": "D1",
+            "survey": {"head": [100, 150, 950], "stations": [[950, 0, 90], [1000, 60, 90], [1150, 60, 90]]},
+        }
+    ],
 }
 
 ROOT = Path(__file__).resolve().parents[2]
 ADVICE = "delete it and rerun the workflow"
 
 # Every stage file and the {case}.nc export (read by no stage: by read_netcdf, as users do).
-FILES = ("horizons", "grid", "geometry", "petrophysics", "coarse", "transmissibility", "nc")
+FILES = ("horizons", "grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells", "nc")
 
 
 def _truncate(data: bytes) -> bytes:
