@@ -17,7 +17,7 @@ import pytest
 import gridlib as gl
 from gridlib.cornerpoint.generators import make_model3, simple_grdecl
 from gridlib.cornerpoint.process import process_grdecl
-from gridlib.errors import InputError
+from gridlib.errors import GridError, InputError
 from gridlib.io.grdecl import write_grdecl
 from gridlib.pillars.extrude import extrude
 from gridlib.pillars.fault_traces import FaultTrace
@@ -89,8 +89,11 @@ def test_diagonal_path_through_a_box_is_analytic():
     assert at_vertex.size == 1 and pc.cell[at_vertex[0]] == pc.cell[at_vertex[0] + 1] == 2 + 5 * (2 + 4 * 1)
     assert pc.run[at_vertex[0]] == pc.run[at_vertex[0] + 1]
     assert pc.run[-1] == pc.num - 2  # every other piece starts a run
-    # The last segment leaves the box at y = 100 and z = 30 (t = 1/3 and ...): the path's
-    # length inside is that of the reference pieces.
+    # The middle segment leaves the box through y = 100 in cell (4, 3, 2); the last one comes
+    # back in through y = 100 and leaves through x = 100 in the same cell: a second run of it.
+    last = 4 + 5 * (3 + 4 * 2)
+    assert pc.cell[-2:].tolist() == [last, last] and pc.run[-1] == pc.run[-2] + 1
+    assert pc.exit_md[-2] < md[2] < pc.entry_md[-1]
     assert pc.length.sum() == pytest.approx(float(np.sum((t1 - t0) * seg_len[segs])), rel=1e-13)
 
 
@@ -308,6 +311,11 @@ def test_one_index_serves_many_wells_and_bad_grids_are_refused():
         without = pieces_of(grid, points)
         np.testing.assert_array_equal(with_index.cell, without.cell)
         np.testing.assert_array_equal(with_index.entry_md, without.entry_md)
+    other = gl.cart_grid([2, 2, 2])
+    with pytest.raises(GridError, match="not this grid's"):
+        path_cells(
+            other, gl.compute_geometry(other), WellPath.from_points([[0, 0, 0], [1, 1, 1]]), index=index
+        )
     planar = gl.cart_grid([2, 2])
     with pytest.raises(InputError, match="3-D grid"):
         path_cells(planar, gl.compute_geometry(planar), WellPath.from_points([[0, 0, 0], [1, 1, 1]]))
