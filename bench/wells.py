@@ -6,9 +6,10 @@ Run:  .venv/bin/python bench/wells.py [--dims 200 200 25] [--phys 5000 3000 15] 
 Grid: ``make_model3(dims, phys)`` (bench/cornerpoint.py's anticline cut by two faults, with
 inactive cells), here on a 5 km x 3 km area so that 3 km laterals fit (cells 25 x 15 x 0.6 m),
 processed by ``process_grdecl`` (not timed). Wells: 3 km of hole each, all of it near the
-reservoir: a heel at a random point of the middle of the area, in the middle of the reservoir, and a
-lateral whose inclination swings between 87 and 93 degrees (400 m period: it crosses the
-layers up and down, 3.3 m either way) and whose azimuth turns by up to 30 degrees, as points every 10 m.
+reservoir: a heel at a random point of the middle of the area, in the middle of the reservoir,
+and a lateral surveyed every 30 m, its inclination swinging between 87 and 93 degrees (400 m
+period: it crosses the layers up and down, 3.3 m either way) and its azimuth turning by up to
+30 degrees, turned into a path by minimum curvature with points every 10 m along the arcs.
 Times ``cell_index(grid, geometry)`` once and ``path_cells`` for every well (CPU and wall
 seconds; the median of ``--repeat`` runs), and prints the pieces and cells found.
 
@@ -44,6 +45,7 @@ from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.grdecl import write_grdecl
 from gridlib.wells.intersect import cell_index, path_cells
 from gridlib.wells.path import WellPath
+from gridlib.wells.survey import minimum_curvature
 
 FINE = 0.05  # xtgeo's fine sampling step (m): it may step over the runs shorter than that
 
@@ -78,30 +80,24 @@ print(json.dumps({"version": xtgeo.__version__, "times": list(times.values())}))
 
 
 def lateral_wells(
-    grid, geo, n: int, phys, length: float = 3000.0, step: float = 10.0, seed: int = 0
+    grid, geo, n: int, phys, length: float = 3000.0, station: float = 30.0, step: float = 10.0, seed: int = 0
 ) -> list[WellPath]:
-    """``n`` laterals of ``length`` (module docstring), as points every ``step``."""
+    """``n`` laterals of ``length`` (module docstring): surveys with a station every ``station``,
+    by minimum curvature with points every ``step`` along the arcs."""
     rng = np.random.default_rng(seed)
-    md = np.arange(0.0, length + step / 2, step)
+    md = np.arange(0.0, length + station / 2, station)
     wells = []
     while len(wells) < n:
-        w = len(wells)
         heel = np.array([rng.uniform(0.3, 0.7) * phys[0], rng.uniform(0.3, 0.7) * phys[1], 0.0])
         column = vertical_well_cells(grid, geo, heel[:2])
         if column.size == 0:
             continue
         heel[2] = geo.cell_centroids[column, 2].mean()  # the middle of the reservoir there
-        towards = np.array([phys[0] / 2, phys[1] / 2]) - heel[:2]
-        az0 = np.arctan2(towards[0], towards[1]) + rng.uniform(-1.0, 1.0)  # radians from north
-        turn = rng.uniform(-0.5, 0.5)
-        phase = rng.uniform(0, 2 * np.pi)
-        inc = np.radians(90.0 + 3.0 * np.sin(2 * np.pi * md / 400.0 + phase))
-        az = az0 + turn * md / length
-        direction = np.column_stack([np.sin(inc) * np.sin(az), np.sin(inc) * np.cos(az), np.cos(inc)])
-        xyz = heel + np.concatenate(
-            [[np.zeros(3)], np.cumsum(step * 0.5 * (direction[1:] + direction[:-1]), 0)]
-        )
-        wells.append(WellPath.from_points(xyz, md, name=f"w{w}"))
+        towards = np.degrees(np.arctan2(phys[0] / 2 - heel[0], phys[1] / 2 - heel[1]))  # from north
+        azimuth = towards + rng.uniform(-60.0, 60.0) + rng.uniform(-30.0, 30.0) * md / length
+        inclination = 90.0 + 3.0 * np.sin(2 * np.pi * md / 400.0 + rng.uniform(0, 2 * np.pi))
+        stations = np.column_stack([md, inclination, azimuth % 360.0])
+        wells.append(minimum_curvature(heel, stations, name=f"w{len(wells)}", step=step))
     return wells
 
 

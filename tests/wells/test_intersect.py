@@ -23,6 +23,7 @@ from gridlib.pillars.extrude import extrude
 from gridlib.pillars.fault_traces import FaultTrace
 from gridlib.wells.intersect import PathCells, cell_index, path_cells
 from gridlib.wells.path import WellPath
+from gridlib.wells.survey import minimum_curvature
 
 
 def pieces_of(grid: gl.Grid, points, index=None) -> PathCells:
@@ -153,6 +154,23 @@ def test_lengths_add_up_on_every_grid(name):
     # Consecutive runs are neighbours: they share a face (or touch at an edge or a node).
     nodes = [set(cell_nodes(grid, c)) for c in run_cells(pc)]
     assert all(a & b for a, b in itertools.pairwise(nodes))
+
+
+def test_a_survey_keeps_its_measured_depths():
+    """A path by minimum curvature: its MD steps are arc lengths, longer than the chords. The
+    pieces' MDs are linear along the segments (WellPath.at), their MD lengths add up to the MD
+    inside, their straight lengths to the chords'."""
+    grid = gl.twister(gl.cart_grid([6, 5, 4], [10.0, 10.0, 10.0]), 0.05)
+    path = minimum_curvature(
+        (1.0, 5.0, 1.0), [(0.0, 20.0, 90.0), (6.0, 50.0, 70.0), (12.0, 80.0, 110.0)], step=1.5
+    )
+    pc = path_cells(grid, gl.compute_geometry(grid), path)
+    np.testing.assert_allclose(path.at(pc.entry_md), pc.entry, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(path.at(pc.exit_md), pc.exit, rtol=0, atol=1e-12)
+    assert np.sum(pc.exit_md - pc.entry_md) == pytest.approx(path.length, rel=1e-12)
+    chords = np.linalg.norm(np.diff(path.xyz, axis=0), axis=1).sum()
+    assert pc.length.sum() == pytest.approx(chords, rel=1e-12) and chords < path.length
+    assert pc.run[-1] + 1 < pc.num  # pieces split at the path's vertices, runs across them
 
 
 def cell_nodes(grid: gl.Grid, c: int) -> np.ndarray:
