@@ -176,7 +176,9 @@ def _owner_faces(grid: Grid, owner: IntArray, cell: IntArray) -> tuple[IntArray,
     return np.repeat(owner, n), face, sign
 
 
-def _crossings(grid: Grid, seg: IntArray, cand: IntArray, a: FloatArray, b: FloatArray):
+def _crossings(
+    grid: Grid, seg: IntArray, cand: IntArray, a: FloatArray, b: FloatArray
+) -> tuple[IntArray, FloatArray]:
     """(segment, t): the parameters t in [0, 1] along segment a -> b where it crosses a
     triangle of a face of one of its candidate cells (Möller-Trumbore, module docstring)."""
     owner, face, _ = _owner_faces(grid, seg, cand)
@@ -203,7 +205,9 @@ def _crossings(grid: Grid, seg: IntArray, cand: IntArray, a: FloatArray, b: Floa
     return s[hit], np.clip(t[hit], 0.0, 1.0)
 
 
-def _split(t_seg: IntArray, t: FloatArray, n_seg: int, same_t: FloatArray):
+def _split(
+    t_seg: IntArray, t: FloatArray, n_seg: int, same_t: FloatArray
+) -> tuple[IntArray, FloatArray, FloatArray]:
     """Pieces (segment, t0, t1) between the sorted parameters of every segment (its crossings,
     0 and 1), parameters closer than ``same_t`` (per segment) being one."""
     ends = np.arange(n_seg)
@@ -271,7 +275,9 @@ def solid_angles(a: FloatArray, b: FloatArray, c: FloatArray) -> FloatArray:
     return np.where(det == 0.0, 0.0, 2.0 * rp.arctan2(det, den))
 
 
-def _merge(seg: IntArray, t0: FloatArray, t1: FloatArray, cell: IntArray):
+def _merge(
+    seg: IntArray, t0: FloatArray, t1: FloatArray, cell: IntArray
+) -> tuple[IntArray, FloatArray, FloatArray, IntArray, IntArray]:
     """Consecutive pieces of one segment in the same cell, touching, merged into one; the run
     of every piece (a new one where the cell changes or the path left the cells)."""
     joined = np.zeros(seg.size, dtype=bool)

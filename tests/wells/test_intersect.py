@@ -17,12 +17,13 @@ import pytest
 import gridlib as gl
 from gridlib.cornerpoint.generators import make_model3, simple_grdecl
 from gridlib.cornerpoint.process import process_grdecl
-from gridlib.errors import InputError
+from gridlib.errors import GridError, InputError
 from gridlib.io.grdecl import write_grdecl
 from gridlib.pillars.extrude import extrude
 from gridlib.pillars.fault_traces import FaultTrace
 from gridlib.wells.intersect import PathCells, cell_index, path_cells
 from gridlib.wells.path import WellPath
+from gridlib.wells.survey import minimum_curvature
 
 
 def pieces_of(grid: gl.Grid, points, index=None) -> PathCells:
@@ -89,8 +90,11 @@ def test_diagonal_path_through_a_box_is_analytic():
     assert at_vertex.size == 1 and pc.cell[at_vertex[0]] == pc.cell[at_vertex[0] + 1] == 2 + 5 * (2 + 4 * 1)
     assert pc.run[at_vertex[0]] == pc.run[at_vertex[0] + 1]
     assert pc.run[-1] == pc.num - 2  # every other piece starts a run
-    # The last segment leaves the box at y = 100 and z = 30 (t = 1/3 and ...): the path's
-    # length inside is that of the reference pieces.
+    # The middle segment leaves the box through y = 100 in cell (4, 3, 2); the last one comes
+    # back in through y = 100 and leaves through x = 100 in the same cell: a second run of it.
+    last = 4 + 5 * (3 + 4 * 2)
+    assert pc.cell[-2:].tolist() == [last, last] and pc.run[-1] == pc.run[-2] + 1
+    assert pc.exit_md[-2] < md[2] < pc.entry_md[-1]
     assert pc.length.sum() == pytest.approx(float(np.sum((t1 - t0) * seg_len[segs])), rel=1e-13)
 
 
@@ -150,6 +154,23 @@ def test_lengths_add_up_on_every_grid(name):
     # Consecutive runs are neighbours: they share a face (or touch at an edge or a node).
     nodes = [set(cell_nodes(grid, c)) for c in run_cells(pc)]
     assert all(a & b for a, b in itertools.pairwise(nodes))
+
+
+def test_a_survey_keeps_its_measured_depths():
+    """A path by minimum curvature: its MD steps are arc lengths, longer than the chords. The
+    pieces' MDs are linear along the segments (WellPath.at), their MD lengths add up to the MD
+    inside, their straight lengths to the chords'."""
+    grid = gl.twister(gl.cart_grid([6, 5, 4], [10.0, 10.0, 10.0]), 0.05)
+    path = minimum_curvature(
+        (1.0, 5.0, 1.0), [(0.0, 20.0, 90.0), (6.0, 50.0, 70.0), (12.0, 80.0, 110.0)], step=1.5
+    )
+    pc = path_cells(grid, gl.compute_geometry(grid), path)
+    np.testing.assert_allclose(path.at(pc.entry_md), pc.entry, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(path.at(pc.exit_md), pc.exit, rtol=0, atol=1e-12)
+    assert np.sum(pc.exit_md - pc.entry_md) == pytest.approx(path.length, rel=1e-12)
+    chords = np.linalg.norm(np.diff(path.xyz, axis=0), axis=1).sum()
+    assert pc.length.sum() == pytest.approx(chords, rel=1e-12) and chords < path.length
+    assert pc.run[-1] + 1 < pc.num  # pieces split at the path's vertices, runs across them
 
 
 def cell_nodes(grid: gl.Grid, c: int) -> np.ndarray:
@@ -308,6 +329,11 @@ def test_one_index_serves_many_wells_and_bad_grids_are_refused():
         without = pieces_of(grid, points)
         np.testing.assert_array_equal(with_index.cell, without.cell)
         np.testing.assert_array_equal(with_index.entry_md, without.entry_md)
+    other = gl.cart_grid([2, 2, 2])
+    with pytest.raises(GridError, match="not this grid's"):
+        path_cells(
+            other, gl.compute_geometry(other), WellPath.from_points([[0, 0, 0], [1, 1, 1]]), index=index
+        )
     planar = gl.cart_grid([2, 2])
     with pytest.raises(InputError, match="3-D grid"):
         path_cells(planar, gl.compute_geometry(planar), WellPath.from_points([[0, 0, 0], [1, 1, 1]]))
