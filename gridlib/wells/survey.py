@@ -44,6 +44,7 @@ SERIES_BELOW = 1e-3  # half doglegs (radians) below which RF is its Taylor serie
 
 def _sincos_degrees(degrees: FloatArray) -> tuple[FloatArray, FloatArray]:
     """sin and cos of angles in degrees, exact (0, 1 or -1) at multiples of 90 degrees."""
+    degrees = np.fmod(degrees, 360.0)  # exact; keeps the quarter count small for any azimuth
     quarter = np.rint(degrees / 90.0)
     rest = np.deg2rad(degrees - 90.0 * quarter)  # in [-45, 45] degrees
     s, c = np.sin(rest), np.cos(rest)

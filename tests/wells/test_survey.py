@@ -139,3 +139,15 @@ def test_head_step_and_source_checks():
         minimum_curvature((0, np.inf, 0), [(0, 0, 0), (10, 0, 0)], source="x.yaml: wells[2].survey")
     with pytest.raises(InputError, match=r"^survey: step -1 must be a number > 0"):
         minimum_curvature(HEAD, [(0, 0, 0), (10, 0, 0)], step=-1)
+
+
+def test_azimuths_beyond_a_turn_are_the_same_direction():
+    """An azimuth of 450 or -270 degrees is due east; one of 1e20 degrees is a direction, not a
+    cast warning: angles are reduced modulo 360 (exactly) before the quarter turns."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        d = direction([90.0, 90.0, 90.0], [450.0, -270.0, 1e20])
+    assert d[0].tolist() == [1.0, 0.0, 0.0] and d[1].tolist() == [1.0, 0.0, 0.0]
+    assert d[2].tolist() == direction(90.0, math.fmod(1e20, 360.0)).tolist()
