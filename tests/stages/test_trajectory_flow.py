@@ -293,3 +293,35 @@ def test_the_connection_form_of_the_corner_point_case_has_the_same_wells(built, 
         f"{case_file}: simulation.wells[0].name: well 'I1' has a trajectory: its deck needs wells.nc "
         "(the stage 'wells')"
     )
+
+
+def test_the_pebi_cells_along_the_lateral_are_centred_on_it(built):
+    """trajectories_pebi: away from the path's ends, the cells of P1H's lateral (a straight line
+    in plan view) have their areal centroids at their sites to 1e-9 of the 60 m cell size (the
+    mirrored side rows make each path cell symmetric about the path), and those sites lie on
+    the lateral within the millimetre the trajectory file is printed to; the grid passes
+    check_grid."""
+    from gridlib.checks import check_grid
+    from gridlib.geometry import compute_geometry
+    from gridlib.io.netcdf import read_netcdf
+
+    folder = built["trajectories_pebi"]
+    data = read_netcdf(folder / "grid.nc")
+    grid = data.grid
+    check_grid(grid)
+    areal = grid.layering.areal
+    centroids = compute_geometry(areal).cell_centroids[:, :2]
+    record = {r.name: r for r in read_wells(folder / "wells.nc")}["P1H"]
+    c = record.connections
+    a, b = c.entry[0, :2], c.exit[-1, :2]  # the lateral's ends in plan view
+    length = np.hypot(*(b - a))
+    along = (b - a) / length
+    assert np.unique(data.cell_data["well"][c.cell]).size == 1  # every connected cell is P1H's
+    columns = grid.layering.column[c.cell]
+    sites = data.cell_data["site"][c.cell]
+    offset = sites - a
+    t = offset @ along
+    inner = (t > 2 * 60.0) & (t < length - 2 * 60.0)  # two cells from each end
+    assert inner.sum() >= 4
+    np.testing.assert_array_less(np.abs(offset[inner] @ np.array([along[1], -along[0]])), 2e-3)
+    np.testing.assert_array_less(np.hypot(*(centroids[columns[inner]] - sites[inner]).T), 1e-9 * 60.0)
