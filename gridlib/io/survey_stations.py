@@ -44,7 +44,7 @@ def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
     if not p.is_file():
         raise InputError(f"{p}: no such file")
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a spreadsheet's byte order mark is no text
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"{p}: cannot read as text ({exc})") from None
     rows: list[list[str]] = []

@@ -92,7 +92,7 @@ def read_well_path(
     if not p.is_file():
         raise InputError(f"{p}: no such file")
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a spreadsheet's byte order mark is no text
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"{p}: cannot read as text ({exc})") from exc
     lines = text.splitlines()

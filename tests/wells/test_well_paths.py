@@ -154,3 +154,20 @@ def test_option_errors(tmp_path):
         read_well_path(path, format="las")
     with pytest.raises(InputError, match=r"nope\.w: no such file"):
         read_well_path(tmp_path / "nope.w")
+
+
+def test_a_spreadsheets_byte_order_mark_is_not_part_of_the_first_name(tmp_path):
+    """CSV from a spreadsheet ("CSV UTF-8") starts with a byte order mark: the header's first
+    column is still X, and a survey's first station still a number."""
+    from gridlib.io.survey_stations import read_survey_stations
+
+    table = tmp_path / "p.csv"
+    table.write_bytes("\ufeffX,Y,Z,MD\n0,0,1000,1000\n0,0,1100,1100\n".encode())
+    path = read_well_path(table)
+    assert path.xyz.tolist() == [[0.0, 0.0, 1000.0], [0.0, 0.0, 1100.0]] and path.md.tolist() == [1000, 1100]
+    plain = tmp_path / "p.xyz"
+    plain.write_bytes("\ufeff0 0 1000\n0 0 1100\n".encode())
+    assert read_well_path(plain).md.tolist() == [0.0, 100.0]
+    survey = tmp_path / "p.dev"
+    survey.write_bytes("\ufeff1000 0 0\n1100 10 45\n".encode())
+    assert read_survey_stations(survey).tolist() == [[1000.0, 0.0, 0.0], [1100.0, 10.0, 45.0]]
