@@ -176,19 +176,14 @@ def _read_stations(file: Path, mtime_ns: int, size: int) -> np.ndarray:
 
 
 def _check_stations(stations: np.ndarray, key: str) -> None:
-    """MD increasing and inclination in [0, 180] degrees, each problem naming its station."""
-    for i in range(stations.shape[0]):
-        md, inclination, _ = stations[i]
-        if not 0.0 <= inclination <= 180.0:
-            raise InputError(
-                f"{key}[{i}][1]: inclination {yaml_number(inclination)} is outside [0, 180] degrees "
-                "(0 is straight down, 90 horizontal)"
-            )
-        if i and not md > stations[i - 1, 0]:
-            raise InputError(
-                f"{key}[{i}][0]: md {yaml_number(md)} does not exceed the station before it "
-                f"({yaml_number(stations[i - 1, 0])}); MD increases along the hole"
-            )
+    """MD increasing and inclination in [0, 180] degrees, the first problem naming its station
+    and column (``stations[3][0]``)."""
+    from ..wells.survey import station_problem
+
+    problem = station_problem(stations)
+    if problem is not None:
+        station, column, message = problem
+        raise InputError(f"{key}[{station}][{column}]: {message}")
 
 
 def _missing(key: str, given: str, looked: Path) -> NoReturn:

@@ -26,17 +26,11 @@ import numpy as np
 
 from ..errors import InputError
 from ..grid import FloatArray
+from ..wells.survey import station_problem
+from .well_paths import is_number
 
 COLUMNS = ("md", "inclination", "azimuth")
 _SEPARATORS = re.compile(r"\s*[,;]\s*|\s+")  # "1, 2" and "1 2" alike; "1,,2" has an empty field
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
@@ -55,7 +49,7 @@ def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
         if not line:
             continue
         fields = _SEPARATORS.split(line)
-        if not rows and not header and not any(_is_number(f) for f in fields):
+        if not rows and not header and not any(is_number(f) for f in fields):
             header = True
             continue
         rows.append(fields)
@@ -72,25 +66,25 @@ def read_survey_stations(path: str | os.PathLike) -> FloatArray:
         raise InputError(
             f"{p}: {len(rows)} station(s); a survey needs at least 2 (md inclination azimuth per line)"
         )
-    values = np.empty((len(rows), 3))
-    for r, (fields, number) in enumerate(zip(rows, numbers, strict=True)):
+    for fields, number in zip(rows, numbers, strict=True):
         if len(fields) != 3:
             raise InputError(
                 f"{p}:{number}: expected 3 columns (md, inclination, azimuth), found {len(fields)}"
             )
-        for c, field in enumerate(fields):
-            if not _is_number(field):
-                raise InputError(f"{p}:{number}: column {c + 1} ({COLUMNS[c]}): {field!r} is not a number")
-            values[r, c] = float(field)
-        if not np.isfinite(values[r]).all():
-            raise InputError(f"{p}:{number}: md, inclination and azimuth must be finite")
-        if not 0.0 <= values[r, 1] <= 180.0:
-            raise InputError(
-                f"{p}:{number}: inclination {values[r, 1]:g} is outside [0, 180] degrees (0 is straight down)"
-            )
-        if r and not values[r, 0] > values[r - 1, 0]:
-            raise InputError(
-                f"{p}:{number}: md {values[r, 0]:g} does not exceed the station before it "
-                f"({values[r - 1, 0]:g})"
-            )
+    try:
+        values = np.array(rows, dtype=np.float64)
+    except ValueError:
+        for fields, number in zip(rows, numbers, strict=True):
+            for c, field in enumerate(fields):
+                if not is_number(field):
+                    raise InputError(
+                        f"{p}:{number}: column {c + 1} ({COLUMNS[c]}): {field!r} is not a number"
+                    ) from None
+        raise
+    bad = np.flatnonzero(~np.isfinite(values).all(axis=1))
+    if bad.size:
+        raise InputError(f"{p}:{numbers[bad[0]]}: md, inclination and azimuth must be finite")
+    problem = station_problem(values)
+    if problem is not None:
+        raise InputError(f"{p}:{numbers[problem[0]]}: {problem[2]}")
     return values

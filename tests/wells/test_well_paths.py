@@ -171,3 +171,22 @@ def test_a_spreadsheets_byte_order_mark_is_not_part_of_the_first_name(tmp_path):
     survey = tmp_path / "p.dev"
     survey.write_bytes("\ufeff1000 0 0\n1100 10 45\n".encode())
     assert read_survey_stations(survey).tolist() == [[1000.0, 0.0, 0.0], [1100.0, 10.0, 45.0]]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("MD INC AZI\n0 0 0\n# kick-off\n100 190 0\n", "4: inclination 190 is outside [0, 180] degrees"),
+        ("0 0 0\n100 5 0\n100 6 0\n", "3: md 100 does not exceed the station before it (100); MD increases"),
+        ("0 0 0\n100 5\n", "2: expected 3 columns (md, inclination, azimuth), found 2"),
+        ("0 0 0\n100 n/a 0\n", "2: column 2 (inclination): 'n/a' is not a number"),
+        ("0 0 0\n100 5 inf\n", "2: md, inclination and azimuth must be finite"),
+    ],
+)
+def test_a_survey_files_errors_name_its_line(tmp_path, text, message):
+    from gridlib.io.survey_stations import read_survey_stations
+
+    path = write(tmp_path, "s.dev", text)
+    with pytest.raises(InputError) as info:
+        read_survey_stations(path)
+    assert str(info.value).startswith(f"{path}:{message}")
