@@ -130,6 +130,11 @@ def test_md_short_of_the_straight_line_by_rounding_is_lengthened(tmp_path):
         ("a.w", "1.0\nx\nW 1 2\n2\nMD UNK lin\n", "2 logs declared on line 4, but the file ends at line 5"),
         ("a.w", "1.0\nx\nW 1 2\n1\nMD\n0 0 0 0\n", "line 5: expected a log 'name type ...', got 'MD'"),
         ("a.w", "1.0\nx\nW 1 2\n1\nMD UNK lin\n0 0 0 0\n0 0 5\n", "line 7: expected 4 fields, found 3"),
+        (  # down and back up the same hole: its cells would be completed twice
+            "a.xyz",
+            "# x y z md\n0 0 0 0\n0 0 10 10\n0 0.01 0 20\n",
+            r"line 3: the path turns back on itself \(by 179.94 degrees from line 2 through line 3 to",
+        ),
     ],
 )
 def test_every_error_names_the_file_and_line(tmp_path, name, text, message):
