@@ -1,6 +1,8 @@
 """Directional survey files: the stations of one well, as rows ``md inclination azimuth``.
 
-Rows of three numbers, separated by whitespace, commas or semicolons; empty lines and ``#`` comments
+Rows of three numbers, separated by whitespace, commas or semicolons (a line with a semicolon is
+split at semicolons only, and a comma in it is a decimal mark, as spreadsheets write it in many
+locales); empty lines and ``#`` comments
 are skipped; a first data line without any number is a header of column names and is skipped (the
 columns are taken in the order md, inclination, azimuth whatever their names). MD in the case's
 length unit, strictly increasing; inclination in degrees from vertical in [0, 180] (0 straight down,
@@ -48,7 +50,10 @@ def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
-        fields = _SEPARATORS.split(line)
+        if ";" in line:  # a comma is then a decimal mark, as spreadsheets write in many locales
+            fields = [f.strip().replace(",", ".") for f in line.split(";")]
+        else:
+            fields = _SEPARATORS.split(line)
         if not rows and not header and not any(is_number(f) for f in fields):
             header = True
             continue

@@ -3,8 +3,9 @@ without measured depths, read into a :class:`~gridlib.wells.path.WellPath`.
 
 Two formats:
 
-* ``table``: plain text or CSV, one point a line, fields split at commas (or semicolons) on
-  lines that have one, else at whitespace; ``#`` starts a comment; empty lines are skipped.
+* ``table``: plain text or CSV, one point a line, fields split at semicolons on lines that
+  have one (a comma there is a decimal mark, as spreadsheets write it in many locales), else at
+  commas on lines that have one, else at whitespace; ``#`` starts a comment; empty lines are skipped.
   A first line without any number is a header of column names. With a header, the columns are
   found by their names (case-insensitive): x ``X``, ``EASTING``, ``X_UTME``; y ``Y``,
   ``NORTHING``, ``Y_UTMN``; z ``Z``, ``TVD``, ``TVDSS``, ``Z_TVDSS``, ``DEPTH``; MD ``MD``,
@@ -21,7 +22,6 @@ Two formats:
 ``columns`` maps any of ``x``, ``y``, ``z``, ``md`` to a column's name or 0-based position
 (for an ``rms`` file the names are ``X_UTME``, ``Y_UTMN``, ``Z_TVDSS`` and the logs'). Without
 an MD column, MD is the length along the straight segments from the first point (MD 0 there).
-Fields are split at commas (or semicolons) on lines that have one, else at whitespace.
 A file's numbers are rounded to the decimals printed, so an MD step along a straight stretch
 can come out a little shorter than the straight line between its points: a step short by no
 more than the rounding of its four numbers allows (half a unit of each one's last decimal; at
@@ -208,8 +208,7 @@ def _text_table(p: Path, lines: list[str]) -> _Table:
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
-        sep = "," if "," in line else ";" if ";" in line else ""
-        fields = [f.strip().strip("\"'") for f in line.split(sep)] if sep else line.split()
+        fields = _fields(line)
         if not rows and header is None and not any(is_number(f) for f in fields):
             header, header_line = fields, number
             continue
@@ -218,6 +217,17 @@ def _text_table(p: Path, lines: list[str]) -> _Table:
     if not rows:
         raise InputError(f"{p}: no data lines (expected x y z [md] per line)")
     return _Table(header, header_line, rows, numbers)
+
+
+def _fields(line: str) -> list[str]:
+    """A table line's fields: split at semicolons if it has one (a comma there is a decimal
+    mark, as spreadsheets write in many locales: ``0,5`` is 0.5), else at commas if it has one,
+    else at whitespace; quotes around a field are dropped."""
+    if ";" in line:
+        return [f.strip().strip("\"'").replace(",", ".") for f in line.split(";")]
+    if "," in line:
+        return [f.strip().strip("\"'") for f in line.split(",")]
+    return line.split()
 
 
 def _rms_table(p: Path, lines: list[str]) -> tuple[str, _Table]:

@@ -195,3 +195,15 @@ def test_a_survey_files_errors_name_its_line(tmp_path, text, message):
     with pytest.raises(InputError) as info:
         read_survey_stations(path)
     assert str(info.value).startswith(f"{path}:{message}")
+
+
+def test_semicolon_separated_files_have_decimal_commas(tmp_path):
+    """Spreadsheets in many locales write "0,5;1200,25": fields at semicolons, decimal commas."""
+    from gridlib.io.survey_stations import read_survey_stations
+
+    table = write(tmp_path, "p.csv", "X;Y;Z;MD\n0,5;0;1000;1000\n0,5;0;1100,25;1100,25\n")
+    path = read_well_path(table)
+    assert path.xyz.tolist() == [[0.5, 0.0, 1000.0], [0.5, 0.0, 1100.25]]
+    assert path.md.tolist() == [1000.0, 1100.25]
+    survey = write(tmp_path, "p.dev", "MD;INC;AZI\n1000;0;0\n1100,5;10,25;45\n")
+    assert read_survey_stations(survey).tolist() == [[1000.0, 0.0, 0.0], [1100.5, 10.25, 45.0]]
