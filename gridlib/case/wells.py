@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import Case
+from ..config.files import pebi_outline
 from ..config.well_paths import is_deviated, well_paths
 from ..pillars.horizon_maps import DepthFunction
 from ..voronoi import Rings, Well, areal_path
@@ -124,7 +125,7 @@ def deviated_plan_view(
     size = float(grid["cell_size"])
     spacing = well.spacing or size
     domain = grid["domain"]
-    area = shapely.box(*domain["rectangle"]) if isinstance(domain, dict) else shapely.Polygon(domain)
+    area = pebi_outline(domain)
     inner = area.buffer(-0.5 * size)
     parts = []
     for path in well.paths:

@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.grdecl.dimens import deck_dimensions
 from ..reproducible import log as _reproducible_log
-from .files import deck_cell_keywords, fault_plan_trace, fault_sticks, named_file
+from .files import deck_cell_keywords, fault_plan_trace, fault_sticks, named_file, pebi_outline
 from .values import yaml_number
 from .well_paths import deviated_wells_problem, is_deviated, well_paths
 
@@ -635,7 +635,7 @@ def _pebi_wells_problem(data: dict[str, Any], path: Path) -> str | None:
     if grid["type"] != "pebi":
         return None
     domain = grid["domain"]
-    area = shapely.box(*domain["rectangle"]) if isinstance(domain, dict) else shapely.Polygon(domain)
+    area = pebi_outline(domain)
     x0, y0, x1, y1 = area.bounds
     extent = max(x1 - x0, y1 - y0)
     tolerance = PEBI_TOLERANCE * extent

@@ -71,6 +71,14 @@ def _fault_sticks(path: Path, mtime_ns: int, size: int, fmt: str, name: str) -> 
     return FaultSticks(surface, tuple((float(s[0, 0]), float(s[0, 1])) for s in sticks))
 
 
+def pebi_outline(domain: Any) -> Any:
+    """A pebi grid's ``domain`` (validated: ``{rectangle: [xmin, ymin, xmax, ymax]}`` or a
+    polygon ``[[x, y], ...]``) as a shapely polygon in plan view (m)."""
+    import shapely
+
+    return shapely.box(*domain["rectangle"]) if isinstance(domain, dict) else shapely.Polygon(domain)
+
+
 def fault_plan_trace(case_file: Path, fault: Mapping[str, Any]) -> list[list[float]]:
     """A case's fault in plan view, for the checks that place it against the model's area: its
     ``trace``, or its sticks' shallowest points (:class:`FaultSticks`)."""

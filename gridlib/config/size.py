@@ -19,7 +19,7 @@ from typing import Any
 from ..io.grdecl.dimens import deck_dimensions
 from ..memory import GIB, count_text, gib_text, machine_memory
 from ..reproducible import log
-from .files import fault_plan_trace, named_file
+from .files import fault_plan_trace, named_file, pebi_outline
 from .well_paths import is_deviated, well_paths
 
 # Peak resident memory of `gridlib build` (every stage in one process: its heaviest stage
@@ -119,7 +119,7 @@ def _pebi_columns(data: dict[str, Any], path: Path) -> tuple[float, str]:
 
     grid = data["grid"]
     domain = grid["domain"]
-    area = shapely.box(*domain["rectangle"]) if isinstance(domain, dict) else shapely.Polygon(domain)
+    area = pebi_outline(domain)
     size = float(grid["cell_size"])
     cell_area = size * size * (math.sqrt(3.0) / 2.0 if grid["pattern"] == "hexagonal" else 1.0)
     parts = {"grid.cell_size": _ratio(area.area, cell_area)}

@@ -13,7 +13,10 @@ A branch (a lateral) starts on its parent's path: the main path or an earlier br
 passes nearest its first point, which must lie within :data:`BRANCH_TOLERANCE` of it. Its MD
 continues the parent's: a branch file without MD (its MD then starts at 0) gets the parent's MD
 at that point added; a branch whose own MD starts elsewhere must start within the tolerance of
-the parent's MD there. The tolerance is one length unit (1 m; 1 ft): wide enough for files
+the parent's MD there. A branch holds its own hole only: one whose point
+:data:`OVERLAP` along it still lies on its parent's path (within :data:`ON_PARENT`) runs along
+that path (a lateral's file that repeats the parent's hole above the kick-off) and is refused, as
+its cells would be completed twice. The tolerance is one length unit (1 m; 1 ft): wide enough for files
 written to the centimetre and for a lateral read off a survey's arc where its parent's path is
 the chord between survey points (the chord of a 30 m step on a 3 degree per 30 m build lies
 0.2 m inside the arc), narrow enough to catch a branch given in the wrong file or the wrong
@@ -47,6 +50,8 @@ if TYPE_CHECKING:
 
 BRANCH_TOLERANCE = 1.0  # the case's length unit: how far a branch may start from its parent's path
 SURVEY_STEP = 10.0  # default largest MD step between a survey path's points along its arcs
+OVERLAP = 30.0  # the case's length unit: a branch's point this far along it must be off its parent
+ON_PARENT = 0.01  # the case's length unit: a point this near a path lies on it (a file's rounding)
 MAX_SURVEY_POINTS = 1e6  # a survey path's points at most (a 10 km hole at a 1 cm step)
 PATH_KEYS = ("trajectory", "survey")  # a deviated well is given by one of these
 TRAJECTORY_ONLY = ("perforations", "radius", "skin", "branches")  # keys of those wells only
@@ -171,19 +176,14 @@ def _read_stations(file: Path, mtime_ns: int, size: int) -> np.ndarray:
 
 
 def _check_stations(stations: np.ndarray, key: str) -> None:
-    """MD increasing and inclination in [0, 180] degrees, each problem naming its station."""
-    for i in range(stations.shape[0]):
-        md, inclination, _ = stations[i]
-        if not 0.0 <= inclination <= 180.0:
-            raise InputError(
-                f"{key}[{i}][1]: inclination {yaml_number(inclination)} is outside [0, 180] degrees "
-                "(0 is straight down, 90 horizontal)"
-            )
-        if i and not md > stations[i - 1, 0]:
-            raise InputError(
-                f"{key}[{i}][0]: md {yaml_number(md)} does not exceed the station before it "
-                f"({yaml_number(stations[i - 1, 0])}); MD increases along the hole"
-            )
+    """MD increasing and inclination in [0, 180] degrees, the first problem naming its station
+    and column (``stations[3][0]``)."""
+    from ..wells.survey import station_problem
+
+    problem = station_problem(stations)
+    if problem is not None:
+        station, column, message = problem
+        raise InputError(f"{key}[{station}][{column}]: {message}")
 
 
 def _missing(key: str, given: str, looked: Path) -> NoReturn:
@@ -206,6 +206,14 @@ def _joined(branch: WellPath, paths: Sequence[WellPath], key: str, well: str) ->
             f"well '{well}' (its main path or an earlier branch); a branch starts on its parent's path "
             f"(within {yaml_number(BRANCH_TOLERANCE)} in the case's length unit)"
         )
+    if branch.length >= OVERLAP:  # a tangent sidetrack is metres off its parent by then
+        _, off = closest_md(paths[parent], branch.at([branch.md[0] + OVERLAP])[0])
+        if off <= ON_PARENT:
+            raise InputError(
+                f"{where}: branch '{branch.name}' runs along the path of its parent from its start at ({at}) "
+                f"for {yaml_number(OVERLAP)} or more: give the branch's own hole only, from where it leaves "
+                "its parent (its cells would be completed twice)"
+            )
     if branch.md[0] == 0.0 and md != 0.0:  # no MD in the file: it counts on from the parent's
         return parent, WellPath(branch.xyz, branch.md + md, branch.name)
     if abs(branch.md[0] - md) > BRANCH_TOLERANCE:

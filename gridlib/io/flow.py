@@ -106,7 +106,7 @@ class FlowWell:
     form, for wells along the cells' axes only). ``directions``: the axis each completion
     runs along, 0, 1, 2 for COMPDAT's 'X', 'Y', 'Z' (one per completion; None: all 'Z',
     a vertical well). ``radius`` (length unit) and ``skin`` go to COMPDAT.
-    ``reference_depth``: the depth of the bottom-hole pressure (WELSPECS item 5; None: 1*,
+    ``reference_depth``: the depth (length unit) of the bottom-hole pressure (WELSPECS item 5; None: 1*,
     which Flow takes as the depth of the first connection). ``kind``: "injector" (water)
     or "producer"; ``rate`` (surface rate, water for an injector, liquid for a producer)
     and ``bhp``: the controls, at least one of them; with both, the rate is the target and

@@ -147,18 +147,12 @@ def depth_window(xyz: np.ndarray, top: float, bottom: float) -> tuple[np.ndarray
     >>> a.tolist(), b.tolist()
     ([[0.0, 0.0, 50.0], [0.0, 0.0, 100.0]], [[0.0, 0.0, 100.0], [100.0, 0.0, 100.0]])
     """
-    p, q = xyz[:-1], xyz[1:]
-    dz = q[:, 2] - p[:, 2]
-    lo, hi = np.zeros(dz.size), np.ones(dz.size)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_top, t_bottom = (top - p[:, 2]) / dz, (bottom - p[:, 2]) / dz
-    down, up = dz > 0, dz < 0
-    lo = np.where(down, np.maximum(lo, t_top), np.where(up, np.maximum(lo, t_bottom), lo))
-    hi = np.where(down, np.minimum(hi, t_bottom), np.where(up, np.minimum(hi, t_top), hi))
-    flat_outside = (dz == 0) & ((p[:, 2] < top) | (p[:, 2] > bottom))
-    keep = (lo < hi) & ~flat_outside
-    d = (q - p)[keep]
-    return p[keep] + lo[keep, None] * d, p[keep] + hi[keep, None] * d
+    from ..voronoi.areal import clip_segments  # shapely only where wells are drawn
+
+    z = xyz[:, 2]
+    lo, hi, keep, _ = clip_segments(z - top, bottom - z)
+    p, d = xyz[:-1][keep], np.diff(xyz, axis=0)[keep]
+    return p + lo[keep, None] * d, p + hi[keep, None] * d
 
 
 def plot_histograms(

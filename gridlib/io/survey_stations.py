@@ -1,6 +1,8 @@
 """Directional survey files: the stations of one well, as rows ``md inclination azimuth``.
 
-Rows of three numbers, separated by whitespace, commas or semicolons; empty lines and ``#`` comments
+Rows of three numbers, separated by whitespace, commas or semicolons (a line with a semicolon is
+split at semicolons only, and a comma in it is a decimal mark, as spreadsheets write it in many
+locales); empty lines and ``#`` comments
 are skipped; a first data line without any number is a header of column names and is skipped (the
 columns are taken in the order md, inclination, azimuth whatever their names). MD in the case's
 length unit, strictly increasing; inclination in degrees from vertical in [0, 180] (0 straight down,
@@ -26,17 +28,11 @@ import numpy as np
 
 from ..errors import InputError
 from ..grid import FloatArray
+from ..wells.survey import station_problem
+from .well_paths import is_number
 
 COLUMNS = ("md", "inclination", "azimuth")
 _SEPARATORS = re.compile(r"\s*[,;]\s*|\s+")  # "1, 2" and "1 2" alike; "1,,2" has an empty field
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
@@ -44,7 +40,7 @@ def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
     if not p.is_file():
         raise InputError(f"{p}: no such file")
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a spreadsheet's byte order mark is no text
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"{p}: cannot read as text ({exc})") from None
     rows: list[list[str]] = []
@@ -54,8 +50,11 @@ def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
-        fields = _SEPARATORS.split(line)
-        if not rows and not header and not any(_is_number(f) for f in fields):
+        if ";" in line:  # a comma is then a decimal mark, as spreadsheets write in many locales
+            fields = [f.strip().replace(",", ".") for f in line.split(";")]
+        else:
+            fields = _SEPARATORS.split(line)
+        if not rows and not header and not any(is_number(f) for f in fields):
             header = True
             continue
         rows.append(fields)
@@ -72,25 +71,25 @@ def read_survey_stations(path: str | os.PathLike) -> FloatArray:
         raise InputError(
             f"{p}: {len(rows)} station(s); a survey needs at least 2 (md inclination azimuth per line)"
         )
-    values = np.empty((len(rows), 3))
-    for r, (fields, number) in enumerate(zip(rows, numbers, strict=True)):
+    for fields, number in zip(rows, numbers, strict=True):
         if len(fields) != 3:
             raise InputError(
                 f"{p}:{number}: expected 3 columns (md, inclination, azimuth), found {len(fields)}"
             )
-        for c, field in enumerate(fields):
-            if not _is_number(field):
-                raise InputError(f"{p}:{number}: column {c + 1} ({COLUMNS[c]}): {field!r} is not a number")
-            values[r, c] = float(field)
-        if not np.isfinite(values[r]).all():
-            raise InputError(f"{p}:{number}: md, inclination and azimuth must be finite")
-        if not 0.0 <= values[r, 1] <= 180.0:
-            raise InputError(
-                f"{p}:{number}: inclination {values[r, 1]:g} is outside [0, 180] degrees (0 is straight down)"
-            )
-        if r and not values[r, 0] > values[r - 1, 0]:
-            raise InputError(
-                f"{p}:{number}: md {values[r, 0]:g} does not exceed the station before it "
-                f"({values[r - 1, 0]:g})"
-            )
+    try:
+        values = np.array(rows, dtype=np.float64)
+    except ValueError:
+        for fields, number in zip(rows, numbers, strict=True):
+            for c, field in enumerate(fields):
+                if not is_number(field):
+                    raise InputError(
+                        f"{p}:{number}: column {c + 1} ({COLUMNS[c]}): {field!r} is not a number"
+                    ) from None
+        raise
+    bad = np.flatnonzero(~np.isfinite(values).all(axis=1))
+    if bad.size:
+        raise InputError(f"{p}:{numbers[bad[0]]}: md, inclination and azimuth must be finite")
+    problem = station_problem(values)
+    if problem is not None:
+        raise InputError(f"{p}:{numbers[problem[0]]}: {problem[2]}")
     return values

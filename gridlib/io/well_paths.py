@@ -3,8 +3,9 @@ without measured depths, read into a :class:`~gridlib.wells.path.WellPath`.
 
 Two formats:
 
-* ``table``: plain text or CSV, one point a line, fields split at commas (or semicolons) on
-  lines that have one, else at whitespace; ``#`` starts a comment; empty lines are skipped.
+* ``table``: plain text or CSV, one point a line, fields split at semicolons on lines that
+  have one (a comma there is a decimal mark, as spreadsheets write it in many locales), else at
+  commas on lines that have one, else at whitespace; ``#`` starts a comment; empty lines are skipped.
   A first line without any number is a header of column names. With a header, the columns are
   found by their names (case-insensitive): x ``X``, ``EASTING``, ``X_UTME``; y ``Y``,
   ``NORTHING``, ``Y_UTMN``; z ``Z``, ``TVD``, ``TVDSS``, ``Z_TVDSS``, ``DEPTH``; MD ``MD``,
@@ -21,13 +22,14 @@ Two formats:
 ``columns`` maps any of ``x``, ``y``, ``z``, ``md`` to a column's name or 0-based position
 (for an ``rms`` file the names are ``X_UTME``, ``Y_UTMN``, ``Z_TVDSS`` and the logs'). Without
 an MD column, MD is the length along the straight segments from the first point (MD 0 there).
-Fields are split at commas (or semicolons) on lines that have one, else at whitespace.
 A file's numbers are rounded to the decimals printed, so an MD step along a straight stretch
 can come out a little shorter than the straight line between its points: a step short by no
 more than the rounding of its four numbers allows (half a unit of each one's last decimal; at
 most 1 % of the straight line) is lengthened to the straight line (each MD becomes the larger of
 its own and the one before plus the straight distance, so the MDs after a lengthened step stay
-the file's as soon as the file's MD is ahead again), a step shorter than that is an error.
+the file's as soon as the file's MD is ahead again), a step shorter than that is an error. A
+path that turns back on itself at a point (by more than 170 degrees: lines out of order, or two
+wells in one file) is an error too.
 Every problem is one :class:`~gridlib.errors.InputError` naming the file and the line, e.g.
 ``data/p2.w: line 17: MD 1205 is not greater than line 16's MD 1210``.
 """
@@ -43,6 +45,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..grid import FloatArray
+from ..reproducible import arctan2
 from ..wells.path import WellPath, check_path, fill_md
 
 __all__ = ["COLUMN_NAMES", "RMS_UNDEFINED", "WELL_PATH_FORMATS", "read_well_path"]
@@ -92,7 +95,7 @@ def read_well_path(
     if not p.is_file():
         raise InputError(f"{p}: no such file")
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a spreadsheet's byte order mark is no text
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"{p}: cannot read as text ({exc})") from exc
     lines = text.splitlines()
@@ -132,12 +135,33 @@ def read_well_path(
         slack = np.minimum(per_row[:-1] + per_row[1:], SLACK_LIMIT * chord)
     md = fill_md(xyz, md)
     xyz, md = check_path(xyz, md, str(p), names=lambda i: f"line {table.lines[i]}", slack=slack)
+    _check_turns(p, xyz, table.lines)
     chord = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
     if slack is not None and (np.diff(md) < chord).any():
         # steps short of the straight line by the file's rounding are lengthened to it
         run = np.concatenate(([0.0], np.cumsum(chord)))
         md = np.maximum(md, run + np.maximum.accumulate(md - run))
     return WellPath(xyz, md, name if name is not None else (well or p.stem))
+
+
+TURN_BACK = 170.0  # degrees: a path turning by more at one of its points goes back along itself
+
+
+def _check_turns(p: Path, xyz: FloatArray, lines: list[int]) -> None:
+    """No point where the path turns back on itself (by more than :data:`TURN_BACK` degrees):
+    a hole cannot, and the cells along both legs would be completed twice (lines out of order,
+    or two wells in one file)."""
+    u, v = np.diff(xyz[:-1], axis=0), np.diff(xyz[1:], axis=0)
+    cross = np.linalg.norm(np.cross(u, v), axis=1)
+    angle = np.rad2deg(arctan2(cross, np.einsum("ij,ij->i", u, v)))
+    bad = np.flatnonzero(angle > TURN_BACK)
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(
+            f"{p}: line {lines[i + 1]}: the path turns back on itself (by {angle[i]:.5g} degrees from line "
+            f"{lines[i]} through line {lines[i + 1]} to line {lines[i + 2]}): a hole cannot; are its lines "
+            "in order, and of one well?"
+        )
 
 
 SLACK_LIMIT = 0.01  # rounding lengthens an MD step by at most this fraction of its straight line
@@ -184,8 +208,7 @@ def _text_table(p: Path, lines: list[str]) -> _Table:
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
-        sep = "," if "," in line else ";" if ";" in line else ""
-        fields = [f.strip().strip("\"'") for f in line.split(sep)] if sep else line.split()
+        fields = _fields(line)
         if not rows and header is None and not any(is_number(f) for f in fields):
             header, header_line = fields, number
             continue
@@ -194,6 +217,17 @@ def _text_table(p: Path, lines: list[str]) -> _Table:
     if not rows:
         raise InputError(f"{p}: no data lines (expected x y z [md] per line)")
     return _Table(header, header_line, rows, numbers)
+
+
+def _fields(line: str) -> list[str]:
+    """A table line's fields: split at semicolons if it has one (a comma there is a decimal
+    mark, as spreadsheets write in many locales: ``0,5`` is 0.5), else at commas if it has one,
+    else at whitespace; quotes around a field are dropped."""
+    if ";" in line:
+        return [f.strip().strip("\"'").replace(",", ".") for f in line.split(";")]
+    if "," in line:
+        return [f.strip().strip("\"'") for f in line.split(",")]
+    return line.split()
 
 
 def _rms_table(p: Path, lines: list[str]) -> tuple[str, _Table]:

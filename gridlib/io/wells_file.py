@@ -70,8 +70,9 @@ class WellRecord:
     """One well of ``wells.nc``: its ``name``, its ``paths`` (the main path, then its branches),
     its ``connections`` (one per connected cell, in MD order), and what made them: each
     branch's parent path (``parents[b]``: the index in ``paths`` of the path ``paths[b + 1]``
-    starts on), each path's open MD intervals (``perforations[p]``, (k, 2)), the radius and
-    skin."""
+    starts on), each path's open MD intervals (``perforations[p]``, (k, 2)), the well's radius
+    and skin (dimensionless). Lengths (points, MD, radius) in the file's length unit (m; a FIELD
+    case's ft), z depth; factors in its transmissibility unit."""
 
     name: str
     paths: tuple[WellPath, ...]

@@ -110,7 +110,7 @@ def stage_flow_deck(
     spec = case_simulation(case)
     vertical = any(not w.has_trajectory for w in spec.wells)
     geo = read_geometry_netcdf(geometry) if (not corner or vertical) else None
-    records = _trajectory_records(case, spec, wells)
+    records = _trajectory_records(case, spec, wells, grid, mesh.num_cells)
     rock = read_rock(petrophysics)
     names = CONNECTION_VARS + CELL_VARS if form == "connections" else CELL_VARS
     variables, tattrs = read_transmissibility(transmissibility, names)
@@ -283,9 +283,14 @@ def _trajectory_well(case: Case, w: SimulatedWell, model: _Model, depth: np.ndar
 
 
 def _trajectory_records(
-    case: Case, spec: CaseSimulation, wells: str | os.PathLike | None
+    case: Case,
+    spec: CaseSimulation,
+    wells: str | os.PathLike | None,
+    grid: str | os.PathLike,
+    num_cells: int,
 ) -> dict[str, WellRecord]:
-    """The ``wells.nc`` records of the simulated trajectory wells, by name (none: {})."""
+    """The ``wells.nc`` records of the simulated trajectory wells, by name (none: {}), their
+    cells checked against ``grid``'s ``num_cells``."""
     deviated = [w for w in spec.wells if w.has_trajectory]
     if not deviated:
         return {}
@@ -298,6 +303,13 @@ def _trajectory_records(
     for w in spec.wells:
         if w.has_trajectory and (w.name not in records or records[w.name].connections.cell.size == 0):
             raise InputError(f"{case.path}: {w.key}.name: well '{w.name}' has no connection in {wells}")
+    for r in records.values():
+        outside = r.connections.cell[(r.connections.cell < 0) | (r.connections.cell >= num_cells)]
+        if outside.size:
+            raise InputError(
+                f"{wells}: well '{r.name}' connects cell {int(outside.max())}, but {grid} has {num_cells} "
+                "cells: wells.nc is another grid's (run the stage 'wells' again)"
+            )
     return records
 
 

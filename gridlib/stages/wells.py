@@ -146,6 +146,7 @@ def _record(case: Case, well: CaseWellPath, pieces: list[PathCells], model: _Mod
         raise InputError(
             f"{case.path}: {well.key}: well '{well.name}' crosses no active cell of the grid where it is "
             f"open ({open_md}): its path misses the grid, or its perforations lie outside it"
+            + _elevation_hint(well, model.grid)
         )
     connections = per_path[0] if len(per_path) == 1 else _in_md_order(merge_connections(*per_path))
     if not model.has_rock:
@@ -158,6 +159,20 @@ def _record(case: Case, well: CaseWellPath, pieces: list[PathCells], model: _Mod
         perforations=well.perforations,
         radius=float(radius),
         skin=well.skin,
+    )
+
+
+def _elevation_hint(well: CaseWellPath, grid: Grid) -> str:
+    """A hint for a path given in elevations (z up, negative below the datum): all of it above
+    the grid and its mirror image -z reaching into the grid's depths; else ''."""
+    z = np.concatenate([p.xyz[:, 2] for p in well.paths])
+    depth = grid.nodes.coords[:, 2]
+    top, bottom = float(depth.min()), float(depth.max())
+    if not (z.max() < min(top, 0.0) and -z.max() <= bottom and -z.min() >= top):
+        return ""
+    return (
+        f"; its z ({z.min():g} to {z.max():g}) is above the grid (depth {top:g} to {bottom:g}) and -z in "
+        "it: z is depth, positive down, not elevation"
     )
 
 

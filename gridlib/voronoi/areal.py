@@ -57,7 +57,7 @@ def areal_path(
         raise GridError(f"areal_path: tolerance must be a length >= 0, got {tolerance!r}")
     top = _depths(top_depth, xyz, "top_depth")
     base = _depths(base_depth, xyz, "base_depth")
-    lo, hi, used, inside = _clip(xyz[:, 2] - top, base - xyz[:, 2])
+    lo, hi, used, inside = clip_segments(xyz[:, 2] - top, base - xyz[:, 2])
     seg = np.flatnonzero(used)
     if seg.size == 0:
         return []
@@ -97,9 +97,14 @@ def _depths(depth: Depth, xyz: np.ndarray, what: str) -> np.ndarray:
     return out
 
 
-def _clip(below_top: np.ndarray, above_base: np.ndarray):
-    """Per segment the parameter interval [lo, hi] (0..1) where both functions, linear along it,
-    are >= 0; which segments have one; which points are inside."""
+def clip_segments(
+    below_top: np.ndarray, above_base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The parts of a polyline's segments between two depths: given at its n points the depth
+    below the top (``z - top``) and above the base (``base - z``), each linear along a segment,
+    per segment the parameter interval [lo, hi] (0..1) where both are >= 0 ((n - 1,) each,
+    exactly 0 and 1 at the points inside), which segments have one (lo < hi: a segment that
+    only touches a horizon has none), and which points are inside (n,)."""
     inside = (below_top >= 0) & (above_base >= 0)
     m = below_top.size - 1
     lo, hi = np.zeros(m), np.ones(m)

@@ -37,7 +37,7 @@ from ..errors import InputError
 from ..grid import FloatArray
 from .path import WellPath
 
-__all__ = ["direction", "minimum_curvature", "ratio_factor"]
+__all__ = ["direction", "minimum_curvature", "ratio_factor", "station_problem"]
 
 SERIES_BELOW = 1e-3  # half doglegs (radians) below which RF is its Taylor series
 
@@ -82,21 +82,40 @@ def ratio_factor(half_angle: ArrayLike, tan_half: ArrayLike) -> FloatArray:
     return np.where(small, series, np.divide(t, h, out=np.ones_like(h), where=~small))
 
 
+def station_problem(stations: FloatArray) -> tuple[int, int, str] | None:
+    """The first problem of finite survey ``stations`` (m, 3) (md, inclination, azimuth), as
+    (station, column, message), or None: an inclination outside [0, 180] degrees, an MD that
+    does not exceed the one before (at one station, the inclination first). The callers name the
+    station: a case's key, a file's line, a station number.
+
+    >>> station_problem(np.array([[0.0, 0, 0], [10, 190, 0], [5, 0, 0]]))
+    (1, 1, 'inclination 190 is outside [0, 180] degrees (0 is straight down, 90 horizontal)')
+    """
+    md, inc = stations[:, 0], stations[:, 1]
+    bad_inc = (inc < 0) | (inc > 180)
+    bad_md = np.r_[False, ~(md[1:] > md[:-1])]
+    bad = np.flatnonzero(bad_inc | bad_md)
+    if not bad.size:
+        return None
+    i = int(bad[0])
+    if bad_inc[i]:
+        return (
+            i,
+            1,
+            f"inclination {inc[i]:.10g} is outside [0, 180] degrees (0 is straight down, 90 horizontal)",
+        )
+    before = f"the station before it ({md[i - 1]:.10g})"
+    return i, 0, f"md {md[i]:.10g} does not exceed {before}; MD increases along the hole"
+
+
 def _stations(stations: ArrayLike, where: str) -> tuple[FloatArray, FloatArray, FloatArray]:
     """MD, inclination and azimuth of a survey, checked; errors name the station (0-based)."""
     table = point_array(stations, 3, f"{where}: stations (md, inclination, azimuth)", min_points=2,
                         point="station")  # fmt: skip
+    problem = station_problem(table)
+    if problem is not None:
+        raise InputError(f"{where}: station {problem[0]}: {problem[2]}")
     md, inc, azi = table.T
-    bad = np.flatnonzero(np.diff(md) <= 0)
-    if bad.size:
-        i = int(bad[0]) + 1
-        raise InputError(
-            f"{where}: station {i}: MD {md[i]:.10g} is not greater than station {i - 1}'s MD {md[i - 1]:.10g}"
-        )
-    bad = np.flatnonzero((inc < 0) | (inc > 180))
-    if bad.size:
-        i = int(bad[0])
-        raise InputError(f"{where}: station {i}: inclination {inc[i]:.10g} is outside [0, 180] degrees")
     return md, inc, azi
 
 

@@ -170,6 +170,54 @@ def test_a_well_that_misses_the_grid_stops_the_stage_naming_it(built, tmp_path):
     assert not out["wells"].exists()
 
 
+def test_a_path_given_in_elevations_is_named_so(built, tmp_path):
+    """z is depth: a trajectory file of elevations (z negative down) lies above the grid, its
+    mirror image in it; the message says so."""
+    _, paths = built
+    (tmp_path / "data").mkdir()
+    up = P1_POINTS * [1.0, 1.0, -1.0]
+    (tmp_path / "data" / "up.xyz").write_text("".join(f"{x!r} {y!r} {z!r}\n" for x, y, z in up.tolist()))
+    data = {**CASE, "wells": [{"name": "P1", "trajectory": "data/up.xyz"}]}
+    case = load_case(_case(tmp_path, data))
+    with pytest.raises(InputError) as info:
+        run_stage("wells", case, {**paths, "wells": tmp_path / "wells.nc"})
+    assert str(info.value) == (
+        f"{case.path}: wells[0]: well 'P1' crosses no active cell of the grid where it is open (P1 MD "
+        "0 to 479.382): its path misses the grid, or its perforations lie outside it; its z "
+        "(-2035 to -1950) is above the grid (depth 2000 to 2060.95) and -z in it: z is depth, "
+        "positive down, not elevation"
+    )
+
+
+def test_a_wells_nc_of_another_grid_is_named_by_the_deck(built, tmp_path):
+    """wells.nc whose cells are not the grid's (another build's, or a damaged copy): the deck
+    stage names the file and the well, not an IndexError."""
+    from gridlib.io.wells_file import write_wells
+    from gridlib.stages.flow_deck import stage_flow_deck
+
+    _, paths = built
+    records = read_wells(paths["wells"])
+    num_cells = read_netcdf(paths["grid"]).grid.num_cells
+    stale = [
+        replace(r, connections=replace(r.connections, cell=r.connections.cell + num_cells)) for r in records
+    ]
+    write_wells(tmp_path / "wells.nc", stale, METRIC, attrs={})
+    data = {
+        **CASE,
+        "simulation": {"wells": [{"name": "P1", "type": "producer", "bhp": 150}], "report_days": [30]},
+    }
+    simulated = load_case(_case(tmp_path, data))
+    inputs = {key: paths[key] for key in ("grid", "geometry", "petrophysics", "transmissibility", "grdecl")}
+    with pytest.raises(InputError) as info:
+        stage_flow_deck(
+            simulated, **inputs, wells=tmp_path / "wells.nc", flow_deck=tmp_path / "f" / "WELLBOX.DATA"
+        )
+    assert str(info.value) == (
+        f"{tmp_path / 'wells.nc'}: well 'P1' connects cell {int(stale[0].connections.cell.max())}, but "
+        f"{paths['grid']} has {num_cells} cells: wells.nc is another grid's (run the stage 'wells' again)"
+    )
+
+
 def test_a_field_deck_case_has_its_wells_in_feet_and_a_vertical_one_gets_compdats_factors(tmp_path):
     """A FIELD deck (a flat 3 x 2 x 2 box of 100 x 100 x 10 ft cells at 5000 ft): the default
     radius is 0.1 m in ft, everything is labelled in FIELD units, and a vertical trajectory

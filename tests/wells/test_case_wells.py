@@ -185,6 +185,12 @@ MISTAKES = [
         "wells[0].branches[0].perforations[0]: MD interval [2190, 2600] reaches beyond the path of 'P2:1' "
         "(MD 2190 to 2490.041664)",
     ),
+    (  # a lateral's file that repeats P2's hole from its head: P2's cells would be completed twice
+        _set("wells.0.branches", [{"trajectory": "data/b4.xyz"}]),
+        "wells[0].branches[0].trajectory: branch 'P2:1' runs along the path of its parent from its start at "
+        "(100, 400, 1950) for 30 or more: give the branch's own hole only, from where it leaves its parent "
+        "(its cells would be completed twice)",
+    ),
 ]
 MISTAKES.append(
     (
@@ -197,6 +203,7 @@ BRANCHES = {
     "b1.xyz": "300 410 2030\n300 700 2035\n",  # 10 m off P2
     "b2.xyz": "300 400 2030 2180\n300 700 2035 2481\n",  # MD 10 m short of P2's there
     "b3.xyz": "300 400 2030\n300 700 2035\n",
+    "b4.xyz": "100 400 1950\n160 400 2030\n300 400 2030\n300 700 2035\n",  # P2's hole to MD 2190, then off
 }
 
 

@@ -121,7 +121,7 @@ def test_tiny_doglegs_and_the_ratio_factor():
     [
         ([(0, 0, 0)], r"stations \(md, inclination, azimuth\): expected an \(n >= 2, 3\) array"),
         ([(0, 0, 0), (10, np.nan, 0)], r"stations \(md, inclination, azimuth\): station 1 is not finite"),
-        ([(0, 0, 0), (10, 5, 0), (10, 6, 0)], "station 2: MD 10 is not greater than station 1's MD 10"),
+        ([(0, 0, 0), (10, 5, 0), (10, 6, 0)], r"station 2: md 10 does not exceed the station before it"),
         ([(0, 0, 0), (10, 180.5, 0)], r"station 1: inclination 180.5 is outside \[0, 180\] degrees"),
         ([(0, 0, 0), (10, -1, 0)], r"station 1: inclination -1 is outside \[0, 180\] degrees"),
         ([(0, 0, 0), (10, 90, 0), (20, 90, 180)], "stations 1 and 2 point in opposite directions"),

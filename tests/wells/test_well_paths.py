@@ -130,6 +130,11 @@ def test_md_short_of_the_straight_line_by_rounding_is_lengthened(tmp_path):
         ("a.w", "1.0\nx\nW 1 2\n2\nMD UNK lin\n", "2 logs declared on line 4, but the file ends at line 5"),
         ("a.w", "1.0\nx\nW 1 2\n1\nMD\n0 0 0 0\n", "line 5: expected a log 'name type ...', got 'MD'"),
         ("a.w", "1.0\nx\nW 1 2\n1\nMD UNK lin\n0 0 0 0\n0 0 5\n", "line 7: expected 4 fields, found 3"),
+        (  # down and back up the same hole: its cells would be completed twice
+            "a.xyz",
+            "# x y z md\n0 0 0 0\n0 0 10 10\n0 0.01 0 20\n",
+            r"line 3: the path turns back on itself \(by 179.94 degrees from line 2 through line 3 to",
+        ),
     ],
 )
 def test_every_error_names_the_file_and_line(tmp_path, name, text, message):
@@ -154,3 +159,51 @@ def test_option_errors(tmp_path):
         read_well_path(path, format="las")
     with pytest.raises(InputError, match=r"nope\.w: no such file"):
         read_well_path(tmp_path / "nope.w")
+
+
+def test_a_spreadsheets_byte_order_mark_is_not_part_of_the_first_name(tmp_path):
+    """CSV from a spreadsheet ("CSV UTF-8") starts with a byte order mark: the header's first
+    column is still X, and a survey's first station still a number."""
+    from gridlib.io.survey_stations import read_survey_stations
+
+    table = tmp_path / "p.csv"
+    table.write_bytes("\ufeffX,Y,Z,MD\n0,0,1000,1000\n0,0,1100,1100\n".encode())
+    path = read_well_path(table)
+    assert path.xyz.tolist() == [[0.0, 0.0, 1000.0], [0.0, 0.0, 1100.0]] and path.md.tolist() == [1000, 1100]
+    plain = tmp_path / "p.xyz"
+    plain.write_bytes("\ufeff0 0 1000\n0 0 1100\n".encode())
+    assert read_well_path(plain).md.tolist() == [0.0, 100.0]
+    survey = tmp_path / "p.dev"
+    survey.write_bytes("\ufeff1000 0 0\n1100 10 45\n".encode())
+    assert read_survey_stations(survey).tolist() == [[1000.0, 0.0, 0.0], [1100.0, 10.0, 45.0]]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("MD INC AZI\n0 0 0\n# kick-off\n100 190 0\n", "4: inclination 190 is outside [0, 180] degrees"),
+        ("0 0 0\n100 5 0\n100 6 0\n", "3: md 100 does not exceed the station before it (100); MD increases"),
+        ("0 0 0\n100 5\n", "2: expected 3 columns (md, inclination, azimuth), found 2"),
+        ("0 0 0\n100 n/a 0\n", "2: column 2 (inclination): 'n/a' is not a number"),
+        ("0 0 0\n100 5 inf\n", "2: md, inclination and azimuth must be finite"),
+    ],
+)
+def test_a_survey_files_errors_name_its_line(tmp_path, text, message):
+    from gridlib.io.survey_stations import read_survey_stations
+
+    path = write(tmp_path, "s.dev", text)
+    with pytest.raises(InputError) as info:
+        read_survey_stations(path)
+    assert str(info.value).startswith(f"{path}:{message}")
+
+
+def test_semicolon_separated_files_have_decimal_commas(tmp_path):
+    """Spreadsheets in many locales write "0,5;1200,25": fields at semicolons, decimal commas."""
+    from gridlib.io.survey_stations import read_survey_stations
+
+    table = write(tmp_path, "p.csv", "X;Y;Z;MD\n0,5;0;1000;1000\n0,5;0;1100,25;1100,25\n")
+    path = read_well_path(table)
+    assert path.xyz.tolist() == [[0.5, 0.0, 1000.0], [0.5, 0.0, 1100.25]]
+    assert path.md.tolist() == [1000.0, 1100.25]
+    survey = write(tmp_path, "p.dev", "MD;INC;AZI\n1000;0;0\n1100,5;10,25;45\n")
+    assert read_survey_stations(survey).tolist() == [[1000.0, 0.0, 0.0], [1100.5, 10.25, 45.0]]
