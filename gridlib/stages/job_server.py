@@ -7,9 +7,10 @@ a fraction of a second of work on a small case: 0.5-1.3 s of CPU a job, 70-80 % 
 workflow's (measured on the project's 2-core VM: 89 jobs, 128 s of CPU, of which a sample case's
 eight stages, 19,200 cells or 784, took 12.4 s or 9.7 s).
 
-For a local run the Snakefile's ``onstart`` starts one *job server* (:func:`serve_this_run`): a
-process that imports those modules (:data:`PRELOAD`, the stages of
-:data:`gridlib.artifacts.STAGES` and the configuration's plugins), listens on a Unix socket in a
+For a local run of two or more stage jobs the Snakefile's ``onstart`` starts one *job server*
+(:func:`serve_this_run`): a process that imports those modules (:data:`PRELOAD`, the modules of
+the run's stages and their :data:`STAGE_LIBRARIES`, the configuration's plugins), listens on a
+Unix socket in a
 private temporary folder, and is named to the jobs by the environment
 (:data:`SERVER_ENV`). A job's script (:func:`run_job`) sends the server its :class:`StageJob`,
 working directory, environment and ``sys.path``, with its standard input, output and error
@@ -47,7 +48,7 @@ import subprocess
 import sys
 import tempfile
 import threading
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
 from importlib import import_module
 from pathlib import Path
@@ -57,22 +58,18 @@ from typing import Any
 # run by another interpreter, e.g. a conda environment's, runs in its own process).
 SERVER_ENV = "GRIDLIB_JOB_SERVER"
 PYTHON_ENV = "GRIDLIB_JOB_SERVER_PYTHON"
-# What the server imports before it forks its first child (absent ones are skipped), besides
-# the stages' own modules.
-PRELOAD = (
-    "numpy",
-    "xarray",
-    "netCDF4",
-    "gridlib.stages.common",
-    "gridlib.stages.pipeline",
-    "gstools",
-    "pyvista",
-    "pyvista.plotting",
-    "matplotlib.pyplot",
-    "pymetis",
-    "shapely",
-    "pandas",
-)
+# What the server imports before it forks its first child (absent ones are skipped): what every
+# job uses, then the modules of the run's stages and what each of them imports only inside its
+# functions (a performance hint: a module left out is imported by each job that needs it).
+PRELOAD = ("numpy", "xarray", "netCDF4", "gridlib.stages.common", "gridlib.stages.pipeline")
+STAGE_LIBRARIES: dict[str, tuple[str, ...]] = {
+    "horizons": ("scipy.interpolate", "scipy.spatial", "shapely"),
+    "grid": ("scipy.interpolate", "shapely"),
+    "petrophysics": ("gstools",),
+    "coarsen": ("pymetis",),
+    "export": ("pyvista", "pyvista.plotting", "matplotlib.pyplot"),
+    "simulate": ("matplotlib.pyplot",),
+}
 # Set to 1 in the server's environment unless given (see start_server).
 BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 _HEADER = struct.Struct("!I")  # the length of the request that follows the descriptors
@@ -212,15 +209,19 @@ class JobServer:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-def start_server(plugins: Sequence[str] = (), preload: Sequence[str] = PRELOAD) -> JobServer | None:
-    """Start a job server that imports ``preload``, the ``plugins`` and every stage's module
-    before it takes jobs; waits until it does. None if it could not start (jobs then run in
-    their own processes)."""
+def start_server(
+    plugins: Sequence[str] = (), stages: Iterable[str] | None = None, preload: Sequence[str] = PRELOAD
+) -> JobServer | None:
+    """Start a job server that imports ``preload``, the ``plugins``, the modules of the
+    ``stages`` (names of :data:`gridlib.artifacts.STAGES`; None: every stage) and their
+    :data:`STAGE_LIBRARIES` before it takes jobs; waits until it has. None if it could not start
+    (jobs then run in their own processes)."""
     folder = tempfile.mkdtemp(prefix="gridlib-jobs-")  # private (0700): only this user's jobs
     path = os.path.join(folder, "jobs.sock")
     package_root = str(Path(__file__).resolve().parents[2])  # the gridlib this process uses
     code = f"import sys; sys.path.insert(0, {package_root!r}); from {__name__} import serve; serve()"
-    settings = json.dumps({"path": path, "plugins": list(plugins), "preload": list(preload)})
+    names = None if stages is None else sorted(set(stages))
+    settings = json.dumps({"path": path, "plugins": list(plugins), "stages": names, "preload": list(preload)})
     # BLAS threads are fixed when numpy is imported: one, as Snakemake gives a job of one thread
     # (gridlib's own threads follow each job's rule; results do not depend on either).
     env = dict.fromkeys(BLAS_THREADS, "1") | os.environ
@@ -234,13 +235,13 @@ def start_server(plugins: Sequence[str] = (), preload: Sequence[str] = PRELOAD) 
     return server
 
 
-def serve_this_run(plugins: Sequence[str] = ()) -> bool:
-    """Start a job server for the jobs this process (a local Snakemake run) starts: named in
-    this process's environment, which the jobs inherit, and stopped when this process exits.
-    False if it could not start."""
+def serve_this_run(plugins: Sequence[str] = (), stages: Iterable[str] | None = None) -> bool:
+    """Start a job server (:func:`start_server`) for the jobs this process (a local Snakemake
+    run) starts: named in this process's environment, which the jobs inherit, and stopped when
+    this process exits. False if it could not start."""
     if os.environ.get(SERVER_ENV):
         return True
-    server = start_server(plugins)
+    server = start_server(plugins, stages)
     if server is None:
         return False
 
@@ -261,7 +262,7 @@ def serve() -> None:
     settings = json.loads(sys.argv[1])
     path = settings["path"]
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C stops Snakemake, which then ends this
-    _preload(settings["preload"], settings["plugins"])
+    _preload(settings["preload"], settings["plugins"], settings["stages"])
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(path)
     listener.listen(64)
@@ -302,22 +303,22 @@ def _reap(block: bool = False) -> bool:
             return True
 
 
-def _preload(preload: Sequence[str], plugins: Sequence[str]) -> None:
-    """Import what the jobs will use: ``preload`` (absent modules skipped), the plugins, every
-    stage's module."""
-    from ..io.dask_on_demand import defer_dask_import
-
-    defer_dask_import()
-    for name in (*preload, *plugins):
-        try:
-            import_module(name)
-        except ImportError:
-            if name in plugins:
-                raise
+def _preload(preload: Sequence[str], plugins: Sequence[str], stages: Sequence[str] | None) -> None:
+    """Import what the jobs will use: ``preload``, the plugins, the modules of the ``stages``
+    (None: all) and their libraries (absent libraries skipped)."""
     from .. import artifacts
+    from ..io.dask_on_demand import defer_dask_import
     from .pipeline import stage_function
 
-    for stage in artifacts.STAGES:
+    defer_dask_import()
+    for name in plugins:
+        import_module(name)
+    chosen = [s for s in artifacts.STAGES if stages is None or s.name in stages]
+    libraries = [name for stage in chosen for name in STAGE_LIBRARIES.get(stage.name, ())]
+    for name in dict.fromkeys([*preload, *libraries]):
+        with contextlib.suppress(ImportError):
+            import_module(name)
+    for stage in chosen:
         stage_function(stage)
 
 

@@ -64,7 +64,7 @@ def server(tmp_path_factory):
     previous = os.environ.get("PYTHONPATH")
     os.environ["PYTHONPATH"] = os.pathsep.join([str(plugins), str(ROOT), *([previous] if previous else [])])
     try:
-        started = start_server(["nap_stage"], preload=("gridlib.stages.pipeline",))
+        started = start_server(["nap_stage"], stages=["grid", "geometry", "nap"])
     finally:
         if previous is None:
             os.environ.pop("PYTHONPATH")
