@@ -3,9 +3,10 @@ to a process that has imported gridlib and its libraries once, instead of import
 
 Every stage rule runs ``workflow/scripts/stage.py`` in a new Python process, which imports
 numpy, xarray, gridlib and what its stage uses (gstools, pyvista, matplotlib, ...) before it does
-a fraction of a second of work on a small case: 0.5-1.3 s of CPU a job, 70-80 % of the sample
-workflow's (measured on the project's 2-core VM: 89 jobs, 128 s of CPU, of which a sample case's
-eight stages, 19,200 cells or 784, took 12.4 s or 9.7 s).
+a fraction of a second of work on a small case: 0.5-1.3 s of CPU a job, most of the sample
+workflow's (measured on the project's 2-core VM: its 89 jobs took 128 s of CPU, a sample case's
+eight stages 12.4 s for 19,200 cells and 9.7 s for 784). With the server the sample workflow
+takes 40 s of CPU instead of 111 s (docs/stages.md).
 
 For a local run of two or more stage jobs the Snakefile's ``onstart`` starts one *job server*
 (:func:`serve_this_run`): a process that imports those modules (:data:`PRELOAD`, the modules of
@@ -217,6 +218,9 @@ def start_server(
     :data:`STAGE_LIBRARIES` before it takes jobs; waits until it has. None if it could not start
     (jobs then run in their own processes)."""
     folder = tempfile.mkdtemp(prefix="gridlib-jobs-")  # private (0700): only this user's jobs
+    if len(folder) > 90:  # a Unix socket's path has at most 107 bytes: a long TMPDIR will not do
+        os.rmdir(folder)
+        folder = tempfile.mkdtemp(prefix="gridlib-jobs-", dir="/tmp")
     path = os.path.join(folder, "jobs.sock")
     package_root = str(Path(__file__).resolve().parents[2])  # the gridlib this process uses
     code = f"import sys; sys.path.insert(0, {package_root!r}); from {__name__} import serve; serve()"
