@@ -28,7 +28,8 @@ The job's process stays in charge: if it is killed (Snakemake stopping a run), t
 its own process group (itself and what it started, e.g. OPM Flow). Each child is forked from the
 server, which runs no stage itself, so jobs share no state. A job runs in its own process, as
 before, where no server is named, where the server cannot be reached, or where the job's Python
-is not the server's (a conda or container job): on a cluster node (the SLURM profile), with
+is not the server's (a conda or container job): on other systems than Linux, on a cluster node
+(the SLURM profile), for a run of a single stage job, with
 ``--no-hooks``, with ``--software-deployment-method``, or with the configuration's
 ``job_server: false``. The server ends when the Snakemake process that started it does (it
 watches a pipe from it).
@@ -216,7 +217,10 @@ def start_server(
     """Start a job server that imports ``preload``, the ``plugins``, the modules of the
     ``stages`` (names of :data:`gridlib.artifacts.STAGES`; None: every stage) and their
     :data:`STAGE_LIBRARIES` before it takes jobs; waits until it has. None if it could not start
-    (jobs then run in their own processes)."""
+    (jobs then run in their own processes), and on other systems than Linux (macOS does not
+    let a process that has started some of these libraries fork safely)."""
+    if not sys.platform.startswith("linux"):
+        return None
     folder = tempfile.mkdtemp(prefix="gridlib-jobs-")  # private (0700): only this user's jobs
     if len(folder) > 90:  # a Unix socket's path has at most 107 bytes: a long TMPDIR will not do
         os.rmdir(folder)
