@@ -311,23 +311,29 @@ def _reap(block: bool = False) -> bool:
             return True
 
 
-def _preload(preload: Sequence[str], plugins: Sequence[str], stages: Sequence[str] | None) -> None:
-    """Import what the jobs will use: ``preload``, the plugins, the modules of the ``stages``
-    (None: all) and their libraries (absent libraries skipped)."""
+def preload_modules(stages: Iterable[str] | None = None, preload: Sequence[str] = PRELOAD) -> list[str]:
+    """The modules a warm process imports for jobs of ``stages`` (names of
+    :data:`gridlib.artifacts.STAGES`; None: every stage): ``preload``, the stages'
+    :data:`STAGE_LIBRARIES` and the stages' own modules, in that order, each once."""
     from .. import artifacts
+
+    chosen = [s for s in artifacts.STAGES if stages is None or s.name in set(stages)]
+    libraries = [name for stage in chosen for name in STAGE_LIBRARIES.get(stage.name, ())]
+    own = [s.function.partition(":")[0] for s in chosen if isinstance(s.function, str)]
+    return list(dict.fromkeys([*preload, *libraries, *own]))
+
+
+def _preload(preload: Sequence[str], plugins: Sequence[str], stages: Sequence[str] | None) -> None:
+    """Import what the jobs will use: the plugins, then :func:`preload_modules` (absent ones
+    skipped)."""
     from ..io.dask_on_demand import defer_dask_import
-    from .pipeline import stage_function
 
     defer_dask_import()
     for name in plugins:
         import_module(name)
-    chosen = [s for s in artifacts.STAGES if stages is None or s.name in stages]
-    libraries = [name for stage in chosen for name in STAGE_LIBRARIES.get(stage.name, ())]
-    for name in dict.fromkeys([*preload, *libraries]):
+    for name in preload_modules(stages, preload):
         with contextlib.suppress(ImportError):
             import_module(name)
-    for stage in chosen:
-        stage_function(stage)
 
 
 def _accept(listener: socket.socket) -> None:
