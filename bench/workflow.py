@@ -55,6 +55,7 @@ def run_workflow(case: Path, work: Path, cores: int = 2) -> WorkflowRun:
         "--config",
         f"cases={case}",
         "studies=[]",  # the case alone, not the sample studies
+        "job_server=false",  # each stage in its own process: its peak memory is the stage's alone
         "--quiet",
     ]
     t0 = time.perf_counter()

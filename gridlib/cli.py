@@ -28,6 +28,7 @@ from .cornerpoint import process_grdecl
 from .cornerpoint.pore_volume import zero_pore_volume
 from .errors import GridError, InputError
 from .geometry import compute_geometry
+from .io.dask_on_demand import defer_dask_import
 from .stages.common import notes_on_console
 from .stages.flow_deck import flow_deck_from_results
 from .stages.pipeline import run_case
@@ -191,7 +192,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     f.add_argument("--case", type=Path, help="the case file (default: the one recorded in the artifacts)")
     args = parser.parse_args(argv)
-
+    defer_dask_import()  # numpy-backed datasets only: no need to import dask
     try:
         if args.command == "build":
             text = build(args.case, args.outdir)

@@ -86,6 +86,7 @@ def test_a_stage_added_through_the_table_runs_in_snakemake(toy, tmp_path):
     assert "rule cell_count:" in result.stderr + result.stdout
     log = (tmp_path / "results" / "logs" / "toy" / "cell_count.log").read_text()
     assert "stage_cell_count: " in log  # the run's cost, logged under the stage's name
+    assert "run in the job server" in log  # a local run's jobs: in its warm process (the plugin's too)
     again = subprocess.run(
         [*command, "--cores", "1", "-n", *config], capture_output=True, text=True, timeout=300, env=env
     )

@@ -86,7 +86,12 @@ def test_every_job_ran_as_a_completed_slurm_job(runs, slurm_cluster):
 
 @pytest.mark.parametrize("case", CASES + tuple(f"twist/{v}" for v in VARIANTS))
 def test_slurm_results_equal_the_local_ones_bit_for_bit(runs, case):
+    """The local run's stage jobs ran in its job server, the SLURM jobs' each in its own process
+    (gridlib/stages/job_server.py): the same files either way."""
     local, on_slurm = runs
+    if "/" not in case:
+        served = [(run["results"] / "logs" / case / "grid.log").read_text() for run in runs]
+        assert ["run in the job server" in log for log in served] == [True, False]
     assert_same_files(local["results"] / case, on_slurm["results"] / case)
     for table in ("summary.csv", "twist/study.csv"):
         assert (local["results"] / table).read_text() == (on_slurm["results"] / table).read_text()

@@ -57,6 +57,42 @@ for _plugin in config.get("plugins", []):  # modules that register stages of the
     except ImportError as exc:
         stop(f"config: plugins: cannot import {_plugin!r} ({exc}); nothing was run")
 STAGES = artifacts.STAGES
+
+
+onstart:
+    start_job_server()
+
+
+# The stage of each stage rule (workflow/rules/stages.smk adds them as it makes them).
+STAGE_RULES = {}
+
+
+def start_job_server():
+    """A local run's stage jobs hand their stages to one warm process (gridlib/stages/
+    job_server.py) that imports what their stages use, started when two or more stage jobs
+    are about to run (one runs as fast in its own process); jobs run in their own processes
+    on a cluster (this process submits them), in a conda environment or container, and where
+    the configuration's job_server is false."""
+    if not (
+        config.get("job_server", True)
+        and workflow.is_main_process
+        and workflow.local_exec
+        and not workflow.deployment_settings.deployment_method
+    ):
+        return
+    jobs = [job.rule.name for job in workflow.dag.needrun_jobs()]
+    stages = [STAGE_RULES[name] for name in jobs if name in STAGE_RULES]
+    if len(stages) < 2:
+        return
+    from gridlib.stages.job_server import serve_this_run
+
+    if not serve_this_run(config.get("plugins", []), stages):
+        print(
+            "gridlib: the job server did not start; every job runs in its own process",
+            file=sys.stderr,
+        )
+
+
 # Snakemake's job group of every stage rule: on a cluster (workflow/profiles/slurm) a case's
 # stages run one after the other in one job; no effect on local runs.
 STAGE_GROUP = "case" if config.get("one_job_per_case", True) else None

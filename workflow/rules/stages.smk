@@ -9,6 +9,7 @@
 
 for _stage in STAGES:
     for _rule in stage_rules(_stage):
+        STAGE_RULES[_rule.name] = _stage.name
 
         rule:
             name:

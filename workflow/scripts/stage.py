@@ -4,22 +4,21 @@ with the rule's inputs and outputs (keyword arguments named after the artifacts'
 reach the console once, prefixed with the case and the stage; a failure is one line there
 (gridlib.stages.run_logged), the traceback of an unexpected one in the rule's log."""
 
-from importlib import import_module
+import sys
 
-from gridlib.stages import run_logged, run_stage
+from gridlib.stages.job_server import StageJob, run_job
 
-for plugin in snakemake.config.get("plugins", []):  # modules that register stages of their own
-    import_module(plugin)
 paths = {key: path for key, path in snakemake.input.items() if key != "case"}
 paths |= dict(snakemake.output.items())
-run_logged(
-    snakemake.log[0],
-    run_stage,
-    snakemake.params.stage,
-    snakemake.input.case,
-    paths,
+job = StageJob(
+    stage=snakemake.params.stage,
+    case=snakemake.input.case,
+    paths=paths,
     threads=snakemake.threads,
-    outputs=list(snakemake.output),
+    log=snakemake.log[0],
+    outputs=tuple(snakemake.output),
     name=f"stage_{snakemake.params.stage}",
     label=f"{snakemake.wildcards.get('case', snakemake.input.case)}: {snakemake.params.stage}",
+    plugins=tuple(snakemake.config.get("plugins", [])),
 )
+sys.exit(run_job(job))  # in the run's job server (gridlib/stages/job_server.py), else right here

@@ -1,7 +1,10 @@
 """Snakemake script for rule study_table (a thin wrapper around gridlib.stages)."""
 
+from gridlib.io.dask_on_demand import defer_dask_import
 from gridlib.stages import run_logged
 from gridlib.stages.study import stage_study
+
+defer_dask_import()  # study.nc from numpy arrays: no need to import dask
 
 run_logged(
     snakemake.log[0],
