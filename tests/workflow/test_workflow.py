@@ -251,6 +251,8 @@ def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(w
     simulated = [case for case, sample in SAMPLES.items() if sample.has_simulation]
     assert sorted(simulated) == [
         "inclined_pebi",
+        "trajectories_cp",
+        "trajectories_pebi",
         "waterflood_cp",
         "waterflood_pebi",
         "y_faults_pillars",
@@ -277,8 +279,15 @@ def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(w
 
 
 # Cases whose numbers go through random fields, fault throws, PEBI sites, well rings, formula
-# horizons and METIS: the places where BLAS, SIMD code or threads could change a bit.
-DETERMINISM_CASES = ("anticline", "composite_wells", "faulted_pebi", "faulted_picks", "peaks")
+# horizons, METIS and well paths: the places where BLAS, SIMD code or threads could change a bit.
+DETERMINISM_CASES = (
+    "anticline",
+    "composite_wells",
+    "faulted_pebi",
+    "faulted_picks",
+    "peaks",
+    "trajectories_pebi",
+)
 
 
 def test_same_case_and_seed_give_identical_files_on_another_machine(workflow_run, tmp_path):
@@ -575,6 +584,11 @@ def _expected_units(system: str, griddim: int) -> dict[str, str]:
     }
     units |= {"porv": {"FIELD": "rb", "METRIC": "rm3"}[system]}
     units |= {"trans": {"FIELD": "cP rb/(day psi)", "METRIC": "cP m3/(day bar)"}[system]}
+    # wells.nc (cases with trajectory wells): paths, measured depths and connection factors
+    well_lengths = ("well_radius", "path_xyz", "path_md", "perforation_md", "completion_length")
+    well_lengths += tuple(f"completion_{k}" for k in ("entry_md", "exit_md", "entry", "exit", "axis_length"))
+    units |= dict.fromkeys(well_lengths, length)
+    units |= {"well_skin": "1", "completion_factor": units["trans"]}
     return units
 
 
