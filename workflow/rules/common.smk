@@ -80,7 +80,10 @@ def start_job_server():
         and not workflow.deployment_settings.deployment_method
     ):
         return
-    jobs = [job.rule.name for job in workflow.dag.needrun_jobs()]
+    try:
+        jobs = [job.rule.name for job in workflow.dag.needrun_jobs()]
+    except AttributeError:  # a Snakemake without this DAG method: assume every stage runs
+        jobs = list(STAGE_RULES)
     stages = [STAGE_RULES[name] for name in jobs if name in STAGE_RULES]
     if len(stages) < 2:
         return
