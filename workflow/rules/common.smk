@@ -82,7 +82,8 @@ def start_job_server():
         return
     try:
         jobs = [job.rule.name for job in workflow.dag.needrun_jobs()]
-    except AttributeError:  # a Snakemake without this DAG method: assume every stage runs
+    except AttributeError:
+        # a Snakemake without this DAG method: assume every stage runs
         jobs = list(STAGE_RULES)
     stages = [STAGE_RULES[name] for name in jobs if name in STAGE_RULES]
     if len(stages) < 2:
