@@ -18,6 +18,7 @@ run down or up (it is turned to run down), but its depth must change monotonical
 from __future__ import annotations
 
 import os
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +26,7 @@ import numpy as np
 from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_surface import FaultSurface
-from .text_table import check_widths, data_rows, is_number, read_lines
+from .text_table import check_widths, data_rows, is_number, read_lines, split_fields
 
 __all__ = ["STICK_FORMATS", "fault_surface_from_file", "read_fault_sticks"]
 
@@ -49,7 +50,7 @@ def read_fault_sticks(path: str | os.PathLike, fmt: str = "auto") -> list[FloatA
         raise InputError(
             f"{p}: unknown fault stick format {fmt!r}; expected one of {', '.join(STICK_FORMATS)}"
         )
-    table = data_rows(read_lines(p), split=_split)
+    table = data_rows(read_lines(p), split=partial(split_fields, semicolons=False))
     rows, numbers = table.rows, table.lines
     if not rows:
         raise InputError(f"{p}: no data lines (expected x y z [id] per line)")
@@ -76,11 +77,6 @@ def fault_surface_from_file(
     (:func:`read_fault_sticks`); sticks that coincide or cross are one InputError naming the
     file and the sticks."""
     return FaultSurface.from_sticks(read_fault_sticks(path, fmt), name=name, source=str(path))
-
-
-def _split(line: str) -> list[str]:
-    """A line's fields: at commas if it has one, else at whitespace."""
-    return [f.strip() for f in line.split(",")] if "," in line else line.split()
 
 
 def _numbers(p: Path, fields: list[str], number: int, stick: int) -> tuple[float, float, float]:

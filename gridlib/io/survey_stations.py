@@ -21,31 +21,22 @@ column 2 (inclination): 'n/a' is not a number``.
 from __future__ import annotations
 
 import os
-import re
+from functools import partial
 from pathlib import Path
 
 from ..errors import InputError
 from ..grid import FloatArray
 from ..wells.survey import station_problem
-from .text_table import check_widths, data_rows, read_lines, to_numbers
+from .text_table import check_widths, data_rows, read_lines, split_fields, to_numbers
 
 COLUMNS = ("md", "inclination", "azimuth")
-_SEPARATORS = re.compile(r"\s*[,;]\s*|\s+")  # "1, 2" and "1 2" alike; "1,,2" has an empty field
-
-
-def _split(line: str) -> list[str]:
-    """A line's fields: at semicolons if it has one (a comma is then a decimal mark, as
-    spreadsheets write in many locales), else at commas and whitespace."""
-    if ";" in line:
-        return [f.strip().replace(",", ".") for f in line.split(";")]
-    return _SEPARATORS.split(line)
 
 
 def read_survey_stations(path: str | os.PathLike) -> FloatArray:
     """The stations of the survey file ``path`` as an (m, 3) array of md, inclination and
     azimuth (module docstring); at least two stations."""
     p = Path(path)
-    table = data_rows(read_lines(p), split=_split)
+    table = data_rows(read_lines(p), split=partial(split_fields, mixed=True))
     rows, numbers = table.rows, table.lines
     if len(rows) < 2:
         raise InputError(

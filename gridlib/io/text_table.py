@@ -19,6 +19,7 @@ fault sticks without loading the horizons' modules.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,6 +36,7 @@ __all__ = [
     "first_non_number",
     "is_number",
     "read_lines",
+    "split_fields",
     "strip_comment",
     "to_numbers",
 ]
@@ -78,6 +80,30 @@ def read_lines(p: Path) -> list[str]:
 def strip_comment(raw: str) -> str:
     """A line without its ``#`` comment and surrounding blanks."""
     return raw.split("#", 1)[0].strip()
+
+
+_COMMAS_OR_BLANKS = re.compile(r"\s*,\s*|\s+")  # "1, 2" and "1 2" alike; "1,,2" has an empty field
+
+
+def split_fields(
+    line: str, *, semicolons: bool = True, quotes: bool = False, mixed: bool = False
+) -> list[str]:
+    """A line's fields: with ``semicolons``, at semicolons if it has one (a comma there is a
+    decimal mark, as spreadsheets write in many locales: ``0,5`` is 0.5); else at commas if it
+    has one; else at whitespace. ``mixed``: commas and whitespace both separate on one line
+    (``1, 2 3``). ``quotes``: quotes around a field are dropped.
+
+    >>> split_fields("1;0,5"), split_fields("1, 2 3", mixed=True), split_fields("'a', 2", quotes=True)
+    (['1', '0.5'], ['1', '2', '3'], ['a', '2'])
+    """
+    quote = "\"'" if quotes else ""
+    if semicolons and ";" in line:
+        return [f.strip().strip(quote).replace(",", ".") for f in line.split(";")]
+    if mixed:
+        return _COMMAS_OR_BLANKS.split(line)
+    if "," in line:
+        return [f.strip().strip(quote) for f in line.split(",")]
+    return line.split()
 
 
 def data_rows(lines: Sequence[str], *, split: Callable[[str], list[str]]) -> TextTable:

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +47,7 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ..reproducible import arctan2
 from ..wells.path import WellPath, check_path, fill_md
-from .text_table import TextTable, data_rows, first_non_number, is_number, read_lines
+from .text_table import TextTable, data_rows, first_non_number, is_number, read_lines, split_fields
 
 __all__ = ["COLUMN_NAMES", "RMS_UNDEFINED", "WELL_PATH_FORMATS", "read_well_path"]
 
@@ -172,21 +173,10 @@ def _looks_rms(lines: list[str]) -> bool:
 
 def _text_table(p: Path, lines: list[str]) -> TextTable:
     """The rows of a table file (comments and empty lines skipped, an optional header)."""
-    table = data_rows(lines, split=_fields)
+    table = data_rows(lines, split=partial(split_fields, quotes=True))
     if not table.rows:
         raise InputError(f"{p}: no data lines (expected x y z [md] per line)")
     return table
-
-
-def _fields(line: str) -> list[str]:
-    """A table line's fields: split at semicolons if it has one (a comma there is a decimal
-    mark, as spreadsheets write in many locales: ``0,5`` is 0.5), else at commas if it has one,
-    else at whitespace; quotes around a field are dropped."""
-    if ";" in line:
-        return [f.strip().strip("\"'").replace(",", ".") for f in line.split(";")]
-    if "," in line:
-        return [f.strip().strip("\"'") for f in line.split(",")]
-    return line.split()
 
 
 def _rms_table(p: Path, lines: list[str]) -> tuple[str, TextTable]:
