@@ -18,6 +18,7 @@ run down or up (it is turned to run down), but its depth must change monotonical
 from __future__ import annotations
 
 import os
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +26,7 @@ import numpy as np
 from ..errors import InputError
 from ..grid import FloatArray
 from ..pillars.fault_surface import FaultSurface
+from .text_table import check_widths, data_rows, is_number, read_lines, split_fields
 
 __all__ = ["STICK_FORMATS", "fault_surface_from_file", "read_fault_sticks"]
 
@@ -48,7 +50,10 @@ def read_fault_sticks(path: str | os.PathLike, fmt: str = "auto") -> list[FloatA
         raise InputError(
             f"{p}: unknown fault stick format {fmt!r}; expected one of {', '.join(STICK_FORMATS)}"
         )
-    rows, numbers = _data_rows(p)
+    table = data_rows(read_lines(p), split=partial(split_fields, semicolons=False))
+    rows, numbers = table.rows, table.lines
+    if not rows:
+        raise InputError(f"{p}: no data lines (expected x y z [id] per line)")
     if fmt == "auto":
         fmt = {3: "rms", 4: "xyz_id"}.get(len(rows[0]), "")
         if not fmt:
@@ -57,12 +62,8 @@ def read_fault_sticks(path: str | os.PathLike, fmt: str = "auto") -> list[FloatA
                 f"xyz_id format), found {len(rows[0])}"
             )
     width = _WIDTH[fmt]
-    for fields, number in zip(rows, numbers, strict=True):
-        if len(fields) != width:
-            names = "x y z" if width == 3 else "x y z id"
-            raise InputError(
-                f"{p}:{number}: expected {width} columns ({names}, the {fmt} format), found {len(fields)}"
-            )
+    names = "x y z" if width == 3 else "x y z id"
+    check_widths(p, rows, numbers, width, f" ({names}, the {fmt} format)")
     groups = _rms_sticks(p, rows, numbers) if fmt == "rms" else _id_sticks(p, rows, numbers)
     if len(groups) < 2:
         raise InputError(f"{p}: a fault needs at least 2 sticks, found {len(groups)}")
@@ -78,49 +79,11 @@ def fault_surface_from_file(
     return FaultSurface.from_sticks(read_fault_sticks(path, fmt), name=name, source=str(path))
 
 
-def _is_number(token: str) -> bool:
-    """Whether a text token reads as a float (``"1e3"``, ``"nan"``; not ``"X_UTME"``). Here, not
-    imported from the IRAP reader: a case's checks read stick files without the horizons'
-    modules."""
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
-
-
-def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
-    """The data lines of the file split into fields, with their line numbers; a first line
-    without any number is a header and skipped."""
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read as text ({exc})") from exc
-    rows: list[list[str]] = []
-    numbers: list[int] = []
-    header = False
-    for number, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        fields = [f.strip() for f in line.split(",")] if "," in line else line.split()
-        if not rows and not header and not any(_is_number(f) for f in fields):
-            header = True
-            continue
-        rows.append(fields)
-        numbers.append(number)
-    if not rows:
-        raise InputError(f"{p}: no data lines (expected x y z [id] per line)")
-    return rows, numbers
-
-
 def _numbers(p: Path, fields: list[str], number: int, stick: int) -> tuple[float, float, float]:
     """x, y, z of one row, finite."""
     values = []
     for column, field in zip("xyz", fields[:3], strict=True):
-        if not _is_number(field):
+        if not is_number(field):
             raise InputError(f"{p}:{number}: stick {stick}: {column}: {field!r} is not a number")
         values.append(float(field))
     if not np.isfinite(values).all():
@@ -153,7 +116,7 @@ def _id_sticks(p: Path, rows: list[list[str]], numbers: list[int]) -> list[list[
     seen: dict[object, int] = {}
     current: object = None
     for fields, number in zip(rows, numbers, strict=True):
-        ident = float(fields[3]) if _is_number(fields[3]) else fields[3]
+        ident = float(fields[3]) if is_number(fields[3]) else fields[3]
         if isinstance(ident, float) and not np.isfinite(ident):
             raise InputError(f"{p}:{number}: the stick id must be finite, got {fields[3]!r}")
         if not groups or ident != current:

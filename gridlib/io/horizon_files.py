@@ -27,8 +27,8 @@ from ..grid import FloatArray
 from ..horizons.build import SOURCES, HorizonSource, check_lattice, horizons_from_sources
 from ..horizons.surface import Surface, regular_increment
 from .datasets import damaged, load_artifact, load_dataset, save_dataset
-from .irap import is_number
 from .registry import read
+from .text_table import check_widths, data_rows, read_lines, strip_comment, to_numbers
 
 __all__ = [
     "build_horizons",
@@ -182,62 +182,29 @@ def read_points(
     line, e.g. ``picks.csv:7: expected 3 columns (x, y, z), found 2``.
     """
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read as text ({exc})") from exc
-    rows: list[list[str]] = []
-    line_no: list[int] = []
-    sep: str | None = None
-    header: list[str] | None = None
-    for number, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        if sep is None and not rows and header is None:
-            sep = "," if "," in line else ";" if ";" in line else ""
-        fields = [f.strip() for f in line.split(sep)] if sep else line.split()
-        if not rows and header is None and not any(is_number(f) for f in fields):
-            header = [f.lower() for f in fields]
-            header_line = number
-            continue
-        rows.append(fields)
-        line_no.append(number)
+    lines = read_lines(p)
+    first = next((line for line in map(strip_comment, lines) if line), "")
+    sep = "," if "," in first else ";" if ";" in first else ""  # the first data line's
+    table = data_rows(lines, split=lambda line: [f.strip() for f in line.split(sep)] if sep else line.split())
+    rows, line_no = table.rows, table.lines
+    header = None if table.header is None else [f.lower() for f in table.header]
     if not rows:
         raise InputError(f"{p}: no data lines (expected x, y, z per line)")
     width = len(header) if header is not None else len(rows[0])
     if columns is None:
         if width != 3:
-            where = f"{p}:{header_line}" if header is not None else f"{p}:{line_no[0]}"
+            where = f"{p}:{table.header_line}" if header is not None else f"{p}:{line_no[0]}"
             raise InputError(
                 f"{where}: expected 3 columns (x, y, z), found {width}; pass columns= to choose three"
             )
         cols = [0, 1, 2]
     else:
         cols = _point_columns(columns, header, width, p)
-    for fields, number in zip(rows, line_no, strict=True):
-        if len(fields) != width:
-            raise InputError(
-                f"{p}:{number}: expected {width} columns{' (x, y, z)' if width == 3 else ''}, "
-                f"found {len(fields)}"
-            )
+    check_widths(p, rows, line_no, width, " (x, y, z)" if width == 3 else "")
     picked = [[fields[c] for c in cols] for fields in rows]
-    try:
-        xyz = np.array(picked, dtype=np.float64)
-    except ValueError:
-        for fields, number in zip(picked, line_no, strict=True):
-            for k, f in enumerate(fields):
-                if not is_number(f):
-                    raise InputError(
-                        f"{p}:{number}: column {cols[k] + 1} ({'xyz'[k]}): {f!r} is not a number"
-                    ) from None
-        raise
-    finite = np.isfinite(xyz).all(axis=1)
-    if not finite.all():
-        r = int(np.flatnonzero(~finite)[0])
-        raise InputError(f"{p}:{line_no[r]}: x, y and z must be finite (use null= for no-data markers)")
+    xyz = to_numbers(
+        p, picked, line_no, ("x", "y", "z"), columns=cols, finite_hint=" (use null= for no-data markers)"
+    )
     if null is not None:
         xyz = xyz[xyz[:, 2] != float(null)]
         if xyz.shape[0] == 0:

@@ -55,6 +55,7 @@ import numpy as np
 from ..errors import InputError
 from ..horizons.surface import Surface
 from .atomic import atomic_path
+from .text_table import is_number
 
 __all__ = ["IRAP_UNDEFINED", "is_number", "read_irap", "write_irap"]
 
@@ -144,19 +145,6 @@ def read_irap(path: str | os.PathLike, *, elevation: bool = False, name: str | N
     return Surface(
         z, xori, yori, xinc, yinc, rotation=rotation, name=p.stem if name is None else name, source=str(p)
     )
-
-
-def is_number(token: str) -> bool:
-    """Whether a text token reads as a float (``"1e3"``, ``"-0.5"``, ``"nan"``; not ``"x"``).
-
-    >>> is_number("1e3"), is_number("x")
-    (True, False)
-    """
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def write_irap(path: str | os.PathLike, surface, *, elevation: bool = False) -> Path:

@@ -21,74 +21,29 @@ column 2 (inclination): 'n/a' is not a number``.
 from __future__ import annotations
 
 import os
-import re
+from functools import partial
 from pathlib import Path
-
-import numpy as np
 
 from ..errors import InputError
 from ..grid import FloatArray
 from ..wells.survey import station_problem
-from .well_paths import is_number
+from .text_table import check_widths, data_rows, read_lines, split_fields, to_numbers
 
 COLUMNS = ("md", "inclination", "azimuth")
-_SEPARATORS = re.compile(r"\s*[,;]\s*|\s+")  # "1, 2" and "1 2" alike; "1,,2" has an empty field
-
-
-def _data_rows(p: Path) -> tuple[list[list[str]], list[int]]:
-    """The data lines split into fields, with their 1-based line numbers (header skipped)."""
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        text = p.read_text(encoding="utf-8-sig")  # a spreadsheet's byte order mark is no text
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read as text ({exc})") from None
-    rows: list[list[str]] = []
-    numbers: list[int] = []
-    header = False
-    for number, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        if ";" in line:  # a comma is then a decimal mark, as spreadsheets write in many locales
-            fields = [f.strip().replace(",", ".") for f in line.split(";")]
-        else:
-            fields = _SEPARATORS.split(line)
-        if not rows and not header and not any(is_number(f) for f in fields):
-            header = True
-            continue
-        rows.append(fields)
-        numbers.append(number)
-    return rows, numbers
 
 
 def read_survey_stations(path: str | os.PathLike) -> FloatArray:
     """The stations of the survey file ``path`` as an (m, 3) array of md, inclination and
     azimuth (module docstring); at least two stations."""
     p = Path(path)
-    rows, numbers = _data_rows(p)
+    table = data_rows(read_lines(p), split=partial(split_fields, mixed=True))
+    rows, numbers = table.rows, table.lines
     if len(rows) < 2:
         raise InputError(
             f"{p}: {len(rows)} station(s); a survey needs at least 2 (md inclination azimuth per line)"
         )
-    for fields, number in zip(rows, numbers, strict=True):
-        if len(fields) != 3:
-            raise InputError(
-                f"{p}:{number}: expected 3 columns (md, inclination, azimuth), found {len(fields)}"
-            )
-    try:
-        values = np.array(rows, dtype=np.float64)
-    except ValueError:
-        for fields, number in zip(rows, numbers, strict=True):
-            for c, field in enumerate(fields):
-                if not is_number(field):
-                    raise InputError(
-                        f"{p}:{number}: column {c + 1} ({COLUMNS[c]}): {field!r} is not a number"
-                    ) from None
-        raise
-    bad = np.flatnonzero(~np.isfinite(values).all(axis=1))
-    if bad.size:
-        raise InputError(f"{p}:{numbers[bad[0]]}: md, inclination and azimuth must be finite")
+    check_widths(p, rows, numbers, 3, " (md, inclination, azimuth)")
+    values = to_numbers(p, rows, numbers, COLUMNS)
     problem = station_problem(values)
     if problem is not None:
         raise InputError(f"{p}:{numbers[problem[0]]}: {problem[2]}")

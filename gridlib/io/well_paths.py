@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -47,6 +47,7 @@ from ..errors import InputError
 from ..grid import FloatArray
 from ..reproducible import arctan2
 from ..wells.path import WellPath, check_path, fill_md
+from .text_table import TextTable, data_rows, first_non_number, is_number, read_lines, split_fields
 
 __all__ = ["COLUMN_NAMES", "RMS_UNDEFINED", "WELL_PATH_FORMATS", "read_well_path"]
 
@@ -60,17 +61,6 @@ COLUMN_NAMES = {
 RMS_UNDEFINED = -999.0
 RMS_SUFFIXES = (".w", ".rmswell")
 _RMS_COORDINATES = ["X_UTME", "Y_UTMN", "Z_TVDSS"]
-
-
-@dataclass(frozen=True)
-class _Table:
-    """A file's data: header names (or None) and their line, rows of fields and their 1-based
-    line numbers."""
-
-    header: list[str] | None
-    header_line: int
-    rows: list[list[str]]
-    lines: list[int]
 
 
 def read_well_path(
@@ -92,13 +82,7 @@ def read_well_path(
         raise InputError(
             f"{p}: unknown well path format {format!r}; expected one of {', '.join(WELL_PATH_FORMATS)}"
         )
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
-    try:
-        text = p.read_text(encoding="utf-8-sig")  # a spreadsheet's byte order mark is no text
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read as text ({exc})") from exc
-    lines = text.splitlines()
+    lines = read_lines(p)
     if format == "auto":
         format = "rms" if p.suffix.lower() in RMS_SUFFIXES or _looks_rms(lines) else "table"
     if format == "rms":
@@ -178,17 +162,6 @@ def _half_units(fields: np.ndarray) -> FloatArray:
     return half
 
 
-def is_number(token: str) -> bool:
-    """Whether a text token reads as a float (``"1e3"``, ``"nan"``; not ``"X_UTME"``). Here, not
-    imported from the IRAP reader (as :mod:`.fault_sticks`): a case's wells are read without
-    the horizons' modules, which that import would load."""
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
-
-
 def _looks_rms(lines: list[str]) -> bool:
     """Whether the file starts as an RMS well file: a number alone on line 1 and an integer
     alone on line 4."""
@@ -198,39 +171,15 @@ def _looks_rms(lines: list[str]) -> bool:
     return len(first) == 1 and is_number(first[0]) and len(fourth) == 1 and fourth[0].isdigit()
 
 
-def _text_table(p: Path, lines: list[str]) -> _Table:
+def _text_table(p: Path, lines: list[str]) -> TextTable:
     """The rows of a table file (comments and empty lines skipped, an optional header)."""
-    rows: list[list[str]] = []
-    numbers: list[int] = []
-    header: list[str] | None = None
-    header_line = 0
-    for number, raw in enumerate(lines, start=1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        fields = _fields(line)
-        if not rows and header is None and not any(is_number(f) for f in fields):
-            header, header_line = fields, number
-            continue
-        rows.append(fields)
-        numbers.append(number)
-    if not rows:
+    table = data_rows(lines, split=partial(split_fields, quotes=True))
+    if not table.rows:
         raise InputError(f"{p}: no data lines (expected x y z [md] per line)")
-    return _Table(header, header_line, rows, numbers)
+    return table
 
 
-def _fields(line: str) -> list[str]:
-    """A table line's fields: split at semicolons if it has one (a comma there is a decimal
-    mark, as spreadsheets write in many locales: ``0,5`` is 0.5), else at commas if it has one,
-    else at whitespace; quotes around a field are dropped."""
-    if ";" in line:
-        return [f.strip().strip("\"'").replace(",", ".") for f in line.split(";")]
-    if "," in line:
-        return [f.strip().strip("\"'") for f in line.split(",")]
-    return line.split()
-
-
-def _rms_table(p: Path, lines: list[str]) -> tuple[str, _Table]:
+def _rms_table(p: Path, lines: list[str]) -> tuple[str, TextTable]:
     """The well name and the rows of an RMS well file; the header names are the coordinates'
     and the logs'."""
     if len(lines) < 4:
@@ -260,10 +209,12 @@ def _rms_table(p: Path, lines: list[str]) -> tuple[str, _Table]:
             numbers.append(number)
     if not rows:
         raise InputError(f"{p}: no data lines after the {logs} logs (expected x y z and the logs per line)")
-    return well, _Table(names, 4, rows, numbers)
+    return well, TextTable(names, 4, rows, numbers)
 
 
-def _columns(p: Path, table: _Table, width: int, columns: Mapping[str, str | int] | None) -> dict[str, int]:
+def _columns(
+    p: Path, table: TextTable, width: int, columns: Mapping[str, str | int] | None
+) -> dict[str, int]:
     """The 0-based positions of x, y, z and (if any) md."""
     given = dict(columns or {})
     unknown = sorted(set(given) - set(COLUMN_NAMES))
@@ -315,7 +266,7 @@ def _columns(p: Path, table: _Table, width: int, columns: Mapping[str, str | int
     return cols
 
 
-def _numbers(p: Path, table: _Table, width: int, used: list[int]) -> tuple[FloatArray, np.ndarray]:
+def _numbers(p: Path, table: TextTable, width: int, used: list[int]) -> tuple[FloatArray, np.ndarray]:
     """The ``used`` columns of the rows as an (n, k) float array, and as their text; a row of
     another width or a used field that is not a number is one error naming its line."""
     for fields, number in zip(table.rows, table.lines, strict=True):
@@ -325,11 +276,6 @@ def _numbers(p: Path, table: _Table, width: int, used: list[int]) -> tuple[Float
     try:
         values = text.astype(np.float64)
     except ValueError:
-        for fields, number in zip(table.rows, table.lines, strict=True):
-            for column in used:
-                if not is_number(fields[column]):
-                    raise InputError(
-                        f"{p}: line {number}: field {column + 1} {fields[column]!r} is not a number"
-                    ) from None
-        raise
+        number, column, field = first_non_number(table.rows, table.lines, used)
+        raise InputError(f"{p}: line {number}: field {column + 1} {field!r} is not a number") from None
     return values, text
