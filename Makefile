@@ -58,6 +58,7 @@ bench: $(VENV)/.installed-run
 	$(BIN)/python bench/coarsen.py
 	$(BIN)/python bench/transmissibility.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
 	$(BIN)/python bench/flow_deck.py
+	$(BIN)/python bench/wells.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
 
 golden: $(VENV)/.installed-run
 	$(BIN)/python tests/regression/update_golden.py
