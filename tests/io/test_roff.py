@@ -84,7 +84,7 @@ def test_gridlib_reads_xtgeo_roff(tmp_path, local_deck):
 
 @pytest.mark.parametrize("binary", [True, False])
 def test_round_trip_with_subgrids_and_gaps(tmp_path, deck, binary):
-    """Vertical gaps (split 8 nodes, which xtgeo does not read) and subgrids round-trip
+    """Vertical gaps (split-8 nodes, which xtgeo 4 does not read) and subgrids round-trip
     through gridlib's own reader; xtgeo reads the subgrids of a file without gaps."""
     nx = deck.cart_dims[0]
     z = deck.zcorn_array().copy()
