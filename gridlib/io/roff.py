@@ -202,7 +202,10 @@ def _read(path: str | os.PathLike, filetype: str) -> dict[str, Any]:
         tags = roffio.read(_readable(Path(path)))
     except (*_READ_ERRORS, *_roffio_errors()) as exc:
         raise InputError(f"{path}: not a readable ROFF file ({exc})") from None
-    found = tags.get("filedata", {}).get("filetype")
+    filedata = tags.get("filedata")
+    found = filedata.get("filetype") if isinstance(filedata, dict) else None
+    if found is None:
+        raise InputError(f"{path}: not a ROFF {filetype} file (no filedata.filetype)")
     if found != filetype:
         raise InputError(f"{path}: a ROFF {found} file, not a {filetype} file")
     return tags
@@ -237,7 +240,11 @@ def read_roff_grid(path: str | os.PathLike) -> RoffGrid:
     """Read a ROFF grid (binary or ASCII) into a :class:`Deck` (z depth) and its subgrids."""
     tags = _read(path, "grid")
     nx, ny, nz = _dims(tags, path)
-    tr, sc = tags.get("translate", {}), tags.get("scale", {})
+    tr, sc = (
+        tags.get(t, {}) if isinstance(tags.get(t, {}), dict) else {"": None} for t in ("translate", "scale")
+    )
+    if "" in tr or "" in sc:
+        raise InputError(f"{path}: ROFF tag translate or scale is given more than once")
     off = np.array([float(tr.get(k, 0.0)) for k in ("xoffset", "yoffset", "zoffset")])
     scale = np.array([float(sc.get(k, 1.0)) for k in ("xscale", "yscale", "zscale")])
     nodes = (nx + 1) * (ny + 1) * (nz + 1)
@@ -304,6 +311,8 @@ def read_roff_parameter(path: str | os.PathLike) -> tuple[str, np.ndarray]:
     """The name and values (i fastest, k down; float64 or int32) of a ROFF parameter file's
     (first) parameter; undefined values stay -999.0 / -999 (255 for bytes)."""
     tags = _read(path, "parameter")
+    if isinstance(tags.get("parameter"), list):  # several parameters: the first
+        tags = {**tags, "parameter": tags["parameter"][0]}
     nx, ny, nz = _dims(tags, path)
     name = str(_need(tags, path, "parameter", "name"))
     raw = _need(tags, path, "parameter", "data")

@@ -123,6 +123,21 @@ def test_parameter_both_ways(tmp_path, deck):
         np.testing.assert_array_equal(got, np.where(deck.actnum == 1, values, -999))
 
 
+def test_first_of_several_parameters(tmp_path):
+    import roffio
+
+    path = tmp_path / "two.roff"
+    one = [("dimensions", {"nX": 1, "nY": 2, "nZ": 2}), ("filedata", {"filetype": "parameter"})]
+    data = [
+        ("parameter", {"name": n, "data": np.array(v, np.float32)})
+        for n, v in (("A", [1, 2, 3, 4]), ("B", [5] * 4))
+    ]
+    roffio.write(path, one + data)
+    name, values = read_roff_parameter(path)  # ROFF (i, j, k up) -> i fastest, k down
+    assert name == "A"
+    np.testing.assert_array_equal(values, [2.0, 4.0, 1.0, 3.0])
+
+
 def test_damaged_and_wrong_files(tmp_path, deck):
     good = tmp_path / "g.roff"
     write_roff_grid(good, deck)
