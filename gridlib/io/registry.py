@@ -3,7 +3,7 @@ object it reads or writes, its file suffixes and its reader and writer; :func:`r
 :func:`write` pick the format from the kind and the suffix of the path.
 
 Kinds: ``grid`` (a gridlib grid: netCDF, VTU), ``geometry`` (a grid's geometry, netCDF),
-``deck`` (a corner-point deck: GRDECL text, EGRID), ``surface`` (one horizon on a regular
+``deck`` (a corner-point deck: GRDECL text, EGRID, ROFF), ``surface`` (one horizon on a regular
 lattice: netCDF, IRAP classic ASCII), ``points`` (scattered picks: text), ``sticks`` (a
 fault's sticks: text), ``well_path`` (a well's trajectory: text, CSV or RMS well files),
 ``cube`` (a property cube, netCDF) and ``horizons`` (a horizons dataset, netCDF). IRAP, point,
@@ -75,6 +75,7 @@ BUILTIN_FORMATS = (
         _IO + "grdecl:write_grdecl",
     ),
     Format("egrid", "deck", (".egrid", ".fegrid"), _IO + "egrid:read_egrid"),
+    Format("roff", "deck", (".roff", ".roffasc"), _IO + "roff:read_roff_deck", _IO + "roff:write_roff_grid"),
     Format("netcdf", "surface", (".nc",), _IO + "horizon_files:read_surface_netcdf"),
     Format("irap", "surface", (ANY_SUFFIX,), _IO + "irap:read_irap_surface", _IO + "irap:write_irap"),
     Format("text", "points", (ANY_SUFFIX,), _IO + "horizon_files:read_points"),
