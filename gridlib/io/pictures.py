@@ -92,7 +92,10 @@ def render_grid(
         opacity=0.45 if wells else 1.0,
     )
     if faults.n_cells:
-        plotter.add_mesh(faults.scale(scale, inplace=False), color="red", line_width=3, opacity=0.8)
+        # the faults' file stores elevation (vtk_points): only the exaggeration is left to apply
+        plotter.add_mesh(
+            faults.scale((1.0, 1.0, exaggeration), inplace=False), color="red", line_width=3, opacity=0.8
+        )
     _add_wells(plotter, wells, scale, (float(mesh.bounds[4]), float(mesh.bounds[5])))
     plotter.add_text(title, font_size=12)
     if griddim == 2 or span[2] == 0:

@@ -11,8 +11,11 @@ each array in blocks of 1 MiB, each block deflated at level 1), which every VTK 
 ParaView and pyvista decompress to the exact values; ``compress=False`` writes them raw.
 Cell data: every array with one row per cell, scalar or vector.
 
-Note that z is depth: in ParaView, flip the z axis (scale z by -1) to see the
-model the right way up.
+Orientation: gridlib's z is depth (positive down); every VTK file gridlib writes (this
+module's grids, :mod:`.vtp`'s faults and well paths) stores elevation instead,
+``z_vtk = -depth`` (:func:`vtk_points`, the one place of that transform), so ParaView shows the
+model the right way up. The reflection turns each face's cycle around, so the faces of
+``VTK_POLYHEDRON`` cells are written in the reverse order of gridlib's to stay outward.
 """
 
 from __future__ import annotations
@@ -50,6 +53,16 @@ _VTK_TYPES = {
 }
 
 
+def vtk_points(coords: np.ndarray) -> np.ndarray:
+    """VTK points (n, 3) of gridlib coordinates (n, 2) or (n, 3) (z depth, positive down):
+    x, y kept, z the elevation ``-depth`` (z = 0 for planar coordinates)."""
+    coords = np.asarray(coords, dtype=np.float64)
+    points = np.zeros((len(coords), 3))
+    points[:, : coords.shape[1]] = coords
+    points[:, 2] = -points[:, 2]
+    return points
+
+
 def polyhedron_block(
     grid: Grid, first: int, stop: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -75,7 +88,7 @@ def polyhedron_block(
     stream[count_at] = n
     local = ragged_arange(np.zeros(cf.size, dtype=np.int64), n)
     hf_rep = np.repeat(np.arange(cf.size), n)
-    fwd = np.repeat(outward, n)
+    fwd = np.repeat(~outward, n)  # reversed: vtk_points reflects z (see the module's docstring)
     src = npos[cf][hf_rep] + np.where(fwd, local, n[hf_rep] - 1 - local)
     nodes = grid.faces.nodes[src]
     stream[np.repeat(count_at + 1, n) + local] = nodes
@@ -151,7 +164,8 @@ def write_vtu(
     *,
     compress: bool = True,
 ) -> Path:
-    """Write ``grid`` with its cell data to a .vtu file (atomically), zlib-compressed unless
+    """Write ``grid`` with its cell data to a .vtu file (atomically), z as elevation
+    (:func:`vtk_points`), zlib-compressed unless
     ``compress`` is False. Polyhedra are laid out block of cells by block of cells, and only
     the compressed arrays are held: the memory beyond the grid is about the compressed file."""
     data = {}
@@ -164,8 +178,7 @@ def write_vtu(
         if arr.dtype not in _VTK_TYPES:
             raise GridError(f"write_vtu: cell data '{name}' has unsupported type {arr.dtype}")
         data[name] = arr
-    coords = grid.nodes.coords
-    points = coords if coords.shape[1] == 3 else np.column_stack([coords, np.zeros(len(coords))])
+    points = vtk_points(grid.nodes.coords)
     # (section, name, VTK type, components, bytes)
     arrays: list[tuple[str, str, str, int, list[bytes]]] = []
 

@@ -294,6 +294,8 @@ def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
     )
     if "vtu" in outputs:
         vtu_data = {"volume": geo.cell_volumes, "centroid": geo.cell_centroids, **g.cell_data}
+        if geo.cell_centroids.shape[1] == 3:  # the VTU's z is elevation: depth kept as cell data
+            vtu_data["depth"] = geo.cell_centroids[:, 2]
         if grid.layering is not None:
             vtu_data |= {"layer": grid.layering.layer, "column": grid.layering.column}
         write_vtu(outputs["vtu"], grid, vtu_data)

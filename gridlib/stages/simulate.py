@@ -35,6 +35,7 @@ import numpy as np
 from ..case.simulation import case_simulation
 from ..config import Case
 from ..errors import InputError
+from ..geometry import compute_geometry
 from ..io.atomic import atomic_path
 from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_restart_cells, read_summary
 from ..io.netcdf import read_netcdf
@@ -229,11 +230,13 @@ def wells_figure(summary: FlowSummary, title: str, units: UnitSystem):
 def write_result_vtu(
     path: Path, case_base: Path, grid_nc: str | os.PathLike, transmissibility_nc: str | os.PathLike, summary
 ) -> None:
-    """The case's grid with Flow's PRESSURE and SWAT of every report step, per grid cell."""
+    """The case's grid with Flow's PRESSURE and SWAT of every report step, per grid cell, and
+    its cells' centroid ``depth`` (the VTU's z is elevation: :func:`gridlib.io.vtu.vtk_points`)."""
     grid = read_netcdf(grid_nc).grid
     variables, _ = read_transmissibility(transmissibility_nc)
     position = active_positions(Path(f"{case_base}.EGRID"), variables["cell_flow_index"].values)
-    data: dict[str, np.ndarray] = {}
+    centroids = compute_geometry(grid).cell_centroids
+    data: dict[str, np.ndarray] = {"depth": centroids[:, 2]} if centroids.shape[1] == 3 else {}
     days = [0.0] + [float(t) for t in summary.time[summary.report]]
     for key, label in (("PRESSURE", "pressure"), ("SWAT", "swat")):
         try:

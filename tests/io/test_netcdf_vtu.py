@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import pyvista as pv
@@ -228,3 +230,22 @@ def test_vtu_written_in_cell_blocks_is_the_same_file(tmp_path, monkeypatch, comp
     monkeypatch.setattr(vtu, "BLOCK_BYTES", 100)  # many zlib blocks, a partial last one
     mesh = pv.read(write_vtu(tmp_path / "small.vtu", g, data, compress=compress))
     assert mesh.cell_data["a"].tobytes() == data["a"].tobytes() and mesh.n_cells == g.num_cells
+
+
+def test_vtk_files_store_elevation_and_keep_outward_faces(tmp_path):
+    """z_vtk = -depth in the VTU: an anticline's crest (shallowest cell) is the highest in VTK,
+    and the reflected polyhedra still have positive volumes (faces outward)."""
+    g = gl.cart_grid([5, 5, 2], [2.0, 2.0, 1.0])
+    xy = g.nodes.coords[:, :2] - 1.0
+    coords = g.nodes.coords.copy()
+    coords[:, 2] += 1000.0 + 0.1 * (xy**2).sum(axis=1)  # deeper away from the centre: an anticline
+    g = dataclasses.replace(g, nodes=dataclasses.replace(g.nodes, coords=coords))
+    geo = gl.compute_geometry(g)
+    write_vtu(tmp_path / "a.vtu", g, {"depth": geo.cell_centroids[:, 2]})
+    mesh = pv.read(tmp_path / "a.vtu")
+    np.testing.assert_array_equal(mesh.points[:, 2], -coords[:, 2])
+    crest = np.argmin(mesh.cell_data["depth"])
+    assert np.argmax(mesh.cell_centers().points[:, 2]) == crest
+    volumes = mesh.compute_cell_sizes(length=False, area=False, volume=True).cell_data["Volume"]
+    np.testing.assert_allclose(volumes, geo.cell_volumes, rtol=1e-9)
+    assert volumes.min() > 0

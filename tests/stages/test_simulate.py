@@ -189,6 +189,7 @@ def test_the_pebi_case_runs_to_its_end_and_conserves_water(built):
     assert outputs["wells"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     mesh = pv.read(outputs["vtu"])
     assert mesh.n_cells == json.loads((folder / "summary.json").read_text())["cells"]
+    assert mesh.cell_data["depth"].min() > 0 and mesh.bounds[5] < 0  # depth kept, z elevation
     swat = mesh.cell_data["swat_900d"]
     assert swat.max() > 0.5 and abs(swat.min() - 0.2) < 1e-3  # flooded near the injector, connate elsewhere
     np.testing.assert_allclose(mesh.cell_data["swat_0d"][mesh.cell_data["pressure_0d"] > 0].min(), 0.2)

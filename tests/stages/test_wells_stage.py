@@ -144,6 +144,9 @@ def test_the_exports_draw_and_count_the_wells(built):
     np.testing.assert_array_equal(
         vtp.point_data["md"], np.concatenate([p.md for w in written for p in w.paths])
     )
+    depth = np.concatenate([p.xyz[:, 2] for w in written for p in w.paths])
+    np.testing.assert_array_equal(vtp.point_data["depth"], depth)
+    np.testing.assert_array_equal(vtp.points[:, 2], -depth)  # the file's z is elevation
     summary = json.loads(Path(paths["summary"]).read_text())["trajectory_wells"]
     for w in written:
         assert summary[w.name] == {
