@@ -291,24 +291,22 @@ def serve() -> None:
         listener.close()
         with contextlib.suppress(OSError):
             os.unlink(path)
-        while _reap(block=True):
-            pass
+        _reap(block=True)
 
 
 def _reap(block: bool = False) -> bool:
     """Collect the ended children (so that their CPU time counts as the server's children's, as
-    a job's did as Snakemake's); True if one was collected or, with ``block``, some remain."""
+    a job's did as Snakemake's); with ``block``, wait until every child has ended. True if one
+    was collected."""
     collected = False
     while True:
         try:
             pid, _ = os.waitpid(-1, 0 if block else os.WNOHANG)
-        except ChildProcessError:
+        except ChildProcessError:  # no child left
             return collected
-        if pid == 0:
+        if pid == 0:  # children left, none ended yet (without block)
             return collected
         collected = True
-        if block:
-            return True
 
 
 def preload_modules(stages: Iterable[str] | None = None, preload: Sequence[str] = PRELOAD) -> list[str]:
