@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..connectivity import half_face_cells, ragged_arange
-from ..cornerpoint.corners import corner_points, depth_sign
+from ..cornerpoint.corners import corner_points
 from ..cornerpoint.deck import Deck
 from ..grid import B, E, FloatArray, Grid, N, S, T, W
 from .hexahedra import EDGE_TOLERANCE
@@ -30,12 +30,24 @@ _BLOCK = 1 << 16  # cells per block of corners: (block, 8, 3) float64 = 12 MiB
 def deck_corners(deck: Deck, cells: ArrayLike | None = None) -> FloatArray:
     """Corners (n, 8, 3) of ``cells`` (linear indices, i fastest; default: every cell)."""
     g = np.arange(deck.num_cells) if cells is None else np.asarray(cells, dtype=np.int64).ravel()
-    sign = depth_sign(deck)
+    sign = _depth_sign(deck)
     out = np.empty((g.size, 8, 3))
     with np.errstate(invalid="ignore"):  # inactive cells may hold junk
         for s in range(0, g.size, _BLOCK):
             out[s : s + _BLOCK] = corner_points(deck, g[s : s + _BLOCK], sign)
     return out
+
+
+def _depth_sign(deck: Deck) -> int:
+    """-1 for a z-up deck (most active cells have their bottom above their top), else 1:
+    :func:`~gridlib.cornerpoint.corners.depth_sign`'s vote, without its refusal of cells of
+    negative thickness, which are measured here."""
+    nx, ny, nz = deck.cart_dims
+    zc = deck.zcorn_array()
+    act = np.repeat(np.repeat(deck.active.reshape(nz, ny, nx), 2, axis=1), 2, axis=2)
+    with np.errstate(invalid="ignore"):
+        dz = (zc[1::2] - zc[0::2])[act]
+    return -1 if np.count_nonzero(dz < 0) > np.count_nonzero(dz > 0) else 1
 
 
 def deck_faulted(deck: Deck) -> FloatArray:
