@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 from ..connectivity import half_face_cells, ragged_arange
 from ..geometry import Geometry
 from ..grid import FloatArray, Grid
-from ..orientation import grid_face_angles
+from ..orientation import checked_perm, face_vectors, largest_angles
 
 _BLOCK = 1 << 18  # face nodes per block
 
@@ -38,13 +38,19 @@ def cell_max(num_cells: int, cells: np.ndarray, values: np.ndarray) -> FloatArra
 def orientation_errors(
     grid: Grid, geometry: Geometry, centres: ArrayLike | None = None, perm: ArrayLike | None = None
 ) -> tuple[FloatArray, FloatArray | None]:
-    """(orientation_error, k_orientation_error or None without ``perm``) per cell."""
-    fa = grid_face_angles(grid, geometry, centres, perm)
-    nb = grid.faces.neighbors[fa.faces]
-    cells = nb.ravel()
-    plain = cell_max(grid.num_cells, cells, np.repeat(fa.angles, 2))
-    k = None if fa.k_angles is None else cell_max(grid.num_cells, cells, np.repeat(fa.k_angles, 2))
-    return plain, k
+    """(orientation_error, k_orientation_error or None without ``perm``) per cell: the largest
+    of :func:`gridlib.orientation.face_angles`'s angles over each cell's measured faces."""
+    x = geometry.cell_centroids if centres is None else np.asarray(centres, dtype=np.float64)
+    nc = grid.num_cells
+    faces, n, d = face_vectors(grid.faces.neighbors, geometry.face_normals, x)
+    pair = grid.faces.neighbors[faces]  # each face counts for both its cells
+    plain = largest_angles(n, d, pair, nc)
+    if perm is None:
+        return plain, None
+    k = checked_perm(perm, x.shape)
+    kn = np.concatenate([k[pair[:, 0]] * n, k[pair[:, 1]] * n])  # each side's K n
+    k_err = largest_angles(kn, np.concatenate([d, d]), np.concatenate([pair, pair]), nc)
+    return plain, k_err
 
 
 def aspect_ratio(grid: Grid, geometry: Geometry) -> FloatArray:
