@@ -45,14 +45,11 @@ from ..orientation import largest_angles, vector_angles
 
 EDGE_TOLERANCE = 1e-5  # xtgeo's FLOATEPS, in the grid's length unit
 
-# The quadrilaterals as corner cycles (corner a + 2b + 4c).
-TOP_BASE = ((0, 1, 3, 2), (4, 5, 7, 6))
-SIDES = ((4, 5, 1, 0), (5, 7, 3, 1), (6, 4, 0, 2), (7, 6, 2, 3))  # south, east, west, north
 NAMES = (
     "minangle_topbase", "maxangle_topbase", "minangle_topbase_proj", "maxangle_topbase_proj",
     "minangle_sides", "maxangle_sides", "collapsed", "negative_thickness", "concave_proj", "twist",
 )  # fmt: skip
-_BLOCK = 1 << 15  # cells per block: the (block, 16, 3) temporaries stay small
+_BLOCK = 1 << 15  # cells per block: the (3, block, 2, 2, 2) temporaries stay small
 
 
 def _dot(u: FloatArray, w: FloatArray) -> FloatArray:
@@ -63,29 +60,63 @@ def _dot(u: FloatArray, w: FloatArray) -> FloatArray:
     return out
 
 
-def _quad_angles(ct: FloatArray, cycles: tuple[tuple[int, ...], ...]) -> tuple[FloatArray, FloatArray]:
-    """(min, max) over the corner angles of the quadrilaterals ``cycles`` of the cells ``ct``
-    (components first: (3, n, 8)); (0, 180) where an edge is shorter than
+def _edges(ct: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The twelve edges of the cells ``ct`` ((d, n, 8), components first): i edges (d, n, c, b)
+    from corner (0, b, c) to (1, b, c), j edges (d, n, c, a), k edges (d, n, b, a)."""
+    r = ct.reshape(ct.shape[0], ct.shape[1], 2, 2, 2)  # (d, n, c, b, a)
+    return r[..., 1] - r[..., 0], r[:, :, :, 1] - r[:, :, :, 0], r[:, :, 1] - r[:, :, 0]
+
+
+def _corner_sets(ct: FloatArray, sides: bool) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """The corners of the quadrilaterals as (e1 (d, n, X, Y, 1), e2 (d, n, X, 1, Z), sign (X, Y,
+    Z)): corner (x, y, z)'s angle is the one between e1[x, y] and sign * e2[x, z] (edges
+    pointing away from the corner). Top and base: x = c, y = b, z = a; sides: south and north
+    (x = b, y = c, z = a), west and east (x = a, y = c, z = b)."""
+    ei, ej, ek = _edges(ct)
+    away = np.array([1.0, -1.0])
+    sign = away[None, :, None] * away[None, None, :]  # (1 - 2y)(1 - 2z)
+    if not sides:
+        return [(ei[..., None], ej[:, :, :, None, :], sign)]
+    return [
+        (ei.transpose(0, 1, 3, 2)[..., None], ek[:, :, :, None, :], sign),
+        (ej.transpose(0, 1, 3, 2)[..., None], ek.transpose(0, 1, 3, 2)[:, :, :, None, :], sign),
+    ]
+
+
+def _quad_angles(ct: FloatArray, sides: bool) -> tuple[FloatArray, FloatArray]:
+    """(min, max) over the corner angles of the top and base (or the four sides) of the cells
+    ``ct`` ((d, n, 8), components first); (0, 180) where an edge is shorter than
     :data:`EDGE_TOLERANCE`. The corners of largest and smallest cosine are found first; only
     their two angles are computed."""
-    prev = [cyc[m - 1] for cyc in cycles for m in range(4)]
-    at = [v for cyc in cycles for v in cyc]
-    nxt = [cyc[(m + 1) % 4] for cyc in cycles for m in range(4)]
-    u = ct[:, :, prev] - ct[:, :, at]  # (3, n, m)
-    w = ct[:, :, nxt] - ct[:, :, at]
-    lu = np.sqrt(_dot(u, u))
-    lw = np.sqrt(_dot(w, w))
-    short = ((lu < EDGE_TOLERANCE) | (lw < EDGE_TOLERANCE)).any(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        cos = _dot(u, w) / (lu * lw)
-    cos[np.isnan(cos)] = 0.0  # zero edges: the row is short, its angles (0, 180)
-    rows = np.arange(ct.shape[1])
-    small, large = cos.argmax(axis=1), cos.argmin(axis=1)
-    lo = vector_angles(u[:, rows, small].T, w[:, rows, small].T)
-    hi = vector_angles(u[:, rows, large].T, w[:, rows, large].T)
+    sets = _corner_sets(ct, sides)
+    n = ct.shape[1]
+    cos, short = [], np.zeros(n, dtype=bool)
+    for e1, e2, sign in sets:
+        l1, l2 = np.sqrt(_dot(e1, e1)), np.sqrt(_dot(e2, e2))
+        short |= (l1 < EDGE_TOLERANCE).reshape(n, -1).any(axis=1) | (l2 < EDGE_TOLERANCE).reshape(n, -1).any(
+            axis=1
+        )
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cos.append((sign * _dot(e1, e2) / (l1 * l2)).reshape(n, 8))
+    c = np.concatenate(cos, axis=1) if len(cos) > 1 else cos[0]
+    c[np.isnan(c)] = 0.0  # zero edges: the row is short, its angles (0, 180)
+    lo = _angles_at(sets, c.argmax(axis=1))
+    hi = _angles_at(sets, c.argmin(axis=1))
     lo[short] = 0.0
     hi[short] = 180.0
     return lo, hi
+
+
+def _angles_at(sets: list[tuple[FloatArray, FloatArray, FloatArray]], corner: np.ndarray) -> FloatArray:
+    """The angle at ``corner`` (an index into the sets' corners, 8 per set) of every cell."""
+    d, n = sets[0][0].shape[:2]
+    u, w = np.empty((n, d)), np.empty((n, d))
+    for s, (e1, e2, _sign) in enumerate(sets):
+        rows = np.flatnonzero(corner // 8 == s)
+        x, y, z = np.unravel_index(corner[rows] % 8, (2, 2, 2))
+        u[rows] = e1[:, rows, x, y, 0].T
+        w[rows] = (e2[:, rows, x, 0, z] * ((1 - 2 * y) * (1 - 2 * z))).T  # the sign
+    return vector_angles(u, w)
 
 
 def _inside_triangles(p: FloatArray, tri: FloatArray) -> np.ndarray:
@@ -163,9 +194,9 @@ def hexahedron_quality(corners: FloatArray) -> dict[str, FloatArray]:
 def _block_quality(c: FloatArray) -> dict[str, FloatArray]:
     out: dict[str, FloatArray] = {}
     ct = np.ascontiguousarray(c.transpose(2, 0, 1))  # (3, n, 8)
-    out["minangle_topbase"], out["maxangle_topbase"] = _quad_angles(ct, TOP_BASE)
-    out["minangle_topbase_proj"], out["maxangle_topbase_proj"] = _quad_angles(ct[:2], TOP_BASE)
-    out["minangle_sides"], out["maxangle_sides"] = _quad_angles(ct, SIDES)
+    out["minangle_topbase"], out["maxangle_topbase"] = _quad_angles(ct, sides=False)
+    out["minangle_topbase_proj"], out["maxangle_topbase_proj"] = _quad_angles(ct[:2], sides=False)
+    out["minangle_sides"], out["maxangle_sides"] = _quad_angles(ct, sides=True)
     thick = c[:, 4:, 2] - c[:, :4, 2]
     out["collapsed"] = (np.abs(thick) < EDGE_TOLERANCE).any(axis=1).astype(np.float64)
     out["negative_thickness"] = (thick < 0.0).any(axis=1).astype(np.float64)
