@@ -63,20 +63,16 @@ def vector_angles(u: ArrayLike, v: ArrayLike) -> FloatArray:
     v = np.asarray(v, dtype=np.float64)
     if u.shape != v.shape or u.ndim != 2 or u.shape[1] not in (2, 3):
         raise GridError(f"vector_angles: expected two (n, 2) or (n, 3) arrays, got {u.shape} and {v.shape}")
-    dot = (u * v).sum(axis=1)
+    dot = _row_dot(u, v)  # the bits of (u * v).sum(axis=1), component by component: faster
     if u.shape[1] == 2:
         sine = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
     else:
-        c = np.stack(
-            [
-                u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
-                u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
-                u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0],
-            ]
-        )
-        sine = np.sqrt((c * c).sum(axis=0))
+        c0 = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+        c1 = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+        c2 = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        sine = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
     out = arctan2(sine, dot) * _RAD_TO_DEG
-    zero = ~(np.abs(u).max(axis=1) > 0) | ~(np.abs(v).max(axis=1) > 0)
+    zero = ~_nonzero_rows(u) | ~_nonzero_rows(v)
     return np.where(zero, np.nan, out)
 
 
@@ -116,7 +112,7 @@ def face_vectors(
     finite = np.append(np.isfinite(x).all(axis=1), False)  # [-1]: outside
     faces = np.flatnonzero(finite[nb[:, 0]] & finite[nb[:, 1]])
     nf, d = n[faces], x[nb[faces, 1]] - x[nb[faces, 0]]
-    kept = (np.abs(nf).max(axis=1, initial=0.0) > 0) & (np.abs(d).max(axis=1, initial=0.0) > 0)
+    kept = _nonzero_rows(nf) & _nonzero_rows(d)
     return faces[kept], nf[kept], d[kept]
 
 
@@ -139,6 +135,14 @@ def face_angles(
         a, b = nb[faces, 0], nb[faces, 1]
         k_angles = np.fmax(vector_angles(k[a] * nf, d), vector_angles(k[b] * nf, d))
     return FaceAngles(faces, angles, k_angles)
+
+
+def _nonzero_rows(u: FloatArray) -> np.ndarray:
+    """Rows of ``u`` with a component that is not 0 (NaN counts as not 0)."""
+    out = u[:, 0] != 0
+    for i in range(1, u.shape[1]):
+        out |= u[:, i] != 0
+    return out
 
 
 def _row_dot(u: FloatArray, v: FloatArray) -> FloatArray:
