@@ -93,9 +93,7 @@ def _quad_angles(ct: FloatArray, sides: bool) -> tuple[FloatArray, FloatArray]:
     cos, short = [], np.zeros(n, dtype=bool)
     for e1, e2, sign in sets:
         l1, l2 = np.sqrt(_dot(e1, e1)), np.sqrt(_dot(e2, e2))
-        short |= (l1 < EDGE_TOLERANCE).reshape(n, -1).any(axis=1) | (l2 < EDGE_TOLERANCE).reshape(n, -1).any(
-            axis=1
-        )
+        short |= ((l1 < EDGE_TOLERANCE) | (l2 < EDGE_TOLERANCE)).reshape(n, -1).any(axis=1)
         with np.errstate(invalid="ignore", divide="ignore"):
             cos.append((sign * _dot(e1, e2) / (l1 * l2)).reshape(n, 8))
     c = np.concatenate(cos, axis=1) if len(cos) > 1 else cos[0]
