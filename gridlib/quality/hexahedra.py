@@ -52,7 +52,7 @@ NAMES = (
 _BLOCK = 1 << 15  # cells per block: the (3, block, 2, 2, 2) temporaries stay small
 
 
-def _dot(u: FloatArray, w: FloatArray) -> FloatArray:
+def dot_components(u: FloatArray, w: FloatArray) -> FloatArray:
     """Sum over the first axis of u * w (components first: contiguous, fast)."""
     out = u[0] * w[0]
     for i in range(1, u.shape[0]):
@@ -92,10 +92,10 @@ def _quad_angles(ct: FloatArray, sides: bool) -> tuple[FloatArray, FloatArray]:
     n = ct.shape[1]
     cos, short = [], np.zeros(n, dtype=bool)
     for e1, e2, sign in sets:
-        l1, l2 = np.sqrt(_dot(e1, e1)), np.sqrt(_dot(e2, e2))
+        l1, l2 = np.sqrt(dot_components(e1, e1)), np.sqrt(dot_components(e2, e2))
         short |= ((l1 < EDGE_TOLERANCE) | (l2 < EDGE_TOLERANCE)).reshape(n, -1).any(axis=1)
         with np.errstate(invalid="ignore", divide="ignore"):
-            cos.append((sign * _dot(e1, e2) / (l1 * l2)).reshape(n, 8))
+            cos.append((sign * dot_components(e1, e2) / (l1 * l2)).reshape(n, 8))
     c = np.concatenate(cos, axis=1) if len(cos) > 1 else cos[0]
     c[np.isnan(c)] = 0.0  # zero edges: the row is short, its angles (0, 180)
     lo = _angles_at(sets, c.argmax(axis=1))
