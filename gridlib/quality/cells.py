@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 from ..connectivity import half_face_cells
 from ..geometry import Geometry
 from ..grid import FloatArray, Grid
-from ..orientation import checked_perm, face_vectors, largest_angles, smallest_cosine_rows, vector_angles
+from ..orientation import checked_perm, face_vectors, smallest_cosine_rows, vector_angles
 from .hexahedra import dot_components
 
 _BLOCK = 1 << 18  # face nodes per block
@@ -46,12 +46,17 @@ def orientation_errors(
     nc = grid.num_cells
     faces, n, d = face_vectors(grid.faces.neighbors, geometry.face_normals, x)
     pair = grid.faces.neighbors[faces]  # each face counts for both its cells
-    plain = largest_angles(n, d, pair, nc)
+    nt, dt = np.ascontiguousarray(n.T), np.ascontiguousarray(d.T)  # components first: fast
+    d_len = np.sqrt(dot_components(dt, dt))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = dot_components(nt, dt) / (np.sqrt(dot_components(nt, nt)) * d_len)
+    row = smallest_cosine_rows(cos, pair, nc)
+    plain = np.full(nc, np.nan)
+    some = row >= 0
+    plain[some] = vector_angles(n[row[some]], d[row[some]])
     if perm is None:
         return plain, None
     k = checked_perm(perm, x.shape)
-    nt, dt = np.ascontiguousarray(n.T), np.ascontiguousarray(d.T)  # components first: fast
-    d_len = np.sqrt(dot_components(dt, dt))
     cos = []
     for side in (0, 1):  # K n of each side of the face, for both its cells
         kn = np.ascontiguousarray(k[pair[:, side]].T) * nt
