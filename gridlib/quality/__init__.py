@@ -77,7 +77,6 @@ def cell_quality(
     (:func:`~gridlib.quality.corners.grid_corners`) and ``faulted`` marks the cells with a
     face on a fault (``faces.tag > 0``).
     """
-    nc = grid.num_cells
     if deck is not None:
         if grid.cells.index_map is None or grid.cart_dims != deck.cart_dims:
             raise GridError(
@@ -98,9 +97,7 @@ def cell_quality(
         out["k_orientation_error"] = k
     out["aspect_ratio"] = aspect_ratio(grid, geometry)
     out["face_nonplanarity"] = cell_face_nonplanarity(grid, geometry)
-    order = [m.name for m in MEASURES if m.name in out]
-    assert all(out[name].shape == (nc,) for name in order)
-    return {name: out[name] for name in order}
+    return {m.name: out[m.name] for m in MEASURES if m.name in out}
 
 
 def deck_quality(deck: Deck) -> dict[str, FloatArray]:
