@@ -172,6 +172,8 @@ def smallest_cosine_rows(cos: ArrayLike, groups: ArrayLike, num_groups: int) -> 
 
 
 def checked_perm(perm: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
+    """``perm`` as float64 of ``shape`` (one diagonal (kx, ky[, kz]) per cell), finite and >= 0;
+    a GridError for a wrong shape, an InputError naming the first bad cell."""
     k = np.asarray(perm, dtype=np.float64)
     if k.shape != shape:
         raise GridError(f"face_angles: expected perm {shape} (kx, ky[, kz] per cell), got {k.shape}")
