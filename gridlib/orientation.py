@@ -109,10 +109,16 @@ def face_vectors(
         raise GridError(
             f"face_angles: neighbors name cell {int(nb.max())}, but there are {x.shape[0]} centres"
         )
-    finite = np.append(np.isfinite(x).all(axis=1), False)  # [-1]: outside
+    finite = np.isfinite(x[:, 0])
+    for i in range(1, x.shape[1]):
+        finite &= np.isfinite(x[:, i])
+    finite = np.append(finite, False)  # [-1]: outside
     faces = np.flatnonzero(finite[nb[:, 0]] & finite[nb[:, 1]])
-    nf, d = n[faces], x[nb[faces, 1]] - x[nb[faces, 0]]
+    every = faces.size == nb.shape[0]  # then no copies of the normals
+    nf, d = (n if every else n[faces]), x[nb[faces, 1]] - x[nb[faces, 0]]
     kept = _nonzero_rows(nf) & _nonzero_rows(d)
+    if kept.all():
+        return faces, nf, d
     return faces[kept], nf[kept], d[kept]
 
 
