@@ -198,9 +198,10 @@ STAGES: tuple[Stage, ...] = (
         (
             Artifact("png", "{case}.png", report=Report("grid.rst", PICTURES)),
             Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
+            Artifact("plan", "{case}_plan.png", report=Report("plan.rst", PICTURES)),
         ),
         mem_mb=2000,
-        doc="The pictures of a QC slide: the 3-D view and histograms of the grid.",
+        doc="The pictures of a QC slide: the 3-D view, histograms and plan view of the grid.",
     ),
     Stage(
         "flow_deck",

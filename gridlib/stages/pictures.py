@@ -4,7 +4,13 @@
 * ``{case}.png``: the grid in 3-D, coloured by porosity (else depth, else cell volume), the
   fault faces and the deviated wells' paths (:func:`gridlib.io.pictures.render_grid`);
 * ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's Fig. 3.33)
-  and log10 T (:func:`gridlib.io.pictures.plot_histograms`).
+  and log10 T (:func:`gridlib.io.pictures.plot_histograms`);
+* ``{case}_plan.png``: the plan view, the top's depth contoured with the fault traces and the
+  wells (:mod:`gridlib.io.plan_view`).
+
+The wells drawn are the case's (``wells``): a vertical well at its ``point``, a PEBI grid's
+refining well along its plan-view ``path`` (at the grid's top), and the trajectory and survey
+wells of ``wells.nc``.
 
 Every picture labels its axes and colour bars with the case's units (``unit_system`` of the
 grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the one style of
@@ -24,10 +30,13 @@ from ..geometry import Geometry
 from ..grid import Grid
 from ..io.netcdf import read_cell_geometry, read_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.picture_style import quantity_label
 from ..io.pictures import plot_histograms, render_grid
+from ..io.plan_view import plot_plan
 from ..io.quantities import units_of
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import read_transmissibility
+from ..io.well_tracks import WellTrack, plan_track, record_tracks, vertical_track
 from ..io.wells_file import WellRecord, read_wells
 from ..units import UnitSystem
 from .common import log
@@ -63,11 +72,27 @@ class Scene:
             return "depth", self.geo.cell_centroids[:, 2]
         return "volume", self.geo.cell_volumes
 
+    def well_tracks(self, case: Case) -> tuple[WellTrack, ...]:
+        """The wells to draw: the case's vertical wells (over the grid's depth range) and its
+        PEBI grid's refining wells (at its top), then the deviated wells of ``wells.nc``."""
+        z = self.grid.nodes.coords[:, -1] if self.grid.dim == 3 else np.zeros(1)
+        depths = (float(z.min()), float(z.max()))
+        tracks = []
+        for well in case.data.get("wells", []):
+            if "point" in well:
+                tracks.append(vertical_track(well["name"], well["point"], depths))
+            elif "path" in well:
+                tracks.append(plan_track(well["name"], np.asarray(well["path"], dtype=float), depths[0]))
+        return (*tracks, *record_tracks(self.wells))
+
+    def quantity(self, name: str) -> tuple[str, str | None]:
+        """A cell quantity's name and unit in the case's units (:mod:`gridlib.io.quantities`;
+        None for a name it does not know)."""
+        return name, units_of([name], self.units, self.grid.griddim).get(name)
+
     def label(self, name: str) -> str:
-        """``name [unit]`` of a quantity gridlib knows (:mod:`gridlib.io.quantities`), in the
-        case's units; ``name`` alone for one it does not."""
-        unit = units_of([name], self.units, self.grid.griddim).get(name)
-        return name if unit is None else f"{name} [{unit}]"
+        """``name [unit]`` of a cell quantity (``name`` alone without a unit)."""
+        return quantity_label(*self.quantity(name))
 
 
 def read_scene(
@@ -112,10 +137,11 @@ def stage_pictures(
     wells: str | os.PathLike | None = None,
     png: str | os.PathLike,
     histograms: str | os.PathLike,
+    plan: str | os.PathLike,
 ) -> None:
     """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
     fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``
-    and ``wells``): ``png`` ({case}.png, the 3-D view) and ``histograms``."""
+    and ``wells``): ``png`` ({case}.png, the 3-D view), ``histograms`` and ``plan``."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
     scalar, values = scene.colouring()
     paths = [(r.name, [p.xyz for p in r.paths]) for r in scene.wells]
@@ -123,5 +149,17 @@ def stage_pictures(
     poro = None if scene.rock is None else scene.rock["poro"]
     plot_histograms(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
+    )
+    tracks = scene.well_tracks(case)
+    plot_plan(
+        plan,
+        scene.grid,
+        scene.geo,
+        length_unit=scene.units.length_label,
+        fault_names=scene.fault_names,
+        wells=tracks,
+        values=values,
+        quantity=scene.quantity(scalar),
+        title=case.name,
     )
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
