@@ -199,9 +199,15 @@ STAGES: tuple[Stage, ...] = (
             Artifact("png", "{case}.png", report=Report("grid.rst", PICTURES)),
             Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
             Artifact("plan", "{case}_plan.png", report=Report("plan.rst", PICTURES)),
+            Artifact(
+                "section",
+                "{case}_section.png",
+                when=lambda case: case.is_3d,
+                report=Report("section.rst", PICTURES),
+            ),
         ),
         mem_mb=2000,
-        doc="The pictures of a QC slide: the 3-D view, histograms and plan view of the grid.",
+        doc="The pictures of a QC slide: the grid in 3-D, its histograms, plan view and cross-section.",
     ),
     Stage(
         "flow_deck",

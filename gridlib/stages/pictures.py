@@ -5,8 +5,11 @@
   fault faces and the deviated wells' paths (:func:`gridlib.io.pictures.render_grid`);
 * ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's Fig. 3.33)
   and log10 T (:func:`gridlib.io.pictures.plot_histograms`);
-* ``{case}_plan.png``: the plan view, the top's depth contoured with the fault traces and the
-  wells (:mod:`gridlib.io.plan_view`).
+* ``{case}_plan.png``: the plan view, the top's depth contoured with the fault traces, the
+  wells and the section's line (:mod:`gridlib.io.plan_view`);
+* ``{case}_section.png`` (3-D grids): the cross-section along the case's ``pictures.section``,
+  else through the wells (:mod:`gridlib.io.cross_section`), coloured by porosity, else zone,
+  else layer, else depth.
 
 The wells drawn are the case's (``wells``): a vertical well at its ``point``, a PEBI grid's
 refining well along its plan-view ``path`` (at the grid's top), and the trajectory and survey
@@ -26,8 +29,10 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Case
+from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
+from ..io.cross_section import default_section, plot_section, well_heads
 from ..io.netcdf import read_cell_geometry, read_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.picture_style import quantity_label
@@ -35,6 +40,8 @@ from ..io.pictures import plot_histograms, render_grid
 from ..io.plan_view import plot_plan
 from ..io.quantities import units_of
 from ..io.rock_file import read_rock
+from ..io.section_cut import cut_grid
+from ..io.top_surface import top_surface
 from ..io.transmissibility_file import read_transmissibility
 from ..io.well_tracks import WellTrack, plan_track, record_tracks, vertical_track
 from ..io.wells_file import WellRecord, read_wells
@@ -138,10 +145,12 @@ def stage_pictures(
     png: str | os.PathLike,
     histograms: str | os.PathLike,
     plan: str | os.PathLike,
+    section: str | os.PathLike | None = None,
 ) -> None:
     """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
     fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``
-    and ``wells``): ``png`` ({case}.png, the 3-D view), ``histograms`` and ``plan``."""
+    and ``wells``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan`` and
+    ``section`` (3-D grids)."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
     scalar, values = scene.colouring()
     paths = [(r.name, [p.xyz for p in r.paths]) for r in scene.wells]
@@ -151,6 +160,9 @@ def stage_pictures(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
     tracks = scene.well_tracks(case)
+    line = section_line(case, scene, tracks) if section is not None else None
+    if section is not None:
+        draw_section(section, case, scene, tracks, line)
     plot_plan(
         plan,
         scene.grid,
@@ -161,5 +173,56 @@ def stage_pictures(
         values=values,
         quantity=scene.quantity(scalar),
         title=case.name,
+        section=line,
     )
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
+
+
+def section_line(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> np.ndarray:
+    """The case's ``pictures.section`` (k, 2), else the default line through its wells
+    (:func:`gridlib.io.cross_section.default_section`)."""
+    given = case.data.get("pictures", {}).get("section")
+    if given is not None:
+        return np.asarray(given, dtype=np.float64)[:, :2]
+    z = scene.grid.nodes.coords[:, 2]
+    xy = scene.grid.nodes.coords[:, :2]
+    heads = well_heads(tracks, (float(z.min()), float(z.max())))
+    return default_section(heads, xy.min(axis=0), xy.max(axis=0))
+
+
+def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None], bool]:
+    """The cell values of the section: porosity, else zone, else layer, else depth; with
+    their name and unit, and whether they are categories (zone, layer)."""
+    if scene.rock is not None:
+        return scene.rock["poro"], ("porosity", scene.quantity("poro")[1]), False
+    for name in ("zone", "layer"):
+        if name in scene.cell_data:
+            return scene.cell_data[name], (name, None), True
+    if scene.grid.layering is not None:
+        return scene.grid.layering.layer, ("layer", None), True
+    return scene.geo.cell_centroids[:, 2], ("depth", scene.units.length_label), False
+
+
+def draw_section(
+    path: str | os.PathLike, case: Case, scene: Scene, tracks: tuple[WellTrack, ...], line: np.ndarray
+) -> None:
+    """``{case}_section.png`` along ``line``; an InputError naming ``pictures.section`` where
+    the case's line cuts no cell."""
+    cut = cut_grid(scene.grid, line)
+    if cut.cells.size == 0:
+        raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")
+    values, quantity, categorical = section_colouring(scene)
+    plot_section(
+        path,
+        scene.grid,
+        line,
+        length_unit=scene.units.length_label,
+        values=values,
+        quantity=quantity,
+        categorical=categorical,
+        fault_names=scene.fault_names,
+        wells=tracks,
+        cell_size=top_surface(scene.grid, scene.geo).cell_size(),
+        title=case.name,
+        cut=cut,
+    )
