@@ -25,6 +25,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -32,12 +33,12 @@ from ..config import Case
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
-from ..io.cross_section import default_section, plot_section, well_heads
+from ..io.cross_section import default_section, section_figure, well_heads
 from ..io.netcdf import read_cell_geometry, read_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
-from ..io.picture_style import quantity_label
-from ..io.pictures import plot_histograms, render_grid
-from ..io.plan_view import plot_plan
+from ..io.picture_style import DPI, picture_style, quantity_label
+from ..io.pictures import plot_histograms, render_grid, save_figure
+from ..io.plan_view import plan_figure
 from ..io.quantities import units_of
 from ..io.rock_file import read_rock
 from ..io.section_cut import cut_grid
@@ -159,22 +160,9 @@ def stage_pictures(
     plot_histograms(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
-    tracks = scene.well_tracks(case)
-    line = section_line(case, scene, tracks) if section is not None else None
-    if section is not None:
-        draw_section(section, case, scene, tracks, line)
-    plot_plan(
-        plan,
-        scene.grid,
-        scene.geo,
-        length_unit=scene.units.length_label,
-        fault_names=scene.fault_names,
-        wells=tracks,
-        values=values,
-        quantity=scene.quantity(scalar),
-        title=case.name,
-        section=line,
-    )
+    drawn = {"plan": plan, "section": section}
+    for key, figure in case_figures(case, scene, with_section=section is not None).items():
+        save_figure(figure, drawn[key], dpi=DPI)
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
 
 
@@ -203,26 +191,45 @@ def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None],
     return scene.geo.cell_centroids[:, 2], ("depth", scene.units.length_label), False
 
 
-def draw_section(
-    path: str | os.PathLike, case: Case, scene: Scene, tracks: tuple[WellTrack, ...], line: np.ndarray
-) -> None:
-    """``{case}_section.png`` along ``line``; an InputError naming ``pictures.section`` where
-    the case's line cuts no cell."""
-    cut = cut_grid(scene.grid, line)
-    if cut.cells.size == 0:
-        raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")
-    values, quantity, categorical = section_colouring(scene)
-    plot_section(
-        path,
-        scene.grid,
-        line,
-        length_unit=scene.units.length_label,
-        values=values,
-        quantity=quantity,
-        categorical=categorical,
-        fault_names=scene.fault_names,
-        wells=tracks,
-        cell_size=top_surface(scene.grid, scene.geo).cell_size(),
-        title=case.name,
-        cut=cut,
-    )
+def case_figures(case: Case, scene: Scene, *, with_section: bool = True) -> dict[str, Any]:
+    """The matplotlib figures of the case's plan view (``plan``) and, ``with_section`` (3-D
+    grids), its cross-section (``section``), in the pictures' style; an InputError naming
+    ``pictures.section`` where the case's line cuts no cell."""
+    tracks = scene.well_tracks(case)
+    line = section_line(case, scene, tracks) if with_section else None
+    figures = {}
+    with picture_style():
+        if line is not None:
+            cut = cut_grid(scene.grid, line)
+            if cut.cells.size == 0:
+                raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")
+            values, quantity, categorical = section_colouring(scene)
+            figures["section"] = section_figure(
+                scene.grid,
+                line,
+                length_unit=scene.units.length_label,
+                values=values,
+                quantity=quantity,
+                categorical=categorical,
+                fault_names=scene.fault_names,
+                wells=tracks,
+                cell_size=top_surface(scene.grid, scene.geo).cell_size(),
+                title=case.name,
+                cut=cut,
+            )
+        scalar, values = scene.colouring()
+        name, unit = scene.quantity(scalar)
+        if name == "volume" and scene.grid.griddim == 2:
+            name = "cell area"
+        figures["plan"] = plan_figure(
+            scene.grid,
+            scene.geo,
+            length_unit=scene.units.length_label,
+            fault_names=scene.fault_names,
+            wells=tracks,
+            values=values,
+            quantity=(name, unit),
+            title=case.name,
+            section=line,
+        )
+    return figures
