@@ -60,12 +60,27 @@ def cut_grid(grid: Grid, line: np.ndarray) -> SectionCut:
     vertices = np.concatenate([[0.0], np.cumsum(lengths)])
     parts = [_cut_segment(grid, line[j], line[j + 1], vertices[j]) for j in range(lengths.size)]
     counts = np.concatenate([np.diff(p[0]) for p in parts])
-    return SectionCut(
+    cut = SectionCut(
         offsets(counts),
         np.concatenate([p[1] for p in parts]),
         np.concatenate([p[2] for p in parts]),
         np.concatenate([p[3] for p in parts]),
         np.concatenate([p[4] for p in parts]),
+        vertices,
+    )
+    # a cell touching a segment's end only (the clip leaves a polygon of no width) is no cut
+    areas = cut.areas()
+    flat = areas <= 1e-12 * (areas.max() if areas.size else 0.0)
+    if not flat.any():
+        return cut
+    keep = ~flat
+    owner = repeat_ids(cut.pos)
+    return SectionCut(
+        offsets(counts[keep]),
+        cut.points[keep[owner]],
+        cut.cells[keep],
+        cut.fault_lines,
+        cut.fault_ids,
         vertices,
     )
 
@@ -119,7 +134,7 @@ def _cell_polygons(grid: Grid, face: np.ndarray, point: np.ndarray):
     owner = np.repeat(np.arange(cells.size), counts)
     centre = np.column_stack([np.bincount(owner, pts[:, k]) / counts for k in range(2)])
     d = pts - centre[owner]
-    scale = np.abs(d).max(axis=0)
+    scale = np.abs(d).max(axis=0, initial=0.0)
     d = d / np.where(scale > 0, scale, 1.0)
     angle = _pseudo_angle(d[:, 0], d[:, 1])
     pts = pts[np.lexsort((angle, owner))]  # owner is sorted: each cell's points stay together
