@@ -92,14 +92,15 @@ def plan_figure(
 
 
 def contour_levels(zmin: float, zmax: float, bins: int = 12) -> np.ndarray:
-    """Round contour levels strictly inside (``zmin``, ``zmax``) (matplotlib's tick rule).
+    """Round contour levels (1, 2, 2.5 or 5 x 10^k apart, at most ``bins`` + 1) strictly inside
+    (``zmin``, ``zmax``).
 
     >>> contour_levels(1012.0, 1093.0).tolist()
     [1020.0, 1030.0, 1040.0, 1050.0, 1060.0, 1070.0, 1080.0, 1090.0]
     """
     from matplotlib.ticker import MaxNLocator
 
-    ticks = MaxNLocator(nbins=bins).tick_values(zmin, zmax)
+    ticks = MaxNLocator(nbins=bins, steps=[1, 2, 2.5, 5, 10]).tick_values(zmin, zmax)
     return ticks[(ticks > zmin) & (ticks < zmax)]
 
 

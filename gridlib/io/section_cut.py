@@ -200,7 +200,7 @@ def clip_parts(start: list[np.ndarray], end: list[np.ndarray]) -> tuple[np.ndarr
 
     >>> lo, hi = clip_parts([np.array([-1.0, 1.0])], [np.array([1.0, -3.0])])
     >>> lo.tolist(), hi.tolist()
-    [[0.5, 0.0], [1.0, 0.25]]
+    ([0.5, 0.0], [1.0, 0.25])
     """
     m = start[0].size
     lo, hi = np.zeros(m), np.ones(m)
