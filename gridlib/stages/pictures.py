@@ -153,6 +153,7 @@ def stage_pictures(
     and ``wells``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan`` and
     ``section`` (3-D grids)."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
+    figures = case_figures(case, scene, with_section=section is not None)  # first: checks the line
     scalar, values = scene.colouring()
     paths = [(r.name, [p.xyz for p in r.paths]) for r in scene.wells]
     render_grid(Path(png), scene.grid, values, Path(faults), scalar, scene.title, scene.label(scalar), paths)
@@ -161,7 +162,7 @@ def stage_pictures(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
     drawn = {"plan": plan, "section": section}
-    for key, figure in case_figures(case, scene, with_section=section is not None).items():
+    for key, figure in figures.items():
         save_figure(figure, drawn[key], dpi=DPI)
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
 
