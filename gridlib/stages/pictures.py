@@ -180,15 +180,16 @@ def section_line(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> np.
 
 
 def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None], bool]:
-    """The cell values of the section: porosity, else zone, else layer, else depth; with
-    their name and unit, and whether they are categories (zone, layer)."""
+    """The cell values of the section: porosity, else zone, else layer (the first of them with
+    more than one value), else depth; with their name and unit, and whether they are
+    categories (zone, layer)."""
     if scene.rock is not None:
         return scene.rock["poro"], ("porosity", scene.quantity("poro")[1]), False
+    layers = {} if scene.grid.layering is None else {"layer": scene.grid.layering.layer}
+    data = {**layers, **scene.cell_data}
     for name in ("zone", "layer"):
-        if name in scene.cell_data:
-            return scene.cell_data[name], (name, None), True
-    if scene.grid.layering is not None:
-        return scene.grid.layering.layer, ("layer", None), True
+        if name in data and np.unique(data[name]).size > 1:  # a single zone tells nothing
+            return data[name], (name, None), True
     return scene.geo.cell_centroids[:, 2], ("depth", scene.units.length_label), False
 
 
