@@ -23,14 +23,12 @@ marked A and A' above it, as on the plan view, and its bends by dotted lines.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 
 import numpy as np
 
 from ..grid import Grid
 from . import picture_style as style
-from .pictures import save_figure
 from .section_cut import SectionCut, clip_parts, cut_grid
 from .well_tracks import WellTrack
 
@@ -107,12 +105,6 @@ def exaggeration(length: float, thickness: float) -> float:
     if thickness <= 0:
         return 1.0
     return max(1.0, min(MAX_EXAGGERATION, style.nice_length(0.5 * length / thickness)))
-
-
-def plot_section(path: str | os.PathLike, grid: Grid, line: np.ndarray, **options) -> None:
-    """:func:`section_figure` saved as ``path`` (PNG)."""
-    with style.picture_style():
-        save_figure(section_figure(grid, line, **options), path, dpi=style.DPI)
 
 
 def section_figure(

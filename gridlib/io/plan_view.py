@@ -14,7 +14,6 @@ scale bar, a north arrow and a colour bar titled with the quantity and its unit;
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 
 import numpy as np
@@ -23,7 +22,7 @@ from ..connectivity import cell_node_cycles_2d
 from ..geometry import Geometry
 from ..grid import Grid
 from . import picture_style as style
-from .pictures import depth_window, save_figure
+from .pictures import depth_window
 from .top_surface import TopSurface, face_edges, fault_traces, top_surface
 from .well_tracks import WellTrack
 
@@ -33,12 +32,6 @@ FAULT_NAME = "fault name"
 WELL_NAME = "well name"
 WELL = "well"
 SECTION = "section line"
-
-
-def plot_plan(path: str | os.PathLike, grid: Grid, geo: Geometry, **options) -> None:
-    """:func:`plan_figure` saved as ``path`` (PNG)."""
-    with style.picture_style():
-        save_figure(plan_figure(grid, geo, **options), path, dpi=style.DPI)
 
 
 def plan_figure(
