@@ -275,7 +275,7 @@ def test_second_run_does_nothing_and_an_edited_case_reruns_only_itself(workflow_
     jobs = [line.split(":", 1)[1].strip() for line in out.splitlines() if line.strip().startswith("output:")]
     case_jobs = [job for job in jobs if "summary.csv" not in job]
     assert case_jobs and all("/honeycomb/" in job for job in case_jobs), out
-    assert len(case_jobs) == 3  # grid, geometry and export of that case (and the summary table)
+    assert len(case_jobs) == 4  # grid, geometry, export and pictures of that case (and the summary table)
 
 
 def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(workflow_run, tmp_path):
