@@ -9,7 +9,8 @@ Where the section runs (:func:`default_section`), unless the case gives it
   their principal direction (the major axis of their spread), extended at both ends along the
   end segments to the grid's bounding box in plan view;
 * through a single well: along the longer side of the grid's bounding box;
-* without wells: through the centre of the bounding box along its longer side.
+* without wells: through the centre of the bounding box along its longer side (the stage
+  falls back on this line too where the line through the wells cuts no cell).
 
 The picture (:func:`section_figure`): the cut cells (:mod:`gridlib.io.section_cut`) as
 polygons in (distance along the section, depth) coloured by porosity (else zone, else layer,
