@@ -222,13 +222,16 @@ def _draw_wells(
 ) -> tuple[float, float]:
     """The wells' parts within ``reach`` of the section (and within its extent and the depth
     range ``depths`` widened by a tenth) projected onto it, as black lines, each named at its
-    shallowest drawn point; returns the depth range drawn (``depths`` if none)."""
+    shallowest drawn point (not the wells known in plan view only); returns the depth range
+    drawn (``depths`` if none)."""
     from matplotlib.collections import LineCollection
 
     margin = 0.1 * (depths[1] - depths[0])
     top, bottom = depths[0] - margin, depths[1] + margin
     drawn = depths
     for well in wells:
+        if well.plan_only:
+            continue
         parts = []
         for xyz in well.paths:
             for j in range(line.shape[0] - 1):
