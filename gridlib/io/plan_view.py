@@ -56,7 +56,7 @@ def plan_figure(
     if grid.griddim == 3:
         top = top_surface(grid, geo)
         mappable, ticks = _depth_map(ax, top)
-        style.colour_bar(fig, ax, mappable, "top depth", length_unit, ticks=ticks)
+        style.colour_bar(fig, ax, mappable, "top depth", length_unit, ticks=ticks, downward=True)
         segments, ids = fault_traces(grid, top)
         window = (float(grid.nodes.coords[:, 2].min()), float(grid.nodes.coords[:, 2].max()))
     else:
