@@ -180,8 +180,8 @@ def nice_length(length: float) -> float:
     return float(f"{digit}e{int(exponent)}")
 
 
-def scale_bar(ax, unit: str, fraction: float = 0.25):
-    """A scale bar in the lower left corner of the map ``ax`` (data units: the case's length
+def scale_bar(ax, unit: str, fraction: float = 0.25, corner: str = "lower left"):
+    """A scale bar in a lower ``corner`` of the map ``ax`` (data units: the case's length
     unit ``unit``; equal aspect): a length of 1, 2 or 5 x 10^k up to ``fraction`` of the axes'
     width, labelled e.g. "500 m". Draw it after the data (it reads the axes' limits). Its
     artist has the gid :data:`SCALE_BAR`; returns it."""
@@ -194,7 +194,7 @@ def scale_bar(ax, unit: str, fraction: float = 0.25):
         ax.transData,
         length,
         f"{length:g} {unit}",
-        "lower left",
+        corner,
         pad=0.4,
         borderpad=0.6,
         sep=4,
@@ -209,13 +209,13 @@ def scale_bar(ax, unit: str, fraction: float = 0.25):
     return bar
 
 
-def north_arrow(ax):
-    """A north arrow (y is north) with an "N" in the upper right corner of the map ``ax``; its
+def north_arrow(ax, corner: str = "upper right"):
+    """A north arrow (y is north) with an "N" in an upper ``corner`` of the map ``ax``; its
     annotation has the gid :data:`NORTH_ARROW`; returns it."""
     arrow = ax.annotate(
         "N",
-        xy=(0.95, 0.95),
-        xytext=(0.95, 0.82),
+        xy=(0.95 if corner.endswith("right") else 0.05, 0.95),
+        xytext=(0.95 if corner.endswith("right") else 0.05, 0.82),
         xycoords="axes fraction",
         ha="center",
         va="center",
