@@ -29,7 +29,9 @@ from typing import Any
 
 import numpy as np
 
+from ..completions import vertical_well_cells
 from ..config import Case
+from ..connectivity import ragged_arange
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
@@ -81,17 +83,37 @@ class Scene:
         return "volume", self.geo.cell_volumes
 
     def well_tracks(self, case: Case) -> tuple[WellTrack, ...]:
-        """The wells to draw: the case's vertical wells (over the grid's depth range) and its
-        PEBI grid's refining wells (at its top), then the deviated wells of ``wells.nc``."""
+        """The wells to draw: the case's vertical wells (over the depths of the cells their line
+        crosses, :func:`gridlib.completions.vertical_well_cells`; the grid's depth range where
+        the grid has no columns) and its PEBI grid's refining wells (at its top), then the
+        deviated wells of ``wells.nc``."""
         z = self.grid.nodes.coords[:, -1] if self.grid.dim == 3 else np.zeros(1)
         depths = (float(z.min()), float(z.max()))
         tracks = []
         for well in case.data.get("wells", []):
             if "point" in well:
-                tracks.append(vertical_track(well["name"], well["point"], depths))
+                tracks.append(
+                    vertical_track(well["name"], well["point"], self._crossed(well["point"], depths))
+                )
             elif "path" in well:
                 tracks.append(plan_track(well["name"], np.asarray(well["path"], dtype=float), depths[0]))
         return (*tracks, *record_tracks(self.wells))
+
+    def _crossed(self, point: list[float], depths: tuple[float, float]) -> tuple[float, float]:
+        """The depth range of the nodes of the cells a vertical line at ``point`` crosses
+        (``depths`` where it crosses none, or the grid cannot say)."""
+        try:
+            cells = vertical_well_cells(self.grid, self.geo, point[:2])
+        except InputError:
+            return depths
+        if cells.size == 0:
+            return depths
+        pos = self.grid.cells.face_pos
+        faces = self.grid.cells.faces[ragged_arange(pos[cells], pos[cells + 1] - pos[cells])]
+        npos = self.grid.faces.node_pos
+        nodes = self.grid.faces.nodes[ragged_arange(npos[faces], npos[faces + 1] - npos[faces])]
+        z = self.grid.nodes.coords[nodes, 2]
+        return float(z.min()), float(z.max())
 
     def quantity(self, name: str) -> tuple[str, str | None]:
         """A cell quantity's name and unit in the case's units (:mod:`gridlib.io.quantities`;
