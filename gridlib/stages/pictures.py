@@ -23,7 +23,7 @@ grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the o
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -31,7 +31,7 @@ import numpy as np
 
 from ..completions import vertical_well_cells
 from ..config import Case
-from ..connectivity import ragged_arange
+from ..connectivity import ragged_arange, repeat_ids
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
@@ -90,20 +90,36 @@ class Scene:
         z = self.grid.nodes.coords[:, -1] if self.grid.dim == 3 else np.zeros(1)
         depths = (float(z.min()), float(z.max()))
         tracks = []
+        located = self._locatable() if self.grid.dim == 3 else None
         for well in case.data.get("wells", []):
             if "point" in well:
                 tracks.append(
-                    vertical_track(well["name"], well["point"], self._crossed(well["point"], depths))
+                    vertical_track(well["name"], well["point"], self._crossed(located, well["point"], depths))
                 )
             elif "path" in well:
                 tracks.append(plan_track(well["name"], np.asarray(well["path"], dtype=float), depths[0]))
         return (*tracks, *record_tracks(self.wells))
 
-    def _crossed(self, point: list[float], depths: tuple[float, float]) -> tuple[float, float]:
+    def _locatable(self) -> Geometry:
+        """The geometry with face centroids (the geometry file's are left out when read,
+        :func:`gridlib.io.netcdf.read_cell_geometry`): the means of the faces' nodes, enough to
+        locate a vertical well's cells."""
+        npos = self.grid.faces.node_pos
+        owner = repeat_ids(npos)
+        xyz = self.grid.nodes.coords[self.grid.faces.nodes]
+        counts = np.maximum(np.diff(npos), 1)
+        centres = np.column_stack([np.bincount(owner, xyz[:, k], counts.size) / counts for k in range(3)])
+        return replace(self.geo, face_centroids=centres)
+
+    def _crossed(
+        self, located: Geometry | None, point: list[float], depths: tuple[float, float]
+    ) -> tuple[float, float]:
         """The depth range of the nodes of the cells a vertical line at ``point`` crosses
         (``depths`` where it crosses none, or the grid cannot say)."""
+        if located is None:
+            return depths
         try:
-            cells = vertical_well_cells(self.grid, self.geo, point[:2])
+            cells = vertical_well_cells(self.grid, located, point[:2])
         except InputError:
             return depths
         if cells.size == 0:
