@@ -63,8 +63,8 @@ from ..io.coarse_file import read_partition
 from ..io.grid_nnc import nnc_variables, read_nnc
 from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
-from ..io.pictures import plot_histograms, render_grid
-from ..io.quantities import units_of
+from ..io.pictures import ViewWell, plot_histograms, render_grid
+from ..io.quantities import picture_label
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
 from ..io.vtp import write_fault_faces, write_well_paths
@@ -303,18 +303,42 @@ def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
 
 
 def _pictures(outputs: dict[str, str], case: Case, g: _Gathered, wells: Sequence[WellRecord] = ()) -> None:
-    """``{case}.png`` (coloured by porosity, else depth, else volume; the deviated ``wells``
-    drawn in it) and ``{case}_histograms.png``."""
+    """``{case}.png`` (coloured by porosity, else depth, else volume; the deviated ``wells`` and
+    the case's vertical wells drawn in it) and ``{case}_histograms.png``."""
     grid, geo, rock, depth, trans = g.grid, g.geo, g.rock, g.depth, g.trans
     scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
     title = f"{case.name}: {grid.num_cells:,d} cells"
     values = rock[scalar] if rock is not None else (depth if depth is not None else geo.cell_volumes)
-    bar_title = f"{scalar} [{units_of([scalar], g.units, grid.griddim)[scalar]}]"
-    paths = [(r.name, [p.xyz for p in r.paths]) for r in wells]
-    render_grid(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title, bar_title, paths)
+    bar_title = picture_label(scalar, g.units, grid.griddim)
+    render_grid(
+        Path(outputs["png"]),
+        grid,
+        values,
+        Path(outputs["faults"]),
+        scalar=scalar,
+        title=title,
+        bar_title=bar_title,
+        length_unit=g.units.unit("length"),
+        wells=view_wells(case, grid, wells),
+    )
     t = None if trans is None else trans[0]["trans"].values
     poro = None if rock is None else rock["poro"]
     plot_histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, g.units, t)
+
+
+def view_wells(case: Case, grid: Grid, records: Sequence[WellRecord] = ()) -> list[ViewWell]:
+    """The wells of the 3-D view: the deviated ``records``' paths, and the case's vertical
+    wells (``wells[k].point``) from the top to the bottom of the grid."""
+    out = [ViewWell(r.name, tuple(p.xyz for p in r.paths)) for r in records]
+    deviated = {r.name for r in records}
+    if grid.nodes.coords.shape[1] == 3:
+        z = grid.nodes.coords[:, 2]
+        top, bottom = float(z.min()), float(z.max())
+        for spec in case.data.get("wells", []):
+            if "point" in spec and spec["name"] not in deviated:
+                x, y = (float(v) for v in spec["point"][:2])
+                out.append(ViewWell.vertical(spec["name"], x, y, top, bottom))
+    return out
 
 
 def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
