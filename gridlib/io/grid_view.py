@@ -88,11 +88,8 @@ def nice_floor(value: float) -> float:
     """
     if not value >= 1.0 or not math.isfinite(value):
         return 1.0
-    k = math.floor(math.log10(value))
-    for m in (5.0, 2.0, 1.0):
-        if m * 10.0**k <= value * (1 + 1e-12):  # machine-independent: decimal powers of ten, exact
-            return m * 10.0**k  # machine-independent: as above
-    return 10.0**k  # machine-independent: as above
+    decade = float(10 ** decimal_exponent(value))
+    return next(m * decade for m in (5.0, 2.0, 1.0) if m * decade <= value)
 
 
 def vertical_exaggeration(lateral: float, thickness: float, depth_range: float) -> float:
@@ -120,7 +117,17 @@ def label_format(spans: Sequence[float]) -> str:
     """
     positive = [s for s in spans if s > 0]
     step = min(positive) / 5 if positive else 1.0
-    return "{0:.%df}" % max(0, -math.floor(math.log10(step)))
+    return f"{{0:.{max(0, -decimal_exponent(step))}f}}"
+
+
+def decimal_exponent(value: float) -> int:
+    """The exponent k of a positive ``value`` = m x 10^k with 1 <= m < 10 (from its decimal
+    representation: exact, no logarithm).
+
+    >>> decimal_exponent(1000.0), decimal_exponent(999.9), decimal_exponent(0.05)
+    (3, 2, -2)
+    """
+    return int(f"{value:.15e}".split("e")[1])
 
 
 def grid_scene(
