@@ -187,11 +187,20 @@ STAGES: tuple[Stage, ...] = (
             Artifact("vtu", "{case}.vtu", when=lambda case: case.writes_vtu),
             Artifact("faults", "{case}_faults.vtp"),
             Artifact("well_paths", "{case}_wells.vtp", when=lambda case: case.has_deviated_wells),
-            Artifact("png", "{case}.png", report=Report("grid.rst", PICTURES)),
-            Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
             Artifact("summary", "summary.json"),
         ),
-        doc="One self-describing netCDF, VTU, fault faces, pictures and the case's summary.",
+        doc="One self-describing netCDF, VTU, fault faces and the case's summary.",
+    ),
+    Stage(
+        "pictures",
+        "gridlib.stages.pictures:stage_pictures",
+        ("grid", "geometry", "petrophysics", "transmissibility", "wells", "faults"),
+        (
+            Artifact("png", "{case}.png", report=Report("grid.rst", PICTURES)),
+            Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
+        ),
+        mem_mb=2000,
+        doc="The pictures of a QC slide: the 3-D view and histograms of the grid.",
     ),
     Stage(
         "flow_deck",

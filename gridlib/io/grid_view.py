@@ -27,6 +27,7 @@ import numpy as np
 from ..connectivity import cell_node_cycles_2d, offsets, ragged_arange
 from ..grid import Grid
 from .atomic import write_keeping_suffix
+from .picture_style import fault_colour
 
 WINDOW = (1400, 900)  # pixels
 _THICKNESS_FRACTION = 0.25  # target: exaggerated thickness / lateral extent
@@ -148,7 +149,8 @@ def grid_scene(
 
     ``faults``: the fault faces (``{case}_faults.vtp`` or its PolyData: z elevation, cell data
     ``fault`` the 1-based fault id, field data ``fault_names``), each fault in its colour
-    (``fault_colours[id - 1]``, any matplotlib colour; default a qualitative palette) with a
+    (``fault_colours[id - 1]``, any matplotlib colour; default
+    :func:`~gridlib.io.picture_style.fault_colour`, as in every picture of the case) with a
     legend of names. ``bar_title``: the colour bar's title, the quantity and its unit (default
     ``scalar``). ``length_unit``: the case's length unit, on the axes. ``wells``: drawn as black
     lines where they are within half the grid's thickness of its depth range, named at the
@@ -245,26 +247,17 @@ def _add_faults(plotter, faults, exaggeration: float, colours: Sequence | None) 
         np.asarray(faults.cell_data["fault"]) if "fault" in faults.cell_data else np.ones(faults.n_cells, int)
     )
     present = np.unique(ids[ids > 0])
-    palette = list(colours) if colours is not None else default_fault_colours(int(present.max()))
     scaled = faults.scale((1.0, 1.0, exaggeration), inplace=False)  # the file stores elevation
     entries = []
     for fid in present:
         name = names[fid - 1] if 0 < fid <= len(names) and names[fid - 1] else f"fault {fid}"
-        colour = to_hex(palette[(fid - 1) % len(palette)])
+        colour = to_hex(colours[(fid - 1) % len(colours)]) if colours else fault_colour(int(fid))
         part = scaled.extract_cells(np.flatnonzero(ids == fid))
         plotter.add_mesh(part, color=colour, line_width=3, opacity=0.85, name=f"fault {name}")
         entries.append([name, colour])
     plotter.add_legend(
         entries, bcolor="white", border=True, loc="upper left", size=(0.16, 0.05 * len(entries))
     )
-
-
-def default_fault_colours(n: int) -> list[str]:
-    """``n`` distinguishable colours (matplotlib's tab10, repeated)."""
-    import matplotlib
-
-    tab = matplotlib.colormaps["tab10"]
-    return [matplotlib.colors.to_hex(tab(k % 10)) for k in range(max(n, 1))]
 
 
 def _add_axes(plotter, bounds, scale: np.ndarray, length_unit: str, flat: bool) -> None:

@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from matplotlib.colors import to_hex
 
 from gridlib.cornerpoint.between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.grid_view import ViewWell, grid_scene, render_grid, vertical_exaggeration
+from gridlib.io.picture_style import fault_colour
 from gridlib.io.quantities import picture_label
 from gridlib.io.vtp import write_fault_faces
 from gridlib.units import FIELD, METRIC
@@ -52,7 +54,6 @@ def scene(faulted):
         bar_title=picture_label("poro", METRIC),
         length_unit="m",
         wells=WELLS,
-        fault_colours=["#d62728", "#1f77b4"],
     )
     yield plotter
     plotter.close()
@@ -104,8 +105,12 @@ def test_one_actor_and_one_colour_per_fault_with_a_legend(scene, faulted):
     for fid, name in enumerate(names, start=1):
         actor = scene.actors[f"fault {name}"]
         assert actor.GetMapper().GetInput().GetNumberOfCells() == int(np.count_nonzero(grid.faces.tag == fid))
-        colours[name] = tuple(round(c, 3) for c in actor.GetProperty().GetColor())
-    assert colours == {"F1": (0.839, 0.153, 0.157), "F2": (0.122, 0.467, 0.706)}
+        colours[name] = to_hex(actor.GetProperty().GetColor()).upper()
+    # the colours of every picture of the case (picture_style), distinct
+    assert (
+        colours == {"F1": fault_colour(1).upper(), "F2": fault_colour(2).upper()}
+        and len(set(colours.values())) == 2
+    )
     legend = scene.legend
     assert [legend.GetEntryString(k) for k in range(legend.GetNumberOfEntries())] == ["F1", "F2"]
 

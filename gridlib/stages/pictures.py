@@ -1,0 +1,153 @@
+"""Stage ``pictures``: the pictures of a case a geomodeller puts on a QC slide, in their own job
+(beside the Flow deck's), from the stage files and the export's fault faces:
+
+* ``{case}.png``: the grid in 3-D, coloured by porosity (else depth, else cell volume), the
+  fault faces and the deviated wells' paths (:func:`gridlib.io.pictures.render_grid`);
+* ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's Fig. 3.33)
+  and log10 T (:func:`gridlib.io.pictures.plot_histograms`).
+
+Every picture labels its axes and colour bars with the case's units (``unit_system`` of the
+grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the one style of
+:mod:`gridlib.io.picture_style`.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..config import Case
+from ..geometry import Geometry
+from ..grid import Grid
+from ..io.grid_view import ViewWell
+from ..io.netcdf import read_cell_geometry, read_netcdf
+from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.pictures import plot_histograms, render_grid
+from ..io.quantities import picture_label, units_of
+from ..io.rock_file import read_rock
+from ..io.transmissibility_file import read_transmissibility
+from ..io.wells_file import WellRecord, read_wells
+from ..units import UnitSystem
+from .common import log
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What the pictures of a case show: its grid and geometry, unit system, fault and well
+    names, rock (None without), the cells' builder data (``zone``, ``layer``, ...), the
+    transmissibilities (None without) and the deviated wells of ``wells.nc``."""
+
+    name: str
+    grid: Grid
+    geo: Geometry
+    units: UnitSystem
+    fault_names: tuple[str, ...]
+    rock: dict[str, np.ndarray] | None
+    cell_data: dict[str, np.ndarray]
+    trans: np.ndarray | None
+    wells: tuple[WellRecord, ...]
+
+    @property
+    def title(self) -> str:
+        """The pictures' title: the case's name and its number of cells."""
+        return f"{self.name}: {self.grid.num_cells:,d} cells"
+
+    def colouring(self) -> tuple[str, np.ndarray]:
+        """The cell value the 3-D view is coloured by: porosity, else depth (3-D), else the cell
+        measure (volume, or area in 2-D): its name and values."""
+        if self.rock is not None:
+            return "poro", self.rock["poro"]
+        if self.grid.dim == 3:
+            return "depth", self.geo.cell_centroids[:, 2]
+        return "volume", self.geo.cell_volumes
+
+    def label(self, name: str) -> str:
+        """``name [unit]`` of a quantity gridlib knows (:mod:`gridlib.io.quantities`), in the
+        case's units; ``name`` alone for one it does not."""
+        unit = units_of([name], self.units, self.grid.griddim).get(name)
+        return name if unit is None else f"{name} [{unit}]"
+
+
+def read_scene(
+    case: Case,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    petrophysics: str | os.PathLike | None = None,
+    transmissibility: str | os.PathLike | None = None,
+    wells: str | os.PathLike | None = None,
+) -> Scene:
+    """The :class:`Scene` of a case from its stage files (one InputError naming a file that is
+    damaged or of another grid)."""
+    stored = read_netcdf(grid)
+    attrs = read_attrs(grid)
+    geo = read_cell_geometry(geometry)
+    check_same_cells(grid, stored.grid.num_cells, {geometry: geo.cell_volumes.size})
+    rock = read_rock(petrophysics) if petrophysics is not None else None
+    trans = None
+    if transmissibility is not None:
+        trans = read_transmissibility(transmissibility)[0]["trans"].values
+    return Scene(
+        case.name,
+        stored.grid,
+        geo,
+        stored_unit_system(grid, attrs),
+        tuple(attrs.get("fault_names", [])),
+        rock,
+        dict(stored.cell_data),
+        trans,
+        read_wells(wells) if wells is not None else (),
+    )
+
+
+def stage_pictures(
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    faults: str | os.PathLike,
+    petrophysics: str | os.PathLike | None = None,
+    transmissibility: str | os.PathLike | None = None,
+    wells: str | os.PathLike | None = None,
+    png: str | os.PathLike,
+    histograms: str | os.PathLike,
+) -> None:
+    """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
+    fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``
+    and ``wells``): ``png`` ({case}.png, the 3-D view) and ``histograms``."""
+    scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
+    scalar, values = scene.colouring()
+    render_grid(
+        Path(png),
+        scene.grid,
+        values,
+        Path(faults),
+        scalar=scalar,
+        title=scene.title,
+        bar_title=picture_label(scalar, scene.units, scene.grid.griddim),
+        length_unit=scene.units.unit("length"),
+        wells=view_wells(case, scene.grid, scene.wells),
+    )
+    poro = None if scene.rock is None else scene.rock["poro"]
+    plot_histograms(
+        Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
+    )
+    log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
+
+
+def view_wells(case: Case, grid: Grid, records: Sequence[WellRecord] = ()) -> list[ViewWell]:
+    """The wells of the 3-D view: the deviated ``records``' paths, and the case's vertical
+    wells (``wells[k].point``) from the top to the bottom of the grid."""
+    out = [ViewWell(r.name, tuple(p.xyz for p in r.paths)) for r in records]
+    deviated = {r.name for r in records}
+    if grid.nodes.coords.shape[1] == 3:
+        z = grid.nodes.coords[:, 2]
+        top, bottom = float(z.min()), float(z.max())
+        for spec in case.data.get("wells", []):
+            if "point" in spec and spec["name"] not in deviated:
+                x, y = (float(v) for v in spec["point"][:2])
+                out.append(ViewWell.vertical(spec["name"], x, y, top, bottom))
+    return out
