@@ -4,7 +4,10 @@
 * ``{case}.png``: the grid in 3-D, coloured by porosity (else depth, else cell volume), the
   fault faces and the deviated wells' paths (:func:`gridlib.io.pictures.render_grid`);
 * ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's Fig. 3.33)
-  and log10 T (:func:`gridlib.io.pictures.plot_histograms`).
+  and log10 T (:func:`gridlib.io.pictures.plot_histograms`);
+* ``{case}_residuals.png`` (cases with horizons given by picks): each pick's residual against
+  its interpolated horizon, as a map and a histogram per horizon
+  (:func:`gridlib.io.pick_residuals.plot_pick_residuals`, from ``horizons.nc``).
 
 Every picture labels its axes and colour bars with the case's units (``unit_system`` of the
 grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the one style of
@@ -26,6 +29,7 @@ from ..grid import Grid
 from ..io.grid_view import ViewWell
 from ..io.netcdf import read_cell_geometry, read_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.pick_residuals import plot_pick_residuals, read_pick_residuals
 from ..io.pictures import plot_histograms, render_grid
 from ..io.quantities import picture_label, units_of
 from ..io.rock_file import read_rock
@@ -112,12 +116,15 @@ def stage_pictures(
     petrophysics: str | os.PathLike | None = None,
     transmissibility: str | os.PathLike | None = None,
     wells: str | os.PathLike | None = None,
+    horizons: str | os.PathLike | None = None,
     png: str | os.PathLike,
     histograms: str | os.PathLike,
+    residuals: str | os.PathLike | None = None,
 ) -> None:
     """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
     fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``
-    and ``wells``): ``png`` ({case}.png, the 3-D view) and ``histograms``."""
+    and ``wells``, ``horizons``): ``png`` ({case}.png, the 3-D view), ``histograms`` and, for
+    horizons given by picks, ``residuals``."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
     scalar, values = scene.colouring()
     render_grid(
@@ -135,6 +142,15 @@ def stage_pictures(
     plot_histograms(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
+    if residuals is not None and horizons is not None:
+        picks, names = read_pick_residuals(horizons)
+        traces = [
+            (f["name"], np.asarray(f["trace"], dtype=np.float64))
+            for f in case.data.get("faults", [])
+            if "trace" in f
+        ]
+        title = f"{case.name}: horizon-pick residuals"
+        plot_pick_residuals(Path(residuals), picks, names, title=title, length_unit="m", faults=traces)
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
 
 

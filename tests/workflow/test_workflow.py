@@ -4,7 +4,7 @@ One run of every sample case (two cores), then: every artifact opens in the
 tools people use (xarray, xugrid, pyvista, OPM Flow for grid.grdecl), every
 figure equals the reviewed golden summary (tests/regression/), a second run
 does nothing, an edited case reruns only its own jobs, the same case and seed
-give identical arrays, and the report zip is produced.
+give identical arrays, and the report opens on the cases.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import shutil
 import subprocess
 import sys
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -171,13 +172,41 @@ def test_the_readmes_study_example_runs_on_the_sample_study(workflow_run, monkey
     assert "faults.0.throw" in out and "throw-30_r1" in out, out
 
 
-def test_the_report_zip_is_produced(workflow_run):
+def test_the_report_opens_on_the_cases_with_the_rule_graph_last(workflow_run):
+    """The report (as README.md says to make it): its menu lists the cases' pictures first,
+    then the summary table (Snakemake sorts categories by name); its landing page is the
+    workflow's description (metadata given: not the rule graph), the cases' pictures linked
+    first, then the summary table."""
     config = f"cases={workflow_run / 'config' / 'cases'}/*.yaml"
+    report = workflow_run / "results" / "report.zip"
+    metadata = ROOT / "workflow" / "report" / "metadata.yaml"
     result = _snakemake(
-        workflow_run, "--config", config, "--report", str(workflow_run / "results" / "report.zip")
+        workflow_run, "--config", config, "--report", str(report), "--report-metadata", str(metadata)
     )
     assert result.returncode == 0, result.stderr[-2000:]
-    assert (workflow_run / "results" / "report.zip").stat().st_size > 10_000
+    assert report.stat().st_size > 10_000
+    with zipfile.ZipFile(report) as z:
+        html = z.read("report/report.html").decode()
+
+    def variable(name: str):  # the report's data: one line of JSON each (the last: vendored JS has its own)
+        return json.loads(re.findall(rf"^\s*var {name} = (.*);$", html, flags=re.M)[-1])
+
+    categories = variable("categories")
+    assert sorted(categories)[:2] == ["1. Cases", "2. Summary"]  # the menu's order
+    assert sorted(categories["1. Cases"]) == CASES  # one subcategory per case
+    for case in CASES:
+        pictures = {Path(p).name for p in categories["1. Cases"][case]}
+        assert {f"{case}.png", f"{case}_histograms.png"} <= pictures, case
+        assert (f"{case}_residuals.png" in pictures) == (case == "faulted_picks"), case
+    assert categories["2. Summary"] == {"Other": ["results/summary.csv"]}
+    assert variable("metadata") == {"cases": len(CASES)}  # metadata: the landing page is the description
+    description = variable("workflow_desc")
+    assert "Error" not in description and "WARNING" not in description
+    sections = re.findall(r"<h1>(.*?)</h1>", description)
+    assert sections == ["Cases", "Summary"]
+    for case in CASES:
+        assert f"showResultInfo('results/{case}/{case}.png')" in description
+    assert description.index("showResultInfo('results/summary.csv')") > description.index("anticline.png")
 
 
 def test_grdecl_outputs_are_read_by_opm_flow(workflow_run, tmp_path):
