@@ -210,6 +210,7 @@ STAGES: tuple[Stage, ...] = (
         (
             Artifact("png", "{case}.png", report=Report("grid.rst", PICTURES)),
             Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
+            Artifact("plan", "{case}_plan.png", report=Report("plan.rst", PICTURES)),
             Artifact(
                 "residuals",
                 "{case}_residuals.png",
@@ -218,7 +219,8 @@ STAGES: tuple[Stage, ...] = (
             ),
         ),
         mem_mb=2000,
-        doc="The pictures of a QC slide: the 3-D view and histograms of the grid.",
+        doc="The pictures of a QC slide: the 3-D view, histograms and plan view of the grid, and the "
+        "horizon-pick residuals.",
     ),
     Stage(
         "flow_deck",

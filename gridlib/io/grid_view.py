@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -28,25 +27,11 @@ from ..connectivity import cell_node_cycles_2d, offsets, ragged_arange
 from ..grid import Grid
 from .atomic import write_keeping_suffix
 from .picture_style import fault_colour
+from .well_tracks import WellTrack
 
 WINDOW = (1400, 900)  # pixels
 _THICKNESS_FRACTION = 0.25  # target: exaggerated thickness / lateral extent
 _MAX_DEPTH_RANGE = 1.2  # cap: exaggerated depth range / lateral extent
-
-
-@dataclass(frozen=True)
-class ViewWell:
-    """A well in the 3-D view: its ``name`` and ``paths`` (main path first, then branches), each
-    an (n, 3) polyline x, y, z (z depth, the case's length unit). A vertical well is one path of
-    two points (:meth:`vertical`)."""
-
-    name: str
-    paths: tuple[np.ndarray, ...] = field(default_factory=tuple)
-
-    @classmethod
-    def vertical(cls, name: str, x: float, y: float, top: float, bottom: float) -> ViewWell:
-        """A vertical well at (x, y) from depth ``top`` to ``bottom``."""
-        return cls(name, (np.array([[x, y, top], [x, y, bottom]], dtype=np.float64),))
 
 
 def grid_polydata(grid: Grid, values: np.ndarray, name: str):
@@ -140,7 +125,7 @@ def grid_scene(
     title: str,
     bar_title: str | None = None,
     length_unit: str = "m",
-    wells: Sequence[ViewWell] = (),
+    wells: Sequence[WellTrack] = (),
     fault_colours: Sequence | None = None,
     window_size: tuple[int, int] = WINDOW,
 ):
@@ -301,7 +286,7 @@ def render_grid(path: str | Path, grid: Grid, values: np.ndarray, faults, **opti
         plotter.close()
 
 
-def _add_wells(plotter, wells: Sequence[ViewWell], scale: np.ndarray, depths: tuple[float, float]) -> None:
+def _add_wells(plotter, wells: Sequence[WellTrack], scale: np.ndarray, depths: tuple[float, float]) -> None:
     """The wells' paths as black lines where they are within half the grid's thickness of its
     depth range ``depths`` (the hole down to the reservoir would dwarf it), each well named at
     the top of the drawn part of its main path."""

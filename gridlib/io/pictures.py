@@ -13,10 +13,9 @@ from ..geometry import Geometry
 from ..reproducible import log10
 from ..units import UnitSystem
 from .atomic import write_keeping_suffix
-from .grid_view import ViewWell, depth_window, grid_polydata, grid_scene, render_grid
+from .grid_view import depth_window, grid_polydata, grid_scene, render_grid
 
 __all__ = [
-    "ViewWell",
     "depth_window",
     "grid_polydata",
     "grid_scene",

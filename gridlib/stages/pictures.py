@@ -5,9 +5,15 @@
   fault faces and the deviated wells' paths (:func:`gridlib.io.pictures.render_grid`);
 * ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's Fig. 3.33)
   and log10 T (:func:`gridlib.io.pictures.plot_histograms`);
+* ``{case}_plan.png``: the plan view, the top's depth contoured with the fault traces and the
+  wells (:mod:`gridlib.io.plan_view`);
 * ``{case}_residuals.png`` (cases with horizons given by picks): each pick's residual against
   its interpolated horizon, as a map and a histogram per horizon
   (:func:`gridlib.io.pick_residuals.plot_pick_residuals`, from ``horizons.nc``).
+
+The wells drawn are the case's (``wells``): a vertical well at its ``point``, a PEBI grid's
+refining well along its plan-view ``path`` (at the grid's top), and the trajectory and survey
+wells of ``wells.nc``.
 
 Every picture labels its axes and colour bars with the case's units (``unit_system`` of the
 grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the one style of
@@ -17,7 +23,6 @@ grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the o
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,14 +31,16 @@ import numpy as np
 from ..config import Case
 from ..geometry import Geometry
 from ..grid import Grid
-from ..io.grid_view import ViewWell
 from ..io.netcdf import read_cell_geometry, read_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.pick_residuals import plot_pick_residuals, read_pick_residuals
+from ..io.picture_style import quantity_label
 from ..io.pictures import plot_histograms, render_grid
+from ..io.plan_view import plot_plan
 from ..io.quantities import picture_label, units_of
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import read_transmissibility
+from ..io.well_tracks import WellTrack, plan_track, record_tracks, vertical_track
 from ..io.wells_file import WellRecord, read_wells
 from ..units import UnitSystem
 from .common import log
@@ -69,11 +76,27 @@ class Scene:
             return "depth", self.geo.cell_centroids[:, 2]
         return "volume", self.geo.cell_volumes
 
+    def well_tracks(self, case: Case) -> tuple[WellTrack, ...]:
+        """The wells to draw: the case's vertical wells (over the grid's depth range) and its
+        PEBI grid's refining wells (at its top), then the deviated wells of ``wells.nc``."""
+        z = self.grid.nodes.coords[:, -1] if self.grid.dim == 3 else np.zeros(1)
+        depths = (float(z.min()), float(z.max()))
+        tracks = []
+        for well in case.data.get("wells", []):
+            if "point" in well:
+                tracks.append(vertical_track(well["name"], well["point"], depths))
+            elif "path" in well:
+                tracks.append(plan_track(well["name"], np.asarray(well["path"], dtype=float), depths[0]))
+        return (*tracks, *record_tracks(self.wells))
+
+    def quantity(self, name: str) -> tuple[str, str | None]:
+        """A cell quantity's name and unit in the case's units (:mod:`gridlib.io.quantities`;
+        None for a name it does not know)."""
+        return name, units_of([name], self.units, self.grid.griddim).get(name)
+
     def label(self, name: str) -> str:
-        """``name [unit]`` of a quantity gridlib knows (:mod:`gridlib.io.quantities`), in the
-        case's units; ``name`` alone for one it does not."""
-        unit = units_of([name], self.units, self.grid.griddim).get(name)
-        return name if unit is None else f"{name} [{unit}]"
+        """``name [unit]`` of a cell quantity (``name`` alone without a unit)."""
+        return quantity_label(*self.quantity(name))
 
 
 def read_scene(
@@ -119,14 +142,16 @@ def stage_pictures(
     horizons: str | os.PathLike | None = None,
     png: str | os.PathLike,
     histograms: str | os.PathLike,
+    plan: str | os.PathLike,
     residuals: str | os.PathLike | None = None,
 ) -> None:
     """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
-    fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``
-    and ``wells``, ``horizons``): ``png`` ({case}.png, the 3-D view), ``histograms`` and, for
-    horizons given by picks, ``residuals``."""
+    fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``,
+    ``wells`` and ``horizons``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan``
+    and, for horizons given by picks, ``residuals``."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
     scalar, values = scene.colouring()
+    tracks = scene.well_tracks(case)
     render_grid(
         Path(png),
         scene.grid,
@@ -136,34 +161,30 @@ def stage_pictures(
         title=scene.title,
         bar_title=picture_label(scalar, scene.units, scene.grid.griddim),
         length_unit=scene.units.unit("length"),
-        wells=view_wells(case, scene.grid, scene.wells),
+        wells=tracks,
     )
     poro = None if scene.rock is None else scene.rock["poro"]
     plot_histograms(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
+    plot_plan(
+        plan,
+        scene.grid,
+        scene.geo,
+        length_unit=scene.units.length_label,
+        fault_names=scene.fault_names,
+        wells=tracks,
+        values=values,
+        quantity=scene.quantity(scalar),
+        title=case.name,
+    )
     if residuals is not None and horizons is not None:
         picks, names = read_pick_residuals(horizons)
         traces = [
-            (f["name"], np.asarray(f["trace"], dtype=np.float64))
+            (f["name"], np.asarray(f["trace"], dtype=float))
             for f in case.data.get("faults", [])
             if "trace" in f
         ]
         title = f"{case.name}: horizon-pick residuals"
         plot_pick_residuals(Path(residuals), picks, names, title=title, length_unit="m", faults=traces)
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
-
-
-def view_wells(case: Case, grid: Grid, records: Sequence[WellRecord] = ()) -> list[ViewWell]:
-    """The wells of the 3-D view: the deviated ``records``' paths, and the case's vertical
-    wells (``wells[k].point``) from the top to the bottom of the grid."""
-    out = [ViewWell(r.name, tuple(p.xyz for p in r.paths)) for r in records]
-    deviated = {r.name for r in records}
-    if grid.nodes.coords.shape[1] == 3:
-        z = grid.nodes.coords[:, 2]
-        top, bottom = float(z.min()), float(z.max())
-        for spec in case.data.get("wells", []):
-            if "point" in spec and spec["name"] not in deviated:
-                x, y = (float(v) for v in spec["point"][:2])
-                out.append(ViewWell.vertical(spec["name"], x, y, top, bottom))
-    return out

@@ -10,10 +10,11 @@ from matplotlib.colors import to_hex
 
 from gridlib.cornerpoint.between_horizons import FaultTrace, Horizon, horizons_to_grdecl
 from gridlib.cornerpoint.process import process_grdecl
-from gridlib.io.grid_view import ViewWell, grid_scene, render_grid, vertical_exaggeration
+from gridlib.io.grid_view import grid_scene, render_grid, vertical_exaggeration
 from gridlib.io.picture_style import fault_colour
 from gridlib.io.quantities import picture_label
 from gridlib.io.vtp import write_fault_faces
+from gridlib.io.well_tracks import WellTrack, vertical_track
 from gridlib.units import FIELD, METRIC
 
 X, Y = np.linspace(0.0, 2000.0, 21), np.linspace(0.0, 1000.0, 11)  # 20 x 10 columns of 100 m
@@ -36,8 +37,8 @@ def faulted(tmp_path_factory):
 
 
 WELLS = (
-    ViewWell("P1", (np.array([[300.0, 200.0, 0.0], [300.0, 200.0, 1010.0], [900.0, 300.0, 1030.0]]),)),
-    ViewWell.vertical("I1", 1700.0, 800.0, 1000.0, 1040.0),
+    WellTrack("P1", (np.array([[300.0, 200.0, 0.0], [300.0, 200.0, 1010.0], [900.0, 300.0, 1030.0]]),)),
+    vertical_track("I1", (1700.0, 800.0), (1000.0, 1040.0)),
 )
 
 
