@@ -193,7 +193,7 @@ STAGES: tuple[Stage, ...] = (
     Stage(
         "export",
         "gridlib.stages.export:stage_export",
-        ("grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells"),
+        ("grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells", "horizons"),
         (
             Artifact("nc", "{case}.nc"),
             Artifact("vtu", "{case}.vtu", when=lambda case: case.writes_vtu),

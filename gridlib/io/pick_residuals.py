@@ -5,8 +5,8 @@ pick is shallower than the surface, red: deeper), with the fault traces, a scale
 north arrow, and beside it the residuals' histogram with their RMS and largest magnitude.
 
 The residuals are stored in ``horizons.nc`` by the horizons stage (variables ``pick_*``);
-:func:`read_pick_residuals` reads them back. Units are the horizons' (metres); x is east and y
-north.
+:func:`~gridlib.io.horizon_files.read_pick_residuals` reads them back. Units are the
+horizons' (metres); x is east and y north.
 """
 
 from __future__ import annotations
@@ -17,7 +17,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..horizons.residuals import PickResiduals, residual_figures
-from .horizon_files import read_horizons
+
+__all__ = ["plot_pick_residuals", "read_pick_residuals", "residuals_figure"]
+from .horizon_files import read_pick_residuals
 from .picture_style import (
     FIGURE_SIZES,
     colour_bar,
@@ -30,30 +32,7 @@ from .picture_style import (
 )
 from .pictures import save_figure
 
-PICK_VARIABLES = ("pick_horizon", "pick_x", "pick_y", "pick_depth", "pick_residual", "pick_block")
 ROW_HEIGHT = 4.2  # inches per horizon
-
-
-def read_pick_residuals(path: str | os.PathLike) -> tuple[PickResiduals, list[str]]:
-    """The picks and residuals stored in a ``horizons.nc`` and the names of its horizons (top
-    first); no picks (an empty :class:`PickResiduals`) where it has none (an older file, or no
-    horizon given by points)."""
-    ds = read_horizons(path)
-    names = [str(h) for h in ds["horizon"].values]
-    if "pick_residual" not in ds:
-        empty = np.zeros(0)
-        return PickResiduals(np.zeros(0, np.int32), empty, empty, empty, empty, np.zeros(0, np.int32)), names
-    v = {key: ds[key].values for key in PICK_VARIABLES}
-    surface = v["pick_depth"] - v["pick_residual"]
-    residuals = PickResiduals(
-        v["pick_horizon"].astype(np.int32),
-        v["pick_x"],
-        v["pick_y"],
-        v["pick_depth"],
-        surface,
-        v["pick_block"],
-    )
-    return residuals, names
 
 
 def residuals_figure(

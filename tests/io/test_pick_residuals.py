@@ -8,8 +8,8 @@ import pytest
 
 from gridlib.horizons.build import HorizonSource, horizons_from_sources
 from gridlib.horizons.residuals import PickResiduals, pick_residuals, residual_figures
-from gridlib.io.horizon_files import write_horizons
-from gridlib.io.pick_residuals import plot_pick_residuals, read_pick_residuals, residuals_figure
+from gridlib.io.horizon_files import read_pick_residuals, write_horizons
+from gridlib.io.pick_residuals import plot_pick_residuals, residuals_figure
 from gridlib.io.picture_style import NORTH_ARROW, SCALE_BAR, fault_colour, named
 from gridlib.pillars.fault_traces import FaultTrace
 
@@ -132,3 +132,15 @@ def test_plot_writes_the_png_and_no_picks_is_an_error(residuals, tmp_path):
     empty = pick_residuals([], np.zeros((1, Y.size, X.size)), X, Y)
     with pytest.raises(ValueError, match="no picks"):
         residuals_figure(empty, ["top"])
+
+
+def test_summary_figures_of_the_residuals(residuals):
+    from gridlib.stages.export import pick_residuals_summary
+
+    got = pick_residuals_summary(residuals, ["top", "base"])["pick_residuals"]
+    rms = np.sqrt(np.mean(np.square([[2.0, -1.0, 0.5, -0.5], [0.25, 0.0, -4.0, 1.0]]), axis=1))
+    assert list(got) == ["top", "base"]
+    for (name, f), r, largest in zip(got.items(), rms, (2.0, 4.0), strict=True):
+        assert f["picks"] == 4 and f["undefined"] == 0, name
+        assert f["rms"] == pytest.approx(r, rel=1e-10) and f["max_abs"] == pytest.approx(largest, rel=1e-10)
+    assert pick_residuals_summary(pick_residuals([], np.zeros((1, 6, 11)), X, Y), ["top"]) == {}
