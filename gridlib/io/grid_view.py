@@ -36,10 +36,10 @@ _MAX_DEPTH_RANGE = 1.2  # cap: exaggerated depth range / lateral extent
 
 def grid_polydata(grid: Grid, values: np.ndarray, name: str):
     """What a picture shows, as VTK PolyData with ``values`` as cell data: the outer boundary
-    faces of a 3-D grid (coloured by the cell inside; far smaller than the polyhedra), each
-    turning about its outward normal, or the cells of a 2-D grid as polygons. Coordinates are
-    gridlib's (z depth, so that the outward normals point inward in a right-handed VTK frame;
-    any scaling with one negative factor, as to elevation, turns them outward again)."""
+    faces of a 3-D grid (coloured by the cell inside; far smaller than the polyhedra), their
+    nodes all ordered the same way about the outward normal, so that they close a consistently
+    oriented surface whose enclosed volume is the grid's; or the cells of a 2-D grid as
+    polygons. Coordinates are gridlib's (z depth)."""
     import pyvista as pv
 
     if grid.griddim == 3:
@@ -138,8 +138,8 @@ def grid_scene(
     :func:`~gridlib.io.picture_style.fault_colour`, as in every picture of the case) with a
     legend of names. ``bar_title``: the colour bar's title, the quantity and its unit (default
     ``scalar``). ``length_unit``: the case's length unit, on the axes. ``wells``: drawn as black
-    lines where they are within half the grid's thickness of its depth range, named at the
-    top of their main path there; the grid is then half transparent so that the paths show.
+    lines where they are within half the grid's depth range of it, named at the top of their
+    main path there; the grid is then half transparent so that the paths show.
 
     Actors are named for tests: ``grid``, ``fault <name>``, ``well <name>``, ``well labels``,
     ``title``, ``exaggeration``; the colour bar is ``plotter.scalar_bars[bar_title]``, the axes
