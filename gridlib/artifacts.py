@@ -212,6 +212,12 @@ STAGES: tuple[Stage, ...] = (
             Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
             Artifact("plan", "{case}_plan.png", report=Report("plan.rst", PICTURES)),
             Artifact(
+                "section",
+                "{case}_section.png",
+                when=lambda case: case.is_3d,
+                report=Report("section.rst", PICTURES),
+            ),
+            Artifact(
                 "residuals",
                 "{case}_residuals.png",
                 when=has_pick_horizons,
@@ -219,8 +225,8 @@ STAGES: tuple[Stage, ...] = (
             ),
         ),
         mem_mb=2000,
-        doc="The pictures of a QC slide: the 3-D view, histograms and plan view of the grid, and the "
-        "horizon-pick residuals.",
+        doc="The pictures of a QC slide: the grid in 3-D, its histograms, plan view and cross-section, "
+        "and the horizon-pick residuals.",
     ),
     Stage(
         "flow_deck",

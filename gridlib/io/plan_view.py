@@ -32,6 +32,7 @@ FAULTS = "faults"
 FAULT_NAME = "fault name"
 WELL_NAME = "well name"
 WELL = "well"
+SECTION = "section line"
 
 
 def plot_plan(path: str | os.PathLike, grid: Grid, geo: Geometry, **options) -> None:
@@ -50,12 +51,14 @@ def plan_figure(
     values: np.ndarray | None = None,
     quantity: tuple[str, str | None] = ("depth", None),
     title: str = "",
+    section: np.ndarray | None = None,
 ):
     """The plan view of ``grid`` as a matplotlib figure (see the module's docstring).
 
     ``length_unit``: the label of the grid's length unit (m, ft); ``fault_names[k - 1]`` names
     fault k; ``values`` (per cell) and ``quantity`` (name, unit) colour a 2-D grid's cells (a
-    3-D grid's map is its top's depth, in ``length_unit``)."""
+    3-D grid's map is its top's depth, in ``length_unit``); ``section``: the cross-section's
+    line (k, 2), drawn dashed from A to A'."""
     fig, ax = style.new_figure("plan")
     if grid.griddim == 3:
         top = top_surface(grid, geo)
@@ -78,6 +81,8 @@ def plan_figure(
     ax.set_aspect("equal")
     draw_faults(ax, segments, ids, fault_names)
     draw_wells(ax, wells, window)
+    if section is not None:
+        draw_section_line(ax, section)
     ax.set_xlabel(f"x [{length_unit}]")
     ax.set_ylabel(f"y [{length_unit}]")
     ax.set_title(f"{title}: plan view" if title else "plan view")
@@ -87,14 +92,15 @@ def plan_figure(
 
 
 def contour_levels(zmin: float, zmax: float, bins: int = 12) -> np.ndarray:
-    """Round contour levels strictly inside (``zmin``, ``zmax``) (matplotlib's tick rule).
+    """Round contour levels (1, 2, 2.5 or 5 x 10^k apart, at most ``bins`` + 1) strictly inside
+    (``zmin``, ``zmax``).
 
     >>> contour_levels(1012.0, 1093.0).tolist()
     [1020.0, 1030.0, 1040.0, 1050.0, 1060.0, 1070.0, 1080.0, 1090.0]
     """
     from matplotlib.ticker import MaxNLocator
 
-    ticks = MaxNLocator(nbins=bins).tick_values(zmin, zmax)
+    ticks = MaxNLocator(nbins=bins, steps=[1, 2, 2.5, 5, 10]).tick_values(zmin, zmax)
     return ticks[(ticks > zmin) & (ticks < zmax)]
 
 
@@ -221,3 +227,22 @@ def along_trace(points: np.ndarray, fraction: float) -> np.ndarray:
     axis = int(np.argmax(np.ptp(points, axis=0)))
     order = np.argsort(points[:, axis], kind="stable")
     return points[order[round(fraction * (order.size - 1))]]
+
+
+def draw_section_line(ax, line: np.ndarray) -> None:
+    """The cross-section's line dashed, its start marked A and its end A'."""
+    (drawn,) = ax.plot(line[:, 0], line[:, 1], color="white", lw=1.4, ls=(0, (6, 3)), zorder=3)
+    drawn.set_gid(SECTION)
+    for at, letter in ((line[0], "A"), (line[-1], "A'")):
+        ax.annotate(
+            letter,
+            at,
+            xytext=(0, 0),
+            textcoords="offset points",
+            ha="center",
+            va="center",
+            fontsize=style.LABEL_SIZE + 1,
+            fontweight="bold",
+            bbox={"boxstyle": "circle,pad=0.15", "facecolor": "white", "edgecolor": "black", "lw": 0.6},
+            zorder=6,
+        ).set_gid(SECTION)

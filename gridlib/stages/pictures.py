@@ -5,11 +5,14 @@
   fault faces and the deviated wells' paths (:func:`gridlib.io.pictures.render_grid`);
 * ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's Fig. 3.33)
   and log10 T (:func:`gridlib.io.pictures.plot_histograms`);
-* ``{case}_plan.png``: the plan view, the top's depth contoured with the fault traces and the
-  wells (:mod:`gridlib.io.plan_view`);
+* ``{case}_plan.png``: the plan view, the top's depth contoured with the fault traces, the
+  wells and the section's line (:mod:`gridlib.io.plan_view`);
+* ``{case}_section.png`` (3-D grids): the cross-section along the case's ``pictures.section``,
+  else through the wells (:mod:`gridlib.io.cross_section`), coloured by porosity, else zone,
+  else layer, else depth;
 * ``{case}_residuals.png`` (cases with horizons given by picks): each pick's residual against
   its interpolated horizon, as a map and a histogram per horizon
-  (:func:`gridlib.io.pick_residuals.plot_pick_residuals`, from ``horizons.nc``).
+  (:func:`gridlib.io.pick_residuals.residuals_figure`, from ``horizons.nc``).
 
 The wells drawn are the case's (``wells``): a vertical well at its ``point``, a PEBI grid's
 refining well along its plan-view ``path`` (at the grid's top), and the trajectory and survey
@@ -25,20 +28,26 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ..config import Case
+from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
+from ..io.cross_section import default_section, section_figure, well_heads
+from ..io.horizon_files import read_pick_residuals
 from ..io.netcdf import read_cell_geometry, read_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
-from ..io.pick_residuals import plot_pick_residuals, read_pick_residuals
-from ..io.picture_style import quantity_label
-from ..io.pictures import plot_histograms, render_grid
-from ..io.plan_view import plot_plan
+from ..io.pick_residuals import residuals_figure
+from ..io.picture_style import DPI, picture_style, quantity_label
+from ..io.pictures import plot_histograms, render_grid, save_figure
+from ..io.plan_view import plan_figure
 from ..io.quantities import picture_label, units_of
 from ..io.rock_file import read_rock
+from ..io.section_cut import cut_grid
+from ..io.top_surface import top_surface
 from ..io.transmissibility_file import read_transmissibility
 from ..io.well_tracks import WellTrack, plan_track, record_tracks, vertical_track
 from ..io.wells_file import WellRecord, read_wells
@@ -143,48 +152,120 @@ def stage_pictures(
     png: str | os.PathLike,
     histograms: str | os.PathLike,
     plan: str | os.PathLike,
+    section: str | os.PathLike | None = None,
     residuals: str | os.PathLike | None = None,
 ) -> None:
     """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
     fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``,
-    ``wells`` and ``horizons``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan``
-    and, for horizons given by picks, ``residuals``."""
+    ``wells`` and ``horizons``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan``,
+    ``section`` (3-D grids) and ``residuals`` (horizons given by picks)."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
-    scalar, values = scene.colouring()
-    tracks = scene.well_tracks(case)
-    render_grid(
-        Path(png),
-        scene.grid,
-        values,
-        Path(faults),
-        scalar=scalar,
-        title=scene.title,
-        bar_title=picture_label(scalar, scene.units, scene.grid.griddim),
-        length_unit=scene.units.unit("length"),
-        wells=tracks,
-    )
+    figures = case_figures(case, scene, with_section=section is not None)  # first: checks the line
+    if residuals is not None and horizons is not None:
+        figures["residuals"] = pick_residuals_figure(case, horizons)
+    render_grid(Path(png), **view_arguments(case, scene, faults))
     poro = None if scene.rock is None else scene.rock["poro"]
     plot_histograms(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
-    plot_plan(
-        plan,
-        scene.grid,
-        scene.geo,
-        length_unit=scene.units.length_label,
-        fault_names=scene.fault_names,
-        wells=tracks,
-        values=values,
-        quantity=scene.quantity(scalar),
-        title=case.name,
-    )
-    if residuals is not None and horizons is not None:
-        picks, names = read_pick_residuals(horizons)
-        traces = [
-            (f["name"], np.asarray(f["trace"], dtype=float))
-            for f in case.data.get("faults", [])
-            if "trace" in f
-        ]
-        title = f"{case.name}: horizon-pick residuals"
-        plot_pick_residuals(Path(residuals), picks, names, title=title, length_unit="m", faults=traces)
+    drawn = {"plan": plan, "section": section, "residuals": residuals}
+    for key, figure in figures.items():
+        save_figure(figure, drawn[key], dpi=DPI)
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
+
+
+def view_arguments(case: Case, scene: Scene, faults: str | os.PathLike) -> dict[str, Any]:
+    """The arguments of the 3-D view (:func:`gridlib.io.grid_view.grid_scene`, or
+    :func:`~gridlib.io.pictures.render_grid` with a path): the grid coloured as
+    :meth:`Scene.colouring` says, its colour bar titled ``quantity [unit]``, the case's length
+    unit on the axes, the fault faces ``faults`` (``{case}_faults.vtp``) and every well."""
+    scalar, values = scene.colouring()
+    return {
+        "grid": scene.grid,
+        "values": values,
+        "faults": Path(faults),
+        "scalar": scalar,
+        "title": scene.title,
+        "bar_title": picture_label(scalar, scene.units, scene.grid.griddim),
+        "length_unit": scene.units.length_label,
+        "wells": scene.well_tracks(case),
+    }
+
+
+def pick_residuals_figure(case: Case, horizons: str | os.PathLike):
+    """The horizon-pick residuals' figure of the case (its ``horizons.nc``, in m) with the
+    traces of its faults given by traces (:func:`gridlib.io.pick_residuals.residuals_figure`)."""
+    picks, names = read_pick_residuals(horizons)
+    faults = case.data.get("faults", [])
+    traces = [(f["name"], np.asarray(f["trace"], dtype=np.float64)) for f in faults if "trace" in f]
+    title = f"{case.name}: horizon-pick residuals"
+    return residuals_figure(picks, names, title=title, length_unit="m", faults=traces)
+
+
+def section_line(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> np.ndarray:
+    """The case's ``pictures.section`` (k, 2), else the default line through its wells
+    (:func:`gridlib.io.cross_section.default_section`)."""
+    given = case.data.get("pictures", {}).get("section")
+    if given is not None:
+        return np.asarray(given, dtype=np.float64)[:, :2]
+    z = scene.grid.nodes.coords[:, 2]
+    xy = scene.grid.nodes.coords[:, :2]
+    heads = well_heads(tracks, (float(z.min()), float(z.max())))
+    return default_section(heads, xy.min(axis=0), xy.max(axis=0))
+
+
+def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None], bool]:
+    """The cell values of the section: porosity, else zone, else layer, else depth; with
+    their name and unit, and whether they are categories (zone, layer)."""
+    if scene.rock is not None:
+        return scene.rock["poro"], ("porosity", scene.quantity("poro")[1]), False
+    for name in ("zone", "layer"):
+        if name in scene.cell_data:
+            return scene.cell_data[name], (name, None), True
+    if scene.grid.layering is not None:
+        return scene.grid.layering.layer, ("layer", None), True
+    return scene.geo.cell_centroids[:, 2], ("depth", scene.units.length_label), False
+
+
+def case_figures(case: Case, scene: Scene, *, with_section: bool = True) -> dict[str, Any]:
+    """The matplotlib figures of the case's plan view (``plan``) and, ``with_section`` (3-D
+    grids), its cross-section (``section``), in the pictures' style; an InputError naming
+    ``pictures.section`` where the case's line cuts no cell."""
+    tracks = scene.well_tracks(case)
+    line = section_line(case, scene, tracks) if with_section else None
+    figures = {}
+    with picture_style():
+        if line is not None:
+            cut = cut_grid(scene.grid, line)
+            if cut.cells.size == 0:
+                raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")
+            values, quantity, categorical = section_colouring(scene)
+            figures["section"] = section_figure(
+                scene.grid,
+                line,
+                length_unit=scene.units.length_label,
+                values=values,
+                quantity=quantity,
+                categorical=categorical,
+                fault_names=scene.fault_names,
+                wells=tracks,
+                cell_size=top_surface(scene.grid, scene.geo).cell_size(),
+                title=case.name,
+                cut=cut,
+            )
+        scalar, values = scene.colouring()
+        name, unit = scene.quantity(scalar)
+        if name == "volume" and scene.grid.griddim == 2:
+            name = "cell area"
+        figures["plan"] = plan_figure(
+            scene.grid,
+            scene.geo,
+            length_unit=scene.units.length_label,
+            fault_names=scene.fault_names,
+            wells=tracks,
+            values=values,
+            quantity=(name, unit),
+            title=case.name,
+            section=line,
+        )
+    return figures
