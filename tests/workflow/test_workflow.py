@@ -101,6 +101,56 @@ def test_every_case_has_checked_artifacts_that_open(workflow_run, case):
 
 
 @pytest.mark.parametrize("case", CASES)
+def test_the_3d_view_of_every_case_says_what_it_shows(workflow_run, case):
+    """The 3-D view's scene as the pictures stage builds it, read from its objects: axes in the
+    case's length unit with depth, the colour bar's quantity and unit, the stated vertical
+    exaggeration (3-D grids), one actor and legend entry per fault with faces, the wells named."""
+    from gridlib.io.grid_view import grid_scene
+    from gridlib.stages.pictures import read_scene, view_arguments
+
+    folder = workflow_run / "results" / case
+    given = {key: folder / f"{key}.nc" for key in ("petrophysics", "transmissibility", "wells")}
+    scene = read_scene(
+        SAMPLES[case],
+        folder / "grid.nc",
+        folder / "geometry.nc",
+        **{k: p for k, p in given.items() if p.exists()},
+    )
+    arguments = view_arguments(SAMPLES[case], scene, folder / f"{case}_faults.vtp")
+    plotter = grid_scene(**arguments, window_size=(320, 240))
+    try:
+        unit = {"METRIC": "m", "FIELD": "ft"}[
+            json.loads((folder / "summary.json").read_text())["unit_system"]
+        ]
+        axes = plotter.renderer.cube_axes_actor
+        assert (axes.x_title, axes.y_title) == (f"x (east) [{unit}]", f"y (north) [{unit}]")
+        plain = f"depth [{unit}]" if scene.grid.dim == 3 else f"cell area [{unit}2]"
+        quantity = "poro [fraction]" if given["petrophysics"].exists() else plain
+        assert list(plotter.scalar_bars.keys()) == [quantity]
+        if scene.grid.griddim == 3:
+            assert axes.z_title == f"depth [{unit}]"
+            assert re.fullmatch(r"vertical exaggeration \d+x", plotter.actors["exaggeration"].GetInput())
+        faults = pv.read(folder / f"{case}_faults.vtp")
+        names = list(faults.field_data["fault_names"])
+        drawn = [names[k - 1] for k in np.unique(faults.cell_data["fault"])] if faults.n_cells else []
+        assert sorted(k[len("fault ") :] for k in plotter.actors if k.startswith("fault ")) == sorted(drawn)
+        legend = plotter.legend
+        entries = (
+            [legend.GetEntryString(k) for k in range(legend.GetNumberOfEntries())]
+            if legend is not None
+            else []
+        )
+        assert entries == drawn
+        vertical = [w["name"] for w in SAMPLES[case].data.get("wells", []) if "point" in w]
+        if vertical:
+            labels = plotter.actors["well labels-labels"].GetMapper().GetInputAlgorithm().GetInput()
+            array = labels.GetPointData().GetAbstractArray("labels")
+            assert set(vertical) <= {array.GetValue(k) for k in range(array.GetNumberOfValues())}
+    finally:
+        plotter.close()
+
+
+@pytest.mark.parametrize("case", CASES)
 def test_figures_equal_the_golden_summaries(workflow_run, case):
     """Regression: make golden regenerates tests/regression/ deliberately (review the diff)."""
     got = json.loads((workflow_run / "results" / case / "summary.json").read_text())
