@@ -667,10 +667,11 @@ def _expected_units(system: str, griddim: int) -> dict[str, str]:
     return units
 
 
-# horizons.nc: only for grids gridlib builds, in metres; the names of its horizons and the fault
-# block of each lattice node are no quantity.
+# horizons.nc: only for grids gridlib builds, in metres; the names of its horizons, the fault
+# block of each lattice node and each pick's horizon and block are no quantity.
 HORIZONS_UNITS = {"depth": "m", "depth_by_block": "m", "x": "m", "y": "m"}
-HORIZONS_NAMES = ("horizon", "source", "method", "block")
+HORIZONS_UNITS |= dict.fromkeys(("pick_x", "pick_y", "pick_depth", "pick_residual"), "m")
+HORIZONS_NAMES = ("horizon", "source", "method", "block", "pick_horizon", "pick_block")
 
 
 def _base_name(name: str) -> str:
