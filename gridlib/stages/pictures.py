@@ -180,13 +180,19 @@ def view_arguments(case: Case, scene: Scene, faults: str | os.PathLike) -> dict[
     :meth:`Scene.colouring` says, its colour bar titled ``quantity [unit]``, the case's length
     unit on the axes, the fault faces ``faults`` (``{case}_faults.vtp``) and every well."""
     scalar, values = scene.colouring()
+    griddim = scene.grid.griddim
+    bar_title = picture_label(scalar, scene.units, griddim)
+    if scalar == "volume":  # the cell measure: a volume, or a 2-D grid's area
+        bar_title = (
+            f"cell {'volume' if griddim == 3 else 'area'} [{scene.units.unit('cell_measure', griddim)}]"
+        )
     return {
         "grid": scene.grid,
         "values": values,
         "faults": Path(faults),
         "scalar": scalar,
         "title": scene.title,
-        "bar_title": picture_label(scalar, scene.units, scene.grid.griddim),
+        "bar_title": bar_title,
         "length_unit": scene.units.length_label,
         "wells": scene.well_tracks(case),
     }
