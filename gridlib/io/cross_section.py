@@ -9,7 +9,8 @@ Where the section runs (:func:`default_section`), unless the case gives it
   their principal direction (the major axis of their spread), extended at both ends along the
   end segments to the grid's bounding box in plan view;
 * through a single well: along the longer side of the grid's bounding box;
-* without wells: through the centre of the bounding box along its longer side.
+* without wells: through the centre of the bounding box along its longer side (the stage
+  falls back on this line too where the line through the wells cuts no cell).
 
 The picture (:func:`section_figure`): the cut cells (:mod:`gridlib.io.section_cut`) as
 polygons in (distance along the section, depth) coloured by porosity (else zone, else layer,
@@ -23,14 +24,12 @@ marked A and A' above it, as on the plan view, and its bends by dotted lines.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 
 import numpy as np
 
 from ..grid import Grid
 from . import picture_style as style
-from .pictures import save_figure
 from .section_cut import SectionCut, clip_parts, cut_grid
 from .well_tracks import WellTrack
 
@@ -107,12 +106,6 @@ def exaggeration(length: float, thickness: float) -> float:
     if thickness <= 0:
         return 1.0
     return max(1.0, min(MAX_EXAGGERATION, style.nice_length(0.5 * length / thickness)))
-
-
-def plot_section(path: str | os.PathLike, grid: Grid, line: np.ndarray, **options) -> None:
-    """:func:`section_figure` saved as ``path`` (PNG)."""
-    with style.picture_style():
-        save_figure(section_figure(grid, line, **options), path, dpi=style.DPI)
 
 
 def section_figure(
@@ -229,13 +222,16 @@ def _draw_wells(
 ) -> tuple[float, float]:
     """The wells' parts within ``reach`` of the section (and within its extent and the depth
     range ``depths`` widened by a tenth) projected onto it, as black lines, each named at its
-    shallowest drawn point; returns the depth range drawn (``depths`` if none)."""
+    shallowest drawn point (not the wells known in plan view only); returns the depth range
+    drawn (``depths`` if none)."""
     from matplotlib.collections import LineCollection
 
     margin = 0.1 * (depths[1] - depths[0])
     top, bottom = depths[0] - margin, depths[1] + margin
     drawn = depths
     for well in wells:
+        if well.plan_only:
+            continue
         parts = []
         for xyz in well.paths:
             for j in range(line.shape[0] - 1):

@@ -148,13 +148,15 @@ def quantity_label(quantity: str, unit: str | None) -> str:
 def colour_bar(fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any = None):
     """A vertical colour bar beside ``ax`` titled ``quantity [unit]`` along its long side,
     beyond its tick labels (matplotlib places the label outside them: they never overlap);
-    at most 8 ticks, none crowded. Returns the colour bar."""
-    from matplotlib.ticker import MaxNLocator
+    at most 8 ticks (or ``ticks``), none crowded, written in full (no offset). Returns the
+    colour bar."""
+    from matplotlib.ticker import MaxNLocator, ScalarFormatter
 
     bar = fig.colorbar(mappable, ax=ax, shrink=0.85, pad=0.02, ticks=ticks)
     if ticks is None:
         bar.locator = MaxNLocator(nbins=8)
-        bar.update_ticks()
+    bar.formatter = ScalarFormatter(useOffset=False)  # whole depths, not "+1.5e3" above the bar
+    bar.update_ticks()
     bar.set_label(quantity_label(quantity, unit), labelpad=8)
     return bar
 
