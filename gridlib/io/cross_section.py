@@ -38,6 +38,8 @@ EXAGGERATION = "vertical exaggeration"
 FAULT_NAME = "fault name"
 WELL_NAME = "well name"
 OUTLINED_POLYGONS = 20000  # polygons drawn with their edges up to this many
+SIDE_ROOM, HEIGHT_ROOM = 2.4, 2.0  # inches of a section's figure beside and above/below its axes
+MAX_HEIGHT = 8.0  # inches
 
 
 def well_heads(wells: Sequence[WellTrack], depths: tuple[float, float]) -> np.ndarray:
@@ -135,12 +137,12 @@ def section_figure(
     fig, ax = style.new_figure("section")
     polygons = np.split(cut.points, cut.pos[1:-1])
     shown = np.asarray(values)[cut.cells]
-    cmap, norm, ticks = _colours(shown, categorical)
+    cmap, norm, ticks = _colours(shown, categorical, "depth" if quantity[0] == "depth" else "property")
     cells = PolyCollection(polygons, array=shown, cmap=cmap, norm=norm)
     cells.set_edgecolor("#333333" if cut.cells.size <= OUTLINED_POLYGONS else "face")
     cells.set_linewidth(0.25)
     ax.add_collection(cells)
-    style.colour_bar(fig, ax, cells, *quantity, ticks=ticks)
+    style.colour_bar(fig, ax, cells, *quantity, ticks=ticks, downward=quantity[0] == "depth")
     if cut.fault_ids.size:
         faults = LineCollection(cut.fault_lines, colors=style.fault_colours(cut.fault_ids), linewidths=2.2)
         ax.add_collection(faults)
@@ -154,12 +156,13 @@ def section_figure(
     ax.set_ylim(z_hi + pad, z_lo - pad)  # depth increases downwards
     ve = exaggeration(cut.vertices[-1], z_hi - z_lo + 2 * pad)
     ax.set_aspect(ve, adjustable="box")
+    _fit_height(fig, ax, ve)
     _mark_vertices(ax, cut.vertices)
-    text = ax.annotate(  # below the axes' right end, clear of the data and the centred label
+    text = ax.annotate(  # below the axes' right end, clear of the data and of the axis label
         f"vertical exaggeration {ve:g}x",
         (1.0, 0.0),
         xycoords="axes fraction",
-        xytext=(0, -22),
+        xytext=(0, -34),  # below the tick labels and the axis label's line
         textcoords="offset points",
         ha="right",
         va="top",
@@ -172,9 +175,23 @@ def section_figure(
     return fig
 
 
-def _colours(values: np.ndarray, categorical: bool):
-    """The colour map, norm and colour-bar ticks of the cells' values (one colour per integer
-    where ``categorical``)."""
+def _fit_height(fig, ax, exaggeration: float) -> None:
+    """The figure's height fitted to the exaggerated section (its width kept): the axes' box
+    as tall as its aspect makes it, plus room for the title, the ends' letters and the labels
+    (a fixed height would leave a long flat section a strip, and crop a steep one)."""
+    width, _ = fig.get_size_inches()
+    x0, x1 = ax.get_xlim()
+    bottom, top = ax.get_ylim()
+    ratio = exaggeration * abs(bottom - top) / max(abs(x1 - x0), np.finfo(float).tiny)
+    height = ratio * (width - SIDE_ROOM) + HEIGHT_ROOM
+    if height > MAX_HEIGHT:  # a steep section (a thick model): narrower, not cropped
+        width, height = (MAX_HEIGHT - HEIGHT_ROOM) / ratio + SIDE_ROOM, MAX_HEIGHT
+    fig.set_size_inches(width, max(height, 3.0))
+
+
+def _colours(values: np.ndarray, categorical: bool, kind: style.Kind = "property"):
+    """The colour map (of ``kind``), norm and colour-bar ticks of the cells' values (one colour
+    per integer where ``categorical``)."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     if not categorical:
@@ -183,7 +200,7 @@ def _colours(values: np.ndarray, categorical: bool):
             lo, hi = lo - 0.5, hi + 0.5
         from matplotlib.colors import Normalize
 
-        return style.colour_map("property"), Normalize(lo, hi), None
+        return style.colour_map(kind), Normalize(lo, hi), None
     kinds = np.unique(values.astype(np.int64))
     bounds = np.concatenate([kinds - 0.5, [kinds[-1] + 0.5]])
     palette = style.colour_map("category")

@@ -145,10 +145,13 @@ def quantity_label(quantity: str, unit: str | None) -> str:
     return quantity if not unit else f"{quantity} [{unit}]"
 
 
-def colour_bar(fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any = None):
+def colour_bar(
+    fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any = None, downward: bool = False
+):
     """A vertical colour bar beside ``ax`` titled ``quantity [unit]`` along its long side,
     beyond its tick labels (matplotlib places the label outside them: they never overlap);
-    at most 8 ticks (or ``ticks``), none crowded, written in full (no offset). Returns the
+    at most 8 ticks (or ``ticks``), none crowded, written in full (no offset); ``downward``
+    (depths): its values increase downwards, shallow at the top as on a section. Returns the
     colour bar."""
     from matplotlib.ticker import MaxNLocator, ScalarFormatter
 
@@ -158,6 +161,8 @@ def colour_bar(fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any
     bar.formatter = ScalarFormatter(useOffset=False)  # whole depths, not "+1.5e3" above the bar
     bar.update_ticks()
     bar.set_label(quantity_label(quantity, unit), labelpad=8)
+    if downward:
+        bar.ax.invert_yaxis()
     return bar
 
 
@@ -175,8 +180,8 @@ def nice_length(length: float) -> float:
     return float(f"{digit}e{int(exponent)}")
 
 
-def scale_bar(ax, unit: str, fraction: float = 0.25):
-    """A scale bar in the lower left corner of the map ``ax`` (data units: the case's length
+def scale_bar(ax, unit: str, fraction: float = 0.25, corner: str = "lower left"):
+    """A scale bar in a lower ``corner`` of the map ``ax`` (data units: the case's length
     unit ``unit``; equal aspect): a length of 1, 2 or 5 x 10^k up to ``fraction`` of the axes'
     width, labelled e.g. "500 m". Draw it after the data (it reads the axes' limits). Its
     artist has the gid :data:`SCALE_BAR`; returns it."""
@@ -189,7 +194,7 @@ def scale_bar(ax, unit: str, fraction: float = 0.25):
         ax.transData,
         length,
         f"{length:g} {unit}",
-        "lower left",
+        corner,
         pad=0.4,
         borderpad=0.6,
         sep=4,
@@ -204,13 +209,13 @@ def scale_bar(ax, unit: str, fraction: float = 0.25):
     return bar
 
 
-def north_arrow(ax):
-    """A north arrow (y is north) with an "N" in the upper right corner of the map ``ax``; its
+def north_arrow(ax, corner: str = "upper right"):
+    """A north arrow (y is north) with an "N" in an upper ``corner`` of the map ``ax``; its
     annotation has the gid :data:`NORTH_ARROW`; returns it."""
     arrow = ax.annotate(
         "N",
-        xy=(0.95, 0.95),
-        xytext=(0.95, 0.82),
+        xy=(0.95 if corner.endswith("right") else 0.05, 0.95),
+        xytext=(0.95 if corner.endswith("right") else 0.05, 0.82),
         xycoords="axes fraction",
         ha="center",
         va="center",

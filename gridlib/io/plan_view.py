@@ -56,7 +56,7 @@ def plan_figure(
     if grid.griddim == 3:
         top = top_surface(grid, geo)
         mappable, ticks = _depth_map(ax, top)
-        style.colour_bar(fig, ax, mappable, "top depth", length_unit, ticks=ticks)
+        style.colour_bar(fig, ax, mappable, "top depth", length_unit, ticks=ticks, downward=True)
         segments, ids = fault_traces(grid, top)
         window = (float(grid.nodes.coords[:, 2].min()), float(grid.nodes.coords[:, 2].max()))
     else:
@@ -79,8 +79,9 @@ def plan_figure(
     ax.set_xlabel(f"x [{length_unit}]")
     ax.set_ylabel(f"y [{length_unit}]")
     ax.set_title(f"{title}: plan view" if title else "plan view")
-    style.scale_bar(ax, length_unit)
-    style.north_arrow(ax)
+    lower, upper = free_corners(ax, () if section is None else (section[0], section[-1]))
+    style.scale_bar(ax, length_unit, corner=lower)
+    style.north_arrow(ax, corner=upper)
     return fig
 
 
@@ -242,3 +243,20 @@ def draw_section_line(ax, line: np.ndarray) -> None:
             bbox={"boxstyle": "circle,pad=0.15", "facecolor": "white", "edgecolor": "black", "lw": 0.6},
             zorder=6,
         ).set_gid(SECTION)
+
+
+def free_corners(ax, marks: Sequence[np.ndarray]) -> tuple[str, str]:
+    """The lower and the upper corner of the map ``ax`` farthest from the points ``marks``
+    (the section's ends, which often lie in corners): where the scale bar and the north arrow
+    go (lower left and upper right without marks)."""
+    if not len(marks):
+        return "lower left", "upper right"
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    at = np.array([[(x - x0) / (x1 - x0), (y - y0) / (y1 - y0)] for x, y in marks])
+
+    def clearance(cx: float, cy: float) -> float:
+        return float(np.min(np.hypot(at[:, 0] - cx, at[:, 1] - cy)))
+
+    lower = "lower left" if clearance(0.0, 0.0) >= clearance(1.0, 0.0) else "lower right"
+    upper = "upper right" if clearance(1.0, 1.0) >= clearance(0.0, 1.0) else "upper left"
+    return lower, upper

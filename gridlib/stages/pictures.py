@@ -26,13 +26,15 @@ grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the o
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..completions import vertical_well_cells
 from ..config import Case
+from ..connectivity import ragged_arange, repeat_ids
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
@@ -86,17 +88,53 @@ class Scene:
         return "volume", self.geo.cell_volumes
 
     def well_tracks(self, case: Case) -> tuple[WellTrack, ...]:
-        """The wells to draw: the case's vertical wells (over the grid's depth range) and its
-        PEBI grid's refining wells (at its top), then the deviated wells of ``wells.nc``."""
+        """The wells to draw: the case's vertical wells (over the depths of the cells their line
+        crosses, :func:`gridlib.completions.vertical_well_cells`; the grid's depth range where
+        the grid has no columns) and its PEBI grid's refining wells (at its top), then the
+        deviated wells of ``wells.nc``."""
         z = self.grid.nodes.coords[:, -1] if self.grid.dim == 3 else np.zeros(1)
         depths = (float(z.min()), float(z.max()))
         tracks = []
+        located = self._locatable() if self.grid.dim == 3 else None
         for well in case.data.get("wells", []):
             if "point" in well:
-                tracks.append(vertical_track(well["name"], well["point"], depths))
+                tracks.append(
+                    vertical_track(well["name"], well["point"], self._crossed(located, well["point"], depths))
+                )
             elif "path" in well:
                 tracks.append(plan_track(well["name"], np.asarray(well["path"], dtype=float), depths[0]))
         return (*tracks, *record_tracks(self.wells))
+
+    def _locatable(self) -> Geometry:
+        """The geometry with face centroids (the geometry file's are left out when read,
+        :func:`gridlib.io.netcdf.read_cell_geometry`): the means of the faces' nodes, enough to
+        locate a vertical well's cells."""
+        npos = self.grid.faces.node_pos
+        owner = repeat_ids(npos)
+        xyz = self.grid.nodes.coords[self.grid.faces.nodes]
+        counts = np.maximum(np.diff(npos), 1)
+        centres = np.column_stack([np.bincount(owner, xyz[:, k], counts.size) / counts for k in range(3)])
+        return replace(self.geo, face_centroids=centres)
+
+    def _crossed(
+        self, located: Geometry | None, point: list[float], depths: tuple[float, float]
+    ) -> tuple[float, float]:
+        """The depth range of the nodes of the cells a vertical line at ``point`` crosses
+        (``depths`` where it crosses none, or the grid cannot say)."""
+        if located is None:
+            return depths
+        try:
+            cells = vertical_well_cells(self.grid, located, point[:2])
+        except InputError:
+            return depths
+        if cells.size == 0:
+            return depths
+        pos = self.grid.cells.face_pos
+        faces = self.grid.cells.faces[ragged_arange(pos[cells], pos[cells + 1] - pos[cells])]
+        npos = self.grid.faces.node_pos
+        nodes = self.grid.faces.nodes[ragged_arange(npos[faces], npos[faces + 1] - npos[faces])]
+        z = self.grid.nodes.coords[nodes, 2]
+        return float(z.min()), float(z.max())
 
     def quantity(self, name: str) -> tuple[str, str | None]:
         """A cell quantity's name and unit in the case's units (:mod:`gridlib.io.quantities`;
