@@ -7,9 +7,10 @@ makes their rules): horizons -> grid -> geometry -> petrophysics -> coarsen and
 transmissibility -> wells (trajectory and survey wells: wells.nc) -> export -> pictures and flow_deck (the
 OPM Flow deck), then summary.csv over all cases
 (see README.md). OPM Flow runs the decks of the cases with a `simulation`
-section with `snakemake simulate` (or `--config simulate=true`). A report of the pictures:
+section with `snakemake simulate` (or `--config simulate=true`). A report of the pictures
+that opens on the cases (pictures, then the summary table; the rule graph last):
 
-    snakemake --report results/report.zip
+    snakemake --report results/report.zip --report-metadata workflow/report/metadata.yaml
 """
 
 from snakemake.utils import min_version
@@ -18,6 +19,11 @@ min_version("8.0")
 
 
 configfile: f"{workflow.basedir}/config/config.yaml"
+
+
+# The report's landing page: the cases' pictures and the summary table (the rule graph beside
+# it; with --report-metadata workflow/report/metadata.yaml, alone)
+report: "workflow/report/workflow.rst"
 
 
 include: "workflow/rules/common.smk"

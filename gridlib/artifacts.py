@@ -55,6 +55,11 @@ def drops_grdecl(case: Case) -> bool:
     return not case.keeps_stage_files and case.writes_flow_deck
 
 
+def has_pick_horizons(case: Case) -> bool:
+    """A case with a horizon given by picks (``horizons.surfaces[k].points``)."""
+    return case.has_horizons and any("points" in s for s in case.data["horizons"]["surfaces"])
+
+
 @dataclass(frozen=True)
 class Report:
     """Where a picture goes in the Snakemake report: its caption (a file of
@@ -116,7 +121,14 @@ class Stage:
         return tuple(a for a in self.outputs if a.when(case)) if self.when(case) else ()
 
 
-PICTURES = "Grids"
+# The Snakemake report's categories. Its menu sorts them by name (Snakemake's html reporter):
+# numbered, so that the cases' pictures come first, then the summary table, the simulations and
+# the studies (workflow/report/workflow.rst, the landing page, links to them; the rule graph is
+# the menu's "Workflow" entry).
+PICTURES = "1. Cases"
+SUMMARY = "2. Summary"
+SIMULATIONS = "3. Simulations"
+STUDIES = "4. Studies"
 
 STAGES: tuple[Stage, ...] = (
     Stage(
@@ -181,7 +193,7 @@ STAGES: tuple[Stage, ...] = (
     Stage(
         "export",
         "gridlib.stages.export:stage_export",
-        ("grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells"),
+        ("grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells", "horizons"),
         (
             Artifact("nc", "{case}.nc"),
             Artifact("vtu", "{case}.vtu", when=lambda case: case.writes_vtu),
@@ -194,7 +206,7 @@ STAGES: tuple[Stage, ...] = (
     Stage(
         "pictures",
         "gridlib.stages.pictures:stage_pictures",
-        ("grid", "geometry", "petrophysics", "transmissibility", "wells", "faults"),
+        ("grid", "geometry", "petrophysics", "transmissibility", "wells", "faults", "horizons"),
         (
             Artifact("png", "{case}.png", report=Report("grid.rst", PICTURES)),
             Artifact("histograms", "{case}_histograms.png", report=Report("histograms.rst", PICTURES)),
@@ -205,9 +217,16 @@ STAGES: tuple[Stage, ...] = (
                 when=lambda case: case.is_3d,
                 report=Report("section.rst", PICTURES),
             ),
+            Artifact(
+                "residuals",
+                "{case}_residuals.png",
+                when=has_pick_horizons,
+                report=Report("residuals.rst", PICTURES),
+            ),
         ),
         mem_mb=2000,
-        doc="The pictures of a QC slide: the grid in 3-D, its histograms, plan view and cross-section.",
+        doc="The pictures of a QC slide: the grid in 3-D, its histograms, plan view and cross-section, "
+        "and the horizon-pick residuals.",
     ),
     Stage(
         "flow_deck",
@@ -223,7 +242,7 @@ STAGES: tuple[Stage, ...] = (
         ("flow_deck", "grid", "transmissibility"),
         (
             Artifact("flow_summary", "flow/summary.json"),
-            Artifact("flow_wells", "flow/{case}_wells.png", report=Report("wells.rst", "Simulations")),
+            Artifact("flow_wells", "flow/{case}_wells.png", report=Report("wells.rst", SIMULATIONS)),
             Artifact("flow_vtu", "flow/{case}_flow.vtu"),
         ),
         when=lambda case: case.writes_flow_deck and case.has_simulation,

@@ -25,6 +25,7 @@ from .blocks import DepthFunction, FaultBlocks, bounding_box, fault_blocks, foot
 from .dataset import horizon_dataset
 from .interpolate import interpolate_points
 from .ordering import order_horizons
+from .residuals import pick_residuals
 
 SOURCES = ("points", "surface", "plane", "dome", "peaks")
 MAX_PASSES = 8  # of the picks' classification by inclined fault surfaces placed at the footwall tops
@@ -89,11 +90,11 @@ def horizons_from_sources(
         except TypeError as exc:  # bad keyword arguments of a formula
             raise InputError(f"{item.label}: {item.kind}: {exc}") from exc
     block = fault_blocks(faults, extent).classify(X, Y) if faulted else None
-    by_block = None
+    by_block, placed = None, None
     if per_block:
         if not faulted:
             raise InputError("horizons: per-fault-block surfaces need fault traces")
-        by_block = block_surfaces(
+        by_block, placed = block_surfaces(
             loaded, depths, fault_blocks(faults, extent), faults, xa, ya, ordering, fault_surfaces, notes
         )
         depths = list(np.take_along_axis(by_block, block[None, None], axis=0)[0])
@@ -111,7 +112,41 @@ def horizons_from_sources(
     )
     if by_block is not None:
         ds["depth_by_block"] = _by_block_variable(by_block, faults, extent)
-    return ds
+    return ds.assign(_pick_variables(loaded, ds, placed))
+
+
+def _pick_variables(loaded: Sequence[HorizonSource], ds: xr.Dataset, placed: FaultBlocks | None):
+    """The picks of the horizons given by points and their residuals against the final surfaces
+    (:mod:`gridlib.horizons.residuals`), as the Dataset's variables over ``pick``: ``pick_horizon``,
+    ``pick_x``, ``pick_y``, ``pick_depth``, ``pick_residual``, ``pick_block``. ``placed``: the
+    fault blocks the picks went to where every block has its own surfaces (``depth_by_block``)."""
+    picks = [
+        (k, item.data, None if placed is None else placed.classify(*item.data.T))
+        for k, item in enumerate(loaded)
+        if item.kind == "points"
+    ]
+    by_block = ds["depth_by_block"].values if "depth_by_block" in ds else None
+    r = pick_residuals(picks, ds["depth"].values, ds["x"].values, ds["y"].values, by_block)
+    length = {"units": "m"}
+    return {
+        "pick_horizon": ("pick", r.horizon, {"long_name": "index of the pick's horizon (top first)"}),
+        "pick_x": ("pick", r.x, {**length, "long_name": "x of the pick"}),
+        "pick_y": ("pick", r.y, {**length, "long_name": "y of the pick"}),
+        "pick_depth": ("pick", r.depth, {**length, "positive": "down", "long_name": "depth of the pick"}),
+        "pick_residual": (
+            "pick",
+            r.residual,
+            {
+                **length,
+                "long_name": "pick depth minus its horizon's surface depth there (NaN: undefined)",
+            },
+        ),
+        "pick_block": (
+            "pick",
+            r.block,
+            {"long_name": "fault block whose surface the pick was compared with (-1: the horizon's depth)"},
+        ),
+    }
 
 
 def _method(item: HorizonSource) -> str:
@@ -149,9 +184,10 @@ def block_surfaces(
     ordering: str,
     fault_surfaces: Callable[[DepthFunction], Sequence[Any]] | None,
     notes: list[str],
-) -> FloatArray:
+) -> tuple[FloatArray, FaultBlocks]:
     """(block, horizon, y, x): every horizon of every block of ``blocks`` (cut by the traces
-    ``faults``) over the whole lattice, from its own picks, ordered.
+    ``faults``) over the whole lattice, from its own picks, ordered; and the blocks that placed
+    the picks (``blocks`` with the inclined faults' surfaces where there are such faults).
 
     A pick goes to the block its position lies in, or, where a fault is inclined, to the block
     on its side of the fault surface at the pick's own depth. An inclined fault's trace is its
@@ -164,15 +200,16 @@ def block_surfaces(
     """
     out = _by_block(loaded, depths, blocks, xa, ya, ordering)
     if fault_surfaces is None:
-        return out
+        return out, blocks
     for passes in range(1, MAX_PASSES + 1):
         placed = fault_surfaces(footwall_top(blocks, out[:, 0], xa, ya, faults))
         inclined = [
             f.name for f in placed if getattr(f, "surface", None) is not None and not f.surface.is_vertical
         ]
         if not inclined:
-            return out
-        new = _by_block(loaded, depths, with_surfaces(blocks, placed), xa, ya, ordering)
+            return out, blocks
+        surfaced = with_surfaces(blocks, placed)
+        new = _by_block(loaded, depths, surfaced, xa, ya, ordering)
         settled = np.array_equal(new[:, 0], out[:, 0], equal_nan=True)
         out = new
         if settled:
@@ -180,7 +217,7 @@ def block_surfaces(
                 f"picks per fault block placed by the surfaces of the inclined faults {inclined} at the "
                 f"footwall tops: a fixed point after {passes} pass(es)"
             )
-            return out
+            return out, surfaced
     raise InputError(
         f"horizons: the picks' blocks and the footwall tops of the inclined faults {inclined} do not "
         f"settle in {MAX_PASSES} passes (picks of the top horizon that change sides as its surfaces move); "

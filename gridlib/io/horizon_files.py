@@ -25,6 +25,7 @@ from ..arrays import point_array
 from ..errors import InputError
 from ..grid import FloatArray
 from ..horizons.build import SOURCES, HorizonSource, check_lattice, horizons_from_sources
+from ..horizons.residuals import PickResiduals
 from ..horizons.surface import Surface, regular_increment
 from .datasets import damaged, load_artifact, load_dataset, save_dataset
 from .registry import read
@@ -34,6 +35,7 @@ __all__ = [
     "build_horizons",
     "load_horizon_source",
     "read_horizons",
+    "read_pick_residuals",
     "read_points",
     "read_surface_netcdf",
     "write_horizons",
@@ -331,3 +333,28 @@ def read_horizons(path: str | os.PathLike) -> xr.Dataset:
     if ds["depth"].dtype.kind != "f":
         raise damaged(p, f"variable 'depth' has type {ds['depth'].dtype}, expected floats")
     return ds
+
+
+PICK_VARIABLES = ("pick_horizon", "pick_x", "pick_y", "pick_depth", "pick_residual", "pick_block")
+
+
+def read_pick_residuals(path: str | os.PathLike) -> tuple[PickResiduals, list[str]]:
+    """The picks and residuals stored in a ``horizons.nc`` and the names of its horizons (top
+    first); no picks (an empty :class:`PickResiduals`) where it has none (an older file, or no
+    horizon given by points)."""
+    ds = read_horizons(path)
+    names = [str(h) for h in ds["horizon"].values]
+    if "pick_residual" not in ds:
+        empty = np.zeros(0)
+        return PickResiduals(np.zeros(0, np.int32), empty, empty, empty, empty, np.zeros(0, np.int32)), names
+    v = {key: ds[key].values for key in PICK_VARIABLES}
+    surface = v["pick_depth"] - v["pick_residual"]
+    residuals = PickResiduals(
+        v["pick_horizon"].astype(np.int32),
+        v["pick_x"],
+        v["pick_y"],
+        v["pick_depth"],
+        surface,
+        v["pick_block"],
+    )
+    return residuals, names

@@ -155,3 +155,21 @@ def label_units(variables: Mapping[Any, Any], system: UnitSystem, griddim: int) 
     Dataset's ``variables``, or a mapping of name to xarray Variable) in ``system``."""
     for name, unit in units_of(variables, system, griddim).items():
         variables[name].attrs["units"] = unit
+
+
+def picture_label(name: str, system: UnitSystem, griddim: int = 3) -> str:
+    """How a picture labels variable ``name`` (an axis, a colour bar): the name and its unit in
+    ``system`` in brackets, ``fraction`` for a dimensionless fraction (whose ``units`` attribute
+    is "1"); the name alone where it is no physical quantity or not in :data:`VARIABLES`.
+
+    >>> from gridlib.units import FIELD
+    >>> picture_label("poro", FIELD), picture_label("depth", FIELD), picture_label("zone", FIELD)
+    ('poro [fraction]', 'depth [ft]', 'zone')
+    """
+    try:
+        quantity = quantity_of(name)
+    except KeyError:
+        return name
+    if quantity is None:
+        return name
+    return f"{name} [{'fraction' if quantity == 'fraction' else system.unit(quantity, griddim)}]"

@@ -23,7 +23,10 @@
   ``k_orientation_median``, ``_p95`` and ``_max`` of the angle between K n and that line
   (the larger of the face's two cells), to 1e-6 degree. The centres are those of the
   transmissibility stage: a PEBI grid's generating sites at each cell's centroid depth, else
-  the centroids. Cases with trajectory or survey wells also get ``trajectory_wells``: per well
+  the centroids. Cases with horizons given by picks get ``pick_residuals``: per such horizon
+  the number of picks, the RMS and largest magnitude of their residuals against the
+  interpolated surface (m, :mod:`gridlib.horizons.residuals`). Cases with trajectory or survey
+  wells also get ``trajectory_wells``: per well
   its connections, ``completed_length`` and ``total_factor`` (:func:`wells_summary`).
 
 Every value is in the case's unit system (``unit_system``: METRIC, or a deck's own, e.g.
@@ -54,9 +57,11 @@ from ..config import Case
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
+from ..horizons.residuals import PickResiduals, residual_figures
 from ..io.atomic import atomic_path
 from ..io.coarse_file import read_partition
 from ..io.grid_nnc import nnc_variables, read_nnc
+from ..io.horizon_files import read_pick_residuals
 from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.rock_file import read_rock
@@ -152,6 +157,7 @@ def stage_export(
     coarse: str | os.PathLike | None = None,
     transmissibility: str | os.PathLike | None = None,
     wells: str | os.PathLike | None = None,
+    horizons: str | os.PathLike | None = None,
     nc: str | os.PathLike,
     vtu: str | os.PathLike | None = None,
     faults: str | os.PathLike,
@@ -171,6 +177,8 @@ def stage_export(
         write_well_paths(Path(well_paths), [(r.name, r.paths) for r in records])
     n_fault_faces = _write_files(outputs, g)
     figures = _summary(case, g, n_fault_faces) | wells_summary(records)
+    if horizons is not None:
+        figures |= pick_residuals_summary(*read_pick_residuals(horizons))
     with atomic_path(summary) as tmp:
         tmp.write_text(json.dumps(figures, indent=2) + "\n")
     log.info("wrote the exports of %s (%d cells)", case.name, g.grid.num_cells)
@@ -350,6 +358,21 @@ def wells_summary(wells: Sequence[WellRecord]) -> dict[str, Any]:
             figures["total_factor"] = _figure(c.factor.sum())
         out[r.name] = figures
     return {"trajectory_wells": out}
+
+
+def pick_residuals_summary(residuals: PickResiduals, names: Sequence[str]) -> dict[str, Any]:
+    """``pick_residuals``: per horizon given by picks, their number (``picks``), the ``rms`` and
+    largest magnitude (``max_abs``) of their residuals against the interpolated horizon (m, to
+    12 digits; :mod:`gridlib.horizons.residuals`) and how many fall where it is undefined;
+    nothing for a case without picks."""
+    figures = residual_figures(residuals, names)
+    if not figures:
+        return {}
+    rounded = {
+        name: {key: _figure(v) if isinstance(v, float) else v for key, v in f.items()}
+        for name, f in figures.items()
+    }
+    return {"pick_residuals": rounded}
 
 
 def orientation_summary(

@@ -9,7 +9,10 @@
   wells and the section's line (:mod:`gridlib.io.plan_view`);
 * ``{case}_section.png`` (3-D grids): the cross-section along the case's ``pictures.section``,
   else through the wells (:mod:`gridlib.io.cross_section`), coloured by porosity, else zone,
-  else layer, else depth.
+  else layer, else depth;
+* ``{case}_residuals.png`` (cases with horizons given by picks): each pick's residual against
+  its interpolated horizon, as a map and a histogram per horizon
+  (:func:`gridlib.io.pick_residuals.residuals_figure`, from ``horizons.nc``).
 
 The wells drawn are the case's (``wells``): a vertical well at its ``point``, a PEBI grid's
 refining well along its plan-view ``path`` (at the grid's top), and the trajectory and survey
@@ -36,12 +39,14 @@ from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.cross_section import default_section, section_figure, well_heads
+from ..io.horizon_files import read_pick_residuals
 from ..io.netcdf import read_cell_geometry, read_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.pick_residuals import residuals_figure
 from ..io.picture_style import DPI, picture_style, quantity_label
 from ..io.pictures import plot_histograms, render_grid, save_figure
 from ..io.plan_view import plan_figure
-from ..io.quantities import units_of
+from ..io.quantities import picture_label, units_of
 from ..io.rock_file import read_rock
 from ..io.section_cut import SectionCut, cut_grid
 from ..io.top_surface import top_surface
@@ -181,28 +186,64 @@ def stage_pictures(
     petrophysics: str | os.PathLike | None = None,
     transmissibility: str | os.PathLike | None = None,
     wells: str | os.PathLike | None = None,
+    horizons: str | os.PathLike | None = None,
     png: str | os.PathLike,
     histograms: str | os.PathLike,
     plan: str | os.PathLike,
     section: str | os.PathLike | None = None,
+    residuals: str | os.PathLike | None = None,
 ) -> None:
     """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
-    fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``
-    and ``wells``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan`` and
-    ``section`` (3-D grids)."""
+    fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``,
+    ``wells`` and ``horizons``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan``,
+    ``section`` (3-D grids) and ``residuals`` (horizons given by picks)."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
     figures = case_figures(case, scene, with_section=section is not None)  # first: checks the line
-    scalar, values = scene.colouring()
-    paths = [(r.name, [p.xyz for p in r.paths]) for r in scene.wells]
-    render_grid(Path(png), scene.grid, values, Path(faults), scalar, scene.title, scene.label(scalar), paths)
+    if residuals is not None and horizons is not None:
+        figures["residuals"] = pick_residuals_figure(case, horizons)
+    render_grid(Path(png), **view_arguments(case, scene, faults))
     poro = None if scene.rock is None else scene.rock["poro"]
     plot_histograms(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
-    drawn = {"plan": plan, "section": section}
+    drawn = {"plan": plan, "section": section, "residuals": residuals}
     for key, figure in figures.items():
         save_figure(figure, drawn[key], dpi=DPI)
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
+
+
+def view_arguments(case: Case, scene: Scene, faults: str | os.PathLike) -> dict[str, Any]:
+    """The arguments of the 3-D view (:func:`gridlib.io.grid_view.grid_scene`, or
+    :func:`~gridlib.io.pictures.render_grid` with a path): the grid coloured as
+    :meth:`Scene.colouring` says, its colour bar titled ``quantity [unit]``, the case's length
+    unit on the axes, the fault faces ``faults`` (``{case}_faults.vtp``) and every well."""
+    scalar, values = scene.colouring()
+    griddim = scene.grid.griddim
+    bar_title = picture_label(scalar, scene.units, griddim)
+    if scalar == "volume":  # the cell measure: a volume, or a 2-D grid's area
+        bar_title = (
+            f"cell {'volume' if griddim == 3 else 'area'} [{scene.units.unit('cell_measure', griddim)}]"
+        )
+    return {
+        "grid": scene.grid,
+        "values": values,
+        "faults": Path(faults),
+        "scalar": scalar,
+        "title": scene.title,
+        "bar_title": bar_title,
+        "length_unit": scene.units.length_label,
+        "wells": scene.well_tracks(case),
+    }
+
+
+def pick_residuals_figure(case: Case, horizons: str | os.PathLike):
+    """The horizon-pick residuals' figure of the case (its ``horizons.nc``, in m) with the
+    traces of its faults given by traces (:func:`gridlib.io.pick_residuals.residuals_figure`)."""
+    picks, names = read_pick_residuals(horizons)
+    faults = case.data.get("faults", [])
+    traces = [(f["name"], np.asarray(f["trace"], dtype=np.float64)) for f in faults if "trace" in f]
+    title = f"{case.name}: horizon-pick residuals"
+    return residuals_figure(picks, names, title=title, length_unit="m", faults=traces)
 
 
 def section_line(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> np.ndarray:

@@ -185,3 +185,17 @@ def test_a_stage_reads_only_what_earlier_stages_write(monkeypatch):
     before = artifacts.STAGES
     artifacts.register_stage(early, after="geometry")
     assert [s.name for s in artifacts.STAGES].index("early") == 3 and len(artifacts.STAGES) == len(before) + 1
+
+
+def test_the_residuals_picture_is_for_horizons_given_by_picks():
+    """{case}_residuals.png: every sample case with a horizon from picks, no other; its report
+    category is the cases' pictures, which the report's menu lists first."""
+    cases = [load_case(p) for p in sorted((ROOT / "config" / "cases").glob("*.yaml"))]
+    with_residuals = [c.name for c in cases if "residuals" in [a.key for a in artifacts.case_artifacts(c)]]
+    assert with_residuals == ["faulted_picks"]
+    pictures = artifacts.producers()["residuals"]
+    assert "horizons" in pictures.inputs and pictures.name == "pictures"
+    reported = [a.report.category for s in artifacts.STAGES for a in s.outputs if a.report is not None]
+    assert set(reported) <= {artifacts.PICTURES, artifacts.SIMULATIONS}
+    order = [artifacts.PICTURES, artifacts.SUMMARY, artifacts.SIMULATIONS, artifacts.STUDIES]
+    assert sorted(order) == order

@@ -4,7 +4,7 @@ One run of every sample case (two cores), then: every artifact opens in the
 tools people use (xarray, xugrid, pyvista, OPM Flow for grid.grdecl), every
 figure equals the reviewed golden summary (tests/regression/), a second run
 does nothing, an edited case reruns only its own jobs, the same case and seed
-give identical arrays, and the report zip is produced.
+give identical arrays, and the report opens on the cases.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import shutil
 import subprocess
 import sys
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -98,6 +99,56 @@ def test_every_case_has_checked_artifacts_that_open(workflow_run, case):
     for rule in ("grid", "geometry", "export"):
         assert (workflow_run / "results" / "logs" / case / f"{rule}.log").is_file()
         assert (workflow_run / "results" / "benchmarks" / case / f"{rule}.tsv").is_file()
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_3d_view_of_every_case_says_what_it_shows(workflow_run, case):
+    """The 3-D view's scene as the pictures stage builds it, read from its objects: axes in the
+    case's length unit with depth, the colour bar's quantity and unit, the stated vertical
+    exaggeration (3-D grids), one actor and legend entry per fault with faces, the wells named."""
+    from gridlib.io.grid_view import grid_scene
+    from gridlib.stages.pictures import read_scene, view_arguments
+
+    folder = workflow_run / "results" / case
+    given = {key: folder / f"{key}.nc" for key in ("petrophysics", "transmissibility", "wells")}
+    scene = read_scene(
+        SAMPLES[case],
+        folder / "grid.nc",
+        folder / "geometry.nc",
+        **{k: p for k, p in given.items() if p.exists()},
+    )
+    arguments = view_arguments(SAMPLES[case], scene, folder / f"{case}_faults.vtp")
+    plotter = grid_scene(**arguments, window_size=(320, 240))
+    try:
+        unit = {"METRIC": "m", "FIELD": "ft"}[
+            json.loads((folder / "summary.json").read_text())["unit_system"]
+        ]
+        axes = plotter.renderer.cube_axes_actor
+        assert (axes.x_title, axes.y_title) == (f"x (east) [{unit}]", f"y (north) [{unit}]")
+        plain = f"depth [{unit}]" if scene.grid.dim == 3 else f"cell area [{unit}2]"
+        quantity = "poro [fraction]" if given["petrophysics"].exists() else plain
+        assert list(plotter.scalar_bars.keys()) == [quantity]
+        if scene.grid.griddim == 3:
+            assert axes.z_title == f"depth [{unit}]"
+            assert re.fullmatch(r"vertical exaggeration \d+x", plotter.actors["exaggeration"].GetInput())
+        faults = pv.read(folder / f"{case}_faults.vtp")
+        names = list(faults.field_data["fault_names"])
+        drawn = [names[k - 1] for k in np.unique(faults.cell_data["fault"])] if faults.n_cells else []
+        assert sorted(k[len("fault ") :] for k in plotter.actors if k.startswith("fault ")) == sorted(drawn)
+        legend = plotter.legend
+        entries = (
+            [legend.GetEntryString(k) for k in range(legend.GetNumberOfEntries())]
+            if legend is not None
+            else []
+        )
+        assert entries == drawn
+        vertical = [w["name"] for w in SAMPLES[case].data.get("wells", []) if "point" in w]
+        if vertical:
+            labels = plotter.actors["well labels-labels"].GetMapper().GetInputAlgorithm().GetInput()
+            array = labels.GetPointData().GetAbstractArray("labels")
+            assert set(vertical) <= {array.GetValue(k) for k in range(array.GetNumberOfValues())}
+    finally:
+        plotter.close()
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -235,13 +286,41 @@ def test_the_readmes_study_example_runs_on_the_sample_study(workflow_run, monkey
     assert "faults.0.throw" in out and "throw-30_r1" in out, out
 
 
-def test_the_report_zip_is_produced(workflow_run):
+def test_the_report_opens_on_the_cases_with_the_rule_graph_last(workflow_run):
+    """The report (as README.md says to make it): its menu lists the cases' pictures first,
+    then the summary table (Snakemake sorts categories by name); its landing page is the
+    workflow's description (metadata given: not the rule graph), the cases' pictures linked
+    first, then the summary table."""
     config = f"cases={workflow_run / 'config' / 'cases'}/*.yaml"
+    report = workflow_run / "results" / "report.zip"
+    metadata = ROOT / "workflow" / "report" / "metadata.yaml"
     result = _snakemake(
-        workflow_run, "--config", config, "--report", str(workflow_run / "results" / "report.zip")
+        workflow_run, "--config", config, "--report", str(report), "--report-metadata", str(metadata)
     )
     assert result.returncode == 0, result.stderr[-2000:]
-    assert (workflow_run / "results" / "report.zip").stat().st_size > 10_000
+    assert report.stat().st_size > 10_000
+    with zipfile.ZipFile(report) as z:
+        html = z.read("report/report.html").decode()
+
+    def variable(name: str):  # the report's data: one line of JSON each (the last: vendored JS has its own)
+        return json.loads(re.findall(rf"^\s*var {name} = (.*);$", html, flags=re.M)[-1])
+
+    categories = variable("categories")
+    assert sorted(categories)[:2] == ["1. Cases", "2. Summary"]  # the menu's order
+    assert sorted(categories["1. Cases"]) == CASES  # one subcategory per case
+    for case in CASES:
+        pictures = {Path(p).name for p in categories["1. Cases"][case]}
+        assert {f"{case}.png", f"{case}_histograms.png"} <= pictures, case
+        assert (f"{case}_residuals.png" in pictures) == (case == "faulted_picks"), case
+    assert categories["2. Summary"] == {"Other": ["results/summary.csv"]}
+    assert variable("metadata") == {"cases": len(CASES)}  # metadata: the landing page is the description
+    description = variable("workflow_desc")
+    assert "Error" not in description and "WARNING" not in description
+    sections = re.findall(r"<h1>(.*?)</h1>", description)
+    assert sections == ["Cases", "Summary"]
+    for case in CASES:
+        assert f"showResultInfo('results/{case}/{case}.png')" in description
+    assert description.index("showResultInfo('results/summary.csv')") > description.index("anticline.png")
 
 
 def test_grdecl_outputs_are_read_by_opm_flow(workflow_run, tmp_path):
@@ -652,10 +731,11 @@ def _expected_units(system: str, griddim: int) -> dict[str, str]:
     return units
 
 
-# horizons.nc: only for grids gridlib builds, in metres; the names of its horizons and the fault
-# block of each lattice node are no quantity.
+# horizons.nc: only for grids gridlib builds, in metres; the names of its horizons, the fault
+# block of each lattice node and each pick's horizon and block are no quantity.
 HORIZONS_UNITS = {"depth": "m", "depth_by_block": "m", "x": "m", "y": "m"}
-HORIZONS_NAMES = ("horizon", "source", "method", "block")
+HORIZONS_UNITS |= dict.fromkeys(("pick_x", "pick_y", "pick_depth", "pick_residual"), "m")
+HORIZONS_NAMES = ("horizon", "source", "method", "block", "pick_horizon", "pick_block")
 
 
 def _base_name(name: str) -> str:

@@ -39,14 +39,14 @@ rule study_table:
         csv=report(
             f"{RESULTS}/{{study}}/study.csv",
             caption="../report/study_table.rst",
-            category="Studies",
+            category=artifacts.STUDIES,
             subcategory="{study}",
         ),
         nc=f"{RESULTS}/{{study}}/study.nc",
         png=report(
             f"{RESULTS}/{{study}}/study.png",
             caption="../report/study.rst",
-            category="Studies",
+            category=artifacts.STUDIES,
             subcategory="{study}",
         ),
     log:

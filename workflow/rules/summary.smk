@@ -6,7 +6,7 @@ rule summary:
         csv=report(
             f"{RESULTS}/summary.csv",
             caption="../report/summary.rst",
-            category="Summary",
+            category=artifacts.SUMMARY,
         ),
     log:
         f"{RESULTS}/logs/summary.log",
