@@ -255,6 +255,32 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
     )
 
 
+HEXAHEDRAL_GRIDS = ("cartesian", "tensor", "cornerpoint", "deck")  # grids of corner-point hexahedra
+
+
+def qc_problem(data: dict[str, Any]) -> str | None:
+    """Each rule of ``qc`` (checked once a deck grid's implied rock is known) names a measure of :data:`gridlib.quality.MEASURES` the case's grid
+    has: ``k_orientation_error`` needs rock, xtgeo's hexahedral set a grid of hexahedra
+    (cartesian, tensor, cornerpoint, deck; not pebi or layered, whose cells are prisms)."""
+    from ..quality import MEASURES
+
+    known = {m.name: m for m in MEASURES}
+    kind = data["grid"]["type"]
+    for k, rule in enumerate(data.get("qc", [])):
+        name = rule["quantity"]
+        measure = known.get(name)
+        if measure is None:
+            return f"qc[{k}].quantity: unknown measure '{name}'; the measures are {', '.join(known)}"
+        if name == "k_orientation_error" and "petrophysics" not in data:
+            return f"qc[{k}].quantity: {name} needs the case's permeability (a petrophysics section)"
+        if measure.hexahedral_only and kind not in HEXAHEDRAL_GRIDS:
+            return (
+                f"qc[{k}].quantity: {name} is defined on corner-point hexahedra only ({', '.join(HEXAHEDRAL_GRIDS)} "
+                f"grids), not on the prisms of a {kind} grid"
+            )
+    return None
+
+
 def _names_problem(data: dict[str, Any]) -> str | None:
     """Wells, faults and horizons are named once each: the deck's WELSPECS and FAULTS, and a
     well's rings, take them by name (the second INJ would silently win)."""

@@ -30,6 +30,7 @@ _EXPORTS: dict[str, str] = {
     "stage_grid": ".grid",
     "stage_horizons": ".horizons",
     "stage_petrophysics": ".petrophysics",
+    "stage_quality": ".quality",
     "stage_simulate": ".simulate",
     "stage_summary": ".summary",
     "stage_transmissibility": ".transmissibility",

@@ -64,6 +64,7 @@ from ..io.grid_nnc import nnc_variables, read_nnc
 from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.pictures import plot_histograms, render_grid
+from ..io.quality_file import FLAGS, quality_variables, read_quality
 from ..io.quantities import units_of
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
@@ -147,6 +148,7 @@ class _Gathered:
     provenance: dict[str, Any]
     face_trans: np.ndarray | None
     centres: np.ndarray | None  # the cell centres of the two-point flux (None: the centroids)
+    quality: tuple[dict[str, np.ndarray], list[dict[str, Any]]] | None = None  # measures, qc results
 
 
 def stage_export(
@@ -158,6 +160,7 @@ def stage_export(
     coarse: str | os.PathLike | None = None,
     transmissibility: str | os.PathLike | None = None,
     wells: str | os.PathLike | None = None,
+    quality: str | os.PathLike | None = None,
     nc: str | os.PathLike,
     vtu: str | os.PathLike | None = None,
     faults: str | os.PathLike,
@@ -167,12 +170,12 @@ def stage_export(
     summary: str | os.PathLike,
 ) -> None:
     """Write the case's exports from its stage files (``grid``, ``geometry`` and, where the case
-    has them, ``petrophysics``, ``coarse``, ``transmissibility``, ``wells``): ``nc`` ({case}.nc),
+    has them, ``petrophysics``, ``coarse``, ``transmissibility``, ``wells``, ``quality``): ``nc`` ({case}.nc),
     ``vtu`` (where ``outputs.vtu``), ``faults``, ``well_paths`` (where the case has deviated
     wells), the pictures ``png`` and ``histograms``, and ``summary`` (summary.json)."""
     written = {"nc": nc, "vtu": vtu, "faults": faults, "png": png, "histograms": histograms}
     outputs = {key: str(path) for key, path in written.items() if path is not None}
-    g = _gather(case, grid, geometry, petrophysics, coarse, transmissibility)
+    g = _gather(case, grid, geometry, petrophysics, coarse, transmissibility, quality)
     records = read_wells(wells) if wells is not None else ()
     if well_paths is not None:
         write_well_paths(Path(well_paths), [(r.name, r.paths) for r in records])
@@ -191,6 +194,7 @@ def _gather(
     petrophysics_nc: str | os.PathLike | None,
     coarse_nc: str | os.PathLike | None,
     transmissibility_nc: str | os.PathLike | None,
+    quality_nc: str | os.PathLike | None = None,
 ) -> _Gathered:
     """Read the artifacts and gather the cell data, NNCs, connection variables and attributes."""
     stored = read_netcdf(grid_nc)
@@ -206,6 +210,13 @@ def _gather(
     if trans is not None:
         check_same_cells(grid_nc, grid.num_cells, {f"{transmissibility_nc}: porv": trans[0]["porv"].size})
     cell_data, var_attrs, depth = _cell_data(stored, geo, rock, partition, trans)
+    quality = None
+    if quality_nc is not None:
+        quality = read_quality(quality_nc)
+        check_same_cells(grid_nc, grid.num_cells, {quality_nc: next(iter(quality[0].values())).size})
+        for name, variable in quality_variables(quality[0]).items():
+            cell_data[name] = variable.values
+            var_attrs[name] = dict(variable.attrs)
     blocks = None if partition is None else int(partition.max()) + 1
     nnc = read_nnc(grid_nc)
     provenance = {
@@ -244,6 +255,7 @@ def _gather(
         provenance,
         face_trans,
         centres,
+        quality,
     )
 
 
@@ -352,7 +364,34 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
     if g.trans is not None:
         summary |= transmissibility_figures(*g.trans)
     summary |= orientation_summary(grid, geo, g.centres, rock)
+    if g.quality is not None:
+        summary["quality"] = quality_figures(g.quality[0])
+        summary["qc"] = g.quality[1]
     return summary
+
+
+def quality_figures(values: dict[str, np.ndarray]) -> dict[str, Any]:
+    """The summary's figures of the cell-quality measures (:mod:`gridlib.quality`; degrees or
+    1): per measure that is no flag, ``median``, ``p95`` and ``max`` over the cells where it is
+    defined (none where it is defined on no cell); ``flagged_cells``: per flag (collapsed,
+    faulted, negative_thickness, concave_proj) the number of cells that have it, where defined."""
+    out: dict[str, Any] = {}
+    flagged: dict[str, int] = {}
+    for name, v in values.items():
+        finite = v[np.isfinite(v)]
+        if not finite.size:
+            continue
+        if name in FLAGS:
+            flagged[name] = int(np.count_nonzero(finite > 0))
+            continue
+        out[name] = {
+            "median": _figure(np.median(finite)),
+            "p95": _figure(np.percentile(finite, 95)),
+            "max": _figure(finite.max()),
+        }
+    if flagged:
+        out["flagged_cells"] = flagged
+    return out
 
 
 def wells_summary(wells: Sequence[WellRecord]) -> dict[str, Any]:

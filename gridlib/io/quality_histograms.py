@@ -1,0 +1,110 @@
+"""``{case}_quality.png``: histograms of a grid's cell-quality measures with the case's qc limits.
+
+One panel per measure of :data:`gridlib.quality.MEASURES` that varies over the cells where it
+is defined (a measure that is NaN everywhere, or one value everywhere, says nothing as a
+histogram and is left out, unless a qc rule names it and it is defined somewhere), in the
+order of ``MEASURES``. Each x axis names the measure and its unit (``maxangle_sides [degree]``,
+``aspect_ratio [1]``); the count axis is logarithmic where the tallest bar is more than 100
+times the lowest non-empty one (a few bad cells beside thousands of good ones stay visible).
+Each qc rule on a measure is a vertical dashed line at its limit, labelled ``warn max 60`` or
+``fail min 10`` in the legend (orange warn, red fail).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..quality import MEASURES
+from .pictures import save_figure
+from .quality_file import measure_units
+
+ACTION_COLOURS = {"warn": "tab:orange", "fail": "tab:red"}
+COLUMNS = 4
+
+
+def plot_quality(
+    path: str | os.PathLike,
+    values: Mapping[str, np.ndarray],
+    rules: Sequence[Mapping[str, Any]],
+    title: str,
+) -> None:
+    """:func:`quality_figure` saved as ``path`` (atomically)."""
+    save_figure(quality_figure(values, rules, title), path)
+
+
+def shown_measures(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]] = ()) -> list[str]:
+    """The measures a panel shows: those of ``values`` that vary over their defined cells, and
+    those a rule names that are defined somewhere; in the order of ``MEASURES``."""
+    ruled = {r["quantity"] for r in rules}
+    out = []
+    for m in MEASURES:
+        v = values.get(m.name)
+        if v is None:
+            continue
+        finite = v[np.isfinite(v)]
+        if finite.size and (np.ptp(finite) > 0 or m.name in ruled):
+            out.append(m.name)
+    return out
+
+
+def quality_figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]], title: str):
+    """A matplotlib figure: a histogram per shown measure (:func:`shown_measures`) with the qc
+    limits of ``rules`` drawn on it; a figure with one line of text where no measure varies."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = shown_measures(values, rules)
+    units = {m.name: measure_units(m) for m in MEASURES}
+    if not names:
+        fig, ax = plt.subplots(figsize=(6, 2))
+        ax.axis("off")
+        ax.text(0.5, 0.5, "no quality measure varies over this grid", ha="center", va="center")
+        fig.suptitle(title)
+        return fig
+    rows = -(-len(names) // COLUMNS)
+    cols = min(COLUMNS, len(names))
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.3 * rows), squeeze=False)
+    for ax in axes.ravel()[len(names) :]:
+        ax.remove()
+    for ax, name in zip(axes.ravel(), names, strict=False):
+        v = values[name]
+        _panel(ax, v[np.isfinite(v)], f"{name} [{units[name]}]")
+        for rule in rules:
+            if rule["quantity"] != name:
+                continue
+            bound = "max" if "max" in rule else "min"
+            action = str(rule["action"])
+            ax.axvline(
+                float(rule[bound]),
+                color=ACTION_COLOURS[action],
+                linestyle="--",
+                linewidth=1.5,
+                label=f"{action} {bound} {float(rule[bound]):g}",
+            )
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize="small", loc="best")
+    fig.suptitle(f"{title}: cell quality")
+    fig.tight_layout()
+    return fig
+
+
+def _panel(ax, v: np.ndarray, label: str) -> None:
+    """One histogram of the values ``v`` (finite), x labelled ``label``, the count axis
+    logarithmic where the bars span more than two decades."""
+    if np.ptp(v) > 0:
+        counts, _, _ = ax.hist(v, bins=50, color="tab:blue")
+    else:  # one value (a rule names the measure): one bar
+        width = 0.1 * abs(float(v[0])) or 1.0
+        counts = np.array([v.size])
+        ax.bar([float(v[0])], [v.size], width=width, color="tab:blue")
+    nonzero = counts[counts > 0]
+    if nonzero.size and nonzero.max() > 100 * nonzero.min():
+        ax.set_yscale("log")
+    ax.set_xlabel(label)
+    ax.set_ylabel("cells")
