@@ -259,7 +259,8 @@ HEXAHEDRAL_GRIDS = ("cartesian", "tensor", "cornerpoint", "deck")  # grids of co
 
 
 def qc_problem(data: dict[str, Any]) -> str | None:
-    """Each rule of ``qc`` (checked once a deck grid's implied rock is known) names a measure of :data:`gridlib.quality.MEASURES` the case's grid
+    """Each rule of ``qc`` (checked once a deck grid's implied rock is known) names a measure
+    of :data:`gridlib.quality.MEASURES` the case's grid
     has: ``k_orientation_error`` needs rock, xtgeo's hexahedral set a grid of hexahedra
     (cartesian, tensor, cornerpoint, deck; not pebi or layered, whose cells are prisms)."""
     from ..quality import MEASURES
@@ -275,8 +276,8 @@ def qc_problem(data: dict[str, Any]) -> str | None:
             return f"qc[{k}].quantity: {name} needs the case's permeability (a petrophysics section)"
         if measure.hexahedral_only and kind not in HEXAHEDRAL_GRIDS:
             return (
-                f"qc[{k}].quantity: {name} is defined on corner-point hexahedra only ({', '.join(HEXAHEDRAL_GRIDS)} "
-                f"grids), not on the prisms of a {kind} grid"
+                f"qc[{k}].quantity: {name} is defined on corner-point hexahedra only "
+                f"({', '.join(HEXAHEDRAL_GRIDS)} grids), not on the prisms of a {kind} grid"
             )
     return None
 

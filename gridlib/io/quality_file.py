@@ -20,15 +20,16 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..quality import MEASURES, Measure
+from ..quality import MEASURE, MEASURES, Measure
 from ..units import METRIC
 from .datasets import damaged, open_artifact, read_variable
 from .netcdf import write_dataset
 
-MEASURE_BY_NAME: dict[str, Measure] = {m.name: m for m in MEASURES}
 # the flags of xtgeo's set (0 or 1; concave_proj 0 or the concave corner + 1): counted, not binned
 FLAGS = tuple(
-    m.name for m in MEASURES if m.name in ("collapsed", "faulted", "negative_thickness") or m.name.startswith("concave")
+    m.name
+    for m in MEASURES
+    if m.name in ("collapsed", "faulted", "negative_thickness") or m.name.startswith("concave")
 )
 
 
@@ -64,7 +65,7 @@ def write_quality(
 ) -> None:
     """``quality.nc``: the measures ``values`` (name -> one value per cell), the results of
     the case's qc rules ``qc`` and the provenance ``attrs``; atomically."""
-    unknown = sorted(set(values) - set(MEASURE_BY_NAME))
+    unknown = sorted(set(values) - set(MEASURE))
     if unknown:
         raise ValueError(f"write_quality: {', '.join(unknown)}: no measure of gridlib.quality")
     ds = xr.Dataset(

@@ -106,5 +106,6 @@ def _panel(ax, v: np.ndarray, label: str) -> None:
     nonzero = counts[counts > 0]
     if nonzero.size and nonzero.max() > 100 * nonzero.min():
         ax.set_yscale("log")
+    ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 4), useOffset=False)  # 1e-3 as x 1e-3
     ax.set_xlabel(label)
     ax.set_ylabel("cells")

@@ -39,10 +39,10 @@ from ..grid import Grid
 from ..io.grdecl import read_grdecl
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
 from ..io.netcdf_parts import check_same_cells
-from ..io.quality_file import MEASURE_BY_NAME, measure_units, write_quality
+from ..io.quality_file import measure_units, write_quality
 from ..io.quality_histograms import plot_quality
 from ..io.rock_file import read_rock
-from ..quality import cell_quality
+from ..quality import MEASURE, cell_quality
 from .common import log
 from .transmissibility import cell_centres
 
@@ -106,7 +106,7 @@ def rule_message(case: Case, grid: Grid, result: RuleResult) -> str:
     E.g. ``config/cases/x.yaml: qc[1]: maxangle_sides above max 60 degree (fail) in 12 of 400
     cells (3 %): (1, 2, 1), (2, 2, 1), (3, 2, 1), (1, 3, 1), (2, 3, 1) and 7 more``."""
     rule = result.rule
-    unit = measure_units(MEASURE_BY_NAME[rule["quantity"]])
+    unit = measure_units(MEASURE[rule["quantity"]])
     side = "above" if result.bound == "max" else "below"
     share = f"{_percent(result.cells.size / result.evaluated)} %"
     if result.fraction > 0:
@@ -180,7 +180,8 @@ def stage_quality(
         if r.triggered:
             log.warning("%s", rule_message(case, mesh, r))
         elif r.status == "undefined":
-            log.info("note: %s: qc[%d]: %s is defined on no cell of this grid", case.path, r.index, r.rule["quantity"])
+            name = r.rule["quantity"]
+            log.info("note: %s: qc[%d]: %s is defined on no cell of this grid", case.path, r.index, name)
     qc = [rule_summary(mesh, r) for r in results]
     write_quality(quality, values, case.provenance(), qc)
     title = f"{case.name}: {mesh.num_cells:,d} cells"
@@ -194,5 +195,5 @@ def _medians(values: Mapping[str, np.ndarray]) -> str:
     for name, v in values.items():
         finite = v[np.isfinite(v)]
         if finite.size:
-            parts.append(f"{name} median {np.median(finite):.4g} {measure_units(MEASURE_BY_NAME[name])}")
+            parts.append(f"{name} median {np.median(finite):.4g} {measure_units(MEASURE[name])}")
     return ", ".join(parts)
