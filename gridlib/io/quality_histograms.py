@@ -2,7 +2,7 @@
 
 One panel per measure of :data:`gridlib.quality.MEASURES` that varies over the cells where it
 is defined (a measure that is NaN everywhere, or one value everywhere, says nothing as a
-histogram and is left out, unless a qc rule names it and it is defined somewhere), in the
+histogram and is left out (:func:`varies`), unless a qc rule names it and it is defined somewhere), in the
 order of ``MEASURES``. Each x axis names the measure and its unit (``maxangle_sides [degree]``,
 ``aspect_ratio [1]``); the count axis is logarithmic where the tallest bar is more than 100
 times the lowest non-empty one (a few bad cells beside thousands of good ones stay visible).
@@ -46,9 +46,15 @@ def shown_measures(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str
         if v is None:
             continue
         finite = v[np.isfinite(v)]
-        if finite.size and (np.ptp(finite) > 0 or m.name in ruled):
+        if finite.size and (varies(finite) or m.name in ruled):
             out.append(m.name)
     return out
+
+
+def varies(v: np.ndarray) -> bool:
+    """The finite values ``v`` span more than round-off: 1e-9 of their magnitude, at least 1e-9
+    (a PEBI grid's orientation errors of 1e-10 degree are one value, 0)."""
+    return bool(np.ptp(v) > 1e-9 * max(1.0, float(np.abs(v).max())))
 
 
 def quality_figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]], title: str):
@@ -97,7 +103,7 @@ def quality_figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str
 def _panel(ax, v: np.ndarray, label: str) -> None:
     """One histogram of the values ``v`` (finite), x labelled ``label``, the count axis
     logarithmic where the bars span more than two decades."""
-    if np.ptp(v) > 0:
+    if varies(v):
         counts, _, _ = ax.hist(v, bins=50, color="tab:blue")
     else:  # one value (a rule names the measure): one bar
         width = 0.1 * abs(float(v[0])) or 1.0

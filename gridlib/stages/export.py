@@ -73,6 +73,7 @@ from ..io.vtu import write_vtu
 from ..io.wells_file import WellRecord, read_wells
 from ..orientation import grid_face_angles, orientation_figures
 from ..pillars.nnc import NNC
+from ..quality import MEASURE
 from ..transmissibility import face_connections
 from ..units import UnitSystem
 from .common import log
@@ -373,7 +374,8 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
 def quality_figures(values: dict[str, np.ndarray]) -> dict[str, Any]:
     """The summary's figures of the cell-quality measures (:mod:`gridlib.quality`; degrees or
     1): per measure that is no flag, ``median``, ``p95`` and ``max`` over the cells where it is
-    defined (none where it is defined on no cell); ``flagged_cells``: per flag (collapsed,
+    defined (none where it is defined on no cell), angles to 1e-6 degree, ratios to 12
+    significant digits and 1e-9; ``flagged_cells``: per flag (collapsed,
     faulted, negative_thickness, concave_proj) the number of cells that have it, where defined."""
     out: dict[str, Any] = {}
     flagged: dict[str, int] = {}
@@ -384,11 +386,11 @@ def quality_figures(values: dict[str, np.ndarray]) -> dict[str, Any]:
         if name in FLAGS:
             flagged[name] = int(np.count_nonzero(finite > 0))
             continue
-        out[name] = {
-            "median": _figure(np.median(finite)),
-            "p95": _figure(np.percentile(finite, 95)),
-            "max": _figure(finite.max()),
-        }
+        stats = {"median": np.median(finite), "p95": np.percentile(finite, 95), "max": finite.max()}
+        # angles to 1e-6 degree (as the orientation figures), ratios to 12 digits and 1e-9: round-off
+        # (a PEBI grid's 1e-10 degree, a plane face's 1e-15) reads 0 on every platform
+        rounded = _degrees if MEASURE[name].unit == "angle" else (lambda x: round(_figure(x), 9) + 0.0)
+        out[name] = {key: rounded(value) for key, value in stats.items()}
     if flagged:
         out["flagged_cells"] = flagged
     return out

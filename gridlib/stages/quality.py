@@ -107,13 +107,14 @@ def rule_message(case: Case, grid: Grid, result: RuleResult) -> str:
     cells (3 %): (1, 2, 1), (2, 2, 1), (3, 2, 1), (1, 3, 1), (2, 3, 1) and 7 more``."""
     rule = result.rule
     unit = measure_units(MEASURE[rule["quantity"]])
+    limit = f"{result.limit:g}" + ("" if unit == "1" else f" {unit}")  # 60 degree; a ratio bare
     side = "above" if result.bound == "max" else "below"
     share = f"{_percent(result.cells.size / result.evaluated)} %"
     if result.fraction > 0:
         share += f", more than the {_percent(result.fraction)} % allowed"
     named = cell_names(result.cells, grid.cells.index_map, grid.cart_dims)
     return (
-        f"{case.path}: qc[{result.index}]: {rule['quantity']} {side} {result.bound} {result.limit:g} {unit} "
+        f"{case.path}: qc[{result.index}]: {rule['quantity']} {side} {result.bound} {limit} "
         f"({rule['action']}) in {result.cells.size:,d} of {result.evaluated:,d} cells ({share}): {named}"
     )
 
