@@ -6,8 +6,10 @@ histogram and is left out (:func:`varies`), unless a qc rule names it and it is 
 order of ``MEASURES``. Each x axis names the measure and its unit (``maxangle_sides [degree]``,
 ``aspect_ratio [1]``); the count axis is logarithmic where the tallest bar is more than 100
 times the lowest non-empty one (a few bad cells beside thousands of good ones stay visible).
-Each qc rule on a measure is a vertical dashed line at its limit, labelled ``warn max 60`` or
-``fail min 10`` in the legend (orange warn, red fail).
+A flag (collapsed, faulted, negative_thickness, concave_proj) is a bar per value. Each qc
+rule on a measure is a vertical dashed line at its limit, labelled with the rule and the
+number of cells past the limit in the legend (``warn max 60: 12 cells past it``; orange warn,
+red fail).
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import numpy as np
 
 from ..quality import MEASURES
 from .pictures import save_figure
-from .quality_file import measure_units
+from .quality_file import FLAGS, measure_units
 
 ACTION_COLOURS = {"warn": "tab:orange", "fail": "tab:red"}
 COLUMNS = 4
@@ -80,24 +82,41 @@ def quality_figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str
         ax.remove()
     for ax, name in zip(axes.ravel(), names, strict=False):
         v = values[name]
-        _panel(ax, v[np.isfinite(v)], f"{name} [{units[name]}]")
+        v = v[np.isfinite(v)]
+        (_flag_panel if name in FLAGS else _panel)(ax, v, f"{name} [{units[name]}]")
         for rule in rules:
             if rule["quantity"] != name:
                 continue
             bound = "max" if "max" in rule else "min"
-            action = str(rule["action"])
+            limit, action = float(rule[bound]), str(rule["action"])
+            past = int(np.count_nonzero(v > limit if bound == "max" else v < limit))
             ax.axvline(
-                float(rule[bound]),
+                limit,
                 color=ACTION_COLOURS[action],
                 linestyle="--",
                 linewidth=1.5,
-                label=f"{action} {bound} {float(rule[bound]):g}",
+                label=f"{action} {bound} {limit:g}: {past:,d} cells past it",
             )
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize="small", loc="best")
     fig.suptitle(f"{title}: cell quality")
     fig.tight_layout()
     return fig
+
+
+def _flag_panel(ax, v: np.ndarray, label: str) -> None:
+    """A flag's cells per value (0, 1, ...; a bar each, also for a value no cell has), x
+    labelled ``label``, the count axis logarithmic where it spans more than two decades."""
+    top = max(1, int(v.max()))
+    counts = np.bincount(v.astype(np.int64), minlength=top + 1)
+    ax.bar(np.arange(top + 1), counts, width=0.6, color="tab:blue")
+    ax.set_xticks(np.arange(top + 1))
+    ax.set_xlim(-0.5, top + 0.5)
+    nonzero = counts[counts > 0]
+    if nonzero.size and nonzero.max() > 100 * nonzero.min():
+        ax.set_yscale("log")
+    ax.set_xlabel(label)
+    ax.set_ylabel("cells")
 
 
 def _panel(ax, v: np.ndarray, label: str) -> None:
