@@ -3,11 +3,11 @@
 One float64 variable over the ``cell`` dimension per measure of
 :data:`gridlib.quality.MEASURES` the grid has (``k_orientation_error`` only with rock), named
 as the measure (xtgeo's names where xtgeo has the measure), each with its ``units`` (``degree``
-for angles, ``1`` for ratios and flags: the same in every unit system), ``long_name`` (the
+for angles, ``1`` for ratios: the same in every unit system; none for the flags), ``long_name`` (the
 measure's description) and ``hexahedral_only`` (1: NaN on cells that are not corner-point
 hexahedra). The global attribute ``qc`` holds the results of the case's ``qc:`` rules
-(a JSON list, :func:`gridlib.stages.quality.check_rules`); the others are the case's
-provenance. ``{case}.nc`` holds the same variables.
+(a JSON list, :func:`gridlib.stages.quality.check_rules`), ``unit_system`` the grid's; the
+others are the case's provenance. ``{case}.nc`` holds the same variables.
 """
 
 from __future__ import annotations
@@ -24,18 +24,15 @@ from ..quality import MEASURE, MEASURES, Measure
 from ..units import METRIC
 from .datasets import damaged, open_artifact, read_variable
 from .netcdf import write_dataset
+from .quantities import FLAG_NAMES
 
-# the flags of xtgeo's set (0 or 1; concave_proj 0 or the concave corner + 1): counted, not binned
-FLAGS = tuple(
-    m.name
-    for m in MEASURES
-    if m.name in ("collapsed", "faulted", "negative_thickness") or m.name.startswith("concave")
-)
+FLAGS = FLAG_NAMES  # the flags of xtgeo's set: counted, not binned; no units
 
 
-def measure_units(measure: Measure) -> str:
-    """The ``units`` of a measure's values (degree, 1): the same in every unit system."""
-    return METRIC.unit(measure.unit)
+def measure_units(measure: Measure) -> str | None:
+    """The ``units`` of a measure's values (degree, 1): the same in every unit system; None for
+    a flag (:data:`FLAGS`: no physical quantity, no ``units``, as CF wants for flags)."""
+    return None if measure.name in FLAGS else METRIC.unit(measure.unit)
 
 
 def quality_variables(values: Mapping[str, np.ndarray], dim: str = "cell") -> dict[str, xr.DataArray]:
@@ -45,11 +42,12 @@ def quality_variables(values: Mapping[str, np.ndarray], dim: str = "cell") -> di
     for m in MEASURES:
         if m.name not in values:
             continue
+        units = measure_units(m)
         out[m.name] = xr.DataArray(
             np.asarray(values[m.name], dtype=np.float64),
             dims=(dim,),
             attrs={
-                "units": measure_units(m),
+                **({} if units is None else {"units": units}),
                 "long_name": m.description,
                 "hexahedral_only": np.int8(m.hexahedral_only),
             },

@@ -4,7 +4,7 @@ One panel per measure of :data:`gridlib.quality.MEASURES` that varies over the c
 is defined (a measure that is NaN everywhere, or one value everywhere, says nothing as a
 histogram and is left out (:func:`varies`), unless a qc rule names it and it is defined somewhere), in the
 order of ``MEASURES``. Each x axis names the measure and its unit (``maxangle_sides [degree]``,
-``aspect_ratio [1]``); the count axis is logarithmic where the tallest bar is more than 100
+``aspect_ratio [1]``; a flag has none); the count axis is logarithmic where the tallest bar is more than 100
 times the lowest non-empty one (a few bad cells beside thousands of good ones stay visible).
 A flag (collapsed, faulted, negative_thickness, concave_proj) is a bar per value. Each qc
 rule on a measure is a vertical dashed line at its limit, labelled with the rule and the
@@ -83,7 +83,8 @@ def quality_figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str
     for ax, name in zip(axes.ravel(), names, strict=False):
         v = values[name]
         v = v[np.isfinite(v)]
-        (_flag_panel if name in FLAGS else _panel)(ax, v, f"{name} [{units[name]}]")
+        label = name if units[name] is None else f"{name} [{units[name]}]"
+        (_flag_panel if name in FLAGS else _panel)(ax, v, label)
         for rule in rules:
             if rule["quantity"] != name:
                 continue

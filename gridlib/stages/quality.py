@@ -38,7 +38,7 @@ from ..errors import InputError
 from ..grid import Grid
 from ..io.grdecl import read_grdecl
 from ..io.netcdf import read_geometry_netcdf, read_netcdf
-from ..io.netcdf_parts import check_same_cells
+from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.quality_file import measure_units, write_quality
 from ..io.quality_histograms import plot_quality
 from ..io.rock_file import read_rock
@@ -107,7 +107,7 @@ def rule_message(case: Case, grid: Grid, result: RuleResult) -> str:
     cells (3 %): (1, 2, 1), (2, 2, 1), (3, 2, 1), (1, 3, 1), (2, 3, 1) and 7 more``."""
     rule = result.rule
     unit = measure_units(MEASURE[rule["quantity"]])
-    limit = f"{result.limit:g}" + ("" if unit == "1" else f" {unit}")  # 60 degree; a ratio bare
+    limit = f"{result.limit:g}" + ("" if unit in (None, "1") else f" {unit}")  # 60 degree; a ratio bare
     side = "above" if result.bound == "max" else "below"
     share = f"{_percent(result.cells.size / result.evaluated)} %"
     if result.fraction > 0:
@@ -169,6 +169,7 @@ def stage_quality(
         counts[petrophysics] = rock["poro"].size
         perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, : mesh.dim]
     check_same_cells(grid, mesh.num_cells, counts)
+    system = stored_unit_system(grid, read_attrs(grid))
     centres, _ = cell_centres(case, grid, stored, geo)
     deck = read_grdecl(grdecl) if grdecl is not None else None
     values = cell_quality(mesh, geo, perm=perm, centres=centres, deck=deck)
@@ -184,7 +185,7 @@ def stage_quality(
             name = r.rule["quantity"]
             log.info("note: %s: qc[%d]: %s is defined on no cell of this grid", case.path, r.index, name)
     qc = [rule_summary(mesh, r) for r in results]
-    write_quality(quality, values, case.provenance(), qc)
+    write_quality(quality, values, {**case.provenance(), "unit_system": system.name}, qc)
     title = f"{case.name}: {mesh.num_cells:,d} cells"
     plot_quality(quality_png, values, rules, title)
     log.info("wrote %s: %s", quality, _medians(values))
@@ -196,5 +197,6 @@ def _medians(values: Mapping[str, np.ndarray]) -> str:
     for name, v in values.items():
         finite = v[np.isfinite(v)]
         if finite.size:
-            parts.append(f"{name} median {np.median(finite):.4g} {measure_units(MEASURE[name])}")
+            unit = measure_units(MEASURE[name]) or ""
+            parts.append(f"{name} median {np.median(finite):.4g} {unit}".rstrip())
     return ", ".join(parts)
