@@ -55,7 +55,17 @@ ROOT = Path(__file__).resolve().parents[2]
 ADVICE = "delete it and rerun the workflow"
 
 # Every stage file and the {case}.nc export (read by no stage: by read_netcdf, as users do).
-FILES = ("horizons", "grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells", "nc")
+FILES = (
+    "horizons",
+    "grid",
+    "geometry",
+    "petrophysics",
+    "coarse",
+    "transmissibility",
+    "quality",
+    "wells",
+    "nc",
+)
 
 
 def _truncate(data: bytes) -> bytes:
