@@ -18,6 +18,8 @@
   depth), fault faces in red, deviated wells' paths in black with their names;
   ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's
   Fig. 3.33) and log10 T;
+* the cell-quality measures of ``quality.nc`` (:mod:`gridlib.stages.quality`) in ``{case}.nc``
+  and the VTU as cell variables;
 * ``summary.json``: the case's figures (the regression tests compare them); for a deck case
   with degenerate cells (:mod:`gridlib.stages.grid`) also ``degenerate_cells``: their count,
   how many have a non-positive polyhedral volume and how many do not close, and the first
@@ -28,7 +30,9 @@
   (the larger of the face's two cells), to 1e-6 degree. The centres are those of the
   transmissibility stage: a PEBI grid's generating sites at each cell's centroid depth, else
   the centroids. Cases with trajectory or survey wells also get ``trajectory_wells``: per well
-  its connections, ``completed_length`` and ``total_factor`` (:func:`wells_summary`).
+  its connections, ``completed_length`` and ``total_factor`` (:func:`wells_summary`). With
+  ``quality.nc``: ``quality``, per measure its median, p95 and max and the flagged cells
+  (:func:`quality_figures`), and ``qc``, the results of the case's qc rules.
 
 Every value is in the case's unit system (``unit_system``: METRIC, or a deck's own, e.g.
 FIELD for SPE9: ft, ft2, ft3, rb, mD), and every file, picture and figure says so: the
