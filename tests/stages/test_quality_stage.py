@@ -251,6 +251,14 @@ def test_a_rule_on_a_measure_the_grid_lacks_is_refused(tmp_path):
         InputError, match=r"qc\[0\]\.quantity: k_orientation_error needs the case's permeability"
     ):
         load_case(case)
+    flat = SMALL.replace("dims: [3, 2, 2], lengths: [300, 200, 20], origin: [0, 0, 1000]", "dims: [3, 2]")
+    case = write_case(tmp_path, flat + "qc: [{quantity: maxangle_sides, max: 100, action: warn}]\n")
+    with pytest.raises(InputError) as err:
+        load_case(case)
+    assert str(err.value) == (
+        f"{case}: qc[0].quantity: maxangle_sides is defined on corner-point hexahedra, "
+        "not on a 2-D grid's cells"
+    )
     data = yaml.safe_load((Path(__file__).parents[2] / "config" / "cases" / "honeycomb.yaml").read_text())
     data["qc"] = [{"quantity": "minangle_sides", "min": 80, "action": "warn"}]
     path = tmp_path / "honeycomb.yaml"
