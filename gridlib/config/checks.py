@@ -241,7 +241,7 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
     names given twice, broken traces, reversed ranges, the keys against each other and the
     files they name, trajectory and survey wells (:mod:`gridlib.config.well_paths`), rock
     values, coarse blocks against the grid, PEBI wells on faults and their rings."""
-    for check in (_names_problem, _traces_problem, _ranges_problem):
+    for check in (_names_problem, _traces_problem, _ranges_problem, _section_problem):
         problem = check(data)
         if problem is not None:
             return problem
@@ -284,6 +284,25 @@ def qc_problem(data: dict[str, Any]) -> str | None:
                 f"qc[{k}].quantity: {name} is defined on corner-point hexahedra only "
                 f"({', '.join(HEXAHEDRAL_GRIDS)} grids), not on the prisms of a {kind} grid"
             )
+    return None
+
+
+def _section_problem(data: dict[str, Any]) -> str | None:
+    """``pictures.section``: a 3-D grid's (a 2-D grid has no depth to cut), no point repeated
+    by the next (a segment of no length has no plane)."""
+    points = data.get("pictures", {}).get("section")
+    if points is None:
+        return None
+    grid = data["grid"]
+    planar = (grid["type"] == "cartesian" and len(grid["dims"]) == 2) or (
+        grid["type"] == "tensor" and "z" not in grid
+    )
+    if planar:
+        return "pictures.section: a 2-D grid has no cross-section (its plan view shows it)"
+    for i in range(1, len(points)):
+        if list(points[i]) == list(points[i - 1]):
+            at = ", ".join(yaml_number(v) for v in points[i])
+            return f"pictures.section[{i}]: ({at}) repeats the point before it; give each point once"
     return None
 
 

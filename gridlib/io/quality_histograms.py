@@ -9,7 +9,7 @@ times the lowest non-empty one (a few bad cells beside thousands of good ones st
 A flag (collapsed, faulted, negative_thickness, concave_proj) is a bar per value. Each qc
 rule on a measure is a vertical dashed line at its limit, labelled with the rule and the
 number of cells past the limit in the legend (``warn max 60: 12 cells past it``; orange warn,
-red fail).
+red fail). Sizes and fonts are gridlib's one picture style (:mod:`gridlib.io.picture_style`).
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..quality import MEASURES
+from .picture_style import DPI, FIGURE_SIZES, picture_style, quantity_label
 from .pictures import save_figure
 from .quality_file import FLAGS, measure_units
 
@@ -35,7 +36,7 @@ def plot_quality(
     title: str,
 ) -> None:
     """:func:`quality_figure` saved as ``path`` (atomically)."""
-    save_figure(quality_figure(values, rules, title), path)
+    save_figure(quality_figure(values, rules, title), path, dpi=DPI)
 
 
 def shown_measures(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]] = ()) -> list[str]:
@@ -60,30 +61,36 @@ def varies(v: np.ndarray) -> bool:
 
 
 def quality_figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]], title: str):
-    """A matplotlib figure: a histogram per shown measure (:func:`shown_measures`) with the qc
-    limits of ``rules`` drawn on it; a figure with one line of text where no measure varies."""
-    import matplotlib
+    """A matplotlib figure in gridlib's picture style (:mod:`gridlib.io.picture_style`): a
+    histogram per shown measure (:func:`shown_measures`) with the qc limits of ``rules`` drawn
+    on it; a figure with one line of text where no measure varies."""
+    with picture_style():
+        return _figure(values, rules, title)
 
-    matplotlib.use("Agg")
+
+def _figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]], title: str):
     import matplotlib.pyplot as plt
 
     names = shown_measures(values, rules)
     units = {m.name: measure_units(m) for m in MEASURES}
+    width, height = FIGURE_SIZES["histograms"]
     if not names:
-        fig, ax = plt.subplots(figsize=(6, 2))
+        fig, ax = plt.subplots(figsize=(width, 0.5 * height), layout="constrained")
         ax.axis("off")
         ax.text(0.5, 0.5, "no quality measure varies over this grid", ha="center", va="center")
         fig.suptitle(title)
         return fig
     rows = -(-len(names) // COLUMNS)
     cols = min(COLUMNS, len(names))
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.3 * rows), squeeze=False)
+    fig, axes = plt.subplots(
+        rows, cols, figsize=(width * cols, height * rows), squeeze=False, layout="constrained"
+    )
     for ax in axes.ravel()[len(names) :]:
         ax.remove()
     for ax, name in zip(axes.ravel(), names, strict=False):
         v = values[name]
         v = v[np.isfinite(v)]
-        label = name if units[name] is None else f"{name} [{units[name]}]"
+        label = quantity_label(name, units[name])
         (_flag_panel if name in FLAGS else _panel)(ax, v, label)
         for rule in rules:
             if rule["quantity"] != name:
@@ -101,7 +108,6 @@ def quality_figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize="small", loc="best")
     fig.suptitle(f"{title}: cell quality")
-    fig.tight_layout()
     return fig
 
 

@@ -10,8 +10,8 @@ version, case file hash, seed). :func:`run_case` runs every stage a case has, in
 (``workflow/scripts/stage.py``, through :func:`run_stage`).
 
 Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and transmissibility -> wells
-(trajectory and survey wells) -> export -> flow_deck (the OPM Flow deck), then summary over all
-cases; on request simulate (OPM Flow runs the deck).
+(trajectory and survey wells) -> export -> pictures, beside flow_deck (the OPM Flow deck), then
+summary over all cases; on request simulate (OPM Flow runs the deck).
 """
 
 from .._lazy import lazy_exports
@@ -30,6 +30,7 @@ _EXPORTS: dict[str, str] = {
     "stage_grid": ".grid",
     "stage_horizons": ".horizons",
     "stage_petrophysics": ".petrophysics",
+    "stage_pictures": ".pictures",
     "stage_quality": ".quality",
     "stage_simulate": ".simulate",
     "stage_summary": ".summary",

@@ -14,10 +14,6 @@
   the face's cell pair: faces between the same two cells share it), 0 where none;
 * ``{case}_wells.vtp`` (cases with trajectory or survey wells): the paths of ``wells.nc``
   as polylines with their MD (:func:`gridlib.io.vtp.write_well_paths`);
-* ``{case}.png``: the grid rendered off-screen, coloured by porosity (or
-  depth), fault faces in red, deviated wells' paths in black with their names;
-  ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's
-  Fig. 3.33) and log10 T;
 * the cell-quality measures of ``quality.nc`` (:mod:`gridlib.stages.quality`) in ``{case}.nc``
   and the VTU as cell variables;
 * ``summary.json``: the case's figures (the regression tests compare them); for a deck case
@@ -67,9 +63,7 @@ from ..io.coarse_file import read_partition
 from ..io.grid_nnc import nnc_variables, read_nnc
 from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
-from ..io.pictures import plot_histograms, render_grid
 from ..io.quality_file import FLAGS, quality_variables, read_quality
-from ..io.quantities import units_of
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
 from ..io.vtp import write_fault_faces, write_well_paths
@@ -135,7 +129,7 @@ def _figure(value: float) -> float:
 @dataclass
 class _Gathered:
     """What the export writes: the grid, its geometry and every per-cell array, the NNC list
-    and connection variables, the file attributes, and what the pictures and summary need."""
+    and connection variables, the file attributes, and what the summary needs."""
 
     grid: Grid
     geo: Geometry
@@ -170,22 +164,20 @@ def stage_export(
     vtu: str | os.PathLike | None = None,
     faults: str | os.PathLike,
     well_paths: str | os.PathLike | None = None,
-    png: str | os.PathLike,
-    histograms: str | os.PathLike,
     summary: str | os.PathLike,
 ) -> None:
     """Write the case's exports from its stage files (``grid``, ``geometry`` and, where the case
     has them, ``petrophysics``, ``coarse``, ``transmissibility``, ``wells``, ``quality``): ``nc`` ({case}.nc),
     ``vtu`` (where ``outputs.vtu``), ``faults``, ``well_paths`` (where the case has deviated
-    wells), the pictures ``png`` and ``histograms``, and ``summary`` (summary.json)."""
-    written = {"nc": nc, "vtu": vtu, "faults": faults, "png": png, "histograms": histograms}
+    wells), and ``summary`` (summary.json); the pictures are stage ``pictures``'
+    (:mod:`gridlib.stages.pictures`)."""
+    written = {"nc": nc, "vtu": vtu, "faults": faults}
     outputs = {key: str(path) for key, path in written.items() if path is not None}
     g = _gather(case, grid, geometry, petrophysics, coarse, transmissibility, quality)
     records = read_wells(wells) if wells is not None else ()
     if well_paths is not None:
         write_well_paths(Path(well_paths), [(r.name, r.paths) for r in records])
     n_fault_faces = _write_files(outputs, g)
-    _pictures(outputs, case, g, records)
     figures = _summary(case, g, n_fault_faces) | wells_summary(records)
     with atomic_path(summary) as tmp:
         tmp.write_text(json.dumps(figures, indent=2) + "\n")
@@ -317,21 +309,6 @@ def _write_files(outputs: dict[str, str], g: _Gathered) -> int:
             vtu_data |= {"layer": grid.layering.layer, "column": grid.layering.column}
         write_vtu(outputs["vtu"], grid, vtu_data)
     return write_fault_faces(Path(outputs["faults"]), grid, g.fault_names, g.face_trans)
-
-
-def _pictures(outputs: dict[str, str], case: Case, g: _Gathered, wells: Sequence[WellRecord] = ()) -> None:
-    """``{case}.png`` (coloured by porosity, else depth, else volume; the deviated ``wells``
-    drawn in it) and ``{case}_histograms.png``."""
-    grid, geo, rock, depth, trans = g.grid, g.geo, g.rock, g.depth, g.trans
-    scalar = "poro" if rock is not None else ("depth" if depth is not None else "volume")
-    title = f"{case.name}: {grid.num_cells:,d} cells"
-    values = rock[scalar] if rock is not None else (depth if depth is not None else geo.cell_volumes)
-    bar_title = f"{scalar} [{units_of([scalar], g.units, grid.griddim)[scalar]}]"
-    paths = [(r.name, [p.xyz for p in r.paths]) for r in wells]
-    render_grid(Path(outputs["png"]), grid, values, Path(outputs["faults"]), scalar, title, bar_title, paths)
-    t = None if trans is None else trans[0]["trans"].values
-    poro = None if rock is None else rock["poro"]
-    plot_histograms(Path(outputs["histograms"]), geo, poro, grid.griddim, title, g.units, t)
 
 
 def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:

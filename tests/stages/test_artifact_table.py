@@ -18,6 +18,7 @@ from gridlib.stages import case_outputs, run_case
 from gridlib.study import artifacts_of
 
 ROOT = Path(__file__).resolve().parents[2]
+PICTURES = ["png", "histograms"]  # stage pictures' artifacts, every case's
 
 # A plugin module of a user's own: one stage (its function and its entry), nothing else.
 TOY_STAGE = '''
@@ -124,9 +125,7 @@ def test_every_sample_case_has_the_artifacts_of_its_sections():
         got = [a.key for a in artifacts.case_artifacts(case)]
         stage_files = keys.split()
         wells = "wells" in stage_files
-        exports = (
-            ["nc", "vtu", "faults"] + (["well_paths"] if wells else []) + ["png", "histograms", "summary"]
-        )
+        exports = ["nc", "vtu", "faults"] + (["well_paths"] if wells else []) + ["summary"] + PICTURES
         assert got == [k for k in stage_files if k != "flow_deck"] + exports + (
             ["flow_deck"] if "flow_deck" in stage_files else []
         ), name
@@ -157,16 +156,7 @@ def test_a_case_without_stage_files_drops_them_and_its_grdecl_where_its_flow_dec
     bare = type(case)(case.name, case.path, case.sha256, no_deck)
     # grid.grdecl is its only GRDECL: kept
     assert artifacts.dropped(bare) == ("horizons", "grid", "geometry", "quality")
-    assert artifacts_of(dropping.data) == (
-        "quality_png",
-        "nc",
-        "vtu",
-        "faults",
-        "png",
-        "histograms",
-        "summary",
-        "flow",
-    )
+    assert artifacts_of(dropping.data) == ("quality_png", "nc", "vtu", "faults", "summary", *PICTURES, "flow")
 
 
 def test_paths_and_simulation_artifacts_come_from_the_table(tmp_path):

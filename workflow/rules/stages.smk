@@ -1,5 +1,5 @@
 # A case's stages (gridlib/artifacts.py STAGES: horizons, grid, geometry, petrophysics,
-# coarsen, transmissibility, wells, export, flow_deck, simulate), one rule each, generated from
+# coarsen, transmissibility, wells, export, pictures, flow_deck, simulate), one rule each, generated from
 # the table: its inputs, its outputs where the case has them, temp() where the case drops its
 # stage files (outputs.stage_files: false). Cases whose outputs of a stage differ (grid.grdecl
 # or not, the VTU or not, kept or temporary) get a rule of their own, named after the stage and

@@ -1,0 +1,227 @@
+"""The one style of gridlib's pictures: figure sizes and resolution, fonts, a colour map per
+kind of quantity, one colour per fault, colour bars titled with their unit, a scale bar and a
+north arrow for matplotlib map axes.
+
+Conventions: x is east, y north (a map's up), z depth (positive down); lengths are in the
+case's length unit (m, or a FIELD deck's ft). Every picture of a case colours fault ``k`` (the
+``faults.tag`` of its faces, 1-based; names ``fault_names[k - 1]``) with :func:`fault_colour`
+``(k)``: the 3-D view, the plan view and the section agree, and two faults of a case differ.
+Artists that tests and readers look for carry a ``gid``: :data:`SCALE_BAR`, :data:`NORTH_ARROW`.
+
+Use::
+
+    with picture_style():
+        fig, ax = new_figure("plan")
+        ...
+        colour_bar(fig, ax, mappable, "depth", "m")
+        scale_bar(ax, "m")
+        north_arrow(ax)
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+from typing import Any, Literal
+
+import numpy as np
+
+Kind = Literal["depth", "property", "diverging", "category"]
+
+DPI = 120
+FIGURE_SIZES: dict[str, tuple[float, float]] = {  # inches
+    "plan": (8.5, 7.5),
+    "section": (12.0, 5.5),
+    "histograms": (5.0, 3.6),  # per panel
+    "residuals": (12.0, 5.0),
+}
+FONT_SIZE = 10
+TITLE_SIZE = 12
+LABEL_SIZE = 8  # names of faults and wells, contour labels
+RC: dict[str, Any] = {
+    "font.family": "DejaVu Sans",
+    "font.size": FONT_SIZE,
+    "axes.titlesize": TITLE_SIZE,
+    "axes.labelsize": FONT_SIZE,
+    "xtick.labelsize": FONT_SIZE - 1,
+    "ytick.labelsize": FONT_SIZE - 1,
+    "figure.titlesize": TITLE_SIZE,
+    "savefig.dpi": DPI,
+    "image.cmap": "viridis",
+}
+# Perceptually uniform maps. Depth: shallow is bright (crests stand out), deep is dark.
+COLOUR_MAPS: dict[str, str] = {
+    "depth": "viridis_r",
+    "property": "viridis",
+    "diverging": "RdBu_r",  # residuals: blue negative, red positive, white 0 (centre the norm)
+    "category": "tab20",
+}
+# Faults: a categorical palette (Okabe-Ito's colour-blind safe set, then Tableau's 10) of
+# colours distinct from each other and from the maps above's ends; fault k gets colour k - 1
+# (cycling beyond 17 faults).
+FAULT_PALETTE: tuple[str, ...] = (
+    "#D55E00",  # vermillion
+    "#0072B2",  # blue
+    "#CC79A7",  # reddish purple
+    "#E69F00",  # orange
+    "#009E73",  # bluish green
+    "#56B4E9",  # sky blue
+    "#000000",  # black
+    "#F0E442",  # yellow
+    "#d62728",  # red
+    "#9467bd",  # purple
+    "#8c564b",  # brown
+    "#e377c2",  # pink
+    "#7f7f7f",  # grey
+    "#bcbd22",  # olive
+    "#17becf",  # cyan
+    "#1f77b4",  # tab blue
+    "#2ca02c",  # tab green
+)
+NO_FAULT = "#999999"
+WELL_COLOUR = "black"
+SCALE_BAR = "scale bar"
+NORTH_ARROW = "north arrow"
+
+
+@contextlib.contextmanager
+def picture_style() -> Iterator[None]:
+    """matplotlib's Agg backend and gridlib's fonts and defaults (:data:`RC`) inside the block."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    with plt.rc_context(RC):
+        yield
+
+
+def new_figure(kind: str, ncols: int = 1):
+    """A figure of the size of ``kind`` (a key of :data:`FIGURE_SIZES`; its width per panel
+    times ``ncols``) and its axes, laid out by matplotlib's constrained layout (no overlaps of
+    labels, titles and colour bars)."""
+    import matplotlib.pyplot as plt
+
+    width, height = FIGURE_SIZES[kind]
+    if kind == "histograms":
+        width *= ncols
+    return plt.subplots(1, ncols, figsize=(width, height), layout="constrained")
+
+
+def colour_map(kind: Kind):
+    """The matplotlib colour map of a kind of quantity (:data:`COLOUR_MAPS`)."""
+    import matplotlib
+
+    return matplotlib.colormaps[COLOUR_MAPS[kind]]
+
+
+def fault_colour(fault: int) -> str:
+    """The colour (hex) of fault ``fault`` (its 1-based id, ``faults.tag``); :data:`NO_FAULT`
+    for 0 (no fault).
+
+    >>> fault_colour(1), fault_colour(2), fault_colour(18) == fault_colour(1), fault_colour(0)
+    ('#D55E00', '#0072B2', True, '#999999')
+    """
+    if fault <= 0:
+        return NO_FAULT
+    return FAULT_PALETTE[(int(fault) - 1) % len(FAULT_PALETTE)]
+
+
+def fault_colours(faults: np.ndarray) -> np.ndarray:
+    """RGBA (n, 4) of the 1-based fault ids ``faults`` (vectorised :func:`fault_colour`)."""
+    from matplotlib.colors import to_rgba_array
+
+    palette = to_rgba_array((NO_FAULT, *FAULT_PALETTE))
+    ids = np.asarray(faults, dtype=np.int64)
+    return palette[np.where(ids > 0, (ids - 1) % len(FAULT_PALETTE) + 1, 0)]
+
+
+def quantity_label(quantity: str, unit: str | None) -> str:
+    """``quantity [unit]`` (``quantity`` alone without a unit).
+
+    >>> quantity_label("depth", "ft"), quantity_label("zone", None)
+    ('depth [ft]', 'zone')
+    """
+    return quantity if not unit else f"{quantity} [{unit}]"
+
+
+def colour_bar(fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any = None):
+    """A vertical colour bar beside ``ax`` titled ``quantity [unit]`` along its long side,
+    beyond its tick labels (matplotlib places the label outside them: they never overlap);
+    at most 8 ticks, none crowded. Returns the colour bar."""
+    from matplotlib.ticker import MaxNLocator
+
+    bar = fig.colorbar(mappable, ax=ax, shrink=0.85, pad=0.02, ticks=ticks)
+    if ticks is None:
+        bar.locator = MaxNLocator(nbins=8)
+        bar.update_ticks()
+    bar.set_label(quantity_label(quantity, unit), labelpad=8)
+    return bar
+
+
+def nice_length(length: float) -> float:
+    """The largest 1, 2 or 5 x 10^k not above ``length`` (> 0), exact in decimal.
+
+    >>> nice_length(730.0), nice_length(0.031), nice_length(2000.0), nice_length(199.0)
+    (500.0, 0.02, 2000.0, 100.0)
+    """
+    if not length > 0:
+        raise ValueError(f"a scale bar needs a positive length, not {length}")
+    mantissa, exponent = f"{length:.6e}".split("e")
+    lead = float(mantissa)
+    digit = 5 if lead >= 5 else 2 if lead >= 2 else 1
+    return float(f"{digit}e{int(exponent)}")
+
+
+def scale_bar(ax, unit: str, fraction: float = 0.25):
+    """A scale bar in the lower left corner of the map ``ax`` (data units: the case's length
+    unit ``unit``; equal aspect): a length of 1, 2 or 5 x 10^k up to ``fraction`` of the axes'
+    width, labelled e.g. "500 m". Draw it after the data (it reads the axes' limits). Its
+    artist has the gid :data:`SCALE_BAR`; returns it."""
+    from matplotlib.font_manager import FontProperties
+    from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
+
+    x0, x1 = ax.get_xlim()
+    length = nice_length(fraction * abs(x1 - x0))
+    bar = AnchoredSizeBar(
+        ax.transData,
+        length,
+        f"{length:g} {unit}",
+        "lower left",
+        pad=0.4,
+        borderpad=0.6,
+        sep=4,
+        frameon=True,
+        size_vertical=0.012 * abs(ax.get_ylim()[1] - ax.get_ylim()[0]),
+        fontproperties=FontProperties(size=FONT_SIZE - 1),
+    )
+    bar.patch.set_facecolor("white")
+    bar.patch.set_alpha(0.75)
+    bar.set_gid(SCALE_BAR)
+    ax.add_artist(bar)
+    return bar
+
+
+def north_arrow(ax):
+    """A north arrow (y is north) with an "N" in the upper right corner of the map ``ax``; its
+    annotation has the gid :data:`NORTH_ARROW`; returns it."""
+    arrow = ax.annotate(
+        "N",
+        xy=(0.95, 0.95),
+        xytext=(0.95, 0.82),
+        xycoords="axes fraction",
+        ha="center",
+        va="center",
+        fontsize=FONT_SIZE + 2,
+        fontweight="bold",
+        arrowprops={"facecolor": "black", "edgecolor": "black", "width": 3, "headwidth": 10},
+        bbox={"boxstyle": "circle,pad=0.2", "facecolor": "white", "edgecolor": "none", "alpha": 0.75},
+    )
+    arrow.set_gid(NORTH_ARROW)
+    return arrow
+
+
+def named(ax, gid: str) -> list[Any]:
+    """The artists of ``ax`` with the gid ``gid`` (its texts, artists, lines, collections)."""
+    every = [*ax.texts, *ax.artists, *ax.lines, *ax.collections, *ax.patches]
+    return [a for a in every if a.get_gid() == gid]

@@ -1,0 +1,235 @@
+"""Stage ``pictures``: the pictures of a case a geomodeller puts on a QC slide, in their own job
+(beside the Flow deck's), from the stage files and the export's fault faces:
+
+* ``{case}.png``: the grid in 3-D, coloured by porosity (else depth, else cell volume), the
+  fault faces and the deviated wells' paths (:func:`gridlib.io.pictures.render_grid`);
+* ``{case}_histograms.png``: cell volumes, face areas, porosity (the MRST book's Fig. 3.33)
+  and log10 T (:func:`gridlib.io.pictures.plot_histograms`);
+* ``{case}_plan.png``: the plan view, the top's depth contoured with the fault traces, the
+  wells and the section's line (:mod:`gridlib.io.plan_view`);
+* ``{case}_section.png`` (3-D grids): the cross-section along the case's ``pictures.section``,
+  else through the wells (:mod:`gridlib.io.cross_section`), coloured by porosity, else zone,
+  else layer, else depth.
+
+The wells drawn are the case's (``wells``): a vertical well at its ``point``, a PEBI grid's
+refining well along its plan-view ``path`` (at the grid's top), and the trajectory and survey
+wells of ``wells.nc``.
+
+Every picture labels its axes and colour bars with the case's units (``unit_system`` of the
+grid file: METRIC m, or a deck's own, e.g. FIELD ft for SPE9) and draws in the one style of
+:mod:`gridlib.io.picture_style`.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..config import Case
+from ..errors import InputError
+from ..geometry import Geometry
+from ..grid import Grid
+from ..io.cross_section import default_section, section_figure, well_heads
+from ..io.netcdf import read_cell_geometry, read_netcdf
+from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.picture_style import DPI, picture_style, quantity_label
+from ..io.pictures import plot_histograms, render_grid, save_figure
+from ..io.plan_view import plan_figure
+from ..io.quantities import units_of
+from ..io.rock_file import read_rock
+from ..io.section_cut import cut_grid
+from ..io.top_surface import top_surface
+from ..io.transmissibility_file import read_transmissibility
+from ..io.well_tracks import WellTrack, plan_track, record_tracks, vertical_track
+from ..io.wells_file import WellRecord, read_wells
+from ..units import UnitSystem
+from .common import log
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What the pictures of a case show: its grid and geometry, unit system, fault and well
+    names, rock (None without), the cells' builder data (``zone``, ``layer``, ...), the
+    transmissibilities (None without) and the deviated wells of ``wells.nc``."""
+
+    name: str
+    grid: Grid
+    geo: Geometry
+    units: UnitSystem
+    fault_names: tuple[str, ...]
+    rock: dict[str, np.ndarray] | None
+    cell_data: dict[str, np.ndarray]
+    trans: np.ndarray | None
+    wells: tuple[WellRecord, ...]
+
+    @property
+    def title(self) -> str:
+        """The pictures' title: the case's name and its number of cells."""
+        return f"{self.name}: {self.grid.num_cells:,d} cells"
+
+    def colouring(self) -> tuple[str, np.ndarray]:
+        """The cell value the 3-D view is coloured by: porosity, else depth (3-D), else the cell
+        measure (volume, or area in 2-D): its name and values."""
+        if self.rock is not None:
+            return "poro", self.rock["poro"]
+        if self.grid.dim == 3:
+            return "depth", self.geo.cell_centroids[:, 2]
+        return "volume", self.geo.cell_volumes
+
+    def well_tracks(self, case: Case) -> tuple[WellTrack, ...]:
+        """The wells to draw: the case's vertical wells (over the grid's depth range) and its
+        PEBI grid's refining wells (at its top), then the deviated wells of ``wells.nc``."""
+        z = self.grid.nodes.coords[:, -1] if self.grid.dim == 3 else np.zeros(1)
+        depths = (float(z.min()), float(z.max()))
+        tracks = []
+        for well in case.data.get("wells", []):
+            if "point" in well:
+                tracks.append(vertical_track(well["name"], well["point"], depths))
+            elif "path" in well:
+                tracks.append(plan_track(well["name"], np.asarray(well["path"], dtype=float), depths[0]))
+        return (*tracks, *record_tracks(self.wells))
+
+    def quantity(self, name: str) -> tuple[str, str | None]:
+        """A cell quantity's name and unit in the case's units (:mod:`gridlib.io.quantities`;
+        None for a name it does not know)."""
+        return name, units_of([name], self.units, self.grid.griddim).get(name)
+
+    def label(self, name: str) -> str:
+        """``name [unit]`` of a cell quantity (``name`` alone without a unit)."""
+        return quantity_label(*self.quantity(name))
+
+
+def read_scene(
+    case: Case,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    petrophysics: str | os.PathLike | None = None,
+    transmissibility: str | os.PathLike | None = None,
+    wells: str | os.PathLike | None = None,
+) -> Scene:
+    """The :class:`Scene` of a case from its stage files (one InputError naming a file that is
+    damaged or of another grid)."""
+    stored = read_netcdf(grid)
+    attrs = read_attrs(grid)
+    geo = read_cell_geometry(geometry)
+    check_same_cells(grid, stored.grid.num_cells, {geometry: geo.cell_volumes.size})
+    rock = read_rock(petrophysics) if petrophysics is not None else None
+    trans = None
+    if transmissibility is not None:
+        trans = read_transmissibility(transmissibility)[0]["trans"].values
+    return Scene(
+        case.name,
+        stored.grid,
+        geo,
+        stored_unit_system(grid, attrs),
+        tuple(attrs.get("fault_names", [])),
+        rock,
+        dict(stored.cell_data),
+        trans,
+        read_wells(wells) if wells is not None else (),
+    )
+
+
+def stage_pictures(
+    case: Case,
+    *,
+    grid: str | os.PathLike,
+    geometry: str | os.PathLike,
+    faults: str | os.PathLike,
+    petrophysics: str | os.PathLike | None = None,
+    transmissibility: str | os.PathLike | None = None,
+    wells: str | os.PathLike | None = None,
+    png: str | os.PathLike,
+    histograms: str | os.PathLike,
+    plan: str | os.PathLike,
+    section: str | os.PathLike | None = None,
+) -> None:
+    """Draw the case's pictures from its stage files (``grid``, ``geometry``, the export's
+    fault faces ``faults`` and, where the case has them, ``petrophysics``, ``transmissibility``
+    and ``wells``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan`` and
+    ``section`` (3-D grids)."""
+    scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
+    scalar, values = scene.colouring()
+    paths = [(r.name, [p.xyz for p in r.paths]) for r in scene.wells]
+    render_grid(Path(png), scene.grid, values, Path(faults), scalar, scene.title, scene.label(scalar), paths)
+    poro = None if scene.rock is None else scene.rock["poro"]
+    plot_histograms(
+        Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
+    )
+    drawn = {"plan": plan, "section": section}
+    for key, figure in case_figures(case, scene, with_section=section is not None).items():
+        save_figure(figure, drawn[key], dpi=DPI)
+    log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
+
+
+def section_line(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> np.ndarray:
+    """The case's ``pictures.section`` (k, 2), else the default line through its wells
+    (:func:`gridlib.io.cross_section.default_section`)."""
+    given = case.data.get("pictures", {}).get("section")
+    if given is not None:
+        return np.asarray(given, dtype=np.float64)[:, :2]
+    z = scene.grid.nodes.coords[:, 2]
+    xy = scene.grid.nodes.coords[:, :2]
+    heads = well_heads(tracks, (float(z.min()), float(z.max())))
+    return default_section(heads, xy.min(axis=0), xy.max(axis=0))
+
+
+def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None], bool]:
+    """The cell values of the section: porosity, else zone, else layer, else depth; with
+    their name and unit, and whether they are categories (zone, layer)."""
+    if scene.rock is not None:
+        return scene.rock["poro"], ("porosity", scene.quantity("poro")[1]), False
+    for name in ("zone", "layer"):
+        if name in scene.cell_data:
+            return scene.cell_data[name], (name, None), True
+    if scene.grid.layering is not None:
+        return scene.grid.layering.layer, ("layer", None), True
+    return scene.geo.cell_centroids[:, 2], ("depth", scene.units.length_label), False
+
+
+def case_figures(case: Case, scene: Scene, *, with_section: bool = True) -> dict[str, Any]:
+    """The matplotlib figures of the case's plan view (``plan``) and, ``with_section`` (3-D
+    grids), its cross-section (``section``), in the pictures' style; an InputError naming
+    ``pictures.section`` where the case's line cuts no cell."""
+    tracks = scene.well_tracks(case)
+    line = section_line(case, scene, tracks) if with_section else None
+    figures = {}
+    with picture_style():
+        if line is not None:
+            cut = cut_grid(scene.grid, line)
+            if cut.cells.size == 0:
+                raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")
+            values, quantity, categorical = section_colouring(scene)
+            figures["section"] = section_figure(
+                scene.grid,
+                line,
+                length_unit=scene.units.length_label,
+                values=values,
+                quantity=quantity,
+                categorical=categorical,
+                fault_names=scene.fault_names,
+                wells=tracks,
+                cell_size=top_surface(scene.grid, scene.geo).cell_size(),
+                title=case.name,
+                cut=cut,
+            )
+        scalar, values = scene.colouring()
+        name, unit = scene.quantity(scalar)
+        if name == "volume" and scene.grid.griddim == 2:
+            name = "cell area"
+        figures["plan"] = plan_figure(
+            scene.grid,
+            scene.geo,
+            length_unit=scene.units.length_label,
+            fault_names=scene.fault_names,
+            wells=tracks,
+            values=values,
+            quantity=(name, unit),
+            title=case.name,
+            section=line,
+        )
+    return figures
