@@ -278,6 +278,7 @@ README_TABLES = [
     ["petrophysics.porosity", "petrophysics.permeability", "petrophysics.ntg"],
     ["simulation"],
     ["coarsen"],
+    ["pictures"],
     ["outputs"],
     ["domain"],
     ["qc.0"],

@@ -18,7 +18,7 @@ from gridlib.stages import case_outputs, run_case
 from gridlib.study import artifacts_of
 
 ROOT = Path(__file__).resolve().parents[2]
-PICTURES = ["png", "histograms"]  # stage pictures' artifacts, every case's
+PICTURES = ["png", "histograms", "plan", "section"]  # stage pictures' artifacts, every 3-D case's
 
 # A plugin module of a user's own: one stage (its function and its entry), nothing else.
 TOY_STAGE = '''
