@@ -52,6 +52,7 @@ lint: $(VENV)/.installed-test
 
 bench: $(VENV)/.installed-run
 	$(BIN)/python bench/geometry.py
+	$(BIN)/python bench/quality.py
 	$(BIN)/python bench/cornerpoint.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
 	$(BIN)/python bench/pebi.py
 	$(BIN)/python bench/petrophysics.py

@@ -63,20 +63,16 @@ def vector_angles(u: ArrayLike, v: ArrayLike) -> FloatArray:
     v = np.asarray(v, dtype=np.float64)
     if u.shape != v.shape or u.ndim != 2 or u.shape[1] not in (2, 3):
         raise GridError(f"vector_angles: expected two (n, 2) or (n, 3) arrays, got {u.shape} and {v.shape}")
-    dot = (u * v).sum(axis=1)
+    dot = _row_dot(u, v)  # the bits of (u * v).sum(axis=1), component by component: faster
     if u.shape[1] == 2:
         sine = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
     else:
-        c = np.stack(
-            [
-                u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
-                u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
-                u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0],
-            ]
-        )
-        sine = np.sqrt((c * c).sum(axis=0))
+        c0 = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+        c1 = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+        c2 = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        sine = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
     out = arctan2(sine, dot) * _RAD_TO_DEG
-    zero = ~(np.abs(u).max(axis=1) > 0) | ~(np.abs(v).max(axis=1) > 0)
+    zero = ~_nonzero_rows(u) | ~_nonzero_rows(v)
     return np.where(zero, np.nan, out)
 
 
@@ -96,16 +92,11 @@ class FaceAngles:
                 arr.flags.writeable = False
 
 
-def face_angles(
-    neighbors: ArrayLike,
-    normals: ArrayLike,
-    centres: ArrayLike,
-    perm: ArrayLike | None = None,
-) -> FaceAngles:
-    """The orientation angles of every interior face (module docstring): ``neighbors`` (nf, 2)
-    as ``grid.faces.neighbors``, ``normals`` (nf, d) area vectors from ``neighbors[:, 0]`` to
-    ``neighbors[:, 1]`` (``Geometry.face_normals``), ``centres`` (nc, d) the cell centres,
-    ``perm`` (nc, d) optional diagonal permeabilities (kx, ky[, kz]; any unit, >= 0)."""
+def face_vectors(
+    neighbors: ArrayLike, normals: ArrayLike, centres: ArrayLike
+) -> tuple[IntArray, FloatArray, FloatArray]:
+    """The faces :func:`face_angles` measures (interior, non-zero area, distinct finite centres),
+    their area vectors n_f and centre lines c_b - c_a; arguments as :func:`face_angles`'s."""
     nb = np.asarray(neighbors)
     n = np.asarray(normals, dtype=np.float64)
     x = np.asarray(centres, dtype=np.float64)
@@ -120,19 +111,83 @@ def face_angles(
         )
     finite = np.append(np.isfinite(x).all(axis=1), False)  # [-1]: outside
     faces = np.flatnonzero(finite[nb[:, 0]] & finite[nb[:, 1]])
-    a, b = nb[faces, 0], nb[faces, 1]
-    nf, d = n[faces], x[b] - x[a]
+    nf, d = n[faces], x[nb[faces, 1]] - x[nb[faces, 0]]
+    kept = _nonzero_rows(nf) & _nonzero_rows(d)
+    return faces[kept], nf[kept], d[kept]
+
+
+def face_angles(
+    neighbors: ArrayLike,
+    normals: ArrayLike,
+    centres: ArrayLike,
+    perm: ArrayLike | None = None,
+) -> FaceAngles:
+    """The orientation angles of every interior face (module docstring): ``neighbors`` (nf, 2)
+    as ``grid.faces.neighbors``, ``normals`` (nf, d) area vectors from ``neighbors[:, 0]`` to
+    ``neighbors[:, 1]`` (``Geometry.face_normals``), ``centres`` (nc, d) the cell centres,
+    ``perm`` (nc, d) optional diagonal permeabilities (kx, ky[, kz]; any unit, >= 0)."""
+    faces, nf, d = face_vectors(neighbors, normals, centres)
     angles = vector_angles(nf, d)
-    kept = ~np.isnan(angles)
-    faces, a, b, nf, d, angles = faces[kept], a[kept], b[kept], nf[kept], d[kept], angles[kept]
     k_angles = None
     if perm is not None:
-        k = _checked_perm(perm, x.shape)
+        nb = np.asarray(neighbors)
+        k = checked_perm(perm, np.shape(centres))
+        a, b = nb[faces, 0], nb[faces, 1]
         k_angles = np.fmax(vector_angles(k[a] * nf, d), vector_angles(k[b] * nf, d))
     return FaceAngles(faces, angles, k_angles)
 
 
-def _checked_perm(perm: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
+def _nonzero_rows(u: FloatArray) -> np.ndarray:
+    """Rows of ``u`` with a component that is not 0 (NaN counts as not 0)."""
+    out = u[:, 0] != 0
+    for i in range(1, u.shape[1]):
+        out |= u[:, i] != 0
+    return out
+
+
+def _row_dot(u: FloatArray, v: FloatArray) -> FloatArray:
+    """Row-wise dot products, component by component (faster than a sum over a short axis)."""
+    out = u[:, 0] * v[:, 0]
+    for i in range(1, u.shape[1]):
+        out += u[:, i] * v[:, i]
+    return out
+
+
+def largest_angles(u: ArrayLike, v: ArrayLike, groups: ArrayLike, num_groups: int) -> FloatArray:
+    """Per group, the largest :func:`vector_angles` of the rows of ``u`` and ``v`` in it (NaN
+    for a group with none, or with zero rows only). ``groups`` (m,) or (m, k): the group(s)
+    of each row (-1: none). The row of smallest cosine is chosen
+    (:func:`smallest_cosine_rows`), and only its angle computed: one arctangent per group
+    instead of one per row, equal to the largest angle up to the rounding of the cosines."""
+    u = np.asarray(u, dtype=np.float64)
+    v = np.asarray(v, dtype=np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = _row_dot(u, v) / np.sqrt(_row_dot(u, u) * _row_dot(v, v))
+    row = smallest_cosine_rows(cos, groups, num_groups)
+    out = np.full(num_groups, np.nan)
+    some = row >= 0
+    out[some] = vector_angles(u[row[some]], v[row[some]])
+    return out
+
+
+def smallest_cosine_rows(cos: ArrayLike, groups: ArrayLike, num_groups: int) -> IntArray:
+    """Per group, the row of smallest ``cos`` (m,) among the rows in it (``groups`` (m,) or
+    (m, k), -1: none; the last such row on a tie), -1 for a group with none; NaN rows do not
+    count."""
+    c = np.where(np.isnan(cos), np.inf, np.asarray(cos, dtype=np.float64))
+    g = np.asarray(groups, dtype=np.int64)
+    g = g.reshape(c.size, g.shape[1] if g.ndim == 2 else 1)
+    low = np.full(num_groups + 1, np.inf)  # [-1]: no group
+    for col in g.T:
+        np.minimum.at(low, col, c)
+    row = np.full(num_groups + 1, -1, dtype=np.int64)
+    for col in g.T:
+        hit = np.flatnonzero((c == low[col]) & (c < np.inf))
+        np.maximum.at(row, col[hit], hit)
+    return row[:num_groups]
+
+
+def checked_perm(perm: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
     k = np.asarray(perm, dtype=np.float64)
     if k.shape != shape:
         raise GridError(f"face_angles: expected perm {shape} (kx, ky[, kz] per cell), got {k.shape}")

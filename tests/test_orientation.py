@@ -11,7 +11,13 @@ import gridlib as gl
 from gridlib.cornerpoint.generators import simple_grdecl
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.errors import GridError, InputError
-from gridlib.orientation import face_angles, grid_face_angles, orientation_figures, vector_angles
+from gridlib.orientation import (
+    face_angles,
+    grid_face_angles,
+    largest_angles,
+    orientation_figures,
+    vector_angles,
+)
 
 DIP = 60.0  # degrees from the horizontal: pillars drift cot(dip) m per m of depth
 DRIFT = 1.0 / np.tan(np.radians(DIP))
@@ -143,3 +149,20 @@ def test_given_centres_replace_the_centroids_and_degenerate_faces_are_left_out()
 def test_bad_input_is_one_clear_error(args, error, message):
     with pytest.raises(error, match=message.replace("(", r"\(").replace(")", r"\)")):
         face_angles(*args)
+
+
+def test_largest_angles_is_the_largest_vector_angle_of_each_group():
+    rng = np.random.default_rng(4)
+    u, v = rng.normal(size=(200, 3)), rng.normal(size=(200, 3))
+    u[7] = 0.0  # a zero row does not count
+    groups = rng.integers(0, 30, size=(200, 2))
+    groups[:, 1][::3] = -1  # rows in one group only
+    got = largest_angles(u, v, groups, 32)  # groups 30 and 31 have no row
+    angles = vector_angles(u, v)
+    want = np.full(32, np.nan)
+    for row, (g0, g1) in enumerate(groups):
+        for g in (g0, g1):
+            if g >= 0:
+                want[g] = np.fmax(want[g], angles[row])
+    np.testing.assert_allclose(got, want, rtol=1e-14, atol=0.0)
+    assert np.isnan(got[30:]).all()

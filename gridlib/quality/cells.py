@@ -20,10 +20,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..connectivity import half_face_cells, ragged_arange
+from ..connectivity import half_face_cells
 from ..geometry import Geometry
 from ..grid import FloatArray, Grid
-from ..orientation import grid_face_angles
+from ..orientation import checked_perm, face_vectors, smallest_cosine_rows, vector_angles
+from .hexahedra import dot_components
 
 _BLOCK = 1 << 18  # face nodes per block
 
@@ -38,25 +39,52 @@ def cell_max(num_cells: int, cells: np.ndarray, values: np.ndarray) -> FloatArra
 def orientation_errors(
     grid: Grid, geometry: Geometry, centres: ArrayLike | None = None, perm: ArrayLike | None = None
 ) -> tuple[FloatArray, FloatArray | None]:
-    """(orientation_error, k_orientation_error or None without ``perm``) per cell."""
-    fa = grid_face_angles(grid, geometry, centres, perm)
-    nb = grid.faces.neighbors[fa.faces]
-    cells = nb.ravel()
-    plain = cell_max(grid.num_cells, cells, np.repeat(fa.angles, 2))
-    k = None if fa.k_angles is None else cell_max(grid.num_cells, cells, np.repeat(fa.k_angles, 2))
-    return plain, k
+    """(orientation_error, k_orientation_error or None without ``perm``) per cell: the largest
+    of :func:`gridlib.orientation.face_angles`'s angles over each cell's measured faces (the
+    face of smallest cosine chosen first, one angle computed per cell)."""
+    x = geometry.cell_centroids if centres is None else np.asarray(centres, dtype=np.float64)
+    nc = grid.num_cells
+    faces, n, d = face_vectors(grid.faces.neighbors, geometry.face_normals, x)
+    pair = grid.faces.neighbors[faces]  # each face counts for both its cells
+    nt, dt = np.ascontiguousarray(n.T), np.ascontiguousarray(d.T)  # components first: fast
+    d_len = np.sqrt(dot_components(dt, dt))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = dot_components(nt, dt) / (np.sqrt(dot_components(nt, nt)) * d_len)
+    row = smallest_cosine_rows(cos, pair, nc)
+    plain = np.full(nc, np.nan)
+    some = row >= 0
+    plain[some] = vector_angles(n[row[some]], d[row[some]])
+    if perm is None:
+        return plain, None
+    k = checked_perm(perm, x.shape)
+    cos = []
+    for side in (0, 1):  # K n of each side of the face, for both its cells
+        kn = np.ascontiguousarray(k[pair[:, side]].T) * nt
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cos.append(dot_components(kn, dt) / (np.sqrt(dot_components(kn, kn)) * d_len))
+    row = smallest_cosine_rows(np.concatenate(cos), np.concatenate([pair, pair]), nc)
+    k_err = np.full(nc, np.nan)
+    some = row >= 0
+    face, side = row[some] % faces.size, row[some] // faces.size
+    k_err[some] = vector_angles(k[pair[face, side]] * n[face], d[face])
+    return plain, k_err
 
 
 def aspect_ratio(grid: Grid, geometry: Geometry) -> FloatArray:
     """Largest over smallest centroid-to-face-plane distance per cell (module docstring)."""
     hc = half_face_cells(grid)
     f = grid.cells.faces
-    n = geometry.face_normals[f]
-    size = np.sqrt((n * n).sum(axis=1))
-    d = geometry.face_centroids[f] - geometry.cell_centroids[hc]
+    nt = np.ascontiguousarray(geometry.face_normals.T)  # components first: 1-D gathers
+    ft = np.ascontiguousarray(geometry.face_centroids.T)
+    xt = np.ascontiguousarray(geometry.cell_centroids.T)
+    size = np.sqrt(dot_components(nt, nt))
     with np.errstate(invalid="ignore", divide="ignore"):
-        dist = np.abs((n * d).sum(axis=1)) / size
-    dist[~(size > 0)] = np.nan
+        unit = nt / size
+    unit[:, ~(size > 0)] = np.nan  # faces of no area: left out
+    dist = unit[0][f] * (ft[0][f] - xt[0][hc])
+    for i in range(1, nt.shape[0]):
+        dist += unit[i][f] * (ft[i][f] - xt[i][hc])
+    np.abs(dist, out=dist)
     hi = cell_max(grid.num_cells, hc, dist)
     lo = np.full(grid.num_cells, np.nan)
     np.fmin.at(lo, hc, dist)
@@ -69,22 +97,24 @@ def face_nonplanarity(grid: Grid, geometry: Geometry) -> FloatArray:
     nf = grid.num_faces
     if grid.griddim != 3:
         return np.full(nf, np.nan)
-    out = np.zeros(nf)
     pos = grid.faces.node_pos
-    coords = grid.nodes.coords
-    area = geometry.face_areas
-    normal = geometry.face_normals
-    size = np.sqrt((normal * normal).sum(axis=1))
+    xt = np.ascontiguousarray(grid.nodes.coords.T)  # components first: 1-D gathers
+    ct = np.ascontiguousarray(geometry.face_centroids.T)
+    nt = np.ascontiguousarray(geometry.face_normals.T)
+    out = np.zeros(nf)
     step = max(1, _BLOCK // max(1, int(grid.faces.num_nodes.max(initial=1))))
     for f0 in range(0, nf, step):
         f1 = min(f0 + step, nf)
-        count = np.diff(pos[f0 : f1 + 1])
-        face = np.repeat(np.arange(f0, f1), count)
-        x = coords[grid.faces.nodes[ragged_arange(pos[f0:f1], count)]] - geometry.face_centroids[face]
-        dist = np.abs((x * normal[face]).sum(axis=1))
-        out[f0:f1] = np.maximum.reduceat(dist, pos[f0:f1] - pos[f0]) if dist.size else 0.0
+        face = np.repeat(np.arange(f0, f1), np.diff(pos[f0 : f1 + 1]))
+        nodes = grid.faces.nodes[pos[f0] : pos[f1]]  # the block's faces' nodes are contiguous
+        dist = (xt[0][nodes] - ct[0][face]) * nt[0][face]
+        for i in (1, 2):
+            dist += (xt[i][nodes] - ct[i][face]) * nt[i][face]
+        if dist.size:
+            out[f0:f1] = np.maximum.reduceat(np.abs(dist), pos[f0:f1] - pos[f0])
+    area = geometry.face_areas
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = out / (size * np.sqrt(area))
+        out /= np.sqrt(dot_components(nt, nt)) * np.sqrt(area)
     out[~(area > 0)] = 0.0  # a face of no area lies in any plane through its nodes
     return out
 

@@ -41,38 +41,80 @@ from __future__ import annotations
 import numpy as np
 
 from ..grid import FloatArray
-from ..orientation import vector_angles
+from ..orientation import largest_angles, vector_angles
 
 EDGE_TOLERANCE = 1e-5  # xtgeo's FLOATEPS, in the grid's length unit
 
-# The quadrilaterals as corner cycles (corner a + 2b + 4c).
-TOP_BASE = ((0, 1, 3, 2), (4, 5, 7, 6))
-SIDES = ((4, 5, 1, 0), (5, 7, 3, 1), (6, 4, 0, 2), (7, 6, 2, 3))  # south, east, west, north
+NAMES = (
+    "minangle_topbase", "maxangle_topbase", "minangle_topbase_proj", "maxangle_topbase_proj",
+    "minangle_sides", "maxangle_sides", "collapsed", "negative_thickness", "concave_proj", "twist",
+)  # fmt: skip
+_BLOCK = 1 << 15  # cells per block: the (3, block, 2, 2, 2) temporaries stay small
 
 
-def _quad_angles(corners: FloatArray, cycles: tuple[tuple[int, ...], ...]) -> tuple[FloatArray, FloatArray]:
-    """(min, max) over the corner angles of the quadrilaterals ``cycles``; (0, 180) where an
-    edge is shorter than :data:`EDGE_TOLERANCE`."""
-    n = corners.shape[0]
-    lo = np.full(n, np.inf)
-    hi = np.full(n, -np.inf)
-    short = np.zeros(n, dtype=bool)
-    for cyc in cycles:
-        for m, v in enumerate(cyc):
-            u = corners[:, cyc[m - 1]] - corners[:, v]
-            w = corners[:, cyc[(m + 1) % 4]] - corners[:, v]
-            short |= (np.sqrt((u * u).sum(axis=1)) < EDGE_TOLERANCE) | (
-                np.sqrt((w * w).sum(axis=1)) < EDGE_TOLERANCE
-            )
-            a = vector_angles(u, w)
-            np.fmin(lo, a, out=lo)
-            np.fmax(hi, a, out=hi)
+def dot_components(u: FloatArray, w: FloatArray) -> FloatArray:
+    """Sum over the first axis of u * w (components first: contiguous, fast)."""
+    out = u[0] * w[0]
+    for i in range(1, u.shape[0]):
+        out += u[i] * w[i]
+    return out
+
+
+def _edges(ct: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The twelve edges of the cells ``ct`` ((d, n, 8), components first): i edges (d, n, c, b)
+    from corner (0, b, c) to (1, b, c), j edges (d, n, c, a), k edges (d, n, b, a)."""
+    r = ct.reshape(ct.shape[0], ct.shape[1], 2, 2, 2)  # (d, n, c, b, a)
+    return r[..., 1] - r[..., 0], r[:, :, :, 1] - r[:, :, :, 0], r[:, :, 1] - r[:, :, 0]
+
+
+def _corner_sets(ct: FloatArray, sides: bool) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """The corners of the quadrilaterals as (e1 (d, n, X, Y, 1), e2 (d, n, X, 1, Z), sign (X, Y,
+    Z)): corner (x, y, z)'s angle is the one between e1[x, y] and sign * e2[x, z] (edges
+    pointing away from the corner). Top and base: x = c, y = b, z = a; sides: south and north
+    (x = b, y = c, z = a), west and east (x = a, y = c, z = b)."""
+    ei, ej, ek = _edges(ct)
+    away = np.array([1.0, -1.0])
+    sign = away[None, :, None] * away[None, None, :]  # (1 - 2y)(1 - 2z)
+    if not sides:
+        return [(ei[..., None], ej[:, :, :, None, :], sign)]
+    return [
+        (ei.transpose(0, 1, 3, 2)[..., None], ek[:, :, :, None, :], sign),
+        (ej.transpose(0, 1, 3, 2)[..., None], ek.transpose(0, 1, 3, 2)[:, :, :, None, :], sign),
+    ]
+
+
+def _quad_angles(ct: FloatArray, sides: bool) -> tuple[FloatArray, FloatArray]:
+    """(min, max) over the corner angles of the top and base (or the four sides) of the cells
+    ``ct`` ((d, n, 8), components first); (0, 180) where an edge is shorter than
+    :data:`EDGE_TOLERANCE`. The corners of largest and smallest cosine are found first; only
+    their two angles are computed."""
+    sets = _corner_sets(ct, sides)
+    n = ct.shape[1]
+    cos, short = [], np.zeros(n, dtype=bool)
+    for e1, e2, sign in sets:
+        l1, l2 = np.sqrt(dot_components(e1, e1)), np.sqrt(dot_components(e2, e2))
+        short |= ((l1 < EDGE_TOLERANCE) | (l2 < EDGE_TOLERANCE)).reshape(n, -1).any(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cos.append((sign * dot_components(e1, e2) / (l1 * l2)).reshape(n, 8))
+    c = np.concatenate(cos, axis=1) if len(cos) > 1 else cos[0]
+    c[np.isnan(c)] = 0.0  # zero edges: the row is short, its angles (0, 180)
+    lo = _angles_at(sets, c.argmax(axis=1))
+    hi = _angles_at(sets, c.argmin(axis=1))
     lo[short] = 0.0
     hi[short] = 180.0
-    bad = ~np.isfinite(corners).all(axis=(1, 2))
-    lo[bad] = np.nan
-    hi[bad] = np.nan
     return lo, hi
+
+
+def _angles_at(sets: list[tuple[FloatArray, FloatArray, FloatArray]], corner: np.ndarray) -> FloatArray:
+    """The angle at ``corner`` (an index into the sets' corners, 8 per set) of every cell."""
+    d, n = sets[0][0].shape[:2]
+    u, w = np.empty((n, d)), np.empty((n, d))
+    for s, (e1, e2, _sign) in enumerate(sets):
+        rows = np.flatnonzero(corner // 8 == s)
+        x, y, z = np.unravel_index(corner[rows] % 8, (2, 2, 2))
+        u[rows] = e1[:, rows, x, y, 0].T
+        w[rows] = (e2[:, rows, x, 0, z] * ((1 - 2 * y) * (1 - 2 * z))).T  # the sign
+    return vector_angles(u, w)
 
 
 def _inside_triangles(p: FloatArray, tri: FloatArray) -> np.ndarray:
@@ -88,16 +130,26 @@ def _inside_triangles(p: FloatArray, tri: FloatArray) -> np.ndarray:
     return on_vertex | on_edge | strictly
 
 
+def _strictly_convex(xy: FloatArray) -> np.ndarray:
+    """Whether the plan-view quadrilaterals ``xy`` (n, 4, 2) (corners a + 2b) turn the same
+    way, strictly, at all four corners: then no corner lies in the triangle of the others."""
+    p = xy[:, [0, 1, 3, 2]]
+    e = np.roll(p, -1, axis=1) - p  # edges of the cycle
+    f = np.roll(e, -1, axis=1)
+    turn = e[..., 0] * f[..., 1] - e[..., 1] * f[..., 0]
+    return (turn > 0).all(axis=1) | (turn < 0).all(axis=1)
+
+
 def _concave_proj(corners: FloatArray) -> FloatArray:
-    n = corners.shape[0]
-    out = np.zeros(n)
-    found = np.zeros(n, dtype=bool)
+    out = np.zeros(corners.shape[0])
+    cells = np.flatnonzero(~(_strictly_convex(corners[:, :4, :2]) & _strictly_convex(corners[:, 4:, :2])))
+    found = np.zeros(cells.size, dtype=bool)
     for level in (0, 4):
-        xy = corners[:, level : level + 4, :2]
+        xy = corners[cells, level : level + 4, :2]
         for k in range(4):
             others = [m for m in range(4) if m != k]
             inside = _inside_triangles(xy[:, k], xy[:, others]) & ~found
-            out[inside] = k + 1
+            out[cells[inside]] = k + 1
             found |= inside
     return out
 
@@ -107,34 +159,48 @@ def _twist(corners: FloatArray) -> FloatArray:
     length = np.sqrt((axis * axis).sum(axis=1))
     with np.errstate(invalid="ignore", divide="ignore"):
         k = axis / length[:, None]
-    out = np.full(corners.shape[0], -np.inf)
+    pairs = []
     for step in (1, 2):  # i edges (corner m to m + 1), j edges (m to m + 2)
         ends = (0, 2) if step == 1 else (0, 1)
         top = sum(corners[:, e + step] - corners[:, e] for e in ends)
         base = sum(corners[:, 4 + e + step] - corners[:, 4 + e] for e in ends)
         top = top - (top * k).sum(axis=1)[:, None] * k
         base = base - (base * k).sum(axis=1)[:, None] * k
-        out = np.fmax(out, vector_angles(top, base))
-    out[~np.isfinite(out)] = np.nan
-    return out
+        pairs.append((top, base))
+    rows = np.arange(corners.shape[0])
+    n = corners.shape[0]
+    return largest_angles(
+        np.concatenate([pairs[0][0], pairs[1][0]]),
+        np.concatenate([pairs[0][1], pairs[1][1]]),
+        np.concatenate([rows, rows]),
+        n,
+    )
 
 
 def hexahedron_quality(corners: FloatArray) -> dict[str, FloatArray]:
     """Every measure of the module docstring for the cells ``corners`` (n, 8, 3), float64
-    (flags as 0.0 / 1.0); NaN for rows that are not finite."""
+    (flags as 0.0 / 1.0); NaN for rows that are not finite. Blocks of cells at a time."""
     c = np.asarray(corners, dtype=np.float64)
+    n = c.shape[0]
+    out = {name: np.empty(n) for name in NAMES}
+    for s in range(0, n, _BLOCK):
+        for name, values in _block_quality(c[s : s + _BLOCK]).items():
+            out[name][s : s + _BLOCK] = values
+    return out
+
+
+def _block_quality(c: FloatArray) -> dict[str, FloatArray]:
     out: dict[str, FloatArray] = {}
-    out["minangle_topbase"], out["maxangle_topbase"] = _quad_angles(c, TOP_BASE)
-    flat = c.copy()
-    flat[..., 2] = 0.0
-    out["minangle_topbase_proj"], out["maxangle_topbase_proj"] = _quad_angles(flat, TOP_BASE)
-    out["minangle_sides"], out["maxangle_sides"] = _quad_angles(c, SIDES)
+    ct = np.ascontiguousarray(c.transpose(2, 0, 1))  # (3, n, 8)
+    out["minangle_topbase"], out["maxangle_topbase"] = _quad_angles(ct, sides=False)
+    out["minangle_topbase_proj"], out["maxangle_topbase_proj"] = _quad_angles(ct[:2], sides=False)
+    out["minangle_sides"], out["maxangle_sides"] = _quad_angles(ct, sides=True)
     thick = c[:, 4:, 2] - c[:, :4, 2]
     out["collapsed"] = (np.abs(thick) < EDGE_TOLERANCE).any(axis=1).astype(np.float64)
     out["negative_thickness"] = (thick < 0.0).any(axis=1).astype(np.float64)
     out["concave_proj"] = _concave_proj(c)
     out["twist"] = _twist(c)
     bad = ~np.isfinite(c).all(axis=(1, 2))
-    for name in ("collapsed", "negative_thickness", "concave_proj"):
+    for name in out:
         out[name][bad] = np.nan
     return out
