@@ -109,10 +109,16 @@ def face_vectors(
         raise GridError(
             f"face_angles: neighbors name cell {int(nb.max())}, but there are {x.shape[0]} centres"
         )
-    finite = np.append(np.isfinite(x).all(axis=1), False)  # [-1]: outside
+    finite = np.isfinite(x[:, 0])
+    for i in range(1, x.shape[1]):
+        finite &= np.isfinite(x[:, i])
+    finite = np.append(finite, False)  # [-1]: outside
     faces = np.flatnonzero(finite[nb[:, 0]] & finite[nb[:, 1]])
-    nf, d = n[faces], x[nb[faces, 1]] - x[nb[faces, 0]]
+    every = faces.size == nb.shape[0]  # then no copies of the normals
+    nf, d = (n if every else n[faces]), x[nb[faces, 1]] - x[nb[faces, 0]]
     kept = _nonzero_rows(nf) & _nonzero_rows(d)
+    if kept.all():
+        return faces, nf, d
     return faces[kept], nf[kept], d[kept]
 
 
@@ -153,27 +159,11 @@ def _row_dot(u: FloatArray, v: FloatArray) -> FloatArray:
     return out
 
 
-def largest_angles(u: ArrayLike, v: ArrayLike, groups: ArrayLike, num_groups: int) -> FloatArray:
-    """Per group, the largest :func:`vector_angles` of the rows of ``u`` and ``v`` in it (NaN
-    for a group with none, or with zero rows only). ``groups`` (m,) or (m, k): the group(s)
-    of each row (-1: none). The row of smallest cosine is chosen
-    (:func:`smallest_cosine_rows`), and only its angle computed: one arctangent per group
-    instead of one per row, equal to the largest angle up to the rounding of the cosines."""
-    u = np.asarray(u, dtype=np.float64)
-    v = np.asarray(v, dtype=np.float64)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        cos = _row_dot(u, v) / np.sqrt(_row_dot(u, u) * _row_dot(v, v))
-    row = smallest_cosine_rows(cos, groups, num_groups)
-    out = np.full(num_groups, np.nan)
-    some = row >= 0
-    out[some] = vector_angles(u[row[some]], v[row[some]])
-    return out
-
-
 def smallest_cosine_rows(cos: ArrayLike, groups: ArrayLike, num_groups: int) -> IntArray:
     """Per group, the row of smallest ``cos`` (m,) among the rows in it (``groups`` (m,) or
     (m, k), -1: none; the last such row on a tie), -1 for a group with none; NaN rows do not
-    count."""
+    count. The angle of that row is the group's largest (up to the rounding of the cosines):
+    one arctangent per group instead of one per row (:mod:`gridlib.quality`)."""
     c = np.where(np.isnan(cos), np.inf, np.asarray(cos, dtype=np.float64))
     g = np.asarray(groups, dtype=np.int64)
     g = g.reshape(c.size, g.shape[1] if g.ndim == 2 else 1)
@@ -188,6 +178,8 @@ def smallest_cosine_rows(cos: ArrayLike, groups: ArrayLike, num_groups: int) -> 
 
 
 def checked_perm(perm: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
+    """``perm`` as float64 of ``shape`` (one diagonal (kx, ky[, kz]) per cell), finite and >= 0;
+    a GridError for a wrong shape, an InputError naming the first bad cell."""
     k = np.asarray(perm, dtype=np.float64)
     if k.shape != shape:
         raise GridError(f"face_angles: expected perm {shape} (kx, ky[, kz] per cell), got {k.shape}")

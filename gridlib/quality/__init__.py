@@ -13,6 +13,7 @@ face-orientation errors of a two-point flux, the aspect ratio and the faces' non
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,8 +24,8 @@ from ..errors import GridError
 from ..geometry import Geometry
 from ..grid import FloatArray, Grid
 from .cells import aspect_ratio, cell_face_nonplanarity, orientation_errors
-from .corners import deck_corners, deck_faulted, grid_corners
-from .hexahedra import hexahedron_quality
+from .corners import deck_corner_blocks, deck_faulted, grid_corners
+from .hexahedra import NAMES, hexahedron_quality
 
 
 @dataclass(frozen=True)
@@ -77,7 +78,6 @@ def cell_quality(
     (:func:`~gridlib.quality.corners.grid_corners`) and ``faulted`` marks the cells with a
     face on a fault (``faces.tag > 0``).
     """
-    nc = grid.num_cells
     if deck is not None:
         if grid.cells.index_map is None or grid.cart_dims != deck.cart_dims:
             raise GridError(
@@ -85,31 +85,37 @@ def cell_quality(
                 f"{deck.source} ({deck.cart_dims})"
             )
         cells = grid.cells.index_map
-        corners = deck_corners(deck, cells)
+        out = _blockwise(deck_corner_blocks(deck, cells), cells.size)
         faulted = deck_faulted(deck)[cells]
     else:
-        corners = grid_corners(grid)
+        out = hexahedron_quality(grid_corners(grid))
         faulted = _fault_cells(grid)
-    out = hexahedron_quality(corners)
-    out["faulted"] = np.where(np.isfinite(corners).all(axis=(1, 2)), faulted, np.nan)
+    out["faulted"] = np.where(np.isnan(out["minangle_topbase"]), np.nan, faulted)  # NaN: no hexahedron
     plain, k = orientation_errors(grid, geometry, centres, perm)
     out["orientation_error"] = plain
     if k is not None:
         out["k_orientation_error"] = k
     out["aspect_ratio"] = aspect_ratio(grid, geometry)
     out["face_nonplanarity"] = cell_face_nonplanarity(grid, geometry)
-    order = [m.name for m in MEASURES if m.name in out]
-    assert all(out[name].shape == (nc,) for name in order)
-    return {name: out[name] for name in order}
+    return {m.name: out[m.name] for m in MEASURES if m.name in out}
 
 
 def deck_quality(deck: Deck) -> dict[str, FloatArray]:
     """xtgeo's set (and ``twist``) for every cell of ``deck`` (active or not, i fastest), from
     each cell's own corners: the peer of xtgeo's ``get_gridquality_properties`` for decks
     gridlib would not grid (negative thickness, say)."""
-    out = hexahedron_quality(deck_corners(deck))
+    out = _blockwise(deck_corner_blocks(deck), deck.num_cells)
     out["faulted"] = deck_faulted(deck)
     return {m.name: out[m.name] for m in MEASURES if m.name in out}
+
+
+def _blockwise(blocks: Iterable[tuple[slice, FloatArray]], n: int) -> dict[str, FloatArray]:
+    """:func:`hexahedron_quality` of ``n`` cells whose corners come in blocks."""
+    out = {name: np.full(n, np.nan) for name in NAMES}
+    for part, corners in blocks:
+        for name, values in hexahedron_quality(corners).items():
+            out[name][part] = values
+    return out
 
 
 def _fault_cells(grid: Grid) -> FloatArray:

@@ -7,12 +7,14 @@
 * ``aspect_ratio``: the largest over the smallest distance from the cell's centroid to the
   planes of its faces (a face's plane: through its centroid, normal to its area vector);
   faces of zero area left out. 1 for a cube or a regular tetrahedron, L / l for an L x l x l
-  box, (dx cos t) / dz ... for a cell sheared by t (see the tests).
+  box, 1 / cos t for a unit cube sheared by t (x + z tan t: its i-faces lean by t).
 * ``face_nonplanarity``: per face, the largest distance of its nodes from its plane divided by
   the square root of its area (a dimensionless fraction of the face's size: 0 for a planar
   face; for a quadrilateral, half the distance between the lines of its two diagonals along
   the normal, over sqrt(area)); per cell, the largest over its faces. NaN for 2-D grids,
-  whose faces are segments.
+  whose faces are segments. The plane, centroid and area are :mod:`gridlib.geometry`'s.
+
+Units: lengths in the grid's unit, angles in degrees; the ratios are dimensionless.
 """
 
 from __future__ import annotations

@@ -41,7 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..grid import FloatArray
-from ..orientation import largest_angles, vector_angles
+from ..orientation import vector_angles
 
 EDGE_TOLERANCE = 1e-5  # xtgeo's FLOATEPS, in the grid's length unit
 
@@ -49,6 +49,7 @@ NAMES = (
     "minangle_topbase", "maxangle_topbase", "minangle_topbase_proj", "maxangle_topbase_proj",
     "minangle_sides", "maxangle_sides", "collapsed", "negative_thickness", "concave_proj", "twist",
 )  # fmt: skip
+_Sets = list[tuple[FloatArray, FloatArray, FloatArray]]  # corner sets: see _corner_sets
 _BLOCK = 1 << 15  # cells per block: the (3, block, 2, 2, 2) temporaries stay small
 
 
@@ -61,59 +62,62 @@ def dot_components(u: FloatArray, w: FloatArray) -> FloatArray:
 
 
 def _edges(ct: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The twelve edges of the cells ``ct`` ((d, n, 8), components first): i edges (d, n, c, b)
-    from corner (0, b, c) to (1, b, c), j edges (d, n, c, a), k edges (d, n, b, a)."""
-    r = ct.reshape(ct.shape[0], ct.shape[1], 2, 2, 2)  # (d, n, c, b, a)
-    return r[..., 1] - r[..., 0], r[:, :, :, 1] - r[:, :, :, 0], r[:, :, 1] - r[:, :, 0]
+    """The twelve edges of the cells ``ct`` ((d, 8, n): components first, cells last, so that
+    every operation runs over the cells): i edges (d, c, b, n) from corner (0, b, c) to
+    (1, b, c), j edges (d, c, a, n), k edges (d, b, a, n)."""
+    r = ct.reshape(ct.shape[0], 2, 2, 2, ct.shape[-1])  # (d, c, b, a, n)
+    return r[:, :, :, 1] - r[:, :, :, 0], r[:, :, 1] - r[:, :, 0], r[:, 1] - r[:, 0]
 
 
-def _corner_sets(ct: FloatArray, sides: bool) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
-    """The corners of the quadrilaterals as (e1 (d, n, X, Y, 1), e2 (d, n, X, 1, Z), sign (X, Y,
-    Z)): corner (x, y, z)'s angle is the one between e1[x, y] and sign * e2[x, z] (edges
+def _corner_sets(
+    edges: tuple[FloatArray, ...], sides: bool
+) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """The corners of the quadrilaterals as (e1 (d, X, Y, 1, n), e2 (d, X, 1, Z, n), sign (X, Y,
+    Z, 1)): corner (x, y, z)'s angle is the one between e1[x, y] and sign * e2[x, z] (edges
     pointing away from the corner). Top and base: x = c, y = b, z = a; sides: south and north
     (x = b, y = c, z = a), west and east (x = a, y = c, z = b)."""
-    ei, ej, ek = _edges(ct)
+    ei, ej, ek = edges
     away = np.array([1.0, -1.0])
-    sign = away[None, :, None] * away[None, None, :]  # (1 - 2y)(1 - 2z)
+    sign = away[None, :, None, None] * away[None, None, :, None]  # (1 - 2y)(1 - 2z)
     if not sides:
-        return [(ei[..., None], ej[:, :, :, None, :], sign)]
+        return [(ei[:, :, :, None], ej[:, :, None], sign)]
     return [
-        (ei.transpose(0, 1, 3, 2)[..., None], ek[:, :, :, None, :], sign),
-        (ej.transpose(0, 1, 3, 2)[..., None], ek.transpose(0, 1, 3, 2)[:, :, :, None, :], sign),
+        (ei.transpose(0, 2, 1, 3)[:, :, :, None], ek[:, :, None], sign),
+        (ej.transpose(0, 2, 1, 3)[:, :, :, None], ek.transpose(0, 2, 1, 3)[:, :, None], sign),
     ]
 
 
-def _quad_angles(ct: FloatArray, sides: bool) -> tuple[FloatArray, FloatArray]:
+def _quad_angles(edges: tuple[FloatArray, ...], sides: bool) -> tuple[FloatArray, FloatArray]:
     """(min, max) over the corner angles of the top and base (or the four sides) of the cells
-    ``ct`` ((d, n, 8), components first); (0, 180) where an edge is shorter than
+    with the :func:`_edges` ``edges``; (0, 180) where an edge is shorter than
     :data:`EDGE_TOLERANCE`. The corners of largest and smallest cosine are found first; only
     their two angles are computed."""
-    sets = _corner_sets(ct, sides)
-    n = ct.shape[1]
+    sets = _corner_sets(edges, sides)
+    n = edges[0].shape[-1]
     cos, short = [], np.zeros(n, dtype=bool)
     for e1, e2, sign in sets:
         l1, l2 = np.sqrt(dot_components(e1, e1)), np.sqrt(dot_components(e2, e2))
-        short |= ((l1 < EDGE_TOLERANCE) | (l2 < EDGE_TOLERANCE)).reshape(n, -1).any(axis=1)
+        short |= ((l1 < EDGE_TOLERANCE) | (l2 < EDGE_TOLERANCE)).reshape(-1, n).any(axis=0)
         with np.errstate(invalid="ignore", divide="ignore"):
-            cos.append((sign * dot_components(e1, e2) / (l1 * l2)).reshape(n, 8))
-    c = np.concatenate(cos, axis=1) if len(cos) > 1 else cos[0]
+            cos.append((sign * dot_components(e1, e2) / (l1 * l2)).reshape(8, n))
+    c = np.concatenate(cos) if len(cos) > 1 else cos[0]
     c[np.isnan(c)] = 0.0  # zero edges: the row is short, its angles (0, 180)
-    lo = _angles_at(sets, c.argmax(axis=1))
-    hi = _angles_at(sets, c.argmin(axis=1))
+    lo = _angles_at(sets, c.argmax(axis=0))
+    hi = _angles_at(sets, c.argmin(axis=0))
     lo[short] = 0.0
     hi[short] = 180.0
     return lo, hi
 
 
-def _angles_at(sets: list[tuple[FloatArray, FloatArray, FloatArray]], corner: np.ndarray) -> FloatArray:
+def _angles_at(sets: _Sets, corner: np.ndarray) -> FloatArray:
     """The angle at ``corner`` (an index into the sets' corners, 8 per set) of every cell."""
-    d, n = sets[0][0].shape[:2]
+    d, n = sets[0][0].shape[0], sets[0][0].shape[-1]
     u, w = np.empty((n, d)), np.empty((n, d))
     for s, (e1, e2, _sign) in enumerate(sets):
         rows = np.flatnonzero(corner // 8 == s)
         x, y, z = np.unravel_index(corner[rows] % 8, (2, 2, 2))
-        u[rows] = e1[:, rows, x, y, 0].T
-        w[rows] = (e2[:, rows, x, 0, z] * ((1 - 2 * y) * (1 - 2 * z))).T  # the sign
+        u[rows] = e1[:, x, y, 0, rows].T
+        w[rows] = (e2[:, x, 0, z, rows] * ((1 - 2 * y) * (1 - 2 * z))).T  # the sign
     return vector_angles(u, w)
 
 
@@ -154,27 +158,25 @@ def _concave_proj(corners: FloatArray) -> FloatArray:
     return out
 
 
-def _twist(corners: FloatArray) -> FloatArray:
-    axis = (corners[:, 4:] - corners[:, :4]).mean(axis=1)
-    length = np.sqrt((axis * axis).sum(axis=1))
+def _twist(edges: tuple[FloatArray, ...]) -> FloatArray:
+    """The twist (module docstring) from the cells' :func:`_edges`."""
+    ei, ej, ek = edges
+    axis = ek[:, 0, 0] + ek[:, 0, 1] + ek[:, 1, 0] + ek[:, 1, 1]  # 4 x the mean
     with np.errstate(invalid="ignore", divide="ignore"):
-        k = axis / length[:, None]
-    pairs = []
-    for step in (1, 2):  # i edges (corner m to m + 1), j edges (m to m + 2)
-        ends = (0, 2) if step == 1 else (0, 1)
-        top = sum(corners[:, e + step] - corners[:, e] for e in ends)
-        base = sum(corners[:, 4 + e + step] - corners[:, 4 + e] for e in ends)
-        top = top - (top * k).sum(axis=1)[:, None] * k
-        base = base - (base * k).sum(axis=1)[:, None] * k
+        k = axis / np.sqrt(dot_components(axis, axis))
+    pairs, cos = [], []
+    for e in (ei, ej):  # the i (j) direction of the top (c = 0) and of the base (c = 1)
+        top, base = e[:, 0, 0] + e[:, 0, 1], e[:, 1, 0] + e[:, 1, 1]
+        top = top - dot_components(top, k) * k
+        base = base - dot_components(base, k) * k
+        with np.errstate(invalid="ignore", divide="ignore"):
+            c = dot_components(top, base) / np.sqrt(dot_components(top, top) * dot_components(base, base))
         pairs.append((top, base))
-    rows = np.arange(corners.shape[0])
-    n = corners.shape[0]
-    return largest_angles(
-        np.concatenate([pairs[0][0], pairs[1][0]]),
-        np.concatenate([pairs[0][1], pairs[1][1]]),
-        np.concatenate([rows, rows]),
-        n,
-    )
+        cos.append(np.where(np.isnan(c), np.inf, c))
+    j = cos[1] < cos[0]  # the larger angle
+    u = np.where(j, pairs[1][0], pairs[0][0]).T
+    w = np.where(j, pairs[1][1], pairs[0][1]).T
+    return vector_angles(u, w)
 
 
 def hexahedron_quality(corners: FloatArray) -> dict[str, FloatArray]:
@@ -191,15 +193,16 @@ def hexahedron_quality(corners: FloatArray) -> dict[str, FloatArray]:
 
 def _block_quality(c: FloatArray) -> dict[str, FloatArray]:
     out: dict[str, FloatArray] = {}
-    ct = np.ascontiguousarray(c.transpose(2, 0, 1))  # (3, n, 8)
-    out["minangle_topbase"], out["maxangle_topbase"] = _quad_angles(ct, sides=False)
-    out["minangle_topbase_proj"], out["maxangle_topbase_proj"] = _quad_angles(ct[:2], sides=False)
-    out["minangle_sides"], out["maxangle_sides"] = _quad_angles(ct, sides=True)
+    edges = _edges(np.ascontiguousarray(c.transpose(2, 1, 0)))  # (3, 8, n)
+    flat = tuple(e[:2] for e in edges)  # plan view
+    out["minangle_topbase"], out["maxangle_topbase"] = _quad_angles(edges, sides=False)
+    out["minangle_topbase_proj"], out["maxangle_topbase_proj"] = _quad_angles(flat, sides=False)
+    out["minangle_sides"], out["maxangle_sides"] = _quad_angles(edges, sides=True)
     thick = c[:, 4:, 2] - c[:, :4, 2]
     out["collapsed"] = (np.abs(thick) < EDGE_TOLERANCE).any(axis=1).astype(np.float64)
     out["negative_thickness"] = (thick < 0.0).any(axis=1).astype(np.float64)
     out["concave_proj"] = _concave_proj(c)
-    out["twist"] = _twist(c)
+    out["twist"] = _twist(edges)
     bad = ~np.isfinite(c).all(axis=(1, 2))
     for name in out:
         out[name][bad] = np.nan
