@@ -4,7 +4,7 @@
 
 Stages per case (wildcard {case}, the table gridlib/artifacts.py; workflow/rules/stages.smk
 makes their rules): horizons -> grid -> geometry -> petrophysics -> coarsen and
-transmissibility -> wells (trajectory and survey wells: wells.nc) -> export -> flow_deck (the
+transmissibility -> wells (trajectory and survey wells: wells.nc) -> export -> pictures and flow_deck (the
 OPM Flow deck), then summary.csv over all cases
 (see README.md). OPM Flow runs the decks of the cases with a `simulation`
 section with `snakemake simulate` (or `--config simulate=true`). A report of the pictures:

@@ -9,7 +9,8 @@ Where the section runs (:func:`default_section`), unless the case gives it
   their principal direction (the major axis of their spread), extended at both ends along the
   end segments to the grid's bounding box in plan view;
 * through a single well: along the longer side of the grid's bounding box;
-* without wells: through the centre of the bounding box along its longer side.
+* without wells: through the centre of the bounding box along its longer side (the stage
+  falls back on this line too where the line through the wells cuts no cell).
 
 The picture (:func:`section_figure`): the cut cells (:mod:`gridlib.io.section_cut`) as
 polygons in (distance along the section, depth) coloured by porosity (else zone, else layer,
@@ -23,14 +24,12 @@ marked A and A' above it, as on the plan view, and its bends by dotted lines.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 
 import numpy as np
 
 from ..grid import Grid
 from . import picture_style as style
-from .pictures import save_figure
 from .section_cut import SectionCut, clip_parts, cut_grid
 from .well_tracks import WellTrack
 
@@ -39,6 +38,8 @@ EXAGGERATION = "vertical exaggeration"
 FAULT_NAME = "fault name"
 WELL_NAME = "well name"
 OUTLINED_POLYGONS = 20000  # polygons drawn with their edges up to this many
+SIDE_ROOM, HEIGHT_ROOM = 2.4, 2.0  # inches of a section's figure beside and above/below its axes
+MAX_HEIGHT = 8.0  # inches
 
 
 def well_heads(wells: Sequence[WellTrack], depths: tuple[float, float]) -> np.ndarray:
@@ -109,12 +110,6 @@ def exaggeration(length: float, thickness: float) -> float:
     return max(1.0, min(MAX_EXAGGERATION, style.nice_length(0.5 * length / thickness)))
 
 
-def plot_section(path: str | os.PathLike, grid: Grid, line: np.ndarray, **options) -> None:
-    """:func:`section_figure` saved as ``path`` (PNG)."""
-    with style.picture_style():
-        save_figure(section_figure(grid, line, **options), path, dpi=style.DPI)
-
-
 def section_figure(
     grid: Grid,
     line: np.ndarray,
@@ -142,12 +137,12 @@ def section_figure(
     fig, ax = style.new_figure("section")
     polygons = np.split(cut.points, cut.pos[1:-1])
     shown = np.asarray(values)[cut.cells]
-    cmap, norm, ticks = _colours(shown, categorical)
+    cmap, norm, ticks = _colours(shown, categorical, "depth" if quantity[0] == "depth" else "property")
     cells = PolyCollection(polygons, array=shown, cmap=cmap, norm=norm)
     cells.set_edgecolor("#333333" if cut.cells.size <= OUTLINED_POLYGONS else "face")
     cells.set_linewidth(0.25)
     ax.add_collection(cells)
-    style.colour_bar(fig, ax, cells, *quantity, ticks=ticks)
+    style.colour_bar(fig, ax, cells, *quantity, ticks=ticks, downward=quantity[0] == "depth")
     if cut.fault_ids.size:
         faults = LineCollection(cut.fault_lines, colors=style.fault_colours(cut.fault_ids), linewidths=2.2)
         ax.add_collection(faults)
@@ -161,12 +156,13 @@ def section_figure(
     ax.set_ylim(z_hi + pad, z_lo - pad)  # depth increases downwards
     ve = exaggeration(cut.vertices[-1], z_hi - z_lo + 2 * pad)
     ax.set_aspect(ve, adjustable="box")
+    _fit_height(fig, ax, ve)
     _mark_vertices(ax, cut.vertices)
-    text = ax.annotate(  # below the axes' right end, clear of the data and the centred label
+    text = ax.annotate(  # below the axes' right end, clear of the data and of the axis label
         f"vertical exaggeration {ve:g}x",
         (1.0, 0.0),
         xycoords="axes fraction",
-        xytext=(0, -22),
+        xytext=(0, -34),  # below the tick labels and the axis label's line
         textcoords="offset points",
         ha="right",
         va="top",
@@ -179,9 +175,23 @@ def section_figure(
     return fig
 
 
-def _colours(values: np.ndarray, categorical: bool):
-    """The colour map, norm and colour-bar ticks of the cells' values (one colour per integer
-    where ``categorical``)."""
+def _fit_height(fig, ax, exaggeration: float) -> None:
+    """The figure's height fitted to the exaggerated section (its width kept): the axes' box
+    as tall as its aspect makes it, plus room for the title, the ends' letters and the labels
+    (a fixed height would leave a long flat section a strip, and crop a steep one)."""
+    width, _ = fig.get_size_inches()
+    x0, x1 = ax.get_xlim()
+    bottom, top = ax.get_ylim()
+    ratio = exaggeration * abs(bottom - top) / max(abs(x1 - x0), np.finfo(float).tiny)
+    height = ratio * (width - SIDE_ROOM) + HEIGHT_ROOM
+    if height > MAX_HEIGHT:  # a steep section (a thick model): narrower, not cropped
+        width, height = (MAX_HEIGHT - HEIGHT_ROOM) / ratio + SIDE_ROOM, MAX_HEIGHT
+    fig.set_size_inches(width, max(height, 3.0))
+
+
+def _colours(values: np.ndarray, categorical: bool, kind: style.Kind = "property"):
+    """The colour map (of ``kind``), norm and colour-bar ticks of the cells' values (one colour
+    per integer where ``categorical``)."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     if not categorical:
@@ -190,7 +200,7 @@ def _colours(values: np.ndarray, categorical: bool):
             lo, hi = lo - 0.5, hi + 0.5
         from matplotlib.colors import Normalize
 
-        return style.colour_map("property"), Normalize(lo, hi), None
+        return style.colour_map(kind), Normalize(lo, hi), None
     kinds = np.unique(values.astype(np.int64))
     bounds = np.concatenate([kinds - 0.5, [kinds[-1] + 0.5]])
     palette = style.colour_map("category")
@@ -229,13 +239,16 @@ def _draw_wells(
 ) -> tuple[float, float]:
     """The wells' parts within ``reach`` of the section (and within its extent and the depth
     range ``depths`` widened by a tenth) projected onto it, as black lines, each named at its
-    shallowest drawn point; returns the depth range drawn (``depths`` if none)."""
+    shallowest drawn point (not the wells known in plan view only); returns the depth range
+    drawn (``depths`` if none)."""
     from matplotlib.collections import LineCollection
 
     margin = 0.1 * (depths[1] - depths[0])
     top, bottom = depths[0] - margin, depths[1] + margin
     drawn = depths
     for well in wells:
+        if well.plan_only:
+            continue
         parts = []
         for xyz in well.paths:
             for j in range(line.shape[0] - 1):

@@ -145,17 +145,24 @@ def quantity_label(quantity: str, unit: str | None) -> str:
     return quantity if not unit else f"{quantity} [{unit}]"
 
 
-def colour_bar(fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any = None):
+def colour_bar(
+    fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any = None, downward: bool = False
+):
     """A vertical colour bar beside ``ax`` titled ``quantity [unit]`` along its long side,
     beyond its tick labels (matplotlib places the label outside them: they never overlap);
-    at most 8 ticks, none crowded. Returns the colour bar."""
-    from matplotlib.ticker import MaxNLocator
+    at most 8 ticks (or ``ticks``), none crowded, written in full (no offset); ``downward``
+    (depths): its values increase downwards, shallow at the top as on a section. Returns the
+    colour bar."""
+    from matplotlib.ticker import MaxNLocator, ScalarFormatter
 
     bar = fig.colorbar(mappable, ax=ax, shrink=0.85, pad=0.02, ticks=ticks)
     if ticks is None:
         bar.locator = MaxNLocator(nbins=8)
-        bar.update_ticks()
+    bar.formatter = ScalarFormatter(useOffset=False)  # whole depths, not "+1.5e3" above the bar
+    bar.update_ticks()
     bar.set_label(quantity_label(quantity, unit), labelpad=8)
+    if downward:
+        bar.ax.invert_yaxis()
     return bar
 
 

@@ -14,7 +14,6 @@ scale bar, a north arrow and a colour bar titled with the quantity and its unit;
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 
 import numpy as np
@@ -23,7 +22,7 @@ from ..connectivity import cell_node_cycles_2d
 from ..geometry import Geometry
 from ..grid import Grid
 from . import picture_style as style
-from .pictures import depth_window, save_figure
+from .pictures import depth_window
 from .top_surface import TopSurface, face_edges, fault_traces, top_surface
 from .well_tracks import WellTrack
 
@@ -33,12 +32,6 @@ FAULT_NAME = "fault name"
 WELL_NAME = "well name"
 WELL = "well"
 SECTION = "section line"
-
-
-def plot_plan(path: str | os.PathLike, grid: Grid, geo: Geometry, **options) -> None:
-    """:func:`plan_figure` saved as ``path`` (PNG)."""
-    with style.picture_style():
-        save_figure(plan_figure(grid, geo, **options), path, dpi=style.DPI)
 
 
 def plan_figure(
@@ -62,8 +55,8 @@ def plan_figure(
     fig, ax = style.new_figure("plan")
     if grid.griddim == 3:
         top = top_surface(grid, geo)
-        mappable = _depth_map(ax, top)
-        style.colour_bar(fig, ax, mappable, "top depth", length_unit)
+        mappable, ticks = _depth_map(ax, top)
+        style.colour_bar(fig, ax, mappable, "top depth", length_unit, ticks=ticks, downward=True)
         segments, ids = fault_traces(grid, top)
         window = (float(grid.nodes.coords[:, 2].min()), float(grid.nodes.coords[:, 2].max()))
     else:
@@ -106,7 +99,8 @@ def contour_levels(zmin: float, zmax: float, bins: int = 12) -> np.ndarray:
 
 def _depth_map(ax, top: TopSurface):
     """Filled contours of the top's depth with labelled lines (one colour where flat), and the
-    top faces' outlines where few; returns the mappable of the colour bar."""
+    top faces' outlines where few; returns the mappable of the colour bar and its ticks (the
+    one depth of a flat top, else None)."""
     from matplotlib.collections import LineCollection
     from matplotlib.tri import Triangulation
 
@@ -119,8 +113,10 @@ def _depth_map(ax, top: TopSurface):
     tri.set_mask(np.abs(twice_area) <= 1e-12 * max(float(np.ptp(x) * np.ptp(y)), 1e-300))
     zmin, zmax = top.depth_range
     levels = contour_levels(zmin, zmax)
+    ticks = None
     if zmax - zmin <= 1e-9 * max(abs(zmax), 1.0):
         mappable = ax.tripcolor(tri, z, cmap=style.colour_map("depth"), vmin=zmin - 0.5, vmax=zmax + 0.5)
+        ticks = [zmin]
     else:
         fill = np.unique(np.concatenate([[zmin], levels, [zmax]]))
         mappable = ax.tricontourf(tri, z, levels=fill, cmap=style.colour_map("depth"))
@@ -132,7 +128,7 @@ def _depth_map(ax, top: TopSurface):
         ax.add_collection(
             LineCollection(top.points[edges][:, :, :2], colors="white", linewidths=0.3, alpha=0.5)
         )
-    return mappable
+    return mappable, ticks
 
 
 def _cell_map(ax, grid: Grid, values: np.ndarray):

@@ -11,6 +11,8 @@ clipped to the segment. Per segment, vectorised over the faces the plane crosses
 3. a cell's polygon is its faces' points (duplicates dropped) in cyclic order: sorted by a
    pseudo-angle (no trigonometry) around their mean; exact for convex cuts, which the cuts of
    convex cells are (and the order is unchanged by the different scales of distance and depth);
+   the cut of a non-convex cell (a corner-point cell bent at a fault's sub-faces, say) is drawn
+   as the polygon star-shaped around that mean through the same points;
 4. a fault face's points (two for a convex face) make its line;
 5. polygons and lines are clipped to the segment's extent (Sutherland-Hodgman on the two
    lines of constant distance; the cuts are convex, so each clip is one pass).

@@ -100,18 +100,15 @@ def top_faces(grid: Grid, geo: Geometry) -> tuple[np.ndarray, np.ndarray]:
 def top_surface(grid: Grid, geo: Geometry) -> TopSurface:
     """The :class:`TopSurface` of the 3-D ``grid``."""
     faces, cells = top_faces(grid, geo)
-    pos = grid.faces.node_pos
-    counts = pos[faces + 1] - pos[faces]
-    nodes = grid.faces.nodes[ragged_arange(pos[faces], counts)]
-    used, local = np.unique(nodes, return_inverse=True)
-    owner = np.repeat(np.arange(faces.size), counts)
+    edges, owner = face_edges(grid, faces)
+    used, local = np.unique(edges, return_inverse=True)
+    local = local.reshape(edges.shape)
     xyz = grid.nodes.coords[used]
-    centre = np.column_stack([np.bincount(owner, xyz[local, k], faces.size) for k in range(3)])
+    counts = np.bincount(owner, minlength=faces.size)
+    first = xyz[local[:, 0]]  # each face's nodes, once each
+    centre = np.column_stack([np.bincount(owner, first[:, k], faces.size) for k in range(3)])
     centre /= np.maximum(counts, 1)[:, None]
-    starts = offsets(counts)
-    nxt = np.arange(nodes.size) + 1
-    nxt[starts[1:] - 1] = starts[:-1]  # each face's last node closes on its first
-    triangles = np.column_stack([used.size + owner, local, local[nxt]])
+    triangles = np.column_stack([used.size + owner, local])
     return TopSurface(faces, cells, np.vstack([xyz, centre]), triangles, owner)
 
 

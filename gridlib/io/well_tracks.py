@@ -15,11 +15,13 @@ from .wells_file import WellRecord
 class WellTrack:
     """A well to draw: its ``name``, its ``paths`` ((n, 3) polylines x, y, z depth: the main
     path first, then its branches), and ``vertical``: a vertical well at a point (a map draws
-    it as a symbol, a section as a vertical line over the grid's depth range)."""
+    it as a symbol, a section as a vertical line over the grid's depth range); ``plan_only``:
+    a path known in plan view only (a PEBI grid's refining well), which sections leave out."""
 
     name: str
     paths: tuple[np.ndarray, ...]
     vertical: bool = False
+    plan_only: bool = False
 
     @property
     def head(self) -> np.ndarray:
@@ -36,7 +38,7 @@ def vertical_track(name: str, point: Sequence[float], depths: tuple[float, float
 def plan_track(name: str, xy: np.ndarray, depth: float) -> WellTrack:
     """A well given by its path in plan view (a PEBI grid's refining well), at ``depth``."""
     xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
-    return WellTrack(name, (np.column_stack([xy, np.full(xy.shape[0], depth)]),))
+    return WellTrack(name, (np.column_stack([xy, np.full(xy.shape[0], depth)]),), plan_only=True)
 
 
 def record_tracks(records: Sequence[WellRecord]) -> tuple[WellTrack, ...]:

@@ -41,7 +41,7 @@ from ..io.pictures import plot_histograms, render_grid, save_figure
 from ..io.plan_view import plan_figure
 from ..io.quantities import units_of
 from ..io.rock_file import read_rock
-from ..io.section_cut import cut_grid
+from ..io.section_cut import SectionCut, cut_grid
 from ..io.top_surface import top_surface
 from ..io.transmissibility_file import read_transmissibility
 from ..io.well_tracks import WellTrack, plan_track, record_tracks, vertical_track
@@ -153,6 +153,7 @@ def stage_pictures(
     and ``wells``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan`` and
     ``section`` (3-D grids)."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
+    figures = case_figures(case, scene, with_section=section is not None)  # first: checks the line
     scalar, values = scene.colouring()
     paths = [(r.name, [p.xyz for p in r.paths]) for r in scene.wells]
     render_grid(Path(png), scene.grid, values, Path(faults), scalar, scene.title, scene.label(scalar), paths)
@@ -161,7 +162,7 @@ def stage_pictures(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
     )
     drawn = {"plan": plan, "section": section}
-    for key, figure in case_figures(case, scene, with_section=section is not None).items():
+    for key, figure in figures.items():
         save_figure(figure, drawn[key], dpi=DPI)
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
 
@@ -169,25 +170,42 @@ def stage_pictures(
 def section_line(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> np.ndarray:
     """The case's ``pictures.section`` (k, 2), else the default line through its wells
     (:func:`gridlib.io.cross_section.default_section`)."""
+    return section_cut(case, scene, tracks)[0]
+
+
+def section_cut(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> tuple[np.ndarray, SectionCut]:
+    """The section's line and its cut of the grid: the case's ``pictures.section`` (an
+    InputError naming it where it cuts no cell), else the default line through the wells, else
+    (wells all off the grid) through its centre."""
     given = case.data.get("pictures", {}).get("section")
     if given is not None:
-        return np.asarray(given, dtype=np.float64)[:, :2]
+        line = np.asarray(given, dtype=np.float64)[:, :2]
+        cut = cut_grid(scene.grid, line)
+        if cut.cells.size == 0:
+            raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")
+        return line, cut
     z = scene.grid.nodes.coords[:, 2]
     xy = scene.grid.nodes.coords[:, :2]
-    heads = well_heads(tracks, (float(z.min()), float(z.max())))
-    return default_section(heads, xy.min(axis=0), xy.max(axis=0))
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    line = default_section(well_heads(tracks, (float(z.min()), float(z.max()))), lo, hi)
+    cut = cut_grid(scene.grid, line)
+    if cut.cells.size == 0:
+        line = default_section(np.zeros((0, 2)), lo, hi)
+        cut = cut_grid(scene.grid, line)
+    return line, cut
 
 
 def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None], bool]:
-    """The cell values of the section: porosity, else zone, else layer, else depth; with
-    their name and unit, and whether they are categories (zone, layer)."""
+    """The cell values of the section: porosity, else zone, else layer (the first of them with
+    more than one value), else depth; with their name and unit, and whether they are
+    categories (zone, layer)."""
     if scene.rock is not None:
         return scene.rock["poro"], ("porosity", scene.quantity("poro")[1]), False
+    layers = {} if scene.grid.layering is None else {"layer": scene.grid.layering.layer}
+    data = {**layers, **scene.cell_data}
     for name in ("zone", "layer"):
-        if name in scene.cell_data:
-            return scene.cell_data[name], (name, None), True
-    if scene.grid.layering is not None:
-        return scene.grid.layering.layer, ("layer", None), True
+        if name in data and np.unique(data[name]).size > 1:  # a single zone tells nothing
+            return data[name], (name, None), True
     return scene.geo.cell_centroids[:, 2], ("depth", scene.units.length_label), False
 
 
@@ -196,13 +214,10 @@ def case_figures(case: Case, scene: Scene, *, with_section: bool = True) -> dict
     grids), its cross-section (``section``), in the pictures' style; an InputError naming
     ``pictures.section`` where the case's line cuts no cell."""
     tracks = scene.well_tracks(case)
-    line = section_line(case, scene, tracks) if with_section else None
+    line, cut = section_cut(case, scene, tracks) if with_section else (None, None)
     figures = {}
     with picture_style():
         if line is not None:
-            cut = cut_grid(scene.grid, line)
-            if cut.cells.size == 0:
-                raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")
             values, quantity, categorical = section_colouring(scene)
             figures["section"] = section_figure(
                 scene.grid,

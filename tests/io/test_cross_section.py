@@ -129,6 +129,16 @@ def test_the_section_figure_says_what_it_shows(box):
     (cells,) = [c for c in ax.collections if type(c).__name__ == "PolyCollection"]
     cut = cut_grid(box, line)
     np.testing.assert_array_equal(cells.get_array(), poro[cut.cells])
+    # drawn: the stated exaggeration clear of the axis label and tick labels, the bar's title
+    # beyond its ticks
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    (stated,) = [t for t in ax.texts if t.get_gid() == EXAGGERATION]
+    box = stated.get_window_extent(renderer)
+    others = [ax.xaxis.label, *ax.get_xticklabels()]
+    assert not any(box.overlaps(t.get_window_extent(renderer)) for t in others if t.get_text())
+    title = bar.yaxis.label.get_window_extent(renderer)
+    assert all(title.x0 >= t.get_window_extent(renderer).x1 for t in bar.get_yticklabels() if t.get_text())
     plt.close(fig)
 
 

@@ -94,14 +94,14 @@ DAMAGES: dict[str, Callable[[bytes], bytes]] = {
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory) -> tuple[Path, Path]:
-    """The case file and its folder with every artifact, built once (without the pictures, two
-    thirds of the time and read by no stage)."""
+    """The case file and its folder with every artifact, built once (without the pictures
+    stage's pictures, two thirds of the time and read by no stage)."""
     root = tmp_path_factory.mktemp("damaged")
     case_file = root / "dented.yaml"
     case_file.write_text(yaml.safe_dump(CASE), encoding="utf-8")
     folder = root / "results" / "dented"
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr("gridlib.stages.pictures.stage_pictures", lambda case, **paths: None)
+        patch.setattr("gridlib.stages.pictures.stage_pictures", lambda *args, **kwargs: None)
         patch.setattr("gridlib.stages.quality.plot_quality", lambda *args: None)
         run_case(case_file, folder)
     return case_file, folder

@@ -121,3 +121,23 @@ def test_one_colour_per_fault_id_the_same_everywhere():
     assert style.nice_length(1.0) == 1.0 and style.nice_length(9.99) == 5.0
     with pytest.raises(ValueError, match="positive"):
         style.nice_length(0.0)
+
+
+def test_colour_bar_titles_and_labels_do_not_overlap_their_ticks(box):
+    """Drawn (Agg), the colour bar's title lies beyond its tick labels, and the scale bar, the
+    north arrow and the map's tick labels keep apart: extents from the renderer, not pixels."""
+    grid, geo = box
+    with style.picture_style():
+        fig = plan_figure(grid, geo, length_unit="m", fault_names=["F-east", "F-north"], title="box")
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax, bar = fig.axes
+    title = bar.yaxis.label.get_window_extent(renderer)
+    ticks = [t.get_window_extent(renderer) for t in bar.yaxis.get_ticklabels() if t.get_text()]
+    assert ticks and all(not title.overlaps(t) and title.x0 >= t.x1 for t in ticks)
+    (north,) = style.named(ax, style.NORTH_ARROW)
+    (scale,) = style.named(ax, style.SCALE_BAR)
+    assert not north.get_window_extent(renderer).overlaps(scale.get_window_extent(renderer))
+    inside = ax.get_window_extent(renderer)
+    assert inside.contains(*scale.get_window_extent(renderer).p0)
+    plt.close(fig)

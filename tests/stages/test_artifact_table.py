@@ -18,7 +18,7 @@ from gridlib.stages import case_outputs, run_case
 from gridlib.study import artifacts_of
 
 ROOT = Path(__file__).resolve().parents[2]
-PICTURES = ["png", "histograms", "plan", "section"]  # stage pictures' artifacts, every 3-D case's
+PICTURES = ["png", "histograms", "plan", "section"]  # stage pictures' artifacts (section: 3-D grids)
 
 # A plugin module of a user's own: one stage (its function and its entry), nothing else.
 TOY_STAGE = '''
@@ -164,6 +164,8 @@ def test_paths_and_simulation_artifacts_come_from_the_table(tmp_path):
     assert paths["flow_deck"] == tmp_path / "flow" / "ANTICLINE.DATA"
     assert paths["flow_wells"] == tmp_path / "flow" / "anticline_wells.png"
     assert paths["histograms"] == tmp_path / "anticline_histograms.png"
+    assert paths["plan"] == tmp_path / "anticline_plan.png"
+    assert paths["section"] == tmp_path / "anticline_section.png"
     simulate = artifacts.producers()["flow_summary"]
     assert simulate.on_request and simulate.inputs == ("flow_deck", "grid", "transmissibility")
 

@@ -24,9 +24,8 @@ def test_run_case_honours_the_case_outputs(tmp_path):
     gone = ("horizons", "grid", "grdecl", "geometry", "petrophysics", "coarse", "transmissibility", "vtu")
     assert [k for k in gone if out[k].exists()] == []
     assert all(Path(p).exists() for p in written)
-    assert {out[k] for k in ("nc", "faults", "png", "histograms", "summary", "flow_deck")} <= set(
-        map(Path, written)
-    )
+    pictures = ("png", "histograms", "plan", "section")
+    assert {out[k] for k in ("nc", "faults", *pictures, "summary", "flow_deck")} <= set(map(Path, written))
     assert read_netcdf(out["nc"]).grid.num_cells > 0
 
 

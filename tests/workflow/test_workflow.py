@@ -92,11 +92,75 @@ def test_every_case_has_checked_artifacts_that_open(workflow_run, case):
         assert "poro" in mesh.cell_data and "permx" in mesh.cell_data
     faults = pv.read(folder / f"{case}_faults.vtp")
     assert faults.n_cells == summary["fault_faces"]
-    for picture in (f"{case}.png", f"{case}_histograms.png", f"{case}_quality.png"):
-        assert (folder / picture).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    pictures = ["", "_histograms", "_plan", "_quality"] + (["_section"] if SAMPLES[case].is_3d else [])
+    for picture in pictures:
+        assert (folder / f"{case}{picture}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     for rule in ("grid", "geometry", "export"):
         assert (workflow_run / "results" / "logs" / case / f"{rule}.log").is_file()
         assert (workflow_run / "results" / "benchmarks" / case / f"{rule}.tsv").is_file()
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_every_case_has_a_plan_view_and_section_that_say_what_they_show(workflow_run, case):
+    """The plan view and cross-section of every sample case, drawn again in process from the
+    run's stage files as the pictures stage draws them, read from the figure objects: axes
+    and colour bars labelled with the case's units, every fault and well of the case named
+    on the plan, every well on the section (its default line runs through them), the faults
+    it crosses named, scale bar and north arrow, contour levels inside the top's depth range,
+    the vertical exaggeration stated."""
+    import matplotlib.pyplot as plt
+
+    from gridlib.io import picture_style as style
+    from gridlib.io.cross_section import EXAGGERATION
+    from gridlib.io.plan_view import FAULT_NAME, WELL_NAME
+    from gridlib.io.section_cut import cut_grid
+    from gridlib.stages import case_outputs
+    from gridlib.stages.pictures import case_figures, read_scene, section_line
+
+    loaded = load_case(workflow_run / "config" / "cases" / f"{case}.yaml")
+    paths = case_outputs(case, workflow_run / "results" / case)
+    optional = {k: paths[k] for k in ("petrophysics", "transmissibility", "wells") if paths[k].exists()}
+    scene = read_scene(loaded, paths["grid"], paths["geometry"], **optional)
+    figures = case_figures(loaded, scene, with_section=loaded.is_3d)
+    unit = {"FIELD": "ft", "METRIC": "m"}[scene.units.name]
+    wells = sorted(w["name"] for w in loaded.data.get("wells", []))
+
+    def named(ax, gid):
+        return sorted(t.get_text() for t in ax.texts if t.get_gid() == gid)
+
+    plan, plan_bar = figures["plan"].axes
+    assert (plan.get_xlabel(), plan.get_ylabel()) == (f"x [{unit}]", f"y [{unit}]")
+    assert named(plan, FAULT_NAME) == sorted(scene.fault_names)
+    assert named(plan, WELL_NAME) == wells
+    (scale,) = style.named(plan, style.SCALE_BAR)
+    assert scale.txt_label.get_text().endswith(f" {unit}")
+    assert len(style.named(plan, style.NORTH_ARROW)) == 1
+    if not loaded.is_3d:
+        assert plan_bar.get_ylabel() in ("porosity [1]", f"cell area [{unit}2]")
+        assert "section" not in figures
+        return
+    assert plan_bar.get_ylabel() == f"top depth [{unit}]"
+    lines = [c for c in plan.collections if type(c).__name__ == "TriContourSet" and not c.filled]
+    top = [c for c in plan.collections if type(c).__name__ == "TriContourSet" and c.filled]
+    if top:  # a top that is not flat: its levels inside the depth range
+        lo, hi = top[0].levels[0], top[0].levels[-1]
+        assert all(lo < level < hi for c in lines for level in c.levels)
+    section, section_bar = figures["section"].axes
+    assert (section.get_xlabel(), section.get_ylabel()) == (
+        f"distance along the section [{unit}]",
+        f"depth [{unit}]",
+    )
+    assert section_bar.get_ylabel() in ("porosity [1]", "zone", "layer", f"depth [{unit}]")
+    assert section.get_ylim()[0] > section.get_ylim()[1]  # depth down
+    (exaggeration,) = named(section, EXAGGERATION)
+    assert re.fullmatch(r"vertical exaggeration (1|2|5|10)x", exaggeration)
+    assert named(section, WELL_NAME) == wells
+    crossed = np.unique(
+        cut_grid(scene.grid, section_line(loaded, scene, scene.well_tracks(loaded))).fault_ids
+    )
+    assert named(section, FAULT_NAME) == sorted(scene.fault_names[k - 1] for k in crossed)
+    for figure in figures.values():
+        plt.close(figure)
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -211,7 +275,7 @@ def test_second_run_does_nothing_and_an_edited_case_reruns_only_itself(workflow_
     jobs = [line.split(":", 1)[1].strip() for line in out.splitlines() if line.strip().startswith("output:")]
     case_jobs = [job for job in jobs if "summary.csv" not in job]
     assert case_jobs and all("/honeycomb/" in job for job in case_jobs), out
-    assert len(case_jobs) == 4  # grid, geometry, quality and export of that case (and the summary table)
+    assert len(case_jobs) == 5  # grid, geometry, quality, export and pictures (and the summary table)
 
 
 def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(workflow_run, tmp_path):
