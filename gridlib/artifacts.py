@@ -182,6 +182,17 @@ STAGES: tuple[Stage, ...] = (
         doc="Connections (cell pairs, T, kind, face), pore volumes and the simulator's cell index.",
     ),
     Stage(
+        "quality",
+        "gridlib.stages.quality:stage_quality",
+        ("grid", "grdecl", "geometry", "petrophysics"),
+        (
+            Artifact("quality", "quality.nc", temporary=drops_stage_files),
+            Artifact("quality_png", "{case}_quality.png", report=Report("quality.rst", PICTURES)),
+        ),
+        doc="Cell-quality measures (xtgeo's set on hexahedra, orientation errors, aspect ratio, face "
+        "non-planarity), their histograms, and the case's qc rules checked.",
+    ),
+    Stage(
         "wells",
         "gridlib.stages.wells:stage_wells",
         ("grid", "grdecl", "geometry", "petrophysics"),
@@ -193,7 +204,7 @@ STAGES: tuple[Stage, ...] = (
     Stage(
         "export",
         "gridlib.stages.export:stage_export",
-        ("grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells", "horizons"),
+        ("grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells", "horizons", "quality"),
         (
             Artifact("nc", "{case}.nc"),
             Artifact("vtu", "{case}.vtu", when=lambda case: case.writes_vtu),

@@ -39,7 +39,7 @@ def test_a_new_numeric_key_without_a_quantity_is_found():
         "#/$defs/well/properties/depths: a number without x-quantity (what does it measure?)",
         "#/$defs/coarsen/properties/blocks: x-quantity: 'lenght' is none of length, area, volume, "
         "cell_measure, face_measure, porv, pressure, permeability, transmissibility, fraction, "
-        "dimensionless, angle, time, rate, count, inherit",
+        "dimensionless, angle, time, rate, count, inherit, measure",
     ]
 
 
@@ -281,6 +281,7 @@ README_TABLES = [
     ["pictures"],
     ["outputs"],
     ["domain"],
+    ["qc.0"],
 ]
 SAID_ELSEWHERE = "(said elsewhere)"
 ALIASES = {"grid.x": ("grid.y", "grid.z")}  # the row `x` says "also `y`, `z`"

@@ -31,7 +31,7 @@ import yaml
 
 from ..errors import InputError
 from ..version import __version__
-from .checks import case_problem, rock_problem, simulation_problem
+from .checks import case_problem, qc_problem, rock_problem, simulation_problem
 from .files import deck_cell_keywords, named_file
 from .size import max_memory_bytes, size_problem
 from .values import non_finite_problem
@@ -274,7 +274,7 @@ def check_case_data(
     (:func:`~gridlib.config.checks.rock_problem`), its size against ``max_memory_gb``
     (:func:`gridlib.config.size.size_problem`: before any deck is read beyond its dimensions),
     then a deck grid's deck read whole (each of its errors names the deck's file, line and
-    keyword) and what its keywords decide (its rock, the simulation)."""
+    keyword) and what its keywords decide (its rock, the simulation, the qc rules' measures)."""
     problem = non_finite_problem(data)
     if problem is not None:
         raise InputError(f"{source}: {problem}")
@@ -290,7 +290,7 @@ def check_case_data(
         if data["grid"]["type"] == "deck":  # the whole deck read: its errors name file and line now
             deck_cell_keywords(named_file(path, data["grid"]["file"]), data["grid"]["unknown_keywords"])
         data = with_deck_rock(data, path)
-        problem = rock_problem(data, path) or simulation_problem(data)
+        problem = rock_problem(data, path) or simulation_problem(data) or qc_problem(data)
     except InputError as exc:
         raise InputError(f"{source}: grid.file: {exc}") from None
     if problem is not None:

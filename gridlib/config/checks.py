@@ -255,6 +255,38 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
     )
 
 
+HEXAHEDRAL_GRIDS = ("cartesian", "tensor", "cornerpoint", "deck")  # grids of corner-point hexahedra
+
+
+def qc_problem(data: dict[str, Any]) -> str | None:
+    """Each rule of ``qc`` (checked once a deck grid's implied rock is known) names a measure
+    of :data:`gridlib.quality.MEASURES` the case's grid
+    has: ``k_orientation_error`` needs rock, xtgeo's hexahedral set a grid of hexahedra
+    (3-D cartesian, tensor, cornerpoint, deck; not pebi or layered, whose cells are prisms)."""
+    from ..quality import MEASURES
+
+    known = {m.name: m for m in MEASURES}
+    kind = data["grid"]["type"]
+    for k, rule in enumerate(data.get("qc", [])):
+        name = rule["quantity"]
+        measure = known.get(name)
+        if measure is None:
+            return f"qc[{k}].quantity: unknown measure '{name}'; the measures are {', '.join(known)}"
+        if name == "k_orientation_error" and "petrophysics" not in data:
+            return f"qc[{k}].quantity: {name} needs the case's permeability (a petrophysics section)"
+        flat = (kind == "cartesian" and len(data["grid"]["dims"]) == 2) or (
+            kind == "tensor" and "z" not in data["grid"]
+        )
+        if measure.hexahedral_only and flat:
+            return f"qc[{k}].quantity: {name} is defined on corner-point hexahedra, not on a 2-D grid's cells"
+        if measure.hexahedral_only and kind not in HEXAHEDRAL_GRIDS:
+            return (
+                f"qc[{k}].quantity: {name} is defined on corner-point hexahedra only "
+                f"({', '.join(HEXAHEDRAL_GRIDS)} grids), not on the prisms of a {kind} grid"
+            )
+    return None
+
+
 def _section_problem(data: dict[str, Any]) -> str | None:
     """``pictures.section``: a 3-D grid's (a 2-D grid has no depth to cut), no point repeated
     by the next (a segment of no length has no plane)."""

@@ -5,9 +5,11 @@ Every numeric key of ``case.schema.yaml`` says what it measures with the custom 
 (``length``, ``angle``, ``pressure``, ``rate``, ``time``, ``permeability``, ``fraction``,
 ``dimensionless``, ...), whose unit follows from the case's unit system
 (:meth:`gridlib.units.UnitSystem.unit`); ``count`` for numbers without a unit (cell and layer
-counts, seeds); or ``inherit`` for a value that measures what the key it belongs to measures (a
+counts, seeds); ``inherit`` for a value that measures what the key it belongs to measures (a
 property's ``constant`` or ``field.mean``: a fraction under ``porosity``, mD under
-``permeability``). ``x-unit-system`` beside it fixes the system whatever the case's
+``permeability``); or ``measure`` for a qc rule's limit (``qc.0.max``), which measures what the
+cell-quality measure its ``quantity`` names measures (degrees for an angle; known from the case's
+data only). ``x-unit-system`` beside it fixes the system whatever the case's
 (``carman_kozeny.grain_diameter`` is in m, ``report_days`` in days). A row whose columns measure
 different things (a survey station: md, inclination, azimuth) gives each column its own
 ``x-quantity`` under ``prefixItems``; its keys name the column (``wells.0.survey.stations.0.1``, an
@@ -40,7 +42,8 @@ MARK = "x-quantity"
 SYSTEM_MARK = "x-unit-system"
 COUNT = "count"  # a number without a unit: a count, a seed
 INHERIT = "inherit"  # what the enclosing key measures
-MARKS = (*QUANTITIES, COUNT, INHERIT)
+MEASURE = "measure"  # a qc rule's limit: what the measure its sibling `quantity` names measures
+MARKS = (*QUANTITIES, COUNT, INHERIT, MEASURE)
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,8 @@ def _expand(at: _At, root: Mapping[str, Any]) -> Iterator[tuple[_At, bool]]:
         mark = node.get(MARK)
         if mark == INHERIT:
             here = _At(node, here.data, here.context, here.context)
+        elif mark == MEASURE:
+            pass  # resolved by _step from the rule's `quantity`
         elif mark is not None:
             own = KeyQuantity(None if mark == COUNT else mark, node.get(SYSTEM_MARK))
             here = _At(node, here.data, own, own)
@@ -127,7 +132,21 @@ def _step(at: _At, part: str | int) -> _At | None:
     if not isinstance(properties, dict) or part not in properties:
         return None
     value = data.get(part) if isinstance(data, dict) else None
-    return _At(properties[part], value, at.context, None)  # a key measures what it says, or nothing
+    sub = properties[part]
+    if isinstance(sub, dict) and sub.get(MARK) == MEASURE:
+        return _At(sub, value, at.context, _measure_quantity(data))
+    return _At(sub, value, at.context, None)  # a key measures what it says, or nothing
+
+
+def _measure_quantity(rule: Any) -> KeyQuantity | None:
+    """What the limit of the qc ``rule`` (a case's data, or None) measures: the quantity of the
+    measure its ``quantity`` names (:data:`gridlib.quality.MEASURES`; the same in every unit
+    system); None (no unit known) without the case's data."""
+    from ..quality import MEASURES
+
+    name = rule.get("quantity") if isinstance(rule, dict) else None
+    unit = next((m.unit for m in MEASURES if m.name == name), None)
+    return None if unit is None else KeyQuantity(unit, "METRIC")
 
 
 def key_quantity(

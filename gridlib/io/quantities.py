@@ -17,7 +17,15 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ..quality import MEASURES
 from ..units import UnitSystem
+
+# the flags of xtgeo's cell-quality set (0 or 1; concave_proj 0 or the concave corner + 1)
+FLAG_NAMES = tuple(
+    m.name
+    for m in MEASURES
+    if m.name in ("collapsed", "faulted", "negative_thickness") or m.name.startswith("concave")
+)
 
 VARIABLES: dict[str, str | None] = {
     # the grid (grid.nc, coarse.nc, {case}.nc): node coordinates, z is depth
@@ -98,6 +106,8 @@ VARIABLES: dict[str, str | None] = {
     "nnc_global_cells": None,
     "nnc_kind": None,
     "nnc_face": None,
+    # quality.nc, {case}.nc: the cell-quality measures (gridlib.quality; degrees, ratios; flags none)
+    **{m.name: None if m.name in FLAG_NAMES else m.unit for m in MEASURES},
 }
 
 COLUMNS: dict[str, str] = {

@@ -9,9 +9,10 @@ version, case file hash, seed). :func:`run_case` runs every stage a case has, in
 ``gridlib build`` command, a study's variants); the Snakemake rules run one stage each
 (``workflow/scripts/stage.py``, through :func:`run_stage`).
 
-Stages: horizons -> grid -> geometry -> petrophysics -> coarsen and transmissibility -> wells
-(trajectory and survey wells) -> export -> pictures, beside flow_deck (the OPM Flow deck), then
-summary over all cases; on request simulate (OPM Flow runs the deck).
+Stages: horizons -> grid -> geometry -> petrophysics -> coarsen, transmissibility and quality
+(cell-quality measures, the case's qc rules) -> wells (trajectory and survey wells) -> export ->
+pictures, beside flow_deck (the OPM Flow deck), then summary over all cases; on request simulate
+(OPM Flow runs the deck).
 """
 
 from .._lazy import lazy_exports
@@ -31,6 +32,7 @@ _EXPORTS: dict[str, str] = {
     "stage_horizons": ".horizons",
     "stage_petrophysics": ".petrophysics",
     "stage_pictures": ".pictures",
+    "stage_quality": ".quality",
     "stage_simulate": ".simulate",
     "stage_summary": ".summary",
     "stage_transmissibility": ".transmissibility",

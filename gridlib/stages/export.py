@@ -14,6 +14,8 @@
   the face's cell pair: faces between the same two cells share it), 0 where none;
 * ``{case}_wells.vtp`` (cases with trajectory or survey wells): the paths of ``wells.nc``
   as polylines with their MD (:func:`gridlib.io.vtp.write_well_paths`);
+* the cell-quality measures of ``quality.nc`` (:mod:`gridlib.stages.quality`) in ``{case}.nc``
+  and the VTU as cell variables;
 * ``summary.json``: the case's figures (the regression tests compare them); for a deck case
   with degenerate cells (:mod:`gridlib.stages.grid`) also ``degenerate_cells``: their count,
   how many have a non-positive polyhedral volume and how many do not close, and the first
@@ -26,8 +28,10 @@
   the centroids. Cases with horizons given by picks get ``pick_residuals``: per such horizon
   the number of picks, the RMS and largest magnitude of their residuals against the
   interpolated surface (m, :mod:`gridlib.horizons.residuals`). Cases with trajectory or survey
-  wells also get ``trajectory_wells``: per well
-  its connections, ``completed_length`` and ``total_factor`` (:func:`wells_summary`).
+  wells also get ``trajectory_wells``: per well its connections, ``completed_length`` and
+  ``total_factor`` (:func:`wells_summary`). With ``quality.nc``: ``quality``, per measure its
+  median, p95 and max and the flagged cells (:func:`quality_figures`), and ``qc``, the results
+  of the case's qc rules.
 
 Every value is in the case's unit system (``unit_system``: METRIC, or a deck's own, e.g.
 FIELD for SPE9: ft, ft2, ft3, rb, mD), and every file, picture and figure says so: the
@@ -64,6 +68,7 @@ from ..io.grid_nnc import nnc_variables, read_nnc
 from ..io.horizon_files import read_pick_residuals
 from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netcdf
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.quality_file import FLAGS, quality_variables, read_quality
 from ..io.rock_file import read_rock
 from ..io.transmissibility_file import CONNECTION_VARS, read_transmissibility
 from ..io.vtp import write_fault_faces, write_well_paths
@@ -71,6 +76,7 @@ from ..io.vtu import write_vtu
 from ..io.wells_file import WellRecord, read_wells
 from ..orientation import grid_face_angles, orientation_figures
 from ..pillars.nnc import NNC
+from ..quality import MEASURE
 from ..transmissibility import face_connections
 from ..units import UnitSystem
 from .common import log
@@ -146,6 +152,7 @@ class _Gathered:
     provenance: dict[str, Any]
     face_trans: np.ndarray | None
     centres: np.ndarray | None  # the cell centres of the two-point flux (None: the centroids)
+    quality: tuple[dict[str, np.ndarray], list[dict[str, Any]]] | None = None  # measures, qc results
 
 
 def stage_export(
@@ -158,6 +165,7 @@ def stage_export(
     transmissibility: str | os.PathLike | None = None,
     wells: str | os.PathLike | None = None,
     horizons: str | os.PathLike | None = None,
+    quality: str | os.PathLike | None = None,
     nc: str | os.PathLike,
     vtu: str | os.PathLike | None = None,
     faults: str | os.PathLike,
@@ -165,13 +173,13 @@ def stage_export(
     summary: str | os.PathLike,
 ) -> None:
     """Write the case's exports from its stage files (``grid``, ``geometry`` and, where the case
-    has them, ``petrophysics``, ``coarse``, ``transmissibility``, ``wells``): ``nc`` ({case}.nc),
+    has them, ``petrophysics``, ``coarse``, ``transmissibility``, ``wells``, ``quality``): ``nc`` ({case}.nc),
     ``vtu`` (where ``outputs.vtu``), ``faults``, ``well_paths`` (where the case has deviated
     wells), and ``summary`` (summary.json); the pictures are stage ``pictures``'
     (:mod:`gridlib.stages.pictures`)."""
     written = {"nc": nc, "vtu": vtu, "faults": faults}
     outputs = {key: str(path) for key, path in written.items() if path is not None}
-    g = _gather(case, grid, geometry, petrophysics, coarse, transmissibility)
+    g = _gather(case, grid, geometry, petrophysics, coarse, transmissibility, quality)
     records = read_wells(wells) if wells is not None else ()
     if well_paths is not None:
         write_well_paths(Path(well_paths), [(r.name, r.paths) for r in records])
@@ -191,6 +199,7 @@ def _gather(
     petrophysics_nc: str | os.PathLike | None,
     coarse_nc: str | os.PathLike | None,
     transmissibility_nc: str | os.PathLike | None,
+    quality_nc: str | os.PathLike | None = None,
 ) -> _Gathered:
     """Read the artifacts and gather the cell data, NNCs, connection variables and attributes."""
     stored = read_netcdf(grid_nc)
@@ -206,6 +215,13 @@ def _gather(
     if trans is not None:
         check_same_cells(grid_nc, grid.num_cells, {f"{transmissibility_nc}: porv": trans[0]["porv"].size})
     cell_data, var_attrs, depth = _cell_data(stored, geo, rock, partition, trans)
+    quality = None
+    if quality_nc is not None:
+        quality = read_quality(quality_nc)
+        check_same_cells(grid_nc, grid.num_cells, {quality_nc: next(iter(quality[0].values())).size})
+        for name, variable in quality_variables(quality[0]).items():
+            cell_data[name] = variable.values
+            var_attrs[name] = dict(variable.attrs)
     blocks = None if partition is None else int(partition.max()) + 1
     nnc = read_nnc(grid_nc)
     provenance = {
@@ -244,6 +260,7 @@ def _gather(
         provenance,
         face_trans,
         centres,
+        quality,
     )
 
 
@@ -337,7 +354,35 @@ def _summary(case: Case, g: _Gathered, n_fault_faces: int) -> dict[str, Any]:
     if g.trans is not None:
         summary |= transmissibility_figures(*g.trans)
     summary |= orientation_summary(grid, geo, g.centres, rock)
+    if g.quality is not None:
+        summary["quality"] = quality_figures(g.quality[0])
+        summary["qc"] = g.quality[1]
     return summary
+
+
+def quality_figures(values: dict[str, np.ndarray]) -> dict[str, Any]:
+    """The summary's figures of the cell-quality measures (:mod:`gridlib.quality`; degrees or
+    1): per measure that is no flag, ``median``, ``p95`` and ``max`` over the cells where it is
+    defined (none where it is defined on no cell), angles to 1e-6 degree, ratios to 12
+    significant digits and 1e-9; ``flagged_cells``: per flag (collapsed,
+    faulted, negative_thickness, concave_proj) the number of cells that have it, where defined."""
+    out: dict[str, Any] = {}
+    flagged: dict[str, int] = {}
+    for name, v in values.items():
+        finite = v[np.isfinite(v)]
+        if not finite.size:
+            continue
+        if name in FLAGS:
+            flagged[name] = int(np.count_nonzero(finite > 0))
+            continue
+        stats = {"median": np.median(finite), "p95": np.percentile(finite, 95), "max": finite.max()}
+        # angles to 1e-6 degree (as the orientation figures), ratios to 12 digits and 1e-9: round-off
+        # (a PEBI grid's 1e-10 degree, a plane face's 1e-15) reads 0 on every platform
+        rounded = _degrees if MEASURE[name].unit == "angle" else (lambda x: round(_figure(x), 9) + 0.0)
+        out[name] = {key: rounded(value) for key, value in stats.items()}
+    if flagged:
+        out["flagged_cells"] = flagged
+    return out
 
 
 def wells_summary(wells: Sequence[WellRecord]) -> dict[str, Any]:

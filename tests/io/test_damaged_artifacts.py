@@ -55,7 +55,17 @@ ROOT = Path(__file__).resolve().parents[2]
 ADVICE = "delete it and rerun the workflow"
 
 # Every stage file and the {case}.nc export (read by no stage: by read_netcdf, as users do).
-FILES = ("horizons", "grid", "geometry", "petrophysics", "coarse", "transmissibility", "wells", "nc")
+FILES = (
+    "horizons",
+    "grid",
+    "geometry",
+    "petrophysics",
+    "coarse",
+    "transmissibility",
+    "quality",
+    "wells",
+    "nc",
+)
 
 
 def _truncate(data: bytes) -> bytes:
@@ -92,6 +102,7 @@ def built(tmp_path_factory) -> tuple[Path, Path]:
     folder = root / "results" / "dented"
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr("gridlib.stages.pictures.stage_pictures", lambda *args, **kwargs: None)
+        patch.setattr("gridlib.stages.quality.plot_quality", lambda *args: None)
         run_case(case_file, folder)
     return case_file, folder
 

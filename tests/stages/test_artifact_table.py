@@ -111,13 +111,15 @@ def test_every_sample_case_has_the_artifacts_of_its_sections():
     and deck grids, wells.nc where it has trajectory or survey wells, the exports with their
     paths, the Flow deck where it has rock)."""
     expected = {
-        "anticline": "horizons grid grdecl geometry petrophysics coarse transmissibility flow_deck",
-        "composite_wells": "horizons grid geometry",
-        "ellipsoid": "grid geometry",
-        "faulted_pebi": "horizons grid geometry petrophysics coarse transmissibility flow_deck",
-        "spe9": "grid grdecl geometry petrophysics coarse transmissibility flow_deck",
-        "trajectories_cp": "horizons grid grdecl geometry petrophysics transmissibility wells flow_deck",
+        "anticline": "horizons grid grdecl geometry petrophysics coarse transmissibility QUALITY flow_deck",
+        "composite_wells": "horizons grid geometry QUALITY",
+        "ellipsoid": "grid geometry QUALITY",
+        "faulted_pebi": "horizons grid geometry petrophysics coarse transmissibility QUALITY flow_deck",
+        "spe9": "grid grdecl geometry petrophysics coarse transmissibility QUALITY flow_deck",
+        "trajectories_cp": "horizons grid grdecl geometry petrophysics transmissibility QUALITY wells "
+        "flow_deck",
     }
+    expected = {name: keys.replace("QUALITY", "quality quality_png") for name, keys in expected.items()}
     for name, keys in expected.items():
         case = load_case(ROOT / "config" / "cases" / f"{name}.yaml")
         got = [a.key for a in artifacts.case_artifacts(case)]
@@ -147,12 +149,14 @@ def test_a_case_without_stage_files_drops_them_and_its_grdecl_where_its_flow_dec
         "petrophysics",
         "coarse",
         "transmissibility",
+        "quality",
     )
     no_deck = {**dropping.data}
     del no_deck["petrophysics"], no_deck["coarsen"]
     bare = type(case)(case.name, case.path, case.sha256, no_deck)
-    assert artifacts.dropped(bare) == ("horizons", "grid", "geometry")  # grid.grdecl is its only GRDECL
-    assert artifacts_of(dropping.data) == ("nc", "vtu", "faults", "summary", *PICTURES, "flow")
+    # grid.grdecl is its only GRDECL: kept
+    assert artifacts.dropped(bare) == ("horizons", "grid", "geometry", "quality")
+    assert artifacts_of(dropping.data) == ("quality_png", "nc", "vtu", "faults", "summary", *PICTURES, "flow")
 
 
 def test_paths_and_simulation_artifacts_come_from_the_table(tmp_path):

@@ -85,7 +85,16 @@ def built(tmp_path_factory):
     case = load_case(_case(folder, CASE))
     paths = case_outputs(case.name, folder / "out")
     (folder / "out").mkdir()
-    for stage in ("horizons", "grid", "geometry", "petrophysics", "transmissibility", "wells", "export"):
+    for stage in (
+        "horizons",
+        "grid",
+        "geometry",
+        "petrophysics",
+        "transmissibility",
+        "quality",
+        "wells",
+        "export",
+    ):
         run_stage(stage, case, paths)
     return case, paths
 

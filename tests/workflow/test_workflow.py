@@ -93,7 +93,7 @@ def test_every_case_has_checked_artifacts_that_open(workflow_run, case):
         assert "poro" in mesh.cell_data and "permx" in mesh.cell_data
     faults = pv.read(folder / f"{case}_faults.vtp")
     assert faults.n_cells == summary["fault_faces"]
-    pictures = ["", "_histograms", "_plan"] + (["_section"] if SAMPLES[case].is_3d else [])
+    pictures = ["", "_histograms", "_plan", "_quality"] + (["_section"] if SAMPLES[case].is_3d else [])
     for picture in pictures:
         assert (folder / f"{case}{picture}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     for rule in ("grid", "geometry", "export"):
@@ -354,7 +354,7 @@ def test_second_run_does_nothing_and_an_edited_case_reruns_only_itself(workflow_
     jobs = [line.split(":", 1)[1].strip() for line in out.splitlines() if line.strip().startswith("output:")]
     case_jobs = [job for job in jobs if "summary.csv" not in job]
     assert case_jobs and all("/honeycomb/" in job for job in case_jobs), out
-    assert len(case_jobs) == 4  # grid, geometry, export and pictures of that case (and the summary table)
+    assert len(case_jobs) == 5  # grid, geometry, quality, export and pictures (and the summary table)
 
 
 def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(workflow_run, tmp_path):
@@ -642,6 +642,7 @@ def test_a_case_without_stage_files_keeps_one_file_that_every_reader_opens(workf
         "petrophysics.nc",
         "coarse.nc",
         "transmissibility.nc",
+        "quality.nc",
     )
     assert [name for name in stage_files if (folder / name).exists()] == []
     assert not (folder / "anticline.vtu").exists() and (kept / "anticline.vtu").exists()
@@ -696,7 +697,10 @@ def test_stages_read_uncompressed_artifacts_of_older_gridlib(workflow_run, tmp_p
         assert all(np.array_equal(got[v].values, want[v].values) for v in want.data_vars)
     outputs = {k: str(tmp_path / f"out.{k}") for k in ("nc", "vtu", "summary")}
     outputs["faults"] = str(tmp_path / "faults.vtp")
-    stage_export(case, **stage_files, coarse=old / "coarse.nc", transmissibility=trans, **outputs)
+    quality = kept / "quality.nc"
+    stage_export(
+        case, **stage_files, coarse=old / "coarse.nc", transmissibility=trans, quality=quality, **outputs
+    )
     with xr.open_dataset(outputs["nc"]) as got, xr.open_dataset(kept / "anticline.nc") as want:
         assert set(got.data_vars) == set(want.data_vars)
         assert all(np.array_equal(got[v].values, want[v].values) for v in want.data_vars)
@@ -728,6 +732,10 @@ def _expected_units(system: str, griddim: int) -> dict[str, str]:
     well_lengths += tuple(f"completion_{k}" for k in ("entry_md", "exit_md", "entry", "exit", "axis_length"))
     units |= dict.fromkeys(well_lengths, length)
     units |= {"well_skin": "1", "completion_factor": units["trans"]}
+    # quality.nc, {case}.nc: the cell-quality measures, in degrees or 1 in every unit system (flags: none)
+    angles = [f"{a}angle_{b}" for a in ("min", "max") for b in ("topbase", "topbase_proj", "sides")]
+    units |= dict.fromkeys((*angles, "twist", "orientation_error", "k_orientation_error"), "degree")
+    units |= dict.fromkeys(("aspect_ratio", "face_nonplanarity"), "1")
     return units
 
 
