@@ -109,6 +109,14 @@ def test_records_of_any_length_and_the_ascii_null(tmp_path):
     assert np.ma.getdata(x.values)[2, 0] == 9999900.0  # xtgeo's null is 1e30 only: why we write that
 
 
+def test_bytes_after_the_values_are_ignored(tmp_path):
+    """ResInsight appends a text footer of metadata after the last value record."""
+    s = rotated_surface()
+    path = write_irap_binary(tmp_path / "top.gri", s)
+    path.write_bytes(path.read_bytes() + b"----RESINSIGHT_METADATA_V1----\nsampleSpacing=50\n")
+    np.testing.assert_array_equal(read_irap_binary(path).z, s.z.astype(np.float32))
+
+
 def test_registry_writes_gri_as_binary(tmp_path):
     s = rotated_surface()
     io.write(tmp_path / "top.gri", s, kind="surface")
