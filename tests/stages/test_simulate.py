@@ -25,6 +25,7 @@ import pytest
 import pyvista as pv
 import resfo
 import xarray as xr
+import xtgeo
 from flow_tools import flow_connections, flow_executable, read_keywords, run_flow_dry
 
 from gridlib.config import load_case
@@ -233,6 +234,17 @@ def check_result_series(pvd: Path, folder: Path, summary) -> None:
     first, last = (reader.set_active_time_value(t) or reader.read()[0] for t in (0.0, 900.0))
     assert abs(first.cell_data["swat"].min() - 0.2) < 1e-6 and last.cell_data["swat"].max() > 0.5  # flooded
     assert "pressure [bar]" in pvd.read_text() and "swat [1]" in pvd.read_text()
+    # What ResInsight opens (EGRID, INIT, UNRST), read by another reader of those formats (xtgeo):
+    # the box grid of the connection form, and at every report step the PVD's pressure per cell
+    box = xtgeo.grid_from_file(f"{flow}.EGRID")
+    assert box.nactive == index.size
+    props = xtgeo.gridproperties_from_file(
+        f"{flow}.UNRST", fformat="unrst", names=["PRESSURE"], dates="all", grid=box
+    )
+    pressures = [np.ma.getdata(p.values).ravel(order="F")[index] for p in props]  # (i, j, k) -> linear
+    assert len(pressures) == len(restart)
+    for values, r in zip(pressures, restart, strict=True):
+        np.testing.assert_array_equal(values, r["pressure"][position])
 
 
 def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
