@@ -5,11 +5,10 @@ cell states of the restart file (UNRST), read with resfo.
   report steps (``report``: the last time step of each); values are float32 in the file;
 * :func:`read_fip_report`: the field's "Originally in place" and "Currently in place"
   lines of the PRT file's last FIP report (surface volumes, integers as Flow prints them);
-* :func:`read_restart_cells`: a cell keyword (PRESSURE, SWAT, ...) at every report step,
-  per active cell in Flow's order (ascending linear index); :func:`restart_steps`: every
-  report step's solution arrays (all of PRESSURE, SWAT, SGAS, RS, ... Flow wrote), its time
-  and unit system, one step at a time; :func:`active_positions` puts them on the cells of a
-  grid through ``cell_flow_index``.
+* :func:`restart_steps`: every report step of the restart file (UNRST) with its time, unit
+  system and solution arrays (PRESSURE, SWAT, SGAS, RS, ... as Flow wrote them), per active
+  cell in Flow's order (ascending linear index), one step at a time; :func:`active_positions`
+  puts them on the cells of a grid through ``cell_flow_index``.
 
 Units: those of the deck (METRIC: sm3, sm3/day, bar; FIELD: stb, stb/day, psia).
 """
@@ -32,7 +31,6 @@ __all__ = [
     "RestartStep",
     "active_positions",
     "read_fip_report",
-    "read_restart_cells",
     "read_summary",
     "restart_steps",
 ]
@@ -136,19 +134,6 @@ def read_fip_report(prt: str | os.PathLike) -> dict[str, float | dict[str, float
     if not reports:
         raise InputError(f"{path}: no FIP report (Originally/Currently in place)")
     return reports[-1]
-
-
-def read_restart_cells(case: str | os.PathLike, keyword: str) -> list[np.ndarray]:
-    """``keyword`` (PRESSURE, SWAT, ...) per active cell at every step of ``case``.UNRST."""
-    base = Path(case)
-    steps = [
-        np.asarray(value, dtype=np.float64)
-        for kw, value in _keywords(base.with_name(base.name + ".UNRST"))
-        if kw == keyword
-    ]
-    if not steps:
-        raise InputError(f"{base}.UNRST: no {keyword} (is it written at the report steps?)")
-    return steps
 
 
 # INTEHEAD item 3 (index 2): the run's unit system; item 12 (index 11): the number of active cells
