@@ -55,8 +55,7 @@ def test_bad_restart_files_are_named(tmp_path):
     (tmp_path / "CUT.UNRST").write_bytes(raw[: len(raw) // 2])
     with pytest.raises(InputError, match=r"CUT\.UNRST: not readable as an ECLIPSE binary file"):
         list(restart_steps(tmp_path / "CUT"))
-    resfo.write(
-        tmp_path / "ODD.UNRST", [("PRESSURE", np.ones(3, dtype=np.float32)), ("SEQNUM  ", np.array([1], dtype=np.int32))]
-    )
+    odd = [("PRESSURE", np.ones(3, dtype=np.float32)), ("SEQNUM  ", np.array([1], dtype=np.int32))]
+    resfo.write(tmp_path / "ODD.UNRST", odd)
     with pytest.raises(InputError, match=r"ODD\.UNRST: a report step without SEQNUM, INTEHEAD and DOUBHEAD"):
         list(restart_steps(tmp_path / "ODD"))

@@ -7,7 +7,9 @@
 * a corner-point case simulated from its native deck (Flow's own transmissibilities, pore
   volumes, depths and well factors) and from the connection form (ours) gives the same well
   rates and pressures and field totals at every report step;
-* the PEBI sample case runs to its last report step and conserves water;
+* the PEBI sample case runs to its last report step and conserves water, and its results'
+  PVD lists every report step of the restart file with the restart's values per cell (pyvista;
+  xtgeo reads the same EGRID/UNRST, as ResInsight would);
 * a failed run names the case file and quotes Flow, and leaves nothing behind.
 
 ``make test`` installs Flow (its absence is a failure: tests/system_tools.py). The runs are small
