@@ -237,9 +237,14 @@ def check_result_series(pvd: Path, folder: Path, summary) -> None:
     assert abs(first.cell_data["swat"].min() - 0.2) < 1e-6 and last.cell_data["swat"].max() > 0.5  # flooded
     assert "pressure [bar]" in pvd.read_text() and "swat [1]" in pvd.read_text()
     # What ResInsight opens (EGRID, INIT, UNRST), read by another reader of those formats (xtgeo):
-    # the box grid of the connection form, and at every report step the PVD's pressure per cell
+    # the box grid of the connection form, our pore volumes, and at every report step the PVD's
+    # pressure per cell
     box = xtgeo.grid_from_file(f"{flow}.EGRID")
     assert box.nactive == index.size
+    porv = xtgeo.gridproperty_from_file(f"{flow}.INIT", fformat="init", name="PORV", grid=box)
+    with xr.open_dataset(folder / "transmissibility.nc") as ds:
+        ours = ds["porv"].values
+    np.testing.assert_allclose(np.ma.getdata(porv.values).ravel(order="F")[index], ours, rtol=1e-6)  # float32
     props = xtgeo.gridproperties_from_file(
         f"{flow}.UNRST", fformat="unrst", names=["PRESSURE"], dates="all", grid=box
     )
