@@ -110,15 +110,15 @@ def read_irap_binary(path: str | os.PathLike, *, elevation: bool = False, name: 
     nx, rotation = head[11], head[12]
     if nx < 1 or ny < 1:
         raise InputError(f"{p}: IRAP binary header: nx and ny must be positive, got {nx} x {ny}")
-    for key, v, ok in (
-        ("xori", xori, True),
-        ("yori", yori, True),
-        ("rotation", rotation, True),
-        ("xinc (positive)", xinc, xinc > 0),
-        ("yinc (non-zero)", yinc, yinc != 0),
+    for key, v, ok, need in (
+        ("xori", xori, True, "finite"),
+        ("yori", yori, True, "finite"),
+        ("rotation", rotation, True, "finite"),
+        ("xinc", xinc, xinc > 0, "finite and positive"),
+        ("yinc", yinc, yinc != 0, "finite and non-zero"),
     ):
         if not (math.isfinite(v) and ok):
-            raise InputError(f"{p}: IRAP binary header: {key} must be finite, got {v!r}")
+            raise InputError(f"{p}: IRAP binary header: {key} must be {need}, got {v!r}")
     values = _values(p, buf, nx * ny)
     values[values >= IRAP_UNDEFINED] = np.nan
     z = values.reshape(ny, nx)
