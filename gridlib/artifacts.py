@@ -194,6 +194,14 @@ STAGES: tuple[Stage, ...] = (
         doc="One self-describing netCDF, VTU, fault faces, pictures and the case's summary.",
     ),
     Stage(
+        "exchange",
+        "gridlib.stages.exchange:stage_exchange",
+        ("grid", "grdecl", "petrophysics", "horizons"),
+        (Artifact("roff", "{case}.roff", when=lambda case: case.writes_grdecl),),
+        when=lambda case: case.writes_grdecl,
+        doc="The grid, rock and zones as ROFF (RMS, xtgeo, ResInsight).",
+    ),
+    Stage(
         "flow_deck",
         "gridlib.stages.flow_deck:stage_flow_deck",
         ("grid", "grdecl", "geometry", "petrophysics", "transmissibility", "wells"),
