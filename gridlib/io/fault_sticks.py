@@ -28,10 +28,10 @@ from ..grid import FloatArray
 from ..pillars.fault_surface import FaultSurface
 from .text_table import check_widths, data_rows, is_number, read_lines, split_fields
 
-__all__ = ["STICK_FORMATS", "fault_surface_from_file", "read_fault_sticks"]
+__all__ = ["RMS_SEPARATOR", "STICK_FORMATS", "fault_surface_from_file", "read_fault_sticks", "rms_groups"]
 
 STICK_FORMATS = ("auto", "rms", "xyz_id")
-_SEPARATOR = (999.0, 999.0, 999.0)
+RMS_SEPARATOR = (999.0, 999.0, 999.0)  # the line that ends a stick or polygon in the rms format
 _WIDTH = {"rms": 3, "xyz_id": 4}
 
 
@@ -64,7 +64,7 @@ def read_fault_sticks(path: str | os.PathLike, fmt: str = "auto") -> list[FloatA
     width = _WIDTH[fmt]
     names = "x y z" if width == 3 else "x y z id"
     check_widths(p, rows, numbers, width, f" ({names}, the {fmt} format)")
-    groups = _rms_sticks(p, rows, numbers) if fmt == "rms" else _id_sticks(p, rows, numbers)
+    groups = rms_groups(p, rows, numbers) if fmt == "rms" else _id_sticks(p, rows, numbers)
     if len(groups) < 2:
         raise InputError(f"{p}: a fault needs at least 2 sticks, found {len(groups)}")
     return [_stick(p, number, group) for number, group in enumerate(groups, 1)]
@@ -79,31 +79,38 @@ def fault_surface_from_file(
     return FaultSurface.from_sticks(read_fault_sticks(path, fmt), name=name, source=str(path))
 
 
-def _numbers(p: Path, fields: list[str], number: int, stick: int) -> tuple[float, float, float]:
+def _numbers(
+    p: Path, fields: list[str], number: int, stick: int, item: str = "stick"
+) -> tuple[float, float, float]:
     """x, y, z of one row, finite."""
     values = []
     for column, field in zip("xyz", fields[:3], strict=True):
         if not is_number(field):
-            raise InputError(f"{p}:{number}: stick {stick}: {column}: {field!r} is not a number")
+            raise InputError(f"{p}:{number}: {item} {stick}: {column}: {field!r} is not a number")
         values.append(float(field))
     if not np.isfinite(values).all():
-        raise InputError(f"{p}:{number}: stick {stick}: x, y and z must be finite")
+        raise InputError(f"{p}:{number}: {item} {stick}: x, y and z must be finite")
     return values[0], values[1], values[2]
 
 
-def _rms_sticks(p: Path, rows: list[list[str]], numbers: list[int]) -> list[list[tuple]]:
-    """Sticks of the rms format: rows up to each whole line of 999."""
+def rms_groups(
+    p: Path, rows: list[list[str]], numbers: list[int], item: str = "stick"
+) -> list[list[tuple[int, tuple[float, float, float]]]]:
+    """The rows of the rms format (``x y z`` fields, 1-based line ``numbers``) up to each whole
+    line of 999 (:data:`RMS_SEPARATOR`): per stick (or polygon: ``item`` names them in
+    messages), its ``(line, (x, y, z))`` rows; empty groups dropped. A row with 999 in some
+    columns only is an InputError."""
     groups: list[list[tuple]] = [[]]
     for fields, number in zip(rows, numbers, strict=True):
-        xyz = _numbers(p, fields, number, len(groups))
-        if xyz == _SEPARATOR:
+        xyz = _numbers(p, fields, number, len(groups), item)
+        if xyz == RMS_SEPARATOR:
             if groups[-1]:
                 groups.append([])
             continue
-        if _SEPARATOR[0] in xyz:
+        if RMS_SEPARATOR[0] in xyz:
             raise InputError(
-                f"{p}:{number}: stick {len(groups)}: 999 in some columns only; in the rms format "
-                "only a whole line '999.0 999.0 999.0' ends a stick (for 999 as a coordinate, "
+                f"{p}:{number}: {item} {len(groups)}: 999 in some columns only; in the rms format "
+                f"only a whole line '999.0 999.0 999.0' ends a {item} (for 999 as a coordinate, "
                 "use the xyz_id format)"
             )
         groups[-1].append((number, xyz))

@@ -4,11 +4,12 @@ object it reads or writes, its file suffixes and its reader and writer; :func:`r
 
 Kinds: ``grid`` (a gridlib grid: netCDF, VTU), ``geometry`` (a grid's geometry, netCDF),
 ``deck`` (a corner-point deck: GRDECL text, EGRID, ROFF), ``surface`` (one horizon on a regular
-lattice: netCDF, IRAP classic ASCII), ``points`` (scattered picks: text), ``sticks`` (a
-fault's sticks: text), ``well_path`` (a well's trajectory: text, CSV or RMS well files),
-``cube`` (a property cube, netCDF) and ``horizons`` (a horizons dataset, netCDF). IRAP, point,
-stick and well path files have no fixed suffix: their formats claim every suffix (``*``) that
-no other format of the kind claims.
+lattice: netCDF, IRAP binary ``.gri``/``.irapbin``, IRAP classic ASCII), ``points`` (scattered
+picks: text), ``sticks`` (a fault's sticks: text), ``polygons`` (polylines: RMS/xtgeo text),
+``well_path`` (a well's trajectory: text, CSV or RMS well files), ``cube`` (a property cube,
+netCDF) and ``horizons`` (a horizons dataset, netCDF). IRAP classic ASCII, point, stick,
+polygon and well path files have no fixed suffix: their formats claim every suffix (``*``)
+that no other format of the kind claims.
 A suffix no format of the kind reads (or writes) is one InputError naming the file.
 
 gridlib's own formats are the table :data:`BUILTIN_FORMATS` below, their readers and writers
@@ -77,7 +78,15 @@ BUILTIN_FORMATS = (
     Format("egrid", "deck", (".egrid", ".fegrid"), _IO + "egrid:read_egrid"),
     Format("roff", "deck", (".roff", ".roffasc"), _IO + "roff:read_roff_deck", _IO + "roff:write_roff_grid"),
     Format("netcdf", "surface", (".nc",), _IO + "horizon_files:read_surface_netcdf"),
+    Format(
+        "irap_binary",
+        "surface",
+        (".gri", ".irapbin"),
+        _IO + "irap_binary:read_irap_binary_surface",
+        _IO + "irap_binary:write_irap_binary",
+    ),
     Format("irap", "surface", (ANY_SUFFIX,), _IO + "irap:read_irap_surface", _IO + "irap:write_irap"),
+    Format("rms", "polygons", (ANY_SUFFIX,), _IO + "polygons:read_polygons", _IO + "polygons:write_polygons"),
     Format("text", "points", (ANY_SUFFIX,), _IO + "horizon_files:read_points"),
     Format("text", "sticks", (ANY_SUFFIX,), _IO + "fault_sticks:read_fault_sticks"),
     Format("text", "well_path", (ANY_SUFFIX,), _IO + "well_paths:read_well_path"),

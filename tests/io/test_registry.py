@@ -22,7 +22,19 @@ def test_every_kind_has_its_formats():
     assert table[("deck", "egrid")] == (".egrid", ".fegrid")
     assert table[("surface", "irap")] == ("*",) and table[("points", "text")] == ("*",)
     assert table[("sticks", "text")] == ("*",) and table[("well_path", "text")] == ("*",)
-    kinds = {"grid", "geometry", "deck", "surface", "points", "sticks", "well_path", "horizons", "cube"}
+    assert table[("surface", "irap_binary")] == (".gri", ".irapbin") and table[("polygons", "rms")] == ("*",)
+    kinds = {
+        "grid",
+        "geometry",
+        "deck",
+        "surface",
+        "points",
+        "sticks",
+        "polygons",
+        "well_path",
+        "horizons",
+        "cube",
+    }
     assert {k for k, _ in table} == kinds
 
 
@@ -56,7 +68,7 @@ def test_deck_round_trips_exactly_through_grdecl(tmp_path):
 def test_surface_round_trips_exactly_in_irap_under_any_suffix(tmp_path):
     z = np.array([[1000.0, 1010.5, 1020.25], [1001.0, np.nan, 1021.0]])
     s = Surface.from_axes([0.0, 100.0, 200.0], [10.0, 60.0], z)
-    for name in ("top.irap", "top.gri", "top.txt"):
+    for name in ("top.irap", "top.grd", "top.txt"):
         io.write(tmp_path / name, s, kind="surface")
         back = io.read(tmp_path / name, kind="surface")
         np.testing.assert_array_equal(back.z, s.z)
