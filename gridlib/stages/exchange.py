@@ -13,7 +13,8 @@
   ``{case}.roff`` (their ``{case}.vtu`` and ``{case}.nc`` hold them).
 * ``exchange/`` (cases with horizons): ``<horizon>.gri``, each horizon of ``horizons.nc`` as
   an IRAP binary surface (depth, positive down, as RMS and xtgeo store depth surfaces;
-  undefined nodes as IRAP's 1e30), and ``faults.pol`` where the case has faults
+  undefined nodes as IRAP's 1e30), and where the case has faults ``faults.pol`` (their
+  traces on the top horizon) and ``fault_sticks.pol`` (their sticks), RMS/xtgeo polygons
   (:func:`fault_polylines`). The folder is written whole or not at all (a temporary folder
   beside it, then renamed), so that Snakemake sees it as one output.
 
@@ -23,16 +24,25 @@ ROFF and IRAP carry no unit: lengths are the case's (metres, or a FIELD deck's f
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import numpy as np
 
+from ..case.faults import fault_traces
 from ..config import Case
+from ..connectivity import ragged_arange
 from ..cornerpoint.deck import Deck
+from ..horizons.surface import Surface
+from ..io.atomic import atomic_directory
 from ..io.grdecl import read_grdecl
+from ..io.horizon_files import read_horizons, read_surface_netcdf
+from ..io.irap_binary import write_irap_binary
 from ..io.netcdf import read_netcdf
+from ..io.polygons import write_polygons
 from ..io.rock_file import read_rock
 from ..io.roff import read_roff_grid, write_roff_grid
+from ..pillars.horizon_maps import depth_function
 from .common import log
 
 UNDEFINED = -999.0  # RMS's (and xtgeo's ROFF) undefined value
@@ -104,9 +114,90 @@ def stage_exchange(
             ", ".join(params) or "none",
         )
     if exchange is not None:
-        from .exchange_files import write_exchange_folder
+        if horizons is None:
+            raise ValueError(f"{case.path}: exchange/ is written from horizons.nc")
+        surfaces = horizon_surfaces(horizons)
+        with atomic_directory(exchange) as folder:
+            for surface in surfaces:
+                write_irap_binary(folder / f"{file_stem(surface.name)}.gri", surface)
+            if case.data.get("faults"):
+                traces, sticks = fault_polylines(case, surfaces[0], surfaces[-1])
+                write_polygons(folder / "faults.pol", traces)
+                write_polygons(folder / "fault_sticks.pol", sticks)
+        log.info("wrote %s: %d horizons (IRAP binary)%s", exchange, len(surfaces), _faults_note(case))
 
-        write_exchange_folder(case, Path(exchange), horizons)
+
+def _faults_note(case: Case) -> str:
+    faults = case.data.get("faults") or []
+    return f", {len(faults)} faults (faults.pol, fault_sticks.pol)" if faults else ""
+
+
+def horizon_surfaces(path: str | os.PathLike) -> list[Surface]:
+    """Every horizon of ``horizons.nc`` (from the top), named after it."""
+    names = [str(v) for v in read_horizons(path)["horizon"].values]
+    return [read_surface_netcdf(path, horizon=k, name=name) for k, name in enumerate(names)]
+
+
+def file_stem(name: str) -> str:
+    """A horizon's name as a file name: characters other than letters, digits, ``-``, ``_``
+    and ``.`` as ``_``."""
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", name) or "horizon"
+
+
+def fault_polylines(case: Case, top: Surface, base: Surface) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """The case's faults as polylines of (x, y, depth), in the case's order of faults:
+
+    * traces: each fault's trace draped on the top horizon: its segments divided at the top's
+      node spacing, each point at the top's (bilinear) depth; where the top is undefined (beyond
+      its lattice, where traces of faults crossing the grid end) the trace is cut, each defined
+      piece its own polyline;
+    * sticks: an inclined fault's (``dip`` or ``sticks``) the sticks of its surface, each from
+      its shallowest to its deepest level; a vertical fault's a vertical stick at each vertex of
+      its draped trace and at the ends of its pieces, from the top's depth to the base's (where
+      both are defined).
+
+    RMS imports the first as polygons and the second as fault sticks (a stick per polyline)."""
+    top_fn, base_fn = depth_function(top.to_horizon()), depth_function(base.to_horizon(), 1)
+    spacing = min(top.xinc, top.yinc)
+    traces: list[np.ndarray] = []
+    sticks: list[np.ndarray] = []
+    for trace in fault_traces(case, top=top_fn):
+        pieces, corners = _draped(np.asarray(trace.points, dtype=np.float64), top_fn, spacing)
+        traces += pieces
+        if trace.surface is not None:
+            levels, pts = trace.surface.levels, trace.surface.points  # (m,), (m, n, 2)
+            sticks += [np.column_stack([pts[:, s], levels]) for s in range(pts.shape[1])]
+            continue
+        if not corners.size:
+            continue
+        z_base = base_fn(corners[:, 0], corners[:, 1])
+        both = np.isfinite(z_base)
+        ends = np.stack([corners[both], np.column_stack([corners[both, :2], z_base[both]])], axis=1)
+        sticks += list(ends)  # (2, 3) each: top, base
+    return traces, sticks
+
+
+def _draped(xy: np.ndarray, depth, spacing: float) -> tuple[list[np.ndarray], np.ndarray]:
+    """A polyline (n, 2) divided at ``spacing`` and draped on ``depth(x, y)``: its defined
+    pieces (each (m, 3)), and the points among them that are its vertices or a piece's ends."""
+    seg = np.diff(xy, axis=0)
+    parts = np.maximum(np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / spacing), 1).astype(np.int64)
+    start = np.repeat(np.arange(seg.shape[0]), parts)
+    t = (ragged_arange(np.zeros_like(parts), parts) / np.repeat(parts, parts))[:, None]
+    pts = np.vstack([xy[start] + t * seg[start], xy[-1:]])
+    vertex = np.append(t[:, 0] == 0.0, True)
+    z = depth(pts[:, 0], pts[:, 1])
+    defined = np.isfinite(z)
+    if not defined.any():
+        return [], np.zeros((0, 3))
+    # runs of defined points: where `defined` switches on, and off
+    edges = np.diff(np.concatenate([[0], defined.astype(np.int8), [0]]))
+    on, off = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    points = np.column_stack([pts, z])
+    pieces = [points[a:b] for a, b in zip(on, off, strict=True)]
+    corner = vertex.copy()
+    corner[on], corner[off - 1] = True, True
+    return pieces, points[corner & defined]
 
 
 def _write_atomic(path: Path, deck: Deck, zones, params, binary: bool) -> None:

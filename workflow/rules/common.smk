@@ -192,6 +192,8 @@ def _stage_rule(stage, temporary, cases):
             continue
         pattern = f"{RESULTS}/{{case}}/{a.path}"
         wildcards |= set(a.wildcards)
+        if a.directory:  # a folder of files the case decides (written whole)
+            pattern = directory(pattern)
         if temporary[a.key]:
             pattern = temp(pattern)
         elif a.report is not None:
