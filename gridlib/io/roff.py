@@ -170,12 +170,24 @@ def _write(path: str | os.PathLike, tags: Any, binary: bool | None) -> None:
 
     if binary is None:
         binary = Path(path).suffix.lower() != ".roffasc"
+    tags = list(tags.items()) if hasattr(tags, "items") else list(tags)
+    tags.insert(0, ("filedata", {"creationDate": _creation_date()}))
     if binary:
         roffio.write(str(path), tags, roff_format=roffio.Format.BINARY)
         return
     buffer = io.StringIO()
     roffio.write(buffer, tags, roff_format=roffio.Format.ASCII)
     Path(path).write_text(_bools(buffer.getvalue()), encoding="ascii")
+
+
+def _creation_date() -> str:
+    """The ``filedata.creationDate`` written: the time of ``SOURCE_DATE_EPOCH`` (the
+    reproducible-builds convention; 0, 1970-01-01, where unset) rather than roffio's clock, so
+    that the same grid gives the same bytes."""
+    import time
+
+    epoch = int(os.environ.get("SOURCE_DATE_EPOCH", "0") or 0)
+    return time.strftime("%d/%m/%Y %H:%M:%S", time.gmtime(epoch))
 
 
 def _roffio_errors() -> tuple[type[Exception], ...]:
