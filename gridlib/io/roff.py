@@ -111,6 +111,15 @@ def _splits(nodes: NDArray[np.float64]) -> tuple[NDArray[np.uint8], NDArray[np.f
     return split, n[keep]
 
 
+def layer_gaps(deck: Deck) -> int:
+    """How many cell corners of ``deck`` open a vertical gap: a layer's top above its
+    neighbour's bottom on the same pillar. ROFF stores them (nodes of split 2 or 8); xtgeo 4's
+    reader refuses such a grid."""
+    nx, ny, nz = deck.cart_dims
+    z = deck.zcorn_array().reshape(nz, 2, ny * 2 * nx * 2)
+    return int(np.count_nonzero(z[1:, 0] != z[:-1, 1]))
+
+
 def write_roff_grid(
     path: str | os.PathLike,
     deck: Deck,

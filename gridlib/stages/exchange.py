@@ -41,7 +41,7 @@ from ..io.irap_binary import write_irap_binary
 from ..io.netcdf import read_netcdf
 from ..io.polygons import write_polygons
 from ..io.rock_file import read_rock
-from ..io.roff import read_roff_grid, write_roff_grid
+from ..io.roff import layer_gaps, read_roff_grid, write_roff_grid
 from ..pillars.horizon_maps import depth_function
 from .common import log
 
@@ -106,6 +106,15 @@ def stage_exchange(
         params = roff_parameters(deck, index_map, rock, zones)
         binary = case.data["outputs"]["roff_format"] == "binary"
         _write_atomic(Path(roff), deck, zones, params, binary)
+        gaps = layer_gaps(deck)
+        if gaps:
+            log.info(
+                "note: %s has %d cell corners where a layer's top lies below the bottom of the layer "
+                "above (a vertical gap): ROFF holds them exactly (split nodes), but xtgeo 4 refuses "
+                "such a grid (docs/roff.md, Limits)",
+                roff,
+                gaps,
+            )
         log.info(
             "wrote %s (%s; subgrids %s; parameters %s)",
             roff,
