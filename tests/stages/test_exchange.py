@@ -300,3 +300,43 @@ def test_atomic_directory_keeps_the_old_folder_when_the_writer_fails(tmp_path):
     with atomic_directory(target) as folder:
         (folder / "c.gri").write_text("three")
     assert [p.name for p in target.iterdir()] == ["c.gri"]
+
+
+def test_a_failed_exchange_stage_leaves_the_folder_as_it_was(anticline_built, monkeypatch):
+    """run_stage keeps a directory artifact whole: a failure while exchange/ is rewritten puts
+    back the folder of the run before, file for file."""
+    paths, case_file = anticline_built
+    before = {p.name: p.read_bytes() for p in paths["exchange"].iterdir()}
+    roff_before = paths["roff"].read_bytes()
+    import gridlib.stages.exchange as stage
+
+    def broken(*args, **kwargs):
+        raise InputError("polygons: disk full")
+
+    monkeypatch.setattr(stage, "write_polygons", broken)
+    with pytest.raises(InputError, match="disk full"):
+        run_stage("exchange", load_case(case_file), paths)
+    assert {p.name: p.read_bytes() for p in paths["exchange"].iterdir()} == before
+    assert paths["roff"].read_bytes() == roff_before
+    assert sorted(p.name for p in paths["exchange"].parent.iterdir() if p.name.startswith(".")) == []
+
+
+def test_restored_on_failure_puts_a_rewritten_folder_back_whole(tmp_path):
+    """A later failure (run_case: a stage after exchange) puts back the folder as it was before
+    the run, and removes one the run created."""
+    from gridlib.stages.pipeline import restored_on_failure
+
+    old, new = tmp_path / "exchange", tmp_path / "created"
+    with atomic_directory(old) as folder:
+        (folder / "top.gri").write_bytes(b"old top")
+        (folder / "faults.pol").write_bytes(b"old faults")
+    with pytest.raises(RuntimeError), restored_on_failure([old, new], sweep=tmp_path):
+        for target in (old, new):
+            with atomic_directory(target) as folder:
+                (folder / "top.gri").write_bytes(b"new top")
+        raise RuntimeError("a later stage failed")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["exchange"]
+    assert {p.name: p.read_bytes() for p in old.iterdir()} == {
+        "top.gri": b"old top",
+        "faults.pol": b"old faults",
+    }
