@@ -340,3 +340,29 @@ def test_restored_on_failure_puts_a_rewritten_folder_back_whole(tmp_path):
         "top.gri": b"old top",
         "faults.pol": b"old faults",
     }
+
+
+def test_rms_roff_export_builds_the_grid_of_its_grdecl_export(tmp_path):
+    """RMS 13's two exports of one geomodel (xtgeo-testdata's Emerald with a hole): the ROFF
+    grid with its parameters (world coordinates) as a case's grid gives the GRDECL case's grid
+    (local coordinates, MAPAXES a translation): the same active cells (ROFF's PORO makes the
+    5,389 of zero pore volume inactive, as the GRDECL's does), faces and neighbours; nodes
+    within the GRDECL's 3 decimals and ROFF's float32 (3 cm); PORO to float32."""
+    from real_decks import unpack
+
+    folder = unpack("emerald_hole", tmp_path)
+    name = "eme_small_w_hole_grid_params"
+    _case(folder / "grdecl_case.yaml", {"type": "deck", "file": f"{name}.grdecl", "unknown_keywords": "skip"})
+    _case(folder / "roff_case.yaml", {"type": "deck", "file": f"{name}.roff"})
+    ref, got = (build_case_grid(load_case(folder / f"{k}_case.yaml")) for k in ("grdecl", "roff"))
+    np.testing.assert_array_equal(got.grid.cells.index_map, ref.grid.cells.index_map)
+    assert got.grid.num_cells == 1768
+    np.testing.assert_array_equal(got.grid.faces.neighbors, ref.grid.faces.neighbors)
+    origin = ref.deck.mapaxes[2:4]  # the x axis' origin: the local frame's (0, 0)
+    shifted = ref.grid.nodes.coords + np.array([*origin, 0.0])
+    np.testing.assert_allclose(got.grid.nodes.coords, shifted, rtol=0, atol=0.03)
+    active = ref.deck.active
+    poro = got.deck.cell_data["PORO"]
+    np.testing.assert_allclose(poro[active], ref.deck.cell_data["PORO"][active], rtol=0, atol=1e-9)
+    assert poro[~active].tolist() == [0.0] * int((~active).sum())  # RMS's -999: 0 in inactive cells
+    assert any("FACIES" in note for note in got.notes)  # not a GRID keyword: named, not used
