@@ -111,6 +111,24 @@ def _splits(nodes: NDArray[np.float64]) -> tuple[NDArray[np.uint8], NDArray[np.f
     return split, n[keep]
 
 
+def map_coordinates(deck: Deck) -> Deck:
+    """``deck`` with its COORD in map coordinates where it has MAPAXES (then dropped), as RMS
+    exports a ROFF grid: ``origin + x ex + y ey``, the MAPAXES origin (its second point) and
+    the unit vectors towards its x-axis point (the third) and y-axis point (the first), the
+    convention xtgeo and ResInsight apply (a GRDECL export of an RMS model is local with a
+    MAPAXES, its ROFF export in world coordinates). Axes along east and north, as RMS writes
+    them, make it a translation, one rounding per value. Depths are unchanged."""
+    if deck.mapaxes is None:
+        return deck
+    y_point, origin, x_point = deck.mapaxes.reshape(3, 2)
+    ex, ey = x_point - origin, y_point - origin
+    ex, ey = ex / np.hypot(*ex), ey / np.hypot(*ey)
+    coord = deck.coord.reshape(-1, 3).copy()
+    x, y = coord[:, :1], coord[:, 1:2]
+    coord[:, :2] = origin + (x * ex + y * ey)
+    return replace(deck, coord=coord.ravel(), mapaxes=None)
+
+
 def layer_gaps(deck: Deck) -> int:
     """How many cell corners of ``deck`` open a vertical gap: a layer's top above its
     neighbour's bottom on the same pillar. ROFF stores them (nodes of split 2 or 8); xtgeo 4's

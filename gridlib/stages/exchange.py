@@ -1,7 +1,8 @@
 """Stage ``exchange``: the case in the files other geomodelling tools open.
 
 * ``{case}.roff`` (cornerpoint and deck cases: the grids with logical (i, j, k) corner-point
-  geometry): the grid of ``grid.grdecl`` (COORD, ZCORN, ACTNUM) as a ROFF grid
+  geometry): the grid of ``grid.grdecl`` (COORD, ZCORN, ACTNUM; in map coordinates where the
+  deck has MAPAXES, as RMS exports ROFF: :func:`~gridlib.io.roff.map_coordinates`) as a ROFF grid
   (:mod:`gridlib.io.roff`; binary, or ASCII with ``outputs.roff_format: ascii``) with its
   parameters in the same file, as RMS exports a grid with its parameters: ``PORO``, ``PERMX``,
   ``PERMY``, ``PERMZ``, ``NTG`` (float32; -999.0 in inactive cells, RMS's undefined value) and,
@@ -41,7 +42,7 @@ from ..io.irap_binary import write_irap_binary
 from ..io.netcdf import read_netcdf
 from ..io.polygons import write_polygons
 from ..io.rock_file import read_rock
-from ..io.roff import layer_gaps, read_roff_grid, write_roff_grid
+from ..io.roff import layer_gaps, map_coordinates, read_roff_grid, write_roff_grid
 from ..pillars.horizon_maps import depth_function
 from .common import log
 
@@ -100,6 +101,9 @@ def stage_exchange(
         if grdecl is None:
             raise ValueError(f"{case.path}: {{case}}.roff is written from grid.grdecl")
         deck = read_grdecl(grdecl)
+        if deck.mapaxes is not None:
+            log.info("note: %s is in map coordinates: the deck's MAPAXES applied", roff)
+            deck = map_coordinates(deck)
         index_map = read_netcdf(grid).grid.cells.index_map
         zones = zone_layers(case, deck.cart_dims[2])
         rock = read_rock(petrophysics) if petrophysics is not None else None

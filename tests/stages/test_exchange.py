@@ -366,3 +366,40 @@ def test_rms_roff_export_builds_the_grid_of_its_grdecl_export(tmp_path):
     np.testing.assert_allclose(poro[active], ref.deck.cell_data["PORO"][active], rtol=0, atol=1e-9)
     assert poro[~active].tolist() == [0.0] * int((~active).sum())  # RMS's -999: 0 in inactive cells
     assert any("FACIES" in note for note in got.notes)  # not a GRID keyword: named, not used
+
+
+def test_the_roff_of_a_grdecl_case_with_mapaxes_is_where_rms_puts_the_model(tmp_path):
+    """The Emerald GRDECL export (local coordinates, MAPAXES) through the exchange stage gives a
+    ROFF in map coordinates, as RMS's own ROFF export of the model: xtgeo reads both at the
+    same place (pillars within 1.5 mm: the GRDECL's and its MAPAXES' 3 decimals), with the
+    same active cells,
+    their corner depths within 0.5 mm and their PORO to float32."""
+    from real_decks import unpack
+
+    folder = unpack("emerald_hole", tmp_path)
+    name = "eme_small_w_hole_grid_params"
+    _case(
+        folder / "emerald.yaml",
+        {"type": "deck", "file": f"{name}.grdecl", "unknown_keywords": "skip"},
+        petrophysics={"permeability": {"constant": 100.0}},
+    )
+    paths = _run(folder / "emerald.yaml", folder / "out")
+    ours, rms = (xtgeo.grid_from_file(p) for p in (paths["roff"], folder / f"{name}.roff"))
+    (c1, _, a1), (c2, _, a2) = _xtgeo_arrays(ours), _xtgeo_arrays(rms)
+    np.testing.assert_allclose(c1, c2, rtol=0, atol=1.5e-3)
+    np.testing.assert_array_equal(a1, a2)
+    deck = read_roff_grid(paths["roff"]).deck
+    rms_deck = read_roff_grid(folder / f"{name}.roff").deck
+    cells = np.flatnonzero(deck.active)
+    np.testing.assert_allclose(
+        corner_points(deck, cells)[:, :, 2], corner_points(rms_deck, cells)[:, :, 2], rtol=0, atol=5e-4 + 2e-4
+    )
+    ours_poro, rms_poro = (
+        xtgeo.gridproperty_from_file(p, name="PORO", grid=g).values
+        for p, g in ((paths["roff"], ours), (folder / f"{name}.roff", rms))
+    )
+    stored = read_netcdf(paths["grid"]).grid  # PORO 0 cells are inactive in the case, -999 in our ROFF
+    on = np.zeros(deck.active.size, bool)
+    on[stored.cells.index_map] = True
+    flat = lambda v: np.ma.filled(v, np.nan).transpose(2, 1, 0).ravel()  # noqa: E731
+    np.testing.assert_array_equal(flat(ours_poro)[on], flat(rms_poro)[on])
