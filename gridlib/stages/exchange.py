@@ -36,10 +36,10 @@ from ..connectivity import ragged_arange
 from ..cornerpoint.deck import Deck
 from ..horizons.surface import Surface
 from ..io.atomic import atomic_directory
+from ..io.datasets import open_artifact, read_variable
 from ..io.grdecl import read_grdecl
 from ..io.horizon_files import read_horizons, read_surface_netcdf
 from ..io.irap_binary import write_irap_binary
-from ..io.netcdf import read_netcdf
 from ..io.polygons import write_polygons
 from ..io.rock_file import read_rock
 from ..io.roff import layer_gaps, map_coordinates, read_roff_grid, write_roff_grid
@@ -104,7 +104,8 @@ def stage_exchange(
         if deck.mapaxes is not None:
             log.info("note: %s is in map coordinates: the deck's MAPAXES applied", roff)
             deck = map_coordinates(deck)
-        index_map = read_netcdf(grid).grid.cells.index_map
+        with open_artifact(grid) as ds:  # the deck's cell of each grid cell, not the whole grid
+            index_map = read_variable(ds, "cell_index_map", "iu", 1).astype(np.int64)
         zones = zone_layers(case, deck.cart_dims[2])
         rock = read_rock(petrophysics) if petrophysics is not None else None
         params = roff_parameters(deck, index_map, rock, zones)
