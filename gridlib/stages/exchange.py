@@ -35,7 +35,7 @@ from ..config import Case
 from ..connectivity import ragged_arange
 from ..cornerpoint.deck import Deck
 from ..horizons.surface import Surface
-from ..io.atomic import atomic_directory
+from ..io.atomic import atomic_directory, write_keeping_suffix
 from ..io.datasets import open_artifact, read_variable
 from ..io.grdecl import read_grdecl
 from ..io.horizon_files import read_horizons, read_surface_netcdf
@@ -100,45 +100,60 @@ def stage_exchange(
     if roff is not None:
         if grdecl is None:
             raise ValueError(f"{case.path}: {{case}}.roff is written from grid.grdecl")
-        deck = read_grdecl(grdecl)
-        if deck.mapaxes is not None:
-            log.info("note: %s is in map coordinates: the deck's MAPAXES applied", roff)
-            deck = map_coordinates(deck)
-        with open_artifact(grid) as ds:  # the deck's cell of each grid cell, not the whole grid
-            index_map = read_variable(ds, "cell_index_map", "iu", 1).astype(np.int64)
-        zones = zone_layers(case, deck.cart_dims[2])
-        rock = read_rock(petrophysics) if petrophysics is not None else None
-        params = roff_parameters(deck, index_map, rock, zones)
-        binary = case.data["outputs"]["roff_format"] == "binary"
-        _write_atomic(Path(roff), deck, zones, params, binary)
-        gaps = layer_gaps(deck)
-        if gaps:
-            log.info(
-                "note: %s has %d cell corners where a layer's top lies below the bottom of the layer "
-                "above (a vertical gap): ROFF holds them exactly (split nodes), but xtgeo 4 refuses "
-                "such a grid (docs/roff.md, Limits)",
-                roff,
-                gaps,
-            )
-        log.info(
-            "wrote %s (%s; subgrids %s; parameters %s)",
-            roff,
-            "binary" if binary else "ASCII",
-            zones,
-            ", ".join(params) or "none",
-        )
+        write_case_roff(case, Path(roff), grid, grdecl, petrophysics)
     if exchange is not None:
         if horizons is None:
             raise ValueError(f"{case.path}: exchange/ is written from horizons.nc")
-        surfaces = horizon_surfaces(horizons)
-        with atomic_directory(exchange) as folder:
-            for surface in surfaces:
-                write_irap_binary(folder / f"{file_stem(surface.name)}.gri", surface)
-            if case.data.get("faults"):
-                traces, sticks = fault_polylines(case, surfaces[0], surfaces[-1])
-                write_polygons(folder / "faults.pol", traces)
-                write_polygons(folder / "fault_sticks.pol", sticks)
-        log.info("wrote %s: %d horizons (IRAP binary)%s", exchange, len(surfaces), _faults_note(case))
+        write_exchange_folder(case, Path(exchange), horizons)
+
+
+def write_case_roff(
+    case: Case,
+    roff: Path,
+    grid: str | os.PathLike,
+    grdecl: str | os.PathLike,
+    petrophysics: str | os.PathLike | None,
+) -> None:
+    """``roff``: the grid of ``grdecl`` (in map coordinates where it has MAPAXES), the rock of
+    ``petrophysics`` on the cells of ``grid`` and the case's zones, atomically."""
+    deck = read_grdecl(grdecl)
+    if deck.mapaxes is not None:
+        log.info("note: %s is in map coordinates: the deck's MAPAXES applied", roff)
+        deck = map_coordinates(deck)
+    with open_artifact(grid) as ds:  # the deck's cell of each grid cell, not the whole grid
+        index_map = read_variable(ds, "cell_index_map", "iu", 1).astype(np.int64)
+    zones = zone_layers(case, deck.cart_dims[2])
+    rock = read_rock(petrophysics) if petrophysics is not None else None
+    params = roff_parameters(deck, index_map, rock, zones)
+    binary = case.data["outputs"]["roff_format"] == "binary"
+    write_keeping_suffix(
+        roff, lambda tmp: write_roff_grid(tmp, deck, subgrids=zones, binary=binary, parameters=params)
+    )
+    gaps = layer_gaps(deck)
+    if gaps:
+        log.info(
+            "note: %s has %d cell corners where a layer's top lies below the bottom of the layer "
+            "above (a vertical gap): ROFF holds them exactly (split nodes), but xtgeo 4 refuses "
+            "such a grid (docs/roff.md, Limits)",
+            roff,
+            gaps,
+        )
+    kind = "binary" if binary else "ASCII"
+    log.info("wrote %s (%s; subgrids %s; parameters %s)", roff, kind, zones, ", ".join(params) or "none")
+
+
+def write_exchange_folder(case: Case, exchange: Path, horizons: str | os.PathLike) -> None:
+    """``exchange/``: the horizons of ``horizons`` as IRAP binary surfaces and, where the case
+    has faults, ``faults.pol`` and ``fault_sticks.pol``; written whole or not at all."""
+    surfaces = horizon_surfaces(horizons)
+    with atomic_directory(exchange) as folder:
+        for surface in surfaces:
+            write_irap_binary(folder / f"{file_stem(surface.name)}.gri", surface)
+        if case.data.get("faults"):
+            traces, sticks = fault_polylines(case, surfaces[0], surfaces[-1])
+            write_polygons(folder / "faults.pol", traces)
+            write_polygons(folder / "fault_sticks.pol", sticks)
+    log.info("wrote %s: %d horizons (IRAP binary)%s", exchange, len(surfaces), _faults_note(case))
 
 
 def _faults_note(case: Case) -> str:
@@ -212,11 +227,3 @@ def _draped(xy: np.ndarray, depth, spacing: float) -> tuple[list[np.ndarray], np
     corner = vertex.copy()
     corner[on], corner[off - 1] = True, True
     return pieces, points[corner & defined]
-
-
-def _write_atomic(path: Path, deck: Deck, zones, params, binary: bool) -> None:
-    from ..io.atomic import write_keeping_suffix
-
-    write_keeping_suffix(
-        path, lambda tmp: write_roff_grid(tmp, deck, subgrids=zones, binary=binary, parameters=params)
-    )
