@@ -403,3 +403,21 @@ def test_the_roff_of_a_grdecl_case_with_mapaxes_is_where_rms_puts_the_model(tmp_
     on[stored.cells.index_map] = True
     flat = lambda v: np.ma.filled(v, np.nan).transpose(2, 1, 0).ravel()  # noqa: E731
     np.testing.assert_array_equal(flat(ours_poro)[on], flat(rms_poro)[on])
+
+
+def test_a_cases_roff_as_the_grid_of_another_case_round_trips(anticline_built, tmp_path):
+    """exchange -> case -> exchange: the anticline's ROFF (grid, rock and zones in one file) as
+    a deck case's grid gives a ROFF with the same grid, subgrids and parameters, bit for bit."""
+    paths, _ = anticline_built
+    (tmp_path / "again.roff").write_bytes(paths["roff"].read_bytes())
+    _case(tmp_path / "again.yaml", {"type": "deck", "file": "again.roff"})
+    assert load_case(tmp_path / "again.yaml").has_petrophysics  # PORO and PERMX in the grid file
+    again = _run(tmp_path / "again.yaml", tmp_path / "out")
+    first, second = read_roff_grid(paths["roff"]), read_roff_grid(again["roff"])
+    assert second.subgrids.tolist() == first.subgrids.tolist() == [1, 2]
+    np.testing.assert_array_equal(second.deck.coord, first.deck.coord)
+    np.testing.assert_array_equal(second.deck.zcorn, first.deck.zcorn)
+    np.testing.assert_array_equal(second.deck.actnum, first.deck.actnum)
+    assert list(second.parameters) == list(first.parameters)
+    for name, values in first.parameters.items():
+        np.testing.assert_array_equal(second.parameters[name], values, err_msg=name)
