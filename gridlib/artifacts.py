@@ -223,7 +223,7 @@ STAGES: tuple[Stage, ...] = (
         (
             Artifact("flow_summary", "flow/summary.json"),
             Artifact("flow_wells", "flow/{case}_wells.png", report=Report("wells.rst", "Simulations")),
-            Artifact("flow_vtu", "flow/{case}_flow.vtu"),
+            Artifact("flow_pvd", "flow/{case}_flow.pvd"),
         ),
         when=lambda case: case.writes_flow_deck and case.has_simulation,
         on_request=True,

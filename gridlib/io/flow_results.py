@@ -5,9 +5,10 @@ cell states of the restart file (UNRST), read with resfo.
   report steps (``report``: the last time step of each); values are float32 in the file;
 * :func:`read_fip_report`: the field's "Originally in place" and "Currently in place"
   lines of the PRT file's last FIP report (surface volumes, integers as Flow prints them);
-* :func:`read_restart_cells`: a cell keyword (PRESSURE, SWAT, ...) at every report step,
-  per active cell in Flow's order (ascending linear index); :func:`active_positions` puts
-  them on the cells of a grid through ``cell_flow_index``.
+* :func:`restart_steps`: every report step of the restart file (UNRST) with its time, unit
+  system and solution arrays (PRESSURE, SWAT, SGAS, RS, ... as Flow wrote them), per active
+  cell in Flow's order (ascending linear index), one step at a time; :func:`active_positions`
+  puts them on the cells of a grid through ``cell_flow_index``.
 
 Units: those of the deck (METRIC: sm3, sm3/day, bar; FIELD: stb, stb/day, psia).
 """
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -24,7 +26,14 @@ import resfo
 
 from ..errors import InputError
 
-__all__ = ["FlowSummary", "active_positions", "read_fip_report", "read_restart_cells", "read_summary"]
+__all__ = [
+    "FlowSummary",
+    "RestartStep",
+    "active_positions",
+    "read_fip_report",
+    "read_summary",
+    "restart_steps",
+]
 
 
 def _keywords(path: Path) -> list[tuple[str, object]]:
@@ -127,17 +136,61 @@ def read_fip_report(prt: str | os.PathLike) -> dict[str, float | dict[str, float
     return reports[-1]
 
 
-def read_restart_cells(case: str | os.PathLike, keyword: str) -> list[np.ndarray]:
-    """``keyword`` (PRESSURE, SWAT, ...) per active cell at every step of ``case``.UNRST."""
-    base = Path(case)
-    steps = [
-        np.asarray(value, dtype=np.float64)
-        for kw, value in _keywords(base.with_name(base.name + ".UNRST"))
-        if kw == keyword
-    ]
-    if not steps:
-        raise InputError(f"{base}.UNRST: no {keyword} (is it written at the report steps?)")
-    return steps
+# INTEHEAD item 3 (index 2): the run's unit system; item 12 (index 11): the number of active cells
+RESTART_UNITS = {1: "METRIC", 2: "FIELD", 3: "LAB", 4: "PVT-M"}
+_INTEHEAD_UNITS, _INTEHEAD_NACTIVE = 2, 11
+
+
+@dataclass(frozen=True, eq=False)
+class RestartStep:
+    """One report step of a restart file: ``step`` (its SEQNUM; 0 is the initial state),
+    ``days`` since the start (DOUBHEAD item 1), ``units`` (the unit system of INTEHEAD: METRIC,
+    FIELD, LAB or PVT-M) and ``cells``: every array of the step's solution section
+    (STARTSOL ... ENDSOL) with one value per active cell, keyword -> float64 array in Flow's
+    order of active cells, in file order (PRESSURE, SWAT, SGAS, RS, RV, ... as the run wrote)."""
+
+    step: int
+    days: float
+    units: str
+    cells: dict[str, np.ndarray]
+
+
+def restart_steps(case: str | os.PathLike) -> Iterator[RestartStep]:
+    """The report steps of ``case``.UNRST, one at a time (resfo's lazy reader: one step's
+    arrays in memory). A file that is not a unified restart file is an InputError naming it."""
+    path = Path(case).with_name(Path(case).name + ".UNRST")
+    if not path.is_file():
+        raise InputError(f"{path}: not found (did OPM Flow run?)")
+    head: dict[str, np.ndarray] = {}
+    cells: dict[str, np.ndarray] = {}
+    solution = False
+    try:
+        for entry in resfo.lazy_read(path):
+            keyword = entry.read_keyword().strip()
+            if keyword in ("SEQNUM", "INTEHEAD", "DOUBHEAD"):
+                if keyword == "SEQNUM" and head:
+                    yield _restart_step(path, head, cells)
+                    head, cells = {}, {}
+                head[keyword] = np.asarray(entry.read_array())
+            elif keyword in ("STARTSOL", "ENDSOL"):
+                solution = keyword == "STARTSOL"
+            elif (
+                solution and "INTEHEAD" in head and entry.read_length() == head["INTEHEAD"][_INTEHEAD_NACTIVE]
+            ):
+                values = np.asarray(entry.read_array())
+                if values.dtype.kind == "f":
+                    cells[keyword] = values.astype(np.float64)
+    except resfo.ResfoParsingError as exc:
+        raise InputError(f"{path}: not readable as an ECLIPSE binary file ({exc})") from None
+    if head:
+        yield _restart_step(path, head, cells)
+
+
+def _restart_step(path: Path, head: dict[str, np.ndarray], cells: dict[str, np.ndarray]) -> RestartStep:
+    if not {"SEQNUM", "INTEHEAD", "DOUBHEAD"} <= set(head):
+        raise InputError(f"{path}: a report step without SEQNUM, INTEHEAD and DOUBHEAD (not a restart file?)")
+    units = RESTART_UNITS.get(int(head["INTEHEAD"][_INTEHEAD_UNITS]), "unknown")
+    return RestartStep(int(head["SEQNUM"][0]), float(head["DOUBHEAD"][0]), units, cells)
 
 
 def active_positions(egrid: str | os.PathLike, flow_index: np.ndarray) -> np.ndarray:

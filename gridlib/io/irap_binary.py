@@ -14,7 +14,8 @@ Values run i (x) fastest, from the origin row (j = 0) up, as in IRAP classic ASC
 (:mod:`gridlib.io.irap`); RMS and xtgeo write one record per row (``m = nx``), the reader takes
 records of any length. ``rotation`` is in degrees counter-clockwise from the x axis about
 (xori, yori); ``xmax``/``ymax`` are the unrotated extent, ``xrot``/``yrot`` the rotation origin
-(written as xori, yori; both ignored on reading, as by xtgeo). A negative ``yinc`` means rows
+(written as xori, yori; both ignored on reading, as by xtgeo). Bytes after the last value
+record are ignored (ResInsight appends a text footer of metadata there). A negative ``yinc`` means rows
 run the other way (xtgeo's ``yflip = -1``): the reader turns such a lattice to a positive
 ``yinc`` with the rows reversed and the origin moved to the old last row, the same nodes.
 These facts are from xtgeo's reader and writer (``xtgeo.surface``, LGPL; read, not copied)
@@ -109,15 +110,15 @@ def read_irap_binary(path: str | os.PathLike, *, elevation: bool = False, name: 
     nx, rotation = head[11], head[12]
     if nx < 1 or ny < 1:
         raise InputError(f"{p}: IRAP binary header: nx and ny must be positive, got {nx} x {ny}")
-    for key, v, ok in (
-        ("xori", xori, True),
-        ("yori", yori, True),
-        ("rotation", rotation, True),
-        ("xinc (positive)", xinc, xinc > 0),
-        ("yinc (non-zero)", yinc, yinc != 0),
+    for key, v, ok, need in (
+        ("xori", xori, True, "finite"),
+        ("yori", yori, True, "finite"),
+        ("rotation", rotation, True, "finite"),
+        ("xinc", xinc, xinc > 0, "finite and positive"),
+        ("yinc", yinc, yinc != 0, "finite and non-zero"),
     ):
         if not (math.isfinite(v) and ok):
-            raise InputError(f"{p}: IRAP binary header: {key} must be finite, got {v!r}")
+            raise InputError(f"{p}: IRAP binary header: {key} must be {need}, got {v!r}")
     values = _values(p, buf, nx * ny)
     values[values >= IRAP_UNDEFINED] = np.nan
     z = values.reshape(ny, nx)
@@ -138,18 +139,16 @@ def _values(p: Path, buf: bytes, count: int) -> np.ndarray:
     """The ``count`` float32 values of the value records after the header, as float64."""
     body = memoryview(buf)[_HEADER_BYTES:]
     first = struct.unpack_from(">i", body)[0] if len(body) >= 4 else 0
-    if (
-        first > 0
-        and first % 4 == 0
-        and len(body) % (first + 8) == 0
-        and count * 4 == len(body) // (first + 8) * first
-    ):
-        # every record of one length (as RMS and xtgeo write): one vectorised view
-        rec = np.frombuffer(body, dtype=">i4").reshape(-1, first // 4 + 2)
+    need = (
+        count * 4 // first * (first + 8) if first > 0 and first % 4 == 0 and (4 * count) % first == 0 else 0
+    )
+    if need and len(body) >= need:
+        # records of one length (as RMS and xtgeo write them): one vectorised view
+        rec = np.frombuffer(body[:need], dtype=">i4").reshape(-1, first // 4 + 2)
         if (rec[:, 0] == first).all() and (rec[:, -1] == first).all():
             return rec[:, 1:-1].view(">f4").astype(np.float64).ravel()
-    parts, offset = [], 0
-    while offset < len(body):  # records of differing lengths: one step per record
+    parts, offset, got = [], 0, 0
+    while offset < len(body) and got < count:  # other record lengths: one step per record
         where = _HEADER_BYTES + offset
         if offset + 4 > len(body):
             raise InputError(f"{p}: byte {where}: IRAP binary record cut short")
@@ -160,6 +159,7 @@ def _values(p: Path, buf: bytes, count: int) -> np.ndarray:
                 f"{p}: byte {where}: bad IRAP binary record (length {size}, not matched at its end)"
             )
         parts.append(np.frombuffer(body[offset + 4 : end], dtype=">f4"))
+        got += size // 4
         offset = end + 4
     values = np.concatenate(parts).astype(np.float64) if parts else np.zeros(0)
     if values.size != count:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 import zlib
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
@@ -157,17 +158,53 @@ class _AppendedArray:
         return [header.tobytes(), *self.parts]
 
 
+@dataclass(frozen=True, eq=False)
+class VtuGeometry:
+    """A grid's points and cells as :func:`write_vtu` stores them (compressed or not), laid
+    out once for many files of one grid (a time series: :mod:`gridlib.io.pvd`)."""
+
+    num_points: int
+    num_cells: int
+    compress: bool
+    arrays: tuple[tuple[str, str, str, int, list[bytes]], ...]  # (section, name, VTK type, components, bytes)
+
+
+def vtu_geometry(grid: Grid, *, compress: bool = True) -> VtuGeometry:
+    """The Points and Cells arrays of ``grid``'s VTU, z as elevation (:func:`vtk_points`)."""
+    points = vtk_points(grid.nodes.coords)
+    arrays = [_array("Points", "Points", np.float64, 3, _row_blocks(points, BLOCK_CELLS * 8), compress)]
+    if grid.griddim == 3:
+        arrays += _polyhedra(grid, compress)
+    else:
+        pos, cyc = cell_node_cycles_2d(grid)
+        arrays.append(_array("Cells", "connectivity", np.int64, 1, [cyc], compress))
+        arrays.append(_array("Cells", "offsets", np.int64, 1, [pos[1:]], compress))
+        types = np.full(grid.num_cells, VTK_POLYGON, dtype=np.uint8)
+        arrays.append(_array("Cells", "types", np.uint8, 1, [types], compress))
+    return VtuGeometry(len(points), grid.num_cells, compress, tuple(arrays))
+
+
+def _array(section: str, name: str, dtype: type, ncomp: int, pieces, compress: bool):
+    """One DataArray of the appended block: (section, name, VTK type, components, bytes)."""
+    appended = _AppendedArray(compress)
+    for piece in pieces:
+        appended.add(np.asarray(piece, dtype=dtype))
+    return (section, name, _VTK_TYPES[np.dtype(dtype)], ncomp, appended.finish())
+
+
 def write_vtu(
     path: str | os.PathLike,
     grid: Grid,
     cell_data: dict[str, np.ndarray] | None = None,
     *,
     compress: bool = True,
+    geometry: VtuGeometry | None = None,
 ) -> Path:
     """Write ``grid`` with its cell data to a .vtu file (atomically), z as elevation
     (:func:`vtk_points`), zlib-compressed unless
     ``compress`` is False. Polyhedra are laid out block of cells by block of cells, and only
-    the compressed arrays are held: the memory beyond the grid is about the compressed file."""
+    the compressed arrays are held: the memory beyond the grid is about the compressed file.
+    ``geometry``: the grid's :func:`vtu_geometry` (same ``compress``), laid out before."""
     data = {}
     for name, values in (cell_data or {}).items():
         arr = np.asarray(values)
@@ -178,31 +215,15 @@ def write_vtu(
         if arr.dtype not in _VTK_TYPES:
             raise GridError(f"write_vtu: cell data '{name}' has unsupported type {arr.dtype}")
         data[name] = arr
-    points = vtk_points(grid.nodes.coords)
-    # (section, name, VTK type, components, bytes)
-    arrays: list[tuple[str, str, str, int, list[bytes]]] = []
-
-    def add(section: str, name: str, dtype: type, ncomp: int, pieces) -> None:
-        appended = _AppendedArray(compress)
-        for piece in pieces:
-            appended.add(np.asarray(piece, dtype=dtype))
-        arrays.append((section, name, _VTK_TYPES[np.dtype(dtype)], ncomp, appended.finish()))
-
-    add("Points", "Points", np.float64, 3, _row_blocks(points, BLOCK_CELLS * 8))
-    if grid.griddim == 3:
-        arrays += _polyhedra(grid, compress)
-    else:
-        pos, cyc = cell_node_cycles_2d(grid)
-        add("Cells", "connectivity", np.int64, 1, [cyc])
-        add("Cells", "offsets", np.int64, 1, [pos[1:]])
-        add("Cells", "types", np.uint8, 1, [np.full(grid.num_cells, VTK_POLYGON, dtype=np.uint8)])
+    if geometry is None:
+        geometry = vtu_geometry(grid, compress=compress)
+    elif (geometry.num_cells, geometry.compress) != (grid.num_cells, compress):
+        raise GridError("write_vtu: the geometry given is another grid's or compressed otherwise")
+    arrays = list(geometry.arrays)
     for name, arr in data.items():
-        add(
-            "CellData",
-            name,
-            arr.dtype.type,
-            1 if arr.ndim == 1 else arr.shape[1],
-            _row_blocks(arr, BLOCK_CELLS),
+        ncomp = 1 if arr.ndim == 1 else arr.shape[1]
+        arrays.append(
+            _array("CellData", name, arr.dtype.type, ncomp, _row_blocks(arr, BLOCK_CELLS), compress)
         )
 
     header, offset = [], 0
@@ -224,7 +245,7 @@ def write_vtu(
         '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
         f'header_type="UInt64"{compressor}>\n'
         "<UnstructuredGrid>\n"
-        f'<Piece NumberOfPoints="{len(points)}" NumberOfCells="{grid.num_cells}">\n'
+        f'<Piece NumberOfPoints="{geometry.num_points}" NumberOfCells="{grid.num_cells}">\n'
         f"<Points>\n{tags('Points')}\n</Points>\n"
         f"<Cells>\n{tags('Cells')}\n</Cells>\n"
         f"<CellData>\n{tags('CellData')}\n</CellData>\n"

@@ -10,9 +10,12 @@ opens them), then the stage writes, atomically:
   of the PRT file;
 * ``wells`` (``flow/{case}_wells.png``): every well's surface rates and bottom-hole pressure
   over time;
-* ``vtu`` (``flow/{case}_flow.vtu``): the grid (the case's own cells, not the connection
-  form's boxes) with Flow's pressure and water saturation at every report step
-  (``pressure_<days>d``, ``swat_<days>d``; through ``cell_flow_index``), for ParaView.
+* ``pvd`` (``flow/{case}_flow.pvd``): the results as a time series for ParaView, one VTU per
+  report step of the restart file (``flow/{case}_flow/{case}_flow_<step>.vtu``, step 0 the
+  initial state; the PVD's time is days since the start): the grid (the case's own cells, not
+  the connection form's boxes; z is elevation) with every solution array Flow wrote, lower
+  case (``pressure``, ``swat``, ``sgas``, ``rs``, ...; through ``cell_flow_index``) and the
+  cells' centroid ``depth`` (:func:`write_result_pvd`).
 
 A failed run leaves nothing behind and ends in an :class:`~gridlib.errors.InputError`
 naming the case file and quoting Flow's message. Units: the deck's (METRIC: sm3, sm3/day,
@@ -27,6 +30,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+from itertools import chain
 from pathlib import Path
 from typing import Any
 
@@ -37,12 +41,12 @@ from ..config import Case
 from ..errors import InputError
 from ..geometry import compute_geometry
 from ..io.atomic import atomic_path
-from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_restart_cells, read_summary
+from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_summary, restart_steps
 from ..io.netcdf import read_netcdf
 from ..io.pictures import save_figure
+from ..io.pvd import write_vtu_series
 from ..io.transmissibility_file import read_transmissibility
-from ..io.vtu import write_vtu
-from ..units import FIELD, METRIC, UnitSystem
+from ..units import FIELD, METRIC, UnitSystem, unit_system
 from .common import log
 
 FLOW_OUTPUTS = (".PRT", ".DBG", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST", ".INFOSTEP")
@@ -96,12 +100,12 @@ def stage_simulate(
     transmissibility: str | os.PathLike,
     flow_summary: str | os.PathLike,
     flow_wells: str | os.PathLike,
-    flow_vtu: str | os.PathLike | None = None,
+    flow_pvd: str | os.PathLike | None = None,
     options: tuple[str, ...] = (),
 ) -> FlowSummary:
     """Run Flow on the case's deck ``flow_deck``; write ``flow_summary`` (the figures, JSON),
-    ``flow_wells`` (the wells' picture) and ``flow_vtu`` (the results on the grid of ``grid``
-    and ``transmissibility``); returns the summary. ``options``: more command-line options of
+    ``flow_wells`` (the wells' picture) and ``flow_pvd`` (the results on the grid of ``grid``
+    and ``transmissibility``, a time series); returns the summary. ``options``: more command-line options of
     ``flow``."""
     deck = Path(flow_deck)
     if not deck.is_file():
@@ -138,8 +142,8 @@ def stage_simulate(
         with atomic_path(flow_summary) as path:
             path.write_text(json.dumps(figures, indent=2) + "\n")
         plot_wells(Path(flow_wells), summary, f"{case.name}: wells", deck_unit_system(deck))
-        if flow_vtu is not None:
-            write_result_vtu(Path(flow_vtu), base, grid, transmissibility, summary)
+        if flow_pvd is not None:
+            write_result_pvd(Path(flow_pvd), base, grid, transmissibility)
         # Flow's own files join the deck last: a run that fails above leaves none of them
         for suffix in FLOW_OUTPUTS:
             produced = Path(f"{base}{suffix}")
@@ -227,22 +231,44 @@ def wells_figure(summary: FlowSummary, title: str, units: UnitSystem):
     return fig
 
 
-def write_result_vtu(
-    path: Path, case_base: Path, grid_nc: str | os.PathLike, transmissibility_nc: str | os.PathLike, summary
-) -> None:
-    """The case's grid with Flow's PRESSURE and SWAT of every report step, per grid cell, and
-    its cells' centroid ``depth`` (the VTU's z is elevation: :func:`gridlib.io.vtu.vtk_points`)."""
+def write_result_pvd(
+    path: Path, case_base: Path, grid_nc: str | os.PathLike, transmissibility_nc: str | os.PathLike
+) -> Path:
+    """Flow's results (``case_base``.UNRST, .EGRID) on the case's grid as a ParaView time series
+    (:func:`gridlib.io.pvd.write_vtu_series`): per report step, every solution array of the
+    restart file under its keyword in lower case, in the run's units, and the cells' centroid
+    ``depth`` (the VTU's z is elevation: :func:`gridlib.io.vtu.vtk_points`); times in days."""
     grid = read_netcdf(grid_nc).grid
     variables, _ = read_transmissibility(transmissibility_nc)
     position = active_positions(Path(f"{case_base}.EGRID"), variables["cell_flow_index"].values)
     centroids = compute_geometry(grid).cell_centroids
-    data: dict[str, np.ndarray] = {"depth": centroids[:, 2]} if centroids.shape[1] == 3 else {}
-    days = [0.0] + [float(t) for t in summary.time[summary.report]]
-    for key, label in (("PRESSURE", "pressure"), ("SWAT", "swat")):
-        try:
-            steps = read_restart_cells(case_base, key)
-        except InputError:
-            continue
-        for day, values in zip(days, steps, strict=False):
-            data[f"{label}_{day:g}d"] = values[position]
-    write_vtu(path, grid, data)
+    static: dict[str, np.ndarray] = {"depth": centroids[:, 2]} if centroids.shape[1] == 3 else {}
+    steps = restart_steps(case_base)
+    first = next(steps, None)
+    if first is None:
+        raise InputError(f"{case_base}.UNRST: no report step")
+    system = unit_system(first.units) if first.units != "unknown" else None
+    length = system.length_label if system is not None else "?"
+    units = {k.lower(): _restart_unit(k, system) for k in first.cells} | {k: length for k in static}
+    note = f"OPM Flow results ({first.units}); cell arrays: " + ", ".join(
+        f"{k} [{u}]" for k, u in units.items()
+    )
+    note += f"; timestep: days since the start; z: elevation [{length}] = -depth"
+    series = (
+        (step.step, step.days, {k.lower(): v[position] for k, v in step.cells.items()} | static)
+        for step in chain([first], steps)
+    )
+    return write_vtu_series(path, grid, series, note=note)
+
+
+_SATURATIONS = ("SWAT", "SGAS", "SOIL")
+
+
+def _restart_unit(keyword: str, system: UnitSystem | None) -> str:
+    """The unit of a restart solution array: pressures in the run's, saturations fractions
+    ("1"), else "?" (as Flow wrote it, in the run's unit system)."""
+    if keyword in _SATURATIONS:
+        return "1"
+    if keyword == "PRESSURE" and system is not None:
+        return system.pressure_label
+    return "?"

@@ -109,6 +109,14 @@ def test_records_of_any_length_and_the_ascii_null(tmp_path):
     assert np.ma.getdata(x.values)[2, 0] == 9999900.0  # xtgeo's null is 1e30 only: why we write that
 
 
+def test_bytes_after_the_values_are_ignored(tmp_path):
+    """ResInsight appends a text footer of metadata after the last value record."""
+    s = rotated_surface()
+    path = write_irap_binary(tmp_path / "top.gri", s)
+    path.write_bytes(path.read_bytes() + b"----RESINSIGHT_METADATA_V1----\nsampleSpacing=50\n")
+    np.testing.assert_array_equal(read_irap_binary(path).z, s.z.astype(np.float32))
+
+
 def test_registry_writes_gri_as_binary(tmp_path):
     s = rotated_surface()
     io.write(tmp_path / "top.gri", s, kind="surface")
@@ -124,6 +132,7 @@ def test_registry_writes_gri_as_binary(tmp_path):
         (struct.pack(">3i", 32, -995, 2) + bytes(88), r"bad\.gri: not an IRAP binary surface \(big-endian"),
         ("cut", r"bad\.gri: byte 120: bad IRAP binary record \(length 12, not matched"),
         ("short", r"bad\.gri: IRAP binary surface of 6 nodes has 3 values"),
+        ("xinc", r"bad\.gri: IRAP binary header: xinc must be finite and positive, got -1\.0"),
     ],
 )
 def test_bad_files_name_the_file(tmp_path, data, message):
@@ -133,6 +142,8 @@ def test_bad_files_name_the_file(tmp_path, data, message):
         data = raw[:-6]
     elif data == "short":
         data = raw[:-20]
+    elif data == "xinc":
+        data = raw[:28] + struct.pack(">f", -1.0) + raw[32:]  # xinc: the header's 8th word
     (tmp_path / "bad.gri").write_bytes(data)
     with pytest.raises(InputError, match=message):
         read_irap_binary(tmp_path / "bad.gri")

@@ -7,7 +7,9 @@
 * a corner-point case simulated from its native deck (Flow's own transmissibilities, pore
   volumes, depths and well factors) and from the connection form (ours) gives the same well
   rates and pressures and field totals at every report step;
-* the PEBI sample case runs to its last report step and conserves water;
+* the PEBI sample case runs to its last report step and conserves water, and its results'
+  PVD lists every report step of the restart file with the restart's values per cell (pyvista;
+  xtgeo reads the same EGRID/UNRST, as ResInsight would);
 * a failed run names the case file and quotes Flow, and leaves nothing behind.
 
 ``make test`` installs Flow (its absence is a failure: tests/system_tools.py). The runs are small
@@ -23,7 +25,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 import pyvista as pv
+import resfo
 import xarray as xr
+import xtgeo
 from flow_tools import flow_connections, flow_executable, read_keywords, run_flow_dry
 
 from gridlib.config import load_case
@@ -159,7 +163,7 @@ def test_the_pebi_case_runs_to_its_end_and_conserves_water(built):
     outputs = {
         "summary": folder / "flow" / "summary.json",
         "wells": folder / "flow" / "waterflood_pebi_wells.png",
-        "vtu": folder / "flow" / "waterflood_pebi_flow.vtu",
+        "pvd": folder / "flow" / "waterflood_pebi_flow.pvd",
     }
     summary = stage_simulate(
         load_case(CASES / "waterflood_pebi.yaml"),
@@ -187,13 +191,67 @@ def test_the_pebi_case_runs_to_its_end_and_conserves_water(built):
     assert figures["simulated_days"] == 900.0 and figures["field"]["FWIT"] == 1500.0 * 900
     assert set(figures["wells"]) == {"INJ", "PROD"} and 0 < figures["oil_recovery"] < 1
     assert outputs["wells"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    mesh = pv.read(outputs["vtu"])
-    assert mesh.n_cells == json.loads((folder / "summary.json").read_text())["cells"]
-    assert mesh.cell_data["depth"].min() > 0 and mesh.bounds[5] < 0  # depth kept, z elevation
-    swat = mesh.cell_data["swat_900d"]
-    assert swat.max() > 0.5 and abs(swat.min() - 0.2) < 1e-3  # flooded near the injector, connate elsewhere
-    np.testing.assert_allclose(mesh.cell_data["swat_0d"][mesh.cell_data["pressure_0d"] > 0].min(), 0.2)
+    check_result_series(outputs["pvd"], folder, summary)
     print(f"water injected - produced {injected - produced:.1f} sm3, change in place {change:.0f} sm3")
+
+
+def check_result_series(pvd: Path, folder: Path, summary) -> None:
+    """The PVD lists every report step of the restart file (its SEQNUMs and DOUBHEAD days: the
+    initial state and the summary's report steps), and each of its VTUs, read with pyvista's
+    PVDReader, holds the restart's PRESSURE and SWAT (resfo, float32 widened exactly) on the
+    grid's cells in their order (through cell_flow_index and the EGRID's ACTNUM), their centroid
+    depth, and elevation as z."""
+    flow = folder / "flow" / "WATERFLOOD_PEBI"
+    restart: list[dict] = []
+    for keyword, value in resfo.read(f"{flow}.UNRST"):
+        keyword = keyword.strip()
+        if keyword == "SEQNUM":
+            restart.append({"step": int(value[0])})
+        elif keyword == "DOUBHEAD":
+            restart[-1]["days"] = float(value[0])
+        elif keyword in ("PRESSURE", "SWAT"):
+            restart[-1][keyword.lower()] = np.asarray(value, dtype=np.float64)
+    assert [r["step"] for r in restart] == list(range(7))
+    days = [r["days"] for r in restart]
+    assert days == [0.0, *summary.time[summary.report].tolist()] == [0, 90, 180, 360, 540, 720, 900]
+    egrid = read_keywords(Path(f"{flow}.EGRID"))
+    with xr.open_dataset(folder / "transmissibility.nc") as ds:
+        index = ds["cell_flow_index"].values
+    actnum = egrid["ACTNUM"] > 0 if "ACTNUM" in egrid else np.ones(int(index.max()) + 1, dtype=bool)
+    position = np.cumsum(actnum)[index] - 1
+    depth = read_geometry_netcdf(folder / "geometry.nc").cell_centroids[:, 2]
+    reader = pv.PVDReader(pvd)
+    assert reader.time_values == days
+    assert [d.path for d in reader.datasets] == [
+        f"waterflood_pebi_flow/waterflood_pebi_flow_{k:04d}.vtu" for k in range(7)
+    ]
+    for r in restart:
+        reader.set_active_time_value(r["days"])
+        mesh = reader.read()[0]
+        assert set(mesh.cell_data) == {"pressure", "swat", "depth"}
+        for key in ("pressure", "swat"):
+            np.testing.assert_array_equal(mesh.cell_data[key], r[key][position], err_msg=f"{key} {r['days']}")
+        np.testing.assert_array_equal(mesh.cell_data["depth"], depth)
+        assert mesh.bounds[5] < 0 and np.isclose(mesh.bounds[4], -depth.max(), atol=30)  # z is elevation
+    first, last = (reader.set_active_time_value(t) or reader.read()[0] for t in (0.0, 900.0))
+    assert abs(first.cell_data["swat"].min() - 0.2) < 1e-6 and last.cell_data["swat"].max() > 0.5  # flooded
+    assert "pressure [bar]" in pvd.read_text() and "swat [1]" in pvd.read_text()
+    # What ResInsight opens (EGRID, INIT, UNRST), read by another reader of those formats (xtgeo):
+    # the box grid of the connection form, our pore volumes, and at every report step the PVD's
+    # pressure per cell
+    box = xtgeo.grid_from_file(f"{flow}.EGRID")
+    assert box.nactive == index.size
+    porv = xtgeo.gridproperty_from_file(f"{flow}.INIT", fformat="init", name="PORV", grid=box)
+    with xr.open_dataset(folder / "transmissibility.nc") as ds:
+        ours = ds["porv"].values
+    np.testing.assert_allclose(np.ma.getdata(porv.values).ravel(order="F")[index], ours, rtol=1e-6)  # float32
+    props = xtgeo.gridproperties_from_file(
+        f"{flow}.UNRST", fformat="unrst", names=["PRESSURE"], dates="all", grid=box
+    )
+    pressures = [np.ma.getdata(p.values).ravel(order="F")[index] for p in props]  # (i, j, k) -> linear
+    assert len(pressures) == len(restart)
+    for values, r in zip(pressures, restart, strict=True):
+        np.testing.assert_array_equal(values, r["pressure"][position])
 
 
 def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
@@ -204,7 +262,7 @@ def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
             produced.unlink()
     deck = folder / "WATERFLOOD_PEBI.DATA"
     deck.write_text(deck.read_text().replace("\nPVTW\n", "\nPVTX\n 1 2 /\nPVTW\n"))  # a misspelt keyword
-    outputs = {k: folder / f"out.{k}" for k in ("summary", "wells", "vtu")}
+    outputs = {k: folder / f"out.{k}" for k in ("summary", "wells", "pvd")}
     before = sorted(p.name for p in folder.iterdir())
     with pytest.raises(InputError) as exc:
         stage_simulate(
@@ -223,7 +281,7 @@ def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
 
 
 def test_a_run_failing_after_flow_leaves_none_of_flows_files(built, tmp_path):
-    """Flow runs to its end, then the results' VTU cannot be written (the grid file is missing):
+    """Flow runs to its end, then the results' PVD cannot be written (the grid file is missing):
     the one error names the grid file, and none of Flow's files (UNRST, EGRID, PRT...) joins the
     deck, as a failed run leaves them nowhere."""
     folder = tmp_path / "late"
@@ -233,7 +291,7 @@ def test_a_run_failing_after_flow_leaves_none_of_flows_files(built, tmp_path):
             produced.unlink()
     outputs = {
         k: folder / f"out_{k}.{suffix}"
-        for k, suffix in (("summary", "json"), ("wells", "png"), ("vtu", "vtu"))
+        for k, suffix in (("summary", "json"), ("wells", "png"), ("pvd", "pvd"))
     }
     before = sorted(p.name for p in folder.iterdir())
     missing = tmp_path / "no_such_grid.nc"

@@ -265,10 +265,9 @@ def test_every_case_with_rock_has_a_flow_deck_and_snakemake_simulate_runs_flow(w
         assert figures["simulated_days"] == days[-1] and figures["report_days"] == days
         assert figures["field"]["FOPT"] > 0 and figures["case_sha256"] == SAMPLES[case].sha256
         assert (folder / f"{case}_wells.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-        assert (
-            pv.read(folder / f"{case}_flow.vtu").n_cells
-            == read_netcdf(folder.parent / "grid.nc").grid.num_cells
-        )
+        series = pv.PVDReader(folder / f"{case}_flow.pvd")
+        assert series.time_values == [0.0, *days]  # the initial state and every report step
+        assert series.read()[0].n_cells == read_netcdf(folder.parent / "grid.nc").grid.num_cells
         for suffix in (".PRT", ".SMSPEC", ".UNSMRY", ".EGRID", ".INIT", ".UNRST"):
             assert (folder / f"{case.upper()}{suffix}").is_file(), suffix
         assert (workflow_run / "results" / "logs" / case / "simulate.log").is_file()
