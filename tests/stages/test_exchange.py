@@ -421,3 +421,28 @@ def test_a_cases_roff_as_the_grid_of_another_case_round_trips(anticline_built, t
     assert list(second.parameters) == list(first.parameters)
     for name, values in first.parameters.items():
         np.testing.assert_array_equal(second.parameters[name], values, err_msg=name)
+
+
+def test_outputs_roff_format_ascii_writes_the_same_grid_as_text(anticline_built, tmp_path):
+    from dataclasses import replace
+
+    from gridlib.stages.exchange import write_case_roff
+
+    paths, case_file = anticline_built
+    case = load_case(case_file)
+    ascii_case = replace(
+        case, data={**case.data, "outputs": {**case.data["outputs"], "roff_format": "ascii"}}
+    )
+    target = tmp_path / "small_anticline.roff"
+    write_case_roff(ascii_case, target, paths["grid"], paths["grdecl"], paths["petrophysics"])
+    assert target.read_bytes()[:8] == b"roff-asc" and paths["roff"].read_bytes()[:8] == b"roff-bin"
+    text, binary = (xtgeo.grid_from_file(p) for p in (target, paths["roff"]))
+    for a, b in zip(_xtgeo_arrays(text), _xtgeo_arrays(binary), strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert text.subgrids == binary.subgrids
+    for name in ("PORO", "ZONE"):
+        one, two = (
+            xtgeo.gridproperty_from_file(p, name=name, grid=g)
+            for p, g in ((target, text), (paths["roff"], binary))
+        )
+        np.testing.assert_array_equal(one.values, two.values)
