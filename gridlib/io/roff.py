@@ -332,6 +332,23 @@ def read_roff_grid(path: str | os.PathLike) -> RoffGrid:
     return RoffGrid(deck, subgrids, _parameters(tags, path))
 
 
+def read_roff_subgrids(path: str | os.PathLike) -> NDArray[np.int64] | None:
+    """The zones' layer counts (top down) of a ROFF grid file, None if it has none: the
+    ``subgrids`` tag alone, the arrays left unread."""
+    import roffio
+
+    try:
+        with roffio.lazy_read(_readable(Path(path))) as tags:
+            for name, keys in tags:
+                if name == "subgrids":
+                    for key, value in keys:
+                        if key == "nLayers":
+                            return np.asarray(value, dtype=np.int64).ravel()
+    except (*_READ_ERRORS, *_roffio_errors()) as exc:
+        raise InputError(f"{path}: not a readable ROFF file ({exc})") from None
+    return None
+
+
 def read_roff_deck(path: str | os.PathLike) -> Deck:
     """The :class:`Deck` of a ROFF grid file (the registry's reader): its parameters named as
     GRID-section keywords (PORO, PERMX, PERMY, PERMZ, NTG, MULTX, FLUXNUM, ...; any case) are

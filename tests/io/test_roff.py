@@ -17,6 +17,7 @@ from gridlib.io.roff import (
     layer_gaps,
     read_roff_grid,
     read_roff_parameter,
+    read_roff_subgrids,
     write_roff_grid,
     write_roff_parameter,
 )
@@ -102,6 +103,7 @@ def test_round_trip_with_subgrids_and_gaps(tmp_path, deck, binary):
     write_roff_grid(path, gapped, subgrids=[1, 3], binary=binary)
     back = read_roff_grid(path)
     np.testing.assert_array_equal(back.subgrids, [1, 3])
+    np.testing.assert_array_equal(read_roff_subgrids(path), [1, 3])
     np.testing.assert_array_equal(back.deck.coord, gapped.coord)
     np.testing.assert_array_equal(back.deck.zcorn, gapped.zcorn)
     np.testing.assert_array_equal(back.deck.actnum, gapped.actnum)
