@@ -73,13 +73,16 @@ class Report:
 class Artifact:
     """A file a stage writes: its key (the stage functions' keyword), its path in the case's
     folder, which cases have it (beside its stage's own condition), and which cases remove it
-    once their run ends (``temporary``: Snakemake's ``temp()``)."""
+    once their run ends (``temporary``: Snakemake's ``temp()``). A ``directory`` artifact is a
+    folder whose files the case decides (``exchange/``: one surface per horizon): Snakemake's
+    ``directory()``, written whole by :func:`gridlib.io.atomic.atomic_directory`."""
 
     key: str
     path: str
     when: CasePredicate = always
     temporary: CasePredicate = never
     report: Report | None = None
+    directory: bool = False
 
     def path_in(self, folder: str | os.PathLike, name: str) -> Path:
         """The artifact's path in ``folder`` for the case called ``name``."""
@@ -238,6 +241,18 @@ STAGES: tuple[Stage, ...] = (
         mem_mb=2000,
         doc="The pictures of a QC slide: the grid in 3-D, its histograms, plan view and cross-section, "
         "and the horizon-pick residuals.",
+    ),
+    Stage(
+        "exchange",
+        "gridlib.stages.exchange:stage_exchange",
+        ("grid", "grdecl", "petrophysics", "horizons"),
+        (
+            Artifact("roff", "{case}.roff", when=lambda case: case.writes_grdecl),
+            Artifact("exchange", "exchange", when=lambda case: case.has_horizons, directory=True),
+        ),
+        when=lambda case: case.writes_grdecl or case.has_horizons,
+        doc="The grid, rock and zones as ROFF; the horizons as IRAP binary surfaces and the faults as "
+        "RMS/xtgeo polygons in exchange/ (RMS, xtgeo, ResInsight).",
     ),
     Stage(
         "flow_deck",

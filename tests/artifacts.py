@@ -1,6 +1,6 @@
 """Comparing two builds of a case: every variable and attribute of every netCDF file, the
-GRDECL, VTU and VTP files, summary.json and the OPM Flow deck with its includes (flow/*.DATA,
-flow/*.INC) must be identical (bit for bit)."""
+GRDECL, VTU, VTP and ROFF files, summary.json, the OPM Flow deck with its includes (flow/*.DATA,
+flow/*.INC) and the exchange files (exchange/*.gri, *.pol) must be identical (bit for bit)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-COMPARED_SUFFIXES = (".nc", ".grdecl", ".vtu", ".vtp", ".json")
+COMPARED_SUFFIXES = (".nc", ".grdecl", ".vtu", ".vtp", ".json", ".roff")
 DECK_SUFFIXES = (".DATA", ".INC")
+EXCHANGE_SUFFIXES = (".gri", ".pol")
 
 
 def compared_files(folder: Path) -> list[str]:
@@ -19,6 +20,10 @@ def compared_files(folder: Path) -> list[str]:
     names = [p.name for p in folder.iterdir() if p.suffix in COMPARED_SUFFIXES]
     if (folder / "flow").is_dir():
         names += [f"flow/{p.name}" for p in (folder / "flow").iterdir() if p.suffix in DECK_SUFFIXES]
+    if (folder / "exchange").is_dir():
+        names += [
+            f"exchange/{p.name}" for p in (folder / "exchange").iterdir() if p.suffix in EXCHANGE_SUFFIXES
+        ]
     return sorted(names)
 
 

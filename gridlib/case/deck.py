@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from ..config import Case, named_file
 from ..cornerpoint.deck import Deck
 from ..errors import InputError
@@ -34,9 +36,48 @@ def read_case_deck(case: Case) -> Deck:
     """
     path = deck_path(case)
     if find_format(path, "deck").name != "grdecl":
-        return read(path, kind="deck")
-    deck = read(path, kind="deck", unknown_keywords=case.data["grid"]["unknown_keywords"])
-    return _grid_arrays(deck)
+        deck = read(path, kind="deck")
+    else:
+        deck = read(path, kind="deck", unknown_keywords=case.data["grid"]["unknown_keywords"])
+    return _grid_arrays(with_parameter_files(case, deck))
+
+
+def with_parameter_files(case: Case, deck: Deck) -> Deck:
+    """``deck`` with the arrays of the case's ``grid.parameters`` (keyword -> a ROFF parameter
+    file, or a ROFF grid file holding a parameter of that name; relative to the case file):
+    each replaces the deck's own array of that keyword. An InputError names the key where a
+    file is missing, holds no such parameter or has other dimensions."""
+    from ..io.roff import read_roff_parameters, with_parameters
+
+    given = case.data["grid"].get("parameters") or {}
+    arrays = {}
+    for keyword, name in given.items():
+        path = named_file(case.path, name)
+        where = f"{case.path}: grid.parameters.{keyword}: {name}"
+        if not path.is_file():
+            raise InputError(f"{where}: not found (looked for {path})")
+        try:
+            found = read_roff_parameters(path, None)
+        except InputError as exc:
+            raise InputError(f"{case.path}: grid.parameters.{keyword}: {exc}") from None
+        arrays[keyword] = _parameter(found, keyword, where)
+        if arrays[keyword].size != np.prod(deck.cart_dims):
+            raise InputError(
+                f"{where}: {arrays[keyword].size} values, the grid has {int(np.prod(deck.cart_dims))} cells "
+                f"({' x '.join(map(str, deck.cart_dims))})"
+            )
+    return with_parameters(deck, arrays, str(case.path)) if arrays else deck
+
+
+def _parameter(found: dict[str, np.ndarray], keyword: str, where: str) -> np.ndarray:
+    """The parameter named ``keyword`` (any case), else a file's only parameter."""
+    for name, values in found.items():
+        if name.upper() == keyword:
+            return values
+    if len(found) == 1:
+        return next(iter(found.values()))
+    names = ", ".join(found) or "none"
+    raise InputError(f"{where}: no parameter {keyword} among the file's {len(found)} ({names})")
 
 
 def _grid_arrays(deck: Deck) -> Deck:

@@ -32,7 +32,7 @@ import yaml
 from ..errors import InputError
 from ..version import __version__
 from .checks import case_problem, qc_problem, rock_problem, simulation_problem
-from .files import deck_cell_keywords, named_file
+from .files import case_deck_keywords, deck_cell_keywords, named_file
 from .size import max_memory_bytes, size_problem
 from .values import non_finite_problem
 from .well_paths import is_deviated
@@ -312,7 +312,7 @@ def with_deck_rock(data: dict[str, Any], path: Path) -> dict[str, Any]:
     deck = named_file(path, grid["file"])
     if not deck.is_file():
         return data  # checks.case_problem names the missing file
-    if not set(DECK_ROCK) <= deck_cell_keywords(deck, grid["unknown_keywords"]):
+    if not set(DECK_ROCK) <= case_deck_keywords(path, grid):
         return data
     return {**data, "petrophysics": {}}
 

@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.grdecl.dimens import deck_dimensions
 from ..reproducible import log as _reproducible_log
-from .files import deck_cell_keywords, fault_plan_trace, fault_sticks, named_file, pebi_outline
+from .files import case_deck_keywords, fault_plan_trace, fault_sticks, named_file, pebi_outline
 from .values import yaml_number
 from .well_paths import deviated_wells_problem, is_deviated, well_paths
 
@@ -80,6 +80,9 @@ def _structure_problem(data: dict[str, Any], path: Path) -> str | None:
                 )
     if kind == "deck" and not named_file(path, grid["file"]).is_file():
         return f"grid.file: '{grid['file']}' not found (looked for {named_file(path, grid['file'])})"
+    for keyword, name in (grid.get("parameters") or {}).items() if kind == "deck" else ():
+        if not named_file(path, name).is_file():
+            return f"grid.parameters.{keyword}: '{name}' not found (looked for {named_file(path, name)})"
     problem = _features_outside(data, path, kind, horizons)
     if problem is not None:
         return problem
@@ -731,7 +734,7 @@ def rock_problem(data: dict[str, Any], path: Path) -> str | None:
     if not wanted:
         return None
     deck = named_file(path, grid["file"])
-    given = deck_cell_keywords(deck, grid["unknown_keywords"])
+    given = case_deck_keywords(path, grid)
     for prop, keyword in wanted:
         if keyword.upper() not in given:
             have = ", ".join(sorted(given)) or "no cell keyword"

@@ -32,6 +32,13 @@ def deck_cell_keywords(path: Path, unknown_keywords: str = "error") -> frozenset
     return _deck_cell_keywords(p, stat.st_mtime_ns, stat.st_size, unknown_keywords)
 
 
+def case_deck_keywords(case_file: Path, grid: Mapping[str, Any]) -> frozenset[str]:
+    """The cell keywords a deck case's grid has: its deck file's (``grid.file``, relative to
+    ``case_file``) and those its ``grid.parameters`` give (ROFF files, read by the grid stage)."""
+    given = deck_cell_keywords(named_file(case_file, grid["file"]), grid["unknown_keywords"])
+    return given | frozenset(grid.get("parameters") or {})
+
+
 @functools.lru_cache(maxsize=8)
 def _deck_cell_keywords(path: Path, mtime_ns: int, size: int, unknown_keywords: str) -> frozenset[str]:
     # Cached per process on the file's identity: every stage and every variant of a study loads

@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import os
 import struct
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -61,10 +62,13 @@ _READ_ERRORS = (
 
 @dataclass(frozen=True, eq=False)
 class RoffGrid:
-    """A ROFF grid read: the deck and the zones' layer counts (top down; None if none)."""
+    """A ROFF grid read: the deck (COORD, ZCORN, ACTNUM), the zones' layer counts (top down;
+    None if none) and the parameters the grid file holds (name -> one value per cell, i
+    fastest, ECLIPSE's k down; undefined values as the file has them)."""
 
     deck: Deck
     subgrids: NDArray[np.int64] | None
+    parameters: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def _offset(values: NDArray[np.float64]) -> float:
@@ -107,12 +111,46 @@ def _splits(nodes: NDArray[np.float64]) -> tuple[NDArray[np.uint8], NDArray[np.f
     return split, n[keep]
 
 
+def map_coordinates(deck: Deck) -> Deck:
+    """``deck`` with its COORD in map coordinates where it has MAPAXES (then dropped), as RMS
+    exports a ROFF grid: ``origin + x ex + y ey``, the MAPAXES origin (its second point) and
+    the unit vectors towards its x-axis point (the third) and y-axis point (the first), the
+    convention xtgeo and ResInsight apply (a GRDECL export of an RMS model is local with a
+    MAPAXES, its ROFF export in world coordinates). Axes along east and north, as RMS writes
+    them, make it a translation, one rounding per value. Depths are unchanged."""
+    if deck.mapaxes is None:
+        return deck
+    y_point, origin, x_point = deck.mapaxes.reshape(3, 2)
+    ex, ey = x_point - origin, y_point - origin
+    ex, ey = ex / np.hypot(*ex), ey / np.hypot(*ey)
+    coord = deck.coord.reshape(-1, 3).copy()
+    x, y = coord[:, :1], coord[:, 1:2]
+    coord[:, :2] = origin + (x * ex + y * ey)
+    return replace(deck, coord=coord.ravel(), mapaxes=None)
+
+
+def layer_gaps(deck: Deck) -> int:
+    """How many cell corners of ``deck`` open a vertical gap: a layer's top above its
+    neighbour's bottom on the same pillar. ROFF stores them (nodes of split 2 or 8); xtgeo 4's
+    reader refuses such a grid."""
+    nx, ny, nz = deck.cart_dims
+    z = deck.zcorn_array().reshape(nz, 2, ny * 2 * nx * 2)
+    return int(np.count_nonzero(z[1:, 0] != z[:-1, 1]))
+
+
 def write_roff_grid(
-    path: str | os.PathLike, deck: Deck, *, subgrids: Any = None, binary: bool | None = None
+    path: str | os.PathLike,
+    deck: Deck,
+    *,
+    subgrids: Any = None,
+    binary: bool | None = None,
+    parameters: Mapping[str, Any] | None = None,
 ) -> None:
     """Write ``deck``'s COORD, ZCORN and ACTNUM as a ROFF grid (binary, or ASCII if not
     ``binary``; None: ASCII for a ``.roffasc`` file); ``subgrids``: the zones' layer counts
-    from the top down, summing to nz.
+    from the top down, summing to nz; ``parameters``: name -> one value per cell (i fastest,
+    ECLIPSE's k down), written after the grid in the same file as ROFF parameter tags (as RMS
+    exports a grid with its parameters; xtgeo reads each by its name).
 
     z is depth in the deck (positive down); the file stores elevation with zscale -1."""
     nx, ny, nz = deck.cart_dims
@@ -142,25 +180,41 @@ def write_roff_grid(
     }
     if subgrids is not None:
         data["subgrids"] = {"nLayers": subgrids}
-    _write(path, data, binary)
+    tags = list(data.items())
+    for name, values in (parameters or {}).items():
+        tags.append(("parameter", _parameter_tag(path, name, values, deck.cart_dims)))
+    _write(path, tags, binary)
 
 
-def _write(path: str | os.PathLike, tags: dict[str, dict[str, Any]], binary: bool | None) -> None:
-    """Write ``tags`` with roffio (``binary`` None: ASCII if the suffix is ``.roffasc``); in
-    ASCII, bool array values become 1/0 (roffio 1.1 writes numpy bools as True/False, which
-    no ROFF reader, roffio's included, accepts)."""
+def _write(path: str | os.PathLike, tags: Any, binary: bool | None) -> None:
+    """Write ``tags`` (a dict, or (tag, dict) pairs: a tag given more than once) with roffio
+    (``binary`` None: ASCII if the suffix is ``.roffasc``); in ASCII, bool array values
+    become 1/0 (roffio 1.1 writes numpy bools as True/False, which no ROFF reader, roffio's
+    included, accepts)."""
     import io
 
     import roffio
 
     if binary is None:
         binary = Path(path).suffix.lower() != ".roffasc"
+    tags = list(tags.items()) if hasattr(tags, "items") else list(tags)
+    tags.insert(0, ("filedata", {"creationDate": _creation_date()}))
     if binary:
         roffio.write(str(path), tags, roff_format=roffio.Format.BINARY)
         return
     buffer = io.StringIO()
     roffio.write(buffer, tags, roff_format=roffio.Format.ASCII)
     Path(path).write_text(_bools(buffer.getvalue()), encoding="ascii")
+
+
+def _creation_date() -> str:
+    """The ``filedata.creationDate`` written: the time of ``SOURCE_DATE_EPOCH`` (the
+    reproducible-builds convention; 0, 1970-01-01, where unset) rather than roffio's clock, so
+    that the same grid gives the same bytes."""
+    import time
+
+    epoch = int(os.environ.get("SOURCE_DATE_EPOCH", "0") or 0)
+    return time.strftime("%d/%m/%Y %H:%M:%S", time.gmtime(epoch))
 
 
 def _roffio_errors() -> tuple[type[Exception], ...]:
@@ -193,7 +247,7 @@ def _readable(path: Path) -> Any:
     return io.StringIO(_bools(path.read_text(encoding="latin-1")))
 
 
-def _read(path: str | os.PathLike, filetype: str) -> dict[str, Any]:
+def _read(path: str | os.PathLike, filetype: str | None) -> dict[str, Any]:
     import roffio
 
     if not Path(path).is_file():
@@ -205,8 +259,8 @@ def _read(path: str | os.PathLike, filetype: str) -> dict[str, Any]:
     filedata = tags.get("filedata")
     found = filedata.get("filetype") if isinstance(filedata, dict) else None
     if found is None:
-        raise InputError(f"{path}: not a ROFF {filetype} file (no filedata.filetype)")
-    if found != filetype:
+        raise InputError(f"{path}: not a ROFF {filetype or 'grid or parameter'} file (no filedata.filetype)")
+    if filetype is not None and found != filetype:
         raise InputError(f"{path}: a ROFF {found} file, not a {filetype} file")
     return tags
 
@@ -275,12 +329,70 @@ def read_roff_grid(path: str | os.PathLike) -> RoffGrid:
         if subgrids.sum() != nz:
             raise InputError(f"{path}: ROFF subgrids {subgrids.tolist()} do not sum to nZ={nz}")
     deck = Deck((nx, ny, nz), lines.ravel(), z.ravel(), active, source=str(path))
-    return RoffGrid(deck, subgrids)
+    return RoffGrid(deck, subgrids, _parameters(tags, path))
+
+
+def read_roff_subgrids(path: str | os.PathLike) -> NDArray[np.int64] | None:
+    """The zones' layer counts (top down) of a ROFF grid file, None if it has none: the
+    ``subgrids`` tag alone, the arrays left unread."""
+    import roffio
+
+    try:
+        with roffio.lazy_read(_readable(Path(path))) as tags:
+            for name, keys in tags:
+                if name == "subgrids":
+                    for key, value in keys:
+                        if key == "nLayers":
+                            return np.asarray(value, dtype=np.int64).ravel()
+    except (*_READ_ERRORS, *_roffio_errors()) as exc:
+        raise InputError(f"{path}: not a readable ROFF file ({exc})") from None
+    return None
 
 
 def read_roff_deck(path: str | os.PathLike) -> Deck:
-    """The :class:`Deck` of a ROFF grid file (the registry's reader; subgrids dropped)."""
-    return read_roff_grid(path).deck
+    """The :class:`Deck` of a ROFF grid file (the registry's reader): its parameters named as
+    GRID-section keywords (PORO, PERMX, PERMY, PERMZ, NTG, MULTX, FLUXNUM, ...; any case) are
+    the deck's cell arrays (:func:`with_parameters`); subgrids dropped."""
+    grid = read_roff_grid(path)
+    return with_parameters(grid.deck, grid.parameters, str(path))
+
+
+def with_parameters(deck: Deck, parameters: Mapping[str, np.ndarray], source: str) -> Deck:
+    """``deck`` with those of ``parameters`` whose upper-case names are GRID-section keywords
+    as its cell arrays (float64, under the keyword); the others are named in its notes.
+
+    RMS marks undefined values -999 (inactive cells): there they become 0, which the deck's
+    inactive cells never use; in active cells they stay, and the rock checks name the cells."""
+    from .grdecl.vocabulary import vocabulary
+
+    known = vocabulary()
+    taken, other = {}, []
+    inactive = ~deck.active
+    for name, values in parameters.items():
+        info = known.get(name.upper())
+        if info is None or not info.sections & {"GRID", "EDIT"}:
+            other.append(name)
+            continue
+        values = values.astype(np.float64)
+        taken[name.upper()] = np.where(inactive & (values == -999.0), 0.0, values)
+    notes = (f"{source}: ROFF parameters not used as deck keywords: {', '.join(other)}",) if other else ()
+    if not taken and not notes:
+        return deck
+    return replace(deck, cell_data={**deck.cell_data, **taken}, notes=(*deck.notes, *notes))
+
+
+def _parameter_tag(
+    path: str | os.PathLike, name: str, values: Any, cart_dims: tuple[int, int, int]
+) -> dict[str, Any]:
+    """The ``parameter`` tag of one value per cell (i fastest, ECLIPSE's k down): float32 for
+    floating values, int32 for integers."""
+    nx, ny, nz = (int(d) for d in cart_dims)
+    arr = np.asarray(values).ravel()
+    if arr.size != nx * ny * nz:
+        raise InputError(f"{path}: parameter {name!r} has {arr.size} values, expected {nx * ny * nz}")
+    dtype = np.int32 if np.issubdtype(arr.dtype, np.integer) or arr.dtype == bool else np.float32
+    data = arr.reshape(nz, ny, nx).transpose(2, 1, 0)[:, :, ::-1].ravel().astype(dtype)
+    return {"name": name, "data": data}
 
 
 def write_roff_parameter(
@@ -291,18 +403,13 @@ def write_roff_parameter(
     *,
     binary: bool | None = None,
 ) -> None:
-    """Write one value per cell (i fastest, ECLIPSE's k down) as a ROFF parameter ``name``:
-    float32 for floating values, int32 for integers."""
+    """Write one value per cell (i fastest, ECLIPSE's k down) as a ROFF parameter file of the
+    parameter ``name``: float32 for floating values, int32 for integers."""
     nx, ny, nz = (int(d) for d in cart_dims)
-    arr = np.asarray(values).ravel()
-    if arr.size != nx * ny * nz:
-        raise InputError(f"{path}: parameter {name!r} has {arr.size} values, expected {nx * ny * nz}")
-    dtype = np.int32 if np.issubdtype(arr.dtype, np.integer) or arr.dtype == bool else np.float32
-    data = arr.reshape(nz, ny, nx).transpose(2, 1, 0)[:, :, ::-1].ravel().astype(dtype)
     tags = {
         "filedata": {"filetype": "parameter"},
         "dimensions": {"nX": nx, "nY": ny, "nZ": nz},
-        "parameter": {"name": name, "data": data},
+        "parameter": _parameter_tag(path, name, values, cart_dims),
     }
     _write(path, tags, binary)
 
@@ -310,13 +417,33 @@ def write_roff_parameter(
 def read_roff_parameter(path: str | os.PathLike) -> tuple[str, np.ndarray]:
     """The name and values (i fastest, k down; float64 or int32) of a ROFF parameter file's
     (first) parameter; undefined values stay -999.0 / -999 (255 for bytes)."""
-    tags = _read(path, "parameter")
-    if isinstance(tags.get("parameter"), list):  # several parameters: the first
-        tags = {**tags, "parameter": tags["parameter"][0]}
+    params = read_roff_parameters(path, "parameter")
+    if not params:
+        raise InputError(f"{path}: ROFF tag parameter is missing")
+    return next(iter(params.items()))
+
+
+def read_roff_parameters(
+    path: str | os.PathLike, filetype: str | None = "parameter"
+) -> dict[str, np.ndarray]:
+    """Every parameter of a ROFF ``filetype`` file (``"parameter"``; ``"grid"``: a grid file
+    with its parameters, as RMS exports them; None: either), by name in the file's order: values i
+    fastest, k down (float64 or int32); undefined values stay -999.0 / -999 (255 for bytes)."""
+    return _parameters(_read(path, filetype), path)
+
+
+def _parameters(tags: dict[str, Any], path: str | os.PathLike) -> dict[str, np.ndarray]:
+    found = tags.get("parameter", [])
+    found = found if isinstance(found, list) else [found]
+    if not found:
+        return {}
     nx, ny, nz = _dims(tags, path)
-    name = str(_need(tags, path, "parameter", "name"))
-    raw = _need(tags, path, "parameter", "data")
-    arr = np.frombuffer(raw, np.uint8) if isinstance(raw, bytes) else np.asarray(raw)
-    dtype = np.float64 if np.issubdtype(arr.dtype, np.floating) else np.int32
-    arr = _sized(arr, nx * ny * nz, path, f"parameter {name!r}", dtype)
-    return name, arr.reshape(nx, ny, nz)[:, :, ::-1].transpose(2, 1, 0).ravel()
+    out: dict[str, np.ndarray] = {}
+    for tag in found:
+        name = str(_need({"parameter": tag}, path, "parameter", "name"))
+        raw = _need({"parameter": tag}, path, "parameter", "data")
+        arr = np.frombuffer(raw, np.uint8) if isinstance(raw, bytes) else np.asarray(raw)
+        dtype = np.float64 if np.issubdtype(arr.dtype, np.floating) else np.int32
+        arr = _sized(arr, nx * ny * nz, path, f"parameter {name!r}", dtype)
+        out.setdefault(name, arr.reshape(nx, ny, nz)[:, :, ::-1].transpose(2, 1, 0).ravel())
+    return out

@@ -111,12 +111,19 @@ class _NotesOnce(logging.Filter):
         return True
 
 
+def _size(path: Path) -> int:
+    """A file's bytes, or those of the files in a folder (a directory artifact)."""
+    if path.is_dir():
+        return sum(f.stat().st_size for f in path.rglob("*") if f.is_file())
+    return path.stat().st_size
+
+
 def _log_costs(log: logging.Logger, name: str, seconds: float, outputs: Iterable[str | os.PathLike]) -> None:
     """What a stage cost: wall time, peak resident memory, and the bytes it wrote."""
     import resource
 
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: kibibytes
-    sizes = [(Path(p), Path(p).stat().st_size) for p in outputs if Path(p).is_file()]
+    sizes = [(Path(p), _size(Path(p))) for p in outputs if Path(p).exists()]
     log.info("%s: %.1f s, peak memory %.0f MiB", name, seconds, peak / 2**20)
     for path, size in sizes:
         log.info("  %s: %.1f MiB", path.name, size / 2**20)

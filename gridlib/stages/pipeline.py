@@ -42,7 +42,7 @@ def run_case(case: Case | str | os.PathLike, folder: str | os.PathLike, simulate
     folder.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
     try:
-        with restored_on_failure(sorted(p for p in folder.rglob("*") if _is_result(p)), sweep=folder):
+        with restored_on_failure(_results(folder, paths), sweep=folder):
             for stage in artifacts.STAGES:
                 if not stage.when(case) or (stage.on_request and not simulate):
                     continue
@@ -110,13 +110,19 @@ def restored_on_failure(paths: Iterable[Path], sweep: Path | None = None) -> Ite
     than write into it."""
     paths = list(dict.fromkeys(Path(p) for p in paths))
     before = set(_entries(sweep)) if sweep is not None else set()
-    kept = {path: _keep(path) for path in paths if path.is_file()}
+    kept = {path: _keep(path) for path in paths if path.is_file() or path.is_dir()}
     try:
         yield
     except BaseException:
         for path in paths:
-            if path not in kept:
+            if path.is_dir() and not path.is_symlink():  # a directory artifact: put back whole
+                shutil.rmtree(path)
+                if path in kept:
+                    os.replace(kept[path], path)
+            elif path not in kept:
                 path.unlink(missing_ok=True)
+            elif kept[path].is_dir():
+                os.replace(kept[path], path)
             elif path.exists() and os.path.samefile(path, kept[path]):  # untouched (rename would keep both)
                 kept[path].unlink()
             else:
@@ -129,12 +135,17 @@ def restored_on_failure(paths: Iterable[Path], sweep: Path | None = None) -> Ite
         raise
     else:
         for backup in kept.values():
-            backup.unlink(missing_ok=True)
+            shutil.rmtree(backup) if backup.is_dir() else backup.unlink(missing_ok=True)
 
 
 def _keep(path: Path) -> Path:
-    """A hard link (a copy where the file system has none) to ``path`` beside it."""
+    """A hard link (a copy where the file system has none) to ``path`` beside it; of a folder
+    (a directory artifact), a folder of hard links to its files."""
     backup = path.with_name(f".{path.name}{_BEFORE}")
+    if path.is_dir():
+        shutil.rmtree(backup, ignore_errors=True)
+        shutil.copytree(path, backup, copy_function=_link_or_copy)
+        return backup
     backup.unlink(missing_ok=True)
     try:
         os.link(path, backup)
@@ -143,8 +154,23 @@ def _keep(path: Path) -> Path:
     return backup
 
 
+def _link_or_copy(source: str, target: str) -> None:
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copy2(source, target)
+
+
 def _is_result(path: Path) -> bool:
-    return path.is_file() and not path.name.endswith(_BEFORE)
+    return path.is_file() and not any(part.endswith(_BEFORE) for part in path.parts)
+
+
+def _results(folder: Path, paths: Mapping[str, Path]) -> list[Path]:
+    """What a run in ``folder`` may replace: its files, but those in a directory artifact's
+    folder (``exchange/``), which is kept whole."""
+    folders = [paths[a.key] for a in artifacts.artifacts().values() if a.directory]
+    files = [p for p in folder.rglob("*") if _is_result(p) and not any(d in p.parents for d in folders)]
+    return sorted(files) + [d for d in folders if d.is_dir()]
 
 
 def _entries(folder: Path) -> list[Path]:

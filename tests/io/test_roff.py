@@ -13,7 +13,14 @@ from gridlib.cornerpoint.generators import make_model3
 from gridlib.errors import InputError
 from gridlib.io import registry
 from gridlib.io.grdecl import read_grdecl, write_grdecl
-from gridlib.io.roff import read_roff_grid, read_roff_parameter, write_roff_grid, write_roff_parameter
+from gridlib.io.roff import (
+    layer_gaps,
+    read_roff_grid,
+    read_roff_parameter,
+    read_roff_subgrids,
+    write_roff_grid,
+    write_roff_parameter,
+)
 
 xtgeo = pytest.importorskip("xtgeo")
 
@@ -90,10 +97,13 @@ def test_round_trip_with_subgrids_and_gaps(tmp_path, deck, binary):
     z = deck.zcorn_array().copy()
     z[2:, :, :nx] += 0.5  # a gap under layer 0 in the western half, and a fault
     gapped = Deck(deck.cart_dims, deck.coord, z.ravel(), deck.actnum, source="gapped")
+    ny = deck.cart_dims[1]
+    assert (layer_gaps(deck), layer_gaps(gapped)) == (0, 2 * ny * nx)  # layer 0's base corners, west
     path = tmp_path / "s.roff"
     write_roff_grid(path, gapped, subgrids=[1, 3], binary=binary)
     back = read_roff_grid(path)
     np.testing.assert_array_equal(back.subgrids, [1, 3])
+    np.testing.assert_array_equal(read_roff_subgrids(path), [1, 3])
     np.testing.assert_array_equal(back.deck.coord, gapped.coord)
     np.testing.assert_array_equal(back.deck.zcorn, gapped.zcorn)
     np.testing.assert_array_equal(back.deck.actnum, gapped.actnum)

@@ -126,7 +126,10 @@ def test_every_sample_case_has_the_artifacts_of_its_sections():
         stage_files = keys.split()
         wells = "wells" in stage_files
         exports = ["nc", "vtu", "faults"] + (["well_paths"] if wells else []) + ["summary"] + PICTURES
-        assert got == [k for k in stage_files if k != "flow_deck"] + exports + (
+        exchange = (["roff"] if "grdecl" in stage_files else []) + (
+            ["exchange"] if "horizons" in stage_files else []
+        )
+        assert got == [k for k in stage_files if k != "flow_deck"] + exports + exchange + (
             ["flow_deck"] if "flow_deck" in stage_files else []
         ), name
         assert artifacts.dropped(case) == ()
@@ -156,7 +159,17 @@ def test_a_case_without_stage_files_drops_them_and_its_grdecl_where_its_flow_dec
     bare = type(case)(case.name, case.path, case.sha256, no_deck)
     # grid.grdecl is its only GRDECL: kept
     assert artifacts.dropped(bare) == ("horizons", "grid", "geometry", "quality")
-    assert artifacts_of(dropping.data) == ("quality_png", "nc", "vtu", "faults", "summary", *PICTURES, "flow")
+    assert artifacts_of(dropping.data) == (
+        "quality_png",
+        "nc",
+        "vtu",
+        "faults",
+        "summary",
+        *PICTURES,
+        "roff",
+        "exchange",
+        "flow",
+    )
 
 
 def test_paths_and_simulation_artifacts_come_from_the_table(tmp_path):

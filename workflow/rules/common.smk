@@ -192,6 +192,8 @@ def _stage_rule(stage, temporary, cases):
             continue
         pattern = f"{RESULTS}/{{case}}/{a.path}"
         wildcards |= set(a.wildcards)
+        if a.directory:  # a folder of files the case decides (written whole)
+            pattern = directory(pattern)
         if temporary[a.key]:
             pattern = temp(pattern)
         elif a.report is not None:
@@ -322,9 +324,14 @@ def study_variant_files(name):
     """The outputs of a variant of study ``name`` (its study_<name> jobs): the variant's
     artifacts, the OPM Flow deck as the folder flow/ (the deck is named after the variant in
     upper case, which a pattern cannot say)."""
-    artifacts = STUDY_ARTIFACTS[name]
-    files = {k: variant_out(k) for k in artifacts if k != "flow"}
-    if "flow" in artifacts:
+    table = artifacts.artifacts()
+    keys = STUDY_ARTIFACTS[name]
+    files = {
+        k: directory(variant_out(k)) if table[k].directory else variant_out(k)
+        for k in keys
+        if k != "flow"
+    }
+    if "flow" in keys:
         files["flow"] = directory(variant_out("flow"))
     return files
 
