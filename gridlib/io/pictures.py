@@ -14,6 +14,7 @@ from ..reproducible import log10
 from ..units import UnitSystem
 from .atomic import write_keeping_suffix
 from .grid_view import depth_window, grid_polydata, grid_scene, render_grid
+from .quantities import picture_label
 
 __all__ = [
     "depth_window",
@@ -69,7 +70,7 @@ def histogram_figure(
     panels = [(f"{cell} [{units.unit('cell_measure', griddim)}]", geo.cell_volumes)]
     panels.append((f"{face} [{units.unit('face_measure', griddim)}]", geo.face_areas))
     if poro is not None:
-        panels.append((f"porosity [{units.unit('fraction')}]", poro))
+        panels.append((picture_label("poro", units), poro))
     if trans is not None:
         panels.append((f"log10 T, T in {units.unit('transmissibility')}", log10(trans[trans > 0])))
     linear = ("poro", "log10")

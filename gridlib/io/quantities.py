@@ -167,19 +167,39 @@ def label_units(variables: Mapping[Any, Any], system: UnitSystem, griddim: int) 
         variables[name].attrs["units"] = unit
 
 
-def picture_label(name: str, system: UnitSystem, griddim: int = 3) -> str:
-    """How a picture labels variable ``name`` (an axis, a colour bar): the name and its unit in
-    ``system`` in brackets, ``fraction`` for a dimensionless fraction (whose ``units`` attribute
-    is "1"); the name alone where it is no physical quantity or not in :data:`VARIABLES`.
+PICTURE_TITLES = {"poro": "porosity"}  # what pictures call a variable, where not its name
+
+
+def picture_quantity(name: str, system: UnitSystem, griddim: int = 3) -> tuple[str, str | None]:
+    """What a picture calls variable ``name`` (an axis, a colour bar, a histogram) and the unit
+    it writes: the variable's ``units`` attribute in ``system``, but ``fraction`` for a
+    dimensionless fraction (stored as "1"); None where it is no physical quantity or not in
+    :data:`VARIABLES`. ``volume`` is the cell measure: a cell's volume, or a 2-D cell's area.
 
     >>> from gridlib.units import FIELD
-    >>> picture_label("poro", FIELD), picture_label("depth", FIELD), picture_label("zone", FIELD)
-    ('poro [fraction]', 'depth [ft]', 'zone')
+    >>> picture_quantity("poro", FIELD), picture_quantity("depth", FIELD), picture_quantity("zone", FIELD)
+    (('porosity', 'fraction'), ('depth', 'ft'), ('zone', None))
+    >>> picture_quantity("volume", FIELD, griddim=2)
+    ('cell area', 'ft2')
     """
+    if name == "volume":
+        return ("cell volume" if griddim == 3 else "cell area"), system.unit("cell_measure", griddim)
+    title = PICTURE_TITLES.get(name, name)
     try:
         quantity = quantity_of(name)
     except KeyError:
-        return name
+        return title, None
     if quantity is None:
-        return name
-    return f"{name} [{'fraction' if quantity == 'fraction' else system.unit(quantity, griddim)}]"
+        return title, None
+    return title, "fraction" if quantity == "fraction" else system.unit(quantity, griddim)
+
+
+def picture_label(name: str, system: UnitSystem, griddim: int = 3) -> str:
+    """``title [unit]`` of :func:`picture_quantity` (the title alone without a unit).
+
+    >>> from gridlib.units import FIELD
+    >>> picture_label("poro", FIELD), picture_label("depth", FIELD), picture_label("zone", FIELD)
+    ('porosity [fraction]', 'depth [ft]', 'zone')
+    """
+    title, unit = picture_quantity(name, system, griddim)
+    return title if unit is None else f"{title} [{unit}]"

@@ -46,7 +46,7 @@ from ..io.pick_residuals import residuals_figure
 from ..io.picture_style import DPI, picture_style, quantity_label
 from ..io.pictures import plot_histograms, render_grid, save_figure
 from ..io.plan_view import plan_figure
-from ..io.quantities import picture_label, units_of
+from ..io.quantities import picture_quantity
 from ..io.rock_file import read_rock
 from ..io.section_cut import SectionCut, cut_grid
 from ..io.top_surface import top_surface
@@ -137,12 +137,12 @@ class Scene:
         return float(z.min()), float(z.max())
 
     def quantity(self, name: str) -> tuple[str, str | None]:
-        """A cell quantity's name and unit in the case's units (:mod:`gridlib.io.quantities`;
-        None for a name it does not know)."""
-        return name, units_of([name], self.units, self.grid.griddim).get(name)
+        """What pictures call a cell quantity and its unit in the case's units
+        (:func:`gridlib.io.quantities.picture_quantity`)."""
+        return picture_quantity(name, self.units, self.grid.griddim)
 
     def label(self, name: str) -> str:
-        """``name [unit]`` of a cell quantity (``name`` alone without a unit)."""
+        """``title [unit]`` of a cell quantity (the title alone without a unit)."""
         return quantity_label(*self.quantity(name))
 
 
@@ -218,12 +218,7 @@ def view_arguments(case: Case, scene: Scene, faults: str | os.PathLike) -> dict[
     :meth:`Scene.colouring` says, its colour bar titled ``quantity [unit]``, the case's length
     unit on the axes, the fault faces ``faults`` (``{case}_faults.vtp``) and every well."""
     scalar, values = scene.colouring()
-    griddim = scene.grid.griddim
-    bar_title = picture_label(scalar, scene.units, griddim)
-    if scalar == "volume":  # the cell measure: a volume, or a 2-D grid's area
-        bar_title = (
-            f"cell {'volume' if griddim == 3 else 'area'} [{scene.units.unit('cell_measure', griddim)}]"
-        )
+    bar_title = scene.label(scalar)
     return {
         "grid": scene.grid,
         "values": values,
@@ -279,7 +274,7 @@ def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None],
     more than one value), else depth; with their name and unit, and whether they are
     categories (zone, layer)."""
     if scene.rock is not None:
-        return scene.rock["poro"], ("porosity", scene.quantity("poro")[1]), False
+        return scene.rock["poro"], scene.quantity("poro"), False
     layers = {} if scene.grid.layering is None else {"layer": scene.grid.layering.layer}
     data = {**layers, **scene.cell_data}
     for name in ("zone", "layer"):
@@ -312,9 +307,6 @@ def case_figures(case: Case, scene: Scene, *, with_section: bool = True) -> dict
                 cut=cut,
             )
         scalar, values = scene.colouring()
-        name, unit = scene.quantity(scalar)
-        if name == "volume" and scene.grid.griddim == 2:
-            name = "cell area"
         figures["plan"] = plan_figure(
             scene.grid,
             scene.geo,
@@ -322,7 +314,7 @@ def case_figures(case: Case, scene: Scene, *, with_section: bool = True) -> dict
             fault_names=scene.fault_names,
             wells=tracks,
             values=values,
-            quantity=(name, unit),
+            quantity=scene.quantity(scalar),
             title=case.name,
             section=line,
         )

@@ -108,7 +108,7 @@ def test_the_section_figure_says_what_it_shows(box):
         line,
         length_unit="m",
         values=poro,
-        quantity=("porosity", "1"),
+        quantity=("porosity", "fraction"),
         fault_names=["F-east", "F-north"],
         wells=wells,
         cell_size=100.0,
@@ -116,7 +116,7 @@ def test_the_section_figure_says_what_it_shows(box):
     )
     ax, bar = fig.axes
     assert ax.get_xlabel() == "distance along the section [m]" and ax.get_ylabel() == "depth [m]"
-    assert bar.get_ylabel() == "porosity [1]"
+    assert bar.get_ylabel() == "porosity [fraction]"
     top, bottom = ax.get_ylim()[1], ax.get_ylim()[0]
     assert bottom > top  # depth increases downwards
     texts = {t.get_gid(): [] for t in ax.texts}

@@ -103,9 +103,9 @@ def test_the_plan_of_a_2d_grid_colours_its_cells():
     grid = gridlib.cart_grid((4, 3), (40.0, 30.0))
     geo = compute_geometry(grid)
     values = np.arange(12.0)
-    fig = plan_figure(grid, geo, length_unit="m", values=values, quantity=("porosity", "1"))
+    fig = plan_figure(grid, geo, length_unit="m", values=values, quantity=("porosity", "fraction"))
     ax, bar = fig.axes
-    assert bar.get_ylabel() == "porosity [1]"
+    assert bar.get_ylabel() == "porosity [fraction]"
     (cells,) = [c for c in ax.collections if type(c).__name__ == "PolyCollection"]
     np.testing.assert_array_equal(cells.get_array(), values)
     assert len(cells.get_paths()) == 12

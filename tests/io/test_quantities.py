@@ -154,7 +154,7 @@ def test_histogram_axes_carry_the_units_of_the_case():
     assert _labels(fig) == [
         ("cell volume [ft3]", "count"),
         ("face area [ft2]", "count"),
-        ("porosity [1]", "count"),
+        ("porosity [fraction]", "count"),
         ("log10 T, T in cP rb/(day psi)", "count"),
     ]
     flat = gl.cart_grid((3, 2), (30.0, 20.0))

@@ -61,9 +61,9 @@ def scene(faulted):
 
 
 def test_colour_bar_is_titled_with_its_unit_above_its_labels(scene):
-    assert list(scene.scalar_bars.keys()) == ["poro [fraction]"]
-    bar = scene.scalar_bars["poro [fraction]"]
-    assert bar.GetTitle() == "poro [fraction]"
+    assert list(scene.scalar_bars.keys()) == ["porosity [fraction]"]
+    bar = scene.scalar_bars["porosity [fraction]"]
+    assert bar.GetTitle() == "porosity [fraction]"
     assert bar.GetOrientation() == 1  # vertical: the title above the bar, the labels beside it
     assert bar.GetVerticalTitleSeparation() >= 10 and bar.GetNumberOfLabels() == 5
     assert bar.GetLabelFormat() == "%.3g"
@@ -130,4 +130,4 @@ def test_exaggeration_of_flat_and_thick_reservoirs():
     assert vertical_exaggeration(7500.0, 359.0, 359.0) == 5.0  # flat, thickness-bound (5.2)
     assert vertical_exaggeration(10_000.0, 20.0, 3000.0) == 2.0  # steep: the depth range bounds it
     assert vertical_exaggeration(1000.0, 600.0, 600.0) == 1.0  # thick: none
-    assert picture_label("poro", FIELD) == "poro [fraction]" and picture_label("depth", FIELD) == "depth [ft]"
+    assert picture_label("poro", FIELD) == "porosity [fraction]" and picture_label("depth", FIELD) == "depth [ft]"

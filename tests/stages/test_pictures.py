@@ -65,7 +65,7 @@ def test_the_pictures_of_a_faulted_pebi_case(built):
     (drawn,) = [a for a in plan.lines if a.get_gid() == SECTION]
     line = drawn.get_xydata()
     np.testing.assert_allclose(line[1:3], [[450.0, 350.0], [1550.0, 1150.0]])
-    assert figures["section"].axes[1].get_ylabel() == "porosity [1]"
+    assert figures["section"].axes[1].get_ylabel() == "porosity [fraction]"
     assert _named(section, EXAGGERATION) == ["vertical exaggeration 5x"]
     assert section.get_ylim()[0] > section.get_ylim()[1]
     for figure in figures.values():

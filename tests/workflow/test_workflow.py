@@ -126,7 +126,7 @@ def test_the_3d_view_of_every_case_says_what_it_shows(workflow_run, case):
         axes = plotter.renderer.cube_axes_actor
         assert (axes.x_title, axes.y_title) == (f"x (east) [{unit}]", f"y (north) [{unit}]")
         plain = f"depth [{unit}]" if scene.grid.dim == 3 else f"cell area [{unit}2]"
-        quantity = "poro [fraction]" if given["petrophysics"].exists() else plain
+        quantity = "porosity [fraction]" if given["petrophysics"].exists() else plain
         assert list(plotter.scalar_bars.keys()) == [quantity]
         if scene.grid.griddim == 3:
             assert axes.z_title == f"depth [{unit}]"
@@ -187,7 +187,7 @@ def test_every_case_has_a_plan_view_and_section_that_say_what_they_show(workflow
     assert scale.txt_label.get_text().endswith(f" {unit}")
     assert len(style.named(plan, style.NORTH_ARROW)) == 1
     if not loaded.is_3d:
-        assert plan_bar.get_ylabel() in ("porosity [1]", f"cell area [{unit}2]")
+        assert plan_bar.get_ylabel() in ("porosity [fraction]", f"cell area [{unit}2]")
         assert "section" not in figures
         return
     assert plan_bar.get_ylabel() == f"top depth [{unit}]"
@@ -201,7 +201,7 @@ def test_every_case_has_a_plan_view_and_section_that_say_what_they_show(workflow
         f"distance along the section [{unit}]",
         f"depth [{unit}]",
     )
-    assert section_bar.get_ylabel() in ("porosity [1]", "zone", "layer", f"depth [{unit}]")
+    assert section_bar.get_ylabel() in ("porosity [fraction]", "zone", "layer", f"depth [{unit}]")
     assert section.get_ylim()[0] > section.get_ylim()[1]  # depth down
     (exaggeration,) = named(section, EXAGGERATION)
     assert re.fullmatch(r"vertical exaggeration (1|2|5|10)x", exaggeration)
