@@ -32,7 +32,6 @@ Units: metres in, m^3 (3-D) or m^2 (2-D) volumes, m^2 (3-D) or m (2-D) areas.
 from __future__ import annotations
 
 import threading
-from collections import deque
 from dataclasses import dataclass
 from functools import partial
 
@@ -41,7 +40,7 @@ import numpy as np
 from .connectivity import half_face_cells
 from .errors import GridError
 from .grid import FloatArray, Grid
-from .threads import num_threads
+from .threads import in_order
 
 _CHUNK = 1 << 14  # faces per vectorised block: temporaries stay in cache and are reused
 
@@ -245,7 +244,7 @@ def _geometry_3d(grid: Grid) -> Geometry:
                     mom_w[s, i, sub] = W
         return [sums.partial(cell, dn[s], mom_w[s]) for s, (cell, _) in enumerate(sides)]
 
-    for parts in _in_order(block, _face_blocks(grid)):
+    for parts in in_order(block, _face_blocks(grid), _MAX_THREADS):
         for part in parts:
             sums.add(*part)
 
@@ -266,26 +265,6 @@ def _geometry_3d(grid: Grid) -> Geometry:
 
 _SUB = 1 << 13  # faces per sub-block of the per-face arithmetic
 _MAX_THREADS = 2  # blocks of faces tessellated at once (each block alone: the same result)
-
-
-def _in_order(fn, blocks):
-    """``fn(*b)`` for every ``b`` of ``blocks``, yielded in order; computed on up to
-    ``_MAX_THREADS`` threads, a few blocks ahead of the consumer (bounded memory)."""
-    workers = num_threads(_MAX_THREADS)
-    if workers <= 1:
-        for b in blocks:
-            yield fn(*b)
-        return
-    from concurrent.futures import ThreadPoolExecutor
-
-    with ThreadPoolExecutor(workers) as pool:
-        pending: deque = deque()
-        for b in blocks:
-            pending.append(pool.submit(fn, *b))
-            if len(pending) > 2 * workers:
-                yield pending.popleft().result()
-        while pending:
-            yield pending.popleft().result()
 
 
 def _hinge_triangles(rows: np.ndarray, ids: np.ndarray):

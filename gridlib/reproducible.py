@@ -344,12 +344,15 @@ def _atan_unit(t: np.ndarray) -> np.ndarray:
     u = np.where(high, (t - 1.0) / (t + 1.0), np.where(mid, (2.0 * t - 1.0) / (2.0 + t), t))
     z = u * u
     p = np.full_like(z, _ATAN_SERIES[-1])
-    for c in _ATAN_SERIES[-2::-1]:
-        p = p * z + c
-    a = u * p
+    for c in _ATAN_SERIES[-2::-1]:  # in place: the same operations, no temporaries
+        p *= z
+        p += c
+    p *= u
     base_hi = np.where(high, QUARTER_PI, np.where(mid, ATAN_HALF, 0.0))
     base_lo = np.where(high, QUARTER_PI_LO, np.where(mid, ATAN_HALF_LO, 0.0))
-    return base_hi + (a + base_lo)
+    p += base_lo
+    p += base_hi
+    return p
 
 
 def arctan2(y: ArrayLike, x: ArrayLike) -> FloatArray:
@@ -362,19 +365,24 @@ def arctan2(y: ArrayLike, x: ArrayLike) -> FloatArray:
     y = np.asarray(y, dtype=np.float64)
     x = np.asarray(x, dtype=np.float64)
     y, x = np.broadcast_arrays(y, x)
+    shape = y.shape
+    y, x = y.ravel(), x.ravel()  # at least 1-d: the steps below work in place
     ay, ax = np.abs(y), np.abs(x)
     both_inf = np.isinf(ay) & np.isinf(ax)
-    ay_, ax_ = np.where(both_inf, 1.0, ay), np.where(both_inf, 1.0, ax)
-    steep = ay_ > ax_
-    num, den = np.where(steep, ax_, ay_), np.where(steep, ay_, ax_)
+    if both_inf.any():  # (inf, inf) is the diagonal
+        ay, ax = np.where(both_inf, 1.0, ay), np.where(both_inf, 1.0, ax)
+    steep = ay > ax
     with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
+        t = np.minimum(ay, ax)  # the smaller over the larger: exact choices, as np.where would make
+        t /= np.maximum(ay, ax)
+    t[np.isnan(t)] = 0.0  # 0 / 0 (and NaN inputs, NaN again below)
     a = _atan_unit(t)
-    a = np.where(steep, HALF_PI - (a - HALF_PI_LO), a)  # angle in [0, pi/2] of (|x|, |y|)
-    a = np.where(np.signbit(x), PI - (a - PI_LO), a)
-    out = np.copysign(a, y)
-    out = np.where(np.isnan(x) | np.isnan(y), np.nan, out)
-    return out if out.ndim else out[()]
+    np.subtract(HALF_PI, a - HALF_PI_LO, out=a, where=steep)  # angle in [0, pi/2] of (|x|, |y|)
+    np.subtract(PI, a - PI_LO, out=a, where=np.signbit(x))
+    np.copysign(a, y, out=a)
+    a[np.isnan(x) | np.isnan(y)] = np.nan
+    a = a.reshape(shape)
+    return a if a.ndim else a[()]
 
 
 def arcsin(x: ArrayLike) -> FloatArray:

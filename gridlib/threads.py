@@ -19,7 +19,8 @@ big stages of a large case two cores each).
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator
 from typing import TypeVar
 
 from .errors import InputError
@@ -62,3 +63,29 @@ def concurrently(*calls: Callable[[], T]) -> list[T]:
     with ThreadPoolExecutor(workers) as pool:
         futures = [pool.submit(call) for call in calls]
         return [future.result() for future in futures]
+
+
+def in_order(fn: Callable[..., T], blocks: Iterable[tuple], max_threads: int) -> Iterator[T]:
+    """``fn(*b)`` for every ``b`` of ``blocks``, yielded in the blocks' order; computed on up
+    to ``num_threads(max_threads)`` threads, a few blocks ahead of the consumer, so that
+    memory stays bounded however many blocks there are. Each call must write only its own
+    outputs, so the results never depend on the number of threads.
+
+    >>> list(in_order(lambda a, b: a * b, [(1, 2), (3, 4), (5, 6)], 2))
+    [2, 12, 30]
+    """
+    workers = num_threads(max_threads)
+    if workers <= 1:
+        for b in blocks:
+            yield fn(*b)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(workers) as pool:
+        pending: deque = deque()
+        for b in blocks:
+            pending.append(pool.submit(fn, *b))
+            if len(pending) > 2 * workers:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()

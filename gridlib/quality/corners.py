@@ -15,7 +15,8 @@ Corners are (n, 8, 3) with corner ``a + 2b + 4c`` on pillar (i + a, j + b) at th
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from functools import partial
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -31,18 +32,25 @@ _BLOCK = 1 << 16  # cells per block of corners: (block, 8, 3) float64 = 12 MiB
 
 def deck_corners(deck: Deck, cells: ArrayLike | None = None) -> FloatArray:
     """Corners (n, 8, 3) of ``cells`` (linear indices, i fastest; default: every cell)."""
-    blocks = [corners for _, corners in deck_corner_blocks(deck, cells)]
+    blocks = [corners() for _, corners in deck_corner_blocks(deck, cells)]
     return np.concatenate(blocks) if blocks else np.empty((0, 8, 3))
 
 
-def deck_corner_blocks(deck: Deck, cells: ArrayLike | None = None) -> Iterator[tuple[slice, FloatArray]]:
-    """:func:`deck_corners` a block of cells at a time: (the block's slice of ``cells``, its
-    corners), so that a caller never holds the corners of every cell."""
+def deck_corner_blocks(
+    deck: Deck, cells: ArrayLike | None = None
+) -> Iterator[tuple[slice, Callable[[], FloatArray]]]:
+    """:func:`deck_corners` a block of cells at a time: (the block's slice of ``cells``, a
+    function returning its corners), so that a caller never holds the corners of every cell
+    and may compute each block's on the thread that uses them."""
     g = np.arange(deck.num_cells) if cells is None else np.asarray(cells, dtype=np.int64).ravel()
     sign = _depth_sign(deck)
     for s in range(0, g.size, _BLOCK):
-        with np.errstate(invalid="ignore"):  # inactive cells may hold junk
-            yield slice(s, min(s + _BLOCK, g.size)), corner_points(deck, g[s : s + _BLOCK], sign)
+        yield slice(s, min(s + _BLOCK, g.size)), partial(_corners, deck, g[s : s + _BLOCK], sign)
+
+
+def _corners(deck: Deck, cells: np.ndarray, sign: int) -> FloatArray:
+    with np.errstate(invalid="ignore"):  # inactive cells may hold junk
+        return corner_points(deck, cells, sign)
 
 
 def _depth_sign(deck: Deck) -> int:

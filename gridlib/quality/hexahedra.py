@@ -42,6 +42,7 @@ import numpy as np
 
 from ..grid import FloatArray
 from ..orientation import vector_angles
+from ..threads import in_order
 
 EDGE_TOLERANCE = 1e-5  # xtgeo's FLOATEPS, in the grid's length unit
 
@@ -51,6 +52,7 @@ NAMES = (
 )  # fmt: skip
 _Sets = list[tuple[FloatArray, FloatArray, FloatArray]]  # corner sets: see _corner_sets
 _BLOCK = 1 << 15  # cells per block: the (3, block, 2, 2, 2) temporaries stay small
+MAX_THREADS = 2  # blocks of cells measured at once
 
 
 def dot_components(u: FloatArray, w: FloatArray) -> FloatArray:
@@ -181,11 +183,24 @@ def _twist(edges: tuple[FloatArray, ...]) -> FloatArray:
 
 def hexahedron_quality(corners: FloatArray) -> dict[str, FloatArray]:
     """Every measure of the module docstring for the cells ``corners`` (n, 8, 3), float64
-    (flags as 0.0 / 1.0); NaN for rows that are not finite. Blocks of cells at a time."""
+    (flags as 0.0 / 1.0); NaN for rows that are not finite. Blocks of cells at a time, on up
+    to two threads (each block alone: the same bits for any number of threads)."""
     c = np.asarray(corners, dtype=np.float64)
     n = c.shape[0]
     out = {name: np.empty(n) for name in NAMES}
-    for s in range(0, n, _BLOCK):
+    blocks = ((slice(s, min(s + _BLOCK, n)),) for s in range(0, n, _BLOCK))
+    for part, values in in_order(lambda part: (part, _block_quality(c[part])), blocks, MAX_THREADS):
+        for name, v in values.items():
+            out[name][part] = v
+    return out
+
+
+def serial_hexahedron_quality(corners: FloatArray) -> dict[str, FloatArray]:
+    """:func:`hexahedron_quality` on the calling thread alone (for callers that run blocks of
+    cells on threads themselves)."""
+    c = np.asarray(corners, dtype=np.float64)
+    out = {name: np.empty(c.shape[0]) for name in NAMES}
+    for s in range(0, c.shape[0], _BLOCK):
         for name, values in _block_quality(c[s : s + _BLOCK]).items():
             out[name][s : s + _BLOCK] = values
     return out

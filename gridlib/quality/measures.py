@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -18,10 +18,11 @@ from ..cornerpoint.deck import Deck
 from ..errors import GridError
 from ..geometry import Geometry
 from ..grid import FloatArray, Grid
+from ..threads import concurrently, in_order
 from . import MEASURES
 from .cells import aspect_ratio, cell_face_nonplanarity, orientation_errors
 from .corners import deck_corner_blocks, deck_faulted, grid_corners
-from .hexahedra import NAMES, hexahedron_quality
+from .hexahedra import MAX_THREADS, NAMES, hexahedron_quality, serial_hexahedron_quality
 
 
 def cell_quality(
@@ -55,12 +56,14 @@ def cell_quality(
         out = hexahedron_quality(grid_corners(grid))
         faulted = _fault_cells(grid)
     out["faulted"] = np.where(np.isnan(out["minangle_topbase"]), np.nan, faulted)  # NaN: no hexahedron
-    plain, k = orientation_errors(grid, geometry, centres, perm)
+    (plain, k), out["aspect_ratio"], out["face_nonplanarity"] = concurrently(
+        lambda: orientation_errors(grid, geometry, centres, perm),
+        lambda: aspect_ratio(grid, geometry),
+        lambda: cell_face_nonplanarity(grid, geometry),
+    )
     out["orientation_error"] = plain
     if k is not None:
         out["k_orientation_error"] = k
-    out["aspect_ratio"] = aspect_ratio(grid, geometry)
-    out["face_nonplanarity"] = cell_face_nonplanarity(grid, geometry)
     return {m.name: out[m.name] for m in MEASURES if m.name in out}
 
 
@@ -73,12 +76,17 @@ def deck_quality(deck: Deck) -> dict[str, FloatArray]:
     return {m.name: out[m.name] for m in MEASURES if m.name in out}
 
 
-def _blockwise(blocks: Iterable[tuple[slice, FloatArray]], n: int) -> dict[str, FloatArray]:
-    """:func:`hexahedron_quality` of ``n`` cells whose corners come in blocks."""
+def _blockwise(blocks: Iterable[tuple[slice, Callable[[], FloatArray]]], n: int) -> dict[str, FloatArray]:
+    """:func:`hexahedron_quality` of ``n`` cells whose corners come in blocks (each block's
+    slice and a function computing its corners), blocks on up to two threads."""
     out = {name: np.full(n, np.nan) for name in NAMES}
-    for part, corners in blocks:
-        for name, values in hexahedron_quality(corners).items():
-            out[name][part] = values
+
+    def measured(part: slice, corners: Callable[[], FloatArray]):
+        return part, serial_hexahedron_quality(corners())
+
+    for part, values in in_order(measured, blocks, MAX_THREADS):
+        for name, v in values.items():
+            out[name][part] = v
     return out
 
 

@@ -115,3 +115,25 @@ def test_regular_tetrahedron_and_planar_grid():
     np.testing.assert_array_equal(q["orientation_error"], np.zeros(6))
     for name in (*HEXAHEDRAL, "face_nonplanarity"):
         assert np.isnan(q[name]).all(), name
+
+
+def test_the_same_bits_on_one_thread_or_two(monkeypatch):
+    """Blocks of cells are measured on threads (GRIDLIB_NUM_THREADS): each block writes its own
+    rows, so one thread or two give identical arrays, from the deck and from the grid's faces."""
+    from gridlib.cornerpoint.generators import make_model3
+
+    deck = make_model3([50, 44, 32])  # 70,400 cells: two deck blocks, three blocks of hexahedra
+    grid = process_grdecl(deck).grid
+    geometry = compute_geometry(grid)
+    perm = np.tile([100.0, 100.0, 10.0], (grid.num_cells, 1))
+    runs = []
+    for n in ("1", "2"):
+        monkeypatch.setenv("GRIDLIB_NUM_THREADS", n)
+        runs.append(
+            (cell_quality(grid, geometry, deck=deck, perm=perm), cell_quality(grid, geometry, perm=perm))
+        )
+    (one_deck, one_grid), (two_deck, two_grid) = runs
+    for name in one_deck:
+        assert np.array_equal(one_deck[name], two_deck[name], equal_nan=True), name
+        assert np.array_equal(one_grid[name], two_grid[name], equal_nan=True), name
+    assert np.count_nonzero(runs[0][0]["faulted"] == 1.0) > 0  # the fault is in the blocks measured
