@@ -69,6 +69,24 @@ def half_face_cells(grid: Grid) -> IntArray:
     return repeat_ids(grid.cells.face_pos)
 
 
+def segment_reduce(
+    ufunc: np.ufunc, values: np.ndarray, pos: IntArray, empty: float | int = np.nan
+) -> np.ndarray:
+    """Per segment ``values[pos[i]:pos[i + 1]]`` (e.g. a cell's half-faces, with
+    ``pos = grid.cells.face_pos``), ``ufunc.reduceat`` of it; ``empty`` for an empty segment
+    (reduceat alone would give the next segment's first value).
+
+    >>> segment_reduce(np.maximum, np.array([3.0, 1.0, 5.0]), np.array([0, 2, 2, 3])).tolist()
+    [3.0, nan, 5.0]
+    """
+    start = pos[:-1]
+    has = pos[1:] > start
+    out = np.full(start.size, empty, dtype=np.result_type(values, np.min_scalar_type(empty)))
+    if values.size and has.any():
+        out[has] = ufunc.reduceat(values, start[has])
+    return out
+
+
 def half_face_signs(grid: Grid) -> IntArray:
     """+1 where the half-face's cell is ``neighbors[f, 0]`` (normal points out), else -1."""
     hf_cells = half_face_cells(grid)

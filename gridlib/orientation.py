@@ -96,7 +96,8 @@ def face_vectors(
     neighbors: ArrayLike, normals: ArrayLike, centres: ArrayLike
 ) -> tuple[IntArray, FloatArray, FloatArray]:
     """The faces :func:`face_angles` measures (interior, non-zero area, distinct finite centres),
-    their area vectors n_f and centre lines c_b - c_a; arguments as :func:`face_angles`'s."""
+    their area vectors n_f and centre lines c_b - c_a, components first ((d, m) each: every
+    operation on them runs over the faces); arguments as :func:`face_angles`'s."""
     nb = np.asarray(neighbors)
     n = np.asarray(normals, dtype=np.float64)
     x = np.asarray(centres, dtype=np.float64)
@@ -109,17 +110,21 @@ def face_vectors(
         raise GridError(
             f"face_angles: neighbors name cell {int(nb.max())}, but there are {x.shape[0]} centres"
         )
-    finite = np.isfinite(x[:, 0])
-    for i in range(1, x.shape[1]):
-        finite &= np.isfinite(x[:, i])
+    xt = np.ascontiguousarray(x.T)  # (d, nc): gathers of one component at a time
+    finite = np.isfinite(xt).all(axis=0)
     finite = np.append(finite, False)  # [-1]: outside
     faces = np.flatnonzero(finite[nb[:, 0]] & finite[nb[:, 1]])
-    every = faces.size == nb.shape[0]  # then no copies of the normals
-    nf, d = (n if every else n[faces]), x[nb[faces, 1]] - x[nb[faces, 0]]
-    kept = _nonzero_rows(nf) & _nonzero_rows(d)
+    a, b = nb[faces, 0], nb[faces, 1]
+    nt = np.ascontiguousarray(n.T)
+    if faces.size != nb.shape[0]:
+        nt = nt[:, faces]
+    dt = np.empty_like(nt)
+    for i in range(xt.shape[0]):
+        np.subtract(xt[i][b], xt[i][a], out=dt[i])
+    kept = _nonzero_rows(nt.T) & _nonzero_rows(dt.T)
     if kept.all():
-        return faces, nf, d
-    return faces[kept], nf[kept], d[kept]
+        return faces, nt, dt
+    return faces[kept], nt[:, kept], dt[:, kept]
 
 
 def face_angles(
@@ -132,7 +137,8 @@ def face_angles(
     as ``grid.faces.neighbors``, ``normals`` (nf, d) area vectors from ``neighbors[:, 0]`` to
     ``neighbors[:, 1]`` (``Geometry.face_normals``), ``centres`` (nc, d) the cell centres,
     ``perm`` (nc, d) optional diagonal permeabilities (kx, ky[, kz]; any unit, >= 0)."""
-    faces, nf, d = face_vectors(neighbors, normals, centres)
+    faces, nt, dt = face_vectors(neighbors, normals, centres)
+    nf, d = nt.T, dt.T
     angles = vector_angles(nf, d)
     k_angles = None
     if perm is not None:
@@ -157,24 +163,6 @@ def _row_dot(u: FloatArray, v: FloatArray) -> FloatArray:
     for i in range(1, u.shape[1]):
         out += u[:, i] * v[:, i]
     return out
-
-
-def smallest_cosine_rows(cos: ArrayLike, groups: ArrayLike, num_groups: int) -> IntArray:
-    """Per group, the row of smallest ``cos`` (m,) among the rows in it (``groups`` (m,) or
-    (m, k), -1: none; the last such row on a tie), -1 for a group with none; NaN rows do not
-    count. The angle of that row is the group's largest (up to the rounding of the cosines):
-    one arctangent per group instead of one per row (:mod:`gridlib.quality`)."""
-    c = np.where(np.isnan(cos), np.inf, np.asarray(cos, dtype=np.float64))
-    g = np.asarray(groups, dtype=np.int64)
-    g = g.reshape(c.size, g.shape[1] if g.ndim == 2 else 1)
-    low = np.full(num_groups + 1, np.inf)  # [-1]: no group
-    for col in g.T:
-        np.minimum.at(low, col, c)
-    row = np.full(num_groups + 1, -1, dtype=np.int64)
-    for col in g.T:
-        hit = np.flatnonzero((c == low[col]) & (c < np.inf))
-        np.maximum.at(row, col[hit], hit)
-    return row[:num_groups]
 
 
 def checked_perm(perm: ArrayLike, shape: tuple[int, ...]) -> FloatArray:

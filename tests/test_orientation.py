@@ -15,7 +15,6 @@ from gridlib.orientation import (
     face_angles,
     grid_face_angles,
     orientation_figures,
-    smallest_cosine_rows,
     vector_angles,
 )
 
@@ -149,22 +148,3 @@ def test_given_centres_replace_the_centroids_and_degenerate_faces_are_left_out()
 def test_bad_input_is_one_clear_error(args, error, message):
     with pytest.raises(error, match=message.replace("(", r"\(").replace(")", r"\)")):
         face_angles(*args)
-
-
-def test_smallest_cosine_rows_give_the_largest_vector_angle_of_each_group():
-    rng = np.random.default_rng(4)
-    u, v = rng.normal(size=(200, 3)), rng.normal(size=(200, 3))
-    u[7] = 0.0  # a zero row does not count
-    groups = rng.integers(0, 30, size=(200, 2))
-    groups[:, 1][::3] = -1  # rows in one group only
-    with np.errstate(invalid="ignore"):
-        cos = (u * v).sum(axis=1) / np.sqrt((u * u).sum(axis=1) * (v * v).sum(axis=1))
-    row = smallest_cosine_rows(cos, groups, 32)  # groups 30 and 31 have no row
-    assert (row[30:] == -1).all() and (row[:30] >= 0).all()
-    angles = vector_angles(u, v)
-    want = np.full(30, np.nan)
-    for r, (g0, g1) in enumerate(groups):
-        for g in (g0, g1):
-            if g >= 0:
-                want[g] = np.fmax(want[g], angles[r])
-    np.testing.assert_allclose(angles[row[:30]], want, rtol=1e-14, atol=0.0)

@@ -18,9 +18,9 @@ from ..cornerpoint.deck import Deck
 from ..errors import GridError
 from ..geometry import Geometry
 from ..grid import FloatArray, Grid
-from ..threads import concurrently, in_order
+from ..threads import in_order
 from . import MEASURES
-from .cells import aspect_ratio, cell_face_nonplanarity, orientation_errors
+from .cells import face_measures
 from .corners import deck_corner_blocks, deck_faulted, grid_corners
 from .hexahedra import MAX_THREADS, NAMES, hexahedron_quality, serial_hexahedron_quality
 
@@ -56,14 +56,7 @@ def cell_quality(
         out = hexahedron_quality(grid_corners(grid))
         faulted = _fault_cells(grid)
     out["faulted"] = np.where(np.isnan(out["minangle_topbase"]), np.nan, faulted)  # NaN: no hexahedron
-    (plain, k), out["aspect_ratio"], out["face_nonplanarity"] = concurrently(
-        lambda: orientation_errors(grid, geometry, centres, perm),
-        lambda: aspect_ratio(grid, geometry),
-        lambda: cell_face_nonplanarity(grid, geometry),
-    )
-    out["orientation_error"] = plain
-    if k is not None:
-        out["k_orientation_error"] = k
+    out |= face_measures(grid, geometry, centres, perm)
     return {m.name: out[m.name] for m in MEASURES if m.name in out}
 
 

@@ -130,4 +130,5 @@ def test_exaggeration_of_flat_and_thick_reservoirs():
     assert vertical_exaggeration(7500.0, 359.0, 359.0) == 5.0  # flat, thickness-bound (5.2)
     assert vertical_exaggeration(10_000.0, 20.0, 3000.0) == 2.0  # steep: the depth range bounds it
     assert vertical_exaggeration(1000.0, 600.0, 600.0) == 1.0  # thick: none
-    assert picture_label("poro", FIELD) == "porosity [fraction]" and picture_label("depth", FIELD) == "depth [ft]"
+    assert picture_label("poro", FIELD) == "porosity [fraction]"
+    assert picture_label("depth", FIELD) == "depth [ft]"
