@@ -18,6 +18,7 @@ variant and the reason (and writes nothing).
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import time
 from collections.abc import Sequence
@@ -43,12 +44,22 @@ def variant_deck(flow_folder: str | os.PathLike) -> Path:
     return decks[0]
 
 
+def signal_name(number: int) -> str:
+    """``SIGABRT`` for 6 (Flow aborts on a failed assertion), else ``signal <number>``."""
+    try:
+        return signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
+
+
 def failure_reason(
     result: subprocess.CompletedProcess, case_base: Path, report_days: Sequence[float]
 ) -> str | None:
     """Why the Flow run of ``result`` (its files ``case_base``.*) failed, in one line; None if
     it reached the last of ``report_days``."""
     prt = Path(f"{case_base}.PRT")
+    if result.returncode < 0:
+        return f"OPM Flow was killed by {signal_name(-result.returncode)}: {flow_message(result, prt)}"
     if result.returncode != 0:
         return f"OPM Flow ended with status {result.returncode}: {flow_message(result, prt)}"
     if not Path(f"{case_base}.UNSMRY").is_file():
