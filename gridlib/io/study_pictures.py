@@ -226,17 +226,67 @@ def _legend_text(ds, line: Line, realisations: int) -> str:
     return ", ".join(f"{k} = {value_text(v, unit_of(ds, k))}" for k, v in line.fixed)
 
 
+def _draw_line(ax, line: Line, key: str, figure: str, values, xs, where, style: dict) -> None:
+    """One line of a study.png panel: its realisations as points, their mean through the key's
+    values, their spread (min to max) as a segment at each value; drawn ``style["dodge"]``
+    points sideways (the data stay the table's values)."""
+    from matplotlib.transforms import ScaledTranslation
+
+    mean, low, high = line_statistics(line.rows, key, figure, values)
+    good = line.rows if figure in GRID_FIGURES else line.rows[line.rows["simulation"] != "failed"]
+    colour = style["colour"]
+    artists = [
+        *ax.plot(
+            [where[v] for v in good[key]],
+            good[figure].to_numpy(dtype=float),
+            "o",
+            ms=3.5,
+            alpha=0.7,
+            color=colour,
+            gid=REALISATIONS,
+        ),
+        *ax.plot(xs, mean, "-", lw=1.4, color=colour, gid=MEAN, label=style["label"]),
+    ]
+    if style["spread"]:
+        has = np.isfinite(low)
+        artists.append(ax.vlines(xs[has], low[has], high[has], color=colour, lw=1.0, gid=SPREAD))
+    # shifted after the axes took the data's limits (a shifted transform at creation would
+    # leave the data out of them)
+    shift = ScaledTranslation(style["dodge"] / 72, 0, ax.figure.dpi_scale_trans)
+    for artist in artists:
+        artist.set_transform(ax.transData + shift)
+
+
+def _mark_failed(ax, failed, key: str, where) -> None:
+    """A red cross at the bottom of ``ax`` at the key's value of each failed variant."""
+    from matplotlib.transforms import blended_transform_factory
+
+    if len(failed):
+        ax.plot(
+            [where[v] for v in failed[key]],
+            np.full(len(failed), 0.03),
+            "x",
+            ms=7,
+            mew=1.8,
+            color=FAILED_COLOUR,
+            transform=blended_transform_factory(ax.transData, ax.transAxes),
+            clip_on=False,
+            gid=FAILED,
+            label="failed simulation (left out)",
+        )
+
+
 def study_figure(ds):
     """study.png: :func:`chosen_figures` (rows) against each varied key (columns), one line per
     combination of the other keys (see the module's docstring); returns the figure."""
     import matplotlib.pyplot as plt
-    from matplotlib.transforms import ScaledTranslation, blended_transform_factory
 
     keys = varied_keys(ds)
     figures = chosen_figures(ds)
     frame = variants_frame(ds, figures)
     realisations = int(frame["realisation"].nunique())
     combine = str(ds.attrs.get("combine", "product"))
+    failed = frame[frame["simulation"] == "failed"]
     with picture_style():
         fig, axes = plt.subplots(
             max(len(figures), 1),
@@ -254,69 +304,24 @@ def study_figure(ds):
             for i, figure in enumerate(figures):
                 ax = axes[i][j]
                 for n, line in enumerate(lines):
-                    shift = ScaledTranslation((n - (len(lines) - 1) / 2) * DODGE / 72, 0, fig.dpi_scale_trans)
-                    moved = ax.transData + shift
-                    mean, low, high = line_statistics(line.rows, key, figure, values)
-                    good = (
-                        line.rows
-                        if figure in GRID_FIGURES
-                        else line.rows[line.rows["simulation"] != "failed"]
-                    )
-                    ax.plot(
-                        [where[v] for v in good[key]],
-                        good[figure].to_numpy(dtype=float),
-                        "o",
-                        ms=3.5,
-                        alpha=0.7,
-                        color=colours[n],
-                        transform=moved,
-                        gid=REALISATIONS,
-                    )
-                    ax.plot(
-                        xs,
-                        mean,
-                        "-",
-                        lw=1.4,
-                        color=colours[n],
-                        transform=moved,
-                        gid=MEAN,
-                        label=_legend_text(ds, line, realisations),
-                    )
-                    if realisations > 1:
-                        has = np.isfinite(low)
-                        ax.vlines(
-                            xs[has],
-                            low[has],
-                            high[has],
-                            color=colours[n],
-                            lw=1.0,
-                            transform=moved,
-                            gid=SPREAD,
-                        )
+                    style = {
+                        "colour": colours[n],
+                        "label": _legend_text(ds, line, realisations),
+                        "dodge": (n - (len(lines) - 1) / 2) * DODGE,
+                        "spread": realisations > 1,
+                    }
+                    _draw_line(ax, line, key, figure, values, xs, where, style)
                 if figure not in GRID_FIGURES:
-                    failed = frame[frame["simulation"] == "failed"]
-                    if len(failed):
-                        ax.plot(
-                            [where[v] for v in failed[key]],
-                            np.full(len(failed), 0.03),
-                            "x",
-                            ms=7,
-                            mew=1.8,
-                            color=FAILED_COLOUR,
-                            transform=blended_transform_factory(ax.transData, ax.transAxes),
-                            clip_on=False,
-                            gid=FAILED,
-                            label="failed simulation (left out)",
-                        )
+                    _mark_failed(ax, failed, key, where)
                 ax.set_xticks(xs, [value_text(v, None) for v in values])
+                ax.margins(x=0.08)
                 label_axis(ax.xaxis, key_label(ds, key), None, np.array([0.0]))
                 title, unit = figure_title(ds, figure)
                 label_axis(ax.yaxis, title, unit, frame[figure].to_numpy(dtype=float))
                 ax.grid(True, lw=0.4, alpha=0.5)
-            top = axes[0][j]
-            handles, texts = top.get_legend_handles_labels()
+            handles, texts = axes[0][j].get_legend_handles_labels()
             unique = dict(zip(texts, handles, strict=True))
-            top.legend(
+            axes[0][j].legend(
                 unique.values(),
                 unique.keys(),
                 loc="lower center",
@@ -463,6 +468,7 @@ def tornado_figure(ds, response: str = TORNADO_RESPONSE):
     base to the mean at each key's lowest (blue) and highest (orange) value, largest on top.
     Returns the figure."""
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     swings = tornado_swings(ds, response)
@@ -489,16 +495,18 @@ def tornado_figure(ds, response: str = TORNADO_RESPONSE):
                     color=FAILED_COLOUR,
                     gid=FAILED,
                 )
-        ax.axvline(swings[0].base if swings else 0.0, color="black", lw=1.0, gid=BASE)
+        if swings and np.isfinite(swings[0].base):
+            ax.axvline(swings[0].base, color="black", lw=1.0, gid=BASE)
         ax.set_yticks(range(n), [_bar_label(ds, s) for s in reversed(swings)])
         every = np.array([v for s in swings for v in (s.low_mean, s.high_mean, s.base)], dtype=float)
         label_axis(ax.xaxis, title, unit, every)
+        base = swings[0].base if swings else float("nan")
         ax.legend(
-            [Patch(color=LOW_COLOUR), Patch(color=HIGH_COLOUR)],
-            ["key at its lowest value", "key at its highest value"],
+            [Patch(color=LOW_COLOUR), Patch(color=HIGH_COLOUR), Line2D([], [], color="black", lw=1.0)],
+            ["key at its lowest value", "key at its highest value", f"base (middle values): {base:.4g}"],
             loc="lower center",
             bbox_to_anchor=(0.5, 1.0),
-            ncols=2,
+            ncols=3,
             fontsize=LABEL_SIZE,
             frameon=False,
         )

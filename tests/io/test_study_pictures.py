@@ -135,9 +135,13 @@ def _check_lines(ds, fig, figures, skip_failed):
                 (x0, y0), (x1, y1) = seg
                 assert x0 == x1 == float(v)
                 assert (y0, y1) == (min(at(v)), max(at(v)))
-        for ax_ in (ax,):
-            assert ax_.xaxis.get_offset_text().get_text() == ""
-            assert ax_.yaxis.get_offset_text().get_text() == ""
+        # every point inside the panel (visible), no offset text on either axis
+        (x0, x1), (y0, y1) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+        for line in points:
+            x, y = line.get_xydata().T
+            assert np.all((x0 < x) & (x < x1)) and np.all((y0 < y) & (y < y1))
+        assert ax.xaxis.get_offset_text().get_text() == ""
+        assert ax.yaxis.get_offset_text().get_text() == ""
 
 
 def test_each_line_is_its_combination_and_no_spread_spans_another_key(simulated):

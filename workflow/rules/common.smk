@@ -347,13 +347,107 @@ def study_variant_outputs(name):
 
 
 def study_table_inputs(wildcards):
+    """The study table's inputs: the variant table, the variants' summary.json and, for a
+    simulated study, their simulation/ folders (each with its responses.json)."""
     study = STUDIES[wildcards.study]
-    return {
+    inputs = {
         "manifest": f"{RESULTS}/{study.name}/variants.yaml",
         "summaries": [
             f"{RESULTS}/{study.name}/{v.name}/summary.json" for v in study.variants
         ],
     }
+    if study.simulation.simulate:
+        inputs["simulations"] = study_simulation_outputs(study.name)
+    return inputs
+
+
+def study_simulation_outputs(name):
+    """The simulation/ folders of the variants of study ``name`` (none unless it simulates)."""
+    study = STUDIES[name]
+    if not study.simulation.simulate:
+        return []
+    return [f"{RESULTS}/{name}/{v.name}/simulation" for v in study.variants]
+
+
+def study_simulation_options(study):
+    """What a study's Flow jobs take from the study file (their params: a change of one of
+    them reruns them; the study file's path is not one, so that moving the project reruns
+    nothing)."""
+    sim = study.simulation
+    return {
+        "times": list(sim.times),
+        "water_cut": sim.water_cut,
+        "on_failure": sim.on_failure,
+    }
+
+
+def variant_report_days(study, variant):
+    """The report days of a variant (its case's simulation.report_days)."""
+    data = next(v.data for v in study.variants if v.name == variant)
+    return [float(d) for d in data["simulation"].get("report_days", [])]
+
+
+def simulate_variant_job(study, variant, flow_folder, output, log_file, params):
+    """A study's Flow job (rule study_simulate_<study>): the variant's deck through OPM Flow
+    (gridlib.stages.study_simulate), here (a thread of the Snakemake process, or the job's
+    own process on a cluster). A failure with on_failure: stop is one line naming the study
+    file, the variant and Flow's reason."""
+    from gridlib.stages.study_simulate import simulate_variant
+
+    options = params.options
+    try:
+        simulate_variant(
+            flow_folder,
+            output,
+            study_file=str(study.path),
+            variant=variant,
+            report_days=params.report_days,
+            times=options["times"],
+            water_cut=options["water_cut"],
+            on_failure=options["on_failure"],
+            log_file=log_file,
+        )
+    except InputError as exc:
+        print(f"gridlib: {exc}", file=sys.stderr)
+        raise
+
+
+# A study's pictures beside study.png when it simulates (gridlib.io.study_pictures).
+SIMULATED_STUDY_PICTURES = {"profiles": "study_profiles.png", "tornado": "study_tornado.png"}
+
+
+def study_names(simulated):
+    """The studies (a regular expression of their names) that simulate, or that do not."""
+    names = [n for n, s in sorted(STUDIES.items()) if s.simulation.simulate == simulated]
+    return "|".join(re.escape(n) for n in names) or "(?!)"
+
+
+def study_table_files(simulated, study="{study}"):
+    """The outputs of a study's table (rule study_table, or study_table_simulated: the same
+    job with the pictures of its simulations), by name; ``study`` a name or the wildcard."""
+    files = {"csv": "study.csv", "nc": "study.nc", "png": "study.png"}
+    if simulated:
+        files |= SIMULATED_STUDY_PICTURES
+    return {key: f"{RESULTS}/{study}/{name}" for key, name in files.items()}
+
+
+def study_table_outputs(simulated):
+    """:func:`study_table_files` with the report's captions: a subcategory per study under
+    the studies' category, the table, then each picture with its caption
+    (workflow/report/<name>.rst)."""
+    out = {}
+    for key, path in study_table_files(simulated).items():
+        if key == "nc":
+            out[key] = path
+            continue
+        caption = "study_table" if key == "csv" else Path(path).stem
+        out[key] = report(
+            path,
+            caption=f"../report/{caption}.rst",
+            category=artifacts.STUDIES,
+            subcategory="{study}",
+        )
+    return out
 
 
 def all_outputs():
@@ -362,7 +456,8 @@ def all_outputs():
     files = [f"{RESULTS}/summary.csv"] if CASES else []  # cases: [] builds studies only
     for name in sorted(STUDIES):
         files += study_variant_outputs(name)
-        files += [f"{RESULTS}/{name}/study.{ext}" for ext in ("csv", "nc", "png")]
+        files += study_simulation_outputs(name)
+        files += list(study_table_files(STUDIES[name].simulation.simulate, name).values())
     for name, case in sorted(CASES.items()):
         files += [
             artifact_path(a.key, case)

@@ -31,34 +31,72 @@ for _name, _study in sorted(STUDIES.items()):
             build_variant(input.case, output.summary, log[0])
 
 
-rule study_table:
-    """A study's variants in one table (study.csv, study.nc) and one picture (study.png)."""
-    input:
-        unpack(study_table_inputs),
-    output:
-        csv=report(
-            f"{RESULTS}/{{study}}/study.csv",
-            caption="../report/study_table.rst",
-            category=artifacts.STUDIES,
-            subcategory="{study}",
-        ),
-        nc=f"{RESULTS}/{{study}}/study.nc",
-        png=report(
-            f"{RESULTS}/{{study}}/study.png",
-            caption="../report/study.rst",
-            category=artifacts.STUDIES,
-            subcategory="{study}",
-        ),
-    log:
-        f"{RESULTS}/logs/{{study}}/study.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/{{study}}/study.tsv"
-    wildcard_constraints:
-        study=STUDY_NAMES,
-    conda:
-        "../envs/gridlib.yaml"
-    threads: 1
-    resources:
-        mem_mb=2000,
-    script:
-        "../scripts/study_table.py"
+# A simulated study (simulate: true): each variant's OPM Flow deck (its flow/ folder, from the
+# variant's job above) runs as a job of its own, with one thread (Flow's results then do not
+# depend on the machine), into the folder simulation/ (written whole) with responses.json.
+# A `run:` job: with --force-use-threads it runs in a thread of the Snakemake process, which
+# waits for Flow (a process of its own); on a cluster it is a SLURM job like the variants'.
+for _name, _study in sorted(STUDIES.items()):
+    if not _study.simulation.simulate:
+        continue
+
+    rule:
+        name:
+            f"study_simulate_{rule_name(_name)}"
+        input:
+            flow=f"{RESULTS}/{{study}}/{{variant}}/flow",
+        output:
+            simulation=directory(f"{RESULTS}/{{study}}/{{variant}}/simulation"),
+        log:
+            f"{RESULTS}/logs/{{study}}/{{variant}}.simulation.log",
+        benchmark:
+            f"{RESULTS}/benchmarks/{{study}}/{{variant}}.simulation.tsv"
+        wildcard_constraints:
+            study=re.escape(_name),
+            variant="|".join(re.escape(v.name) for v in _study.variants),
+        threads: 1
+        resources:
+            mem_mb=2000,
+        params:
+            options=study_simulation_options(_study),
+            report_days=lambda wildcards, study=_study: variant_report_days(
+                study, wildcards.variant
+            ),
+        run:
+            simulate_variant_job(
+                STUDIES[wildcards.study],
+                wildcards.variant,
+                input.flow,
+                output.simulation,
+                log[0],
+                params,
+            )
+
+
+# A study's table: one job over its variants' summaries (and simulations), writing study.csv,
+# study.nc and its pictures (study.png; for a simulated study also study_profiles.png and
+# study_tornado.png). Two rules of one body, their outputs differing: study_table for the
+# studies that do not simulate, study_table_simulated for those that do.
+for _simulated in (False, True):
+
+    rule:
+        """A study's variants in one table (study.csv, study.nc) and its pictures."""
+        name:
+            "study_table_simulated" if _simulated else "study_table"
+        input:
+            unpack(study_table_inputs),
+        output:
+            **study_table_outputs(_simulated),
+        log:
+            f"{RESULTS}/logs/{{study}}/study.log",
+        benchmark:
+            f"{RESULTS}/benchmarks/{{study}}/study.tsv"
+        wildcard_constraints:
+            study=study_names(_simulated),
+        conda:
+            "../envs/gridlib.yaml"
+        threads: 1
+        resources:
+            mem_mb=2000,
+        script:
+            "../scripts/study_table.py"
