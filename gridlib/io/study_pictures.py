@@ -276,6 +276,13 @@ def _mark_failed(ax, failed, key: str, where) -> None:
         )
 
 
+def _legend_columns(texts: Sequence[str]) -> int:
+    """As many legend columns as entries of ``texts`` fit across a panel (about 60 characters
+    of the legend's font), at least one."""
+    widest = max((len(t) for t in texts), default=1) + 6  # the handle and the gap
+    return max(1, min(len(texts), 60 // widest))
+
+
 def study_figure(ds):
     """study.png: :func:`chosen_figures` (rows) against each varied key (columns), one line per
     combination of the other keys (see the module's docstring); returns the figure."""
@@ -328,7 +335,7 @@ def study_figure(ds):
                 bbox_to_anchor=(0.5, 1.02),
                 fontsize=LABEL_SIZE,
                 frameon=False,
-                ncols=1 if len(unique) > 3 else len(unique),
+                ncols=_legend_columns(list(unique)),
             )
         spread = " (points: realisations, bars: their min to max)" if realisations > 1 else ""
         fig.suptitle(f"study {ds.attrs.get('study', '')}: {len(frame)} variants{spread}")
