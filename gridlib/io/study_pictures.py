@@ -332,6 +332,12 @@ def study_figure(ds):
                 title, unit = figure_title(ds, figure)
                 label_axis(ax.yaxis, title, unit, frame[figure].to_numpy(dtype=float))
                 ax.grid(True, lw=0.4, alpha=0.5)
+            if not figures:  # every simulation failed: nothing to draw, and a panel says so
+                axes[0][j].set_xlabel(key_label(ds, key))
+                axes[0][j].text(
+                    0.5, 0.5, f"no responses: {len(failed)} failed simulations", ha="center",
+                    transform=axes[0][j].transAxes, color=FAILED_COLOUR, gid=FAILED,
+                )  # fmt: skip
             handles, texts = axes[0][j].get_legend_handles_labels()
             unique = dict(zip(texts, handles, strict=True))
             axes[0][j].legend(

@@ -319,3 +319,16 @@ def test_a_key_of_labels_is_drawn_in_order_and_its_tornado_bar_spans_its_least_a
         assert mean.get_ydata().tolist() == recovery.mean(axis=1).tolist()
     finally:
         plt.close(fig)
+
+
+def test_a_study_whose_simulations_all_failed_says_so():
+    ds = _study()
+    for name in ("oil_recovery", "FOPT", "FWPT", "FPR", "WBT:PROD"):
+        ds[name].values[:] = np.nan
+    ds["simulation"] = ds["simulation"].copy(data=np.full(ds["simulation"].shape, "failed"))
+    fig = sp.study_figure(ds)
+    try:
+        texts = [t.get_text() for ax in fig.axes for t in ax.texts if t.get_gid() == sp.FAILED]
+        assert texts == ["no responses: 12 failed simulations"] * 2
+    finally:
+        plt.close(fig)
