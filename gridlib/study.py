@@ -215,7 +215,11 @@ def _alternatives(study: Path, key: str, values: list[Any]) -> list[Any]:
     where, first_labelled = f"{study}: vary.{key}", labelled.index(True)
     for k, value in enumerate(values):
         if not labelled[k]:
-            what = "this mapping has no label" if isinstance(value, dict) else f"{_one_line(value)} is not a mapping"
+            what = (
+                "this mapping has no label"
+                if isinstance(value, dict)
+                else f"{_one_line(value)} is not a mapping"
+            )
             raise InputError(
                 f"{where}[{k}]: {what}, and item {first_labelled} is a mapping with a label: the values "
                 "of a key are all mappings with a label (whole sections or list items) or none is"
@@ -256,7 +260,9 @@ def _relocate_files(data: dict[str, Any], base_dir: Path, folder: Path) -> None:
             return
         head, rest = path[0], path[1:]
         if head == "*":
-            keys = range(len(node)) if isinstance(node, list) else list(node) if isinstance(node, dict) else []
+            keys = (
+                range(len(node)) if isinstance(node, list) else list(node) if isinstance(node, dict) else []
+            )
         else:
             keys = [head] if isinstance(node, dict) and head in node else []
         for key in keys:
