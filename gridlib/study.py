@@ -67,6 +67,7 @@ from .io.datasets import damaged
 
 STUDY_SCHEMA = "study.schema.yaml"
 SEED_STEP = 3  # a case's fields use seed, seed + 1, seed + 2
+DEFAULT_WATER_CUT = 0.01  # a producer's water breakthrough: its water cut first exceeds this
 _SAFE = re.compile(r"^[A-Za-z0-9._-]+$")
 # Keys of a case that name files relative to the case file (rewritten for the variant's folder;
 # "*": every item of a list or value of a mapping).
@@ -110,6 +111,33 @@ class Variant:
 
 
 @dataclass(frozen=True)
+class StudySimulation:
+    """The study's keys ``simulate``, ``responses`` and ``on_failure``: whether every variant's
+    OPM Flow deck runs (one job per variant), the days (report days of the base case) at which
+    the field responses are also tabulated, the water cut (fraction of the liquid rate) a
+    producer's breakthrough exceeds, and whether a failed Flow run is reported (``report``: the
+    variant is marked failed, the others go on) or an error (``stop``)."""
+
+    simulate: bool = False
+    times: tuple[float, ...] = ()
+    water_cut: float = DEFAULT_WATER_CUT
+    on_failure: str = "report"
+
+    def manifest(self) -> dict[str, Any]:
+        """As the study's variant table (variants.yaml) records it."""
+        return {
+            "times": [_plain_number(t) for t in self.times],
+            "water_cut": self.water_cut,
+            "on_failure": self.on_failure,
+        }
+
+
+def _plain_number(value: float) -> int | float:
+    """A day as YAML and JSON write it: an integer where it is one."""
+    return int(value) if float(value).is_integer() else float(value)
+
+
+@dataclass(frozen=True)
 class Study:
     """A validated study: its base case file, the varied keys and every variant."""
 
@@ -123,6 +151,8 @@ class Study:
     variants: tuple[Variant, ...]
     # what each varied key measures (its unit follows from the base case's unit system)
     key_quantities: dict[str, KeyQuantity] = field(default_factory=dict)
+    # whether and how the variants are simulated in OPM Flow (keys simulate, responses, on_failure)
+    simulation: StudySimulation = field(default_factory=StudySimulation)
 
     def folder(self, results: str | os.PathLike) -> Path:
         return Path(results) / self.name
@@ -369,6 +399,7 @@ def load_study(
         seed=seed,
         variants=tuple(variants),
         key_quantities=_key_quantities(p, keys, base_data),
+        simulation=study_simulation(p, spec, base_data, variants[0].artifacts),
     )
 
 
@@ -381,6 +412,44 @@ def artifact_groups(study: Study) -> list[tuple[tuple[str, ...], tuple[Variant, 
     for v in study.variants:
         groups.setdefault(v.artifacts, []).append(v)
     return [(keys, tuple(members)) for keys, members in groups.items()]
+
+
+def study_simulation(
+    study: Path, spec: dict[str, Any], base: dict[str, Any], artifacts: tuple[str, ...]
+) -> StudySimulation:
+    """The study's ``simulate``, ``responses`` and ``on_failure`` (schema-checked ``spec``),
+    checked against the base case ``base``: ``simulate: true`` needs its ``simulation`` section
+    and an OPM Flow deck (``flow`` among the variants' ``artifacts``), and every
+    ``responses.times`` entry must be one of its ``simulation.report_days``. A problem is one
+    InputError naming the study file and the key."""
+    responses = spec.get("responses", {})
+    out = StudySimulation(
+        simulate=bool(spec.get("simulate", False)),
+        times=tuple(float(t) for t in responses.get("times", ())),
+        water_cut=float(responses.get("water_cut", DEFAULT_WATER_CUT)),
+        on_failure=str(spec.get("on_failure", "report")),
+    )
+    if not out.simulate:
+        return out
+    if "simulation" not in base:
+        raise InputError(
+            f"{study}: simulate: the base case {spec['base']} has no simulation section "
+            "(wells, report days: what OPM Flow would simulate)"
+        )
+    if "flow" not in artifacts:
+        raise InputError(
+            f"{study}: simulate: the variants of {spec['base']} get no OPM Flow deck "
+            "(a deck needs rock on a 3-D grid)"
+        )
+    days = [float(d) for d in base["simulation"].get("report_days", [])]
+    for k, t in enumerate(out.times):
+        if t not in days:
+            listed = ", ".join(f"{_plain_number(d)}" for d in days) or "none"
+            raise InputError(
+                f"{study}: responses.times[{k}]: {_plain_number(t)} is not a report day of the base case "
+                f"(simulation.report_days: {listed})"
+            )
+    return out
 
 
 def _key_quantities(study: Path, keys: list[str], base: dict[str, Any]) -> dict[str, KeyQuantity]:
@@ -450,6 +519,10 @@ def manifest_text(study: Study) -> str:
         "keys": list(study.keys),
         "key_quantities": quantities,
         "combine": study.combine,
+    }
+    if study.simulation.simulate:  # the table then reads each variant's responses
+        doc["simulation"] = study.simulation.manifest()
+    doc |= {
         "variants": [
             {"name": v.name, "values": v.values, "realisation": v.realisation, "seed": v.seed}
             for v in study.variants

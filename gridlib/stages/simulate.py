@@ -76,7 +76,7 @@ def run_flow(deck: Path, out_dir: Path, options: tuple[str, ...] = ()) -> subpro
     )
 
 
-_MESSAGE = re.compile(r"^(Error:|Problem:|Exception|Program threw|.*\b[Ee]xception\b)")
+_MESSAGE = re.compile(r"^(Error:|Problem:|Exception|Program threw|.*\b[Ee]xception\b|.*Assertion .* failed)")
 
 
 def flow_message(result: subprocess.CompletedProcess, prt: Path) -> str:
@@ -86,7 +86,8 @@ def flow_message(result: subprocess.CompletedProcess, prt: Path) -> str:
     if prt.is_file():
         text += "\n" + prt.read_text(errors="replace")
     lines = [line.strip() for line in text.splitlines() if line.strip() and "MPI" not in line]
-    found = list(dict.fromkeys(line for line in lines if _MESSAGE.match(line)))
+    said = (line for line in lines if _MESSAGE.match(line) and line.rstrip(":") not in ("Problem", "Error"))
+    found = list(dict.fromkeys(said))
     if not found:
         found = lines[-3:] or [f"exit status {result.returncode}"]
     return " | ".join(found[:4])

@@ -356,13 +356,69 @@ def study_variant_outputs(name):
 
 
 def study_table_inputs(wildcards):
+    """The study table's inputs: the variant table, the variants' summary.json and, for a
+    simulated study, their simulation/ folders (each with its responses.json)."""
     study = STUDIES[wildcards.study]
-    return {
+    inputs = {
         "manifest": f"{RESULTS}/{study.name}/variants.yaml",
         "summaries": [
             f"{RESULTS}/{study.name}/{v.name}/summary.json" for v in study.variants
         ],
     }
+    if study.simulation.simulate:
+        inputs["simulations"] = study_simulation_outputs(study.name)
+    return inputs
+
+
+def study_simulation_outputs(name):
+    """The simulation/ folders of the variants of study ``name`` (none unless it simulates)."""
+    study = STUDIES[name]
+    if not study.simulation.simulate:
+        return []
+    return [f"{RESULTS}/{name}/{v.name}/simulation" for v in study.variants]
+
+
+def study_simulation_options(study):
+    """What a study's Flow jobs take from the study file (their params: a change of one of
+    them reruns them; the study file's path is not one, so that moving the project reruns
+    nothing)."""
+    sim = study.simulation
+    return {
+        "times": list(sim.times),
+        "water_cut": sim.water_cut,
+        "on_failure": sim.on_failure,
+    }
+
+
+def variant_report_days(study, variant):
+    """The report days of a variant (its case's simulation.report_days)."""
+    data = next(v.data for v in study.variants if v.name == variant)
+    return [float(d) for d in data["simulation"].get("report_days", [])]
+
+
+def simulate_variant_job(study, variant, flow_folder, output, log_file, params):
+    """A study's Flow job (rule study_simulate_<study>): the variant's deck through OPM Flow
+    (gridlib.stages.study_simulate), here (a thread of the Snakemake process, or the job's
+    own process on a cluster). A failure with on_failure: stop is one line naming the study
+    file, the variant and Flow's reason."""
+    from gridlib.stages.study_simulate import simulate_variant
+
+    options = params.options
+    try:
+        simulate_variant(
+            flow_folder,
+            output,
+            study_file=str(study.path),
+            variant=variant,
+            report_days=params.report_days,
+            times=options["times"],
+            water_cut=options["water_cut"],
+            on_failure=options["on_failure"],
+            log_file=log_file,
+        )
+    except InputError as exc:
+        print(f"gridlib: {exc}", file=sys.stderr)
+        raise
 
 
 def all_outputs():
@@ -371,6 +427,7 @@ def all_outputs():
     files = [f"{RESULTS}/summary.csv"] if CASES else []  # cases: [] builds studies only
     for name in sorted(STUDIES):
         files += study_variant_outputs(name)
+        files += study_simulation_outputs(name)
         files += [f"{RESULTS}/{name}/study.{ext}" for ext in ("csv", "nc", "png")]
     for name, case in sorted(CASES.items()):
         files += [

@@ -34,6 +34,48 @@ for _name in sorted(STUDIES):
                 build_variant(input.case, output.summary, log[0])
 
 
+# A simulated study (simulate: true): each variant's OPM Flow deck (its flow/ folder, from the
+# variant's job above) runs as a job of its own, with one thread (Flow's results then do not
+# depend on the machine), into the folder simulation/ (written whole) with responses.json.
+# A `run:` job: with --force-use-threads it runs in a thread of the Snakemake process, which
+# waits for Flow (a process of its own); on a cluster it is a SLURM job like the variants'.
+for _name, _study in sorted(STUDIES.items()):
+    if not _study.simulation.simulate:
+        continue
+
+    rule:
+        name:
+            f"study_simulate_{rule_name(_name)}"
+        input:
+            flow=f"{RESULTS}/{{study}}/{{variant}}/flow",
+        output:
+            simulation=directory(f"{RESULTS}/{{study}}/{{variant}}/simulation"),
+        log:
+            f"{RESULTS}/logs/{{study}}/{{variant}}.simulation.log",
+        benchmark:
+            f"{RESULTS}/benchmarks/{{study}}/{{variant}}.simulation.tsv"
+        wildcard_constraints:
+            study=re.escape(_name),
+            variant="|".join(re.escape(v.name) for v in _study.variants),
+        threads: 1
+        resources:
+            mem_mb=2000,
+        params:
+            options=study_simulation_options(_study),
+            report_days=lambda wildcards, study=_study: variant_report_days(
+                study, wildcards.variant
+            ),
+        run:
+            simulate_variant_job(
+                STUDIES[wildcards.study],
+                wildcards.variant,
+                input.flow,
+                output.simulation,
+                log[0],
+                params,
+            )
+
+
 rule study_table:
     """A study's variants in one table (study.csv, study.nc) and one picture (study.png)."""
     input:

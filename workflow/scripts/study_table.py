@@ -12,6 +12,7 @@ run_logged(
     snakemake.input.manifest,
     snakemake.input.summaries,
     snakemake.output,
+    snakemake.input.get("simulations", []),
     threads=snakemake.threads,
     outputs=list(snakemake.output),
 )
