@@ -218,7 +218,7 @@ def _study_tables(tmp_path, monkeypatch, base: dict, vary: dict, summary: dict):
     monkeypatch.setattr(
         stage,
         "save_figure",
-        lambda fig, path: labels.extend(ax.get_xlabel() for ax in fig.axes) or plt.close(fig),
+        lambda fig, path, dpi=None: labels.extend(ax.get_xlabel() for ax in fig.axes) or plt.close(fig),
     )
     out = {k: str(tmp_path / f"study.{k}") for k in ("csv", "nc", "png")}
     stage.stage_study(tmp_path / "variants.yaml", summaries, out)

@@ -1,7 +1,8 @@
 """Stage ``study``: a study's variants as one table (``study.csv``), one xarray Dataset
-(``study.nc``, one dimension per varied key plus ``realisation``) and one picture
-(``study.png``: the main figures against each varied key, realisations as points with
-their spread).
+(``study.nc``, one dimension per varied key plus ``realisation``) and its pictures
+(:mod:`gridlib.io.study_pictures`: ``study.png``, the main figures against each varied key,
+one line per combination of the other keys' values with the realisations' spread; for a
+simulated study also ``study_profiles.png`` and ``study_tornado.png``).
 
 The table's columns: ``variant``, one per varied key (its dotted name), ``realisation``,
 ``seed``, then every figure of the variants' ``summary.json`` (the columns of
@@ -34,14 +35,14 @@ from ..errors import InputError
 from ..io.datasets import damaged
 from ..io.flow_responses import Responses, read_responses, response_units
 from ..io.netcdf import write_dataset
+from ..io.picture_style import DPI
 from ..io.pictures import save_figure
-from ..io.summary_table import COLUMNS, column_units, header, read_summaries, unit_text, write_csv
+from ..io.study_pictures import profiles_figure, study_figure, tornado_figure
+from ..io.summary_table import COLUMNS, column_units, read_summaries, unit_text, write_csv
 from ..study import read_manifest
 from .common import log
 
 NOT_FIGURES = ("case", "seed", "case_sha256")
-# The figures study.png draws against every varied key (those the variants have).
-PLOTTED = ("cells", "fault_connections", "pore_volume", "mean_porosity", "median_trans")
 
 
 def _scalar(value: Any) -> Any:
@@ -210,53 +211,15 @@ def series_dataset(
     return frame.set_index(index).to_xarray()
 
 
-def _positions(values: list[Any]) -> tuple[list[float], list[str]]:
-    """x positions of a key's values: the numbers themselves, else their order."""
-    if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
-        return [float(v) for v in values], [str(v) for v in values]
-    return [float(i) for i in range(len(values))], [str(v) for v in values]
-
-
-def plot_study(path: str | os.PathLike, manifest: Mapping[str, Any], rows: list[dict]) -> None:
-    """For each varied key (columns) the main figures (rows) against its values: every variant a
-    point, the mean over the other keys' values and the realisations as a line, the spread of
-    the realisations (min to max per value) as a bar."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    keys = list(manifest["keys"])
-    units = key_units(manifest, rows)
-    figures = [f for f in PLOTTED if any(isinstance(r.get(f), int | float) for r in rows)]
-    fig, axes = plt.subplots(
-        len(figures), len(keys), figsize=(3.6 * len(keys), 2.4 * len(figures)), squeeze=False
-    )
-    for j, key in enumerate(keys):
-        values = list(dict.fromkeys(r[key] for r in rows))
-        xs, ticks = _positions(values)
-        where = dict(zip(values, xs, strict=True))
-        for i, figure in enumerate(figures):
-            ax = axes[i][j]
-            pts = [(where[r[key]], float(r[figure])) for r in rows if isinstance(r.get(figure), int | float)]
-            x, y = np.array(pts).T
-            ax.plot(x, y, "o", ms=3, alpha=0.6, color="tab:blue", label="variants")
-            mean = [y[x == p].mean() for p in xs]
-            low = [y[x == p].min() for p in xs]
-            high = [y[x == p].max() for p in xs]
-            ax.errorbar(
-                xs, mean, yerr=[np.subtract(mean, low), np.subtract(high, mean)], color="k", capsize=3, lw=1
-            )
-            ax.set_xticks(xs, ticks, fontsize=7)
-            if i == len(figures) - 1:
-                ax.set_xlabel(key_header(key, units[key]))
-            if j == 0:
-                ax.set_ylabel(header(figure, rows).replace("_", " "), fontsize=8)
-            ax.tick_params(labelsize=7)
-    fig.suptitle(f"study {manifest['study']}: {len(rows)} variants", fontsize=10)
-    fig.tight_layout()
-    save_figure(fig, path)
+def plot_study(outputs: Mapping[str, str], dataset) -> None:
+    """The study's pictures (:mod:`gridlib.io.study_pictures`) from its Dataset: study.png
+    (``outputs["png"]``), and, where ``outputs`` names them (a simulated study),
+    study_profiles.png (``profiles``) and study_tornado.png (``tornado``)."""
+    save_figure(study_figure(dataset), outputs["png"], dpi=DPI)
+    if "profiles" in outputs:
+        save_figure(profiles_figure(dataset), outputs["profiles"], dpi=DPI)
+    if "tornado" in outputs:
+        save_figure(tornado_figure(dataset), outputs["tornado"], dpi=DPI)
 
 
 def read_simulations(
@@ -282,9 +245,10 @@ def stage_study(
     outputs: Mapping[str, str],
     simulations: Sequence[str | os.PathLike] = (),
 ) -> None:
-    """study.csv, study.nc and study.png (``outputs`` keys ``csv``, ``nc``, ``png``) from the
-    study's manifest (results/<study>/variants.yaml), its variants' summary.json files and, for
-    a simulated study, their ``simulation/`` folders (each with its responses.json)."""
+    """study.csv, study.nc and study.png (``outputs`` keys ``csv``, ``nc``, ``png``; and
+    ``profiles``, ``tornado`` for a simulated study: :func:`plot_study`) from the study's
+    manifest (results/<study>/variants.yaml), its variants' summary.json files and, for a
+    simulated study, their ``simulation/`` folders (each with its responses.json)."""
     manifest = read_manifest(manifest_file)
     loaded = read_summaries(summaries)
     missing = sorted({v["name"] for v in manifest["variants"]} - {s["case"] for s in loaded})
@@ -300,6 +264,7 @@ def stage_study(
         [labels.get(c, c) for c in columns],
         [{labels.get(name, name): value for name, value in row.items()} for row in rows],
     )
-    write_dataset(outputs["nc"], study_dataset(manifest, columns, rows, responses))
-    plot_study(outputs["png"], manifest, rows)
+    dataset = study_dataset(manifest, columns, rows, responses)
+    write_dataset(outputs["nc"], dataset)
+    plot_study(outputs, dataset)
     log.info("wrote the table of study %s (%d variants)", manifest["study"], len(rows))

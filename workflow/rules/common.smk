@@ -421,6 +421,44 @@ def simulate_variant_job(study, variant, flow_folder, output, log_file, params):
         raise
 
 
+# A study's pictures beside study.png when it simulates (gridlib.io.study_pictures).
+SIMULATED_STUDY_PICTURES = {"profiles": "study_profiles.png", "tornado": "study_tornado.png"}
+
+
+def study_names(simulated):
+    """The studies (a regular expression of their names) that simulate, or that do not."""
+    names = [n for n, s in sorted(STUDIES.items()) if s.simulation.simulate == simulated]
+    return "|".join(re.escape(n) for n in names) or "(?!)"
+
+
+def study_table_files(simulated, study="{study}"):
+    """The outputs of a study's table (rule study_table, or study_table_simulated: the same
+    job with the pictures of its simulations), by name; ``study`` a name or the wildcard."""
+    files = {"csv": "study.csv", "nc": "study.nc", "png": "study.png"}
+    if simulated:
+        files |= SIMULATED_STUDY_PICTURES
+    return {key: f"{RESULTS}/{study}/{name}" for key, name in files.items()}
+
+
+def study_table_outputs(simulated):
+    """:func:`study_table_files` with the report's captions: a subcategory per study under
+    the studies' category, the table, then each picture with its caption
+    (workflow/report/<name>.rst)."""
+    out = {}
+    for key, path in study_table_files(simulated).items():
+        if key == "nc":
+            out[key] = path
+            continue
+        caption = "study_table" if key == "csv" else Path(path).stem
+        out[key] = report(
+            path,
+            caption=f"../report/{caption}.rst",
+            category=artifacts.STUDIES,
+            subcategory="{study}",
+        )
+    return out
+
+
 def all_outputs():
     """Every case's artifacts that stay (not temporary; the stages run on request only with
     `simulate: true`), the summary table, every study's variants and tables."""
@@ -428,7 +466,7 @@ def all_outputs():
     for name in sorted(STUDIES):
         files += study_variant_outputs(name)
         files += study_simulation_outputs(name)
-        files += [f"{RESULTS}/{name}/study.{ext}" for ext in ("csv", "nc", "png")]
+        files += list(study_table_files(STUDIES[name].simulation.simulate, name).values())
     for name, case in sorted(CASES.items()):
         files += [
             artifact_path(a.key, case)

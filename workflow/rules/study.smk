@@ -76,34 +76,30 @@ for _name, _study in sorted(STUDIES.items()):
             )
 
 
-rule study_table:
-    """A study's variants in one table (study.csv, study.nc) and one picture (study.png)."""
-    input:
-        unpack(study_table_inputs),
-    output:
-        csv=report(
-            f"{RESULTS}/{{study}}/study.csv",
-            caption="../report/study_table.rst",
-            category=artifacts.STUDIES,
-            subcategory="{study}",
-        ),
-        nc=f"{RESULTS}/{{study}}/study.nc",
-        png=report(
-            f"{RESULTS}/{{study}}/study.png",
-            caption="../report/study.rst",
-            category=artifacts.STUDIES,
-            subcategory="{study}",
-        ),
-    log:
-        f"{RESULTS}/logs/{{study}}/study.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/{{study}}/study.tsv"
-    wildcard_constraints:
-        study=STUDY_NAMES,
-    conda:
-        "../envs/gridlib.yaml"
-    threads: 1
-    resources:
-        mem_mb=2000,
-    script:
-        "../scripts/study_table.py"
+# A study's table: one job over its variants' summaries (and simulations), writing study.csv,
+# study.nc and its pictures (study.png; for a simulated study also study_profiles.png and
+# study_tornado.png). Two rules of one body, their outputs differing: study_table for the
+# studies that do not simulate, study_table_simulated for those that do.
+for _simulated in (False, True):
+
+    rule:
+        """A study's variants in one table (study.csv, study.nc) and its pictures."""
+        name:
+            "study_table_simulated" if _simulated else "study_table"
+        input:
+            unpack(study_table_inputs),
+        output:
+            **study_table_outputs(_simulated),
+        log:
+            f"{RESULTS}/logs/{{study}}/study.log",
+        benchmark:
+            f"{RESULTS}/benchmarks/{{study}}/study.tsv"
+        wildcard_constraints:
+            study=study_names(_simulated),
+        conda:
+            "../envs/gridlib.yaml"
+        threads: 1
+        resources:
+            mem_mb=2000,
+        script:
+            "../scripts/study_table.py"

@@ -1,4 +1,5 @@
-"""Snakemake script for rule study_table (a thin wrapper around gridlib.stages)."""
+"""Snakemake script for rules study_table and study_table_simulated (a thin wrapper around
+gridlib.stages)."""
 
 from gridlib.io.dask_on_demand import defer_dask_import
 from gridlib.stages import run_logged
@@ -11,7 +12,7 @@ run_logged(
     stage_study,
     snakemake.input.manifest,
     snakemake.input.summaries,
-    snakemake.output,
+    dict(snakemake.output.items()),  # by name: csv, nc, png (and profiles, tornado)
     snakemake.input.get("simulations", []),
     threads=snakemake.threads,
     outputs=list(snakemake.output),
