@@ -22,6 +22,8 @@ for _name in sorted(STUDIES):
                 **study_variant_files(_keys),
             log:
                 f"{RESULTS}/logs/{{study}}/{{variant}}.log",
+            benchmark:
+                f"{RESULTS}/benchmarks/{{study}}/{{variant}}.tsv"
             wildcard_constraints:
                 study=re.escape(_name),
                 variant="|".join(re.escape(v.name) for v in _variants),
