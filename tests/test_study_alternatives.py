@@ -5,6 +5,9 @@ is built and Flow does not run (tests/workflow/test_study.py builds studies)."""
 
 from __future__ import annotations
 
+import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -137,3 +140,28 @@ def test_a_labelled_fault_replaces_the_whole_list_item(tmp_path):
     assert variant.name == "faults-steep_r0"  # the key's last name that is not an index
     assert variant.data["faults"][0] == {k: x for k, x in steep.items() if k != "label"}
     assert variant.values == {"faults.0": "steep"}
+
+
+def test_the_workflow_builds_each_kind_of_variant_by_a_rule_of_its_own(tmp_path):
+    """A dry run of the sample study: the corner-point variants are jobs of study_grid_choice
+    and declare grid.grdecl and the ROFF file, the PEBI variants jobs of study_grid_choice__2
+    without them (a rule's outputs are one list: both kinds in one rule would leave the PEBI
+    variants' jobs missing files)."""
+    command = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(tmp_path)]
+    config = ["--config", "cases=[]", f"studies={SAMPLE}"]
+    run = subprocess.run([*command, "-n", "--cores", "1", *config], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-2000:]
+    jobs = re.findall(
+        r"rule (study_grid_choice\w*):\n\s+input: \S+/(grid-[\w.-]+)\.yaml\n\s+output: (.*)", run.stdout
+    )
+    rules = {variant: rule for rule, variant, _ in jobs}
+    outputs = {variant: {Path(p).name for p in files.split(", ")} for _, variant, files in jobs}
+    assert rules == {
+        f"grid-{lab}_r{r}": "study_grid_choice" + ("__2" if "pebi" in lab else "")
+        for lab in LABELS
+        for r in (0, 1)
+    }
+    for variant, files in outputs.items():
+        kept = {"grid.grdecl", f"{variant}.roff"} & files
+        assert kept == (set() if "pebi" in variant else {"grid.grdecl", f"{variant}.roff"})
+        assert {"summary.json", "flow", "grid.nc"} <= files
