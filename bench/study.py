@@ -34,7 +34,6 @@ import argparse
 import json
 import os
 import re
-import resource
 import shutil
 import statistics
 import subprocess
@@ -146,14 +145,10 @@ def simulated(base: Path, cores: int, keep: Path | None) -> None:
         study_file = top / "bench_simulated.yaml"
         study_file.write_text(yaml.safe_dump(study, sort_keys=False))
         load = os.getloadavg()[0]
-        used = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpu_before = used.ru_utime + used.ru_stime
         config = ["--config", "cases=[]", f"studies={study_file}"]
         wall = _snakemake(work, "--cores", str(cores), "--force-use-threads", *config)
         rows = _simulated_rows(work / "results", study["name"])
         after = os.getloadavg()[0]
-        used = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpu_s = used.ru_utime + used.ru_stime - cpu_before
         print(f"load average {load:.1f} before, {after:.1f} after (1 min; {os.cpu_count()} cores)")
         print(f"{'variant':34s} {'cells':>6s} {'grid job':>9s} {'Flow job':>9s} {'Flow':>7s} status")
         for r in rows:
@@ -172,7 +167,7 @@ def simulated(base: Path, cores: int, keep: Path | None) -> None:
         print(
             f"simulated study: {n} variants ({min(cells):,d} to {max(cells):,d} cells, mean "
             f"{statistics.fmean(cells):,.0f}), --cores {cores}: {wall:6.1f} s wall, "
-            f"{wall / n:5.2f} s per variant; {cpu_s:6.1f} s CPU (Snakemake, its workers and Flow)"
+            f"{wall / n:5.2f} s per variant"
         )
 
 
