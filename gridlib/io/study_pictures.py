@@ -138,9 +138,14 @@ def key_values(frame, key: str) -> list[Any]:
     return sorted(frame[key].unique().tolist())
 
 
+def numeric(values: Sequence[Any]) -> bool:
+    """Whether a key's values are numbers (else labels: whole sections, names)."""
+    return all(isinstance(v, int | float | np.number) and not isinstance(v, bool) for v in values)
+
+
 def positions(values: Sequence[Any]) -> np.ndarray:
     """x positions of a key's values: the numbers themselves, else their order."""
-    if all(isinstance(v, int | float | np.number) and not isinstance(v, bool) for v in values):
+    if numeric(values):
         return np.asarray(values, dtype=float)
     return np.arange(len(values), dtype=float)
 
@@ -276,6 +281,13 @@ def _mark_failed(ax, failed, key: str, where) -> None:
         )
 
 
+def _legend_columns(texts: Sequence[str]) -> int:
+    """As many legend columns as entries of ``texts`` fit across a panel (about 60 characters
+    of the legend's font), at least one."""
+    widest = max((len(t) for t in texts), default=1) + 6  # the handle and the gap
+    return max(1, min(len(texts), 60 // widest))
+
+
 def study_figure(ds):
     """study.png: :func:`chosen_figures` (rows) against each varied key (columns), one line per
     combination of the other keys (see the module's docstring); returns the figure."""
@@ -291,7 +303,7 @@ def study_figure(ds):
         fig, axes = plt.subplots(
             max(len(figures), 1),
             len(keys),
-            figsize=(PANEL[0] * len(keys), PANEL[1] * max(len(figures), 1) + 0.8),
+            figsize=(max(PANEL[0] * len(keys), 6.0), PANEL[1] * max(len(figures), 1) + 0.8),
             squeeze=False,
             layout="constrained",
         )
@@ -313,12 +325,19 @@ def study_figure(ds):
                     _draw_line(ax, line, key, figure, values, xs, where, style)
                 if figure not in GRID_FIGURES:
                     _mark_failed(ax, failed, key, where)
-                ax.set_xticks(xs, [value_text(v, None) for v in values])
+                slanted = {} if numeric(values) else {"rotation": 30, "ha": "right"}  # labels
+                ax.set_xticks(xs, [value_text(v, None) for v in values], **slanted)
                 ax.margins(x=0.08)
-                label_axis(ax.xaxis, key_label(ds, key), None, np.array([0.0]))
+                ax.set_xlabel(key_label(ds, key))  # ticks: the values as text, no offset
                 title, unit = figure_title(ds, figure)
                 label_axis(ax.yaxis, title, unit, frame[figure].to_numpy(dtype=float))
                 ax.grid(True, lw=0.4, alpha=0.5)
+            if not figures:  # every simulation failed: nothing to draw, and a panel says so
+                axes[0][j].set_xlabel(key_label(ds, key))
+                axes[0][j].text(
+                    0.5, 0.5, f"no responses: {len(failed)} failed simulations", ha="center",
+                    transform=axes[0][j].transAxes, color=FAILED_COLOUR, gid=FAILED,
+                )  # fmt: skip
             handles, texts = axes[0][j].get_legend_handles_labels()
             unique = dict(zip(texts, handles, strict=True))
             axes[0][j].legend(
@@ -328,9 +347,9 @@ def study_figure(ds):
                 bbox_to_anchor=(0.5, 1.02),
                 fontsize=LABEL_SIZE,
                 frameon=False,
-                ncols=1 if len(unique) > 3 else len(unique),
+                ncols=_legend_columns(list(unique)),
             )
-        spread = " (points: realisations, bars: their min to max)" if realisations > 1 else ""
+        spread = "\npoints: realisations, bars: their min to max" if realisations > 1 else ""
         fig.suptitle(f"study {ds.attrs.get('study', '')}: {len(frame)} variants{spread}")
     return fig
 
@@ -441,7 +460,10 @@ def tornado_swings(ds, response: str = TORNADO_RESPONSE) -> list[Swing]:
     """Each varied key's effect on ``response``, largest first. Definition: the base is every
     key at its :func:`middle_value`; a key's bar goes from the mean of ``response`` over the
     realisations at its lowest value to that at its highest value, the other keys at their
-    middle values; ``base`` is the mean at the base. Means leave failed simulations out (NaN
+    middle values; ``base`` is the mean at the base. A key whose values are labels (whole
+    sections: ``grid: [{label: pebi-40m, ...}, ...]``) has no lowest or highest value: its bar
+    goes from the label of the least mean to that of the greatest (its middle value is that of
+    its labels in sorted order). Means leave failed simulations out (NaN
     where all failed). In a zipped study the other keys move with the key (the variants at its
     lowest and highest values), the base is the variants at the first key's middle value."""
     keys = varied_keys(ds)
@@ -453,8 +475,18 @@ def tornado_swings(ds, response: str = TORNADO_RESPONSE) -> list[Swing]:
     for key in keys:
         values = key_values(frame, key)
         fixed = {} if zipped else {k: v for k, v in middle.items() if k != key}
-        low, high = (_mean(frame, response, fixed | {key: v}) for v in (values[0], values[-1]))
-        swings.append(Swing(key, values[0], values[-1], low, high, base))
+        if numeric(values):
+            ends = [values[0], values[-1]]
+        else:  # labels have no order: the labels of the least and the greatest mean
+            means = np.array([_mean(frame, response, fixed | {key: v}) for v in values])
+            has = np.flatnonzero(np.isfinite(means))
+            ends = (
+                [values[has[np.argmin(means[has])]], values[has[np.argmax(means[has])]]]
+                if has.size
+                else values[:1] * 2
+            )
+        low, high = (_mean(frame, response, fixed | {key: v}) for v in ends)
+        swings.append(Swing(key, ends[0], ends[1], low, high, base))
     return sorted(swings, key=lambda s: -s.size if np.isfinite(s.size) else np.inf)
 
 
@@ -503,7 +535,11 @@ def tornado_figure(ds, response: str = TORNADO_RESPONSE):
         base = swings[0].base if swings else float("nan")
         ax.legend(
             [Patch(color=LOW_COLOUR), Patch(color=HIGH_COLOUR), Line2D([], [], color="black", lw=1.0)],
-            ["key at its lowest value", "key at its highest value", f"base (middle values): {base:.4g}"],
+            [
+                "key at its lowest value (labels: least mean)",
+                "at its highest (labels: greatest mean)",
+                f"base (middle values): {base:.4g}",
+            ],
             loc="lower center",
             bbox_to_anchor=(0.5, 1.0),
             ncols=3,
@@ -511,6 +547,10 @@ def tornado_figure(ds, response: str = TORNADO_RESPONSE):
             frameon=False,
         )
         ax.grid(True, axis="x", lw=0.4, alpha=0.5)
+        finite = every[np.isfinite(every)]
+        if finite.size:  # the base line and the bars' ends clear of the frame (bars stick to it)
+            pad = 0.12 * (finite.max() - finite.min()) or 0.05 * max(abs(finite.max()), 1e-12)
+            ax.set_xlim(finite.min() - pad, finite.max() + pad)
         fig.suptitle(
             f"study {ds.attrs.get('study', '')}: effect of each key on {title} (others at middle values)"
         )

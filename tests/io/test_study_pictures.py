@@ -176,6 +176,8 @@ def test_axes_carry_units_and_the_power_of_ten_is_in_the_label(simulated):
     assert panels[("FWPT", KEYS[0])].get_ylabel() == "FWPT [$10^{3}$ sm3]"
     assert panels[("FPR", KEYS[0])].get_ylabel() == "FPR [bar]"
     assert panels[("WBT:PROD", KEYS[0])].get_ylabel() == "WBT:PROD [day]"
+    assert [t.get_text() for t in panels[("FPR", KEYS[0])].get_xticklabels()] == ["0", "40"]
+    assert [t.get_text() for t in panels[("FPR", KEYS[1])].get_xticklabels()] == ["50", "100", "200"]
     ax = panels[("FOPT", KEYS[0])]
     ticks = ax.yaxis.get_major_locator()()
     labels = [ax.yaxis.get_major_formatter()(v, 0) for v in ticks]
@@ -285,5 +287,48 @@ def test_tornado_is_the_swing_of_the_mean_between_lowest_and_highest_values():
             "faults.0.throw\n0 m to 40 m",
         ]
         assert ax.xaxis.get_offset_text().get_text() == ""
+    finally:
+        plt.close(fig)
+
+
+def test_a_key_of_labels_is_drawn_in_order_and_its_tornado_bar_spans_its_least_and_greatest_mean():
+    """A grid question (``grid`` varied as labelled sections): the labels, sorted, are the x
+    ticks; the tornado's bar goes from the label of least mean recovery to that of the
+    greatest, from the base at the middle label."""
+    labels = ["pebi-40m", "pillars-80m", "stairs-80m"]
+    recovery = np.array([[0.31, 0.33], [0.36, 0.34], [0.29, 0.30]])  # (label, realisation)
+    ds = xr.Dataset(
+        {
+            "variant": (("grid", "realisation"), [[f"{g}_r{r}" for r in (0, 1)] for g in labels]),
+            "simulation": (("grid", "realisation"), np.full((3, 2), "ok")),
+            "oil_recovery": (("grid", "realisation"), recovery, {"units": "1"}),
+        },
+        coords={"grid": labels, "realisation": [0, 1]},
+        attrs={"study": "grid_choice", "combine": "product", "varied_keys": json.dumps(["grid"])},
+    )
+    (swing,) = sp.tornado_swings(ds)
+    assert (swing.low, swing.high) == ("stairs-80m", "pillars-80m")
+    assert (swing.low_mean, swing.high_mean, swing.base) == (0.295, 0.35, 0.35)  # base: pillars-80m
+    fig = sp.study_figure(ds)
+    try:
+        (ax,) = [a for a in fig.axes if a.get_xlabel()]
+        assert ax.get_xlabel() == "grid"
+        assert [t.get_text() for t in ax.get_xticklabels()] == labels
+        (mean,) = _of(ax, sp.MEAN)
+        assert mean.get_xdata().tolist() == [0.0, 1.0, 2.0]
+        assert mean.get_ydata().tolist() == recovery.mean(axis=1).tolist()
+    finally:
+        plt.close(fig)
+
+
+def test_a_study_whose_simulations_all_failed_says_so():
+    ds = _study()
+    for name in ("oil_recovery", "FOPT", "FWPT", "FPR", "WBT:PROD"):
+        ds[name].values[:] = np.nan
+    ds["simulation"] = ds["simulation"].copy(data=np.full(ds["simulation"].shape, "failed"))
+    fig = sp.study_figure(ds)
+    try:
+        texts = [t.get_text() for ax in fig.axes for t in ax.texts if t.get_gid() == sp.FAILED]
+        assert texts == ["no responses: 12 failed simulations"] * 2
     finally:
         plt.close(fig)

@@ -166,6 +166,40 @@ def test_study_nc_has_a_dimension_per_varied_key_and_realisation(study_run):
         assert str(ds["variant"].sel(where).values) == "throw-0_cell_size-120_r2"
 
 
+def test_study_png_draws_a_line_per_cell_size_whose_bars_span_its_realisations_only(study_run):
+    """study.png's pore volume against throw, drawn again from the run's study.nc: one line per
+    cell size, its points study.csv's values of that cell size, each bar from the least to the
+    largest of its three realisations (issue 28: the bars spanned both cell sizes)."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from gridlib.io import study_pictures
+
+    rows = _rows(study_run)
+    with xr.open_dataset(study_run / "results" / "sweep" / "study.nc") as ds:
+        fig = study_pictures.study_figure(ds.load())
+    try:
+        (ax,) = [
+            a for a in fig.axes if a.get_ylabel() == "pore volume [$10^{6}$ m3]" and "throw" in a.get_xlabel()
+        ]
+        means = [line for line in ax.lines if line.get_gid() == study_pictures.MEAN]
+        bars = [c for c in ax.collections if c.get_gid() == study_pictures.SPREAD]
+        assert [line.get_label() for line in means] == [f"grid.cell_size = {c} m" for c in CELL_SIZES]
+        for line, bar, size in zip(means, bars, CELL_SIZES, strict=True):
+            pv = [
+                [
+                    float(r["pore_volume"])
+                    for r in rows
+                    if r["grid.cell_size"] == str(size) and r["faults.0.throw"] == str(t)
+                ]
+                for t in THROWS
+            ]
+            assert line.get_ydata().tolist() == [float(np.mean(p)) for p in pv]
+            assert [tuple(s[:, 1]) for s in bar.get_segments()] == [(min(p), max(p)) for p in pv]
+    finally:
+        plt.close(fig)
+
+
 def test_a_variant_equals_the_same_case_written_by_hand(study_run, tmp_path):
     name = "throw-10_cell_size-120_r1"
     hand = copy.deepcopy(BASE)

@@ -290,7 +290,7 @@ def test_the_report_opens_on_the_cases_with_the_rule_graph_last(workflow_run):
     """The report (as README.md says to make it): its menu lists the cases' pictures first,
     then the summary table (Snakemake sorts categories by name); its landing page is the
     workflow's description (metadata given: not the rule graph), the cases' pictures linked
-    first, then the summary table."""
+    first, then the summary table, then the studies (a subcategory each)."""
     config = f"cases={workflow_run / 'config' / 'cases'}/*.yaml"
     report = workflow_run / "results" / "report.zip"
     metadata = ROOT / "workflow" / "report" / "metadata.yaml"
@@ -317,7 +317,9 @@ def test_the_report_opens_on_the_cases_with_the_rule_graph_last(workflow_run):
     description = variable("workflow_desc")
     assert "Error" not in description and "WARNING" not in description
     sections = re.findall(r"<h1>(.*?)</h1>", description)
-    assert sections == ["Cases", "Summary"]
+    assert sections == ["Cases", "Summary", "Studies"]
+    study = {Path(p).name for p in categories["4. Studies"]["waterflood_throw"]}  # a section per study
+    assert {"study.csv", "study.png"} <= study
     for case in CASES:
         assert f"showResultInfo('results/{case}/{case}.png')" in description
     assert description.index("showResultInfo('results/summary.csv')") > description.index("anticline.png")
