@@ -1,13 +1,15 @@
 """The workflow on a real SLURM cluster, through workflow/profiles/slurm as shipped.
 
-Two small sample cases and a small study (two variants of one of them) run once locally (two
-cores) and once on the cluster of the ``slurm_cluster`` fixture (a single-node SLURM started for
-the session, tests/slurm_cluster.py), from the same case and study files. The SLURM run must
+Two small sample cases and a small simulated study (two variants of a 48-cell waterflood, each
+simulated in OPM Flow) run once locally (two cores) and once on the cluster of the
+``slurm_cluster`` fixture (a single-node SLURM started for the session, tests/slurm_cluster.py),
+from the same case and study files. The SLURM run must
 have submitted its jobs to SLURM (their ids in Snakemake's log, each COMPLETED in the cluster's
 job completion log), one job per case (the profile groups a case's stages), one for the summary
-table, one per variant of the study and one for the study's table, and its results must equal
-the local run's bit for bit: every variable and attribute of every netCDF file, the VTU/VTP
-files and summary.json, study.csv and study.nc. The wall times per case and per variant are
+table, one per variant of the study and one per variant's Flow run, one for the study's table,
+and its results must equal the local run's bit for bit: every variable and attribute of every
+netCDF file, the VTU/VTP files and summary.json, each variant's Flow summary (UNSMRY) and
+responses.json, study.csv and study.nc. The wall times per case and per variant are
 printed beside each other.
 """
 
@@ -21,14 +23,18 @@ import time
 from pathlib import Path
 
 import pytest
+import yaml
 from artifacts import assert_same_files
+from simulated_study import BASE
 
 ROOT = Path(__file__).resolve().parents[2]
 PROFILE = ROOT / "workflow" / "profiles" / "slurm"
 CASES = ("ellipsoid", "twisted")
-# A study of the twisted case: two values of MRST's twister perturbation (one realisation each).
-STUDY = "{name: twist, base: ../cases/twisted.yaml, vary: {grid.twist: [0.01, 0.05]}}\n"
-VARIANTS = ("twist-0.01_r0", "twist-0.05_r0")
+# A simulated study of a 48-cell waterflood: no throw and 15 m (one realisation each), each
+# variant's deck through OPM Flow as a SLURM job of its own.
+STUDY = {"name": "flood", "base": "../bases/tiny_flood.yaml", "vary": {"faults.0.throw": [0, 15]}}
+STUDY |= {"simulate": True, "responses": {"times": [200]}}
+VARIANTS = ("throw-0_r0", "throw-15_r0")
 
 SUBMITTED = re.compile(r"submitted with SLURM jobid (\d+)")
 
@@ -49,8 +55,11 @@ def _snakemake(workdir: Path, cases: Path, *args: str, env: dict[str, str] | Non
     (workdir / "snakemake.log").write_text(log)
     assert res.returncode == 0, f"snakemake failed, log {workdir / 'snakemake.log'}:\n{log[-4000:]}"
     done = {case: (workdir / "results" / case / "summary.json").stat().st_mtime - start for case in CASES}
-    study = workdir / "results" / "twist"
+    study = workdir / "results" / "flood"
     done |= {v: (study / v / "summary.json").stat().st_mtime - start for v in VARIANTS}
+    done |= {
+        f"{v} Flow": (study / v / "simulation" / "responses.json").stat().st_mtime - start for v in VARIANTS
+    }
     return {"log": log, "wall": wall, "done": done, "results": workdir / "results"}
 
 
@@ -62,7 +71,9 @@ def runs(slurm_cluster, tmp_path_factory):
     for case in CASES:
         shutil.copy(ROOT / "config" / "cases" / f"{case}.yaml", cases)
     (base / "studies").mkdir()
-    (base / "studies" / "twist.yaml").write_text(STUDY)
+    (base / "studies" / "flood.yaml").write_text(yaml.safe_dump(STUDY, sort_keys=False))
+    (base / "bases").mkdir()  # the study's base case, not one of the run's cases
+    (base / "bases" / "tiny_flood.yaml").write_text(yaml.safe_dump(BASE, sort_keys=False))
     local = _snakemake(base / "local", cases, "--cores", "2", "--force-use-threads")
     on_slurm = _snakemake(base / "slurm", cases, "--workflow-profile", str(PROFILE), env=slurm_cluster.env)
     return local, on_slurm
@@ -73,9 +84,11 @@ def test_every_job_ran_as_a_completed_slurm_job(runs, slurm_cluster):
     log = on_slurm["log"]
     ids = SUBMITTED.findall(log)
     # The profile groups each case's stages into one job; the summary table is one more; each
-    # variant of the study is one job (all its stages in one process), its table one more.
-    assert len(ids) == len(CASES) + 1 + len(VARIANTS) + 1, log[-3000:]
-    assert len(re.findall(r"^\s*rule study_twist:", log, re.MULTILINE)) == len(VARIANTS), log[-3000:]
+    # variant of the study is one job (all its stages in one process) and its Flow run one more
+    # (one thread), the study's table one more.
+    assert len(ids) == len(CASES) + 1 + 2 * len(VARIANTS) + 1, log[-3000:]
+    for rule in ("study_flood", "study_simulate_flood"):
+        assert len(re.findall(rf"^\s*rule {rule}:", log, re.MULTILINE)) == len(VARIANTS), log[-3000:]
     assert "group_case_" in log
     states = slurm_cluster.job_states(ids)
     where = slurm_cluster.log("jobcomp") if slurm_cluster.started else "scontrol show job"
@@ -84,7 +97,7 @@ def test_every_job_ran_as_a_completed_slurm_job(runs, slurm_cluster):
     assert re.findall(r"^localrule (\w+):", log, re.MULTILINE) == ["all"]
 
 
-@pytest.mark.parametrize("case", CASES + tuple(f"twist/{v}" for v in VARIANTS))
+@pytest.mark.parametrize("case", CASES + tuple(f"flood/{v}" for v in VARIANTS))
 def test_slurm_results_equal_the_local_ones_bit_for_bit(runs, case):
     """The local run's stage jobs ran in its job server, the SLURM jobs' each in its own process
     (gridlib/stages/job_server.py): the same files either way."""
@@ -93,9 +106,15 @@ def test_slurm_results_equal_the_local_ones_bit_for_bit(runs, case):
         served = [(run["results"] / "logs" / case / "grid.log").read_text() for run in runs]
         assert ["run in the job server" in log for log in served] == [True, False]
     assert_same_files(local["results"] / case, on_slurm["results"] / case)
-    for table in ("summary.csv", "twist/study.csv"):
+    if "/" in case:  # Flow's summary and the responses, bit for bit (Flow ran with one thread)
+        variant = case.split("/")[1]
+        for name in ("responses.json", f"{variant.upper()}.UNSMRY"):
+            one, two = (run["results"] / case / "simulation" / name for run in runs)
+            assert one.read_bytes() == two.read_bytes(), name
+        assert '"status": "ok"' in (local["results"] / case / "simulation" / "responses.json").read_text()
+    for table in ("summary.csv", "flood/study.csv"):
         assert (local["results"] / table).read_text() == (on_slurm["results"] / table).read_text()
-    assert_same_files(local["results"] / "twist", on_slurm["results"] / "twist")  # study.nc
+    assert_same_files(local["results"] / "flood", on_slurm["results"] / "flood")  # study.nc
 
 
 def test_wall_times_local_and_on_slurm(runs, slurm_cluster, capsys):
@@ -104,12 +123,13 @@ def test_wall_times_local_and_on_slurm(runs, slurm_cluster, capsys):
     jobs = len(SUBMITTED.findall(on_slurm["log"]))
     lines = [
         f"SLURM cluster {cluster}; {jobs} SLURM jobs through {PROFILE.relative_to(ROOT)}",
-        f"{'':<14}{'local (s)':>11}{'SLURM (s)':>11}   (from the run's start to the summary.json)",
+        f"{'':<18}{'local (s)':>11}{'SLURM (s)':>11}   (from the run's start to the summary.json;"
+        " Flow: to the variant's responses.json)",
     ]
     lines += [
-        f"{case:<14}{local['done'][case]:>11.1f}{on_slurm['done'][case]:>11.1f}" for case in local["done"]
+        f"{case:<18}{local['done'][case]:>11.1f}{on_slurm['done'][case]:>11.1f}" for case in local["done"]
     ]
-    lines.append(f"{'whole run':<14}{local['wall']:>11.1f}{on_slurm['wall']:>11.1f}")
+    lines.append(f"{'whole run':<18}{local['wall']:>11.1f}{on_slurm['wall']:>11.1f}")
     with capsys.disabled():
         print("\n" + "\n".join(lines))
     assert all(t > 0 for t in on_slurm["done"].values())

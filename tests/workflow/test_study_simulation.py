@@ -27,6 +27,7 @@ import pytest
 import resfo
 import xarray as xr
 import yaml
+from simulated_study import BASE
 
 from gridlib.errors import InputError
 from gridlib.io.flow_results import read_summary
@@ -36,44 +37,6 @@ from gridlib.study import load_study
 ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]
 
-BASE = {
-    "name": "tiny_flood",
-    "seed": 5,
-    "horizons": {
-        "lattice": {"x": {"start": 0, "stop": 300, "num": 7}, "y": {"start": 0, "stop": 200, "num": 5}},
-        "surfaces": [
-            {"name": "top", "plane": {"depth": 2000, "dip": 3.0, "azimuth": 90}},
-            {"name": "base", "plane": {"depth": 2030, "dip": 3.0, "azimuth": 90}},
-        ],
-    },
-    "faults": [{"name": "F1", "trace": [[170, -50], [190, 250]], "throw": 15}],
-    "wells": [{"name": "INJ", "point": [270, 60]}, {"name": "PROD", "point": [30, 140]}],
-    "grid": {"type": "cornerpoint", "dims": [6, 4], "layers": 2},
-    "petrophysics": {
-        "porosity": {
-            "field": {
-                "model": "exponential",
-                "len_scale": [150, 100, 10],
-                "mean": 0.22,
-                "std": 0.03,
-                "bounds": [0.1, 0.32],
-            }
-        },
-        "permeability": {
-            "field": {"model": "exponential", "len_scale": [150, 100, 10], "mean": 200, "std": 0.8}
-        },
-        "ntg": {"constant": 0.9},
-    },
-    "simulation": {
-        "fluid": "oil-water",
-        "initial": {"pressure": 210, "datum": 2000, "owc": 2070},
-        "wells": [
-            {"name": "INJ", "type": "injector", "rate": 300, "bhp": 400},
-            {"name": "PROD", "type": "producer", "bhp": 150},
-        ],
-        "report_days": [100, 200, 400],
-    },
-}
 FLOOD = {
     "name": "flood",
     "base": "../cases/tiny_flood.yaml",
