@@ -95,8 +95,9 @@ class Alternative:
 
 @dataclass(frozen=True)
 class Variant:
-    """One variant: the base case with ``values`` (dotted key -> value), in realisation
-    ``realisation`` with case seed ``seed``; ``data`` is its case (as written to its file)."""
+    """One variant: the base case with ``values`` (dotted key -> value; an
+    :class:`Alternative`'s label for a key of whole sections), in realisation ``realisation``
+    with case seed ``seed``; ``data`` is its case (as written to its file)."""
 
     name: str
     values: dict[str, Any]
