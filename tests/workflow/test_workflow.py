@@ -291,6 +291,11 @@ def test_the_grid_choice_study_is_built_and_simulated(workflow_run):
     assert [r["grid_type"] for r in rows] == ["cornerpoint"] * 8 + ["pebi"] * 4
     for r in rows:
         assert (study / r["variant"] / "grid.grdecl").is_file() == (r["grid_type"] == "cornerpoint")
+    # every deck has the same wells, controls and report steps (only the grid differs)
+    decks = [(study / v / "flow" / f"{v.upper()}.DATA").read_text() for v in (r["variant"] for r in rows)]
+    controls = {d[d.index("WCONINJE") :] for d in decks}
+    assert len(controls) == 1 and "TSTEP" in next(iter(controls))
+    assert {tuple(re.findall(r"^ '(\w+)' 'G' ", d, re.MULTILINE)) for d in decks} == {("INJ", "PROD")}
 
 
 def test_the_readmes_study_example_runs_on_the_sample_study(workflow_run, monkeypatch, capsys):
