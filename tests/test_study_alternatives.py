@@ -165,3 +165,23 @@ def test_the_workflow_builds_each_kind_of_variant_by_a_rule_of_its_own(tmp_path)
         kept = {"grid.grdecl", f"{variant}.roff"} & files
         assert kept == (set() if "pebi" in variant else {"grid.grdecl", f"{variant}.roff"})
         assert {"summary.json", "flow", "grid.nc"} <= files
+
+
+def test_variants_find_the_base_case_trajectory_files(tmp_path):
+    """A trajectory file named by the base case, also in the {file: ...} form and in a
+    branch, is named from the variant's folder (it was left relative to the base case file)."""
+    cases = ROOT / "config" / "cases"
+    base = yaml.safe_load((cases / "trajectories_cp.yaml").read_text())
+    base["wells"][0]["branches"] = [{"trajectory": {"file": "data/trajectories/p1h.xyz"}}]
+    copy = tmp_path / "cases" / "t.yaml"  # the base with a branch, beside the sample's data
+    copy.parent.mkdir()
+    (copy.parent / "data").symlink_to(cases / "data")
+    copy.write_text(yaml.safe_dump(base))
+    study = tmp_path / "s.yaml"
+    study.write_text(yaml.safe_dump({"name": "s", "base": "cases/t.yaml", "vary": {"grid.layers": [2]}}))
+    loaded = load_study(study, tmp_path / "results", check=False)
+    (variant,) = loaded.variants
+    folder = loaded.case_file(tmp_path / "results", variant.name).parent
+    well, target = variant.data["wells"][0], (cases / "data" / "trajectories" / "p1h.xyz").resolve()
+    assert (folder / well["trajectory"]).resolve() == target
+    assert (folder / well["branches"][0]["trajectory"]["file"]).resolve() == target
