@@ -267,6 +267,14 @@ def _alternatives(study: Path, key: str, values: list[Any]) -> list[Any]:
     return [Alternative(v["label"], {n: x for n, x in v.items() if n != "label"}) for v in values]
 
 
+def _set_values(data: dict[str, Any], values: dict[str, Any]) -> None:
+    """Set each varied key's value in the case ``data``, the keys with fewer components first:
+    a key inside a varied section (``grid.layers`` beside ``grid``) then changes the section
+    the variant has, whatever the order the study lists them in."""
+    for key in sorted(values, key=lambda k: len(_parts(k))):
+        _set(data, key, _case_value(values[key]))
+
+
 def _one_line(value: Any) -> str:
     """``value`` as one line of YAML flow style (for messages)."""
     return yaml.safe_dump(value, default_flow_style=True, width=10**6).strip().removesuffix("...").strip()
@@ -380,8 +388,7 @@ def load_study(
             data = copy.deepcopy(base_data)
             data["name"] = name
             data["seed"] = seed + SEED_STEP * r
-            for key, (_, value) in values.items():
-                _set(data, key, _case_value(value))
+            _set_values(data, {key: value for key, (_, value) in values.items()})
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)
             where = folder / f"{name}.yaml"

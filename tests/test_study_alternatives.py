@@ -185,3 +185,24 @@ def test_variants_find_the_base_case_trajectory_files(tmp_path):
     well, target = variant.data["wells"][0], (cases / "data" / "trajectories" / "p1h.xyz").resolve()
     assert (folder / well["trajectory"]).resolve() == target
     assert (folder / well["branches"][0]["trajectory"]["file"]).resolve() == target
+
+
+@pytest.mark.parametrize("layers_first", [True, False])
+def test_a_key_inside_a_varied_section_changes_the_variants_section(tmp_path, layers_first):
+    """`grid.layers` beside `grid` (sections): each variant's section with the layers of its
+    combination, whichever key the study lists first."""
+    sections = [{"label": "cp", **CP}, {"label": "pebi", **PEBI_80}]
+    vary = (
+        {"grid.layers": [2, 4], "grid": sections}
+        if layers_first
+        else {"grid": sections, "grid.layers": [2, 4]}
+    )
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump({"name": "s", "base": str(BASE), "vary": vary}, sort_keys=False))
+    study = load_study(path, tmp_path / "results", check=False)
+    got = {(v.values["grid"], v.values["grid.layers"]): v.data["grid"] for v in study.variants}
+    assert got == {
+        (section["label"], n): {k: x for k, x in section.items() if k != "label"} | {"layers": n}
+        for section in sections
+        for n in (2, 4)
+    }
