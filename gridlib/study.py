@@ -35,6 +35,11 @@ a label or none (:func:`_alternatives`).
 and seed + 2 (NTG), so realisations never share a field's seed, and the combinations of
 one realisation share theirs (differences between combinations come from the values,
 not from the noise). ``seed`` defaults to the base case's.
+
+**Simulation** (:class:`StudySimulation`, :func:`study_simulation`): ``simulate: true`` runs every
+variant's OPM Flow deck (the base case needs its ``simulation`` section); ``responses.times``
+(report days of the base case) and ``responses.water_cut`` say what the table adds of each run,
+``on_failure`` whether a failed run is reported (``report``) or an error (``stop``).
 """
 
 from __future__ import annotations

@@ -64,15 +64,29 @@ def flow_command() -> str:
     return exe
 
 
+# Variables by which Open MPI (Flow's MPI) finds a job launcher: inside a SLURM job, MPI_Init
+# would try to join the job step through SLURM's PMI and abort where Open MPI was built without it.
+_LAUNCHER_VARIABLES = ("SLURM_", "PMI_", "PMIX_", "OMPI_")
+
+
+def flow_environment(environ: dict[str, str] | None = None) -> dict[str, str]:
+    """The environment Flow runs in: this process's (or ``environ``) without the variables of
+    a job launcher (SLURM, PMI, Open MPI), so that Flow is one MPI process of its own (a
+    singleton) anywhere, in a SLURM job as on a laptop."""
+    source = os.environ if environ is None else environ
+    return {k: v for k, v in source.items() if not k.startswith(_LAUNCHER_VARIABLES)}
+
+
 def run_flow(deck: Path, out_dir: Path, options: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
     """Flow on ``deck`` with its output in ``out_dir`` (one thread, ``options`` added), run in
-    the deck's folder."""
+    the deck's folder as one process (:func:`flow_environment`)."""
     deck, out_dir = Path(deck).resolve(), Path(out_dir).resolve()
     return subprocess.run(
         [flow_command(), "--threads-per-process=1", *options, f"--output-dir={out_dir}", deck.name],
         capture_output=True,
         text=True,
         cwd=deck.parent,
+        env=flow_environment(),
     )
 
 

@@ -30,7 +30,7 @@ from ..errors import InputError
 from ..io.atomic import atomic_directory
 from ..io.flow_responses import Responses, failed_responses, flow_responses, write_responses
 from ..io.flow_results import read_summary
-from .simulate import deck_unit_system, flow_message, run_flow
+from .simulate import deck_unit_system, flow_command, flow_message, run_flow
 
 SIMULATION_FOLDER = "simulation"
 
@@ -90,6 +90,10 @@ def simulate_variant(
     ``variant``); ``log_file``: the job's log (Flow's command, wall time, outcome)."""
     deck = variant_deck(flow_folder)
     system = deck_unit_system(deck)
+    try:
+        flow_command()
+    except InputError as exc:  # not a failure of the variant's run: of the machine
+        raise InputError(f"{study_file}: simulate: {exc}") from None
     lines = [f"variant {variant}: OPM Flow on {deck}"]
     start = time.perf_counter()
     try:

@@ -371,3 +371,12 @@ def test_the_water_preset_runs_single_phase(tmp_path):
     change = fip["current"]["water"] - fip["original"]["water"]
     assert summary["FWIT"][-1] == 1000.0 and produced > 0
     assert abs((injected - produced) - change) <= 2.0  # the PRT's integers
+
+
+def test_flow_runs_as_a_process_of_its_own_even_inside_a_slurm_job():
+    """Inside a SLURM job Open MPI would have Flow join the job step through PMI and abort
+    (tests/workflow/test_slurm.py simulates there): Flow's environment has no launcher variables."""
+    from gridlib.stages.simulate import flow_environment
+
+    job = {"PATH": "/usr/bin", "SLURM_JOB_ID": "7", "SLURM_STEP_ID": "0", "PMI_RANK": "0", "OMPI_MCA_x": "1"}
+    assert flow_environment(job) == {"PATH": "/usr/bin"}

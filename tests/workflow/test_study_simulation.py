@@ -295,3 +295,18 @@ def test_the_simulation_keys_are_checked_naming_the_study_file_and_key(tmp_path,
         load_study(study, tmp_path / "results")
     message = str(err.value)
     assert "\n" not in message and message.startswith(f"{study}: {key}") and text in message, message
+
+
+def test_a_run_that_stops_early_or_writes_no_summary_is_a_failure(study_run, tmp_path):
+    """The other two ways a run fails, from a finished variant's files (no Flow run): it ended
+    before the variant's last report day, or left no UNSMRY."""
+    from gridlib.stages.study_simulate import failure_reason
+
+    base = _flow_base(study_run, "flood", "throw-0_rate-300_r0")
+    done = subprocess.CompletedProcess(["flow"], 0, "", "")
+    assert failure_reason(done, base, [100, 200, 400]) is None
+    reason = failure_reason(done, base, [100, 200, 400, 800])
+    assert reason is not None and reason.startswith("OPM Flow stopped at day 400 of 800: ")
+    assert failure_reason(done, tmp_path / base.name, [400]).startswith(
+        "OPM Flow wrote no summary (UNSMRY): "
+    )
