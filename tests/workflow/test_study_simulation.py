@@ -230,6 +230,46 @@ def _job_counts(result: subprocess.CompletedProcess) -> dict[str, int]:
     return counts
 
 
+def test_the_pictures_of_a_simulated_study_are_its_table(study_run):
+    """study.png, study_profiles.png and study_tornado.png are written; study.png drawn again
+    from study.nc: recovery against the throw, one line per injection rate whose points are
+    study.csv's; the failed variant of broken_flood is a cross, not a point."""
+    import matplotlib.pyplot as plt
+
+    from gridlib.io import study_pictures as sp
+
+    for study in ("flood", "broken_flood"):
+        for name in ("study.png", "study_profiles.png", "study_tornado.png"):
+            assert (study_run / "results" / study / name).stat().st_size > 5_000, (study, name)
+    rows = _rows(study_run, "flood")
+    with xr.open_dataset(study_run / "results" / "flood" / "study.nc") as ds:
+        fig = sp.study_figure(ds.load())
+    try:
+        (ax,) = [
+            a for a in fig.axes if a.get_ylabel() == "oil recovery [fraction]" and "throw" in a.get_xlabel()
+        ]
+        means = [line for line in ax.lines if line.get_gid() == sp.MEAN]
+        assert [m.get_label() for m in means] == [
+            "simulation.wells.0.rate = 300 sm3/day",
+            "simulation.wells.0.rate = 600 sm3/day",
+        ]
+        for line, rate in zip(means, (300, 600), strict=True):
+            want = [float(rows[f"throw-{t}_rate-{rate}_r0"]["oil_recovery"]) for t in (0, 15)]
+            assert line.get_ydata().tolist() == want
+    finally:
+        plt.close(fig)
+    with xr.open_dataset(study_run / "results" / "broken_flood" / "study.nc") as ds:
+        fig = sp.study_figure(ds.load())
+    try:
+        ax = fig.axes[0]
+        (cross,) = [line for line in ax.lines if line.get_gid() == sp.FAILED]
+        assert cross.get_xdata().tolist() == [20000]
+        points = [line for line in ax.lines if line.get_gid() == sp.REALISATIONS]
+        assert [p.get_xdata().tolist() for p in points] == [[210]]
+    finally:
+        plt.close(fig)
+
+
 def test_a_second_run_does_nothing_and_one_value_reruns_its_variants_grid_and_flow(study_run):
     again = _snakemake(study_run, "--dry-run")
     assert again.returncode == 0 and "Nothing to be done" in again.stdout + again.stderr, again.stderr[-3000:]
@@ -243,7 +283,7 @@ def test_a_second_run_does_nothing_and_one_value_reruns_its_variants_grid_and_fl
     assert _job_counts(plan) == {
         "study_flood": 2,
         "study_simulate_flood": 2,
-        "study_table": 1,
+        "study_table_simulated": 1,  # study_table's job with the simulated study's pictures
         "all": 1,
         "total": 6,
     }
