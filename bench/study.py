@@ -1,7 +1,10 @@
-"""Benchmark: a study of 48 variants of a small case, against the same variants as case files.
+"""Benchmark: a study of 48 variants of a small case, against the same variants as case files;
+or (``--simulate``) a study of 24 variants, each simulated in OPM Flow.
 
 Run:  .venv/bin/python bench/study.py [--base config/cases/faulted_pebi.yaml] [--cores 2]
                                      [--modes study,spawned,cases] [--keep DIR]
+      .venv/bin/python bench/study.py --simulate [--base config/cases/waterflood_pebi.yaml]
+                                     [--cores 2] [--keep DIR]
 
 The study varies the base case's cell size (8 values from its own up, about 4,300 to 4,900
 cells for faulted_pebi) and its first fault's throw (2 values), 3 realisations each: 48
@@ -14,12 +17,25 @@ time of the whole run (start-up and parse included) and per variant:
   the workflow and imports gridlib, xarray, gstools, VTK and matplotlib again;
 * ``cases``: the same 48 variants as 48 case files (the variants' own case files, renamed),
   through the per-stage rules: up to 7 jobs, 7 Python processes per case.
+
+``--simulate``: a simulated study (``simulate: true``) of the PEBI waterflood sample case with
+cell sizes 24, 26, 28 and 30 m (about 6,200 to 4,000 cells, 5,000 on average) and its first
+fault's throw and twice it, 3 realisations each: 24 variants, each a grid job (every stage,
+the deck included) and a Flow job (one thread), ``snakemake --cores 2`` with
+``--force-use-threads`` (as ``make run``). It prints the wall time of the whole run and, per
+variant, the grid job's and the Flow job's wall time (Snakemake's benchmark files
+``results/benchmarks/<study>/<variant>.tsv`` and ``<variant>.simulation.tsv``) and Flow's own
+(``Total time`` in its PRT file), with the machine's load average before and after.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import re
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -30,6 +46,8 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 MODES = ("study", "spawned", "cases")
+SIMULATED_BASE = ROOT / "config" / "cases" / "waterflood_pebi.yaml"
+SIMULATED_CELL_SIZES = [24, 26, 28, 30]  # m: about 6,200, 5,300, 4,600 and 4,000 cells
 
 
 def _snakemake(work: Path, *args: str) -> float:
@@ -46,12 +64,18 @@ def main() -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("--base", type=Path, default=ROOT / "config" / "cases" / "faulted_pebi.yaml")
+    parser.add_argument(
+        "--base", type=Path, help="the base case (default faulted_pebi; --simulate: waterflood_pebi)"
+    )
     parser.add_argument("--cores", type=int, default=2)
     parser.add_argument("--modes", default=",".join(MODES), help="comma-separated, of " + ", ".join(MODES))
     parser.add_argument("--keep", type=Path, help="run in this folder and keep the results")
+    parser.add_argument("--simulate", action="store_true", help="the 24-variant simulated study")
     args = parser.parse_args()
-    base = args.base.resolve()
+    if args.simulate:
+        simulated((args.base or SIMULATED_BASE).resolve(), args.cores, args.keep)
+        return
+    base = (args.base or ROOT / "config" / "cases" / "faulted_pebi.yaml").resolve()
     data = yaml.safe_load(base.read_text())
     size = float(data["grid"]["cell_size"])
     throw = data["faults"][0]["throw"]
@@ -100,6 +124,80 @@ def main() -> None:
             )
         if "study" in walls and "cases" in walls:
             print(f"study vs separate case files: {walls['cases'] / walls['study']:.1f}x faster")
+
+
+def simulated(base: Path, cores: int, keep: Path | None) -> None:
+    """The simulated study (the module's docstring): whole run, grid and Flow time per variant."""
+    throw = yaml.safe_load(base.read_text())["faults"][0]["throw"]
+    study = {
+        "name": "bench_simulated",
+        "base": str(base),
+        "vary": {"grid.cell_size": SIMULATED_CELL_SIZES, "faults.0.throw": [throw, 2 * throw]},
+        "realisations": 3,
+        "seed": 1,
+        "simulate": True,
+    }
+    with tempfile.TemporaryDirectory() as tmp:
+        top = keep.resolve() if keep else Path(tmp)
+        work = top / "simulated"
+        shutil.rmtree(work, ignore_errors=True)
+        work.mkdir(parents=True)
+        study_file = top / "bench_simulated.yaml"
+        study_file.write_text(yaml.safe_dump(study, sort_keys=False))
+        load = os.getloadavg()[0]
+        config = ["--config", "cases=[]", f"studies={study_file}"]
+        wall = _snakemake(work, "--cores", str(cores), "--force-use-threads", *config)
+        rows = _simulated_rows(work / "results", study["name"])
+        after = os.getloadavg()[0]
+        print(f"load average {load:.1f} before, {after:.1f} after (1 min; {os.cpu_count()} cores)")
+        print(f"{'variant':34s} {'cells':>6s} {'grid job':>9s} {'Flow job':>9s} {'Flow':>7s} status")
+        for r in rows:
+            print(
+                f"{r['variant']:34s} {r['cells']:6d} {r['grid']:8.2f}s {r['flow_job']:8.2f}s "
+                f"{r['flow']:6.2f}s {r['status']}"
+            )
+        n = len(rows)
+        for name, key in (("grid job", "grid"), ("Flow job", "flow_job"), ("Flow itself", "flow")):
+            values = [r[key] for r in rows]
+            print(
+                f"{name:12s} per variant: mean {statistics.fmean(values):5.2f} s, median "
+                f"{statistics.median(values):5.2f} s, sum {sum(values):6.1f} s"
+            )
+        cells = [r["cells"] for r in rows]
+        print(
+            f"simulated study: {n} variants ({min(cells):,d} to {max(cells):,d} cells, mean "
+            f"{statistics.fmean(cells):,.0f}), --cores {cores}: {wall:6.1f} s wall, "
+            f"{wall / n:5.2f} s per variant"
+        )
+
+
+def _simulated_rows(results: Path, name: str) -> list[dict]:
+    """Per variant: its cells, the wall time of its grid job and Flow job (Snakemake's benchmark
+    files) and Flow's own (the PRT's ``Total time``), and the simulation's status."""
+    rows = []
+    for summary in sorted((results / name).glob("*/summary.json")):
+        variant = summary.parent.name
+        bench = results / "benchmarks" / name
+        prt = next((summary.parent / "simulation").glob("*.PRT"), None)
+        found = re.findall(r"Total time \(seconds\):\s*([0-9.]+)", prt.read_text()) if prt else []
+        responses = json.loads((summary.parent / "simulation" / "responses.json").read_text())
+        rows.append(
+            {
+                "variant": variant,
+                "cells": json.loads(summary.read_text())["cells"],
+                "grid": _benchmark_seconds(bench / f"{variant}.tsv"),
+                "flow_job": _benchmark_seconds(bench / f"{variant}.simulation.tsv"),
+                "flow": float(found[-1]) if found else float("nan"),
+                "status": responses["status"],
+            }
+        )
+    return rows
+
+
+def _benchmark_seconds(path: Path) -> float:
+    """The wall time (s) a Snakemake benchmark file records (its column ``s``)."""
+    header, values = path.read_text().splitlines()[:2]
+    return float(dict(zip(header.split("\t"), values.split("\t"), strict=True))["s"])
 
 
 def _cells(work: Path) -> str:

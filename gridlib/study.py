@@ -23,6 +23,13 @@ strings as they are; the value's position in its list, ``#0``, ``#1``..., writte
 ``v1``..., where the text would hold other characters than letters, digits, ``.``, ``_``
 and ``-``), joined by ``_``; then ``_r`` and the realisation: ``throw-10_cell_size-50_r0``.
 
+**Alternatives** (:class:`Alternative`): a varied key's values may be whole mappings, each
+with a ``label`` (letters, digits, ``.``, ``_``, ``-``), set in place of the base case's value
+at the key without the label: a grid question (a corner-point against a PEBI ``grid``
+section) is a key whose values are grid sections. The label stands for the mapping in the
+variant's name (``grid-pebi_r0``) and in the study's table. Either every value of a key has
+a label or none (:func:`_alternatives`).
+
 **Seeds**: realisation ``r`` (0-based) of every combination gets the case seed
 ``seed + 3 r``: a case's random fields use its seed (porosity), seed + 1 (permeability)
 and seed + 2 (NTG), so realisations never share a field's seed, and the combinations of
@@ -67,18 +74,35 @@ STUDY_SCHEMA = "study.schema.yaml"
 SEED_STEP = 3  # a case's fields use seed, seed + 1, seed + 2
 DEFAULT_WATER_CUT = 0.01  # a producer's water breakthrough: its water cut first exceeds this
 _SAFE = re.compile(r"^[A-Za-z0-9._-]+$")
-# Keys of a case that name files relative to the case file (rewritten for the variant's folder).
+# Keys of a case that name files relative to the case file (rewritten for the variant's folder;
+# "*": every item of a list or value of a mapping).
+_WELL_FILES = (("trajectory",), ("trajectory", "file"), ("survey", "file"))
 _FILE_KEYS = (
     ("horizons", "surfaces", "*", "points"),
     ("horizons", "surfaces", "*", "surface"),
     ("grid", "file"),
+    ("grid", "parameters", "*"),
+    ("faults", "*", "sticks"),
+    *(("wells", "*", *keys) for keys in _WELL_FILES),
+    *(("wells", "*", "branches", "*", *keys) for keys in _WELL_FILES),
 )
 
 
 @dataclass(frozen=True)
+class Alternative:
+    """A labelled value of a varied key: a whole mapping (a section such as ``grid``, a list
+    item such as ``faults.0``) that replaces the base case's value at the key; ``label`` names
+    it in variant names and in the study's table (``values`` of a :class:`Variant`)."""
+
+    label: str
+    value: dict[str, Any]
+
+
+@dataclass(frozen=True)
 class Variant:
-    """One variant: the base case with ``values`` (dotted key -> value), in realisation
-    ``realisation`` with case seed ``seed``; ``data`` is its case (as written to its file)."""
+    """One variant: the base case with ``values`` (dotted key -> value; an
+    :class:`Alternative`'s label for a key of whole sections), in realisation ``realisation``
+    with case seed ``seed``; ``data`` is its case (as written to its file)."""
 
     name: str
     values: dict[str, Any]
@@ -202,6 +226,8 @@ def _value_text(value: Any, position: int) -> str:
         text = repr(value)
     elif isinstance(value, str):
         text = value
+    elif isinstance(value, Alternative):
+        text = value.label
     else:
         text = ""
     return text if _SAFE.match(text) else f"v{position}"
@@ -214,6 +240,61 @@ def variant_name(labels: dict[str, str], values: dict[str, tuple[int, Any]], rea
     return "_".join(parts + [f"r{realisation}"])
 
 
+def _alternatives(study: Path, key: str, values: list[Any]) -> list[Any]:
+    """The values of varied ``key`` as listed, or, where they are mappings with a ``label``,
+    as :class:`Alternative` s (the mapping without its label). Either every value of the key
+    is a labelled mapping or none is; labels are names (:data:`_SAFE`) and differ; else one
+    InputError naming the study file, the key and the item."""
+    labelled = [isinstance(v, dict) and "label" in v for v in values]
+    if not any(labelled):
+        return values
+    where, first_labelled = f"{study}: vary.{key}", labelled.index(True)
+    for k, value in enumerate(values):
+        if not labelled[k]:
+            what = (
+                "this mapping has no label"
+                if isinstance(value, dict)
+                else f"{_one_line(value)} is not a mapping"
+            )
+            raise InputError(
+                f"{where}[{k}]: {what}, and item {first_labelled} is a mapping with a label: the values "
+                "of a key are all mappings with a label (whole sections or list items) or none is"
+            )
+        label = value["label"]
+        if not isinstance(label, str) or not _SAFE.match(label):
+            raise InputError(
+                f"{where}[{k}].label: {_one_line(label)} must be text of letters, digits, '.', '_' and '-' "
+                "(it names the variants)"
+            )
+        first = next(j for j in range(k + 1) if values[j]["label"] == label)
+        if first != k:
+            raise InputError(f"{where}[{k}].label: '{label}' is also the label of item {first}")
+    return [Alternative(v["label"], {n: x for n, x in v.items() if n != "label"}) for v in values]
+
+
+def _set_values(data: dict[str, Any], values: dict[str, Any]) -> None:
+    """Set each varied key's value in the case ``data``, the keys with fewer components first:
+    a key inside a varied section (``grid.layers`` beside ``grid``) then changes the section
+    the variant has, whatever the order the study lists them in."""
+    for key in sorted(values, key=lambda k: len(_parts(k))):
+        _set(data, key, _case_value(values[key]))
+
+
+def _one_line(value: Any) -> str:
+    """``value`` as one line of YAML flow style (for messages)."""
+    return yaml.safe_dump(value, default_flow_style=True, width=10**6).strip().removesuffix("...").strip()
+
+
+def _table_value(value: Any) -> Any:
+    """A varied value as the study's table holds it: an :class:`Alternative` by its label."""
+    return value.label if isinstance(value, Alternative) else value
+
+
+def _case_value(value: Any) -> Any:
+    """A varied value as the variant's case holds it: an :class:`Alternative`'s mapping."""
+    return value.value if isinstance(value, Alternative) else value
+
+
 def _relocate_files(data: dict[str, Any], base_dir: Path, folder: Path) -> None:
     """Rewrite the base case's file references (relative to the base case file) relative to
     ``folder``, where the variant's case file lives."""
@@ -222,19 +303,17 @@ def _relocate_files(data: dict[str, Any], base_dir: Path, folder: Path) -> None:
         if not path:
             return
         head, rest = path[0], path[1:]
-        items = (node if isinstance(node, list) else []) if head == "*" else None
-        if items is not None:
-            for item in items:
-                visit(item, rest)
-            return
-        if not isinstance(node, dict) or head not in node:
-            return
-        if not rest:
-            target = Path(node[head])
-            if not target.is_absolute():
-                node[head] = os.path.relpath(base_dir / target, folder)
-            return
-        visit(node[head], rest)
+        if head == "*":
+            keys = (
+                range(len(node)) if isinstance(node, list) else list(node) if isinstance(node, dict) else []
+            )
+        else:
+            keys = [head] if isinstance(node, dict) and head in node else []
+        for key in keys:
+            if rest:
+                visit(node[key], rest)
+            elif isinstance(node[key], str) and not Path(node[key]).is_absolute():
+                node[key] = os.path.relpath(base_dir / node[key], folder)
 
     for keys in _FILE_KEYS:
         visit(data, keys)
@@ -273,7 +352,7 @@ def load_study(
     except InputError as exc:
         raise InputError(f"{p}: base: {exc}") from None
 
-    vary: dict[str, list[Any]] = spec["vary"]
+    vary: dict[str, list[Any]] = {k: _alternatives(p, k, v) for k, v in spec["vary"].items()}
     keys = list(vary)
     for key in keys:
         if key in ("name", "seed"):
@@ -302,7 +381,7 @@ def load_study(
     seen: dict[str, str] = {}
     for combo in combos:
         values = dict(zip(keys, combo, strict=True))
-        plain = {k: v for k, (_, v) in values.items()}
+        plain = {k: _table_value(v) for k, (_, v) in values.items()}
         for r in range(realisations):
             name = variant_name(labels, values, r)
             if name in seen:
@@ -314,8 +393,7 @@ def load_study(
             data = copy.deepcopy(base_data)
             data["name"] = name
             data["seed"] = seed + SEED_STEP * r
-            for key, (_, value) in values.items():
-                _set(data, key, value)
+            _set_values(data, {key: value for key, (_, value) in values.items()})
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)
             where = folder / f"{name}.yaml"
@@ -324,13 +402,6 @@ def load_study(
             else:  # unchecked, the variant still needs its defaults and the section its deck implies
                 checked = with_deck_rock(with_defaults(data), where)
             variants.append(Variant(name, plain, r, data["seed"], data, artifacts_of(checked)))
-    kinds = {v.artifacts for v in variants}
-    if len(kinds) > 1:
-        first, other = variants[0], next(v for v in variants if v.artifacts != variants[0].artifacts)
-        raise InputError(
-            f"{p}: vary: variants '{first.name}' and '{other.name}' have different artifacts "
-            f"({', '.join(first.artifacts)} / {', '.join(other.artifacts)}); a study's variants share theirs"
-        )
     return Study(
         name=spec["name"],
         path=p,
@@ -343,6 +414,17 @@ def load_study(
         key_quantities=_key_quantities(p, keys, base_data),
         simulation=study_simulation(p, spec, base_data, variants[0].artifacts),
     )
+
+
+def artifact_groups(study: Study) -> list[tuple[tuple[str, ...], tuple[Variant, ...]]]:
+    """The study's variants grouped by the artifacts they keep (:attr:`Variant.artifacts`), in
+    the order the groups first appear: one group where the variants share their artifacts, more
+    where a varied key changes them (a corner-point grid keeps a GRDECL and a ROFF file, a PEBI
+    grid neither); the workflow declares each group's outputs in a rule of its own."""
+    groups: dict[tuple[str, ...], list[Variant]] = {}
+    for v in study.variants:
+        groups.setdefault(v.artifacts, []).append(v)
+    return [(keys, tuple(members)) for keys, members in groups.items()]
 
 
 def study_simulation(

@@ -60,6 +60,7 @@ STUDY_KEYS = [
     ("faulted_pebi", "petrophysics.porosity.field.mean", "1", "1"),
     ("twisted", "grid.twist", "1", "1"),
     ("twisted", "petrophysics.ntg.constant", "1", "1"),
+    ("y_faults_pillars", "grid", None, None),  # whole grid sections (labelled), no unit
 ]
 
 

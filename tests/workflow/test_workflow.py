@@ -275,6 +275,29 @@ def test_the_sample_study_is_built(workflow_run):
         assert dict(ds.sizes) == {"faults.0.throw": 2, "realisation": 2}
 
 
+def test_the_grid_choice_study_is_built_and_simulated(workflow_run):
+    """config/studies/grid_choice.yaml: three grids of y_faults_pillars as whole `grid` sections
+    (pillars, stair steps, PEBI) at 80 and 40 m, two realisations, each variant simulated; the
+    corner-point variants keep a GRDECL file, the PEBI ones do not (a rule each)."""
+    import csv
+
+    study = workflow_run / "results" / "grid_choice"
+    with (study / "study.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    labels = [f"{g}-{s}m" for g in ("pillars", "stairs", "pebi") for s in (80, 40)]
+    assert [r["variant"] for r in rows] == [f"grid-{lab}_r{k}" for lab in labels for k in (0, 1)]
+    assert [r["grid"] for r in rows] == [lab for lab in labels for _ in (0, 1)]
+    assert {r["simulation"] for r in rows} == {"ok"}
+    assert [r["grid_type"] for r in rows] == ["cornerpoint"] * 8 + ["pebi"] * 4
+    for r in rows:
+        assert (study / r["variant"] / "grid.grdecl").is_file() == (r["grid_type"] == "cornerpoint")
+    # every deck has the same wells, controls and report steps (only the grid differs)
+    decks = [(study / v / "flow" / f"{v.upper()}.DATA").read_text() for v in (r["variant"] for r in rows)]
+    controls = {d[d.index("WCONINJE") :] for d in decks}
+    assert len(controls) == 1 and "TSTEP" in next(iter(controls))
+    assert {tuple(re.findall(r"^ '(\w+)' 'G' ", d, re.MULTILINE)) for d in decks} == {("INJ", "PROD")}
+
+
 def test_the_readmes_study_example_runs_on_the_sample_study(workflow_run, monkeypatch, capsys):
     """README.md's ```py block (a study's table and dataset read back) as written, in the
     folder the workflow ran in."""

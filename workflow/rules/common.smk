@@ -19,7 +19,7 @@ from gridlib import artifacts
 from gridlib.config import load_cases
 from gridlib.config import validate as check_schema
 from gridlib.errors import InputError
-from gridlib.study import load_studies, materialise
+from gridlib.study import artifact_groups, load_studies, materialise
 
 
 def check_config(data, source):
@@ -294,7 +294,6 @@ def discover_studies(spec):
 
 STUDIES = discover_studies(config.get("studies", "config/studies/*.yaml"))
 STUDY_NAMES = "|".join(re.escape(n) for n in sorted(STUDIES)) or "(?!)"
-STUDY_ARTIFACTS = {n: s.variants[0].artifacts for n, s in STUDIES.items()}
 
 
 def variant_out(name):
@@ -320,12 +319,23 @@ def build_variant(case_file, summary, log_file):
         run_in_process(case_file, folder, log_file)
 
 
-def study_variant_files(name):
-    """The outputs of a variant of study ``name`` (its study_<name> jobs): the variant's
-    artifacts, the OPM Flow deck as the folder flow/ (the deck is named after the variant in
-    upper case, which a pattern cannot say)."""
+def study_rules(name):
+    """The rules of study ``name``'s variants: (rule name, artifact keys, variants), one per
+    group of variants that keep the same artifacts (gridlib.study.artifact_groups): study_<name>,
+    then study_<name>__2, ... where a varied key changes the artifacts (corner-point and PEBI
+    grids)."""
+    base = f"study_{rule_name(name)}"
+    return [
+        (base if k == 0 else f"{base}__{k + 1}", keys, variants)
+        for k, (keys, variants) in enumerate(artifact_groups(STUDIES[name]))
+    ]
+
+
+def study_variant_files(keys):
+    """The outputs of a variant that keeps the artifacts ``keys`` (a study_<name> job): the
+    variant's artifacts, the OPM Flow deck as the folder flow/ (the deck is named after the
+    variant in upper case, which a pattern cannot say)."""
     table = artifacts.artifacts()
-    keys = STUDY_ARTIFACTS[name]
     files = {
         k: directory(variant_out(k)) if table[k].directory else variant_out(k)
         for k in keys
@@ -338,11 +348,10 @@ def study_variant_files(name):
 
 def study_variant_outputs(name):
     """Every declared artifact of every variant of the study ``name``."""
-    study = STUDIES[name]
     return [
         variant_out(k).format(study=name, variant=v.name)
-        for v in study.variants
-        for k in STUDY_ARTIFACTS[name]
+        for v in STUDIES[name].variants
+        for k in v.artifacts
     ]
 
 

@@ -1,34 +1,39 @@
 # Studies (config/studies/*.yaml): each variant is built like a case, all of its stages in one
 # job (gridlib.stages.run_case writes the same staged artifacts as the per-stage rules), from
 # its case file results/<study>/<variant>/<variant>.yaml, which common.smk rewrites at parse time
-# only when its content changes; then one table over the study's variants.
+# only when its content changes; then one table over the study's variants. Variants that keep
+# different artifacts (a varied grid type: corner-point keeps GRDECL and ROFF files, PEBI not)
+# get a rule per group of variants that keep the same (study_rules).
 #
 # A variant's job runs in warm worker processes of the Snakemake process (see build_variant
 # and gridlib/stages/workers.py) when Snakemake runs `run:` jobs in its own threads
 # (--force-use-threads, set by workflow/profiles/default); else in the job's own process.
 
 
-for _name, _study in sorted(STUDIES.items()):
+for _name in sorted(STUDIES):
+    for _rule, _keys, _variants in study_rules(_name):
 
-    rule:
-        name:
-            f"study_{rule_name(_name)}"
-        input:
-            case=f"{RESULTS}/{{study}}/{{variant}}/{{variant}}.yaml",
-        output:
-            **study_variant_files(_name),
-        log:
-            f"{RESULTS}/logs/{{study}}/{{variant}}.log",
-        wildcard_constraints:
-            study=re.escape(_name),
-            variant="|".join(re.escape(v.name) for v in _study.variants),
-        group:
-            "study"
-        threads: 1
-        resources:
-            mem_mb=4000,
-        run:
-            build_variant(input.case, output.summary, log[0])
+        rule:
+            name:
+                _rule
+            input:
+                case=f"{RESULTS}/{{study}}/{{variant}}/{{variant}}.yaml",
+            output:
+                **study_variant_files(_keys),
+            log:
+                f"{RESULTS}/logs/{{study}}/{{variant}}.log",
+            benchmark:
+                f"{RESULTS}/benchmarks/{{study}}/{{variant}}.tsv"
+            wildcard_constraints:
+                study=re.escape(_name),
+                variant="|".join(re.escape(v.name) for v in _variants),
+            group:
+                "study"
+            threads: 1
+            resources:
+                mem_mb=4000,
+            run:
+                build_variant(input.case, output.summary, log[0])
 
 
 # A simulated study (simulate: true): each variant's OPM Flow deck (its flow/ folder, from the
