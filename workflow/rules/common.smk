@@ -397,7 +397,7 @@ def variant_report_days(study, variant):
 
 
 def simulate_variant_job(study, variant, flow_folder, output, log_file, params):
-    """A study's Flow job (rule study_simulate_<study>): the variant's deck through OPM Flow
+    """A study's Flow job (the rules study_simulate_<study>), the variant's deck through OPM Flow
     (gridlib.stages.study_simulate), here (a thread of the Snakemake process, or the job's
     own process on a cluster). A failure with on_failure: stop is one line naming the study
     file, the variant and Flow's reason."""
@@ -422,18 +422,24 @@ def simulate_variant_job(study, variant, flow_folder, output, log_file, params):
 
 
 # A study's pictures beside study.png when it simulates (gridlib.io.study_pictures).
-SIMULATED_STUDY_PICTURES = {"profiles": "study_profiles.png", "tornado": "study_tornado.png"}
+SIMULATED_STUDY_PICTURES = {
+    "profiles": "study_profiles.png",
+    "tornado": "study_tornado.png",
+}
 
 
 def study_names(simulated):
     """The studies (a regular expression of their names) that simulate, or that do not."""
-    names = [n for n, s in sorted(STUDIES.items()) if s.simulation.simulate == simulated]
+    names = [
+        n for n, s in sorted(STUDIES.items()) if s.simulation.simulate == simulated
+    ]
     return "|".join(re.escape(n) for n in names) or "(?!)"
 
 
 def study_table_files(simulated, study="{study}"):
-    """The outputs of a study's table (rule study_table, or study_table_simulated: the same
-    job with the pictures of its simulations), by name; ``study`` a name or the wildcard."""
+    """The outputs of a study's table job (study_table, or study_table_simulated, the same
+    job with the pictures of its simulations), by name; ``study`` a name or the wildcard.
+    """
     files = {"csv": "study.csv", "nc": "study.nc", "png": "study.png"}
     if simulated:
         files |= SIMULATED_STUDY_PICTURES
@@ -466,7 +472,9 @@ def all_outputs():
     for name in sorted(STUDIES):
         files += study_variant_outputs(name)
         files += study_simulation_outputs(name)
-        files += list(study_table_files(STUDIES[name].simulation.simulate, name).values())
+        files += list(
+            study_table_files(STUDIES[name].simulation.simulate, name).values()
+        )
     for name, case in sorted(CASES.items()):
         files += [
             artifact_path(a.key, case)
