@@ -542,7 +542,7 @@ def tornado_figure(ds, response: str = TORNADO_RESPONSE):
             ],
             loc="lower center",
             bbox_to_anchor=(0.5, 1.0),
-            ncols=3,
+            ncols=2,  # three do not fit the figure's width
             fontsize=LABEL_SIZE,
             frameon=False,
         )
