@@ -10,7 +10,7 @@ CORES  ?= all
 # make bench PEER_PYTHON=/path/to/venv/bin/python: peers (resdata, xtgeo) timed from that interpreter
 PEER_PYTHON ?=
 
-.PHONY: run simulate test system-tools lint bench golden clean
+.PHONY: run simulate test system-tools opm-flow lint bench golden clean
 
 $(BIN)/python:
 	@test -n "$(PYTHON)" || { echo "make: no python3.11 or python3 on PATH" >&2; exit 1; }
@@ -27,11 +27,11 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	touch $@ $(VENV)/.installed-run
 
-run: $(VENV)/.installed-run
+run: $(VENV)/.installed-run opm-flow
 	$(BIN)/snakemake --cores $(CORES) --workflow-profile workflow/profiles/default
 
 # The sample cases with a `simulation` section through OPM Flow (`make system-tools` installs it)
-simulate: $(VENV)/.installed-run
+simulate: $(VENV)/.installed-run opm-flow
 	$(BIN)/snakemake --cores $(CORES) --workflow-profile workflow/profiles/default simulate
 
 # One pytest worker per core, each taking whole test modules (their module fixtures run once);
@@ -42,6 +42,10 @@ test: $(VENV)/.installed-test system-tools
 # OPM Flow and SLURM, which the tests run against (apt-get, as root or with sudo; see the script)
 system-tools:
 	@sh tests/system_tools.sh
+
+# OPM Flow alone: the sample study grid_choice simulates its variants in `make run`
+opm-flow:
+	@sh tests/system_tools.sh flow
 
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check .
