@@ -79,10 +79,16 @@ def flow_environment(environ: dict[str, str] | None = None) -> dict[str, str]:
 
 def run_flow(deck: Path, out_dir: Path, options: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
     """Flow on ``deck`` with its output in ``out_dir`` (one thread, ``options`` added), run in
-    the deck's folder as one process (:func:`flow_environment`)."""
+    the deck's folder as one process (:func:`flow_environment`).
+
+    The output is written synchronously: with Flow's default asynchronous writer (a thread of
+    its own) the summary's MINISTEP counters depend on the two threads' timing, so two runs
+    of one deck on a loaded machine wrote different UNSMRY files (5 of 6 runs, 2 cores shared);
+    written synchronously, 8 of 8 were identical, byte for byte."""
     deck, out_dir = Path(deck).resolve(), Path(out_dir).resolve()
+    command = [flow_command(), "--threads-per-process=1", "--enable-async-ecl-output=false"]
     return subprocess.run(
-        [flow_command(), "--threads-per-process=1", *options, f"--output-dir={out_dir}", deck.name],
+        [*command, *options, f"--output-dir={out_dir}", deck.name],
         capture_output=True,
         text=True,
         cwd=deck.parent,
