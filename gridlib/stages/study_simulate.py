@@ -1,11 +1,12 @@
 """A simulated study's Flow job: one variant's OPM Flow deck (its ``flow/`` folder, written by
 the variant's grid job) run into ``results/<study>/<variant>/simulation/``.
 
-Flow runs with one thread (``--threads-per-process=1``: the same numbers on any machine) and
-writes its files synchronously (the same bytes on a loaded machine:
-:func:`gridlib.stages.simulate.run_flow`) in the deck's folder, its output written into a new folder beside ``simulation/`` that replaces
-it when complete (:func:`gridlib.io.atomic.atomic_directory`): Flow's files (``<NAME>.PRT``,
-``.SMSPEC``, ``.UNSMRY``, ``.EGRID``, ``.INIT``, ``.UNRST``, ...) and ``responses.json``
+Flow runs with one thread (``--threads-per-process=1``: the same numbers on any machine),
+writing its files synchronously (the same bytes on a loaded machine:
+:func:`gridlib.stages.simulate.run_flow`), in the deck's folder; its output goes into a new
+folder beside ``simulation/`` that replaces it when complete
+(:func:`gridlib.io.atomic.atomic_directory`): Flow's files (``<NAME>.PRT``, ``.SMSPEC``,
+``.UNSMRY``, ``.EGRID``, ``.INIT``, ``.UNRST``, ...) and ``responses.json``
 (:mod:`gridlib.io.flow_responses`).
 
 A run fails when Flow exits with an error, writes no summary (UNSMRY), or stops before the
