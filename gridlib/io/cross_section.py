@@ -35,7 +35,7 @@ from .well_tracks import WellTrack
 
 MAX_EXAGGERATION = 10.0
 EXAGGERATION = "vertical exaggeration"
-FAULT_NAME = "fault name"
+FAULT_NAME = style.FAULT_NAME
 WELL_NAME = "well name"
 OUTLINED_POLYGONS = 20000  # polygons drawn with their edges up to this many
 SIDE_ROOM, HEIGHT_ROOM = 2.4, 2.0  # inches of a section's figure beside and above/below its axes
@@ -215,18 +215,7 @@ def _name_faults(ax, cut: SectionCut, names: Sequence[str]) -> None:
     for fault in np.unique(cut.fault_ids):
         ends = cut.fault_lines[cut.fault_ids == fault].reshape(-1, 2)
         at = ends[np.argmin(ends[:, 1])]
-        name = names[fault - 1] if 0 < fault <= len(names) and names[fault - 1] else f"fault {fault}"
-        label = ax.annotate(
-            name,
-            at,
-            xytext=(3, 6),
-            textcoords="offset points",
-            color=style.fault_colour(int(fault)),
-            fontsize=style.LABEL_SIZE,
-            fontweight="bold",
-            bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.7},
-        )
-        label.set_gid(FAULT_NAME)
+        style.label_fault(ax, int(fault), at, names, (3, 6))
 
 
 def _draw_wells(

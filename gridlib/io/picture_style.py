@@ -21,7 +21,7 @@ Use::
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from typing import Any, Literal
 
 import numpy as np
@@ -134,6 +134,30 @@ def fault_colours(faults: np.ndarray) -> np.ndarray:
     palette = to_rgba_array((NO_FAULT, *FAULT_PALETTE))
     ids = np.asarray(faults, dtype=np.int64)
     return palette[np.where(ids > 0, (ids - 1) % len(FAULT_PALETTE) + 1, 0)]
+
+
+FAULT_NAME = "fault name"  # the gid of a fault's name on a picture
+
+
+def label_fault(ax, fault: int, at: Any, names: Sequence[str], offset: tuple[float, float], **kwargs: Any):
+    """Write fault ``fault``'s name (1-based id into ``names``; ``fault <id>`` where it has
+    none) at ``at`` (data coordinates), ``offset`` points away, bold in the fault's colour on a
+    white box, with the gid :data:`FAULT_NAME`; ``kwargs`` go to ``ax.annotate``. Returns the
+    annotation."""
+    name = names[fault - 1] if 0 < fault <= len(names) and names[fault - 1] else f"fault {fault}"
+    label = ax.annotate(
+        name,
+        at,
+        xytext=offset,
+        textcoords="offset points",
+        color=fault_colour(int(fault)),
+        fontsize=LABEL_SIZE,
+        fontweight="bold",
+        bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.7},
+        **kwargs,
+    )
+    label.set_gid(FAULT_NAME)
+    return label
 
 
 def quantity_label(quantity: str, unit: str | None) -> str:

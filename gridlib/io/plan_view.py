@@ -28,7 +28,7 @@ from .well_tracks import WellTrack
 
 OUTLINED_FACES = 4000  # top faces drawn with their outlines up to this many
 FAULTS = "faults"
-FAULT_NAME = "fault name"
+FAULT_NAME = style.FAULT_NAME
 WELL_NAME = "well name"
 WELL = "well"
 SECTION = "section line"
@@ -161,19 +161,7 @@ def draw_faults(ax, segments: np.ndarray, ids: np.ndarray, names: Sequence[str])
     middle = segments.mean(axis=1)
     for fault in np.unique(ids):
         at = along_trace(middle[ids == fault], 1.0 / 3.0)
-        name = names[fault - 1] if 0 < fault <= len(names) and names[fault - 1] else f"fault {fault}"
-        label = ax.annotate(
-            name,
-            at,
-            xytext=(4, 4),
-            textcoords="offset points",
-            color=style.fault_colour(int(fault)),
-            fontsize=style.LABEL_SIZE,
-            fontweight="bold",
-            bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.7},
-            zorder=5,
-        )
-        label.set_gid(FAULT_NAME)
+        style.label_fault(ax, int(fault), at, names, (4, 4), zorder=5)
 
 
 def draw_wells(ax, wells: Sequence[WellTrack], window: tuple[float, float] | None) -> None:
