@@ -78,6 +78,19 @@ def damaged(path: str | os.PathLike, reason: str) -> InputError:
     return InputError(f"{path}: damaged or incomplete ({reason}); delete it and rerun the workflow")
 
 
+def read_json_artifact(path: str | os.PathLike) -> Any:
+    """The JSON document of an artifact gridlib wrote (summary.json, responses.json); one
+    :func:`damaged` error naming the file where it is missing or not UTF-8 JSON."""
+    import json
+
+    try:
+        return json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise damaged(path, "no such file") from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise damaged(path, f"not JSON: {exc}") from None
+
+
 class _Unreadable(Exception):
     """A variable whose values cannot be read (the reason names it)."""
 

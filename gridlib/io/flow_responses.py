@@ -39,14 +39,13 @@ import math
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..units import UnitSystem
 from .atomic import atomic_path
-from .datasets import damaged
+from .datasets import damaged, read_json_artifact
 from .flow_results import FlowSummary
 
 FIELD_AT_END = ("FOPT", "FWPT", "FWIT", "FPR")
@@ -198,12 +197,7 @@ def write_responses(path: str | os.PathLike, responses: Responses) -> None:
 def read_responses(path: str | os.PathLike) -> Responses:
     """A responses.json read back (null values as NaN); one InputError naming the file where
     it is missing, not JSON or not a variant's responses (:func:`~gridlib.io.datasets.damaged`)."""
-    try:
-        doc = json.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise damaged(path, "no such file") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise damaged(path, f"not JSON: {exc}") from None
+    doc = read_json_artifact(path)
     keys = {"status", "reason", "messages", "unit_system", "units", "scalars", "series"}
     if not isinstance(doc, dict) or not keys <= set(doc) or doc["status"] not in STATUSES:
         raise damaged(path, "not a variant's responses (status, reason, messages, units, scalars, series)")

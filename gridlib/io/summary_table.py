@@ -14,16 +14,14 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import os
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..units import unit_system
 from .atomic import atomic_path
-from .datasets import damaged
+from .datasets import damaged, read_json_artifact
 from .quantities import COLUMNS as COLUMN_QUANTITIES
 
 COLUMNS = (
@@ -121,12 +119,7 @@ def read_summaries(paths: Sequence[str | os.PathLike]) -> list[dict[str, Any]]:
     file that is missing, not UTF-8 JSON or not an object (:func:`~gridlib.io.datasets.damaged`)."""
     out = []
     for path in paths:
-        try:
-            summary = json.loads(Path(path).read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise damaged(path, "no such file") from None
-        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise damaged(path, f"not JSON: {exc}") from None
+        summary = read_json_artifact(path)
         if not isinstance(summary, dict) or "case" not in summary:
             raise damaged(path, "not a case's summary (a JSON object with 'case')")
         out.append(summary)
