@@ -48,6 +48,7 @@ import copy
 import itertools
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -412,7 +413,7 @@ def load_study(
         seed=seed,
         variants=tuple(variants),
         key_quantities=_key_quantities(p, keys, base_data),
-        simulation=study_simulation(p, spec, base_data, variants[0].artifacts),
+        simulation=study_simulation(p, spec, base_data, variants),
     )
 
 
@@ -428,11 +429,11 @@ def artifact_groups(study: Study) -> list[tuple[tuple[str, ...], tuple[Variant, 
 
 
 def study_simulation(
-    study: Path, spec: dict[str, Any], base: dict[str, Any], artifacts: tuple[str, ...]
+    study: Path, spec: dict[str, Any], base: dict[str, Any], variants: Sequence[Variant]
 ) -> StudySimulation:
     """The study's ``simulate``, ``responses`` and ``on_failure`` (schema-checked ``spec``),
     checked against the base case ``base``: ``simulate: true`` needs its ``simulation`` section
-    and an OPM Flow deck (``flow`` among the variants' ``artifacts``), and every
+    and an OPM Flow deck for every variant (``flow`` among its artifacts), and every
     ``responses.times`` entry must be one of its ``simulation.report_days``. A problem is one
     InputError naming the study file and the key."""
     responses = spec.get("responses", {})
@@ -449,9 +450,10 @@ def study_simulation(
             f"{study}: simulate: the base case {spec['base']} has no simulation section "
             "(wells, report days: what OPM Flow would simulate)"
         )
-    if "flow" not in artifacts:
+    deckless = next((v for v in variants if "flow" not in v.artifacts), None)
+    if deckless is not None:
         raise InputError(
-            f"{study}: simulate: the variants of {spec['base']} get no OPM Flow deck "
+            f"{study}: simulate: variant '{deckless.name}' of {spec['base']} gets no OPM Flow deck "
             "(a deck needs rock on a 3-D grid)"
         )
     days = [float(d) for d in base["simulation"].get("report_days", [])]

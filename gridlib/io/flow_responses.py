@@ -139,6 +139,12 @@ def breakthrough_day(time: np.ndarray, water_cut: np.ndarray, threshold: float) 
     return float(time[above[0]]) if above.size else math.nan
 
 
+def initial_oil_in_place(summary: FlowSummary) -> float:
+    """The run's initial oil in place (FOIP0 of the module docstring): FOIP + FOPT at the first
+    summary time, float64 from the file's float32 values."""
+    return float(summary["FOIP"][0]) + float(summary["FOPT"][0])
+
+
 def flow_responses(
     summary: FlowSummary,
     system: UnitSystem,
@@ -151,7 +157,7 @@ def flow_responses(
     breakthrough threshold; ``messages``: the PRT file's path to record. A vector the study
     needs that the summary lacks is a KeyError naming it."""
     scalars: dict[str, float] = {k: float(summary[k][-1]) for k in FIELD_AT_END}
-    initial = float(summary["FOIP"][0]) + float(summary["FOPT"][0])
+    initial = initial_oil_in_place(summary)
     scalars["FOIP0"] = initial
 
     def recovery(produced: float) -> float:

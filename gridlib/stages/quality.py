@@ -37,13 +37,11 @@ from ..config import Case
 from ..errors import InputError
 from ..grid import Grid
 from ..io.grdecl import read_grdecl
-from ..io.netcdf import read_geometry_netcdf, read_netcdf
-from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.quality_file import measure_units, write_quality
 from ..io.quality_histograms import plot_quality
-from ..io.rock_file import read_rock
 from ..quality import MEASURE, cell_quality
 from .common import log
+from .inputs import read_grid_inputs
 from .transmissibility import cell_centres
 
 
@@ -159,17 +157,12 @@ def stage_quality(
     with the permeability of ``petrophysics``; the hexahedral set from ``grdecl``, a
     corner-point or deck case's ``grid.grdecl``, where given), the case's qc rules checked; write
     ``quality`` (``quality.nc``) and ``quality_png`` (``{case}_quality.png``)."""
-    stored = read_netcdf(grid)
+    inputs = read_grid_inputs(grid, geometry, petrophysics)
+    stored, geo, rock, system = inputs.stored, inputs.geometry, inputs.rock, inputs.units
     mesh = stored.grid
-    geo = read_geometry_netcdf(geometry)
-    counts = {geometry: geo.cell_volumes.size}
     perm = None
-    if petrophysics is not None:
-        rock = read_rock(petrophysics)
-        counts[petrophysics] = rock["poro"].size
+    if rock is not None:
         perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, : mesh.dim]
-    check_same_cells(grid, mesh.num_cells, counts)
-    system = stored_unit_system(grid, read_attrs(grid))
     centres, _ = cell_centres(case, grid, stored, geo)
     deck = read_grdecl(grdecl) if grdecl is not None else None
     values = cell_quality(mesh, geo, perm=perm, centres=centres, deck=deck)

@@ -28,8 +28,10 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import tempfile
+from collections.abc import Sequence
 from itertools import chain
 from pathlib import Path
 from typing import Any
@@ -41,6 +43,7 @@ from ..config import Case
 from ..errors import InputError
 from ..geometry import compute_geometry
 from ..io.atomic import atomic_path
+from ..io.flow_responses import initial_oil_in_place
 from ..io.flow_results import FlowSummary, active_positions, read_fip_report, read_summary, restart_steps
 from ..io.netcdf import read_netcdf
 from ..io.pictures import save_figure
@@ -96,6 +99,33 @@ def run_flow(deck: Path, out_dir: Path, options: tuple[str, ...] = ()) -> subpro
     )
 
 
+def signal_name(number: int) -> str:
+    """``SIGABRT`` for 6 (Flow aborts on a failed assertion), else ``signal <number>``."""
+    try:
+        return signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
+
+
+def failure_reason(
+    result: subprocess.CompletedProcess, case_base: Path, report_days: Sequence[float]
+) -> str | None:
+    """Why the Flow run of ``result`` (its files ``case_base``.*) failed, in one line; None if
+    it reached the last of ``report_days``."""
+    prt = Path(f"{case_base}.PRT")
+    if result.returncode < 0:
+        return f"OPM Flow was killed by {signal_name(-result.returncode)}: {flow_message(result, prt)}"
+    if result.returncode != 0:
+        return f"OPM Flow ended with status {result.returncode}: {flow_message(result, prt)}"
+    if not Path(f"{case_base}.UNSMRY").is_file():
+        return f"OPM Flow wrote no summary (UNSMRY): {flow_message(result, prt)}"
+    summary = read_summary(case_base)
+    end = float(summary.time[-1]) if summary.time.size else 0.0
+    if report_days and not np.isclose(end, report_days[-1], rtol=0.0, atol=1e-6):
+        return f"OPM Flow stopped at day {end:g} of {report_days[-1]:g}: {flow_message(result, prt)}"
+    return None
+
+
 _MESSAGE = re.compile(r"^(Error:|Problem:|Exception|Program threw|.*\b[Ee]xception\b|.*Assertion .* failed)")
 
 
@@ -143,18 +173,10 @@ def stage_simulate(
     try:
         result = run_flow(deck, tmp, options)
         base = tmp / name
-        if result.returncode != 0 or not Path(f"{base}.UNSMRY").is_file():
-            raise InputError(
-                f"{case.path}: simulation: OPM Flow failed on {deck.name}: "
-                f"{flow_message(result, Path(f'{base}.PRT'))}"
-            )
+        reason = failure_reason(result, base, days)
+        if reason is not None:
+            raise InputError(f"{case.path}: simulation: {deck.name}: {reason}")
         summary = read_summary(base)
-        end = float(summary.time[-1]) if summary.time.size else 0.0
-        if days and not np.isclose(end, days[-1], rtol=0.0, atol=1e-6):
-            raise InputError(
-                f"{case.path}: simulation.report_days: OPM Flow stopped at day {end:g} of {days[-1]:g}: "
-                f"{flow_message(result, Path(f'{base}.PRT'))}"
-            )
         fip = read_fip_report(f"{base}.PRT")
         for line in (result.stdout or "").splitlines():
             if "time (seconds)" in line or line.startswith("Overall"):
@@ -212,8 +234,8 @@ def simulation_figures(case, summary: FlowSummary, fip: dict, deck: Path) -> dic
         "wells": wells,
         "fip_report": fip,
     }
-    if "FOPT" in field and "FOIP" in field:  # dead oil: what was there is what is left plus what came out
-        initial = summary["FOIP"][-1] + summary["FOPT"][-1]
+    if "FOPT" in field and "FOIP" in field:  # the study's definition (gridlib.io.flow_responses)
+        initial = initial_oil_in_place(summary)
         out["oil_recovery"] = _figure(summary["FOPT"][-1] / initial) if initial > 0 else 0.0
     return out
 

@@ -20,19 +20,15 @@ variant and the reason (and writes nothing).
 from __future__ import annotations
 
 import os
-import signal
-import subprocess
 import time
 from collections.abc import Sequence
 from pathlib import Path
-
-import numpy as np
 
 from ..errors import InputError
 from ..io.atomic import atomic_directory
 from ..io.flow_responses import Responses, failed_responses, flow_responses, write_responses
 from ..io.flow_results import read_summary
-from .simulate import deck_unit_system, flow_command, flow_message, run_flow
+from .simulate import deck_unit_system, failure_reason, flow_command, run_flow
 
 SIMULATION_FOLDER = "simulation"
 
@@ -44,33 +40,6 @@ def variant_deck(flow_folder: str | os.PathLike) -> Path:
         found = ", ".join(d.name for d in decks) or "none"
         raise InputError(f"{flow_folder}: expected one OPM Flow deck (*.DATA), found {found}")
     return decks[0]
-
-
-def signal_name(number: int) -> str:
-    """``SIGABRT`` for 6 (Flow aborts on a failed assertion), else ``signal <number>``."""
-    try:
-        return signal.Signals(number).name
-    except ValueError:
-        return f"signal {number}"
-
-
-def failure_reason(
-    result: subprocess.CompletedProcess, case_base: Path, report_days: Sequence[float]
-) -> str | None:
-    """Why the Flow run of ``result`` (its files ``case_base``.*) failed, in one line; None if
-    it reached the last of ``report_days``."""
-    prt = Path(f"{case_base}.PRT")
-    if result.returncode < 0:
-        return f"OPM Flow was killed by {signal_name(-result.returncode)}: {flow_message(result, prt)}"
-    if result.returncode != 0:
-        return f"OPM Flow ended with status {result.returncode}: {flow_message(result, prt)}"
-    if not Path(f"{case_base}.UNSMRY").is_file():
-        return f"OPM Flow wrote no summary (UNSMRY): {flow_message(result, prt)}"
-    summary = read_summary(case_base)
-    end = float(summary.time[-1]) if summary.time.size else 0.0
-    if report_days and not np.isclose(end, report_days[-1], rtol=0.0, atol=1e-6):
-        return f"OPM Flow stopped at day {end:g} of {report_days[-1]:g}: {flow_message(result, prt)}"
-    return None
 
 
 def simulate_variant(

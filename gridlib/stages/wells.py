@@ -36,15 +36,13 @@ from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.grdecl import read_grdecl
-from ..io.netcdf import read_geometry_netcdf, read_netcdf
-from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
-from ..io.rock_file import read_rock
 from ..io.wells_file import WellRecord, write_wells
 from ..transmissibility.peaceman import deck_cell_extents
 from ..units import UnitSystem
 from ..wells.connections import WellConnections, merge_connections, well_connections
 from ..wells.intersect import CellIndex, PathCells, cell_index, path_cells
 from .common import log
+from .inputs import read_grid_inputs
 
 
 def stage_wells(
@@ -59,16 +57,8 @@ def stage_wells(
     """Write ``wells`` (``wells.nc``) from the case's deviated wells and its stage files
     ``grid``, ``geometry``, ``petrophysics`` (without it: no factors) and, for corner-point and
     deck cases, ``grdecl`` (the extents Flow uses); returns the wells written."""
-    stored = read_netcdf(grid)
-    mesh = stored.grid
-    units = stored_unit_system(grid, read_attrs(grid))
-    geo = read_geometry_netcdf(geometry)
-    counts = {geometry: geo.cell_volumes.size}
-    rock = None
-    if petrophysics is not None:
-        rock = read_rock(petrophysics)
-        counts[petrophysics] = rock["poro"].size
-    check_same_cells(grid, mesh.num_cells, counts)
+    inputs = read_grid_inputs(grid, geometry, petrophysics)
+    mesh, geo, rock, units = inputs.stored.grid, inputs.geometry, inputs.rock, inputs.units
     index = cell_index(mesh, geo)
     well_list = case_well_paths(case)
     pieces = [_pieces(case, well, mesh, geo, index) for well in well_list]

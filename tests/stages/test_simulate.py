@@ -274,7 +274,7 @@ def test_a_failed_run_names_the_case_and_quotes_flow(built, tmp_path):
         )
     message = str(exc.value)
     assert message.startswith(
-        f"{CASES / 'waterflood_pebi.yaml'}: simulation: OPM Flow failed on WATERFLOOD_PEBI.DATA"
+        f"{CASES / 'waterflood_pebi.yaml'}: simulation: WATERFLOOD_PEBI.DATA: OPM Flow ended with status"
     )
     assert "Unknown keyword: PVTX" in message, message
     assert sorted(p.name for p in folder.iterdir()) == before  # nothing left behind

@@ -340,7 +340,7 @@ def test_the_simulation_keys_are_checked_naming_the_study_file_and_key(tmp_path,
 def test_a_run_that_stops_early_or_writes_no_summary_is_a_failure(study_run, tmp_path):
     """The other two ways a run fails, from a finished variant's files (no Flow run): it ended
     before the variant's last report day, or left no UNSMRY."""
-    from gridlib.stages.study_simulate import failure_reason
+    from gridlib.stages.simulate import failure_reason
 
     base = _flow_base(study_run, "flood", "throw-0_rate-300_r0")
     done = subprocess.CompletedProcess(["flow"], 0, "", "")
