@@ -96,6 +96,7 @@ from scipy.spatial import cKDTree
 from ..errors import GridError
 from .bounded import ClippedVoronoi, Contraction, clipped_voronoi
 from .conformity import (
+    GRAZE_FLOOR,
     fault_problems,
     problem_kinds,
     raise_fault_problem,
@@ -388,7 +389,8 @@ def _conforming_fault_sites(
     while True:  # rebuild the fault sites where they conflict
         ss = _site_set(lay, bg, size, ws)
         fs = ss.faults
-        problems = fault_problems(fs, ss.xy, ss.n_bg, dom, bg.tree, ss.keep)
+        floor = _graze_floor(lay, fs, size, last=attempt == max_refinements)
+        problems = fault_problems(fs, ss.xy, ss.n_bg, dom, bg.tree, ss.keep, floor)
         if not problems:
             return ss, lay, attempt
         if attempt == max_refinements:
@@ -399,6 +401,21 @@ def _conforming_fault_sites(
             raise_fault_problem(hard, fs, dom, lay, max_refinements, ws)
         lay = lay.refined((float(where[0]), float(where[1]), step) for where, step in problems)
         attempt += 1
+
+
+def _graze_floor(lay: FaultLayout | None, fs: FaultSites, size, last: bool) -> np.ndarray | None:
+    """The smallest step (m) a fault site outside the domain may ask for: ``GRAZE_FLOOR`` times its
+    fault's unrefined step; in the last round none (every such site's cell is closed by the boundary)."""
+    if lay is None or fs.sites.shape[0] == 0:
+        return None
+    if last:
+        return np.full(fs.sites.shape[0], np.inf)
+    spacing = lay.net.spacing[fs.site_fault - 1]
+    own = np.isfinite(spacing)
+    base = spacing.copy()
+    if not own.all():
+        base[~own] = size(fs.site_foot[~own])
+    return GRAZE_FLOOR * base
 
 
 def _one_cell(ss: _SiteSet, dom: Domain) -> _SiteSet:
