@@ -23,6 +23,7 @@ from .fault_sites import circle_violations
 # unrefined step (its spacing, else the cell size) and no further: below, the boundary closes
 # its cell (:func:`outside_sites`); smaller steps would only add cells as narrow as the gap.
 GRAZE_FLOOR = 0.25
+FLOOR_SLACK = 1.5  # steps come in whole numbers per segment and are graded: within this of the floor is at it
 
 
 def fault_problems(
@@ -41,7 +42,8 @@ def fault_problems(
 
     ``graze_floor`` (one step per fault site, m; None: no floor) bounds the refinement a site
     outside the domain asks for: never below its floor, and a site whose step is at its floor
-    already is no problem (the boundary closes its cell, see :func:`outside_sites`).
+    already (within ``FLOOR_SLACK``) is no problem (the boundary closes its cell, see
+    :func:`outside_sites`).
     """
     out: list[tuple[np.ndarray, float]] = []
     if fs.centres.shape[0] == 0:
@@ -64,7 +66,7 @@ def fault_problems(
                 out.append((fs.sites[si - n_bg], f * float(fs.site_step[si - n_bg])))
     outside = outside_sites(fs, dom)
     if graze_floor is not None:
-        outside = outside[fs.site_step[outside] > graze_floor[outside] * (1 + 1e-9)]
+        outside = outside[fs.site_step[outside] > FLOOR_SLACK * graze_floor[outside]]
     outside = outside[:200]
     if outside.size:  # closer to the trace than the boundary is
         foot = fs.site_foot[outside]
@@ -93,6 +95,24 @@ def outside_sites(fs, dom: Domain) -> np.ndarray:
     boundary (the boundary acts as the far side of a cell whose site lies beyond it).
     """
     return np.flatnonzero(~dom.inside(fs.sites))
+
+
+def graze_notes(fs, dom: Domain, labels) -> list[str]:
+    """A note per fault with sites outside the domain (:func:`outside_sites`): how many of its
+    cells the boundary closes, and where the trace runs closest to the boundary."""
+    out = outside_sites(fs, dom)
+    notes = []
+    for f in np.unique(fs.site_fault[out]).tolist():
+        mine = out[fs.site_fault[out] == f]
+        foot = fs.site_foot[mine]
+        gap = dom.boundary_distance(foot)
+        k = int(np.argmin(gap))
+        notes.append(
+            f"{labels[f - 1]} runs {gap[k]:.3g} m from the boundary near {dom.fmt(foot[k])}: {mine.size} of "
+            "its cells there are closed by the boundary (their sites, mirror images across the trace, lie "
+            "outside the domain; the fault faces stay on the trace)"
+        )
+    return notes
 
 
 def problem_kinds(problems: list, fs) -> list[str]:

@@ -347,7 +347,8 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes, min_
     """Extend free ends that stop just short of the boundary or of another fault.
 
     An extension passing a corner of the domain closer than :func:`_corner_reach` ends at
-    that corner.
+    that corner, unless the segment comes from the corner at the other end of that edge (the
+    trace would run along the boundary: it meets the boundary where it reaches it instead).
     """
     tol = domain.tol
     corner_reach = np.zeros(domain.num_vertices)
@@ -372,6 +373,11 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes, min_
             along = rel[:, 0] * d[0] + rel[:, 1] * d[1]
             by = np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])
             near = np.flatnonzero((along > tol) & (along <= min(best, reach)) & (by < corner_reach))
+            # not to a corner next to the one the segment comes from: the trace would run along the edge
+            m = domain.num_vertices
+            from_corner = np.flatnonzero(np.hypot(*(domain.xy - prev).T) <= tol)
+            if from_corner.size:
+                near = near[(near != (from_corner[0] + 1) % m) & (near != (from_corner[0] - 1) % m)]
             corner = None
             if near.size:  # the extension passes a corner: it ends there
                 corner = int(near[np.argmin(along[near])])

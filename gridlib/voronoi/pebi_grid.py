@@ -98,6 +98,8 @@ from .bounded import ClippedVoronoi, Contraction, clipped_voronoi
 from .conformity import (
     GRAZE_FLOOR,
     fault_problems,
+    graze_notes,
+    outside_sites,
     problem_kinds,
     raise_fault_problem,
     refine_factor,
@@ -249,6 +251,7 @@ def pebi_grid(
         lay = lay.refined(clipped.refine)
         attempt += 1
     notes.extend(_adjustment_notes(ss, clipped, attempt))
+    notes.extend(graze_notes(ss.faults, dom, fault_labels))
 
     fs, keep, n_bg, vor, sites = ss.faults, ss.keep, ss.n_bg, clipped.vor, clipped.sites
     n_f = fs.sites.shape[0]
@@ -585,18 +588,25 @@ def _size_notes(vor, site_size: np.ndarray, site_kind: np.ndarray, fs, n_bg: int
     rel = vor.coords[e[:, 1]] - vor.coords[e[:, 0]]
     length = np.hypot(rel[:, 0], rel[:, 1])
 
+    closed = np.zeros(vor.sites.shape[0], dtype=bool)  # fault cells whose sites lie outside the domain
+    closed[n_bg + outside_sites(fs, dom)] = True
+
     def why(c: int) -> str:
         if site_kind[c] == ADDED:
             return "added where the concave boundary cut a cell in two"
         k = c - n_bg
         if fs.site_wedge is not None and 0 <= k < fs.site_wedge.size and fs.site_wedge[k] >= 0:
             return "in the wedge where " + fs.wedges[fs.site_wedge[k]].split(" at ")[0]
+        if closed[c]:
+            return "a fault cell between the trace and the boundary, closed by the boundary"
         return f"a {KIND_NAMES[site_kind[c]]} cell"
 
     def mid(f: int) -> np.ndarray:
         return 0.5 * (vor.coords[e[f, 0]] + vor.coords[e[f, 1]])
 
-    return size_notes(vor.areas, length, vor.neighbors, mid, vor.sites, site_size, why, dom.fmt)
+    where = vor.sites.copy()  # a cell is named by its site, or its site's foot on the trace if outside
+    where[closed] = fs.site_foot[np.flatnonzero(closed) - n_bg]
+    return size_notes(vor.areas, length, vor.neighbors, mid, where, site_size, why, dom.fmt)
 
 
 def _merge_tolerance(dom: Domain, bg_spacing, fs, ws) -> float:
