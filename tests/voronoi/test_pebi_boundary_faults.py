@@ -67,8 +67,11 @@ def _reflex(rng, poly, corners, what: str, dom, faults) -> np.ndarray | None:
     k = corners[int(rng.integers(len(corners)))]
     corner = poly[k]
     for _ in range(50):
-        if what == "reflex_pass":
+        if what == "reflex_pass":  # any direction, or along one of the corner's edges (15 degrees)
             d = unit(rng.uniform(0, 2 * np.pi))
+            if rng.random() < 0.5:
+                along = poly[(k + rng.choice([-1, 1])) % len(poly)] - corner
+                d = rot(np.radians(rng.uniform(-15, 15))) @ (along / np.linalg.norm(along))
             p = corner + rng.uniform(*GRAZE) * rng.choice([-1, 1]) * np.array([-d[1], d[0]])
             pts = np.array([p - rng.uniform(3, 30) * d, p + rng.uniform(3, 30) * d])
         elif what == "reflex_end":
@@ -77,11 +80,15 @@ def _reflex(rng, poly, corners, what: str, dom, faults) -> np.ndarray | None:
             if not dom.contains(shapely.Point(p)):
                 continue
             pts = np.array([p, p + rng.uniform(3, 8) * d])
-        else:  # crossing an edge next to the corner, at any angle into the domain
-            other = poly[(k + rng.choice([-1, 1])) % len(poly)]
+        else:  # crossing an edge next to the corner, at any angle (half of them 2 to 20 degrees)
+            side = rng.choice([-1, 1])
+            other = poly[(k + side) % len(poly)]
             u = (other - corner) / np.linalg.norm(other - corner)
             p = corner + rng.uniform(*GRAZE) * u
-            d = rot(rng.uniform(-1.4, 1.4)) @ inward(poly, k)
+            angle = rng.uniform(2, 20) if rng.random() < 0.5 else rng.uniform(20, 90)
+            if rng.random() < 0.5:
+                angle = 180 - angle
+            d = rot(np.radians(angle * side)) @ u  # into the domain (counter-clockwise polygon)
             pts = np.array([p - rng.uniform(0.5, 3) * d, p + rng.uniform(3, 8) * d])
         if _fault_ok(dom, faults, pts):
             return pts
