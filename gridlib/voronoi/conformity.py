@@ -1,9 +1,11 @@
 """Checks of a PEBI grid's sites and of the finished grid.
 
 Fault sites *conform* when no site lies strictly inside a fault circle (the empty-circle
-condition: then the Voronoi face between the two sites of a step is the step itself) and every
-fault site lies inside the domain. :func:`fault_problems` lists where either fails, with the
-smaller fault step wanted there, for :func:`~.pebi_grid.pebi_grid` to refine and rebuild;
+condition: then the Voronoi face between the two sites of a step is the step itself).
+:func:`fault_problems` lists where it fails, with the smaller fault step wanted there, for
+:func:`~.pebi_grid.pebi_grid` to refine and rebuild; and where fault sites lie outside the
+domain, which smaller steps would bring inside (down to ``GRAZE_FLOOR``; beyond, the boundary
+closes their cells: :func:`outside_sites`, with a note from :func:`graze_notes`).
 :func:`raise_fault_problem` names the faults and the place once the refinements run out.
 :func:`verify` checks the finished grid end to end: cell areas sum to the domain's area, the
 fault faces cover the traces, every well owns cells.

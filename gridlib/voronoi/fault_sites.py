@@ -37,9 +37,11 @@ graph), all in the domain's local frame:
    well sites alike), and every fault site for lying inside the domain. Where a
    check fails the fault step is made smaller locally, by what the geometry needs
    (a circle holding a site shrinks below that site's distance; a site outside the
-   domain comes closer to its trace than the boundary is; at least halving), and
-   the sites rebuilt, up to ``max_refinements`` times; if it still fails, a
-   :class:`GridError` names the faults and the place.
+   domain comes closer to its trace than the boundary is, down to a quarter of the
+   fault's step; at least halving), and the sites rebuilt, up to ``max_refinements``
+   times; if a circle still holds a site, a :class:`GridError` names the faults and the
+   place. Sites left outside the domain stay: the boundary closes their cells
+   (:func:`.conformity.outside_sites`).
 
 Wells keep clear of the fault circles: :func:`.fault_layout.ring_room` gives how far a well's
 rings may reach (:mod:`.wells` shrinks them to that, with a note).

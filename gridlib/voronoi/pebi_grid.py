@@ -17,8 +17,8 @@ other site, so interior faces are perpendicular bisectors of their two sites.
 
 Near the boundary: lattice sites outside the domain, or closer to its boundary
 than ``boundary_clearance`` (0.25) times their spacing, are dropped (no half-width
-sliver cells); fault and well sites must lie inside (faults are refined until
-their sites do, wells whose rings reach outside are errors). Where a concave
+sliver cells); well sites must lie inside (wells whose rings reach outside are
+errors); a fault's sites may not (below). Where a concave
 boundary cuts a site's region in two, a site is added for the cut-off piece, the
 region's site mirrored across the boundary edge between them (so that the edge's
 line is their bisector and the new cell is as wide as the old one), and the diagram
@@ -32,8 +32,13 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
 * faults meeting each other or the boundary at small angles, and sharply kinked
   traces, get one row of cells shared by both sides of the wedge (:mod:`.wedges`,
   a note per wedge);
-* faults running close to each other or to the boundary get locally smaller steps,
-  as small as the gap needs (a note says how many rounds of refinement);
+* faults running close to each other get locally smaller steps, as small as the gap
+  needs (a note says how many rounds of refinement);
+* a fault running closer to the boundary than its sites stand off it gets smaller steps
+  there too, down to a quarter of its own step (``conformity.GRAZE_FLOOR``); the sites
+  still outside then stay: the face between a site and its mirror image is the step all
+  the same, and the boundary closes the site's cell, the strip between the trace and the
+  boundary (a note names the fault and counts those cells);
 * a well near a fault keeps its rings clear of the fault's circles: they are
   shrunk (or dropped, one cell at the well), with a note; a well path crossing a
   fault or running along it gets the fault cells it runs through there instead of
