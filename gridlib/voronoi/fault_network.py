@@ -278,15 +278,13 @@ def _without_edges_along_boundary(net: FaultNetwork, domain: Domain) -> FaultNet
     """The network less its edges between two boundary points that run along the boundary (both
     ends joined to the two corners of an edge): such a piece of trace is the boundary."""
     ea, eb = net.edge_a, net.edge_b
-    along = net.on_boundary[ea] & net.on_boundary[eb]
-    if along.any():
-        idx = np.flatnonzero(along)
-        along[idx[domain.boundary_distance(0.5 * (net.nodes[ea[idx]] + net.nodes[eb[idx]])) > domain.tol]] = (
-            False
-        )
-    if not along.any():
+    along = np.flatnonzero(net.on_boundary[ea] & net.on_boundary[eb])
+    mid = 0.5 * (net.nodes[ea[along]] + net.nodes[eb[along]])
+    along = along[domain.boundary_distance(mid) <= domain.tol]
+    if along.size == 0:
         return net
-    keep = ~along
+    keep = np.ones(ea.size, dtype=bool)
+    keep[along] = False
     used = np.zeros(net.nodes.shape[0], dtype=bool)
     used[ea[keep]] = used[eb[keep]] = True
     renum = np.cumsum(used) - 1
