@@ -1,9 +1,11 @@
 """Checks of a PEBI grid's sites and of the finished grid.
 
 Fault sites *conform* when no site lies strictly inside a fault circle (the empty-circle
-condition: then the Voronoi face between the two sites of a step is the step itself) and every
-fault site lies inside the domain. :func:`fault_problems` lists where either fails, with the
-smaller fault step wanted there, for :func:`~.pebi_grid.pebi_grid` to refine and rebuild;
+condition: then the Voronoi face between the two sites of a step is the step itself).
+:func:`fault_problems` lists where it fails, with the smaller fault step wanted there, for
+:func:`~.pebi_grid.pebi_grid` to refine and rebuild; and where fault sites lie outside the
+domain, which smaller steps would bring inside (down to ``GRAZE_FLOOR``; beyond, the boundary
+closes their cells: :func:`outside_sites`, with a note from :func:`graze_notes`).
 :func:`raise_fault_problem` names the faults and the place once the refinements run out.
 :func:`verify` checks the finished grid end to end: cell areas sum to the domain's area, the
 fault faces cover the traces, every well owns cells.
@@ -19,8 +21,16 @@ from ..reproducible import arctan2
 from .domain import Domain
 from .fault_sites import circle_violations
 
+# A fault site outside the domain refines its step down to this fraction of the fault's
+# unrefined step (its spacing, else the cell size) and no further: below, the boundary closes
+# its cell (:func:`outside_sites`); smaller steps would only add cells as narrow as the gap.
+GRAZE_FLOOR = 0.25
+FLOOR_SLACK = 1.5  # steps come in whole numbers per segment and are graded: within this of the floor is at it
 
-def fault_problems(fs, sites, n_bg: int, dom: Domain, bg_tree, keep) -> list[tuple[np.ndarray, float]]:
+
+def fault_problems(
+    fs, sites, n_bg: int, dom: Domain, bg_tree, keep, graze_floor: np.ndarray | None = None
+) -> list[tuple[np.ndarray, float]]:
     """Where fault sites break conformity: (location, step wanted there, m) to refine.
 
     ``sites``: the ``n_bg`` background sites kept (``keep``, a mask over the background sites
@@ -31,6 +41,11 @@ def fault_problems(fs, sites, n_bg: int, dom: Domain, bg_tree, keep) -> list[tup
     scaled by what the geometry needs (circles and sites scale with the step): a circle
     holding a site at distance d from its centre shrinks below d, a site outside the domain
     comes closer to its trace than the boundary is; at least halved, at most by 20.
+
+    ``graze_floor`` (one step per fault site, m; None: no floor) bounds the refinement a site
+    outside the domain asks for: never below its floor, and a site whose step is at its floor
+    already (within ``FLOOR_SLACK``) is no problem (the boundary closes its cell, see
+    :func:`outside_sites`).
     """
     out: list[tuple[np.ndarray, float]] = []
     if fs.centres.shape[0] == 0:
@@ -51,17 +66,55 @@ def fault_problems(fs, sites, n_bg: int, dom: Domain, bg_tree, keep) -> list[tup
             out.append((fs.centres[ci], f * float(fs.centre_step[ci])))
             if n_bg <= si < n_bg + n_f:
                 out.append((fs.sites[si - n_bg], f * float(fs.site_step[si - n_bg])))
-    outside = np.flatnonzero(~dom.inside(fs.sites))[:200]
+    outside = outside_sites(fs, dom)
+    if graze_floor is not None:
+        outside = outside[fs.site_step[outside] > FLOOR_SLACK * graze_floor[outside]]
+    outside = outside[:200]
     if outside.size:  # closer to the trace than the boundary is
         foot = fs.site_foot[outside]
         rel = fs.sites[outside] - foot
         room = np.where(dom.inside(foot), dom.boundary_distance(foot), 0.0)
-        scale = refine_factor(0.8 * room / np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-300))
-        for k, f in zip(outside.tolist(), scale.tolist(), strict=True):
-            out.append((fs.sites[k], f * float(fs.site_step[k])))
+        want = (
+            refine_factor(0.8 * room / np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-300))
+            * fs.site_step[outside]
+        )
+        if graze_floor is not None:
+            want = np.maximum(want, graze_floor[outside])
+        for k, step in zip(outside.tolist(), want.tolist(), strict=True):
+            out.append((fs.sites[k], step))
     for ci, _why in fs.problems[:200]:
         out.append((fs.centres[ci], 0.5 * float(fs.centre_step[ci])))
     return out
+
+
+def outside_sites(fs, dom: Domain) -> np.ndarray:
+    """The fault sites outside the domain (indices into ``fs.sites``).
+
+    Such a site belongs to a step of a trace that runs closer to the boundary than the site
+    lies from it. Its Voronoi face with its mirror image is still the step, exactly: the
+    empty-circle condition does not ask the sites to lie inside. Clipped to the domain, its
+    region is the strip between the trace and the boundary, one step long, closed by the
+    boundary (the boundary acts as the far side of a cell whose site lies beyond it).
+    """
+    return np.flatnonzero(~dom.inside(fs.sites))
+
+
+def graze_notes(fs, dom: Domain, labels) -> list[str]:
+    """A note per fault with sites outside the domain (:func:`outside_sites`): how many of its
+    cells the boundary closes, and where the trace runs closest to the boundary."""
+    out = outside_sites(fs, dom)
+    notes = []
+    for f in np.unique(fs.site_fault[out]).tolist():
+        mine = out[fs.site_fault[out] == f]
+        foot = fs.site_foot[mine]
+        gap = dom.boundary_distance(foot)
+        k = int(np.argmin(gap))
+        notes.append(
+            f"{labels[f - 1]} runs {gap[k]:.3g} m from the boundary near {dom.fmt(foot[k])}: {mine.size} of "
+            "its cells there are closed by the boundary (their sites, mirror images across the trace, lie "
+            "outside the domain; the fault faces stay on the trace)"
+        )
+    return notes
 
 
 def problem_kinds(problems: list, fs) -> list[str]:

@@ -227,7 +227,7 @@ def _contract_short_edges(
         gap = np.linalg.norm(nodes[pairs[:, 0]] - nodes[pairs[:, 1]], axis=1)
         pairs = pairs[gap < np.minimum(reach[pairs[:, 0]], reach[pairs[:, 1]])]
     if pairs.size == 0:
-        return net
+        return _without_edges_along_boundary(net, domain)
     first, new_of = group_pairs(nn, pairs)
     count = np.bincount(new_of)
     merged = np.column_stack([np.bincount(new_of, nodes[:, k]) for k in range(2)]) / count[:, None]
@@ -269,6 +269,31 @@ def _contract_short_edges(
         renum[b[keep]],
         net.edge_fault[keep],
         on_bnd[used],
+        net.spacing,
+        net.labels,
+    )
+
+
+def _without_edges_along_boundary(net: FaultNetwork, domain: Domain) -> FaultNetwork:
+    """The network less its edges between two boundary points that run along the boundary (both
+    ends joined to the two corners of an edge): such a piece of trace is the boundary."""
+    ea, eb = net.edge_a, net.edge_b
+    along = np.flatnonzero(net.on_boundary[ea] & net.on_boundary[eb])
+    mid = 0.5 * (net.nodes[ea[along]] + net.nodes[eb[along]])
+    along = along[domain.boundary_distance(mid) <= domain.tol]
+    if along.size == 0:
+        return net
+    keep = np.ones(ea.size, dtype=bool)
+    keep[along] = False
+    used = np.zeros(net.nodes.shape[0], dtype=bool)
+    used[ea[keep]] = used[eb[keep]] = True
+    renum = np.cumsum(used) - 1
+    return FaultNetwork(
+        net.nodes[used],
+        renum[ea[keep]],
+        renum[eb[keep]],
+        net.edge_fault[keep],
+        net.on_boundary[used],
         net.spacing,
         net.labels,
     )
@@ -347,7 +372,8 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes, min_
     """Extend free ends that stop just short of the boundary or of another fault.
 
     An extension passing a corner of the domain closer than :func:`_corner_reach` ends at
-    that corner.
+    that corner, unless the last segment would then run along an edge (it comes from a point
+    of that edge, or its other corner): it meets the boundary where it reaches it instead.
     """
     tol = domain.tol
     corner_reach = np.zeros(domain.num_vertices)
@@ -372,6 +398,8 @@ def _extend_free_ends(pieces, domain: Domain, size, spacing, labels, notes, min_
             along = rel[:, 0] * d[0] + rel[:, 1] * d[1]
             by = np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])
             near = np.flatnonzero((along > tol) & (along <= min(best, reach)) & (by < corner_reach))
+            if near.size:  # not to a corner the last segment would reach along an edge
+                near = near[domain.boundary_distance(0.5 * (prev + domain.xy[near])) > tol]
             corner = None
             if near.size:  # the extension passes a corner: it ends there
                 corner = int(near[np.argmin(along[near])])

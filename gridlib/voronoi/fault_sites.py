@@ -37,9 +37,11 @@ graph), all in the domain's local frame:
    well sites alike), and every fault site for lying inside the domain. Where a
    check fails the fault step is made smaller locally, by what the geometry needs
    (a circle holding a site shrinks below that site's distance; a site outside the
-   domain comes closer to its trace than the boundary is; at least halving), and
-   the sites rebuilt, up to ``max_refinements`` times; if it still fails, a
-   :class:`GridError` names the faults and the place.
+   domain comes closer to its trace than the boundary is, down to a quarter of the
+   fault's step; at least halving), and the sites rebuilt, up to ``max_refinements``
+   times; if a circle still holds a site, a :class:`GridError` names the faults and the
+   place. Sites left outside the domain stay: the boundary closes their cells
+   (:func:`.conformity.outside_sites`).
 
 Wells keep clear of the fault circles: :func:`.fault_layout.ring_room` gives how far a well's
 rings may reach (:mod:`.wells` shrinks them to that, with a note).
@@ -61,6 +63,8 @@ from .domain import Domain
 from .fault_junctions import Steps, junction_radii, local_ratio
 from .fault_layout import GROWTH, FaultLayout, step_length
 from .fault_network import FaultNetwork
+
+REACH = 0.8  # a wedge's node circle reaches this fraction of the way to its other arms' first sites
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,9 +113,13 @@ def build_sites(lay: FaultLayout) -> FaultSites:
     l0 = hv.copy()
     np.minimum.at(l0, ea, elen / np.maximum(ends_c + 1, 2))
     np.minimum.at(l0, eb, elen / np.maximum(ends_c + 1, 2))
-    wedge_list = _plan_wedges(lay, elen, l0, constrained)
+    arm_room = np.full(nn, np.inf)  # the longest first step every arm at a node can take
+    np.minimum.at(arm_room, ea, elen / np.maximum(ends_c + 1, 2))
+    np.minimum.at(arm_room, eb, elen / np.maximum(ends_c + 1, 2))
+    wedge_list = _plan_wedges(lay, elen, l0, constrained, arm_room)
     for w in wedge_list:  # the other arms at a wedge's node start with steps its circle can reach
-        l0[w.node] = min(l0[w.node], _wedges.node_radius(w) / lay.ratio)
+        reach = _wedges.node_radius(w)
+        l0[w.node] = min(max(l0[w.node], reach / (REACH * (1 + lay.ratio))), reach / lay.ratio)
     lead, wedge_ends = _leads(wedge_list, ea, eb, l0, constrained)
     wedge_node = np.zeros(nn, dtype=bool)
     wedge_node[[w.node for w in wedge_list]] = True
@@ -341,14 +349,20 @@ def _describe_wedge(w, lay: FaultLayout) -> str:
     )
 
 
-def _plan_wedges(lay: FaultLayout, elen: np.ndarray, l0: np.ndarray, constrained: np.ndarray) -> list:
+def _plan_wedges(
+    lay: FaultLayout, elen: np.ndarray, l0: np.ndarray, constrained: np.ndarray, arm_room: np.ndarray
+) -> list:
     """The acute wedges and fans at constrained nodes, their rungs fitted into their sides.
 
     An arm may use its whole length if its far end is free, half of it if that end is
     constrained too; a boundary side as far as the next corner or half way to the next
     fault on it. The step is the smallest wanted along the sides as far as the rungs
     reach (refinements there). All wedges at one node share the node's circle (the
-    smallest of theirs).
+    smallest of theirs), and it must reach the first circles of the node's other arms: an
+    arm's first step (at most ``arm_room``, m) needs a circle of ``ratio`` times it that
+    overlaps the node's, so the node's radius is at most ``REACH (1 + ratio) arm_room``. (A
+    very narrow wedge stretches its first cell away from the node, up to 3.5 steps: next to
+    a short arm, a trace running into a corner of the domain, the wedge is then made smaller.)
     """
     net, dom = lay.net, lay.domain
     nodes, ea, eb = net.nodes, net.edge_a, net.edge_b
@@ -373,7 +387,8 @@ def _plan_wedges(lay: FaultLayout, elen: np.ndarray, l0: np.ndarray, constrained
         _wedges.plan(w, step, room)
     radius: dict[int, float] = {}
     for w in found:
-        radius[w.node] = min(radius.get(w.node, np.inf), _wedges.node_radius(w))
+        limit = REACH * (1 + lay.ratio) * float(arm_room[w.node])
+        radius[w.node] = min(radius.get(w.node, np.inf), _wedges.node_radius(w), limit)
     for w in found:
         _wedges.scale_to_radius(w, radius[w.node])
     return found

@@ -17,8 +17,8 @@ other site, so interior faces are perpendicular bisectors of their two sites.
 
 Near the boundary: lattice sites outside the domain, or closer to its boundary
 than ``boundary_clearance`` (0.25) times their spacing, are dropped (no half-width
-sliver cells); fault and well sites must lie inside (faults are refined until
-their sites do, wells whose rings reach outside are errors). Where a concave
+sliver cells); well sites must lie inside (wells whose rings reach outside are
+errors); a fault's sites may not (below). Where a concave
 boundary cuts a site's region in two, a site is added for the cut-off piece, the
 region's site mirrored across the boundary edge between them (so that the edge's
 line is their bisector and the new cell is as wide as the old one), and the diagram
@@ -32,8 +32,13 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
 * faults meeting each other or the boundary at small angles, and sharply kinked
   traces, get one row of cells shared by both sides of the wedge (:mod:`.wedges`,
   a note per wedge);
-* faults running close to each other or to the boundary get locally smaller steps,
-  as small as the gap needs (a note says how many rounds of refinement);
+* faults running close to each other get locally smaller steps, as small as the gap
+  needs (a note says how many rounds of refinement);
+* a fault running closer to the boundary than its sites stand off it gets smaller steps
+  there too, down to a quarter of its own step (``conformity.GRAZE_FLOOR``); the sites
+  still outside then stay: the face between a site and its mirror image is the step all
+  the same, and the boundary closes the site's cell, the strip between the trace and the
+  boundary (a note names the fault and counts those cells);
 * a well near a fault keeps its rings clear of the fault's circles: they are
   shrunk (or dropped, one cell at the well), with a note; a well path crossing a
   fault or running along it gets the fault cells it runs through there instead of
@@ -96,7 +101,10 @@ from scipy.spatial import cKDTree
 from ..errors import GridError
 from .bounded import ClippedVoronoi, Contraction, clipped_voronoi
 from .conformity import (
+    GRAZE_FLOOR,
     fault_problems,
+    graze_notes,
+    outside_sites,
     problem_kinds,
     raise_fault_problem,
     refine_factor,
@@ -248,6 +256,7 @@ def pebi_grid(
         lay = lay.refined(clipped.refine)
         attempt += 1
     notes.extend(_adjustment_notes(ss, clipped, attempt))
+    notes.extend(graze_notes(ss.faults, dom, fault_labels))
 
     fs, keep, n_bg, vor, sites = ss.faults, ss.keep, ss.n_bg, clipped.vor, clipped.sites
     n_f = fs.sites.shape[0]
@@ -388,7 +397,8 @@ def _conforming_fault_sites(
     while True:  # rebuild the fault sites where they conflict
         ss = _site_set(lay, bg, size, ws)
         fs = ss.faults
-        problems = fault_problems(fs, ss.xy, ss.n_bg, dom, bg.tree, ss.keep)
+        floor = _graze_floor(lay, fs, size, last=attempt == max_refinements)
+        problems = fault_problems(fs, ss.xy, ss.n_bg, dom, bg.tree, ss.keep, floor)
         if not problems:
             return ss, lay, attempt
         if attempt == max_refinements:
@@ -399,6 +409,21 @@ def _conforming_fault_sites(
             raise_fault_problem(hard, fs, dom, lay, max_refinements, ws)
         lay = lay.refined((float(where[0]), float(where[1]), step) for where, step in problems)
         attempt += 1
+
+
+def _graze_floor(lay: FaultLayout | None, fs: FaultSites, size, last: bool) -> np.ndarray | None:
+    """The smallest step (m) a fault site outside the domain may ask for: ``GRAZE_FLOOR`` times its
+    fault's unrefined step; in the last round none (every such site's cell is closed by the boundary)."""
+    if lay is None or fs.sites.shape[0] == 0:
+        return None
+    if last:
+        return np.full(fs.sites.shape[0], np.inf)
+    spacing = lay.net.spacing[fs.site_fault - 1]
+    own = np.isfinite(spacing)
+    base = spacing.copy()
+    if not own.all():
+        base[~own] = size(fs.site_foot[~own])
+    return GRAZE_FLOOR * base
 
 
 def _one_cell(ss: _SiteSet, dom: Domain) -> _SiteSet:
@@ -568,18 +593,25 @@ def _size_notes(vor, site_size: np.ndarray, site_kind: np.ndarray, fs, n_bg: int
     rel = vor.coords[e[:, 1]] - vor.coords[e[:, 0]]
     length = np.hypot(rel[:, 0], rel[:, 1])
 
+    closed = np.zeros(vor.sites.shape[0], dtype=bool)  # fault cells whose sites lie outside the domain
+    closed[n_bg + outside_sites(fs, dom)] = True
+
     def why(c: int) -> str:
         if site_kind[c] == ADDED:
             return "added where the concave boundary cut a cell in two"
         k = c - n_bg
         if fs.site_wedge is not None and 0 <= k < fs.site_wedge.size and fs.site_wedge[k] >= 0:
             return "in the wedge where " + fs.wedges[fs.site_wedge[k]].split(" at ")[0]
+        if closed[c]:
+            return "a fault cell between the trace and the boundary, closed by the boundary"
         return f"a {KIND_NAMES[site_kind[c]]} cell"
 
     def mid(f: int) -> np.ndarray:
         return 0.5 * (vor.coords[e[f, 0]] + vor.coords[e[f, 1]])
 
-    return size_notes(vor.areas, length, vor.neighbors, mid, vor.sites, site_size, why, dom.fmt)
+    where = vor.sites.copy()  # a cell is named by its site, or its site's foot on the trace if outside
+    where[closed] = fs.site_foot[np.flatnonzero(closed) - n_bg]
+    return size_notes(vor.areas, length, vor.neighbors, mid, where, site_size, why, dom.fmt)
 
 
 def _merge_tolerance(dom: Domain, bg_spacing, fs, ws) -> float:

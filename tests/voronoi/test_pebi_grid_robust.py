@@ -17,52 +17,19 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
+from pebi_domains import UTM
+from pebi_domains import domain as _domain
+from pebi_domains import inward as _inward
+from pebi_domains import rot as _rot
+from pebi_domains import unit as _unit
 from pebi_invariants import check_pebi
 
 import gridlib as gl
 from gridlib.voronoi import Fault, Rings, Well, pebi_grid
 
 H = 10.0  # m: the cell size of every layout
-UTM = np.array([5.3e5, 6.7e6])
 N_LAYOUTS = 300
 SCENARIOS = ("reflex", "acute", "parallel", "boundary", "kink", "well_fault")
-
-
-def _rot(a: float) -> np.ndarray:
-    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
-
-
-def _unit(a: float) -> np.ndarray:
-    return np.array([np.cos(a), np.sin(a)])
-
-
-def _domain(rng, shape: str) -> tuple[np.ndarray, list[int]]:
-    """A domain in cell sizes (before rotation) and the indices of its reflex corners."""
-    if shape == "rect":
-        w, h = rng.uniform(12, 18), rng.uniform(10, 14)
-        return np.array([(0, 0), (w, 0), (w, h), (0, h)]), []
-    if shape == "L":
-        w, h = rng.uniform(14, 18), rng.uniform(12, 16)
-        a, b = rng.uniform(0.35, 0.6) * h, rng.uniform(0.35, 0.6) * w
-        return np.array([(0, 0), (w, 0), (w, a), (b, a), (b, h), (0, h)]), [3]
-    if shape == "U":
-        w, h = rng.uniform(16, 20), rng.uniform(12, 16)
-        c = rng.uniform(0.35, 0.55) * h
-        x0 = rng.uniform(0.25, 0.35) * w
-        x1 = w - rng.uniform(0.25, 0.35) * w
-        return np.array([(0, 0), (w, 0), (w, h), (x1, h), (x1, c), (x0, c), (x0, h), (0, h)]), [4, 5]
-    n = int(rng.integers(5, 8))  # a star
-    r_out, r_in = 10.0, rng.uniform(0.5, 0.7) * 10.0
-    th = rng.uniform(0, 2 * np.pi) + np.pi * np.arange(2 * n) / n
-    r = np.where(np.arange(2 * n) % 2 == 0, r_out, r_in) * rng.uniform(0.9, 1.1, 2 * n)
-    return np.column_stack([r * np.cos(th), r * np.sin(th)]), list(range(1, 2 * n, 2))
-
-
-def _inward(poly: np.ndarray, k: int) -> np.ndarray:
-    """The direction into the domain bisecting the (reflex) corner k of a counter-clockwise polygon."""
-    a, b = poly[k - 1] - poly[k], poly[(k + 1) % len(poly)] - poly[k]
-    u = a / np.linalg.norm(a) + b / np.linalg.norm(b)
-    return -u / np.linalg.norm(u)  # at a reflex corner the edges' bisector points outwards
 
 
 class _Layout:
