@@ -326,9 +326,11 @@ def _with_tips(tip, centres, centre_fault, radii, cmin, steps, pairs) -> FaultSi
 def _describe_wedge(w, lay: FaultLayout) -> str:
     """A note on an acute wedge or fan: where, between what, at which angles, how many shared cells."""
     net = lay.net
-    names = [net.labels[net.edge_fault[e] - 1] if e >= 0 else "the boundary" for e in w.sides]
+    acute = np.flatnonzero(w.acute)
+    sides = [w.sides[j] for j in sorted({*acute.tolist(), *(acute + 1).tolist()})]
+    names = [net.labels[net.edge_fault[e] - 1] if e >= 0 else "the boundary" for e in sides]
     names = list(dict.fromkeys(names))
-    angles = " and ".join(f"{np.degrees(g):.3g}" for g in w.gaps)
+    angles = " and ".join(f"{np.degrees(g):.3g}" for g in w.gaps[acute])
     if len(names) == 1:
         what = f"{names[0]} bends"
     elif len(names) == 2:

@@ -97,9 +97,14 @@ class Wedge:
         return float(self.gaps.min())
 
     @property
+    def acute(self) -> np.ndarray:
+        """(n,) which gaps are acute (a fan of all the arms at a node has wider ones too)."""
+        return self.gaps < ACUTE
+
+    @property
     def rows(self) -> int:
-        """How many rows of sites the fan's gaps hold (one per shared gap, two per other gap)."""
-        return int(2 * self.gaps.size - self.shared.sum())
+        """How many rows of sites the acute gaps hold (one per shared gap, two per other gap)."""
+        return int(2 * self.acute.sum() - (self.shared & self.acute).sum())
 
     @property
     def ray_step(self) -> float:
@@ -164,6 +169,15 @@ def find_wedges(
                 if not domain.inside(probe[None, :])[0]:
                     continue
             acute[g] = True
+        if acute.any() and all(r[1] >= 0 for r in rays):  # a node inside: one fan of all its arms
+            wide = int(np.argmax(gap))
+            run = [(wide + 1 + k) % nr for k in range(nr - 1)]
+            idx = [*run, wide]
+            w = Wedge(v, [rays[i][1] for i in idx], np.array([rays[i][2] for i in idx]), gap[run])
+            w.beyond, w.closed = (float(gap[wide]), float(gap[wide])), True
+            _aim(w)
+            found.append(w)
+            continue
         here: list[Wedge] = []
         for run in _runs(acute, rays):  # consecutive acute gaps sharing fault arms: fans
             idx = [*run, (run[-1] + 1) % nr]
@@ -230,7 +244,7 @@ def _aim(w: Wedge) -> None:
     most the gap); a gap both of whose sides take half of it holds one shared row."""
     before = np.concatenate([[w.beyond[0]], w.gaps])
     after = np.concatenate([w.gaps, [w.beyond[1]]])
-    w.tilt = 0.5 * np.minimum(before, after)
+    w.tilt = np.minimum(0.5 * np.minimum(before, after), 0.5 * ACUTE)
     half = 0.5 * w.gaps
     w.shared = (w.tilt[:-1] == half) & (w.tilt[1:] == half)
 
@@ -265,7 +279,7 @@ def rung_count(w: Wedge) -> tuple[np.ndarray, float]:
         far = w.gaps[i] - tilt[i]
         spread.append(float(np.sin(tilt[i]) / np.cos(tilt[i]) + np.sin(far) / np.cos(far)))
     for i, _, beta in two:
-        half = 0.5 * (beta - tilt[i])
+        half = min(0.5 * (beta - tilt[i]), 0.25 * np.pi)
         spread.append(float(np.sin(tilt[i]) / np.cos(tilt[i]) + np.sin(half) / np.cos(half)))
     cos2 = float(np.cos(tilt).min()) ** 2
     stretch = float(np.clip(np.sqrt(2.0 * TIP_AREA / (min(spread) * cos2)), 1.0, MAX_STRETCH))
