@@ -28,10 +28,12 @@ graph), all in the domain's local frame:
    at less than 40°, mirrored pairs cannot fit near the node at any step (the
    wedge is s sin(angle) wide at a distance s): one row of sites shared by both
    sides fills the wedge instead (:mod:`.wedges`), exact on both traces, until the
-   wedge is wide enough for two rows. The node's circle is then the wedge's, and the
-   other arms' first circles are fitted to it. (Traces meeting at less than 40°
-   that share an arm with a narrower wedge get smaller circles nearby instead,
-   ratio down to 0.52.)
+   wedge is wide enough for two rows. At a node inside the domain all its arms form
+   one fan, every arm with rows of its own at common distances from the node (a splay
+   of any number of faults at any angles). At a node on the boundary the other arms'
+   first circles are fitted to the wedge's circle (traces meeting at less than 40°
+   that share an arm with a narrower wedge get smaller circles nearby instead, ratio
+   down to 0.52).
 5. **Check and refine.** After the background is added, every circle is checked
    for sites strictly inside it (:func:`circle_violations`, background, fault and
    well sites alike), and every fault site for lying inside the domain. Where a

@@ -1,4 +1,4 @@
-"""Acute wedges at fault nodes: one row of shared sites between two traces, or a trace and the boundary.
+"""Acute wedges at fault nodes: rows of shared sites between traces, or a trace and the boundary.
 
 Where two fault arms leave a node at a small angle phi (a V, an acute X, T or Y, a
 sharply kinked trace), or a fault meets the domain's boundary at a shallow angle, the
@@ -22,23 +22,32 @@ refinement:
   and the node from q_0 and its mirrors: these distances are the circle radii, and
   the circles are empty (the sites farther along the ray are farther away, and a site
   is nearer to its own side's points than its mirror is).
-* **Fans.** Consecutive acute wedges sharing an arm (a splay of faults, three
-  faults within a few tens of degrees) form one *fan*: the arm's step is shared, so
-  the sites on either side of it are mirror images. That holds when the two wedges'
-  rays are mirror images across the arm, with the same rungs. One angle fixes all the
-  rays; it is chosen for the circles on the inner arms: the rows run until the side
-  nearest its ray (tilt t_min) stands SPLIT / 2 ray steps off it, and an inner arm
-  keeps every rung, so at the end its circles reach about t_inner / t_min times that
-  far. The rays make the largest such ratio as small as the fan allows, then
-  t_min as large as it can be (a single wedge: its bisector; a narrow gap beside a
-  wide one: the narrow gap's bisector, the wide gap's ray close to the shared arm). A
-  fan whose ratio stays above 1 / MIN_QUALITY is split at its widest gap.
-* **Transition.** A side leaves the shared rows at the first rung where it stands
-  ``SPLIT / 2`` (0.65) of its step off the ray next to it: beyond it the side carries
-  ordinary mirrored pairs, whose sites (at most about half a step off the trace) stay
-  on their own side of the ray and out of the other arms' circles. The rows go on until
-  every side of the fan may leave; its inner sides stay till then, its outer sides leave
-  as soon as they may.
+* **Fans.** At a node inside the domain with an acute gap, all its arms form one
+  *fan* (a splay of faults, an acute X, T or Y, a V; at a node on the boundary, a run
+  of consecutive acute gaps between faults, or a gap between a fault and the boundary).
+  Every side gets its own rows, the mirror images of each other across it, on the rays
+  at its *tilt* t_j either side of it: half the narrower gap next to it (at most 20
+  degrees). In every gap the tilts of its two sides add up to at most the gap, so their
+  rows keep their order; a gap both of whose sides take half of it holds one row on its
+  bisector, shared by both (a single wedge: its bisector, as above). There is no chain
+  of mirror images around the fan (a row is shared only where both sides want it), so
+  any gaps at any angles fit.
+* **Common rungs.** All rows of the wedges at a node use the same rungs, so every row's
+  sites lie at the same distances t_0 < t_1 < ... from the node. That keeps every
+  circle empty: the circle at side j's rung k holds q_k and q_{k+1} of its own row (at
+  angle t_j from the side), so it holds no point at a distance outside (t_k, t_{k+1})
+  from the node at that angle, nor at any larger angle from the side; every other
+  row's sites are at those distances and at least t_j from side j.
+* **Transition.** A side leaves the rows at the first rung where its own rows stand
+  ``SPLIT / 2`` (0.65) of a ray step off it and, in a gap holding two rows, the other
+  row stands ``FAR`` (1.2) ray steps off it: beyond it the side carries ordinary
+  mirrored pairs (at most about 0.6 of a step off the trace, at a step kept until all
+  the fan's rows end), which stay out of the other rows' circles and keep their own
+  circles clear of those rows. The two sides of a shared row leave together; every
+  other row ends where its side leaves. A side's circles are thus at most about 1.3 ray steps
+  wide whatever the other gaps are (the old one-angle mirror chain of fans made inner
+  arms' circles several steps wide where the gaps differed, and refused about one splay
+  in four).
 
 The first rung is moved out (up to ``MAX_STRETCH`` steps) where a wedge is so narrow
 that the triangular first cell would be smaller than ``TIP_AREA`` step². Rungs are
@@ -268,7 +277,7 @@ def rung_count(w: Wedge) -> tuple[np.ndarray, float]:
     step off it (r sin(tilt) >= SPLIT / 2 ray steps) and the other row of a gap holding two
     stands ``FAR`` ray steps off it: its ordinary mirrored sites beyond (at most about 0.6 of a
     step off the trace) then stay out of that row's circles, and the row's sites out of its own.
-    The sides of a shared row leave together. All rows run until every side has left.
+    The sides of a shared row leave together; every other row ends with its side.
     """
     n = w.gaps.size
     tilt = w.tilt

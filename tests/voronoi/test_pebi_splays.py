@@ -110,4 +110,7 @@ def test_splays_of_faults_all_build():
     gaps = np.concatenate([c["gaps"] for c in cases])
     assert gaps.min() >= MIN_GAP and gaps.max() <= MAX_GAP and (gaps < 5.0).sum() >= 100
     assert sum(g["utm"] for g in got) == -(-N_SPLAYS // 3)
-    assert all(any("meet at" in n or "meets" in n for n in g["notes"]) for g in got)  # every fan noted
+    for case, g in zip(cases, got, strict=True):  # every acute gap gets rows of shared sites, and a note
+        around = case["gaps"] if case["star"] else np.append(case["gaps"], 360.0 - case["gaps"].sum())
+        if around.min() < 40.0:
+            assert any(" meet at " in n or " meets " in n for n in g["notes"]), g["notes"]
