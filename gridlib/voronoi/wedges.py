@@ -315,8 +315,8 @@ def plan(w: Wedge, step: float, room: np.ndarray) -> None:
 
 
 def _fitted_step(w: Wedge, stretch: float) -> float:
-    """The largest ray step (m) at which the rungs fit into the room along every side."""
-    return float((w.room * np.cos(w.tilt) / (stretch + w.side_count.max())).min())
+    """The largest ray step (m) at which every side's rungs and one step beyond fit into its room."""
+    return float((w.room * np.cos(w.tilt) / (stretch + w.side_count)).min())
 
 
 def share_rungs(wedges: list[Wedge]) -> None:
