@@ -188,7 +188,7 @@ def find_wedges(
             found.append(w)
             continue
         here: list[Wedge] = []
-        for run in _runs(acute, rays):  # consecutive acute gaps sharing fault arms: fans
+        for run in _runs(acute, rays):  # on the boundary: consecutive acute gaps sharing fault arms
             idx = [*run, (run[-1] + 1) % nr]
             before, after = (run[0] - 1) % nr, (run[-1] + 1) % nr
             beyond = tuple(
@@ -197,7 +197,6 @@ def find_wedges(
             )
             w = Wedge(v, [rays[i][1] for i in idx], np.array([rays[i][2] for i in idx]), gap[run])
             w.beyond = beyond
-            w.closed = len(run) == nr - 1 and bool(beyond[0] < ACUTE)  # all gaps acute: the widest left out
             _aim(w)
             here.append(w)
         found += _one_per_arm(here)
@@ -217,14 +216,11 @@ def _one_per_arm(wedges: list[Wedge]) -> list[Wedge]:
 
 
 def _runs(acute: np.ndarray, rays: list) -> list[list[int]]:
-    """Maximal runs of consecutive acute gaps (indices) around a node between fault arms (fans),
-    never closing around the whole node; a gap between a fault and the boundary is a run of its
-    own (the boundary needs no mirror sites, so such a gap never has to share its fault arm)."""
+    """Maximal runs of consecutive acute gaps (indices) around a node on the boundary between fault
+    arms (fans); a gap between a fault and the boundary is a run of its own (the boundary needs no
+    mirror sites, so such a gap never has to share its fault arm). The gap between the node's two
+    boundary rays is never acute, so no run closes around the node."""
     nr = acute.size
-    if acute.all():  # all gaps acute: the widest one is left out (its sides' rows keep clear of each other)
-        start = int(np.argmax([np.mod(rays[(g + 1) % nr][0] - rays[g][0], 2 * np.pi) for g in range(nr)]))
-        acute = acute.copy()
-        acute[start] = False
     out: list[list[int]] = []
     first = next((g for g in range(nr) if not acute[g]), None)
     if first is None:

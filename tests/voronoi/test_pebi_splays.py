@@ -125,12 +125,14 @@ def test_every_arm_of_a_fan_has_rows_at_half_its_narrower_gap():
     arms = np.array([0.0, 10.5, 28.2, 41.6])
     faults = [Fault([c, c + 12.0 * np.array([np.cos(a), np.sin(a)])]) for a in np.radians(arms)]
     pg = pebi_grid(((0, 0), (40, 40)), 2.0, faults=faults)
-    assert any("meet at 10.5 and 17.7 and 13.4 degrees at (20, 20): 4 rows of" in n for n in pg.notes), pg.notes
+    note = "meet at 10.5 and 17.7 and 13.4 degrees at (20, 20): 4 rows of"
+    assert any(note in n for n in pg.notes), pg.notes
     rel = pg.sites[pg.site_kind == 2] - c
     dist = np.hypot(rel[:, 0], rel[:, 1])
     near = dist < 4.0  # the rows' first sites
     angle = np.degrees(np.arctan2(rel[near, 1], rel[near, 0]))
-    rows = np.array([-5.25, 5.25, 15.75, 21.5, 34.9, 48.3])  # 0 -/+ 5.25, 10.5 + 5.25, 28.2 -/+ 6.7, 41.6 + 6.7
+    # 0 -/+ 5.25, 10.5 + 5.25, 28.2 -/+ 6.7, 41.6 + 6.7
+    rows = np.array([-5.25, 5.25, 15.75, 21.5, 34.9, 48.3])
     assert np.abs(angle[:, None] - rows[None, :]).min(axis=1).max() < 1e-9
     assert set(np.abs(angle[:, None] - rows[None, :]).argmin(axis=1).tolist()) == set(range(6))
     radii = np.unique(np.round(dist[near], 9))
