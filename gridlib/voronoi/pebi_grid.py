@@ -30,8 +30,9 @@ exact circle centres on the traces.
 Awkward layouts build; what could not be honoured exactly is said in ``notes``:
 
 * faults meeting each other or the boundary at small angles, and sharply kinked
-  traces, get one row of cells shared by both sides of the wedge (:mod:`.wedges`,
-  a note per wedge);
+  traces, get one row of cells shared by both sides of the wedge; splays of any
+  number of faults at any angles get rows of cells along every arm, shared where
+  both arms of a gap want the same (:mod:`.wedges`, a note per wedge or fan);
 * faults running close to each other or to the boundary get locally smaller steps,
   as small as the gap needs (a note says how many rounds of refinement);
 * a well near a fault keeps its rings clear of the fault's circles: they are
