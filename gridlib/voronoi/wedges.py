@@ -44,10 +44,11 @@ refinement:
   mirrored pairs (at most about 0.6 of a step off the trace, at a step kept until all
   the fan's rows end), which stay out of the other rows' circles and keep their own
   circles clear of those rows. The two sides of a shared row leave together; every
-  other row ends where its side leaves. A side's circles are thus at most about 1.3 ray steps
-  wide whatever the other gaps are (the old one-angle mirror chain of fans made inner
-  arms' circles several steps wide where the gaps differed, and refused about one splay
-  in four).
+  other row ends where its side leaves. A side's circles thus reach at most about 1.3
+  ray steps, whatever the other gaps are (a single chain of rows mirrored round the
+  whole fan at one angle, as before, made the inner arms' circles several steps wide
+  where the gaps differed, and refused 144 of the 500 splays of the property test
+  ``tests/voronoi/test_pebi_splays.py``).
 
 The first rung is moved out (up to ``MAX_STRETCH`` steps) where a wedge is so narrow
 that the triangular first cell would be smaller than ``TIP_AREA`` step². Rungs are
