@@ -28,10 +28,12 @@ graph), all in the domain's local frame:
    at less than 40°, mirrored pairs cannot fit near the node at any step (the
    wedge is s sin(angle) wide at a distance s): one row of sites shared by both
    sides fills the wedge instead (:mod:`.wedges`), exact on both traces, until the
-   wedge is wide enough for two rows. The node's circle is then the wedge's, and the
-   other arms' first circles are fitted to it. (Traces meeting at less than 40°
-   that share an arm with a narrower wedge get smaller circles nearby instead,
-   ratio down to 0.52.)
+   wedge is wide enough for two rows. At a node inside the domain all its arms form
+   one fan, every arm with rows of its own at common distances from the node (a splay
+   of any number of faults at any angles). At a node on the boundary the other arms'
+   first circles are fitted to the wedge's circle (traces meeting at less than 40°
+   that share an arm with a narrower wedge get smaller circles nearby instead, ratio
+   down to 0.52).
 5. **Check and refine.** After the background is added, every circle is checked
    for sites strictly inside it (:func:`circle_violations`, background, fault and
    well sites alike), and every fault site for lying inside the domain. Where a
@@ -191,7 +193,8 @@ def _steps_per_edge(lay: FaultLayout, elen, hv, lead, wedge_ends, wedge_node) ->
             for end, along in ((0, tt * elen[e]), (1, (1 - tt) * elen[e])):  # grading away from a wedge
                 w = lead[e][end]
                 if (e, end) in wedge_ends:
-                    caps.append(wedge_ends[(e, end)] + GROWTH * np.maximum(along - w[-1], 0.0))
+                    step, rows_end = wedge_ends[(e, end)]
+                    caps.append(step + GROWTH * np.maximum(along - rows_end, 0.0))
                 elif wedge_node[(ea[e], eb[e])[end]]:  # another arm at a wedge's node
                     caps.append(w[0] + GROWTH * np.maximum(along - w[0], 0.0))
             s = np.minimum.reduce(caps)
@@ -333,16 +336,18 @@ def _with_tips(tip, centres, centre_fault, radii, cmin, steps, pairs) -> FaultSi
 def _describe_wedge(w, lay: FaultLayout) -> str:
     """A note on an acute wedge or fan: where, between what, at which angles, how many shared cells."""
     net = lay.net
-    names = [net.labels[net.edge_fault[e] - 1] if e >= 0 else "the boundary" for e in w.sides]
+    acute = np.flatnonzero(w.acute)
+    sides = [w.sides[j] for j in sorted({*acute.tolist(), *(acute + 1).tolist()})]
+    names = [net.labels[net.edge_fault[e] - 1] if e >= 0 else "the boundary" for e in sides]
     names = list(dict.fromkeys(names))
-    angles = " and ".join(f"{np.degrees(g):.3g}" for g in w.gaps)
+    angles = " and ".join(f"{np.degrees(g):.3g}" for g in w.gaps[acute])
     if len(names) == 1:
         what = f"{names[0]} bends"
     elif len(names) == 2:
         what = f"{names[0]} meets {names[1]}"
     else:
         what = ", ".join(names[:-1]) + f" and {names[-1]} meet"
-    rows = "one row" if w.gaps.size == 1 else f"{w.gaps.size} rows"
+    rows = "one row" if w.rows == 1 else f"{w.rows} rows"
     return (
         f"{what} at {angles} degrees at {lay.domain.fmt(net.nodes[w.node])}: {rows} of {w.rungs.size} "
         f"cells between them up to {float(w.rungs[-1]):.3g} m from there"
@@ -357,12 +362,13 @@ def _plan_wedges(
     An arm may use its whole length if its far end is free, half of it if that end is
     constrained too; a boundary side as far as the next corner or half way to the next
     fault on it. The step is the smallest wanted along the sides as far as the rungs
-    reach (refinements there). All wedges at one node share the node's circle (the
-    smallest of theirs), and it must reach the first circles of the node's other arms: an
-    arm's first step (at most ``arm_room``, m) needs a circle of ``ratio`` times it that
-    overlaps the node's, so the node's radius is at most ``REACH (1 + ratio) arm_room``. (A
-    very narrow wedge stretches its first cell away from the node, up to 3.5 steps: next to
-    a short arm, a trace running into a corner of the domain, the wedge is then made smaller.)
+    reach (refinements there). All wedges at one node share their rungs
+    (:func:`.wedges.share_rungs`), and the node's circle must reach the first circles of
+    the node's other arms: an arm's first step (at most ``arm_room``, m) needs a circle of
+    ``ratio`` times it that overlaps the node's, so the node's radius is at most
+    ``REACH (1 + ratio) arm_room``. (A very narrow wedge stretches its first cell away from
+    the node, up to 3.5 steps: next to a short arm, a trace running into a corner of the
+    domain, the rungs are then scaled down.)
     """
     net, dom = lay.net, lay.domain
     nodes, ea, eb = net.nodes, net.edge_a, net.edge_b
@@ -385,12 +391,13 @@ def _plan_wedges(
                 pts = net.nodes[w.node] + along[:, None] * w.dirs[j][None, :]
                 step = min(step, float(step_length(lay, pts, np.full(along.size, net.edge_fault[e])).min()))
         _wedges.plan(w, step, room)
-    radius: dict[int, float] = {}
-    for w in found:
-        limit = REACH * (1 + lay.ratio) * float(arm_room[w.node])
-        radius[w.node] = min(radius.get(w.node, np.inf), _wedges.node_radius(w), limit)
-    for w in found:
-        _wedges.scale_to_radius(w, radius[w.node])
+    for v in dict.fromkeys(w.node for w in found):
+        at = [w for w in found if w.node == v]
+        _wedges.share_rungs(at)
+        limit = REACH * (1 + lay.ratio) * float(arm_room[v])
+        if _wedges.node_radius(at[0]) > limit:
+            for w in at:
+                _wedges.scale_to_radius(w, limit)
     return found
 
 
@@ -411,7 +418,8 @@ def _boundary_room(net: FaultNetwork, dom: Domain, v: int, u: np.ndarray) -> flo
 
 def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndarray]], dict]:
     """Distances (m) of the centres fixed next to each end of every edge, and the wedge ends
-    with the step (m) of their rungs along the edge.
+    with the step (m) of their rungs along the edge and the distance (m) along it to the end of
+    the wedge's rows (the steps beyond grow only from there: the other sides' rows may run on).
 
     A constrained end has its first centre one step L0 away; a wedge's arm has its rungs.
     """
@@ -420,12 +428,12 @@ def _leads(wedge_list: list, ea, eb, l0, constrained) -> tuple[list[list[np.ndar
         [np.array([l0[a]]) if constrained[a] else empty, np.array([l0[b]]) if constrained[b] else empty]
         for a, b in zip(ea.tolist(), eb.tolist(), strict=True)
     ]
-    ends: dict[tuple[int, int], float] = {}
+    ends: dict[tuple[int, int], tuple[float, float]] = {}
     for w in wedge_list:
         for e, j in w.arms():
             end = 0 if ea[e] == w.node else 1
             lead[e][end] = w.side_rungs(j)
-            ends[(e, end)] = w.ray_step / float(np.cos(w.tilt[j]))
+            ends[(e, end)] = (w.ray_step / float(np.cos(w.tilt[j])), w.rows_end(j))
     return lead, ends
 
 
@@ -436,8 +444,8 @@ def _wedge_rows(
     side; the radii with those of the wedge nodes and rung centres set, and which centres are
     such rungs (``fixed``).
 
-    The sites of a step on an inner side of a fan are the shared sites of the wedges on
-    either side, on an outer side the shared sites and their mirror images.
+    The sites of a step are the side's row and its mirror image (the row of the next gap where
+    that gap's row is shared).
     """
     sa, sb = all_steps.a, all_steps.b
     radii = radii.copy()
@@ -446,7 +454,6 @@ def _wedge_rows(
     for index, w in enumerate(wedge_list):  # loop over acute wedges and fans
         ws = _wedges.wedge_sites(w, nodes[w.node])
         radii[w.node] = ws.radius_node
-        n = w.gaps.size
         for e, j in w.arms():
             end = 0 if ea[e] == w.node else 1
             steps = wedge_steps[(e, end)]
@@ -454,12 +461,7 @@ def _wedge_rows(
             k = steps.size  # the rungs this side keeps
             radii[rung] = ws.radius_rungs[j, :k]
             fixed[rung] = True
-            one = ws.shared[min(j, n - 1), :k]
-            if 0 < j < n:
-                other = ws.shared[j - 1, :k]
-            else:
-                other = (ws.mirror_first if j == 0 else ws.mirror_last)[:k]
-            out.append((steps, one, other, np.full(k, w.step), index))
+            out.append((steps, ws.own[j, :k], ws.mirror[j, :k], np.full(k, w.step), index))
     return out, radii, fixed
 
 

@@ -30,10 +30,11 @@ exact circle centres on the traces.
 Awkward layouts build; what could not be honoured exactly is said in ``notes``:
 
 * faults meeting each other or the boundary at small angles, and sharply kinked
-  traces, get one row of cells shared by both sides of the wedge (:mod:`.wedges`,
-  a note per wedge);
-* faults running close to each other get locally smaller steps, as small as the gap
-  needs (a note says how many rounds of refinement);
+  traces, get one row of cells shared by both sides of the wedge; splays of any
+  number of faults at any angles get rows of cells along every arm, shared where
+  both arms of a gap want the same (:mod:`.wedges`, a note per wedge or fan);
+* faults running close to each other or to the boundary get locally smaller steps,
+  as small as the gap needs (a note says how many rounds of refinement);
 * a fault running closer to the boundary than its sites stand off it gets smaller steps
   there too, down to a quarter of its own step (``conformity.GRAZE_FLOOR``); the sites
   still outside then stay: the face between a site and its mirror image is the step all
