@@ -109,6 +109,7 @@ from .fault_junctions import FITTED
 from .fault_layout import FaultLayout, Refinement, layout, ring_room
 from .fault_network import Fault
 from .fault_sites import FaultSites, build_sites, circle_violations
+from .fault_wells import fault_cells
 from .lattice import Lattice
 from .path_sites import cells_along
 from .pebi_result import ADDED, BACKGROUND, FAULT, FAULT_TIP, PADDING_SITE, WELL, WELL_SIDE, PebiGrid
@@ -256,6 +257,23 @@ def pebi_grid(
     grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
     cell_well = np.zeros(n_sites, dtype=np.int64)
     cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.cell_well
+    if ws.on_fault_well.size:  # wells on a fault: one of its cells each
+        traces = [dom.to_local(np.asarray(f.points, dtype=np.float64)) for f in faults]
+        had_rings = np.array([wells[w - 1].rings is not None for w in ws.on_fault_well.tolist()], dtype=bool)
+        mine, on_notes = fault_cells(
+            ws.on_fault_well,
+            ws.on_fault_point,
+            ws.on_fault_side,
+            fs.sites,
+            fs.site_step,
+            traces,
+            fault_labels,
+            ws.labels,
+            had_rings,
+            dom.fmt,
+        )
+        cell_well[n_bg + mine] = ws.on_fault_well
+        notes.extend(on_notes)
     if ws.along.shape[0]:  # the free cells a well path runs through (fault cells where it has no site)
         tree = cKDTree(sites)
         cells, owner = cells_along(lambda p: tree.query(p)[1], ws.along, ws.along_well, dom.tol)
