@@ -35,7 +35,10 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
 * faults running close to each other or to the boundary get locally smaller steps,
   as small as the gap needs (a note says how many rounds of refinement);
 * a well near a fault keeps its rings clear of the fault's circles: they are
-  shrunk (or dropped, one cell at the well), with a note; a well path crossing a
+  shrunk (or dropped, one cell at the well), with a note; a vertical well on a fault
+  trace, at its tip, where faults meet or closer to it than the fault's cells are wide
+  gets one of the fault's cells, on its ``fault_side`` or the nearer side, with a note
+  (:mod:`.fault_wells`); a well path crossing a
   fault or running along it gets the fault cells it runs through there instead of
   sites of its own; fault steps are refined where a well's site would fall into a circle;
 * geometry finer than the cells can follow is resolved: a trace passing a
@@ -65,8 +68,9 @@ first site (two straight faults crossing), they are made to share it exactly.
 
 Fault faces carry ``faces.tag`` = fault id (1-based position in ``faults``),
 every other face 0; ``cell_well`` is the 1-based well id of the cells generated
-by a well's sites (not by the side rows of its path) and of the other free cells a
-well path runs through (fault cells where it has no site), else 0. Coordinates are metres in the
+by a well's sites (not by the side rows of its path), of the fault cell of a vertical well on
+a fault, and of the other free cells a well path runs through (fault cells where it has no
+site), else 0. Coordinates are metres in the
 caller's frame (UTM-sized coordinates are fine: everything is computed in a
 local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
 2-D faces are edges whose normal (dy, -dx) points from ``neighbors[:, 0]`` to
