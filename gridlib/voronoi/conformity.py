@@ -46,7 +46,7 @@ def fault_problems(fs, sites, n_bg: int, dom: Domain, bg_tree, keep) -> list[tup
         position = np.cumsum(keep) - 1
         c, s = np.concatenate([cb[kept], c]), np.concatenate([position[sb[kept]], s])
     if c.size:  # a site in a fault circle (a background, fault or well site): smaller steps there
-        c, s = c[:200], s[:200]
+        c, s = c[:2000], s[:2000]
         rel = sites[s] - fs.centres[c]
         scale = refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
         for ci, si, f in zip(c.tolist(), s.tolist(), scale.tolist(), strict=True):

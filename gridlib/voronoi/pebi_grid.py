@@ -33,7 +33,8 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
   traces, get one row of cells shared by both sides of the wedge (:mod:`.wedges`,
   a note per wedge);
 * faults running close to each other or to the boundary get locally smaller steps,
-  as small as the gap needs (a note says how many rounds of refinement);
+  as small as the gap needs, down to 1/64 of the cell size (a note says how many rounds
+  of refinement);
 * a well near a fault keeps its rings clear of the fault's circles: they are
   shrunk (or dropped, one cell at the well), with a note; a vertical well on a fault
   trace, at its tip, where faults meet or closer to it than the fault's cells are wide
@@ -123,6 +124,7 @@ from .size_notes import KIND_NAMES, size_notes
 from .wells import Well, WellSites, build_wells, check_clearances, removal_mask
 
 MAX_EXTRA_ROUNDS = 6
+EXTRA_ROUNDS = 4  # x max_refinements: the most rounds of fault refinement, while each is worth it
 
 
 def _size_function(cell_size: object, dom: Domain) -> tuple[Callable[[np.ndarray], np.ndarray], float | None]:
@@ -174,9 +176,11 @@ class PebiTuning:
     ``fault_ratio``: circle radius / step length along faults, in (0.5, 1).
     ``boundary_clearance``: lattice sites closer than this fraction of their spacing to the
     boundary are dropped, in [0, 0.5).
-    ``max_refinements``: how often the fault steps are made smaller locally where the
-    empty-circle condition fails (at least halved each time); also sets the smallest feature
-    honoured, the cell size times 2^-max_refinements.
+    ``max_refinements``: sets the finest fault step the local refinement makes where the
+    empty-circle condition fails, and the smallest feature honoured: the cell size times
+    2^-max_refinements. That many rounds are always allowed (each at least halving the steps
+    where it refines); more, up to 4 x max_refinements, while they still make a step smaller
+    without going below that minimum.
     """
 
     fault_ratio: float = 0.6
@@ -413,12 +417,21 @@ def _conforming_fault_sites(
         problems = fault_problems(fs, ss.xy, ss.n_bg, dom, bg.tree, ss.keep)
         if not problems:
             return ss, lay, attempt
-        if attempt == max_refinements:
+        if attempt >= max_refinements:
             kinds = problem_kinds(problems, fs)
             hard = [p for p, why in zip(problems, kinds, strict=True) if why != FITTED]
             if not hard:  # only junctions whose arms were fitted to them: the sites conform
                 return ss, lay, attempt
-            raise_fault_problem(hard, fs, dom, lay, max_refinements, ws)
+            # more rounds while they make fault steps smaller, down to the finest allowed
+            floor = math.ldexp(1.0, -max_refinements) * size(np.array([w for w, _ in hard]))
+            finer = lay.refined(
+                (float(w[0]), float(w[1]), max(step, f))
+                for (w, step), f in zip(hard, floor.tolist(), strict=True)
+            )
+            if finer.refine == lay.refine or attempt >= EXTRA_ROUNDS * max(max_refinements, 1):
+                raise_fault_problem(hard, fs, dom, lay, attempt, ws)
+            lay, attempt = finer, attempt + 1
+            continue
         lay = lay.refined((float(where[0]), float(where[1]), step) for where, step in problems)
         attempt += 1
 

@@ -12,7 +12,7 @@ from pebi_invariants import check_pebi
 import gridlib as gl
 from gridlib.case.wells import pebi_wells
 from gridlib.config import load_case
-from gridlib.voronoi import Fault, Rings, Well, pebi_grid
+from gridlib.voronoi import Fault, Rings, Well, fault_layout, pebi_grid
 from gridlib.voronoi.pebi_result import FAULT
 
 H = 10.0
@@ -244,10 +244,20 @@ def test_a_library_well_with_a_bad_side_is_refused():
         pebi_grid(DOMAIN, H, ONE, [Well(path=[(20, 60), (60, 90)], name="P", fault_side="left")])
 
 
-def test_the_last_resort_error_names_the_faults_the_place_and_cell_size():
-    """Two parallel faults 0.3 m apart with 10 m cells (a layout the local refinement does not
-    resolve in its rounds; others as close do build): the error names both faults, the place, the
-    fault step reached and cell_size, and no internal setting."""
+def test_parallel_faults_a_sixtieth_of_a_cell_apart_build():
+    """Two parallel faults 0.16 m apart with 10 m cells (just above the smallest feature honoured,
+    1/64 of the cell size): the local refinement goes on while it makes fault steps smaller, and
+    the grid builds with both traces honoured."""
+    faults = [Fault([(10, 50), (90, 50)]), Fault([(10, 50.16), (90, 50.16)])]
+    pg = pebi_grid(DOMAIN, H, faults)
+    check_pebi({"domain": DOMAIN, "offset": np.zeros(2), "faults": faults, "wells": []}, pg, h=H)
+    assert "fault spacing refined locally 7 time(s) to keep the empty-circle condition" in pg.notes
+
+
+def test_the_last_resort_error_names_the_faults_the_place_and_cell_size(monkeypatch):
+    """Where the refinement cannot help (forced here: it changes nothing), the error names both
+    faults, the place, the fault step reached and cell_size, and no internal setting."""
+    monkeypatch.setattr(fault_layout.FaultLayout, "refined", lambda self, requests: self)
     faults = [Fault([(10, 10), (40, 10)], "A"), Fault([(10, 10.3), (40, 10.3)], "B")]
     with pytest.raises(gl.GridError) as info:
         pebi_grid(((0, 0), (50, 20)), H, faults)
@@ -256,8 +266,7 @@ def test_the_last_resort_error_names_the_faults_the_place_and_cell_size():
         "fault 'A' (faults[0]) and fault 'B' (faults[1]): no conforming PEBI sites near ("
     )
     assert (
-        ": even with fault cells of 0.329 m there (refined locally from the cell size, 10 m) a site "
-        in message
+        ": even with fault cells of 10 m there (refined locally from the cell size, 10 m) a site " in message
     )
     assert message.endswith("widen the angle or the separation of the traces, or give a smaller cell_size")
     assert "refinements" not in message and "times" not in message
