@@ -243,7 +243,7 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
     """The first problem of a validated case (defaults filled in) that the schema cannot see:
     names given twice, broken traces, reversed ranges, the keys against each other and the
     files they name, trajectory and survey wells (:mod:`gridlib.config.well_paths`), rock
-    values, coarse blocks against the grid, PEBI wells on faults and their rings."""
+    values, coarse blocks against the grid, PEBI point wells' rings and fault_side."""
     for check in (_names_problem, _traces_problem, _ranges_problem, _section_problem):
         problem = check(data)
         if problem is not None:
