@@ -235,6 +235,33 @@ def test_a_case_file_chooses_the_side(tmp_path):
     assert str(info.value) == f"{path}: wells[0].fault_side: 'east' is not one of ['left', 'right']"
 
 
+def test_the_grid_stage_builds_a_case_with_a_well_where_two_faults_cross(tmp_path):
+    """Through the workflow's stages: INJ (with rings) where the throwing fault F1 (walked north)
+    crosses F2, ``fault_side: right``: its cell in each layer is the fault cell east of F1, the
+    one farther north (along F1); the other wells keep their own cells."""
+    import xarray as xr
+
+    from gridlib.stages.grid import stage_grid
+    from gridlib.stages.horizons import stage_horizons
+
+    text = PEBI_CASE.replace("SIDE", "right, rings: {inner: 2, outer: 40}")
+    f1 = "  - {name: F1, trace: [[500, -50], [500, 850]]}\n"
+    f2 = "  - {name: F2, trace: [[100, 100], [900, 700]]}\n"
+    text = text.replace(f1, f1.replace("]]}", "]], throw: 10}") + f2)
+    path = tmp_path / "on_fault.yaml"
+    path.write_text(text + "  - {name: P1, point: [300, 500]}\n")
+    case = load_case(path)
+    stage_horizons(case, horizons=tmp_path / "h.nc")
+    stage_grid(case, grid=tmp_path / "g.nc", horizons=tmp_path / "h.nc")
+    with xr.open_dataset(tmp_path / "g.nc") as ds:
+        well, site, layer = ds["well"].values, ds["site"].values, ds["layer"].values
+    assert np.bincount(well).tolist()[1:] == [2, 2]  # one cell per layer each
+    inj = site[well == 1]
+    assert sorted(layer[well == 1].tolist()) == [0, 1] and np.all(inj == inj[0])
+    assert inj[0, 0] > 500.0 and inj[0, 1] > 400.0  # east of F1, north of the crossing
+    assert np.all(site[well == 2] == [300.0, 500.0])
+
+
 def test_a_library_well_with_a_bad_side_is_refused():
     with pytest.raises(
         gl.GridError, match=r"well 'P' \(wells\[0\]\): fault_side must be 'left', 'right' or None"
