@@ -167,12 +167,14 @@ def refined_step(ref: np.ndarray, xy: np.ndarray, k: int = 16) -> np.ndarray:
     point of ``xy``: over the ``k`` nearest refinements where that settles it (every other one is
     farther, so asks at least the smallest step + GROWTH x the k-th distance), over all of them
     elsewhere; the same values either way."""
-    k = min(k, ref.shape[0])
-    _, near = cKDTree(ref[:, :2]).query(xy, k=k)
-    near = near.reshape(xy.shape[0], k)
-    dist = np.hypot(xy[:, None, 0] - ref[near, 0], xy[:, None, 1] - ref[near, 1])
-    out = (ref[near, 2] + GROWTH * dist).min(axis=1)
-    open_ = np.flatnonzero(out > ref[:, 2].min() + GROWTH * dist[:, -1]) if k < ref.shape[0] else []
+    if ref.shape[0] <= 4 * k:  # few: all of them (a tree would cost more)
+        out = np.empty(xy.shape[0])
+        open_ = np.arange(xy.shape[0])
+    else:
+        _, near = cKDTree(ref[:, :2]).query(xy, k=k)
+        dist = np.hypot(xy[:, None, 0] - ref[near, 0], xy[:, None, 1] - ref[near, 1])
+        out = (ref[near, 2] + GROWTH * dist).min(axis=1)
+        open_ = np.flatnonzero(out > ref[:, 2].min() + GROWTH * dist[:, -1])
     chunk = max(1, 2**20 // ref.shape[0])
     for start in range(0, len(open_), chunk):  # the points the nearest ones do not settle
         rows = open_[start : start + chunk]

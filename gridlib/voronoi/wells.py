@@ -279,7 +279,8 @@ def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fa
     pts = [c[None, :]]
     sizes = [np.array([h])]
     radius = 0.0
-    on_fault = fault_room is not None and float(fault_room(c)[0][0]) < 0
+    limit = None if fault_room is None else fault_room(c)  # room (m), the fault limiting it, its distance
+    on_fault = limit is not None and float(limit[0][0]) < 0
     if well.rings is not None:
         if not isinstance(well.rings, Rings):
             raise GridError(f"{label}: rings must be a Rings, got {type(well.rings).__name__}")
@@ -295,8 +296,8 @@ def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fa
                 outer_guess = float(probe[-1])
             sectors = max(6, int(np.round(2 * np.pi * outer_guess / h)))
         radii = r0.radii(sectors, f"{label}: rings")
-        if fault_room is not None and not on_fault:
-            room, by, dist = fault_room(c)
+        if limit is not None and not on_fault:
+            room, by, dist = limit
             radii = _fit_rings(radii, float(room[0]), by[0], float(dist[0]), label, notes)
     if on_fault:
         return np.zeros((0, 2)), np.zeros(0), c, radius, h
