@@ -1,8 +1,8 @@
 """A case's wells (``wells``) as gridlib objects: the deviated wells' paths
 (:func:`case_well_paths`: a trajectory file or a survey, with branches, perforations, radius and
 skin) and, for pebi grids, every well as a :class:`~gridlib.voronoi.Well` the sites follow
-(:func:`pebi_wells`: a point well's ``point`` + ``rings``, a map ``path`` with ``spacing``, a
-deviated well's plan view inside the reservoir).
+(:func:`pebi_wells`: a point well's ``point``, ``rings`` and ``fault_side``, a map ``path`` with
+``spacing``, a deviated well's plan view inside the reservoir).
 
 Files are relative to the case file; lengths, depths and MD in the case's length unit (m; a
 FIELD deck's ft), z depth. What is read and checked, and how branches join their parents:
@@ -103,7 +103,10 @@ def pebi_wells(case: Case, top: DepthFunction | None = None, base: DepthFunction
             r = spec["rings"]
             rings = Rings(r["inner"], r.get("outer"), r.get("growth"), r.get("count"), r.get("sectors"))
         path, spacing = spec.get("path"), spec.get("spacing")
-        wells.append(Well(spec.get("point"), spec["name"], rings=rings, path=path, spacing=spacing))
+        side = spec.get("fault_side")
+        wells.append(
+            Well(spec.get("point"), spec["name"], rings=rings, path=path, spacing=spacing, fault_side=side)
+        )
     return wells
 
 

@@ -243,7 +243,7 @@ def case_problem(data: dict[str, Any], path: Path) -> str | None:
     """The first problem of a validated case (defaults filled in) that the schema cannot see:
     names given twice, broken traces, reversed ranges, the keys against each other and the
     files they name, trajectory and survey wells (:mod:`gridlib.config.well_paths`), rock
-    values, coarse blocks against the grid, PEBI wells on faults and their rings."""
+    values, coarse blocks against the grid, PEBI point wells' rings and fault_side."""
     for check in (_names_problem, _traces_problem, _ranges_problem, _section_problem):
         problem = check(data)
         if problem is not None:
@@ -671,20 +671,17 @@ def _coarsen_problem(data: dict[str, Any], path: Path) -> str | None:
     return None
 
 
-# Of the PEBI domain's extent (the larger side of its bounding box): a point well this close to a
-# fault trace is on it, and a well's first ring this small merges with the well's site. The
-# builder fails from about 2e-6 of the extent whatever the cell size (measured: a well 1e-3 m
-# off a fault in a 1 km domain fails, 3e-3 m builds, 1e-2 and 3e-2 m in a 10 km one; a first
-# ring of 1e-3 m fails, 2e-3 m builds): the check keeps a margin of five.
+# Of the PEBI domain's extent (the larger side of its bounding box): a well's first ring this
+# small merges with the well's site. The builder fails from about 2e-6 of the extent whatever
+# the cell size (measured: a first ring of 1e-3 m in a 1 km domain fails, 2e-3 m builds): the
+# check keeps a margin of five.
 PEBI_TOLERANCE = 1e-5
 
 
 def _pebi_wells_problem(data: dict[str, Any], path: Path) -> str | None:
     """A PEBI grid puts a cell centre (the well's site) at a point well, with its rings around
-    it: on a fault trace that site would lie on the face the fault makes, and rings must
-    neither merge with the site nor grow beyond the domain."""
-    import shapely
-
+    it: rings must neither merge with the site nor grow beyond the domain. A point well on a
+    fault is fine (a fault cell is its cell, on its ``fault_side``); only point wells have one."""
     grid = data["grid"]
     if grid["type"] != "pebi":
         return None
@@ -695,16 +692,12 @@ def _pebi_wells_problem(data: dict[str, Any], path: Path) -> str | None:
     tolerance = PEBI_TOLERANCE * extent
     for k, well in enumerate(data.get("wells", [])):
         if "point" not in well:
-            continue
-        point = shapely.Point(well["point"])
-        for fault in data.get("faults", []):
-            if shapely.LineString(fault_plan_trace(path, fault)).distance(point) <= tolerance:
-                at = ", ".join(yaml_number(v) for v in well["point"])
+            if "fault_side" in well:
                 return (
-                    f"wells[{k}].point: well '{well['name']}' at ({at}) lies on fault '{fault['name']}' "
-                    f"(within {tolerance:.3g} m); move the well off the trace, into the block it is "
-                    "drilled in"
+                    f"wells[{k}].fault_side: well '{well['name']}' is not a point well; fault_side "
+                    "chooses the fault cell of a vertical well (point) on a fault"
                 )
+            continue
         rings = well.get("rings") or {}
         if rings and rings["inner"] <= tolerance:
             return (

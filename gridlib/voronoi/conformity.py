@@ -1,12 +1,13 @@
 """Checks of a PEBI grid's sites and of the finished grid.
 
 Fault sites *conform* when no site lies strictly inside a fault circle (the empty-circle
-condition: then the Voronoi face between the two sites of a step is the step itself).
-:func:`fault_problems` lists where it fails, with the smaller fault step wanted there, for
-:func:`~.pebi_grid.pebi_grid` to refine and rebuild; and where fault sites lie outside the
-domain, which smaller steps would bring inside (down to ``GRAZE_FLOOR``; beyond, the boundary
+condition: then the Voronoi face between the two sites of a step is the step itself) and every
+fault site lies inside the domain. :func:`fault_problems` lists where either fails, with the
+smaller fault step wanted there, for :func:`~.pebi_grid.pebi_grid` to refine and rebuild; fault
+sites outside the domain ask for steps no smaller than ``GRAZE_FLOOR`` (beyond, the boundary
 closes their cells: :func:`outside_sites`, with a note from :func:`graze_notes`).
-:func:`raise_fault_problem` names the faults and the place once the refinements run out.
+:func:`raise_fault_problem` names the faults, the place and the case keys that would help
+(the traces, a well's position, ``cell_size``) once the local refinement has run its rounds.
 :func:`verify` checks the finished grid end to end: cell areas sum to the domain's area, the
 fault faces cover the traces, every well owns cells.
 """
@@ -19,6 +20,7 @@ from scipy.spatial import cKDTree
 from ..errors import GridError
 from ..reproducible import arctan2
 from .domain import Domain
+from .fault_layout import RING_GAP, step_length
 from .fault_sites import circle_violations
 
 # A fault site outside the domain refines its step down to this fraction of the fault's
@@ -59,7 +61,7 @@ def fault_problems(
         position = np.cumsum(keep) - 1
         c, s = np.concatenate([cb[kept], c]), np.concatenate([position[sb[kept]], s])
     if c.size:  # a site in a fault circle (a background, fault or well site): smaller steps there
-        c, s = c[:200], s[:200]
+        c, s = c[:2000], s[:2000]
         rel = sites[s] - fs.centres[c]
         scale = refine_factor(0.9 * np.hypot(rel[:, 0], rel[:, 1]) / fs.radii[c])
         for ci, si, f in zip(c.tolist(), s.tolist(), scale.tolist(), strict=True):
@@ -135,20 +137,24 @@ def refine_factor(need: np.ndarray) -> np.ndarray:
 
 def raise_fault_problem(problems, fs, dom: Domain, lay, times: int, ws=None) -> None:
     """Raise the GridError naming the faults (and a well ``ws`` has close by) where the fault
-    sites still break the empty-circle condition after ``times`` refinements, and what in the
-    layout to change: the traces, the well's position or the cell size."""
+    sites still break the empty-circle condition after ``times`` rounds of local refinement,
+    the place, the fault step reached there, and what in the case to change: the traces, the
+    well's position or the ``cell_size``."""
     labels = lay.net.labels
     where = problems[0][0]
     d = np.linalg.norm(fs.centres - where, axis=1)
     near = np.flatnonzero(d <= 2.0 * d.min() + 2.0 * float(fs.centre_step.max()))
     ids = sorted(set(fs.centre_fault[near].tolist()))
     names = " and ".join(labels[i - 1] for i in ids[:2])
+    h = float(lay.size(where[None, :])[0])
+    step = float(step_length(lay, where[None, :], np.array([ids[0]]))[0])
+    reached = f"fault cells of {step:.3g} m there (refined locally from the cell size, {h:.3g} m)"
     outside = ~dom.inside(where[None, :])[0]
     if outside:
         raise GridError(
-            f"{names}: its sites leave the domain near {dom.fmt(where)} even after refining the fault steps "
-            f"{times} times: the trace runs too close to the boundary there; move it (its trace) or give "
-            "a smaller cell_size"
+            f"{names}: its trace runs too close to the domain's boundary near {dom.fmt(where)}: even "
+            f"{reached} leave the domain; move the trace away from the boundary there, or give a "
+            "smaller cell_size"
         )
     # the sharpest angle between traces at the nearest junction or bend, if there is one close by
     net = lay.net
@@ -160,20 +166,19 @@ def raise_fault_problem(problems, fs, dom: Domain, lay, times: int, ws=None) -> 
         ang = np.sort(np.mod(arctan2(v[:, 1], v[:, 0]), 2 * np.pi))
         gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
         angle = f" (they meet at {np.degrees(gaps.min()):.3g} degrees at {dom.fmt(net.nodes[node])})"
-    step = float(fs.centre_step.max())
-    well = _nearest_well(ws, where, 2.0 * step)
+    well = _nearest_well(ws, where, 2.0 * float(fs.centre_step.max()))
     if well:
         raise GridError(
-            f"{well} lies too close to {names} near {dom.fmt(where)}: no conforming PEBI sites there even "
-            f"after refining the fault steps {times} times (a site falls inside a fault circle); move the "
-            f"well (its point or path) further from the trace than the fault's circles reach (about "
-            f"{lay.ratio * step:.3g} m)"
+            f"{well} lies too close to {names} near {dom.fmt(where)}: its sites fall into the fault's "
+            f"circles even with {reached}; put the well on the trace (a fault cell is then its cell), "
+            f"or move it at least {(lay.ratio + RING_GAP) * h:.3g} m from the trace, or give a smaller "
+            "cell_size"
         )
     raise GridError(
-        f"{names}: no conforming PEBI sites near {dom.fmt(where)} even after refining the fault steps "
-        f"{times} times: a site falls inside a fault circle (the empty-circle condition), because the traces "
-        f"meet at too sharp an angle or run too close to each other{angle}; widen the angle or the "
-        "separation of the traces (their trace), or give a smaller cell_size"
+        f"{names}: no conforming PEBI sites near {dom.fmt(where)}{angle}: even with {reached} a site "
+        "falls inside a fault circle (the empty-circle condition), because the traces meet at too sharp "
+        "an angle or run too close to each other; widen the angle or the separation of the traces, or "
+        "give a smaller cell_size"
     )
 
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy import sparse
 from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
 
 from .domain import Domain
 from .fault_network import Fault, FaultNetwork, build_network
@@ -83,8 +84,33 @@ class FaultLayout:
     refine: tuple[Refinement, ...] = ()
 
     def refined(self, requests: Iterable[Refinement]) -> FaultLayout:
-        """This layout with the refinement ``requests`` added after those made before."""
-        return replace(self, refine=self.refine + tuple(requests))
+        """This layout with the refinement ``requests`` added after those made before, less
+        those another makes redundant (:func:`without_dominated`)."""
+        return replace(self, refine=without_dominated(self.refine + tuple(requests)))
+
+
+def without_dominated(refine: tuple[Refinement, ...]) -> tuple[Refinement, ...]:
+    """The refinements, in their order, less those that change no step: a refinement (r, s) is
+    redundant where another (r', s') asks at least as much everywhere, s' + GROWTH |r - r'| <= s
+    (then s' + GROWTH |x - r'| <= s + GROWTH |x - r| at every x), kept with a margin of 1e-9 so
+    that rounding never makes the dropped one the smaller. Of two equal ones the first stays."""
+    if len(refine) < 2:
+        return refine
+    ref = np.asarray(refine, dtype=np.float64)
+    tree = cKDTree(ref[:, :2])
+    reach = (ref[:, 2].max() - ref[:, 2].min()) / GROWTH
+    keep = np.ones(ref.shape[0], dtype=bool)
+    for i, near in enumerate(tree.query_ball_point(ref[:, :2], reach)):  # loop over refinements
+        near = np.asarray(near, dtype=np.int64)
+        near = near[(near != i) & keep[near]]
+        if near.size == 0:
+            continue
+        rel = ref[near, :2] - ref[i, :2]
+        bound = ref[near, 2] + GROWTH * np.hypot(rel[:, 0], rel[:, 1])
+        equal = (ref[near, 2] == ref[i, 2]) & (rel == 0).all(axis=1)
+        if np.any((bound <= ref[i, 2] * (1 - 1e-9)) | (equal & (near < i))):
+            keep[i] = False
+    return tuple(r for r, k in zip(refine, keep.tolist(), strict=True) if k)
 
 
 def layout(
@@ -132,9 +158,26 @@ def step_length(lay: FaultLayout, xy: np.ndarray, fault: np.ndarray) -> np.ndarr
     if need.any():
         out[need] = lay.size(xy[need])
     if lay.refine:
-        ref = np.asarray(lay.refine)
-        for start in range(0, xy.shape[0], 4096):
-            sl = slice(start, start + 4096)
-            dist = np.linalg.norm(xy[sl, None, :] - ref[None, :, :2], axis=2)
-            out[sl] = np.minimum(out[sl], (ref[None, :, 2] + GROWTH * dist).min(axis=1))
+        out = np.minimum(out, refined_step(np.asarray(lay.refine), xy))
+    return out
+
+
+def refined_step(ref: np.ndarray, xy: np.ndarray, k: int = 16) -> np.ndarray:
+    """min over the refinements ``ref`` (r, 3: x, y, step) of step + GROWTH x distance, at every
+    point of ``xy``: over the ``k`` nearest refinements where that settles it (every other one is
+    farther, so asks at least the smallest step + GROWTH x the k-th distance), over all of them
+    elsewhere; the same values either way."""
+    if ref.shape[0] <= 4 * k:  # few: all of them (a tree would cost more)
+        out = np.empty(xy.shape[0])
+        open_ = np.arange(xy.shape[0])
+    else:
+        _, near = cKDTree(ref[:, :2]).query(xy, k=k)
+        dist = np.hypot(xy[:, None, 0] - ref[near, 0], xy[:, None, 1] - ref[near, 1])
+        out = (ref[near, 2] + GROWTH * dist).min(axis=1)
+        open_ = np.flatnonzero(out > ref[:, 2].min() + GROWTH * dist[:, -1])
+    chunk = max(1, 2**20 // ref.shape[0])
+    for start in range(0, len(open_), chunk):  # the points the nearest ones do not settle
+        rows = open_[start : start + chunk]
+        d = np.hypot(xy[rows, None, 0] - ref[None, :, 0], xy[rows, None, 1] - ref[None, :, 1])
+        out[rows] = (ref[None, :, 2] + GROWTH * d).min(axis=1)
     return out

@@ -40,13 +40,15 @@ graph), all in the domain's local frame:
    check fails the fault step is made smaller locally, by what the geometry needs
    (a circle holding a site shrinks below that site's distance; a site outside the
    domain comes closer to its trace than the boundary is, down to a quarter of the
-   fault's step; at least halving), and the sites rebuilt, up to ``max_refinements``
-   times; if a circle still holds a site, a :class:`GridError` names the faults and the
-   place. Sites left outside the domain stay: the boundary closes their cells
+   fault's step; at least halving), and the sites rebuilt, down to fault steps of the
+   cell size times 2^-max_refinements (``PebiTuning``); if a circle still holds a site, a
+   :class:`GridError` names the faults, the place and the case keys that would help.
+   Sites left outside the domain stay: the boundary closes their cells
    (:func:`.conformity.outside_sites`).
 
 Wells keep clear of the fault circles: :func:`.fault_layout.ring_room` gives how far a well's
-rings may reach (:mod:`.wells` shrinks them to that, with a note).
+rings may reach (:mod:`.wells` shrinks them to that, with a note); a vertical well with no room
+at all gets one of the fault's cells (:mod:`.fault_wells`).
 
 Fault ids are the 1-based positions in the ``faults`` sequence; face tags use them.
 """

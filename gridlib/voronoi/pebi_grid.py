@@ -34,14 +34,18 @@ Awkward layouts build; what could not be honoured exactly is said in ``notes``:
   number of faults at any angles get rows of cells along every arm, shared where
   both arms of a gap want the same (:mod:`.wedges`, a note per wedge or fan);
 * faults running close to each other or to the boundary get locally smaller steps,
-  as small as the gap needs (a note says how many rounds of refinement);
+  as small as the gap needs, down to 1/64 of the cell size (a note says how many rounds
+  of refinement);
 * a fault running closer to the boundary than its sites stand off it gets smaller steps
   there too, down to a quarter of its own step (``conformity.GRAZE_FLOOR``); the sites
   still outside then stay: the face between a site and its mirror image is the step all
   the same, and the boundary closes the site's cell, the strip between the trace and the
   boundary (a note names the fault and counts those cells);
 * a well near a fault keeps its rings clear of the fault's circles: they are
-  shrunk (or dropped, one cell at the well), with a note; a well path crossing a
+  shrunk (or dropped, one cell at the well), with a note; a vertical well on a fault
+  trace, at its tip, where faults meet or closer to it than the fault's cells are wide
+  gets one of the fault's cells, on its ``fault_side`` or the nearer side, with a note
+  (:mod:`.fault_wells`); a well path crossing a
   fault or running along it gets the fault cells it runs through there instead of
   sites of its own; fault steps are refined where a well's site would fall into a circle;
 * geometry finer than the cells can follow is resolved: a trace passing a
@@ -71,8 +75,9 @@ first site (two straight faults crossing), they are made to share it exactly.
 
 Fault faces carry ``faces.tag`` = fault id (1-based position in ``faults``),
 every other face 0; ``cell_well`` is the 1-based well id of the cells generated
-by a well's sites (not by the side rows of its path) and of the other free cells a
-well path runs through (fault cells where it has no site), else 0. Coordinates are metres in the
+by a well's sites (not by the side rows of its path), of the fault cell of a vertical well on
+a fault, and of the other free cells a well path runs through (fault cells where it has no
+site), else 0. Coordinates are metres in the
 caller's frame (UTM-sized coordinates are fine: everything is computed in a
 local frame); the grid follows :mod:`gridlib.grid`'s conventions (0-based,
 2-D faces are edges whose normal (dy, -dx) points from ``neighbors[:, 0]`` to
@@ -118,6 +123,7 @@ from .fault_junctions import FITTED
 from .fault_layout import FaultLayout, Refinement, layout, ring_room
 from .fault_network import Fault
 from .fault_sites import FaultSites, build_sites, circle_violations
+from .fault_wells import fault_cells
 from .lattice import Lattice
 from .path_sites import cells_along
 from .pebi_result import ADDED, BACKGROUND, FAULT, FAULT_TIP, PADDING_SITE, WELL, WELL_SIDE, PebiGrid
@@ -127,6 +133,7 @@ from .size_notes import KIND_NAMES, size_notes
 from .wells import Well, WellSites, build_wells, check_clearances, removal_mask
 
 MAX_EXTRA_ROUNDS = 6
+EXTRA_ROUNDS = 4  # x max_refinements: the most rounds of fault refinement, while each is worth it
 
 
 def _size_function(cell_size: object, dom: Domain) -> tuple[Callable[[np.ndarray], np.ndarray], float | None]:
@@ -178,9 +185,11 @@ class PebiTuning:
     ``fault_ratio``: circle radius / step length along faults, in (0.5, 1).
     ``boundary_clearance``: lattice sites closer than this fraction of their spacing to the
     boundary are dropped, in [0, 0.5).
-    ``max_refinements``: how often the fault steps are made smaller locally where the
-    empty-circle condition fails (at least halved each time); also sets the smallest feature
-    honoured, the cell size times 2^-max_refinements.
+    ``max_refinements``: sets the finest fault step the local refinement makes where the
+    empty-circle condition fails, and the smallest feature honoured: the cell size times
+    2^-max_refinements. That many rounds are always allowed (each at least halving the steps
+    where it refines); more, up to 4 x max_refinements, while they still make a step smaller
+    without going below that minimum.
     """
 
     fault_ratio: float = 0.6
@@ -266,6 +275,23 @@ def pebi_grid(
     grid = vor.to_grid(dom.origin, tags, ("pebi_grid",))
     cell_well = np.zeros(n_sites, dtype=np.int64)
     cell_well[n_bg + n_f : n_bg + n_f + ws.sites.shape[0]] = ws.cell_well
+    if ws.on_fault_well.size:  # wells on a fault: one of its cells each
+        traces = [dom.to_local(np.asarray(f.points, dtype=np.float64)) for f in faults]
+        had_rings = np.array([wells[w - 1].rings is not None for w in ws.on_fault_well.tolist()], dtype=bool)
+        mine, on_notes = fault_cells(
+            ws.on_fault_well,
+            ws.on_fault_point,
+            ws.on_fault_side,
+            fs.sites,
+            fs.site_step,
+            traces,
+            fault_labels,
+            ws.labels,
+            had_rings,
+            dom.fmt,
+        )
+        cell_well[n_bg + mine] = ws.on_fault_well
+        notes.extend(on_notes)
     if ws.along.shape[0]:  # the free cells a well path runs through (fault cells where it has no site)
         tree = cKDTree(sites)
         cells, owner = cells_along(lambda p: tree.query(p)[1], ws.along, ws.along_well, dom.tol)
@@ -398,16 +424,25 @@ def _conforming_fault_sites(
     while True:  # rebuild the fault sites where they conflict
         ss = _site_set(lay, bg, size, ws)
         fs = ss.faults
-        floor = _graze_floor(lay, fs, size, last=attempt == max_refinements)
+        floor = _graze_floor(lay, fs, size, last=attempt >= max_refinements)
         problems = fault_problems(fs, ss.xy, ss.n_bg, dom, bg.tree, ss.keep, floor)
         if not problems:
             return ss, lay, attempt
-        if attempt == max_refinements:
+        if attempt >= max_refinements:
             kinds = problem_kinds(problems, fs)
             hard = [p for p, why in zip(problems, kinds, strict=True) if why != FITTED]
             if not hard:  # only junctions whose arms were fitted to them: the sites conform
                 return ss, lay, attempt
-            raise_fault_problem(hard, fs, dom, lay, max_refinements, ws)
+            # more rounds while they make fault steps smaller, down to the finest allowed
+            floor = math.ldexp(1.0, -max_refinements) * size(np.array([w for w, _ in hard]))
+            finer = lay.refined(
+                (float(w[0]), float(w[1]), max(step, f))
+                for (w, step), f in zip(hard, floor.tolist(), strict=True)
+            )
+            if finer.refine == lay.refine or attempt >= EXTRA_ROUNDS * max(max_refinements, 1):
+                raise_fault_problem(hard, fs, dom, lay, attempt, ws)
+            lay, attempt = finer, attempt + 1
+            continue
         lay = lay.refined((float(where[0]), float(where[1]), step) for where, step in problems)
         attempt += 1
 

@@ -128,6 +128,10 @@ class Well:
     rings: Rings | None = None
     path: ArrayLike | None = None
     spacing: float | None = None
+    fault_side: str | None = None
+
+
+FAULT_SIDES = {None: 0, "left": 1, "right": -1}  # Well.fault_side: the sign of the side's normal
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,6 +164,9 @@ class WellSites:
     labels: list[str]
     along: np.ndarray  # (a, 2, 2) the steps of the well paths
     along_well: np.ndarray  # (a,) their well ids: the free cells they run through become that well's
+    on_fault_well: np.ndarray  # (f,) ids of the point wells with no site (on or next to a fault trace)
+    on_fault_point: np.ndarray  # (f, 2) their points
+    on_fault_side: np.ndarray  # (f,) their fault_side: +1 left, -1 right, 0 the nearer side
 
     @property
     def count(self) -> int:
@@ -198,6 +205,7 @@ def build_wells(
     along: list[np.ndarray] = [np.zeros((0, 2, 2))]
     along_well: list[np.ndarray] = [np.zeros(0, dtype=np.int64)]
     labels = []
+    on_fault: list[tuple[int, np.ndarray, int]] = []
     for i, well in enumerate(wells):  # loop over wells
         if not isinstance(well, Well):
             raise GridError(f"wells[{i}]: expected a Well, got {type(well).__name__}")
@@ -205,8 +213,16 @@ def build_wells(
         labels.append(label)
         if (well.point is None) == (well.path is None):
             raise GridError(f"{label}: give either a point or a path")
+        if well.fault_side not in FAULT_SIDES:
+            raise GridError(f"{label}: fault_side must be 'left', 'right' or None, got {well.fault_side!r}")
+        if well.fault_side is not None and well.point is None:
+            raise GridError(
+                f"{label}: fault_side applies to a vertical well (point) on a fault, not to a path"
+            )
         if well.point is not None:
             xy, sizes, c, radius, h = _point_well_sites(well, label, domain, size, fault_room, notes)
+            if xy.shape[0] == 0:  # on or next to a fault: one of the fault's cells is the well's
+                on_fault.append((i + 1, c, FAULT_SIDES[well.fault_side]))
             sites.append(xy)
             site_well.append(np.full(xy.shape[0], i + 1))
             site_size.append(sizes)
@@ -240,13 +256,17 @@ def build_wells(
         labels=labels,
         along=np.concatenate(along),
         along_well=np.concatenate(along_well),
+        on_fault_well=np.array([w for w, _, _ in on_fault], dtype=np.int64),
+        on_fault_point=np.array([c for _, c, _ in on_fault], dtype=np.float64).reshape(-1, 2),
+        on_fault_side=np.array([side for _, _, side in on_fault], dtype=np.int64),
     )
 
 
 def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fault_room, notes):
     """The sites of a vertical well: its centre and its rings (shrunk to the room the faults
     leave), their target sizes, the centre (local frame), the outer radius (0 without rings)
-    and the cell size there."""
+    and the cell size there. No sites (and no rings) for a well with no room at all from a fault
+    (its site would fall into the fault's circles): a fault cell is its cell instead."""
     p = _points(well.point, label, "point").reshape(-1)
     if p.size != 2:
         raise GridError(f"{label}: point must be one (x, y) pair, got {well.point!r}")
@@ -259,6 +279,8 @@ def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fa
     pts = [c[None, :]]
     sizes = [np.array([h])]
     radius = 0.0
+    limit = None if fault_room is None else fault_room(c)  # room (m), the fault limiting it, its distance
+    on_fault = limit is not None and float(limit[0][0]) < 0
     if well.rings is not None:
         if not isinstance(well.rings, Rings):
             raise GridError(f"{label}: rings must be a Rings, got {type(well.rings).__name__}")
@@ -274,9 +296,11 @@ def _point_well_sites(well: Well, label: str, domain: Domain, size: Callable, fa
                 outer_guess = float(probe[-1])
             sectors = max(6, int(np.round(2 * np.pi * outer_guess / h)))
         radii = r0.radii(sectors, f"{label}: rings")
-        if fault_room is not None:
-            room, by, dist = fault_room(c)
+        if limit is not None and not on_fault:
+            room, by, dist = limit
             radii = _fit_rings(radii, float(room[0]), by[0], float(dist[0]), label, notes)
+    if on_fault:
+        return np.zeros((0, 2)), np.zeros(0), c, radius, h
     if well.rings is not None and radii.size:
         theta = float(r0.angle) + 2 * np.pi * np.arange(sectors) / sectors
         ring = radii[:, None, None] * np.stack([np.cos(theta), np.sin(theta)], axis=-1)[None]

@@ -12,6 +12,7 @@ from seed_points import radial_points
 
 import gridlib as gl
 from gridlib.voronoi import Fault, PebiGrid, Rings, Well, grid_quality, pebi_grid, rectangle
+from gridlib.voronoi.pebi_result import FAULT
 
 bounded_module = importlib.import_module("gridlib.voronoi.bounded")
 lattice_module = importlib.import_module("gridlib.voronoi.lattice")
@@ -415,7 +416,8 @@ def test_a_splay_of_faults_at_small_angles_builds(angles):
 
 def test_wells_next_to_a_fault_keep_clear_of_its_circles():
     """A well 1.2 cells from a fault (used to be refused) gets smaller rings, said in the notes; a well
-    without rings a tenth of a cell from it is fine once the fault's steps are refined there."""
+    a tenth of a cell from it, closer than the fault's cells are wide, gets the fault cell on its side
+    (tests/voronoi/test_pebi_wells_on_faults.py has the rest)."""
     fault = Fault([(2, 2), (8, 2)], "F")
     pg = pebi_grid(R10, 0.5, faults=[fault], wells=[Well((5, 2.6), "P", rings=Rings(0.1, 0.5))])
     gl.check_grid(pg.grid)
@@ -428,7 +430,9 @@ def test_wells_next_to_a_fault_keep_clear_of_its_circles():
     assert _lengths(pg.grid)[pg.grid.faces.tag == 1].sum() == pytest.approx(6.0, rel=1e-12)
     pg = pebi_grid(R10, 0.5, faults=[fault], wells=[Well((5, 2.05), "Q")])
     gl.check_grid(pg.grid)
-    assert np.bincount(pg.cell_well).tolist()[1] == 1 and any("refined locally" in n for n in pg.notes)
+    (mine,) = np.flatnonzero(pg.cell_well == 1)
+    assert pg.site_kind[mine] == FAULT and pg.sites[mine, 1] > 2.0  # the fault cell on the well's side
+    assert not any("refined locally" in n for n in pg.notes)
     assert _lengths(pg.grid)[pg.grid.faces.tag == 1].sum() == pytest.approx(6.0, rel=1e-12)
 
 

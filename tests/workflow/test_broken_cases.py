@@ -158,9 +158,13 @@ BROKEN = {
         PEBI + "wells:\n  - {name: H, path: [[100, 100], [900, 700], [900, 100], [100, 700]]}\n",
         "wells[0].path: well 'H''s path crosses itself",
     ),
-    "well_on_fault": (
-        PEBI + _faults("[[500, -50], [500, 850]]") + "wells:\n  - {name: INJ, point: [500, 400]}\n",
-        "wells[0].point: well 'INJ' at (500, 400) lies on fault 'F0'",
+    "fault_side_not_a_side": (
+        PEBI + "wells:\n  - {name: INJ, point: [500, 400], fault_side: up}\n",
+        "wells[0].fault_side: 'up' is not one of ['left', 'right']",
+    ),
+    "fault_side_on_a_path": (
+        PEBI + "wells:\n  - {name: H, path: [[100, 100], [900, 700]], fault_side: left}\n",
+        "wells[0].fault_side: well 'H' is not a point well",
     ),
     "rings_merge_with_the_well": (
         PEBI + "wells:\n  - {name: W, point: [300, 400], rings: {inner: 0.001, outer: 40}}\n",
