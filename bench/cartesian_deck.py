@@ -102,7 +102,12 @@ def child(path: Path, checkout: str | None) -> dict:
     if checkout is not None:
         env["PYTHONPATH"] = checkout
     done = subprocess.run(
-        [sys.executable, "-c", CHILD, str(path)], env=env, capture_output=True, text=True, check=False
+        [sys.executable, "-c", CHILD, str(path)],
+        env=env,
+        cwd=path.parent,  # not a checkout: ``python -c`` puts the working directory first on sys.path
+        capture_output=True,
+        text=True,
+        check=False,
     )
     if done.returncode:
         raise SystemExit(f"child ({checkout or 'this checkout'}) on {path.name} failed:\n{done.stderr}")
@@ -164,9 +169,7 @@ def main() -> None:
                 row += f"{us:>11.3f} | {b:>7.0f}"
         print(row)
     for c in checkouts:
-        worse = [
-            s for s in STAGES if any(table[c, "spe"][s][m] > table[c, "model3"][s][m] for m in (0, 1))
-        ]
+        worse = [s for s in STAGES if any(table[c, "spe"][s][m] > table[c, "model3"][s][m] for m in (0, 1))]
         print(
             f"{c}: spe per cell no worse than model3 in every stage: "
             f"{'yes' if not worse else 'no (' + ', '.join(worse) + ')'}"
