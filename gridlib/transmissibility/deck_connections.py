@@ -120,16 +120,16 @@ def deck_transmissibility(
     pairs, trans, kind, f = apply_deck_edits(
         deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
     )
-    _check_finite(deck, trans, glob[pairs])
+    _check_finite(deck, trans, pairs, glob)
     return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes)
 
 
-def _check_finite(deck: Deck, trans: np.ndarray, cells: np.ndarray) -> None:
+def _check_finite(deck: Deck, trans: np.ndarray, pairs: np.ndarray, glob: np.ndarray) -> None:
     """Transmissibilities beyond float64 (a PERMX or multiplier of 1e300) are the deck's doing:
-    one InputError naming the deck and the first connection's cells."""
+    one InputError naming the deck and the first connection's cells (``glob`` of ``pairs``)."""
     bad = np.flatnonzero(~np.isfinite(trans))
     if bad.size:
-        a, b = (ijk_text(int(g), deck.cart_dims) for g in cells[bad[0]])
+        a, b = (ijk_text(int(g), deck.cart_dims) for g in glob[pairs[bad[0]]])
         raise InputError(
             f"{deck.source}: {bad.size} transmissibilities are beyond any float (first between cells "
             f"{a} and {b}): check the permeabilities and multipliers there"

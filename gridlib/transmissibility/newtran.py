@@ -144,7 +144,7 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
 # -------------------------------------------------------------------------- every cell at once
 
 
-def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray) -> FloatArray:
+def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray, sign: int | None = None) -> FloatArray:
     """The half-transmissibility K |A . d| / (d . d) (mD x deck length) of every logical
     face W, E, S, N, T, B (rows) of every cell of the deck (linear ijk order, columns),
     with A the area vector of the cell's own quadrilateral face (:data:`AREA_DIAGONALS`):
@@ -155,10 +155,11 @@ def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray) -> FloatArr
     (never used). Where every pillar is vertical (most decks: DX/DY/DZ boxes, vertical
     pillars of corner-point models), the x and y parts of the corners, centres and areas
     are the same in every layer and computed once (:class:`_VerticalColumns`: the same
-    operations on the same numbers, so the same bits)."""
+    operations on the same numbers, so the same bits). ``sign``: the deck's
+    :func:`~gridlib.cornerpoint.corners.depth_sign`, if known."""
     nx, ny, nz = deck.cart_dims
     layer = nx * ny
-    corners = _LayerCorners(deck)
+    corners = _LayerCorners(deck, sign)
     columns = _VerticalColumns.of(corners)
     halves = np.empty((6, nx * ny * nz))
     block = max(1, min(layer, _CELL_BLOCK))
@@ -189,9 +190,9 @@ class _LayerCorners:
     """The corner coordinates of the cells of one layer at a time, (3, 8 corners, nx ny) in
     the frame of :func:`~gridlib.cornerpoint.corners.corner_points` (the same bits)."""
 
-    def __init__(self, deck: Deck) -> None:
+    def __init__(self, deck: Deck, sign: int | None = None) -> None:
         self.nx, self.ny, _ = deck.cart_dims
-        self.sign = depth_sign(deck)
+        self.sign = depth_sign(deck) if sign is None else sign
         self.zcorn = deck.zcorn_array()
         pil = deck.pillars()  # (ny+1, nx+1, 2, 3)
         nx, ny = self.nx, self.ny
@@ -349,12 +350,14 @@ def face_area(p: FloatArray, f: int) -> FloatArray:
     return 0.5 * cross(p[:, a] - p[:, b], p[:, c] - p[:, e])
 
 
-def gathered_half_data(deck: Deck, cells: IntArray, perm: FloatArray, ntg: FloatArray):
+def gathered_half_data(
+    deck: Deck, cells: IntArray, perm: FloatArray, ntg: FloatArray, sign: int | None = None
+):
     """For ``cells`` (linear ijk indices): d (3, 6, m), K / (d . d) (6, m) and the area
     vector of the bottom face (3, m), from their corners gathered one by one
     (:func:`~gridlib.cornerpoint.corners.corner_points`: the same bits as the layers of
     :func:`structured_halves`)."""
-    p = np.ascontiguousarray(corner_points(deck, cells).transpose(2, 1, 0))
+    p = np.ascontiguousarray(corner_points(deck, cells, sign).transpose(2, 1, 0))
     k_face = _face_permeability(perm[cells], ntg[cells])
     d, kdd = centre_to_faces(p, k_face)
     return d, kdd, face_area(p, B)
@@ -404,7 +407,8 @@ def newtran_connections(
         lambda: _interior_faces(grid),
         *(lambda axis=axis: _matched(deck, in_grid, axis).ravel() for axis in range(3)),
     )
-    halves = structured_halves(deck, perm, ntg)
+    sign = depth_sign(deck)
+    halves = structured_halves(deck, perm, ntg, sign)
     is_simple, face_of = _simple_faces(f, ga, gb, simple, strides, nc)
 
     def simple_pairs(axis: int, halves: FloatArray, face_of: list[IntArray]):
@@ -433,7 +437,7 @@ def newtran_connections(
         grid's face polygons (or the upper cell's bottom quad between cells of a column)."""
         ga, gb = glob[a], glob[b]
         involved = np.unique(np.concatenate([ga, gb]))
-        d, kdd, bottom = gathered_half_data(deck, involved, perm, ntg)
+        d, kdd, bottom = gathered_half_data(deck, involved, perm, ntg, sign)
         ia, ib = np.searchsorted(involved, ga), np.searchsorted(involved, gb)
         area = np.empty((3, f.size))
         lateral = np.flatnonzero(~column)
@@ -514,16 +518,27 @@ def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
     z = deck.zcorn_array().reshape(nz, 2, ny, 2, nx, 2)
     g = in_grid.reshape(nz, ny, nx)
     out = np.zeros((nz, ny, nx), dtype=bool)
+    if axis == 0:
+        low, high, inner = z[:, :, :, :, :-1, 1], z[:, :, :, :, 1:, 0], (slice(None), slice(None), slice(-1))
+        corners = [(c, slice(None), b) for c in (0, 1) for b in (0, 1)]  # (c, j, b, i)
+    elif axis == 1:
+        low, high, inner = z[:, :, :-1, 1], z[:, :, 1:, 0], (slice(None), slice(-1))
+        corners = [(c, slice(None), slice(None), a) for c in (0, 1) for a in (0, 1)]  # (c, j, i, a)
+    else:
+        low, high, inner = z[:-1, 1], z[1:, 0], (slice(-1),)
+        corners = [(slice(None), b, slice(None), a) for b in (0, 1) for a in (0, 1)]  # (j, b, i, a)
     with np.errstate(invalid="ignore"):
+        same = out[inner]
+        same[...] = g[inner]
         if axis == 0:
-            same = (z[:, :, :, :, :-1, 1] == z[:, :, :, :, 1:, 0]).all(axis=(1, 3))
-            out[:, :, :-1] = same & g[:, :, :-1] & g[:, :, 1:]
+            same &= g[:, :, 1:]
         elif axis == 1:
-            same = (z[:, :, :-1, 1] == z[:, :, 1:, 0]).all(axis=(1, 4))
-            out[:, :-1] = same & g[:, :-1] & g[:, 1:]
+            same &= g[:, 1:]
         else:
-            same = (z[:-1, 1] == z[1:, 0]).all(axis=(2, 4))
-            out[:-1] = same & g[:-1] & g[1:]
+            same &= g[1:]
+        for corner in corners:  # the four shared corners, one comparison each
+            at = (slice(None), *corner)
+            same &= low[at] == high[at]
     return out
 
 
