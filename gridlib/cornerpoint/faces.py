@@ -1,12 +1,13 @@
 """Faces of a corner-point grid from its (k, j, i) structure, vectorised by slicing.
 
 Lateral faces: for every pillar pair, compare the cells on its two sides layer
-by layer. A pair is *regular* when both sides hold the same cells with the same
-corner nodes (no fault): one quadrilateral per cell. A pair with cells on one
-side only (the edge of the model, an inactive column) gives one boundary
-quadrilateral per cell. Every other pair (faults, partly inactive neighbours,
-pinch-outs) goes to the general pillar-pair engine. Quadrilaterals come out in
-(k, j, i) order, ``cart_grid``'s face order.
+by layer. A pair is *regular* when, in every layer, both sides hold the same cell
+with the same corner nodes (no fault), or one side a cell that nothing of the other
+side overlaps (an inactive neighbour: :func:`_alone`): one quadrilateral per cell.
+A pair with cells on one side only (the edge of the model, an inactive column)
+gives one boundary quadrilateral per cell. Every other pair (faults, inactive
+neighbours next to a throw, pinch-outs) goes to the general pillar-pair engine.
+Quadrilaterals come out in (k, j, i) order, ``cart_grid``'s face order.
 
 Top and bottom faces: walk every column through its kept cells (array
 accumulations along k); consecutive kept cells whose shared corners coincide
