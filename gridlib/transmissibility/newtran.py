@@ -491,9 +491,9 @@ def _simple_faces(
     is_simple = np.zeros(f.size, dtype=bool)
     face_of = []
     for axis, stride in enumerate(strides):
-        hit = step == stride
-        hit &= simple[axis][lo]
-        is_simple |= hit
+        hit = np.flatnonzero(step == stride)
+        hit = hit[simple[axis][lo[hit]]]
+        is_simple[hit] = True
         lookup = np.full(nc, -1, dtype=np.int64)
         lookup[lo[hit]] = f[hit]
         face_of.append(lookup)
