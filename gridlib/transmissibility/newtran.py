@@ -403,13 +403,15 @@ def newtran_connections(
     strides = (1, nx, layer)
 
     in_grid = cell_of >= 0
-    (f, a, b, ga, gb), *simple = concurrently(
+    (f, a, b, ga, gb), sign, *simple = concurrently(
         lambda: _interior_faces(grid),
+        lambda: depth_sign(deck),
         *(lambda axis=axis: _matched(deck, in_grid, axis).ravel() for axis in range(3)),
     )
-    sign = depth_sign(deck)
-    halves = structured_halves(deck, perm, ntg, sign)
-    is_simple, face_of = _simple_faces(f, ga, gb, simple, strides, nc)
+    halves, (is_simple, face_of) = concurrently(  # independent: side by side on the threads
+        lambda: structured_halves(deck, perm, ntg, sign),
+        partial(_simple_faces, f, ga, gb, simple, strides, nc),
+    )
 
     def simple_pairs(axis: int, halves: FloatArray, face_of: list[IntArray]):
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
