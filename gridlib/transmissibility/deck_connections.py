@@ -35,7 +35,7 @@ from ..petrophysics.ranges import check_rock_values
 from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
 from .edits import apply_deck_edits, logical_neighbors
-from .multipliers import directional_multipliers
+from .multipliers import directional_multipliers, side_multipliers
 from .newtran import newtran_connections
 from .region_multipliers import region_multipliers
 
@@ -98,7 +98,7 @@ def deck_transmissibility(
 
     mult = directional_multipliers(deck, notes)
     if mult is not None:
-        ma, mb = mult[ta, ga], mult[tb, gb]
+        ma, mb = side_multipliers(mult, ta, ga), side_multipliers(mult, tb, gb)
         if pinch_active and deck.pinch_options[2] == "ALL":
             smallest = _smallest_multz(mult, ga, gb, ta, column, layer)
             ma = np.where(column & (ta == B), smallest, ma)
@@ -141,9 +141,12 @@ def _smallest_multz(mult, ga, gb, ta, column, layer):
     the smallest MULTZ from the upper cell down to the last cell above the lower one
     (instead of the upper cell's own); per connection (used where ``column``)."""
     up, low = np.where(ta == B, ga, gb), np.where(ta == B, gb, ga)
-    best = mult[B, up].copy()
+    if B not in mult:  # no MULTZ: 1 everywhere
+        return np.ones(up.size)
+    multz = mult[B]
+    best = multz[up]
     span = np.where(column, (low - up) // layer, 0)
     for step in range(1, int(span.max(initial=0))):
         more = span > step
-        best[more] = np.minimum(best[more], mult[B, up[more] + step * layer])
+        best[more] = np.minimum(best[more], multz[up[more] + step * layer])
     return best
