@@ -61,7 +61,8 @@ bench: $(VENV)/.installed-run
 	$(BIN)/python bench/pebi.py
 	$(BIN)/python bench/petrophysics.py
 	$(BIN)/python bench/coarsen.py
-	$(BIN)/python bench/transmissibility.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
+	$(BIN)/python bench/transmissibility.py
+	$(BIN)/python bench/cartesian_deck.py
 	$(BIN)/python bench/flow_deck.py
 	$(BIN)/python bench/wells.py $(if $(PEER_PYTHON),--peer-python $(PEER_PYTHON))
 

@@ -1,12 +1,13 @@
 """Faces of a corner-point grid from its (k, j, i) structure, vectorised by slicing.
 
 Lateral faces: for every pillar pair, compare the cells on its two sides layer
-by layer. A pair is *regular* when both sides hold the same cells with the same
-corner nodes (no fault): one quadrilateral per cell. A pair with cells on one
-side only (the edge of the model, an inactive column) gives one boundary
-quadrilateral per cell. Every other pair (faults, partly inactive neighbours,
-pinch-outs) goes to the general pillar-pair engine. Quadrilaterals come out in
-(k, j, i) order, ``cart_grid``'s face order.
+by layer. A pair is *regular* when, in every layer, both sides hold the same cell
+with the same corner nodes (no fault), or one side a cell that nothing of the other
+side overlaps (an inactive neighbour: :func:`_alone`): one quadrilateral per cell.
+A pair with cells on one side only (the edge of the model, an inactive column)
+gives one boundary quadrilateral per cell. Every other pair (faults, inactive
+neighbours next to a throw, pinch-outs) goes to the general pillar-pair engine.
+Quadrilaterals come out in (k, j, i) order, ``cart_grid``'s face order.
 
 Top and bottom faces: walk every column through its kept cells (array
 accumulations along k); consecutive kept cells whose shared corners coincide
@@ -106,7 +107,9 @@ def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_bas
     ex_a = (at1 >= 0) & ((at1 < ab1) | (at2 < ab2))  # kept and not pinched on this pair
     ex_b = (bt1 >= 0) & ((bt1 < bb1) | (bt2 < bb2))
     same_corners = (at1 == bt1) & (at2 == bt2) & (ab1 == bb1) & (ab2 == bb2)
-    regular = ((ex_a == ex_b) & (~ex_a | same_corners)).all(axis=0)
+    lone_a = _alone(ex_a, ex_b, (at1, at2, ab1, ab2), (bt1, bt2, bb1, bb2))
+    lone_b = _alone(ex_b, ex_a, (bt1, bt2, bb1, bb2), (at1, at2, ab1, ab2))
+    regular = (((ex_a == ex_b) & (~ex_a | same_corners)) | lone_a | lone_b).all(axis=0)
     one_side = ~ex_a.any(axis=0) | ~ex_b.any(axis=0)
     simple = regular | one_side
     faulted = (ex_a & ex_b & ~same_corners).any(axis=0)
@@ -154,6 +157,30 @@ def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_bas
         )
     side_cells = SideCells(*(np.concatenate([f[n] for f in fields]).astype(np.int64) for n in range(8)))
     return StructuredLateral(quads, side_cells, faulted.ravel())
+
+
+def _alone(ex: np.ndarray, ex_other: np.ndarray, corners: tuple, other: tuple) -> np.ndarray:
+    """(nz, pairs): the cell of this side is a plain boundary quad on the pair: it has a face
+    there (``ex``), the other side has no cell in its layer, and the other side's cells
+    above end at or above its top and those below start at or below its bottom, on both
+    pillars (node ids grow with depth along a pillar), so nothing of the other side
+    overlaps or splits it. An inactive cell in an unfaulted deck makes such pairs, which
+    then need no pillar-pair engine."""
+    t1, t2, b1, b2 = corners
+    ot1, ot2, ob1, ob2 = other
+    kept_other = ot1 >= 0
+    if not (ex & ~ex_other).any():
+        return np.zeros_like(ex)
+    alone = ex & ~kept_other
+    nz = ex.shape[0]
+    for top, bottom, o_top, o_bottom in ((t1, b1, ot1, ob1), (t2, b2, ot2, ob2)):
+        above = np.maximum.accumulate(np.where(kept_other, o_bottom, -1), axis=0)
+        alone[1:] &= above[:-1] <= top[1:]
+        del above
+        big = np.iinfo(o_top.dtype).max
+        below = np.minimum.accumulate(np.where(kept_other, o_top, big)[::-1], axis=0)[::-1]
+        alone[: nz - 1] &= below[1:] >= bottom[: nz - 1]
+    return alone
 
 
 @dataclass(frozen=True, eq=False)

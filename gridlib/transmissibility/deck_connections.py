@@ -35,7 +35,7 @@ from ..petrophysics.ranges import check_rock_values
 from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
 from .edits import apply_deck_edits, logical_neighbors
-from .multipliers import directional_multipliers
+from .multipliers import directional_multipliers, side_multipliers
 from .newtran import newtran_connections
 from .region_multipliers import region_multipliers
 
@@ -98,7 +98,7 @@ def deck_transmissibility(
 
     mult = directional_multipliers(deck, notes)
     if mult is not None:
-        ma, mb = mult[ta, ga], mult[tb, gb]
+        ma, mb = side_multipliers(mult, ta, ga), side_multipliers(mult, tb, gb)
         if pinch_active and deck.pinch_options[2] == "ALL":
             smallest = _smallest_multz(mult, ga, gb, ta, column, layer)
             ma = np.where(column & (ta == B), smallest, ma)
@@ -120,16 +120,16 @@ def deck_transmissibility(
     pairs, trans, kind, f = apply_deck_edits(
         deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
     )
-    _check_finite(deck, trans, glob[pairs])
+    _check_finite(deck, trans, pairs, glob)
     return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes)
 
 
-def _check_finite(deck: Deck, trans: np.ndarray, cells: np.ndarray) -> None:
+def _check_finite(deck: Deck, trans: np.ndarray, pairs: np.ndarray, glob: np.ndarray) -> None:
     """Transmissibilities beyond float64 (a PERMX or multiplier of 1e300) are the deck's doing:
-    one InputError naming the deck and the first connection's cells."""
+    one InputError naming the deck and the first connection's cells (``glob`` of ``pairs``)."""
     bad = np.flatnonzero(~np.isfinite(trans))
     if bad.size:
-        a, b = (ijk_text(int(g), deck.cart_dims) for g in cells[bad[0]])
+        a, b = (ijk_text(int(g), deck.cart_dims) for g in glob[pairs[bad[0]]])
         raise InputError(
             f"{deck.source}: {bad.size} transmissibilities are beyond any float (first between cells "
             f"{a} and {b}): check the permeabilities and multipliers there"
@@ -141,9 +141,12 @@ def _smallest_multz(mult, ga, gb, ta, column, layer):
     the smallest MULTZ from the upper cell down to the last cell above the lower one
     (instead of the upper cell's own); per connection (used where ``column``)."""
     up, low = np.where(ta == B, ga, gb), np.where(ta == B, gb, ga)
-    best = mult[B, up].copy()
+    if B not in mult:  # no MULTZ: 1 everywhere
+        return np.ones(up.size)
+    multz = mult[B]
+    best = multz[up]
     span = np.where(column, (low - up) // layer, 0)
     for step in range(1, int(span.max(initial=0))):
         more = span > step
-        best[more] = np.minimum(best[more], mult[B, up[more] + step * layer])
+        best[more] = np.minimum(best[more], multz[up[more] + step * layer])
     return best

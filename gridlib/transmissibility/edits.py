@@ -41,7 +41,7 @@ import numpy as np
 from ..cornerpoint.connection_keywords import CellPairs
 from ..cornerpoint.deck import Deck
 from ..grid import FloatArray, IntArray
-from .connections import OTHER
+from .connections import NEIGHBOR, OTHER
 
 NNC_THRESHOLD = 1e-6  # deck units: non-neighbour connections below this are set to 0 (Flow)
 
@@ -220,8 +220,9 @@ def _edited(deck, cells, trans, kind, face, index_map, notes):
 
 def _drop_small(deck, cells, trans, kind, face, index_map, notes, unit_label):
     """Step 5: non-neighbour pairs whose total is below the threshold set to 0."""
-    g = index_map[cells]
-    far = np.flatnonzero(~logical_neighbors(g[:, 0], g[:, 1], deck.cart_dims))
+    far = np.flatnonzero(kind != NEIGHBOR)  # NEIGHBOR entries are logical neighbours
+    g = index_map[cells[far]]
+    far = far[~logical_neighbors(g[:, 0], g[:, 1], deck.cart_dims)]
     if far.size:
         sub = np.sort(cells[far], axis=1)
         _, group = np.unique(_keys(sub[:, 0], sub[:, 1], index_map.size), return_inverse=True)

@@ -24,20 +24,21 @@ _KEYWORD_OF_TAG = {W: "MULTX-", E: "MULTX", S: "MULTY-", N: "MULTY", T: "MULTZ-"
 _TAG_OF_FAULT_FACE = {"X": E, "X-": W, "Y": N, "Y-": S, "Z": B, "Z-": T}
 
 
-def directional_multipliers(deck: Deck, notes: list[str]) -> np.ndarray | None:
-    """(6, nc) multiplier of every cell for each side W, E, S, N, T, B, or None if all are 1."""
+def directional_multipliers(deck: Deck, notes: list[str]) -> dict[int, np.ndarray] | None:
+    """The multiplier (nc,) of every cell for its side W, E, S, N, T or B (tag -> row), for
+    the sides a keyword or MULTFLT sets (the others are 1), or None if all are 1."""
     present = [tag for tag, key in _KEYWORD_OF_TAG.items() if key in deck.cell_data]
     faulted = [seg for seg in deck.faults if deck.multflt.get(seg.name, 1.0) != 1.0]
     if not present and not faulted:
         _gridopts_notes(deck, [], notes)
         return None
     nx, ny, _ = deck.cart_dims
-    mult = np.ones((6, deck.num_cells))
+    mult = {}
     for tag in present:
         values = deck.cell_data[_KEYWORD_OF_TAG[tag]]
         if not np.isfinite(values).all() or (values < 0).any():
             raise InputError(f"{deck.source}: {_KEYWORD_OF_TAG[tag]}: multipliers must be finite and >= 0")
-        mult[tag] = values
+        mult[tag] = np.array(values, dtype=np.float64)
     if present:
         notes.append("multipliers applied: " + ", ".join(_KEYWORD_OF_TAG[t] for t in present))
     _gridopts_notes(deck, [_KEYWORD_OF_TAG[t] for t in present], notes)
@@ -45,11 +46,24 @@ def directional_multipliers(deck: Deck, notes: list[str]) -> np.ndarray | None:
         ranges = (np.arange(seg.i1, seg.i2 + 1), np.arange(seg.j1, seg.j2 + 1), np.arange(seg.k1, seg.k2 + 1))
         i, j, k = np.meshgrid(*ranges, indexing="ij")
         cells = (i + nx * (j + ny * k)).ravel()
-        np.multiply.at(mult[_TAG_OF_FAULT_FACE[seg.face]], cells, deck.multflt[seg.name])
+        tag = _TAG_OF_FAULT_FACE[seg.face]
+        if tag not in mult:
+            mult[tag] = np.ones(deck.num_cells)
+        np.multiply.at(mult[tag], cells, deck.multflt[seg.name])
     if faulted:
         names = sorted({seg.name for seg in faulted})
         notes.append(f"MULTFLT applied to the faces of {len(names)} faults: {', '.join(names)}")
     return mult
+
+
+def side_multipliers(mult: dict[int, np.ndarray], tags: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """The multiplier of each of ``cells`` (linear ijk indices) for its side ``tags``, from
+    :func:`directional_multipliers`' rows (1 for the sides it leaves out)."""
+    out = np.ones(cells.size)
+    for tag, row in mult.items():
+        on = np.flatnonzero(tags == tag)
+        out[on] = row[cells[on]]
+    return out
 
 
 def _gridopts_notes(deck: Deck, keywords: list[str], notes: list[str]) -> None:

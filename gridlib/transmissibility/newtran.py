@@ -44,6 +44,7 @@ AREA_DIAGONALS = np.array(
 HALF_MINIMUM = 1e-30  # m3: below this a half-transmissibility makes the connection 0 (Flow)
 _BLOCK = 1 << 16  # faces per block of vector_areas
 _LAYER_TASKS = 4  # blocks of layers of structured_halves, shared out among the threads
+_CELL_BLOCK = 1 << 13  # cells of a layer worked on at once by structured_halves (the cache)
 _AXIS_OF_FACE = np.array([0, 0, 1, 1, 2, 2])  # W, E -> x; S, N -> y; T, B -> z
 
 
@@ -83,21 +84,35 @@ def vector_areas(grid: Grid, faces: IntArray) -> FloatArray:
 def interior_logical_faces(grid: Grid, dims: tuple[int, int, int]):
     """The interior faces f of a processed corner-point grid, their two cells a, b
     (``neighbors[f]``) and the logical side W, E, S, N, T, B each cell sees the face on:
-    (f, a, tag_a, b, tag_b). Read off the two cells' (i, j) columns: every face of a
-    corner-point grid lies on a pillar pair (cells of columns i and i + 1, or j and j + 1:
-    E/W or N/S sides) or between two cells of one column (the upper cell's B, the lower's T)."""
+    (f, a, tag_a, b, tag_b) (:func:`logical_sides`)."""
+    f, a, b, ga, gb = _interior_faces(grid)
+    ta, tb = logical_sides(ga, gb, dims)
+    return f, a, ta, b, tb
+
+
+def _interior_faces(grid: Grid) -> tuple[IntArray, IntArray, IntArray, IntArray, IntArray]:
+    """The interior faces f, their cells a, b (``neighbors[f]``) and those cells' linear
+    ijk indices ga, gb."""
     nb = grid.faces.neighbors
     f = np.flatnonzero((nb[:, 0] >= 0) & (nb[:, 1] >= 0))
     a, b = nb[f, 0], nb[f, 1]
     glob = grid.cells.index_map
+    return f, a, b, glob[a], glob[b]
+
+
+def logical_sides(ga: IntArray, gb: IntArray, dims: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """The logical side W, E, S, N, T, B on which cells ga see their face with cells gb
+    (linear ijk indices), and the side gb sees it on. Read off the two cells' (i, j)
+    columns: every face of a corner-point grid lies on a pillar pair (cells of columns i and
+    i + 1, or j and j + 1: E/W or N/S sides) or between two cells of one column (the upper
+    cell's B, the lower's T)."""
     nx, ny, _ = dims
-    ga, gb = glob[a], glob[b]
     di = gb % nx - ga % nx
     dj = (gb // nx) % ny - (ga // nx) % ny
     below = gb // (nx * ny) > ga // (nx * ny)  # in one column: b under a
     ta = np.select([di > 0, di < 0, dj > 0, dj < 0, below], [E, W, N, S, B], T)
     tb = ta ^ 1  # the opposite side: W <-> E, S <-> N, T <-> B
-    return f, a, ta.astype(np.int8), b, tb.astype(np.int8)
+    return ta.astype(np.int8), tb.astype(np.int8)
 
 
 def half_transmissibilities(area: FloatArray, d: FloatArray, kdd: FloatArray) -> FloatArray:
@@ -129,28 +144,42 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
 # -------------------------------------------------------------------------- every cell at once
 
 
-def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray) -> FloatArray:
+def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray, sign: int | None = None) -> FloatArray:
     """The half-transmissibility K |A . d| / (d . d) (mD x deck length) of every logical
     face W, E, S, N, T, B (rows) of every cell of the deck (linear ijk order, columns),
     with A the area vector of the cell's own quadrilateral face (:data:`AREA_DIAGONALS`):
     what a connection between two cells needs where their shared face is that whole
     quadrilateral. Computed on the (k, c, j, b, i, a) layout of ZCORN layer by layer,
-    without gathers, in blocks of layers on the threads; inactive cells get whatever
-    their corners give (never used)."""
+    without gathers, a block of cells at a time (small enough for the CPU's cache), in
+    blocks of layers on the threads; inactive cells get whatever their corners give
+    (never used). Where every pillar is vertical (most decks: DX/DY/DZ boxes, vertical
+    pillars of corner-point models), the x and y parts of the corners, centres and areas
+    are the same in every layer and computed once (:class:`_VerticalColumns`: the same
+    operations on the same numbers, so the same bits). ``sign``: the deck's
+    :func:`~gridlib.cornerpoint.corners.depth_sign`, if known."""
     nx, ny, nz = deck.cart_dims
     layer = nx * ny
-    corners = _LayerCorners(deck)
-    k_face = _face_permeability(perm, ntg)
+    corners = _LayerCorners(deck, sign)
+    columns = _VerticalColumns.of(corners)
     halves = np.empty((6, nx * ny * nz))
+    block = max(1, min(layer, _CELL_BLOCK))
 
     def layers(ks: range) -> None:
         p = np.empty((3, 8, layer))
         for k in ks:
-            cells = slice(k * layer, (k + 1) * layer)
-            corners.fill(k, p)
-            d, kdd = centre_to_faces(p, k_face[:, cells])
-            for f in range(6):
-                halves[f, cells] = half_transmissibilities(face_area(p, f), d[:, f], kdd[f])
+            z = corners.depths(k)
+            if columns is None:
+                corners.fill(k, p, z)
+            for start in range(0, layer, block):
+                here = slice(start, min(start + block, layer))
+                cells = slice(k * layer + here.start, k * layer + here.stop)
+                k_face = _face_permeability(perm[cells], ntg[cells])
+                if columns is not None:
+                    columns.halves(z[:, :, here], here, k_face, halves[:, cells])
+                    continue
+                d, kdd = centre_to_faces(p[:, :, here], k_face)
+                for f in range(6):
+                    halves[f, cells] = half_transmissibilities(face_area(p[:, :, here], f), d[:, f], kdd[f])
 
     chunks = [c for c in np.array_split(np.arange(nz), min(nz, _LAYER_TASKS)) if c.size]
     concurrently(*(lambda ks=range(c[0], c[-1] + 1): layers(ks) for c in chunks))
@@ -161,9 +190,9 @@ class _LayerCorners:
     """The corner coordinates of the cells of one layer at a time, (3, 8 corners, nx ny) in
     the frame of :func:`~gridlib.cornerpoint.corners.corner_points` (the same bits)."""
 
-    def __init__(self, deck: Deck) -> None:
+    def __init__(self, deck: Deck, sign: int | None = None) -> None:
         self.nx, self.ny, _ = deck.cart_dims
-        self.sign = depth_sign(deck)
+        self.sign = depth_sign(deck) if sign is None else sign
         self.zcorn = deck.zcorn_array()
         pil = deck.pillars()  # (ny+1, nx+1, 2, 3)
         nx, ny = self.nx, self.ny
@@ -178,9 +207,14 @@ class _LayerCorners:
         self.span = np.where(self.flat, 1.0, span)
         self.dxy = [bot[0] - self.top[0], bot[1] - self.top[1]]
 
-    def fill(self, k: int, p: FloatArray) -> None:
+    def depths(self, k: int) -> FloatArray:
+        """(2 top/bottom, 4 corners a + 2b, nx ny): the ZCORN depths of layer k's corners."""
         nx, ny = self.nx, self.ny
-        z = self.zcorn[2 * k : 2 * k + 2].reshape(2, ny, 2, nx, 2).transpose(0, 2, 4, 1, 3).reshape(2, 4, -1)
+        z = self.zcorn[2 * k : 2 * k + 2].reshape(2, ny, 2, nx, 2)
+        return z.transpose(0, 2, 4, 1, 3).reshape(2, 4, -1)
+
+    def fill(self, k: int, p: FloatArray, z: FloatArray | None = None) -> None:
+        z = self.depths(k) if z is None else z
         top = self.top
         with np.errstate(invalid="ignore", over="ignore"):
             for c in (0, 1):  # top, bottom corners: slots 4 c + (a + 2b)
@@ -191,6 +225,86 @@ class _LayerCorners:
                 np.multiply(t, self.dxy[1], out=p[1, rows])
                 p[1, rows] += top[1]
                 np.multiply(z[c], self.sign, out=p[2, rows])
+
+
+@dataclass(frozen=True, eq=False)
+class _VerticalColumns:
+    """What :func:`structured_halves` needs of the x and y coordinates where every pillar
+    is vertical: per column (nx ny), for each logical face f, the x, y parts of d (from the
+    cell centre to the face centre), d_x² + d_y², the x, y parts of the face's diagonals
+    u, v (:data:`AREA_DIAGONALS`) and its area's z part ½ (u_x v_y - u_y v_x).
+
+    :class:`_LayerCorners` puts a corner at x = t (x_bottom - x_top) + x_top, which is x_top
+    exactly when the pillar is vertical, t finite (|span| >= 1 or a flat pillar, finite
+    depths) and x_top not -0; each quantity below is then computed by the very operations
+    of :func:`centre_to_faces` and :func:`face_area` on the same numbers."""
+
+    sign: int
+    d_xy: FloatArray  # (2, 6, m)
+    dd_xy: FloatArray  # (6, m)
+    uv_xy: FloatArray  # (6, 4, m): u_x, u_y, v_x, v_y
+    area_z: FloatArray  # (6, m)
+
+    @classmethod
+    def of(cls, corners: _LayerCorners) -> _VerticalColumns | None:
+        top_xy = np.stack(corners.top[:2])  # (2, 4, m)
+        negative_zero = (top_xy == 0.0) & np.signbit(top_xy)
+        vertical = (corners.dxy[0] == 0.0).all() and (corners.dxy[1] == 0.0).all()
+        finite_t = (corners.flat | (np.abs(corners.span) >= 1.0)).all()
+        if not (vertical and finite_t) or negative_zero.any():
+            return None
+        p = np.concatenate([top_xy, top_xy], axis=1)  # (2, 8, m): top and bottom corners alike
+        d, _ = centre_to_faces(np.concatenate([p, np.zeros_like(p[:1])]), np.zeros((6, p.shape[2])))
+        d_xy = np.ascontiguousarray(d[:2])
+        dd_xy = d_xy[0] * d_xy[0]
+        dd_xy += d_xy[1] * d_xy[1]
+        a, b, c, e = AREA_DIAGONALS.T
+        uv_xy = np.stack([p[0, a] - p[0, b], p[1, a] - p[1, b], p[0, c] - p[0, e], p[1, c] - p[1, e]], axis=1)
+        area_z = 0.5 * (uv_xy[:, 0] * uv_xy[:, 3] - uv_xy[:, 1] * uv_xy[:, 2])
+        return cls(corners.sign, d_xy, dd_xy, uv_xy, area_z)
+
+    def halves(self, z: FloatArray, here: slice, k_face: FloatArray, out: FloatArray) -> None:
+        """The six halves (6, m) of the cells ``here`` of a layer with corner depths z
+        (2, 4, m) into ``out``: :func:`centre_to_faces`, :func:`face_area` and
+        :func:`half_transmissibilities` on the z parts only."""
+        pz = np.multiply(z.reshape(8, -1), self.sign)  # corner slots 4 c + (a + 2b)
+        centre = pz[0].copy()
+        for c in range(1, 8):
+            centre += pz[c]
+        centre /= 8.0
+        d_z = np.empty((6, pz.shape[1]))
+        for f, (a, b, c, e) in enumerate(FACE_CORNERS):
+            v = d_z[f]
+            np.add(pz[a], pz[b], out=v)
+            v += pz[c]
+            v += pz[e]
+            v /= 4.0
+            v -= centre
+        dd = d_z * d_z
+        dd += self.dd_xy[:, here]
+        kdd = np.empty_like(dd)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            np.divide(k_face, dd, out=kdd)
+        kdd[~(dd > 0.0)] = 0.0
+        d_x, d_y = self.d_xy[0, :, here], self.d_xy[1, :, here]
+        uv = self.uv_xy[:, :, here]
+        for f, (a, b, c, e) in enumerate(AREA_DIAGONALS):
+            u_z, v_z = pz[a] - pz[b], pz[c] - pz[e]
+            u_x, u_y, v_x, v_y = uv[f]
+            area_x = u_y * v_z
+            area_x -= u_z * v_y
+            area_x *= 0.5
+            area_y = u_z * v_x
+            area_y -= u_x * v_z
+            area_y *= 0.5
+            dot = out[f]
+            np.multiply(area_x, d_x[f], out=dot)
+            area_y *= d_y[f]
+            dot += area_y
+            area_x = self.area_z[f, here] * d_z[f]
+            dot += area_x
+            np.abs(dot, out=dot)
+            dot *= kdd[f]
 
 
 def _face_permeability(perm: FloatArray, ntg: FloatArray) -> FloatArray:
@@ -236,12 +350,14 @@ def face_area(p: FloatArray, f: int) -> FloatArray:
     return 0.5 * cross(p[:, a] - p[:, b], p[:, c] - p[:, e])
 
 
-def gathered_half_data(deck: Deck, cells: IntArray, perm: FloatArray, ntg: FloatArray):
+def gathered_half_data(
+    deck: Deck, cells: IntArray, perm: FloatArray, ntg: FloatArray, sign: int | None = None
+):
     """For ``cells`` (linear ijk indices): d (3, 6, m), K / (d . d) (6, m) and the area
     vector of the bottom face (3, m), from their corners gathered one by one
     (:func:`~gridlib.cornerpoint.corners.corner_points`: the same bits as the layers of
     :func:`structured_halves`)."""
-    p = np.ascontiguousarray(corner_points(deck, cells).transpose(2, 1, 0))
+    p = np.ascontiguousarray(corner_points(deck, cells, sign).transpose(2, 1, 0))
     k_face = _face_permeability(perm[cells], ntg[cells])
     d, kdd = centre_to_faces(p, k_face)
     return d, kdd, face_area(p, B)
@@ -287,13 +403,15 @@ def newtran_connections(
     strides = (1, nx, layer)
 
     in_grid = cell_of >= 0
-    (f, a, ta, b, tb), *simple = concurrently(
-        lambda: interior_logical_faces(grid, deck.cart_dims),
+    (f, a, b, ga, gb), sign, *simple = concurrently(
+        lambda: _interior_faces(grid),
+        lambda: depth_sign(deck),
         *(lambda axis=axis: _matched(deck, in_grid, axis).ravel() for axis in range(3)),
     )
-    halves = structured_halves(deck, perm, ntg)
-    ga, gb = glob[a], glob[b]
-    is_simple, face_of = _simple_faces(f, ta, ga, gb, simple, strides, nc)
+    halves, (is_simple, face_of) = concurrently(  # independent: side by side on the threads
+        lambda: structured_halves(deck, perm, ntg, sign),
+        partial(_simple_faces, f, ga, gb, simple, strides, nc),
+    )
 
     def simple_pairs(axis: int, halves: FloatArray, face_of: list[IntArray]):
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
@@ -307,7 +425,8 @@ def newtran_connections(
         return cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t
 
     rest = ~is_simple
-    f, a, ta, b, tb, ga, gb = (x[rest] for x in (f, a, ta, b, tb, ga, gb))
+    f, a, b, ga, gb = (x[rest] for x in (f, a, b, ga, gb))
+    ta, tb = logical_sides(ga, gb, deck.cart_dims)
     column = (ta >= T) & (tb >= T)
     across = column & (np.abs(gb - ga) > layer)  # across collapsed cells (PINCH)
     if across.any() and not pinch_active:
@@ -320,7 +439,7 @@ def newtran_connections(
         grid's face polygons (or the upper cell's bottom quad between cells of a column)."""
         ga, gb = glob[a], glob[b]
         involved = np.unique(np.concatenate([ga, gb]))
-        d, kdd, bottom = gathered_half_data(deck, involved, perm, ntg)
+        d, kdd, bottom = gathered_half_data(deck, involved, perm, ntg, sign)
         ia, ib = np.searchsorted(involved, ga), np.searchsorted(involved, gb)
         area = np.empty((3, f.size))
         lateral = np.flatnonzero(~column)
@@ -357,22 +476,26 @@ def newtran_connections(
 
 def _simple_faces(
     f: IntArray,
-    ta: np.ndarray,
     ga: IntArray,
     gb: IntArray,
     simple: list[np.ndarray],
     strides: tuple[int, int, int],
     nc: int,
 ) -> tuple[np.ndarray, list[IntArray]]:
-    """Which of the logical faces ``f`` (tag ``ta`` on the side of global cell ``ga``, the
-    other cell ``gb``) join +axis neighbours whose shared corners coincide (``simple[axis]``
-    of the lower cell); and per axis, the face of each such pair by its lower cell (-1: none)."""
-    lo, step = np.minimum(ga, gb), np.abs(gb - ga)
+    """Which of the interior faces ``f`` (between global cells ``ga`` and ``gb``) join +axis
+    neighbours whose shared corners coincide (``simple[axis]`` of the lower cell); and per
+    axis, the face of each such pair by its lower cell (-1: none). ``simple[axis]`` is False
+    on the last row along the axis, so a lower cell g marked there has g + stride as its
+    +axis neighbour, and the face of the two cells is the one on that side."""
+    lo = np.minimum(ga, gb)
+    step = gb - ga
+    np.abs(step, out=step)
     is_simple = np.zeros(f.size, dtype=bool)
     face_of = []
     for axis, stride in enumerate(strides):
-        hit = (step == stride) & simple[axis][lo] & ((ta >> 1) == axis)
-        is_simple |= hit
+        hit = np.flatnonzero(step == stride)
+        hit = hit[simple[axis][lo[hit]]]
+        is_simple[hit] = True
         lookup = np.full(nc, -1, dtype=np.int64)
         lookup[lo[hit]] = f[hit]
         face_of.append(lookup)
@@ -397,16 +520,27 @@ def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
     z = deck.zcorn_array().reshape(nz, 2, ny, 2, nx, 2)
     g = in_grid.reshape(nz, ny, nx)
     out = np.zeros((nz, ny, nx), dtype=bool)
+    if axis == 0:
+        low, high, inner = z[:, :, :, :, :-1, 1], z[:, :, :, :, 1:, 0], (slice(None), slice(None), slice(-1))
+        corners = [(c, slice(None), b) for c in (0, 1) for b in (0, 1)]  # (c, j, b, i)
+    elif axis == 1:
+        low, high, inner = z[:, :, :-1, 1], z[:, :, 1:, 0], (slice(None), slice(-1))
+        corners = [(c, slice(None), slice(None), a) for c in (0, 1) for a in (0, 1)]  # (c, j, i, a)
+    else:
+        low, high, inner = z[:-1, 1], z[1:, 0], (slice(-1),)
+        corners = [(slice(None), b, slice(None), a) for b in (0, 1) for a in (0, 1)]  # (j, b, i, a)
     with np.errstate(invalid="ignore"):
+        same = out[inner]
+        same[...] = g[inner]
         if axis == 0:
-            same = (z[:, :, :, :, :-1, 1] == z[:, :, :, :, 1:, 0]).all(axis=(1, 3))
-            out[:, :, :-1] = same & g[:, :, :-1] & g[:, :, 1:]
+            same &= g[:, :, 1:]
         elif axis == 1:
-            same = (z[:, :, :-1, 1] == z[:, :, 1:, 0]).all(axis=(1, 4))
-            out[:, :-1] = same & g[:, :-1] & g[:, 1:]
+            same &= g[:, 1:]
         else:
-            same = (z[:-1, 1] == z[1:, 0]).all(axis=(2, 4))
-            out[:-1] = same & g[:-1] & g[1:]
+            same &= g[1:]
+        for corner in corners:  # the four shared corners, one comparison each
+            at = (slice(None), *corner)
+            same &= low[at] == high[at]
     return out
 
 
