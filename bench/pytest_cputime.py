@@ -13,7 +13,9 @@ child subreaper (Linux), so that processes orphaned by their parent (e.g. the wa
 processes of a Snakemake run, whose fork server is left behind when Snakemake exits) come to
 it when they end and are counted too. Processes of other users of the machine (SLURM's jobs,
 run by slurmd) are not counted. ``CPUTIME_OUT`` receives {"modules": {path: [cpu, wall]},
-"tests": {nodeid: [cpu, wall]}} in seconds.
+"tests": {nodeid: [cpu, wall]}} in seconds; under pytest-xdist each worker writes
+``CPUTIME_OUT.<worker id>`` (e.g. cpu.json.gw0) with the modules it ran and the time each
+started (``"starts"``: seconds since the epoch), from which the critical path can be read.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ PR_SET_CHILD_SUBREAPER = 36
 
 _modules: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0])
 _tests: dict[str, list[float]] = {}
+_starts: dict[str, float] = {}
 
 
 def _reap_orphans() -> None:
@@ -64,6 +67,7 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None):
     yield
     cpu, wall = _cpu() - cpu, time.perf_counter() - wall
     module = os.path.relpath(str(item.path), str(item.config.rootpath))
+    _starts.setdefault(module, time.time() - wall)
     _modules[module][0] += cpu
     _modules[module][1] += wall
     _tests[item.nodeid] = [cpu, wall]
@@ -71,9 +75,10 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None):
 
 def pytest_sessionfinish(session: pytest.Session) -> None:
     out = os.environ.get("CPUTIME_OUT")
-    if out:
-        with open(out, "w") as f:
-            json.dump({"modules": dict(_modules), "tests": _tests}, f, indent=1)
+    if out and _tests:  # under xdist only the workers run tests: each writes its own file
+        worker = os.environ.get("PYTEST_XDIST_WORKER")
+        with open(f"{out}.{worker}" if worker else out, "w") as f:
+            json.dump({"modules": dict(_modules), "tests": _tests, "starts": _starts}, f, indent=1)
 
 
 def pytest_terminal_summary(terminalreporter) -> None:

@@ -20,13 +20,27 @@ os.environ.setdefault("OMPI_MCA_pml", "ob1")
 # The longest test modules (their fixtures run the workflow), first in this order, so that under
 # pytest-xdist (make test: -n auto --dist loadfile) they start at once on their workers and the
 # short modules fill the time around them; run one by one, the order changes nothing.
+# test_slurm second: most of its time is waiting for SLURM's status checks, which the other worker
+# fills. Measured CPU seconds per module: bench/test_durations.md.
 LONGEST_FIRST = (
     "workflow/test_workflow.py",
     "workflow/test_slurm.py",
+    "workflow/test_study_simulation.py",
     "workflow/test_study.py",
     "workflow/test_determinism.py",
     "transmissibility/test_real_decks_large.py",
+    "stages/test_simulate.py",
+    "io/test_damaged_artifacts.py",
+    "stages/test_artifact_table.py",
 )
+
+
+def pytest_configure(config) -> None:
+    # pytest-xdist (3.x) sorts --dist loadfile's modules by their number of tests, most first,
+    # unless told not to: the longest modules, which have few tests and long fixtures, would then
+    # start last and finish long after the rest (the critical path of make test). Keep our order.
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
 
 
 def pytest_collection_modifyitems(session, config, items) -> None:
