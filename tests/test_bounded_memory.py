@@ -1,6 +1,7 @@
-"""The steps that work a block at a time to bound the memory of a 1e7-cell stage give the same
-bits as over the whole grid at once: the closure test of check_grid, the orientation angles of
-the export's summary, and the geometry without face centroids that check_grid computes."""
+"""What bounds the memory of the 1e7-cell grid and export stages changes no bit: the closure
+test of check_grid and the orientation angles of the export's summary a block at a time equal
+those over the whole grid at once, the geometry without face centroids (check_grid's) has the
+same bits, and cell data read only when written (Deferred) gives the same VTU and netCDF."""
 
 from __future__ import annotations
 
@@ -8,9 +9,13 @@ import dataclasses
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import gridlib as gl
 from gridlib import checks, orientation
+from gridlib.io import write_netcdf, write_vtu
+from gridlib.io.deferred import Deferred
+from gridlib.io.netcdf import deferred_data
 
 
 @pytest.fixture(scope="module")
@@ -67,3 +72,58 @@ def test_geometry_without_face_centroids_has_the_same_bits(twisted):
     assert lean.face_centroids.shape == (0, 3)
     for name in ("cell_volumes", "cell_centroids", "face_areas", "face_normals"):
         assert getattr(lean, name).tobytes() == getattr(full, name).tobytes(), name
+
+
+def _deferred(values, reads):
+    """``values`` as a Deferred array that counts its reads in ``reads``."""
+
+    def load():
+        reads.append(1)
+        return values
+
+    return Deferred(values.shape, values.dtype, load)
+
+
+def test_deferred_cell_data_write_the_same_vtu_and_netcdf(twisted, tmp_path):
+    """Cell data read only when written: the same VTU bytes and the same netCDF variables, each
+    array read once per file."""
+    grid, geo = twisted
+    rng = np.random.default_rng(9)
+    data = {"poro": rng.uniform(0.1, 0.3, grid.num_cells), "block": rng.integers(0, 9, grid.num_cells)}
+    data["centroid"] = geo.cell_centroids
+    reads = []
+    lazy = {name: _deferred(values, reads) for name, values in data.items()}
+    for compress in (True, False):
+        eager = write_vtu(tmp_path / f"eager_{compress}.vtu", grid, data, compress=compress).read_bytes()
+        assert (
+            write_vtu(tmp_path / f"lazy_{compress}.vtu", grid, lazy, compress=compress).read_bytes() == eager
+        )
+    assert len(reads) == 2 * len(data)
+    assert not [p for p in tmp_path.iterdir() if p.suffix != ".vtu"]  # no scratch file is left
+    pairs = np.column_stack([np.arange(5), np.arange(1, 6)])
+    extra = {"pair": xr.Variable(("pair_row", "two"), pairs, {"long_name": "pairs"})}
+    lazy_extra = {
+        "pair": xr.Variable(
+            ("pair_row", "two"), deferred_data(_deferred(pairs, reads)), {"long_name": "pairs"}
+        )
+    }
+    write_netcdf(tmp_path / "eager.nc", grid, geo, cell_data=data, extra=extra)
+    write_netcdf(tmp_path / "lazy.nc", grid, geo, cell_data=lazy, extra=lazy_extra)
+    assert len(reads) == 3 * len(data) + 1
+    with xr.open_dataset(tmp_path / "eager.nc") as a, xr.open_dataset(tmp_path / "lazy.nc") as b:
+        assert list(a.variables) == list(b.variables)
+        for name in a.variables:
+            assert a[name].dtype == b[name].dtype and a[name].values.tobytes() == b[name].values.tobytes(), (
+                name
+            )
+            assert repr(a[name].attrs) == repr(b[name].attrs), name
+
+
+def test_a_deferred_array_read_with_another_shape_is_refused(twisted, tmp_path):
+    grid, _ = twisted
+    wrong = Deferred((grid.num_cells,), np.dtype(np.float64), lambda: np.zeros(3), "quality.nc: twist")
+    with pytest.raises(
+        ValueError, match=r"quality.nc: twist: read float64 \(3,\), expected float64 \(140,\)"
+    ):
+        write_vtu(tmp_path / "x.vtu", grid, {"twist": wrong})
+    assert not list(tmp_path.iterdir())
