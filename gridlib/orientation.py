@@ -165,19 +165,22 @@ def face_angles(
     k = None if perm is None else checked_perm(perm, x.shape)
     xt = np.ascontiguousarray(x.T)  # (d, nc): gathers of one component at a time
     finite = _finite_centres(xt)
-    faces, angles, k_angles = [], [], []
-    for start in range(0, max(nb.shape[0], 1), _FACES):
+    faces = np.empty(nb.shape[0], dtype=np.int64)  # filled block by block, then cut to the faces measured
+    angles = np.empty(nb.shape[0])
+    k_angles = np.empty(nb.shape[0]) if k is not None else None
+    m = 0
+    for start in range(0, nb.shape[0], _FACES):
         block = slice(start, start + _FACES)
         f, nt, dt = _block_vectors(nb[block], n[block], xt, finite)
         nf, d = nt.T, dt.T
-        faces.append(f + start)
-        angles.append(vector_angles(nf, d))
-        if k is not None:
+        out = slice(m, m + f.size)
+        np.add(f, start, out=faces[out])
+        angles[out] = vector_angles(nf, d)
+        if k_angles is not None:
             a, b = nb[block][f, 0], nb[block][f, 1]
-            k_angles.append(np.fmax(vector_angles(k[a] * nf, d), vector_angles(k[b] * nf, d)))
-    return FaceAngles(
-        np.concatenate(faces), np.concatenate(angles), np.concatenate(k_angles) if k is not None else None
-    )
+            k_angles[out] = np.fmax(vector_angles(k[a] * nf, d), vector_angles(k[b] * nf, d))
+        m += f.size
+    return FaceAngles(faces[:m], angles[:m], None if k_angles is None else k_angles[:m])
 
 
 def _nonzero_rows(u: FloatArray) -> np.ndarray:
@@ -229,7 +232,12 @@ def orientation_figures(angles: ArrayLike) -> dict[str, float]:
     {'median': 10.0, 'p95': 19.0, 'max': 20.0}
     """
     a = np.asarray(angles, dtype=np.float64)
-    a = a[~np.isnan(a)]
+    a = a[~np.isnan(a)]  # a copy: the order statistics below may reorder it in place (same values)
     if a.size == 0:
         return {"median": 0.0, "p95": 0.0, "max": 0.0}
-    return {"median": float(np.median(a)), "p95": float(np.percentile(a, 95.0)), "max": float(a.max())}
+    median = float(np.median(a, overwrite_input=True))
+    return {
+        "median": median,
+        "p95": float(np.percentile(a, 95.0, overwrite_input=True)),
+        "max": float(a.max()),
+    }
