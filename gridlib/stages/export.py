@@ -87,7 +87,7 @@ from .transmissibility import cell_centres
 def _face_trans(grid: Grid, variables) -> np.ndarray:
     """Per face of the grid, the T of the connection of its two cells (0 where none) on the
     fault faces, the one use of it (the faults' VTP); 0 on every other face (only the fault
-    faces are looked up: on a 1e7-cell grid the lookup of every face took 2 GiB)."""
+    faces are looked up: that of every face took 0.9 GiB more on a 4e6-cell grid)."""
     out = np.zeros(grid.num_faces)
     faults = np.flatnonzero(grid.faces.tag > 0)
     if not faults.size:
