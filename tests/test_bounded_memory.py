@@ -127,3 +127,29 @@ def test_a_deferred_array_read_with_another_shape_is_refused(twisted, tmp_path):
     ):
         write_vtu(tmp_path / "x.vtu", grid, {"twist": wrong})
     assert not list(tmp_path.iterdir())
+
+
+def test_fault_face_trans_from_the_connections_beside_the_faults():
+    """The export's T of the fault faces, looked up among the connections of cells beside a
+    fault, equals the lookup of every face among all connections (the first of equal pairs)."""
+    from wedge_decks import wedge_deck
+
+    from gridlib.cornerpoint.process import process_grdecl
+    from gridlib.stages.export import _face_trans
+    from gridlib.transmissibility import face_connections
+
+    grid = process_grdecl(wedge_deck()).grid
+    nb = grid.faces.neighbors
+    pairs = np.unique(np.sort(nb[(nb >= 0).all(axis=1)], axis=1), axis=0)
+    rng = np.random.default_rng(4)
+    cells = np.concatenate([pairs, pairs[rng.choice(len(pairs), 7)]])[rng.permutation(len(pairs) + 7)]
+    variables = {
+        "connection_cells": xr.DataArray(cells),
+        "trans": xr.DataArray(rng.uniform(1, 2, len(cells))),
+    }
+    conn = face_connections(nb, cells)
+    whole = np.where(conn >= 0, variables["trans"].values[np.maximum(conn, 0)], 0.0)
+    faults = grid.faces.tag > 0
+    assert faults.sum() > 10 and (whole[faults] > 0).sum() > 5
+    got = _face_trans(grid, variables)
+    assert got[faults].tobytes() == whole[faults].tobytes() and not got[~faults].any()

@@ -92,8 +92,14 @@ def _face_trans(grid: Grid, variables) -> np.ndarray:
     faults = np.flatnonzero(grid.faces.tag > 0)
     if not faults.size:
         return out
-    conn = face_connections(grid.faces.neighbors[faults], variables["connection_cells"].values)
-    t = variables["trans"].values
+    nb = grid.faces.neighbors[faults]
+    cells = variables["connection_cells"].values
+    beside = np.zeros(grid.num_cells, dtype=bool)
+    beside[nb[nb >= 0]] = True
+    # the connections between cells beside the faults, in their order: the same first match
+    candidates = np.flatnonzero(beside[cells[:, 0]] & beside[cells[:, 1]]) if cells.size else cells[:0, 0]
+    conn = face_connections(nb, cells[candidates])
+    t = variables["trans"].values[candidates]
     out[faults] = np.where(conn >= 0, t[np.maximum(conn, 0)] if t.size else 0.0, 0.0)
     return out
 
@@ -224,11 +230,14 @@ def _gather(
     check_same_cells(grid_nc, grid.num_cells, {geometry_nc: geo.cell_volumes.size})
     fault_names = list(attrs.get("fault_names", []))
     well_names = list(attrs.get("well_names", []))
-    rock = read_rock(petrophysics_nc) if petrophysics_nc else None
     centres, _ = cell_centres(case, grid_nc, stored, geo)
-    orientation = orientation_summary(grid, geo, centres, rock)
+    # the rock read for the orientation alone, again after it: it holds the permeability only
+    orientation = orientation_summary(
+        grid, geo, centres, read_rock(petrophysics_nc) if petrophysics_nc else None
+    )
     geo = replace(geo, face_normals=np.zeros((0, geo.face_normals.shape[1])))  # the orientation's alone
     del centres
+    rock = read_rock(petrophysics_nc) if petrophysics_nc else None
     partition = read_partition(coarse_nc) if coarse_nc else None
     trans = read_transmissibility(transmissibility_nc, _SUMMARY_VARS) if transmissibility_nc else None
     if trans is not None:
@@ -472,6 +481,7 @@ def orientation_summary(
     perm = None
     if rock is not None:
         perm = np.column_stack([rock["permx"], rock["permy"], rock["permz"]])[:, : grid.dim]
+    del rock  # the caller's rock may go (the export's: read for this alone) while the angles are made
     angles = grid_face_angles(grid, geo, centres, perm)
     out = {f"orientation_{k}": _degrees(v) for k, v in orientation_figures(angles.angles).items()}
     if angles.k_angles is not None:
