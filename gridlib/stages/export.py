@@ -71,7 +71,7 @@ from ..io.netcdf import GridDataset, read_cell_geometry, read_netcdf, write_netc
 from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
 from ..io.quality_file import FLAGS, deferred_quality, measure_attrs
 from ..io.rock_file import read_rock
-from ..io.transmissibility_file import deferred_connection_variables, read_transmissibility
+from ..io.transmissibility_file import CELL_VARS, deferred_connection_variables, read_transmissibility
 from ..io.vtp import write_fault_faces, write_well_paths
 from ..io.vtu import write_vtu
 from ..io.wells_file import WellRecord, read_wells
@@ -239,7 +239,7 @@ def _gather(
     del centres
     rock = read_rock(petrophysics_nc) if petrophysics_nc else None
     partition = read_partition(coarse_nc) if coarse_nc else None
-    trans = read_transmissibility(transmissibility_nc, _SUMMARY_VARS) if transmissibility_nc else None
+    trans = read_transmissibility(transmissibility_nc, CELL_VARS) if transmissibility_nc else None
     if trans is not None:
         check_same_cells(grid_nc, grid.num_cells, {f"{transmissibility_nc}: porv": trans[0]["porv"].size})
     cell_data, var_attrs, depth = _cell_data(stored, geo, rock, partition, trans)
@@ -269,8 +269,13 @@ def _gather(
                 f"{units.name} (stage files of different grids: build the case again)"
             )
         provenance |= {k: tattrs[k] for k in ("trans_units", "porv_units", "flow_dims")}
-        trans_figures = transmissibility_figures(variables, tattrs)
-        face_trans = _face_trans(grid, variables)
+        # the connection variables each step needs, read for it and let go (3e7 of them at 1e7 cells)
+        figures_vars, _ = read_transmissibility(transmissibility_nc, ("trans", "connection_kind", "porv"))
+        trans_figures = transmissibility_figures(figures_vars, tattrs)
+        del figures_vars
+        face_trans = _face_trans(
+            grid, read_transmissibility(transmissibility_nc, ("connection_cells", "trans"))[0]
+        )
         del trans, variables
         extra |= deferred_connection_variables(transmissibility_nc)
     return _Gathered(
@@ -292,11 +297,6 @@ def _gather(
         orientation,
         quality,
     )
-
-
-# What the export reads of transmissibility.nc at once: the connections' figures and the face T
-# of the faults, and the per-cell variables (the connection variables are written deferred).
-_SUMMARY_VARS = ("connection_cells", "trans", "connection_kind", "porv", "cell_flow_index")
 
 
 class _Read(Mapping):
