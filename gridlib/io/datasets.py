@@ -308,7 +308,21 @@ def save_dataset(
     if DIGEST in ds.attrs:
         ds = ds.copy()
         del ds.attrs[DIGEST]  # a dataset read back carries the old file's digest
+    names = list(ds.variables)
+    # xarray reads every variable not in memory before it writes any: from the first such one
+    # on, the variables are appended one at a time, each read as it is written and let go
+    first = next((i for i, name in enumerate(names) if not ds.variables[name]._in_memory), len(names))
+    head = ds.drop_vars(names[first:])
     with atomic_path(path) as tmp, small_chunk_cache():
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=compressed_encoding(ds, encoding))
+        head.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=compressed_encoding(head, encoding))
+        for name in names[first:]:
+            part = xr.Dataset({name: ds.variables[name]})
+            part.to_netcdf(
+                tmp,
+                mode="a",
+                engine="netcdf4",
+                format="NETCDF4",
+                encoding=compressed_encoding(part, encoding),
+            )
         _write_digest(tmp)
     return Path(path)
