@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .cell_names import cell_names
-from .connectivity import cell_node_cycles_2d, half_face_cells, half_face_signs
+from .connectivity import cell_node_cycles_2d, half_face_cells, repeat_ids
 from .errors import GridError
 from .geometry import Geometry, compute_geometry
 from .grid import FloatArray, Grid, IntArray
@@ -39,6 +39,7 @@ from .grid import FloatArray, Grid, IntArray
 _MAX_LISTED = 5
 NAMED_DEGENERATE = 100  # degenerate cells named in a note (all are flagged in grid.nc)
 _ROWS = 1 << 18  # faces per block of the duplicate-face search
+_CELLS = 1 << 18  # cells per block of the closure test
 
 
 def _ids(mask: np.ndarray) -> str:
@@ -98,10 +99,13 @@ def topology_violations(grid: Grid) -> list[str]:
     # diagnosis below runs only when this fails.
     hc = half_face_cells(grid)
     inside = nb >= 0
-    names_neighbor = (nb[cf, 0] == hc) | (nb[cf, 1] == hc)
+    names_neighbor = all(  # a block of half-faces at a time: no gathers of them all
+        ((nb[cf[b], 0] == hc[b]) | (nb[cf[b], 1] == hc[b])).all()
+        for b in (slice(start, start + _ROWS) for start in range(0, cf.size, _ROWS))
+    )
     same_count = np.bincount(cf, minlength=nf) == inside.sum(axis=1)
     same_sum = np.bincount(cf, weights=hc, minlength=nf) == np.where(inside, nb, 0).sum(axis=1)
-    if not (names_neighbor.all() and same_count.all() and same_sum.all()):
+    if not (names_neighbor and same_count.all() and same_sum.all()):
         out += _transpose_violations(cf, hc, nb, nc, nf, grid)
 
     counts = grid.faces.num_nodes
@@ -258,15 +262,26 @@ def degenerate_cells(grid: Grid, geometry: Geometry, tol: float) -> DegenerateCe
     empty = np.zeros(0, dtype=np.int64)
     if grid.is_surface:
         return DegenerateCells(small, vol[small], empty, np.zeros(0))
-    hc = half_face_cells(grid)
-    s = half_face_signs(grid).astype(np.float64)
-    cf = grid.cells.faces
-    d = grid.dim
-    net = np.stack([np.bincount(hc, s * geometry.face_normals[cf, i], grid.num_cells) for i in range(d)])
-    surface = np.bincount(hc, geometry.face_areas[cf], grid.num_cells)
+    found = [_not_closed(grid, geometry, tol, start) for start in range(0, grid.num_cells, _CELLS)]
+    open_ = np.concatenate([cells for cells, _ in found])
+    return DegenerateCells(small, vol[small], open_, np.concatenate([closure for _, closure in found]))
+
+
+def _not_closed(grid: Grid, geometry: Geometry, tol: float, start: int) -> tuple[IntArray, FloatArray]:
+    """The cells of the block of :data:`_CELLS` cells from ``start`` whose outward face normals
+    do not sum to zero within ``tol`` times their surface area, and those sums over the area.
+    A block at a time, so that no per-half-face array of the whole grid is made; each cell's sums
+    add its half-faces in the same order as over the whole grid (the same bits)."""
+    pos = grid.cells.face_pos[start : start + _CELLS + 1]
+    hc = repeat_ids(pos - pos[0])
+    cf = grid.cells.faces[pos[0] : pos[-1]]
+    s = np.where(grid.faces.neighbors[cf, 0] == hc + start, 1.0, -1.0)
+    n = pos.size - 1
+    net = np.stack([np.bincount(hc, s * geometry.face_normals[cf, i], n) for i in range(grid.dim)])
+    surface = np.bincount(hc, geometry.face_areas[cf], n)
     defect = np.sqrt((net**2).sum(axis=0))
     open_ = np.flatnonzero(defect > tol * surface)
-    return DegenerateCells(small, vol[small], open_, defect[open_] / surface[open_])
+    return open_ + start, defect[open_] / surface[open_]
 
 
 def _geometry_problems(
@@ -317,7 +332,7 @@ def _broken(grid: Grid, geometry: Geometry | None, tol: float) -> tuple[list[str
         return [f"nodes with NaN or infinite coordinates: {_ids(~np.isfinite(coords).all(axis=1))}"], None
     if geometry is None:
         try:
-            geometry = compute_geometry(grid)
+            geometry = compute_geometry(grid, face_centroids=False)  # the checks use none
         except GridError as exc:
             return [str(exc)], None
     return _geometry_problems(grid, geometry, tol)

@@ -70,8 +70,11 @@ class Geometry:
                 arr.flags.writeable = False
 
 
-def compute_geometry(grid: Grid) -> Geometry:
+def compute_geometry(grid: Grid, *, face_centroids: bool = True) -> Geometry:
     """Geometry of a planar 2-D, surface or 3-D grid (see module docstring).
+    ``face_centroids=False`` leaves a 3-D grid's face centroids empty (shape (0, 3)): a
+    third less memory for a caller that does not use them (:func:`gridlib.checks.check_grid`);
+    every other array has the same bits.
 
     >>> from gridlib import cart_grid
     >>> geo = compute_geometry(cart_grid([2, 1, 1], [2.0, 1.0, 3.0]))
@@ -86,7 +89,7 @@ def compute_geometry(grid: Grid) -> Geometry:
             f = int(np.flatnonzero(counts < 3)[0])
             raise GridError(f"compute_geometry: face {f} has {counts[f]} nodes (3-D faces need >= 3)")
         del counts
-        return _geometry_3d(grid)
+        return _geometry_3d(grid, face_centroids)
     if np.any(counts != 2):
         f = int(np.flatnonzero(counts != 2)[0])
         raise GridError(f"compute_geometry: face {f} of a 2-D grid has {counts[f]} nodes (need 2)")
@@ -181,7 +184,7 @@ def _faces_of_size(counts: np.ndarray, m: int):
         yield carry
 
 
-def _geometry_3d(grid: Grid) -> Geometry:
+def _geometry_3d(grid: Grid, with_face_centroids: bool = True) -> Geometry:
     """Hinge tessellation of 3-D faces; arrays are (3, m, k) blocks: component, node, face.
 
     The blocks of faces are tessellated on a few threads (numpy releases the GIL in its loops);
@@ -198,7 +201,7 @@ def _geometry_3d(grid: Grid) -> Geometry:
     nb = grid.faces.neighbors
     areas = np.empty(nf)
     normals = np.empty((3, nf))
-    centroids = np.empty((3, nf))
+    centroids = np.empty((3, nf if with_face_centroids else 0))
     sums = _CellSums(nc)  # volume, and first moment about the apex times 4/3
 
     def block(f: slice | np.ndarray, nodes_of) -> list[tuple]:
@@ -221,10 +224,11 @@ def _geometry_3d(grid: Grid) -> Geometry:
             A2 = a.sum(axis=0)
             areas[faces] = 0.5 * A2
             normals[:, faces] = 0.5 * N2
-            a3 = 3.0 * A2
-            for i in range(3):
-                with np.errstate(invalid="ignore", divide="ignore"):
-                    centroids[i, faces] = h[i] + np.einsum("mk,mk->k", a, v[i]) / a3
+            if with_face_centroids:
+                a3 = 3.0 * A2
+                for i in range(3):
+                    with np.errstate(invalid="ignore", divide="ignore"):
+                        centroids[i, faces] = h[i] + np.einsum("mk,mk->k", a, v[i]) / a3
             for s, (cell, weight) in enumerate(sides):
                 delta = h - np.take(x0, cell[sub], axis=1)  # (3, k)
                 d = delta[0] * N2[0]  # 2 (delta . N) ...

@@ -98,6 +98,15 @@ def face_vectors(
     """The faces :func:`face_angles` measures (interior, non-zero area, distinct finite centres),
     their area vectors n_f and centre lines c_b - c_a, components first ((d, m) each: every
     operation on them runs over the faces); arguments as :func:`face_angles`'s."""
+    nb, n, x = _checked(neighbors, normals, centres)
+    xt = np.ascontiguousarray(x.T)  # (d, nc): gathers of one component at a time
+    return _block_vectors(nb, n, xt, _finite_centres(xt))
+
+
+def _checked(
+    neighbors: ArrayLike, normals: ArrayLike, centres: ArrayLike
+) -> tuple[IntArray, FloatArray, FloatArray]:
+    """``neighbors``, ``normals`` and ``centres`` as arrays, or a GridError naming what is wrong."""
     nb = np.asarray(neighbors)
     n = np.asarray(normals, dtype=np.float64)
     x = np.asarray(centres, dtype=np.float64)
@@ -110,9 +119,20 @@ def face_vectors(
         raise GridError(
             f"face_angles: neighbors name cell {int(nb.max())}, but there are {x.shape[0]} centres"
         )
-    xt = np.ascontiguousarray(x.T)  # (d, nc): gathers of one component at a time
-    finite = np.isfinite(xt).all(axis=0)
-    finite = np.append(finite, False)  # [-1]: outside
+    return nb, n, x
+
+
+def _finite_centres(xt: FloatArray) -> np.ndarray:
+    """Per cell whether its centre (a column of ``xt``) is finite, and False at [-1] (outside)."""
+    return np.append(np.isfinite(xt).all(axis=0), False)
+
+
+def _block_vectors(
+    nb: IntArray, n: FloatArray, xt: FloatArray, finite: np.ndarray
+) -> tuple[IntArray, FloatArray, FloatArray]:
+    """:func:`face_vectors` of the faces with neighbours ``nb`` and normals ``n`` (a block of
+    the grid's, face numbers counted from its start), centres ``xt`` (d, nc) and their
+    :func:`_finite_centres`."""
     faces = np.flatnonzero(finite[nb[:, 0]] & finite[nb[:, 1]])
     a, b = nb[faces, 0], nb[faces, 1]
     nt = np.ascontiguousarray(n.T)
@@ -127,6 +147,9 @@ def face_vectors(
     return faces[kept], nt[:, kept], dt[:, kept]
 
 
+_FACES = 1 << 20  # faces measured at a time: the temporaries of a block, not of every face
+
+
 def face_angles(
     neighbors: ArrayLike,
     normals: ArrayLike,
@@ -136,17 +159,28 @@ def face_angles(
     """The orientation angles of every interior face (module docstring): ``neighbors`` (nf, 2)
     as ``grid.faces.neighbors``, ``normals`` (nf, d) area vectors from ``neighbors[:, 0]`` to
     ``neighbors[:, 1]`` (``Geometry.face_normals``), ``centres`` (nc, d) the cell centres,
-    ``perm`` (nc, d) optional diagonal permeabilities (kx, ky[, kz]; any unit, >= 0)."""
-    faces, nt, dt = face_vectors(neighbors, normals, centres)
-    nf, d = nt.T, dt.T
-    angles = vector_angles(nf, d)
-    k_angles = None
-    if perm is not None:
-        nb = np.asarray(neighbors)
-        k = checked_perm(perm, np.shape(centres))
-        a, b = nb[faces, 0], nb[faces, 1]
-        k_angles = np.fmax(vector_angles(k[a] * nf, d), vector_angles(k[b] * nf, d))
-    return FaceAngles(faces, angles, k_angles)
+    ``perm`` (nc, d) optional diagonal permeabilities (kx, ky[, kz]; any unit, >= 0).
+    Faces are measured a block at a time (each angle is its face's alone)."""
+    nb, n, x = _checked(neighbors, normals, centres)
+    k = None if perm is None else checked_perm(perm, x.shape)
+    xt = np.ascontiguousarray(x.T)  # (d, nc): gathers of one component at a time
+    finite = _finite_centres(xt)
+    faces = np.empty(nb.shape[0], dtype=np.int64)  # filled block by block, then cut to the faces measured
+    angles = np.empty(nb.shape[0])
+    k_angles = np.empty(nb.shape[0]) if k is not None else None
+    m = 0
+    for start in range(0, nb.shape[0], _FACES):
+        block = slice(start, start + _FACES)
+        f, nt, dt = _block_vectors(nb[block], n[block], xt, finite)
+        nf, d = nt.T, dt.T
+        out = slice(m, m + f.size)
+        np.add(f, start, out=faces[out])
+        angles[out] = vector_angles(nf, d)
+        if k_angles is not None:
+            a, b = nb[block][f, 0], nb[block][f, 1]
+            k_angles[out] = np.fmax(vector_angles(k[a] * nf, d), vector_angles(k[b] * nf, d))
+        m += f.size
+    return FaceAngles(faces[:m], angles[:m], None if k_angles is None else k_angles[:m])
 
 
 def _nonzero_rows(u: FloatArray) -> np.ndarray:
@@ -198,7 +232,12 @@ def orientation_figures(angles: ArrayLike) -> dict[str, float]:
     {'median': 10.0, 'p95': 19.0, 'max': 20.0}
     """
     a = np.asarray(angles, dtype=np.float64)
-    a = a[~np.isnan(a)]
+    a = a[~np.isnan(a)]  # a copy: the order statistics below may reorder it in place (same values)
     if a.size == 0:
         return {"median": 0.0, "p95": 0.0, "max": 0.0}
-    return {"median": float(np.median(a)), "p95": float(np.percentile(a, 95.0)), "max": float(a.max())}
+    median = float(np.median(a, overwrite_input=True))
+    return {
+        "median": median,
+        "p95": float(np.percentile(a, 95.0, overwrite_input=True)),
+        "max": float(a.max()),
+    }

@@ -144,7 +144,9 @@ def process_grdecl(
     faces, coords, names, pinch_pairs = _faces(
         deck, cn, _pinch_threshold(deck, pinch, pinch_threshold), notes
     )
-    if cn.left_handed:
+    left_handed = cn.left_handed
+    del cn  # the corners (a 1e7-cell deck's: 1 GiB) are in the faces now
+    if left_handed:
         faces.reverse_cycles()
 
     # Cells with fewer than four faces are dropped (MRST); faces left without cells too.

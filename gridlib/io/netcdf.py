@@ -36,6 +36,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from xarray.backends.common import BackendArray
+from xarray.core import indexing
 
 from ..connectivity import cell_node_cycles_2d
 from ..errors import GridError
@@ -43,6 +45,7 @@ from ..geometry import Geometry, compute_geometry
 from ..grid import Cells, Faces, Grid, Layering, Nodes
 from ..units import UnitSystem, unit_system
 from .datasets import open_artifact, read_variable, save_dataset
+from .deferred import Deferred
 from .quantities import label_units
 
 _AXES = ("x", "y", "z")
@@ -162,15 +165,39 @@ def _geometry_vars(geo: Geometry, dims: dict[str, str], face_vectors: bool = Tru
     return out
 
 
-def _data_vars(data: dict[str, np.ndarray], n: int, dim: str, what: str) -> dict[str, xr.Variable]:
+def _data_vars(
+    data: Mapping[str, np.ndarray | Deferred], n: int, dim: str, what: str
+) -> dict[str, xr.Variable]:
     out = {}
     for name, values in data.items():
-        arr = np.asarray(values)
+        arr = values if isinstance(values, Deferred) else np.asarray(values)
         if arr.shape[:1] != (n,):
             raise GridError(f"write_netcdf: {what} data '{name}' has shape {arr.shape}, expected ({n}, ...)")
         extra = tuple(f"{name}_dim{i}" for i in range(1, arr.ndim))
-        out[name] = xr.Variable((dim, *extra), arr)
+        out[name] = xr.Variable((dim, *extra), deferred_data(arr) if isinstance(arr, Deferred) else arr)
     return out
+
+
+class _DeferredBackend(BackendArray):
+    """A :class:`~gridlib.io.deferred.Deferred` array as xarray's lazy arrays: read when the
+    dataset is written (xarray writes, and so reads, one variable at a time)."""
+
+    def __init__(self, deferred: Deferred) -> None:
+        self.deferred = deferred
+        self.shape = tuple(deferred.shape)
+        self.dtype = np.dtype(deferred.dtype)
+
+    def __getitem__(self, key: indexing.ExplicitIndexer) -> np.ndarray:
+        return indexing.explicit_indexing_adapter(key, self.shape, indexing.IndexingSupport.BASIC, self._read)
+
+    def _read(self, key: tuple) -> np.ndarray:
+        return np.asarray(self.deferred)[key]
+
+
+def deferred_data(deferred: Deferred) -> indexing.LazilyIndexedArray:
+    """The data of an ``xr.Variable`` read only when it is written (:func:`write_netcdf`'s
+    ``extra`` takes such variables; its ``cell_data`` the :class:`Deferred` arrays themselves)."""
+    return indexing.LazilyIndexedArray(_DeferredBackend(deferred))
 
 
 def _attr_value(key: str, value: object) -> object:
@@ -194,7 +221,7 @@ def _attr_value(key: str, value: object) -> object:
 def grid_to_dataset(
     grid: Grid,
     geometry: Geometry | None = None,
-    cell_data: dict[str, np.ndarray] | None = None,
+    cell_data: Mapping[str, np.ndarray | Deferred] | None = None,
     face_data: dict[str, np.ndarray] | None = None,
     attrs: Mapping[str, object] | None = None,
     *,
@@ -274,11 +301,11 @@ def write_netcdf(
     path: str | os.PathLike,
     grid: Grid,
     geometry: Geometry | None = None,
-    cell_data: dict[str, np.ndarray] | None = None,
+    cell_data: Mapping[str, np.ndarray | Deferred] | None = None,
     face_data: dict[str, np.ndarray] | None = None,
     attrs: Mapping[str, object] | None = None,
     *,
-    extra: Mapping[str, xr.DataArray] | None = None,
+    extra: Mapping[str, xr.DataArray | xr.Variable] | None = None,
     var_attrs: Mapping[str, Mapping[str, object]] | None = None,
     face_vectors: bool = True,
     units: UnitSystem | str | None = None,
@@ -290,6 +317,9 @@ def write_netcdf(
     ``face_vectors=False``: the geometry's face normals and centroids left out; ``units``: the
     unit system of the grid (see :func:`grid_to_dataset`; the ``units`` of the ``extra``
     variables too). The write is atomic: on any error no file is left at ``path``.
+    Cell data given as :class:`~gridlib.io.deferred.Deferred` arrays, and ``extra`` variables
+    whose data is :func:`deferred_data`, are read one at a time as they are written (a grid
+    with a ``layering`` reads its float cell data once more for the layered views).
     """
     ds = grid_to_dataset(grid, geometry, cell_data, face_data, attrs, face_vectors=face_vectors, units=units)
     for name, var in (extra or {}).items():

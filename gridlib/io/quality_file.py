@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Mapping
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -23,6 +24,7 @@ import xarray as xr
 from ..quality import MEASURE, MEASURES, Measure
 from ..units import METRIC
 from .datasets import damaged, open_artifact, read_variable
+from .deferred import Deferred
 from .netcdf import write_dataset
 from .quantities import FLAG_NAMES
 
@@ -38,21 +40,24 @@ def measure_units(measure: Measure) -> str | None:
 def quality_variables(values: Mapping[str, np.ndarray], dim: str = "cell") -> dict[str, xr.DataArray]:
     """The variables of ``quality.nc`` (also written into ``{case}.nc``), in the order of
     :data:`~gridlib.quality.MEASURES`, with their attributes."""
-    out = {}
-    for m in MEASURES:
-        if m.name not in values:
-            continue
-        units = measure_units(m)
-        out[m.name] = xr.DataArray(
-            np.asarray(values[m.name], dtype=np.float64),
-            dims=(dim,),
-            attrs={
-                **({} if units is None else {"units": units}),
-                "long_name": m.description,
-                "hexahedral_only": np.int8(m.hexahedral_only),
-            },
+    return {
+        m.name: xr.DataArray(
+            np.asarray(values[m.name], dtype=np.float64), dims=(dim,), attrs=measure_attrs(m)
         )
-    return out
+        for m in MEASURES
+        if m.name in values
+    }
+
+
+def measure_attrs(measure: Measure) -> dict[str, Any]:
+    """The attributes of a measure's variable: ``units`` (none for a flag), ``long_name`` and
+    ``hexahedral_only``."""
+    units = measure_units(measure)
+    return {
+        **({} if units is None else {"units": units}),
+        "long_name": measure.description,
+        "hexahedral_only": np.int8(measure.hexahedral_only),
+    }
 
 
 def write_quality(
@@ -81,13 +86,38 @@ def read_quality(path: str | os.PathLike) -> tuple[dict[str, np.ndarray], list[d
     with open_artifact(path) as ds:
         values = {m.name: read_variable(ds, m.name, "f", 1) for m in MEASURES if m.name in ds.variables}
         text = str(ds.attrs.get("qc", "[]"))
-    if not values:
+    return values, _checked(path, {name: v.shape for name, v in values.items()}, text)
+
+
+def deferred_quality(path: str | os.PathLike) -> tuple[dict[str, Deferred], list[dict[str, Any]]]:
+    """:func:`read_quality` with each measure a :class:`~gridlib.io.deferred.Deferred` float64
+    array, read from ``path`` each time it is used (a writer holds one at a time); the same
+    errors, raised here (or by a read of a measure whose data turns out damaged)."""
+    with open_artifact(path) as ds:
+        shapes = {m.name: ds[m.name].shape for m in MEASURES if m.name in ds.variables}
+        text = str(ds.attrs.get("qc", "[]"))
+    qc = _checked(path, shapes, text)
+    values = {
+        name: Deferred(shape, np.dtype(np.float64), partial(_read_measure, path, name), f"{path}: {name}")
+        for name, shape in shapes.items()
+    }
+    return values, qc
+
+
+def _read_measure(path: str | os.PathLike, name: str) -> np.ndarray:
+    with open_artifact(path) as ds:
+        return np.asarray(read_variable(ds, name, "f", 1), dtype=np.float64)
+
+
+def _checked(path: str | os.PathLike, shapes: Mapping[str, tuple[int, ...]], qc: str) -> list[dict[str, Any]]:
+    """The qc results of ``qc`` (JSON), or the InputError of a file with no measure, with
+    measures of different lengths or a ``qc`` that is not JSON."""
+    if not shapes:
         raise damaged(path, "not a quality file: it holds no measure of gridlib.quality")
-    sizes = {v.size for v in values.values()}
+    sizes = {int(np.prod(shape)) for shape in shapes.values()}
     if len(sizes) > 1:
         raise damaged(path, f"its measures differ in length ({sorted(sizes)})")
     try:
-        qc = json.loads(text)
+        return json.loads(qc)
     except json.JSONDecodeError:
         raise damaged(path, "its attribute 'qc' is not JSON") from None
-    return values, qc

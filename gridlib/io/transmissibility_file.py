@@ -12,6 +12,7 @@ a simulator sees. Units: the attributes ``unit_system``, ``trans_units`` and ``p
 from __future__ import annotations
 
 import os
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -20,6 +21,8 @@ import xarray as xr
 from ..transmissibility import KIND_NAMES, Connections
 from ..units import UnitSystem
 from .datasets import damaged, open_artifact, read_variable
+from .deferred import Deferred
+from .netcdf import deferred_data
 from .quantities import label_units
 
 CONNECTION_VARS = ("connection_cells", "trans", "connection_kind", "connection_face")
@@ -94,3 +97,31 @@ def read_transmissibility(
             raise damaged(path, f"not a transmissibility file: {', '.join(missing)} missing")
         variables = {n: xr.DataArray(ds[n].variable.copy(data=read_variable(ds, n)), name=n) for n in names}
         return variables, dict(ds.attrs)
+
+
+def deferred_connection_variables(path: str | os.PathLike) -> dict[str, xr.Variable]:
+    """The :data:`CONNECTION_VARS` of ``transmissibility.nc`` as :func:`read_transmissibility`
+    gives them (dimensions, attributes, encoding), each read from ``path`` only when it is
+    written (:func:`~gridlib.io.netcdf.deferred_data`): a 1e7-cell grid's 3e7 connections,
+    one variable in memory at a time."""
+    with open_artifact(path) as ds:
+        missing = [n for n in CONNECTION_VARS + CELL_VARS if n not in ds.variables]
+        if missing:
+            raise damaged(path, f"not a transmissibility file: {', '.join(missing)} missing")
+        return {
+            name: xr.Variable(
+                ds[name].dims,
+                deferred_data(
+                    Deferred(
+                        ds[name].shape, ds[name].dtype, partial(_read_one, path, name), f"{path}: {name}"
+                    )
+                ),
+                dict(ds[name].attrs),
+                dict(ds[name].encoding),
+            )
+            for name in CONNECTION_VARS
+        }
+
+
+def _read_one(path: str | os.PathLike, name: str) -> np.ndarray:
+    return read_transmissibility(path, (name,))[0][name].values

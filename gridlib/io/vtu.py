@@ -21,10 +21,13 @@ model the right way up. The reflection turns each face's cycle around, so the fa
 from __future__ import annotations
 
 import os
+import tempfile
 import zlib
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
+from typing import Any
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
@@ -34,6 +37,7 @@ from ..errors import GridError
 from ..grid import Grid
 from ..threads import concurrently
 from .atomic import atomic_path
+from .deferred import Deferred
 
 VTK_POLYGON = 7
 VTK_POLYHEDRON = 42
@@ -119,16 +123,30 @@ def _cell_points(entries: np.ndarray, per_cell: np.ndarray) -> tuple[np.ndarray,
     return conn, end
 
 
+@dataclass(frozen=True)
+class _Stored:
+    """Bytes of the appended block set aside in a scratch file: ``size`` bytes from ``start``."""
+
+    scratch: Any
+    start: int
+    size: int
+
+    def __len__(self) -> int:
+        return self.size
+
+
 class _AppendedArray:
     """One DataArray of the appended block, fed in pieces: raw (UInt64 byte count, then the
     bytes) or as VTK's zlib compressor stores it (UInt64 header: number of blocks, block size,
     size of the last block, compressed size of each block; then the blocks). Only the
-    compressed blocks are kept; each 1 MiB block is deflated on its own, on gridlib's
-    threads, so the bytes never depend on the number of threads or on the pieces."""
+    compressed blocks are kept (in memory, or in the binary file ``scratch`` where given:
+    :class:`_Stored` parts); each 1 MiB block is deflated on its own, on gridlib's threads, so
+    the bytes never depend on the number of threads or on the pieces."""
 
-    def __init__(self, compress: bool) -> None:
+    def __init__(self, compress: bool, scratch: Any = None) -> None:
         self.compress = compress
-        self.parts: list[bytes] = []
+        self.scratch = scratch
+        self.parts: list[bytes | _Stored] = []
         self.pending = b""
         self.nbytes = 0
 
@@ -136,7 +154,7 @@ class _AppendedArray:
         raw = np.ascontiguousarray(values, dtype=values.dtype.newbyteorder("<")).tobytes()
         self.nbytes += len(raw)
         if not self.compress:
-            self.parts.append(raw)
+            self._keep([raw])
             return
         data = self.pending + raw if self.pending else raw
         full = len(data) // BLOCK_BYTES * BLOCK_BYTES
@@ -145,7 +163,15 @@ class _AppendedArray:
 
     def _deflate(self, data: memoryview) -> None:
         blocks = [data[i : i + BLOCK_BYTES] for i in range(0, len(data), BLOCK_BYTES)]
-        self.parts += concurrently(*(partial(zlib.compress, block, ZLIB_LEVEL) for block in blocks))
+        self._keep(concurrently(*(partial(zlib.compress, block, ZLIB_LEVEL) for block in blocks)))
+
+    def _keep(self, parts: list[bytes]) -> None:
+        if self.scratch is None:
+            self.parts += parts
+            return
+        for part in parts:
+            self.parts.append(_Stored(self.scratch, self.scratch.tell(), len(part)))
+            self.scratch.write(part)
 
     def finish(self) -> list[bytes]:
         """The array's bytes in the appended block (header first)."""
@@ -169,24 +195,28 @@ class VtuGeometry:
     arrays: tuple[tuple[str, str, str, int, list[bytes]], ...]  # (section, name, VTK type, components, bytes)
 
 
-def vtu_geometry(grid: Grid, *, compress: bool = True) -> VtuGeometry:
-    """The Points and Cells arrays of ``grid``'s VTU, z as elevation (:func:`vtk_points`)."""
+def vtu_geometry(grid: Grid, *, compress: bool = True, scratch: Any = None) -> VtuGeometry:
+    """The Points and Cells arrays of ``grid``'s VTU, z as elevation (:func:`vtk_points`); their
+    bytes in memory, or in the binary file ``scratch`` where given (valid while it is open)."""
     points = vtk_points(grid.nodes.coords)
-    arrays = [_array("Points", "Points", np.float64, 3, _row_blocks(points, BLOCK_CELLS * 8), compress)]
+    arrays = [
+        _array("Points", "Points", np.float64, 3, _row_blocks(points, BLOCK_CELLS * 8), compress, scratch)
+    ]
+    del points
     if grid.griddim == 3:
-        arrays += _polyhedra(grid, compress)
+        arrays += _polyhedra(grid, compress, scratch)
     else:
         pos, cyc = cell_node_cycles_2d(grid)
-        arrays.append(_array("Cells", "connectivity", np.int64, 1, [cyc], compress))
-        arrays.append(_array("Cells", "offsets", np.int64, 1, [pos[1:]], compress))
+        arrays.append(_array("Cells", "connectivity", np.int64, 1, [cyc], compress, scratch))
+        arrays.append(_array("Cells", "offsets", np.int64, 1, [pos[1:]], compress, scratch))
         types = np.full(grid.num_cells, VTK_POLYGON, dtype=np.uint8)
-        arrays.append(_array("Cells", "types", np.uint8, 1, [types], compress))
-    return VtuGeometry(len(points), grid.num_cells, compress, tuple(arrays))
+        arrays.append(_array("Cells", "types", np.uint8, 1, [types], compress, scratch))
+    return VtuGeometry(grid.num_nodes, grid.num_cells, compress, tuple(arrays))
 
 
-def _array(section: str, name: str, dtype: type, ncomp: int, pieces, compress: bool):
+def _array(section: str, name: str, dtype: type, ncomp: int, pieces, compress: bool, scratch: Any = None):
     """One DataArray of the appended block: (section, name, VTK type, components, bytes)."""
-    appended = _AppendedArray(compress)
+    appended = _AppendedArray(compress, scratch)
     for piece in pieces:
         appended.add(np.asarray(piece, dtype=dtype))
     return (section, name, _VTK_TYPES[np.dtype(dtype)], ncomp, appended.finish())
@@ -195,37 +225,53 @@ def _array(section: str, name: str, dtype: type, ncomp: int, pieces, compress: b
 def write_vtu(
     path: str | os.PathLike,
     grid: Grid,
-    cell_data: dict[str, np.ndarray] | None = None,
+    cell_data: Mapping[str, np.ndarray | Deferred] | None = None,
     *,
     compress: bool = True,
     geometry: VtuGeometry | None = None,
 ) -> Path:
     """Write ``grid`` with its cell data to a .vtu file (atomically), z as elevation
-    (:func:`vtk_points`), zlib-compressed unless
-    ``compress`` is False. Polyhedra are laid out block of cells by block of cells, and only
-    the compressed arrays are held: the memory beyond the grid is about the compressed file.
+    (:func:`vtk_points`), zlib-compressed unless ``compress`` is False. ``cell_data``: arrays,
+    or :class:`~gridlib.io.deferred.Deferred` ones (read when written, then let go: one of them
+    in memory at a time). Polyhedra are laid out block of cells by block of cells, and the compressed
+    arrays wait in a scratch file beside ``path`` until the header (which gives their offsets)
+    is written: the memory beyond the grid and the arrays given is a block's.
     ``geometry``: the grid's :func:`vtu_geometry` (same ``compress``), laid out before."""
-    data = {}
-    for name, values in (cell_data or {}).items():
-        arr = np.asarray(values)
-        if arr.dtype == bool:
-            arr = arr.astype(np.uint8)
-        if arr.shape[:1] != (grid.num_cells,) or arr.ndim > 2:
-            raise GridError(f"write_vtu: cell data '{name}' must have shape ({grid.num_cells},) or (nc, k)")
-        if arr.dtype not in _VTK_TYPES:
-            raise GridError(f"write_vtu: cell data '{name}' has unsupported type {arr.dtype}")
-        data[name] = arr
-    if geometry is None:
-        geometry = vtu_geometry(grid, compress=compress)
-    elif (geometry.num_cells, geometry.compress) != (grid.num_cells, compress):
+    data = {
+        name: values if isinstance(values, Deferred) else _cell_array(grid, name, values)
+        for name, values in (cell_data or {}).items()
+    }
+    if geometry is not None and (geometry.num_cells, geometry.compress) != (grid.num_cells, compress):
         raise GridError("write_vtu: the geometry given is another grid's or compressed otherwise")
-    arrays = list(geometry.arrays)
-    for name, arr in data.items():
-        ncomp = 1 if arr.ndim == 1 else arr.shape[1]
-        arrays.append(
-            _array("CellData", name, arr.dtype.type, ncomp, _row_blocks(arr, BLOCK_CELLS), compress)
-        )
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryFile(dir=Path(path).parent) as scratch:
+        if geometry is None:
+            geometry = vtu_geometry(grid, compress=compress, scratch=scratch)
+        arrays = list(geometry.arrays)
+        for name, values in data.items():
+            arr = _cell_array(grid, name, np.asarray(values)) if isinstance(values, Deferred) else values
+            ncomp = 1 if arr.ndim == 1 else arr.shape[1]
+            blocks = _row_blocks(arr, BLOCK_CELLS)
+            arrays.append(_array("CellData", name, arr.dtype.type, ncomp, blocks, compress, scratch))
+            del arr, blocks
+        _write_file(path, _xml_header(grid.num_cells, geometry.num_points, arrays, compress), arrays)
+    return Path(path)
 
+
+def _cell_array(grid: Grid, name: str, values: np.ndarray) -> np.ndarray:
+    """``values`` as a VTU cell array of ``grid`` (booleans as UInt8), or a GridError naming it."""
+    arr = np.asarray(values)
+    if arr.dtype == bool:
+        arr = arr.astype(np.uint8)
+    if arr.shape[:1] != (grid.num_cells,) or arr.ndim > 2:
+        raise GridError(f"write_vtu: cell data '{name}' must have shape ({grid.num_cells},) or (nc, k)")
+    if arr.dtype not in _VTK_TYPES:
+        raise GridError(f"write_vtu: cell data '{name}' has unsupported type {arr.dtype}")
+    return arr
+
+
+def _xml_header(num_cells: int, num_points: int, arrays: list, compress: bool) -> bytes:
+    """The XML of the file up to its appended block, with every array's offset in that block."""
     header, offset = [], 0
     for section, name, vtk_type, ncomp, parts in arrays:
         header.append((section, name, vtk_type, ncomp, offset))
@@ -240,30 +286,57 @@ def write_vtu(
         )
 
     compressor = ' compressor="vtkZLibDataCompressor"' if compress else ""
-    xml = (
+    return (
         '<?xml version="1.0"?>\n'
         '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
         f'header_type="UInt64"{compressor}>\n'
         "<UnstructuredGrid>\n"
-        f'<Piece NumberOfPoints="{geometry.num_points}" NumberOfCells="{grid.num_cells}">\n'
+        f'<Piece NumberOfPoints="{num_points}" NumberOfCells="{num_cells}">\n'
         f"<Points>\n{tags('Points')}\n</Points>\n"
         f"<Cells>\n{tags('Cells')}\n</Cells>\n"
         f"<CellData>\n{tags('CellData')}\n</CellData>\n"
         "</Piece>\n</UnstructuredGrid>\n"
         '<AppendedData encoding="raw">\n_'
-    )
+    ).encode()
+
+
+def _write_file(path: str | os.PathLike, xml: bytes, arrays: list) -> None:
+    """The file: ``xml``, the parts of every array (copied from the scratch file where they
+    wait there, a run of consecutive parts at a time), the end of the appended block."""
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
-        fh.write(xml.encode())
+        fh.write(xml)
         for *_, parts in arrays:
-            fh.writelines(parts)
+            run: _Stored | None = None
+            for part in parts:
+                if isinstance(part, _Stored) and run is not None and run.start + run.size == part.start:
+                    run = _Stored(run.scratch, run.start, run.size + part.size)
+                    continue
+                _copy(fh, run)
+                run = part if isinstance(part, _Stored) else None
+                if run is None:
+                    fh.write(part)
+            _copy(fh, run)
         fh.write(b"\n</AppendedData>\n</VTKFile>\n")
-    return Path(path)
 
 
-def _polyhedra(grid: Grid, compress: bool) -> list[tuple[str, str, str, int, list[bytes]]]:
+def _copy(fh: Any, run: _Stored | None, piece: int = 1 << 24) -> None:
+    """Copy ``run`` from its scratch file to ``fh`` (nothing for None), 16 MiB at a time."""
+    if run is None:
+        return
+    run.scratch.seek(run.start)
+    left = run.size
+    while left:
+        chunk = run.scratch.read(min(left, piece))
+        fh.write(chunk)
+        left -= len(chunk)
+
+
+def _polyhedra(grid: Grid, compress: bool, scratch: Any = None) -> list[tuple[str, str, str, int, list]]:
     """The Cells arrays of a 3-D grid's polyhedra (connectivity, offsets, types, faces,
     faceoffsets), built and compressed block of cells by block of cells."""
-    streams = {key: _AppendedArray(compress) for key in ("connectivity", "offsets", "faces", "faceoffsets")}
+    streams = {
+        key: _AppendedArray(compress, scratch) for key in ("connectivity", "offsets", "faces", "faceoffsets")
+    }
     index = _index_type(grid)
     ends = np.zeros(2, dtype=np.int64)  # connectivity and faces written so far
     for first in range(0, grid.num_cells, BLOCK_CELLS):
@@ -277,7 +350,7 @@ def _polyhedra(grid: Grid, compress: bool) -> list[tuple[str, str, str, int, lis
         ):
             streams[key].add(values.astype(index, copy=False))
         ends += (conn.size, faces.size)
-    types = _AppendedArray(compress)
+    types = _AppendedArray(compress, scratch)
     types.add(np.full(grid.num_cells, VTK_POLYHEDRON, dtype=np.uint8))
     label = _VTK_TYPES[np.dtype(index)]
     return [

@@ -91,13 +91,15 @@ def stage_grid(
     }
     write_netcdf(grid, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs)
     log.info("wrote %s: %r", grid, built.grid)
+    deck = built.deck
+    del built  # the grid, most of the memory, is written: the GRDECL needs the deck alone
     if grdecl is not None:
-        if built.deck is None:
+        if deck is None:
             raise ValueError(f"{case.path}: grid.grdecl is only written for cornerpoint and deck grids")
         # grid.grdecl has no RUNSPEC: its MULTREGT records name their region set, which GRIDOPTS
         # may have defaulted
-        write_grdecl(grdecl, with_explicit_region_sets(built.deck))
-        carried = edit_section_contents(built.deck)
+        write_grdecl(grdecl, with_explicit_region_sets(deck))
+        carried = edit_section_contents(deck)
         if carried:
             log.info(
                 "note: %s ends with the deck's EDIT section (%s), which the transmissibilities and "
