@@ -100,15 +100,32 @@ def run_job(job: StageJob) -> int:
     """Run ``job`` in the run's job server if the environment names one that this Python can
     use and that answers, else in this process; the job's exit status (0: done; 1: failed,
     the one-line message on stderr and the traceback of a bug in the rule's log)."""
+    status = _run_in_server(job)
+    return run_here(job) if status is None else status
+
+
+def run_stage_job(job: StageJob) -> int:
+    """Run a stage rule's job from a Snakemake process (a ``run:`` job, which runs in one of its
+    threads): in the run's job server if the environment names one that answers, else in a new
+    Python process (:func:`run_in_new_process`), never in the calling process, whose threads run
+    other jobs. The job's exit status, as :func:`run_job`."""
+    status = _run_in_server(job)
+    return run_in_new_process(job) if status is None else status
+
+
+def _run_in_server(job: StageJob) -> int | None:
+    """The exit status of ``job`` run in the job server the environment names; None where none
+    is named, its Python is not this one (a conda or container job) or it does not answer (its
+    run ended early)."""
     path = os.environ.get(SERVER_ENV)
     if not path or os.environ.get(PYTHON_ENV) != sys.executable:
-        return run_here(job)
+        return None
     conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     try:
         conn.connect(path)
-    except OSError:  # the server is gone (its run ended early): as if there were none
+    except OSError:
         conn.close()
-        return run_here(job)
+        return None
     with conn:
         request = json.dumps(
             {"job": asdict(job), "cwd": os.getcwd(), "env": dict(os.environ), "path": sys.path}
@@ -126,6 +143,46 @@ def run_job(job: StageJob) -> int:
         )
         return 1
     return _STATUS.unpack(answer)[0]
+
+
+def run_in_new_process(job: StageJob) -> int:
+    """Run ``job`` in a new Python process (this interpreter, this gridlib), as a stage rule's
+    job ran before the job server: its standard output and error are this process's; it ends
+    when this process does (it watches a pipe from it). The job's exit status."""
+    package_root = str(Path(__file__).resolve().parents[2])
+    code = (
+        f"import sys; sys.path.insert(0, {package_root!r}); "
+        f"from {__name__} import _run_from_parent; sys.exit(_run_from_parent())"
+    )
+    sys.stdout.flush()
+    sys.stderr.flush()
+    process = subprocess.Popen(
+        [sys.executable, "-c", code, json.dumps(asdict(job))], stdin=subprocess.PIPE, start_new_session=True
+    )
+    try:
+        return process.wait()
+    except BaseException:  # the run is stopping: so does the job, and what it started
+        with contextlib.suppress(OSError):
+            os.killpg(process.pid, signal.SIGKILL)
+        raise
+    finally:
+        if process.stdin is not None:
+            process.stdin.close()
+
+
+def _run_from_parent() -> int:
+    """The process of :func:`run_in_new_process`: the job (``sys.argv[1]``, JSON) run here,
+    killed with its process group when its parent's pipe (standard input) closes first."""
+
+    def end_with_the_parent() -> None:
+        with contextlib.suppress(OSError):
+            while os.read(0, 1):
+                pass
+        os.killpg(0, signal.SIGKILL)
+
+    threading.Thread(target=end_with_the_parent, daemon=True).start()
+    data = json.loads(sys.argv[1])
+    return run_here(StageJob(**data | {key: tuple(data[key]) for key in ("outputs", "plugins")}))
 
 
 def run_here(job: StageJob, server: bool = False) -> int:

@@ -13,6 +13,7 @@ from importlib import import_module
 from pathlib import Path
 
 import yaml
+from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
 from gridlib import artifacts
@@ -94,6 +95,35 @@ def start_job_server():
         print(
             "gridlib: the job server did not start; every job runs in its own process",
             file=sys.stderr,
+        )
+
+
+def stage_job(stage, input, output, threads, log_file, wildcards):
+    """A stage rule's job (workflow/rules/stages.smk): the stage ``stage`` of the job's case
+    with the rule's inputs and outputs (keyword arguments named after the artifacts' keys),
+    in the run's job server where it has one (a local run: gridlib/stages/job_server.py),
+    else in a new Python process (a cluster job, a conda or container job, job_server:
+    false). Its notes reach the console once, prefixed with the case and the stage; a failure
+    is one line there (gridlib.stages.run_logged), the traceback of an unexpected one in the
+    rule's log, and fails the job."""
+    from gridlib.stages.job_server import StageJob, run_stage_job
+
+    paths = {key: str(path) for key, path in input.items() if key != "case"}
+    paths |= {key: str(path) for key, path in output.items()}
+    job = StageJob(
+        stage=stage,
+        case=str(input.case),
+        paths=paths,
+        threads=threads,
+        log=log_file,
+        outputs=tuple(str(path) for path in output),
+        name=f"stage_{stage}",
+        label=f"{wildcards.get('case', input.case)}: {stage}",
+        plugins=tuple(config.get("plugins", [])),
+    )
+    if run_stage_job(job) != 0:
+        raise WorkflowError(
+            f"stage {stage} of {input.case} failed (the reason above; log: {log_file})"
         )
 
 
