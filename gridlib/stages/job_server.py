@@ -1,38 +1,39 @@
-"""A warm process for the stage jobs of a local Snakemake run: each job's script hands its stage
-to a process that has imported gridlib and its libraries once, instead of importing them itself.
+"""A warm process for the stage jobs of a local Snakemake run: each job hands its stage to a
+process that has imported gridlib and its libraries once, instead of importing them itself.
 
-Every stage rule runs ``workflow/scripts/stage.py`` in a new Python process, which imports
-numpy, xarray, gridlib and what its stage uses (gstools, pyvista, matplotlib, ...) before it does
-a fraction of a second of work on a small case: 0.5-1.3 s of CPU a job, most of the sample
-workflow's (measured on the project's 2-core VM: its 89 jobs took 128 s of CPU, a sample case's
-eight stages 12.4 s for 19,200 cells and 9.7 s for 784). With the server the sample workflow
-takes 40 s of CPU instead of 111 s (docs/stages.md).
+A new Python process per stage job imports numpy, xarray, gridlib and what its stage uses
+(gstools, pyvista, matplotlib, ...) before it does a fraction of a second of work on a small
+case: 0.5-1.3 s of CPU a job, most of the sample workflow's (measured on the project's 2-core VM:
+its 89 jobs took 128 s of CPU, a sample case's eight stages 12.4 s for 19,200 cells and 9.7 s
+for 784). With the server the sample workflow takes 40 s of CPU instead of 111 s
+(docs/stages.md).
 
 For a local run of two or more stage jobs the Snakefile's ``onstart`` starts one *job server*
 (:func:`serve_this_run`): a process that imports those modules (:data:`PRELOAD`, the modules of
 the run's stages and their :data:`STAGE_LIBRARIES`, the configuration's plugins), listens on a
-Unix socket in a
-private temporary folder, and is named to the jobs by the environment
-(:data:`SERVER_ENV`). A job's script (:func:`run_job`) sends the server its :class:`StageJob`,
-working directory, environment and ``sys.path``, with its standard input, output and error
-(file descriptors, ``SCM_RIGHTS``); the server forks a child, a warm copy of itself, which takes
-them over and runs the stage as the script would (:func:`run_here`: the plugins, then
+Unix socket in a private temporary folder, and is named to the jobs by the environment
+(:data:`SERVER_ENV`). A stage rule is a ``run:`` job (``stage_job`` in
+``workflow/rules/common.smk``), which Snakemake runs in a thread of its own process
+(``--force-use-threads``, the default profile): :func:`run_stage_job` sends the server its
+:class:`StageJob`, working directory, environment and ``sys.path``, with its standard input,
+output and error (file descriptors, ``SCM_RIGHTS``); the server forks a child, a warm copy of
+itself, which takes them over and runs the stage (:func:`run_here`: the plugins, then
 :func:`~gridlib.stages.common.run_logged` of :func:`~gridlib.stages.pipeline.run_stage`), sends
-the exit status back and ends; the script exits with that status. What Snakemake sees of a job
-is unchanged: its outputs, its log, its console lines, its exit status, the same files bit for
-bit. Its benchmark measures the job's own process, now the script's, which waits: the ``s``
-column is the stage's wall time, the CPU and memory columns are no longer the stage's (the rule's
-log has its wall time and peak memory).
+the exit status back and ends. No Python process starts for the job. What Snakemake sees of a
+job is what a job of its own process gives: its outputs, its log, its console lines, its exit
+status, the same files bit for bit. Its benchmark's ``s`` column is the stage's wall time, its
+CPU and memory columns are not the stage's (the rule's log has its wall time and peak memory).
 
-The job's process stays in charge: if it is killed (Snakemake stopping a run), the child kills
-its own process group (itself and what it started, e.g. OPM Flow). Each child is forked from the
-server, which runs no stage itself, so jobs share no state. A job runs in its own process, as
-before, where no server is named, where the server cannot be reached, or where the job's Python
-is not the server's (a conda or container job): on other systems than Linux, on a cluster node
-(the SLURM profile), for a run of a single stage job, with
-``--no-hooks``, with ``--software-deployment-method``, or with the configuration's
-``job_server: false``. The server ends when the Snakemake process that started it does (it
-watches a pipe from it).
+The job's thread stays in charge: if Snakemake's process ends (a run stopped), the connection
+closes and the child kills its own process group (itself and what it started, e.g. OPM Flow).
+Each child is forked from the server, which runs no stage itself, so jobs share no state. A job
+runs in a new Python process of its own (:func:`run_in_new_process`) where no server is named,
+where the server cannot be reached, or where the job's Python is not the server's (a conda or
+container job): on other systems than Linux, on a cluster node (the SLURM profile), for a run
+of a single stage job, with ``--no-hooks``, with ``--software-deployment-method``, or with the
+configuration's ``job_server: false``. :func:`run_job` does the same from a process that runs
+one job (a script), falling back to that process. The server ends when the Snakemake process
+that started it does (it watches a pipe from it).
 """
 
 from __future__ import annotations
