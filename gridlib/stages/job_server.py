@@ -73,6 +73,15 @@ STAGE_LIBRARIES: dict[str, tuple[str, ...]] = {
     "export": ("pyvista", "pyvista.plotting", "matplotlib.pyplot"),
     "simulate": ("matplotlib.pyplot",),
 }
+# What Snakemake sets to a shell or script job's threads (its shell's environment for a job).
+JOB_THREAD_VARIABLES = (
+    "OMP_NUM_THREADS",
+    "GOTO_NUM_THREADS",
+    "OPENBLAS_NUM_THREADS",
+    "MKL_NUM_THREADS",
+    "VECLIB_MAXIMUM_THREADS",
+    "NUMEXPR_NUM_THREADS",
+)
 # Set to 1 in the server's environment unless given (see start_server).
 BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 _HEADER = struct.Struct("!I")  # the length of the request that follows the descriptors
@@ -105,19 +114,31 @@ def run_job(job: StageJob) -> int:
     return run_here(job) if status is None else status
 
 
-def run_stage_job(job: StageJob) -> int:
+def job_environment(threads: int, tmpdir: str | None = None) -> dict[str, str]:
+    """This process's environment as Snakemake gives it to a shell or script job of ``threads``
+    threads and the resource ``tmpdir``: the thread counts of the linear-algebra and OpenMP
+    libraries (:data:`JOB_THREAD_VARIABLES`) set to ``threads``, ``TMPDIR`` and ``TMP`` to
+    ``tmpdir``."""
+    env = dict(os.environ) | dict.fromkeys(JOB_THREAD_VARIABLES, str(threads))
+    if tmpdir:
+        env |= {"TMPDIR": str(tmpdir), "TMP": str(tmpdir)}
+    return env
+
+
+def run_stage_job(job: StageJob, env: dict[str, str] | None = None) -> int:
     """Run a stage rule's job from a Snakemake process (a ``run:`` job, which runs in one of its
-    threads): in the run's job server if the environment names one that answers, else in a new
-    Python process (:func:`run_in_new_process`), never in the calling process, whose threads run
-    other jobs. The job's exit status, as :func:`run_job`."""
-    status = _run_in_server(job)
-    return run_in_new_process(job) if status is None else status
+    threads) with the environment ``env`` (default: this process's; see
+    :func:`job_environment`): in the run's job server if the environment names one that
+    answers, else in a new Python process (:func:`run_in_new_process`), never in the calling
+    process, whose threads run other jobs. The job's exit status, as :func:`run_job`."""
+    status = _run_in_server(job, env)
+    return run_in_new_process(job, env) if status is None else status
 
 
-def _run_in_server(job: StageJob) -> int | None:
-    """The exit status of ``job`` run in the job server the environment names; None where none
-    is named, its Python is not this one (a conda or container job) or it does not answer (its
-    run ended early)."""
+def _run_in_server(job: StageJob, env: dict[str, str] | None = None) -> int | None:
+    """The exit status of ``job`` run in the job server the environment names, with the
+    environment ``env`` (default: this process's); None where none is named, its Python is not
+    this one (a conda or container job) or it does not answer (its run ended early)."""
     path = os.environ.get(SERVER_ENV)
     if not path or os.environ.get(PYTHON_ENV) != sys.executable:
         return None
@@ -129,7 +150,12 @@ def _run_in_server(job: StageJob) -> int | None:
         return None
     with conn:
         request = json.dumps(
-            {"job": asdict(job), "cwd": os.getcwd(), "env": dict(os.environ), "path": sys.path}
+            {
+                "job": asdict(job),
+                "cwd": os.getcwd(),
+                "env": dict(os.environ if env is None else env),
+                "path": sys.path,
+            }
         ).encode()
         sys.stdout.flush()
         sys.stderr.flush()
@@ -146,10 +172,11 @@ def _run_in_server(job: StageJob) -> int | None:
     return _STATUS.unpack(answer)[0]
 
 
-def run_in_new_process(job: StageJob) -> int:
-    """Run ``job`` in a new Python process (this interpreter, this gridlib), as a stage rule's
-    job ran before the job server: its standard output and error are this process's; it ends
-    when this process does (it watches a pipe from it). The job's exit status."""
+def run_in_new_process(job: StageJob, env: dict[str, str] | None = None) -> int:
+    """Run ``job`` in a new Python process (this interpreter, this gridlib) with the
+    environment ``env`` (default: this process's): its standard output and error are this
+    process's; it ends when this process does (it watches a pipe from it). The job's exit
+    status."""
     package_root = str(Path(__file__).resolve().parents[2])
     code = (
         f"import sys; sys.path.insert(0, {package_root!r}); "
@@ -158,7 +185,10 @@ def run_in_new_process(job: StageJob) -> int:
     sys.stdout.flush()
     sys.stderr.flush()
     process = subprocess.Popen(
-        [sys.executable, "-c", code, json.dumps(asdict(job))], stdin=subprocess.PIPE, start_new_session=True
+        [sys.executable, "-c", code, json.dumps(asdict(job))],
+        stdin=subprocess.PIPE,
+        start_new_session=True,
+        env=env,
     )
     try:
         return process.wait()

@@ -98,15 +98,16 @@ def start_job_server():
         )
 
 
-def stage_job(stage, input, output, threads, log_file, wildcards):
+def stage_job(stage, input, output, threads, resources, log_file, wildcards):
     """A stage rule's job (workflow/rules/stages.smk): the stage ``stage`` of the job's case
-    with the rule's inputs and outputs (keyword arguments named after the artifacts' keys),
+    with the rule's inputs and outputs (keyword arguments named after the artifacts' keys)
+    and the environment Snakemake gives a script job of ``threads`` and ``resources``,
     in the run's job server where it has one (a local run: gridlib/stages/job_server.py),
     else in a new Python process (a cluster job, a conda or container job, job_server:
     false). Its notes reach the console once, prefixed with the case and the stage; a failure
     is one line there (gridlib.stages.run_logged), the traceback of an unexpected one in the
     rule's log, and fails the job."""
-    from gridlib.stages.job_server import StageJob, run_stage_job
+    from gridlib.stages.job_server import StageJob, job_environment, run_stage_job
 
     paths = {key: str(path) for key, path in input.items() if key != "case"}
     paths |= {key: str(path) for key, path in output.items()}
@@ -121,7 +122,9 @@ def stage_job(stage, input, output, threads, log_file, wildcards):
         label=f"{wildcards.get('case', input.case)}: {stage}",
         plugins=tuple(config.get("plugins", [])),
     )
-    if run_stage_job(job) != 0:
+    # the environment Snakemake gives a script job (thread counts, TMPDIR)
+    env = job_environment(threads, resources.get("tmpdir"))
+    if run_stage_job(job, env) != 0:
         raise WorkflowError(
             f"stage {stage} of {input.case} failed (the reason above; log: {log_file})"
         )

@@ -34,7 +34,15 @@ for _stage in STAGES:
             params:
                 stage=_stage.name,
             run:
-                stage_job(params.stage, input, output, threads, log[0], wildcards)
+                stage_job(
+                    params.stage,
+                    input,
+                    output,
+                    threads,
+                    resources,
+                    log[0],
+                    wildcards,
+                )
 
 
 rule simulate:
