@@ -22,7 +22,7 @@ time of the whole run (start-up and parse included) and per variant:
 cell sizes 24, 26, 28 and 30 m (about 6,200 to 4,000 cells, 5,000 on average) and its first
 fault's throw and twice it, 3 realisations each: 24 variants, each a grid job (every stage,
 the deck included) and a Flow job (one thread), ``snakemake --cores 2`` with
-``--force-use-threads`` (as ``make run``). It prints the wall time of the whole run and, per
+workflow/profiles/default (as ``make run``). It prints the wall time of the whole run and, per
 variant, the grid job's and the Flow job's wall time (Snakemake's benchmark files
 ``results/benchmarks/<study>/<variant>.tsv`` and ``<variant>.simulation.tsv``) and Flow's own
 (``Total time`` in its PRT file), with the machine's load average before and after.
@@ -34,6 +34,7 @@ import argparse
 import json
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -146,7 +147,10 @@ def simulated(base: Path, cores: int, keep: Path | None) -> None:
         study_file.write_text(yaml.safe_dump(study, sort_keys=False))
         load = os.getloadavg()[0]
         config = ["--config", "cases=[]", f"studies={study_file}"]
-        wall = _snakemake(work, "--cores", str(cores), "--force-use-threads", *config)
+        profile = ["--workflow-profile", str(ROOT / "workflow" / "profiles" / "default")]  # as make run
+        cpu = _children_cpu()
+        wall = _snakemake(work, "--cores", str(cores), *profile, *config)
+        cpu = _children_cpu() - cpu
         rows = _simulated_rows(work / "results", study["name"])
         after = os.getloadavg()[0]
         print(f"load average {load:.1f} before, {after:.1f} after (1 min; {os.cpu_count()} cores)")
@@ -167,8 +171,15 @@ def simulated(base: Path, cores: int, keep: Path | None) -> None:
         print(
             f"simulated study: {n} variants ({min(cells):,d} to {max(cells):,d} cells, mean "
             f"{statistics.fmean(cells):,.0f}), --cores {cores}: {wall:6.1f} s wall, "
-            f"{wall / n:5.2f} s per variant"
+            f"{wall / n:5.2f} s per variant; {cpu:6.1f} s CPU (Snakemake, its workers and Flow), "
+            f"{cpu / n:5.2f} s per variant"
         )
+
+
+def _children_cpu() -> float:
+    """CPU seconds of the processes this one has waited for (Snakemake and what it waited for)."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def _simulated_rows(results: Path, name: str) -> list[dict]:

@@ -104,7 +104,7 @@ def build(case: Path, out: Path, flow_deck: bool = False) -> dict[str, Path]:
 
 def run_as_the_workflow(case_file: Path, results: Path) -> Path:
     """Every stage of the case (those it has, not those run on request) into
-    ``results/<case>/``, each as its Snakemake rule runs it (workflow/scripts/stage.py: through
+    ``results/<case>/``, each as its Snakemake rule runs it (common.smk's stage_job: through
     run_logged, its log ``results/logs/<case>/<stage>[.<NAME>].log``), one after the other in
     this process, without a Python start-up per stage; returns the case's folder. A failing
     stage fails the test with its log."""

@@ -7,7 +7,7 @@ named after the artifacts (``stage_grid(case, horizons=..., grid=..., grdecl=...
 its inputs, calls gridlib and writes its outputs atomically with the case's provenance (gridlib
 version, case file hash, seed). :func:`run_case` runs every stage a case has, in one folder (the
 ``gridlib build`` command, a study's variants); the Snakemake rules run one stage each
-(``workflow/scripts/stage.py``, through :func:`run_stage`).
+(``stage_job`` of ``workflow/rules/common.smk``, through :func:`run_stage`).
 
 Stages: horizons -> grid -> geometry -> petrophysics -> coarsen, transmissibility and quality
 (cell-quality measures, the case's qc rules) -> wells (trajectory and survey wells) -> export ->

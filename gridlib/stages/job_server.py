@@ -1,38 +1,39 @@
-"""A warm process for the stage jobs of a local Snakemake run: each job's script hands its stage
-to a process that has imported gridlib and its libraries once, instead of importing them itself.
+"""A warm process for the stage jobs of a local Snakemake run: each job hands its stage to a
+process that has imported gridlib and its libraries once, instead of importing them itself.
 
-Every stage rule runs ``workflow/scripts/stage.py`` in a new Python process, which imports
-numpy, xarray, gridlib and what its stage uses (gstools, pyvista, matplotlib, ...) before it does
-a fraction of a second of work on a small case: 0.5-1.3 s of CPU a job, most of the sample
-workflow's (measured on the project's 2-core VM: its 89 jobs took 128 s of CPU, a sample case's
-eight stages 12.4 s for 19,200 cells and 9.7 s for 784). With the server the sample workflow
-takes 40 s of CPU instead of 111 s (docs/stages.md).
+A new Python process per stage job imports numpy, xarray, gridlib and what its stage uses
+(gstools, pyvista, matplotlib, ...) before it does a fraction of a second of work on a small
+case: 0.5-1.3 s of CPU a job, most of the sample workflow's (measured on the project's 2-core VM:
+its 89 jobs took 128 s of CPU, a sample case's eight stages 12.4 s for 19,200 cells and 9.7 s
+for 784). With the server the sample workflow takes 40 s of CPU instead of 111 s
+(docs/stages.md).
 
 For a local run of two or more stage jobs the Snakefile's ``onstart`` starts one *job server*
 (:func:`serve_this_run`): a process that imports those modules (:data:`PRELOAD`, the modules of
 the run's stages and their :data:`STAGE_LIBRARIES`, the configuration's plugins), listens on a
-Unix socket in a
-private temporary folder, and is named to the jobs by the environment
-(:data:`SERVER_ENV`). A job's script (:func:`run_job`) sends the server its :class:`StageJob`,
-working directory, environment and ``sys.path``, with its standard input, output and error
-(file descriptors, ``SCM_RIGHTS``); the server forks a child, a warm copy of itself, which takes
-them over and runs the stage as the script would (:func:`run_here`: the plugins, then
+Unix socket in a private temporary folder, and is named to the jobs by the environment
+(:data:`SERVER_ENV`). A stage rule is a ``run:`` job (``stage_job`` in
+``workflow/rules/common.smk``), which Snakemake runs in a thread of its own process
+(``--force-use-threads``, the default profile): :func:`run_stage_job` sends the server its
+:class:`StageJob`, working directory, environment and ``sys.path``, with its standard input,
+output and error (file descriptors, ``SCM_RIGHTS``); the server forks a child, a warm copy of
+itself, which takes them over and runs the stage (:func:`run_here`: the plugins, then
 :func:`~gridlib.stages.common.run_logged` of :func:`~gridlib.stages.pipeline.run_stage`), sends
-the exit status back and ends; the script exits with that status. What Snakemake sees of a job
-is unchanged: its outputs, its log, its console lines, its exit status, the same files bit for
-bit. Its benchmark measures the job's own process, now the script's, which waits: the ``s``
-column is the stage's wall time, the CPU and memory columns are no longer the stage's (the rule's
-log has its wall time and peak memory).
+the exit status back and ends. No Python process starts for the job. What Snakemake sees of a
+job is what a job of its own process gives: its outputs, its log, its console lines, its exit
+status, the same files bit for bit. Its benchmark's ``s`` column is the stage's wall time, its
+CPU and memory columns are not the stage's (the rule's log has its wall time and peak memory).
 
-The job's process stays in charge: if it is killed (Snakemake stopping a run), the child kills
-its own process group (itself and what it started, e.g. OPM Flow). Each child is forked from the
-server, which runs no stage itself, so jobs share no state. A job runs in its own process, as
-before, where no server is named, where the server cannot be reached, or where the job's Python
-is not the server's (a conda or container job): on other systems than Linux, on a cluster node
-(the SLURM profile), for a run of a single stage job, with
-``--no-hooks``, with ``--software-deployment-method``, or with the configuration's
-``job_server: false``. The server ends when the Snakemake process that started it does (it
-watches a pipe from it).
+The job's thread stays in charge: if Snakemake's process ends (a run stopped), the connection
+closes and the child kills its own process group (itself and what it started, e.g. OPM Flow).
+Each child is forked from the server, which runs no stage itself, so jobs share no state. A job
+runs in a new Python process of its own (:func:`run_in_new_process`) where no server is named,
+where the server cannot be reached, or where the job's Python is not the server's (a conda or
+container job): on other systems than Linux, on a cluster node (the SLURM profile), for a run
+of a single stage job, with ``--no-hooks``, with ``--software-deployment-method``, or with the
+configuration's ``job_server: false``. :func:`run_job` does the same from a process that runs
+one job (a script), falling back to that process. The server ends when the Snakemake process
+that started it does (it watches a pipe from it).
 """
 
 from __future__ import annotations
@@ -72,6 +73,15 @@ STAGE_LIBRARIES: dict[str, tuple[str, ...]] = {
     "export": ("pyvista", "pyvista.plotting", "matplotlib.pyplot"),
     "simulate": ("matplotlib.pyplot",),
 }
+# What Snakemake sets to a shell or script job's threads (its shell's environment for a job).
+JOB_THREAD_VARIABLES = (
+    "OMP_NUM_THREADS",
+    "GOTO_NUM_THREADS",
+    "OPENBLAS_NUM_THREADS",
+    "MKL_NUM_THREADS",
+    "VECLIB_MAXIMUM_THREADS",
+    "NUMEXPR_NUM_THREADS",
+)
 # Set to 1 in the server's environment unless given (see start_server).
 BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 _HEADER = struct.Struct("!I")  # the length of the request that follows the descriptors
@@ -100,18 +110,52 @@ def run_job(job: StageJob) -> int:
     """Run ``job`` in the run's job server if the environment names one that this Python can
     use and that answers, else in this process; the job's exit status (0: done; 1: failed,
     the one-line message on stderr and the traceback of a bug in the rule's log)."""
+    status = _run_in_server(job)
+    return run_here(job) if status is None else status
+
+
+def job_environment(threads: int, tmpdir: str | None = None) -> dict[str, str]:
+    """This process's environment as Snakemake gives it to a shell or script job of ``threads``
+    threads and the resource ``tmpdir``: the thread counts of the linear-algebra and OpenMP
+    libraries (:data:`JOB_THREAD_VARIABLES`) set to ``threads``, ``TMPDIR`` and ``TMP`` to
+    ``tmpdir``."""
+    env = dict(os.environ) | dict.fromkeys(JOB_THREAD_VARIABLES, str(threads))
+    if tmpdir:
+        env |= {"TMPDIR": str(tmpdir), "TMP": str(tmpdir)}
+    return env
+
+
+def run_stage_job(job: StageJob, env: dict[str, str] | None = None) -> int:
+    """Run a stage rule's job from a Snakemake process (a ``run:`` job, which runs in one of its
+    threads) with the environment ``env`` (default: this process's; see
+    :func:`job_environment`): in the run's job server if the environment names one that
+    answers, else in a new Python process (:func:`run_in_new_process`), never in the calling
+    process, whose threads run other jobs. The job's exit status, as :func:`run_job`."""
+    status = _run_in_server(job, env)
+    return run_in_new_process(job, env) if status is None else status
+
+
+def _run_in_server(job: StageJob, env: dict[str, str] | None = None) -> int | None:
+    """The exit status of ``job`` run in the job server the environment names, with the
+    environment ``env`` (default: this process's); None where none is named, its Python is not
+    this one (a conda or container job) or it does not answer (its run ended early)."""
     path = os.environ.get(SERVER_ENV)
     if not path or os.environ.get(PYTHON_ENV) != sys.executable:
-        return run_here(job)
+        return None
     conn = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     try:
         conn.connect(path)
-    except OSError:  # the server is gone (its run ended early): as if there were none
+    except OSError:
         conn.close()
-        return run_here(job)
+        return None
     with conn:
         request = json.dumps(
-            {"job": asdict(job), "cwd": os.getcwd(), "env": dict(os.environ), "path": sys.path}
+            {
+                "job": asdict(job),
+                "cwd": os.getcwd(),
+                "env": dict(os.environ if env is None else env),
+                "path": sys.path,
+            }
         ).encode()
         sys.stdout.flush()
         sys.stderr.flush()
@@ -126,6 +170,50 @@ def run_job(job: StageJob) -> int:
         )
         return 1
     return _STATUS.unpack(answer)[0]
+
+
+def run_in_new_process(job: StageJob, env: dict[str, str] | None = None) -> int:
+    """Run ``job`` in a new Python process (this interpreter, this gridlib) with the
+    environment ``env`` (default: this process's): its standard output and error are this
+    process's; it ends when this process does (it watches a pipe from it). The job's exit
+    status."""
+    package_root = str(Path(__file__).resolve().parents[2])
+    code = (
+        f"import sys; sys.path.insert(0, {package_root!r}); "
+        f"from {__name__} import _run_from_parent; sys.exit(_run_from_parent())"
+    )
+    sys.stdout.flush()
+    sys.stderr.flush()
+    process = subprocess.Popen(
+        [sys.executable, "-c", code, json.dumps(asdict(job))],
+        stdin=subprocess.PIPE,
+        start_new_session=True,
+        env=env,
+    )
+    try:
+        return process.wait()
+    except BaseException:  # the run is stopping: so does the job, and what it started
+        with contextlib.suppress(OSError):
+            os.killpg(process.pid, signal.SIGKILL)
+        raise
+    finally:
+        if process.stdin is not None:
+            process.stdin.close()
+
+
+def _run_from_parent() -> int:
+    """The process of :func:`run_in_new_process`: the job (``sys.argv[1]``, JSON) run here,
+    killed with its process group when its parent's pipe (standard input) closes first."""
+
+    def end_with_the_parent() -> None:
+        with contextlib.suppress(OSError):
+            while os.read(0, 1):
+                pass
+        os.killpg(0, signal.SIGKILL)
+
+    threading.Thread(target=end_with_the_parent, daemon=True).start()
+    data = json.loads(sys.argv[1])
+    return run_here(StageJob(**data | {key: tuple(data[key]) for key in ("outputs", "plugins")}))
 
 
 def run_here(job: StageJob, server: bool = False) -> int:

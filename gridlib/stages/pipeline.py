@@ -68,7 +68,7 @@ def run_stage(name: str, case: Case | str | os.PathLike, paths: Mapping[str, str
     raised in the stage names the case file and the stage; the stage's outputs are then as they
     were before (:func:`restored_on_failure`).
 
-    The Snakemake rules run their stage so (``workflow/scripts/stage.py``)."""
+    The Snakemake rules run their stage so (``stage_job`` of ``workflow/rules/common.smk``)."""
     if not isinstance(case, Case):
         case = load_case(case)
     stage = next((s for s in artifacts.STAGES if s.name == name), None)

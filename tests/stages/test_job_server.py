@@ -91,13 +91,19 @@ def _job(folder: Path, case: Path, stage: str, **paths: str) -> StageJob:
     )
 
 
-def _script(job: StageJob, env: dict[str, str], plugins: Path, **kwargs) -> subprocess.Popen:
+# A stage rule's job as Snakemake runs it (a thread of its process: here a script calling it).
+RULE_SCRIPT = SCRIPT.replace("run_job", "run_stage_job")
+
+
+def _script(
+    job: StageJob, env: dict[str, str], plugins: Path, script: str = SCRIPT, **kwargs
+) -> subprocess.Popen:
     import json
     from dataclasses import asdict
 
     env = {**os.environ, "PYTHONPATH": f"{plugins}{os.pathsep}{ROOT}"} | env
     return subprocess.Popen(
-        [sys.executable, "-c", SCRIPT, json.dumps(asdict(job))],
+        [sys.executable, "-c", script, json.dumps(asdict(job))],
         env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -106,8 +112,8 @@ def _script(job: StageJob, env: dict[str, str], plugins: Path, **kwargs) -> subp
     )
 
 
-def _run(job: StageJob, env: dict[str, str], plugins: Path) -> tuple[int, str, str]:
-    process = _script(job, env, plugins)
+def _run(job: StageJob, env: dict[str, str], plugins: Path, script: str = SCRIPT) -> tuple[int, str, str]:
+    process = _script(job, env, plugins, script)
     out, err = process.communicate(timeout=120)
     return process.returncode, out, err
 
@@ -187,3 +193,38 @@ def test_a_job_the_server_cannot_take_runs_in_its_own_process(server, case, tmp_
     code, out, err = _run(_job(tmp_path, case, "grid"), env, plugins)
     assert code == 0 and out.strip() == "imported the stages: True", err
     assert "run in the job server" not in (tmp_path / "grid.log").read_text()
+
+
+def test_a_rule_job_without_a_server_runs_in_a_new_process_and_stops_with_its_caller(server, case, tmp_path):
+    """run_stage_job (a stage rule's job, run in a thread of Snakemake's process) never runs the
+    stage in the calling process: without a server it starts a new one, which writes what the
+    server's child writes, fails with the same line, and is stopped (with what it started) when
+    the calling process is."""
+    started, plugins = server
+    for folder, env in (("served", started.environment()), ("new", {})):
+        (tmp_path / folder).mkdir()
+        for stage in ("grid", "geometry"):
+            code, out, err = _run(_job(tmp_path / folder, case, stage), env, plugins, RULE_SCRIPT)
+            assert code == 0 and out.strip() == "imported the stages: False", (folder, stage, err)
+    assert "run in the job server" not in (tmp_path / "new" / "grid.log").read_text()
+    assert assert_same_files(tmp_path / "new", tmp_path / "served") == ["geometry.nc", "grid.nc"]
+    failed = _run(
+        _job(tmp_path, case, "geometry", grid=str(tmp_path / "missing.nc")), {}, plugins, RULE_SCRIPT
+    )
+    assert failed[0] == 1 and failed[2].startswith("gridlib: ") and failed[2].count("\n") == 1, failed
+
+    (tmp_path / "grid.nc").write_bytes((tmp_path / "new" / "grid.nc").read_bytes())
+    script = _script(_job(tmp_path, case, "nap"), {}, plugins, RULE_SCRIPT)
+    pids = tmp_path / "nap.txt.pids"
+    deadline = time.monotonic() + 60
+    while not pids.exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    stage, sleeper = (int(p) for p in pids.read_text().split())
+    assert stage != script.pid
+    script.send_signal(signal.SIGKILL)
+    script.communicate(timeout=30)
+    deadline = time.monotonic() + 10
+    while any(_running(p) for p in (stage, sleeper)) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not _running(stage) and not _running(sleeper)
+    assert not (tmp_path / "nap.txt").exists()

@@ -319,7 +319,7 @@ def test_the_horizons_stage_logs_the_repairs_of_its_horizons(tmp_path, caplog):
 
 
 def test_run_logged_prints_notes_once_and_a_failure_as_one_line(tmp_path, capsys):
-    """What a Snakemake job prints (workflow/scripts/stage.py runs its stage through run_logged):
+    """What a Snakemake job prints (a stage rule's job runs its stage through run_logged):
     each note once as it is logged, prefixed with the label; an InputError as its message; an
     unexpected exception as one line naming the log, whose traceback stays in the log."""
     import logging

@@ -13,6 +13,7 @@ from importlib import import_module
 from pathlib import Path
 
 import yaml
+from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
 from gridlib import artifacts
@@ -94,6 +95,55 @@ def start_job_server():
         print(
             "gridlib: the job server did not start; every job runs in its own process",
             file=sys.stderr,
+        )
+        return
+    quiet_benchmark_sampling()
+
+
+def quiet_benchmark_sampling():
+    """Sample a job's memory and CPU for its benchmark file every 30 s from its start instead
+    of every 0.5 s for its first 15 s. A `run:` job's benchmark samples this process and every
+    process under it (the job server and its children, a study's workers, OPM Flow), each
+    sample reading their memory maps (about 10 ms per 600 MB process): 0.2 s of CPU per job on
+    the sample workflow, more than many stages; and its memory and CPU columns are not the
+    stage's anyway (docs/stages.md). The `s` column, the job's wall time, is unchanged.
+    """
+    import snakemake.benchmark
+
+    snakemake.benchmark.BENCHMARK_INTERVAL_SHORT = (
+        snakemake.benchmark.BENCHMARK_INTERVAL
+    )
+
+
+def stage_job(stage, input, output, threads, resources, log_file, wildcards):
+    """A stage rule's job (workflow/rules/stages.smk): the stage ``stage`` of the job's case
+    with the rule's inputs and outputs (keyword arguments named after the artifacts' keys)
+    and the environment Snakemake gives a script job of ``threads`` and ``resources``,
+    in the run's job server where it has one (a local run: gridlib/stages/job_server.py),
+    else in a new Python process (a cluster job, a conda or container job, job_server:
+    false). Its notes reach the console once, prefixed with the case and the stage; a failure
+    is one line there (gridlib.stages.run_logged), the traceback of an unexpected one in the
+    rule's log, and fails the job."""
+    from gridlib.stages.job_server import StageJob, job_environment, run_stage_job
+
+    paths = {key: str(path) for key, path in input.items() if key != "case"}
+    paths |= {key: str(path) for key, path in output.items()}
+    job = StageJob(
+        stage=stage,
+        case=str(input.case),
+        paths=paths,
+        threads=threads,
+        log=log_file,
+        outputs=tuple(str(path) for path in output),
+        name=f"stage_{stage}",
+        label=f"{wildcards.get('case', input.case)}: {stage}",
+        plugins=tuple(config.get("plugins", [])),
+    )
+    # the environment Snakemake gives a script job (thread counts, TMPDIR)
+    env = job_environment(threads, resources.get("tmpdir"))
+    if run_stage_job(job, env) != 0:
+        raise WorkflowError(
+            f"stage {stage} of {input.case} failed (the reason above; log: {log_file})"
         )
 
 

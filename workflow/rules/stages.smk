@@ -3,8 +3,9 @@
 # the table: its inputs, its outputs where the case has them, temp() where the case drops its
 # stage files (outputs.stage_files: false). Cases whose outputs of a stage differ (grid.grdecl
 # or not, the VTU or not, kept or temporary) get a rule of their own, named after the stage and
-# the difference (grid_without_grdecl, export_without_vtu, geometry_temp, ...); every stage
-# job runs workflow/scripts/stage.py.
+# the difference (grid_without_grdecl, export_without_vtu, geometry_temp, ...). Every stage
+# job is a `run:` job (stage_job in common.smk): in a local run a thread of the Snakemake
+# process hands the stage to the run's job server (a warm process, no Python start-up per job).
 
 
 for _stage in STAGES:
@@ -27,15 +28,21 @@ for _stage in STAGES:
                 **_rule.constraints,
             group:
                 STAGE_GROUP
-            conda:
-                "../envs/gridlib.yaml"
             threads: _stage.threads
             resources:
                 mem_mb=_stage.mem_mb,
             params:
                 stage=_stage.name,
-            script:
-                "../scripts/stage.py"
+            run:
+                stage_job(
+                    params.stage,
+                    input,
+                    output,
+                    threads,
+                    resources,
+                    log[0],
+                    wildcards,
+                )
 
 
 rule simulate:
