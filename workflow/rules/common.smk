@@ -13,7 +13,6 @@ from importlib import import_module
 from pathlib import Path
 
 import yaml
-from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
 from gridlib import artifacts
@@ -142,9 +141,10 @@ def stage_job(stage, input, output, threads, resources, log_file, wildcards):
     # the environment Snakemake gives a script job (thread counts, TMPDIR)
     env = job_environment(threads, resources.get("tmpdir"))
     if run_stage_job(job, env) != 0:
-        raise WorkflowError(
-            f"stage {stage} of {input.case} failed (the reason above; log: {log_file})"
-        )
+        # The reason is the one gridlib: line above (the traceback of an unexpected error is in
+        # the log). Fail as a script job fails, through Snakemake's shell: Snakemake reports an
+        # exception raised here with the rule's Python frames, a traceback on the console.
+        shell("exit 1")
 
 
 # Snakemake's job group of every stage rule: on a cluster (workflow/profiles/slurm) a case's
