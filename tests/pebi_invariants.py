@@ -32,6 +32,14 @@ def _named(notes: tuple[str, ...], label: str, *words: str) -> bool:
     return any(label in n and any(w in n for w in words) for n in notes)
 
 
+def build_layout(case: dict, h: float) -> gl.voronoi.PebiGrid:
+    """The PEBI grid of a seeded layout: ``case``'s ``domain``, ``faults``, ``wells`` (none if
+    absent) and lattice ``pattern`` (hexagonal if absent), cell size ``h`` (m)."""
+    return gl.voronoi.pebi_grid(
+        case["domain"], h, case["faults"], case.get("wells", ()), pattern=case.get("pattern", "hexagonal")
+    )
+
+
 def check_pebi(case: dict, pg: gl.voronoi.PebiGrid, seed: object = None, h: float = 10.0) -> dict:
     """Check every invariant of ``pg``, built from ``case`` (``domain``, ``faults``, ``wells`` in
     metres, ``offset`` subtracted for exact figures); ``seed`` labels failures, ``h`` is the cell

@@ -207,8 +207,7 @@ def _run_from_parent() -> int:
 
     def end_with_the_parent() -> None:
         with contextlib.suppress(OSError):
-            while os.read(0, 1):
-                pass
+            os.read(0, 1)  # the parent never writes: this returns when its end of the pipe closes
         os.killpg(0, signal.SIGKILL)
 
     threading.Thread(target=end_with_the_parent, daemon=True).start()

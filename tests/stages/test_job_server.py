@@ -157,18 +157,25 @@ def test_a_stopped_job_stops_its_stage_and_what_the_stage_started(server, case, 
     assert _run(_job(tmp_path, case, "grid"), started.environment(), plugins)[0] == 0
     script = _script(_job(tmp_path, case, "nap"), started.environment(), plugins)
     pids = tmp_path / "nap.txt.pids"
+    _kill_and_see_the_stage_end(script, pids, tmp_path / "nap.txt")
+
+
+def _kill_and_see_the_stage_end(script: subprocess.Popen, pids: Path, output: Path) -> None:
+    """Once the stage has written its pid and its sleeper's into ``pids``, kill the job's
+    process ``script`` (as Snakemake ends a job it stops): the stage and what it started end
+    within 10 s, without writing ``output``; the stage ran in another process than ``script``."""
     deadline = time.monotonic() + 60
     while not pids.exists() and time.monotonic() < deadline:
         time.sleep(0.05)
     stage, sleeper = (int(p) for p in pids.read_text().split())
-    assert stage != script.pid  # the stage ran in the server's child
-    script.send_signal(signal.SIGKILL)  # as Snakemake ends a job it stops
+    assert stage != script.pid
+    script.send_signal(signal.SIGKILL)
     script.communicate(timeout=30)
     deadline = time.monotonic() + 10
     while any(_running(p) for p in (stage, sleeper)) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not _running(stage) and not _running(sleeper)
-    assert not (tmp_path / "nap.txt").exists()
+    assert not output.exists()
 
 
 def _running(pid: int) -> bool:
@@ -216,15 +223,4 @@ def test_a_rule_job_without_a_server_runs_in_a_new_process_and_stops_with_its_ca
     (tmp_path / "grid.nc").write_bytes((tmp_path / "new" / "grid.nc").read_bytes())
     script = _script(_job(tmp_path, case, "nap"), {}, plugins, RULE_SCRIPT)
     pids = tmp_path / "nap.txt.pids"
-    deadline = time.monotonic() + 60
-    while not pids.exists() and time.monotonic() < deadline:
-        time.sleep(0.05)
-    stage, sleeper = (int(p) for p in pids.read_text().split())
-    assert stage != script.pid
-    script.send_signal(signal.SIGKILL)
-    script.communicate(timeout=30)
-    deadline = time.monotonic() + 10
-    while any(_running(p) for p in (stage, sleeper)) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert not _running(stage) and not _running(sleeper)
-    assert not (tmp_path / "nap.txt").exists()
+    _kill_and_see_the_stage_end(script, pids, tmp_path / "nap.txt")

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 import shapely
 from pebi_domains import UTM, domain, inward, rot, unit
-from pebi_invariants import check_pebi
+from pebi_invariants import build_layout, check_pebi
 
 import gridlib as gl
 from gridlib.voronoi import Fault, pebi_grid
@@ -177,14 +177,10 @@ def layout(seed: int) -> dict:
     }
 
 
-def build(case: dict) -> gl.voronoi.PebiGrid:
-    return pebi_grid(case["domain"], H, case["faults"], case["wells"], pattern=case["pattern"])
-
-
 def check(seed: int) -> dict:
     """Build layout ``seed`` and check every invariant; returns figures for the summary."""
     case = layout(seed)
-    got = check_pebi(case, build(case), seed, H)
+    got = check_pebi(case, build_layout(case, H), seed, H)
     return {"scenario": case["scenario"], "shape": case["shape"], "pattern": case["pattern"], **got}
 
 
@@ -216,7 +212,7 @@ def test_traces_joined_along_an_edge_build():
     along the edge is the boundary and is dropped, with the joins noted."""
     for seed in (1101, 1386, 1979):
         case = layout(seed)
-        pg = build(case)
+        pg = build_layout(case, H)
         check_pebi(case, pg, seed, H)
         assert any("joined to the corner" in n for n in pg.notes), (seed, pg.notes)
 

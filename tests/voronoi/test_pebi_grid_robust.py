@@ -22,10 +22,9 @@ from pebi_domains import domain as _domain
 from pebi_domains import inward as _inward
 from pebi_domains import rot as _rot
 from pebi_domains import unit as _unit
-from pebi_invariants import check_pebi
+from pebi_invariants import build_layout, check_pebi
 
-import gridlib as gl
-from gridlib.voronoi import Fault, Rings, Well, pebi_grid
+from gridlib.voronoi import Fault, Rings, Well
 
 H = 10.0  # m: the cell size of every layout
 N_LAYOUTS = 300
@@ -317,14 +316,10 @@ def layout(seed: int) -> dict:
     }
 
 
-def build(case: dict) -> gl.voronoi.PebiGrid:
-    return pebi_grid(case["domain"], H, case["faults"], case["wells"], pattern=case["pattern"])
-
-
 def check(seed: int) -> dict:
     """Build layout ``seed`` and check every invariant; returns figures for the summary."""
     case = layout(seed)
-    got = check_pebi(case, build(case), seed, H)
+    got = check_pebi(case, build_layout(case, H), seed, H)
     return {"scenario": case["scenario"], "shape": case["shape"], **got}
 
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
-from pebi_invariants import check_pebi
+from pebi_invariants import build_layout, check_pebi
 
 from gridlib.voronoi import Fault, pebi_grid
 
@@ -96,14 +96,10 @@ def splay(seed: int) -> dict:
     }
 
 
-def build(case: dict):
-    return pebi_grid(case["domain"], H, case["faults"])
-
-
 def test_splays_of_faults_all_build():
     """500 seeded splays, each checked by ``check_pebi``; the layouts cover what the issue asks for."""
     cases = [splay(seed) for seed in range(N_SPLAYS)]
-    got = [check_pebi(case, build(case), seed, H) for seed, case in enumerate(cases)]
+    got = [check_pebi(case, build_layout(case, H), seed, H) for seed, case in enumerate(cases)]
     assert {len(c["faults"]) for c in cases} == {3, 4, 5, 6}
     assert sum(c["star"] for c in cases) >= 50 and sum(c["crossing"] > 0 for c in cases) >= 150
     assert {c["shape"] for c in cases} == {"rect", "polygon"}
