@@ -62,6 +62,14 @@ def _at(xy: np.ndarray) -> str:
     return "(" + ", ".join(f"{v:.3f}".rstrip("0").rstrip(".") for v in xy) + ")"
 
 
+def _note(where: str, side: str, site, why: str, rings) -> str:
+    """The note of well 'W1' (wells[0]) given a fault cell ``side`` ("left"/"right") of fault
+    'F1' (faults[0]), its site at ``site``, for the reason ``why``; with ``rings``, that they
+    are not built."""
+    note = NOTE.format(where=where, side=f"{side} of", fault="fault 'F1' (faults[0])", at=_at(site), why=why)
+    return note + ("; its rings are not built" if rings else "")
+
+
 @pytest.mark.parametrize("rings", [None, RINGS], ids=["no_rings", "rings"])
 @pytest.mark.parametrize("side", [None, "left", "right"])
 def test_a_well_on_a_trace_gets_the_fault_cell_on_its_side(side, rings):
@@ -78,14 +86,7 @@ def test_a_well_on_a_trace_gets_the_fault_cell_on_its_side(side, rings):
     ) / np.hypot(80, 50)
     assert np.hypot(*(pg.sites - mirror).T).min() == pytest.approx(0.0, abs=1e-9 * H)
     why = DEFAULT if side is None else f"as its fault_side ({side!r}) says"
-    note = NOTE.format(
-        where="lies on fault 'F1' (faults[0])",
-        side="right of" if side == "right" else "left of",
-        fault="fault 'F1' (faults[0])",
-        at=_at(pg.sites[cell]),
-        why=why,
-    ) + ("; its rings are not built" if rings else "")
-    assert note in pg.notes
+    assert _note("lies on fault 'F1' (faults[0])", side or "left", pg.sites[cell], why, rings) in pg.notes
     assert not any("refined locally" in n for n in pg.notes)  # no refinement for the well
 
 
@@ -112,16 +113,8 @@ def test_a_well_next_to_a_trace_takes_the_nearer_fault_cell_or_the_side_asked(si
         if side is None
         else f"as its fault_side ({side!r}) says"
     )
-    assert (
-        NOTE.format(
-            where=f"lies {dist:.3g} m from fault 'F1' (faults[0]), closer than the fault's cells are wide",
-            side=f"{want} of",
-            fault="fault 'F1' (faults[0])",
-            at=_at(pg.sites[cell]),
-            why=why,
-        )
-        in pg.notes
-    )
+    where = f"lies {dist:.3g} m from fault 'F1' (faults[0]), closer than the fault's cells are wide"
+    assert _note(where, want, pg.sites[cell], why, None) in pg.notes
     assert f"{dist:.3g}" == "1.89"
 
 
@@ -137,15 +130,7 @@ def test_a_well_at_a_faults_tip(rings):
     along = np.dot(pg.sites[cell] - (70, 60), (60, 40))
     assert along < 0
     assert (
-        NOTE.format(
-            where="lies at the end of fault 'F1' (faults[0])",
-            side="left of",
-            fault="fault 'F1' (faults[0])",
-            at=_at(pg.sites[cell]),
-            why=DEFAULT,
-        )
-        + ("; its rings are not built" if rings else "")
-        in pg.notes
+        _note("lies at the end of fault 'F1' (faults[0])", "left", pg.sites[cell], DEFAULT, rings) in pg.notes
     )
     right = _build(TIP, Well((70, 60), rings=rings, fault_side="right"))
     assert _side(right.sites[_cell(right)], (10, 20), (70, 60)) < 0
@@ -172,17 +157,7 @@ def test_a_well_where_faults_meet(faults, names, rings):
         if names == "two"
         else "fault 'F1' (faults[0]), fault 'F2' (faults[1]) and fault 'F3' (faults[2])"
     )
-    assert (
-        NOTE.format(
-            where=f"lies where {meet} meet",
-            side="left of",
-            fault="fault 'F1' (faults[0])",
-            at=_at(pg.sites[cell]),
-            why=DEFAULT,
-        )
-        + ("; its rings are not built" if rings else "")
-        in pg.notes
-    )
+    assert _note(f"lies where {meet} meet", "left", pg.sites[cell], DEFAULT, rings) in pg.notes
     right = _build(faults, Well(node, rings=rings, fault_side="right"))
     assert _side(right.sites[_cell(right)], a, b) < 0
 
