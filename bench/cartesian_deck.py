@@ -18,7 +18,9 @@ fresh child process per run; each stage's time and the peak RSS up to the end of
 (``ru_maxrss``, which includes the interpreter and numpy, about 60 MiB) are printed per cell
 (microseconds and bytes per deck cell, then per active cell: model3 has 19 % inactive cells,
 the spe deck 2 %, so per deck cell the spe deck has more faces and connections), the
-median of ``--runs`` children.
+median of ``--runs`` children. Each deck's faces per cell are printed, and the geometry time
+per face too: compute_geometry works face by face, so per face the decks compare without
+their different shares of inactive cells.
 
 ``--compare-with PATH`` runs the same children with ``PYTHONPATH=PATH`` too (another
 checkout of gridlib, e.g. the previous commit), alternating with this one, and prints both
@@ -58,6 +60,7 @@ t = time.perf_counter(); conn = deck_transmissibility(deck, cp); stage("transmis
 out["cells"] = deck.num_cells
 out["active"] = cp.grid.num_cells
 out["connections"] = int(conn.num)
+out["faces"] = cp.grid.num_faces
 print(json.dumps(out))
 """
 
@@ -156,11 +159,21 @@ def main() -> None:
         for d, path in decks.items():
             r = results["this", d][0]
             print(
-                f"{d}: {r['cells']:,d} cells ({r['active']:,d} active), {r['connections']:,d} connections, "
+                f"{d}: {r['cells']:,d} cells ({r['active']:,d} active), {r['faces']:,d} faces "
+                f"({r['faces'] / r['cells']:.2f} per cell, {r['faces'] / r['active']:.2f} per active cell), "
+                f"{r['connections']:,d} connections, "
                 f"GRDECL {path.stat().st_size / 2**20:.0f} MiB"
             )
     for c, where in checkouts.items():
         print(f"{c}: {where}")
+    # Geometry works face by face: per face, the decks compare without their share of inactive cells.
+    per_face = {
+        (c, d): statistics.median(r["geometry"]["seconds"] for r in runs) * 1e9 / runs[0]["faces"]
+        for (c, d), runs in results.items()
+    }
+    print(
+        "\ngeometry per face, median: " + ", ".join(f"{c} {d} {ns:.0f} ns" for (c, d), ns in per_face.items())
+    )
     header = f"{'stage':<17s}" + "".join(f"{c + ' ' + d:>22s}" for c in checkouts for d in decks)
     for count, label in (("cells", "deck cell"), ("active", "active cell")):
         print(f"\nper {label}, median of {args.runs} fresh children: us | peak RSS bytes (up to the stage)")
