@@ -18,7 +18,10 @@ fresh child process per run; each stage's time and the peak RSS up to the end of
 (``ru_maxrss``, which includes the interpreter and numpy, about 60 MiB) are printed per cell
 (microseconds and bytes per deck cell, then per active cell: model3 has 19 % inactive cells,
 the spe deck 2 %, so per deck cell the spe deck has more faces and connections), the
-median of ``--runs`` children.
+median of ``--runs`` children. Each deck's faces per cell are printed, and the geometry time
+per face too: compute_geometry works face by face, so per face the decks compare without
+their different shares of inactive cells. The CPU seconds of every stage (all threads) are
+printed as well, with the load average: on a busy machine they vary far less than wall times.
 
 ``--compare-with PATH`` runs the same children with ``PYTHONPATH=PATH`` too (another
 checkout of gridlib, e.g. the previous commit), alternating with this one, and prints both
@@ -49,15 +52,17 @@ from gridlib.io.grdecl import read_grdecl
 from gridlib.transmissibility import deck_transmissibility
 out = {}
 def stage(name, t0):
-    out[name] = {"seconds": time.perf_counter() - t0,
+    out[name] = {"seconds": time.perf_counter() - t0[0], "cpu": time.process_time() - t0[1],
                  "max_rss": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}
-t = time.perf_counter(); deck = read_grdecl(sys.argv[1]); stage("read", t)
-t = time.perf_counter(); cp = process_grdecl(deck); stage("process", t)
-t = time.perf_counter(); geo = compute_geometry(cp.grid); stage("geometry", t)
-t = time.perf_counter(); conn = deck_transmissibility(deck, cp); stage("transmissibility", t)
+now = lambda: (time.perf_counter(), time.process_time())
+t = now(); deck = read_grdecl(sys.argv[1]); stage("read", t)
+t = now(); cp = process_grdecl(deck); stage("process", t)
+t = now(); geo = compute_geometry(cp.grid); stage("geometry", t)
+t = now(); conn = deck_transmissibility(deck, cp); stage("transmissibility", t)
 out["cells"] = deck.num_cells
 out["active"] = cp.grid.num_cells
 out["connections"] = int(conn.num)
+out["faces"] = cp.grid.num_faces
 print(json.dumps(out))
 """
 
@@ -149,6 +154,7 @@ def main() -> None:
         write_spe_deck(decks["spe"], tuple(args.spe_dims))
         write_model3_deck(decks["model3"], tuple(args.model3_dims))
         results: dict[tuple[str, str], list[dict]] = {(c, d): [] for c in checkouts for d in decks}
+        load = os.getloadavg()
         for _ in range(args.runs):  # alternating: checkouts and decks see the same machine load
             for d, path in decks.items():
                 for c, where in checkouts.items():
@@ -156,12 +162,34 @@ def main() -> None:
         for d, path in decks.items():
             r = results["this", d][0]
             print(
-                f"{d}: {r['cells']:,d} cells ({r['active']:,d} active), {r['connections']:,d} connections, "
+                f"{d}: {r['cells']:,d} cells ({r['active']:,d} active), {r['faces']:,d} faces "
+                f"({r['faces'] / r['cells']:.2f} per cell, {r['faces'] / r['active']:.2f} per active cell), "
+                f"{r['connections']:,d} connections, "
                 f"GRDECL {path.stat().st_size / 2**20:.0f} MiB"
             )
     for c, where in checkouts.items():
         print(f"{c}: {where}")
+    print(f"load average (1 min) before and after the runs: {load[0]:.2f}, {os.getloadavg()[0]:.2f}")
     header = f"{'stage':<17s}" + "".join(f"{c + ' ' + d:>22s}" for c in checkouts for d in decks)
+    # CPU seconds of all threads: on a busy machine they vary far less than wall times.
+    print(f"\nCPU per deck cell, median of {args.runs} fresh children: us (all threads)")
+    print(header)
+    for s in STAGES:
+        cpu = [
+            statistics.median(r[s]["cpu"] for r in results[c, d]) / results[c, d][0]["cells"]
+            for c in checkouts
+            for d in decks
+        ]
+        print(f"{s:<17s}" + "".join(f"{us * 1e6:>22.3f}" for us in cpu))
+    # Geometry works face by face: per face, the decks compare without their share of inactive cells.
+    print("geometry per face, median wall | CPU ns:", end="")
+    for (c, d), runs in results.items():
+        ns_wall, ns_cpu = (
+            statistics.median(r["geometry"][k] for r in runs) * 1e9 / runs[0]["faces"]
+            for k in ("seconds", "cpu")
+        )
+        print(f" {c} {d} {ns_wall:.0f} | {ns_cpu:.0f};", end="")
+    print()
     for count, label in (("cells", "deck cell"), ("active", "active cell")):
         print(f"\nper {label}, median of {args.runs} fresh children: us | peak RSS bytes (up to the stage)")
         print(header)

@@ -221,31 +221,40 @@ def _geometry_3d(grid: Grid, with_face_centroids: bool = True) -> Geometry:
             sub = slice(start, min(start + _SUB, k))
             faces = slice(f.start + sub.start, f.start + sub.stop) if isinstance(f, slice) else f[sub]
             h, n, N2, a, v = _hinge_triangles(rows, ids[:, sub])
+            m, ks = a.shape
+            tk = np.empty(ks)  # buffers: the per-face products go into them, not into new arrays
+            tmk = np.empty((m, ks))
             A2 = a.sum(axis=0)
             areas[faces] = 0.5 * A2
             normals[:, faces] = 0.5 * N2
             if with_face_centroids:
                 a3 = 3.0 * A2
                 for i in range(3):
+                    np.einsum("mk,mk->k", a, v[i], out=tk)
                     with np.errstate(invalid="ignore", divide="ignore"):
-                        centroids[i, faces] = h[i] + np.einsum("mk,mk->k", a, v[i]) / a3
+                        tk /= a3
+                    centroids[i, faces] = np.add(h[i], tk, out=tk)
             for s, (cell, weight) in enumerate(sides):
-                delta = h - np.take(x0, cell[sub], axis=1)  # (3, k)
-                d = delta[0] * N2[0]  # 2 (delta . N) ...
-                d += delta[1] * N2[1]
-                d += delta[2] * N2[2]
-                w = n[0] * delta[0]  # ... and 2 (delta . n_k)
-                w += n[1] * delta[1]
-                w += n[2] * delta[2]
+                delta = np.take(x0, cell[sub], axis=1)  # (3, k)
+                np.subtract(h, delta, out=delta)
+                d = dn[s, sub]  # 2 (delta . N) ...
+                np.multiply(delta[0], N2[0], out=d)
+                for i in (1, 2):
+                    np.multiply(delta[i], N2[i], out=tk)
+                    d += tk
+                w = np.multiply(n[0], delta[0])  # ... and 2 (delta . n_k)
+                for i in (1, 2):
+                    np.multiply(n[i], delta[i], out=tmk)
+                    w += tmk
                 d *= weight[sub]
-                dn[s, sub] = d
                 # sum_k V_k (c_k - x0) = s/3 [sum_k (delta . n_k) d_k + (delta . N) delta]
                 w3 = weight[sub] / 3.0
                 for i in range(3):
-                    W = np.einsum("mk,mk->k", w, v[i])  # 6 sum_k (delta . n_k) d_k
+                    W = mom_w[s, i, sub]
+                    np.einsum("mk,mk->k", w, v[i], out=W)  # 6 sum_k (delta . n_k) d_k
                     W *= w3
-                    W += d * delta[i]
-                    mom_w[s, i, sub] = W
+                    np.multiply(d, delta[i], out=tk)
+                    W += tk
         return [sums.partial(cell, dn[s], mom_w[s]) for s, (cell, _) in enumerate(sides)]
 
     for parts in in_order(block, _face_blocks(grid), _MAX_THREADS):
@@ -277,15 +286,14 @@ def _hinge_triangles(rows: np.ndarray, ids: np.ndarray):
     twice the triangle vector areas n (3, m, k) and their sum N2 (3, k), twice the (signed) triangle
     areas a (m, k), and 3 (triangle centroid - hinge) v (3, m, k)."""
     m, k = ids.shape
-    ring = np.empty((m + 1, k), dtype=ids.dtype)  # the nodes, the first one again at the end
-    ring[:m] = ids
-    ring[m] = ids[0]
-    q = np.take(rows, ring, axis=0)  # (m + 1, k, 4) node coordinates ...
-    hk = q[:m].sum(axis=0)
+    q = np.take(rows, ids, axis=0)  # (m, k, 4) node coordinates ...
+    hk = q.sum(axis=0)
     hk *= 1.0 / m  # ... hinge (k, 4) ...
-    p = np.empty((3, m + 1, k))
-    for i in range(3):  # ... and node offsets from the hinge, component-major
-        np.subtract(q[:, :, i], hk[:, i], out=p[i])
+    p = np.empty((3, m + 1, k))  # ... and node offsets from the hinge, component-major, the first
+    for i in range(3):  # node's again at the end (a copy, not a second gather)
+        np.subtract(q[:, :, i], hk[:, i], out=p[i, :m])
+    p[:, m] = p[:, 0]
+    del q
     h = np.ascontiguousarray(hk[:, :3].T)
     v, vn = p[:, :m], p[:, 1:]  # every node and the next one
     n = np.empty((3, m, k))  # twice the triangle vector areas v x vn
@@ -295,16 +303,18 @@ def _hinge_triangles(rows: np.ndarray, ids: np.ndarray):
         np.multiply(v[r], vn[j], out=tmp)
         n[i] -= tmp
     N2 = n.sum(axis=1)
-    a = n[0] * n[0]  # twice the areas (m, k)
-    a += n[1] * n[1]
-    a += n[2] * n[2]
+    a = np.multiply(n[0], n[0])  # twice the areas (m, k)
+    for i in (1, 2):
+        np.multiply(n[i], n[i], out=tmp)
+        a += tmp
     np.sqrt(a, out=a)
     # A triangle facing against the face normal (hinge outside a non-convex face)
     # counts negatively: exact area and centroid for any planar polygon.
-    np.multiply(n[0], N2[0], out=tmp)
-    tmp += n[1] * N2[1]
-    tmp += n[2] * N2[2]
-    np.copysign(a, tmp, out=a)
+    sign = np.multiply(n[0], N2[0])
+    for i in (1, 2):
+        np.multiply(n[i], N2[i], out=tmp)
+        sign += tmp
+    np.copysign(a, sign, out=a)
     c = v + vn  # 3 x (triangle centroid - hinge)
     return h, n, N2, a, c
 
