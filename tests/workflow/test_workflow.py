@@ -461,25 +461,16 @@ def test_same_case_and_seed_give_identical_files_on_another_machine(workflow_run
     """Every Snakemake job ran with one thread. The same case files run again in a fresh
     process with two BLAS/OpenMP/gridlib threads, an older CPU's BLAS kernels and numpy's
     SIMD code switched off (tests/variants.py): every variable and attribute of every
-    netCDF file, the GRDECL, VTU and VTP files and summary.json are identical.
-
-    Every stage runs again (run_stage, as the workflow's rules run them) except the pictures
-    stage: its PNG files are not among the compared files (tests/artifacts.py), and it writes
-    nothing that another stage reads; it cost a third of this test's time."""
+    netCDF file, the GRDECL, VTU and VTP files and summary.json are identical. (The run
+    draws no pictures: its PNG files are not compared, tests/artifacts.py.)"""
     cases = workflow_run / "config" / "cases"
     again = tmp_path / "again"
     run_python(
-        "from pathlib import Path\n"
-        "from gridlib.artifacts import STAGES, case_paths\n"
-        "from gridlib.config import load_case\n"
-        "from gridlib.stages import run_stage\n"
+        f"import sys; sys.path.insert(0, {str(ROOT / 'tests')!r})\n"
+        "from artifacts import run_case_without_pictures\n"
+        f"cases, again = {str(cases)!r}, {str(again)!r}\n"
         f"for name in {DETERMINISM_CASES!r}:\n"
-        f"    case = load_case(Path({str(cases)!r}) / f'{{name}}.yaml')\n"
-        f"    folder = Path({str(again)!r}) / name\n"
-        "    folder.mkdir(parents=True)\n"
-        "    for stage in STAGES:\n"
-        "        if stage.when(case) and not stage.on_request and stage.name != 'pictures':\n"
-        "            run_stage(stage.name, case, case_paths(name, folder))\n",
+        "    run_case_without_pictures(f'{cases}/{name}.yaml', f'{again}/{name}')\n",
         other_machine(),
     )
     for case in DETERMINISM_CASES:
