@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from gridlib.config import Case
+
 COMPARED_SUFFIXES = (".nc", ".grdecl", ".vtu", ".vtp", ".json", ".roff")
 DECK_SUFFIXES = (".DATA", ".INC")
 EXCHANGE_SUFFIXES = (".gri", ".pol")
@@ -78,7 +80,7 @@ def assert_same_files(first: Path, second: Path, provenance: bool = True) -> lis
     return names
 
 
-def run_case_without_pictures(case, folder: Path) -> None:
+def run_case_without_pictures(case: Case | str | Path, folder: str | Path) -> None:
     """gridlib.stages.run_case of ``case`` (loaded, or its file) into ``folder``, with the
     pictures stage and the quality stage's histograms drawing nothing: every other artifact,
     each of the compared files above included, is written as run_case writes it (no stage

@@ -63,8 +63,8 @@ BASE = {
     },
     "coarsen": {"method": "metis", "blocks": 6},
 }
-# Three throws (none, less than a layer, the largest): each test below reads no more; a fourth
-# (10 m) cost 6 of the run's variants.
+# Three throws (none, 20 m and the largest): no test below reads more; a fourth (10 m) cost six
+# of the run's variants.
 THROWS = [0, 20, 40]
 CELL_SIZES = [80, 120]
 STUDY = {
