@@ -1,6 +1,7 @@
 """Comparing two builds of a case: every variable and attribute of every netCDF file, the
 GRDECL, VTU, VTP and ROFF files, summary.json, the OPM Flow deck with its includes (flow/*.DATA,
-flow/*.INC) and the exchange files (exchange/*.gri, *.pol) must be identical (bit for bit)."""
+flow/*.INC) and the exchange files (exchange/*.gri, *.pol) must be identical (bit for bit).
+Building a case without its pictures, for tests that read only those files."""
 
 from __future__ import annotations
 
@@ -8,7 +9,10 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 import xarray as xr
+
+from gridlib.config import Case
 
 COMPARED_SUFFIXES = (".nc", ".grdecl", ".vtu", ".vtp", ".json", ".roff")
 DECK_SUFFIXES = (".DATA", ".INC")
@@ -74,3 +78,17 @@ def assert_same_files(first: Path, second: Path, provenance: bool = True) -> lis
         else:
             assert (first / name).read_bytes() == (second / name).read_bytes(), where
     return names
+
+
+def run_case_without_pictures(case: Case | str | Path, folder: str | Path) -> None:
+    """gridlib.stages.run_case of ``case`` (loaded, or its file) into ``folder``, with the
+    pictures stage and the quality stage's histograms drawing nothing: every other artifact,
+    each of the compared files above included, is written as run_case writes it (no stage
+    reads a PNG). The drawing is most of a small case's time, and these PNGs are checked by
+    the tests of the pictures (tests/stages/test_pictures.py, test_workflow.py) instead."""
+    from gridlib.stages import run_case
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr("gridlib.stages.pictures.stage_pictures", lambda *args, **kwargs: None)
+        patch.setattr("gridlib.stages.quality.plot_quality", lambda *args: None)
+        run_case(case, folder)

@@ -21,7 +21,9 @@ os.environ.setdefault("OMPI_MCA_pml", "ob1")
 # pytest-xdist (make test: -n auto --dist loadfile) they start at once on their workers and the
 # short modules fill the time around them; run one by one, the order changes nothing.
 # test_slurm second: most of its time is waiting for SLURM's status checks, which the other worker
-# fills. Measured CPU seconds per module: bench/test_durations.md.
+# fills. Then the modules of 8 s of CPU or more (one long test each, some of them): started last,
+# one of them would keep its worker busy after the other has finished. Measured CPU seconds per
+# module: bench/test_durations.md.
 LONGEST_FIRST = (
     "workflow/test_workflow.py",
     "workflow/test_slurm.py",
@@ -29,9 +31,14 @@ LONGEST_FIRST = (
     "workflow/test_study.py",
     "workflow/test_determinism.py",
     "transmissibility/test_real_decks_large.py",
-    "stages/test_simulate.py",
-    "io/test_damaged_artifacts.py",
+    "voronoi/test_pebi_splays.py",
     "stages/test_artifact_table.py",
+    "io/test_damaged_artifacts.py",
+    "stages/test_pipeline.py",
+    "stages/test_simulate.py",
+    "stages/test_job_server.py",
+    "voronoi/test_pebi_grid_robust.py",
+    "petrophysics/test_petrophysics.py",
 )
 
 

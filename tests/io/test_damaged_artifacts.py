@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
+from artifacts import run_case_without_pictures
 
 from gridlib import artifacts
 from gridlib.config import load_case
@@ -25,7 +26,7 @@ from gridlib.errors import InputError
 from gridlib.io.datasets import DIGEST, load_artifact, save_dataset
 from gridlib.io.netcdf import read_netcdf
 from gridlib.io.rock_file import read_rock, write_rock
-from gridlib.stages import case_outputs, run_case
+from gridlib.stages import case_outputs
 from gridlib.stages.pipeline import run_stage
 
 CASE = {
@@ -100,10 +101,7 @@ def built(tmp_path_factory) -> tuple[Path, Path]:
     case_file = root / "dented.yaml"
     case_file.write_text(yaml.safe_dump(CASE), encoding="utf-8")
     folder = root / "results" / "dented"
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr("gridlib.stages.pictures.stage_pictures", lambda *args, **kwargs: None)
-        patch.setattr("gridlib.stages.quality.plot_quality", lambda *args: None)
-        run_case(case_file, folder)
+    run_case_without_pictures(case_file, folder)
     return case_file, folder
 
 

@@ -28,13 +28,13 @@ import pyvista as pv
 import resfo
 import xarray as xr
 import xtgeo
+from artifacts import run_case_without_pictures
 from flow_tools import flow_connections, flow_executable, read_keywords, run_flow_dry
 
 from gridlib.config import load_case
 from gridlib.errors import InputError
 from gridlib.io.flow_results import read_fip_report, read_summary
 from gridlib.io.netcdf import read_geometry_netcdf
-from gridlib.stages import run_case
 from gridlib.stages.flow_deck import flow_deck_from_results
 from gridlib.stages.simulate import run_flow, stage_simulate
 
@@ -54,7 +54,7 @@ TIGHT = (
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    """The sample cases the tests need, built once (run_case: the workflow's stages), and a
+    """The sample cases the tests need, built once (run_case: the workflow's stages; no pictures), and a
     composite case: composite_wells with rock."""
     flow_executable()
     root = tmp_path_factory.mktemp("cases")
@@ -77,7 +77,7 @@ def built(tmp_path_factory):
         CASES / "waterflood_pebi.yaml",
     ):
         folders[case.stem] = root / case.stem
-        run_case(case, folders[case.stem])
+        run_case_without_pictures(case, folders[case.stem])
     return folders
 
 
