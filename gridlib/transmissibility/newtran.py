@@ -408,12 +408,12 @@ def newtran_connections(
         lambda: depth_sign(deck),
         *(lambda axis=axis: _matched(deck, in_grid, axis).ravel() for axis in range(3)),
     )
-    halves, (is_simple, face_of) = concurrently(  # independent: side by side on the threads
+    halves, (is_simple, faces_of) = concurrently(  # independent: side by side on the threads
         lambda: structured_halves(deck, perm, ntg, sign),
-        partial(_simple_faces, f, ga, gb, simple, strides, nc),
+        partial(_simple_faces, f, ga, gb, simple, strides),
     )
 
-    def simple_pairs(axis: int, halves: FloatArray, face_of: list[IntArray]):
+    def simple_pairs(axis: int, halves: FloatArray, faces: tuple[IntArray, IntArray]):
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
         half from its own cell's face (the same quadrilateral, the same bits)."""
         stride = strides[axis]
@@ -422,7 +422,8 @@ def newtran_connections(
         t = combine(halves[plus, g], halves[minus, g + stride], units)
         n = g.size
         tags = (np.full(n, plus, dtype=np.int8), np.full(n, minus, dtype=np.int8))
-        return cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t
+        face = _faces_of_pairs(g, *faces)
+        return cell_of[g], cell_of[g + stride], *tags, face, np.full(n, axis == 2), t
 
     rest = ~is_simple
     f, a, b, ga, gb = (x[rest] for x in (f, a, b, ga, gb))
@@ -453,9 +454,9 @@ def newtran_connections(
         )
         return a, b, ta, tb, f, column, t
 
-    tasks = [partial(simple_pairs, axis, halves, face_of) for axis in range(3)]
+    tasks = [partial(simple_pairs, axis, halves, faces_of[axis]) for axis in range(3)]
     tasks.append(partial(other_pairs, f, a, ta, b, tb, column))
-    del halves, face_of, f, a, ta, b, tb, ga, gb, column  # the tasks hold what they need
+    del halves, faces_of, f, a, ta, b, tb, ga, gb, column  # the tasks hold what they need
     parts = concurrently(*tasks)
     del tasks
     up, low = _minpv_pairs(deck, cell_of, parts, notes)
@@ -480,26 +481,38 @@ def _simple_faces(
     gb: IntArray,
     simple: list[np.ndarray],
     strides: tuple[int, int, int],
-    nc: int,
-) -> tuple[np.ndarray, list[IntArray]]:
+) -> tuple[np.ndarray, list[tuple[IntArray, IntArray]]]:
     """Which of the interior faces ``f`` (between global cells ``ga`` and ``gb``) join +axis
     neighbours whose shared corners coincide (``simple[axis]`` of the lower cell); and per
-    axis, the face of each such pair by its lower cell (-1: none). ``simple[axis]`` is False
-    on the last row along the axis, so a lower cell g marked there has g + stride as its
-    +axis neighbour, and the face of the two cells is the one on that side."""
+    axis, those pairs' lower cells (ascending) and faces. ``simple[axis]`` is False on the
+    last row along the axis, so a lower cell g marked there has g + stride as its +axis
+    neighbour, and the face of the two cells is the one on that side."""
     lo = np.minimum(ga, gb)
     step = gb - ga
     np.abs(step, out=step)
     is_simple = np.zeros(f.size, dtype=bool)
-    face_of = []
+    faces = []
     for axis, stride in enumerate(strides):
         hit = np.flatnonzero(step == stride)
         hit = hit[simple[axis][lo[hit]]]
         is_simple[hit] = True
-        lookup = np.full(nc, -1, dtype=np.int64)
-        lookup[lo[hit]] = f[hit]
-        face_of.append(lookup)
-    return is_simple, face_of
+        lower = lo[hit]
+        if lower.size > 1 and not (lower[1:] > lower[:-1]).all():  # the engine's order is ascending
+            order = np.argsort(lower, kind="stable")
+            hit, lower = hit[order], lower[order]
+        faces.append((lower, f[hit]))
+    return is_simple, faces
+
+
+def _faces_of_pairs(g: IntArray, lower: IntArray, faces: IntArray) -> IntArray:
+    """The face of each pair of lower cell ``g`` (ascending) from the ascending ``lower`` cells
+    of ``faces`` (the last one of a cell that has several), -1 where ``g`` has none."""
+    if lower.size == g.size and (lower.size < 2 or (lower[1:] > lower[:-1]).all()):
+        return faces  # one face per pair, every pair found (lower is a subset of g): the same cells
+    at = np.searchsorted(lower, g, side="right") - 1
+    found = at >= 0
+    found[found] = lower[at[found]] == g[found]
+    return np.where(found, faces[np.maximum(at, 0)] if faces.size else -1, -1)
 
 
 def _joined_fields(parts: list[tuple]) -> list[np.ndarray]:
