@@ -23,6 +23,8 @@ What a deck uses that is not honoured is said in ``Connections.notes``.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from ..cell_names import cell_names, ijk_text
@@ -32,14 +34,16 @@ from ..cornerpoint.process import CornerPointGrid, process_grdecl
 from ..errors import InputError
 from ..grid import B, E, N, S, T, W
 from ..petrophysics.ranges import check_rock_values
+from ..threads import concurrently
 from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
 from .edits import apply_deck_edits, logical_neighbors
 from .multipliers import directional_multipliers, side_multipliers
-from .newtran import newtran_connections
+from .newtran import RawConnections, newtran_connections
 from .region_multipliers import region_multipliers
 
 assert (W, E, S, N, T, B) == (0, 1, 2, 3, 4, 5)
+_BLOCKS = 8  # blocks of connections finished side by side on the threads (each writes its own rows)
 
 
 def rock_arrays(deck: Deck, notes: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -91,37 +95,68 @@ def deck_transmissibility(
     dims = deck.cart_dims
     layer = dims[0] * dims[1]
 
-    raw = newtran_connections(deck, grid, perm, ntg, units, pinch_active, notes)
-    a, b, ta, tb, f, column, trans = raw.a, raw.b, raw.ta, raw.tb, raw.face, raw.column, raw.trans
-    del raw, perm, ntg  # from here on, every array is dropped once used: this is the peak of memory
-    ga, gb = glob[a], glob[b]
-
+    parts = newtran_connections(deck, grid, perm, ntg, units, pinch_active, notes)
+    del perm, ntg  # from here on, every array is dropped once used: this is the peak of memory
     mult = directional_multipliers(deck, notes)
-    if mult is not None:
-        ma, mb = side_multipliers(mult, ta, ga), side_multipliers(mult, tb, gb)
-        if pinch_active and deck.pinch_options[2] == "ALL":
-            smallest = _smallest_multz(mult, ga, gb, ta, column, layer)
-            ma = np.where(column & (ta == B), smallest, ma)
-            mb = np.where(column & (tb == B), smallest, mb)
-        trans = trans * ma * mb
-        del mult, ma, mb
+    smallest_multz = pinch_active and deck.pinch_options[2] == "ALL"
+    regions = bool(deck.multregt)
+    n = sum(part.trans.size for part in parts)
+    pairs = np.empty((n, 2), dtype=np.int64)
+    trans = np.empty(n)
+    kind = np.empty(n, dtype=np.int8)
+    f = np.empty(n, dtype=np.int64)
+    ga, gb, axis = (np.empty(n, dtype=np.int64) for _ in range(3)) if regions else (None, None, None)
 
-    region = region_multipliers(deck, ga, gb, ta // 2, notes)  # MULTREGT; tag // 2 = axis
-    if region is not None:
-        trans = trans * region
+    def finish(part: RawConnections, rows: slice, out: slice) -> None:
+        """Rows ``rows`` of ``part`` into rows ``out`` of the connection list: the ordered
+        pair, the transmissibility with the directional multipliers, the kind, the face."""
+        a, b, ta, tb = part.a[rows], part.b[rows], part.ta[rows], part.tb[rows]
+        column, t = part.column[rows], part.trans[rows]
+        g1, g2 = glob[a], glob[b]
+        if mult is not None:
+            ma, mb = side_multipliers(mult, ta, g1), side_multipliers(mult, tb, g2)
+            if smallest_multz:
+                smallest = _smallest_multz(mult, g1, g2, ta, column, layer)
+                ma = np.where(column & (ta == B), smallest, ma)
+                mb = np.where(column & (tb == B), smallest, mb)
+            t = t * ma * mb
+        trans[out] = t
+        k = kind[out]
+        k[...] = FAULT
+        k[column] = PINCH
+        k[logical_neighbors(g1, g2, dims)] = NEIGHBOR
+        np.minimum(a, b, out=pairs[out, 0])  # ordered as the connection list is (first < second)
+        np.maximum(a, b, out=pairs[out, 1])
+        f[out] = part.face[rows]
+        if regions:
+            ga[out], gb[out], axis[out] = g1, g2, ta // 2  # tag // 2 = axis
 
-    kind = np.full(ga.size, FAULT, dtype=np.int8)
-    kind[column] = PINCH
-    kind[logical_neighbors(ga, gb, dims)] = NEIGHBOR
-    del ga, gb, ta, tb, column
-    pairs = np.column_stack([a, b])
-    del a, b
+    concurrently(*(partial(finish, *block) for block in _blocks(parts, _BLOCKS)))
+    del parts
+    if regions:
+        trans *= region_multipliers(deck, ga, gb, axis, notes)  # MULTREGT
+        del ga, gb, axis
     # EDIT TRANX/Y/Z, EDITNNC, NNC keyword, small non-neighbours (.edits)
     pairs, trans, kind, f = apply_deck_edits(
         deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
     )
     _check_finite(deck, trans, pairs, glob)
     return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes)
+
+
+def _blocks(parts: list[RawConnections], count: int) -> list[tuple[RawConnections, slice, slice]]:
+    """The rows of ``parts`` in about ``count`` blocks of similar size: (part, its rows, their
+    rows in the parts one after the other)."""
+    total = sum(part.trans.size for part in parts)
+    size = max(1, -(-total // count))
+    blocks, at = [], 0
+    for part in parts:
+        n = part.trans.size
+        for start in range(0, n, size):
+            stop = min(start + size, n)
+            blocks.append((part, slice(start, stop), slice(at + start, at + stop)))
+        at += n
+    return blocks
 
 
 def _check_finite(deck: Deck, trans: np.ndarray, pairs: np.ndarray, glob: np.ndarray) -> None:

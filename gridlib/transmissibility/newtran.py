@@ -367,7 +367,8 @@ def gathered_half_data(
 class RawConnections:
     """Connections before multipliers: grid cells a, b; their logical face tags ta, tb (the
     side of the connection each is on); the face (-1 for none); whether the two cells are
-    one above the other (``column``); the NEWTRAN transmissibility in deck units."""
+    one above the other (``column``); the NEWTRAN transmissibility in deck units. One part
+    of the connection list (:func:`newtran_connections`)."""
 
     a: IntArray
     b: IntArray
@@ -386,8 +387,10 @@ def newtran_connections(
     units: UnitSystem,
     pinch_active: bool,
     notes: list[str],
-) -> RawConnections:
-    """Every connection of a processed deck with its NEWTRAN transmissibility (no multipliers).
+) -> list[RawConnections]:
+    """Every connection of a processed deck with its NEWTRAN transmissibility (no multipliers),
+    in parts: the matching +i, +j and +k neighbour pairs (each in ascending order of the
+    lower cell), the pairs from the grid's other faces, then the MINPV connections if any.
 
     Pairs of logical neighbours whose shared corners coincide (the full quadrilateral is
     their face: most of any deck) are computed from the per-cell data alone; the rest
@@ -472,7 +475,7 @@ def newtran_connections(
                 np.ones(n, dtype=bool),
             )
         )
-    return RawConnections(*_joined_fields(parts))
+    return [RawConnections(*part) for part in parts]
 
 
 def _simple_faces(
@@ -513,17 +516,6 @@ def _faces_of_pairs(g: IntArray, lower: IntArray, faces: IntArray) -> IntArray:
     found = at >= 0
     found[found] = lower[at[found]] == g[found]
     return np.where(found, faces[np.maximum(at, 0)] if faces.size else -1, -1)
-
-
-def _joined_fields(parts: list[tuple]) -> list[np.ndarray]:
-    """Each field of the tuples ``parts`` concatenated; the list is emptied field by field as
-    it goes (in place, so the caller's reference frees them too: the peak is one field's copy
-    on top of the parts, not all of them twice)."""
-    columns = []
-    for field in range(len(parts[0])):
-        columns.append(np.concatenate([part[field] for part in parts]))
-        parts[:] = [(*part[:field], None, *part[field + 1 :]) for part in parts]
-    return columns
 
 
 def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
