@@ -30,7 +30,7 @@ from ..cornerpoint.corners import corner_points, depth_sign
 from ..cornerpoint.deck import Deck
 from ..geometry import cross
 from ..grid import B, E, FloatArray, Grid, IntArray, N, S, T, W
-from ..threads import concurrently
+from ..threads import concurrently, in_order
 from ..units import MILLIDARCY, UnitSystem
 from .pinch import minpv_connections
 
@@ -45,6 +45,8 @@ HALF_MINIMUM = 1e-30  # m3: below this a half-transmissibility makes the connect
 _BLOCK = 1 << 16  # faces per block of vector_areas
 _LAYER_TASKS = 4  # blocks of layers of structured_halves, shared out among the threads
 _CELL_BLOCK = 1 << 13  # cells of a layer worked on at once by structured_halves (the cache)
+_FACE_BLOCK = 1 << 18  # faces sorted out at once by _sorted_faces
+_FACE_THREADS = 2  # at most: _sorted_faces runs beside structured_halves
 _AXIS_OF_FACE = np.array([0, 0, 1, 1, 2, 2])  # W, E -> x; S, N -> y; T, B -> z
 
 
@@ -406,14 +408,13 @@ def newtran_connections(
     strides = (1, nx, layer)
 
     in_grid = cell_of >= 0
-    (f, a, b, ga, gb), sign, *simple = concurrently(
-        lambda: _interior_faces(grid),
+    sign, *simple = concurrently(
         lambda: depth_sign(deck),
         *(lambda axis=axis: _matched(deck, in_grid, axis).ravel() for axis in range(3)),
     )
-    halves, (is_simple, faces_of) = concurrently(  # independent: side by side on the threads
+    halves, (faces_of, (f, a, b, ga, gb)) = concurrently(  # independent: side by side on the threads
         lambda: structured_halves(deck, perm, ntg, sign),
-        partial(_simple_faces, f, ga, gb, simple, strides),
+        partial(_sorted_faces, grid, simple, strides),
     )
 
     def simple_pairs(axis: int, halves: FloatArray, faces: tuple[IntArray, IntArray]):
@@ -428,8 +429,6 @@ def newtran_connections(
         face = _faces_of_pairs(g, *faces)
         return cell_of[g], cell_of[g + stride], *tags, face, np.full(n, axis == 2), t
 
-    rest = ~is_simple
-    f, a, b, ga, gb = (x[rest] for x in (f, a, b, ga, gb))
     ta, tb = logical_sides(ga, gb, deck.cart_dims)
     column = (ta >= T) & (tb >= T)
     across = column & (np.abs(gb - ga) > layer)  # across collapsed cells (PINCH)
@@ -478,33 +477,51 @@ def newtran_connections(
     return [RawConnections(*part) for part in parts]
 
 
-def _simple_faces(
-    f: IntArray,
-    ga: IntArray,
-    gb: IntArray,
-    simple: list[np.ndarray],
-    strides: tuple[int, int, int],
-) -> tuple[np.ndarray, list[tuple[IntArray, IntArray]]]:
-    """Which of the interior faces ``f`` (between global cells ``ga`` and ``gb``) join +axis
-    neighbours whose shared corners coincide (``simple[axis]`` of the lower cell); and per
-    axis, those pairs' lower cells (ascending) and faces. ``simple[axis]`` is False on the
-    last row along the axis, so a lower cell g marked there has g + stride as its +axis
-    neighbour, and the face of the two cells is the one on that side."""
+def _sorted_faces(
+    grid: Grid, simple: list[np.ndarray], strides: tuple[int, int, int]
+) -> tuple[list[tuple[IntArray, IntArray]], tuple[IntArray, IntArray, IntArray, IntArray, IntArray]]:
+    """The interior faces of ``grid`` sorted out: per axis, the faces joining +axis neighbours
+    whose shared corners coincide (``simple[axis]`` of the lower cell), as (lower cells
+    ascending, faces); and the other interior faces f with their cells a, b
+    (``neighbors[f]``) and those cells' linear ijk indices ga, gb. A block of faces at a
+    time, on the threads (small temporaries, each block's results kept in block order)."""
+    blocks = [(s, min(s + _FACE_BLOCK, grid.num_faces)) for s in range(0, grid.num_faces, _FACE_BLOCK)]
+    found = list(in_order(partial(_sort_face_block, grid, simple, strides), blocks, _FACE_THREADS))
+    faces = []
+    for axis in range(3):
+        lower, face = (np.concatenate([block[0][axis][k] for block in found]) for k in (0, 1))
+        if lower.size > 1 and not (lower[1:] > lower[:-1]).all():  # the engine's order is ascending
+            order = np.argsort(lower, kind="stable")
+            lower, face = lower[order], face[order]
+        faces.append((lower, face))
+    rest = tuple(np.concatenate([block[1][k] for block in found]) for k in range(5))
+    return faces, rest
+
+
+def _sort_face_block(
+    grid: Grid, simple: list[np.ndarray], strides: tuple[int, int, int], start: int, stop: int
+):
+    """:func:`_sorted_faces` of the faces start..stop-1. ``simple[axis]`` is False on the last
+    row along the axis, so a lower cell g marked there has g + stride as its +axis neighbour,
+    and the face of the two cells is the one on that side."""
+    nb = grid.faces.neighbors[start:stop]
+    inner = np.flatnonzero((nb[:, 0] >= 0) & (nb[:, 1] >= 0))
+    a, b = nb[inner, 0], nb[inner, 1]
+    glob = grid.cells.index_map
+    ga, gb = glob[a], glob[b]
+    f = inner + start
     lo = np.minimum(ga, gb)
     step = gb - ga
     np.abs(step, out=step)
     is_simple = np.zeros(f.size, dtype=bool)
-    faces = []
+    found = []
     for axis, stride in enumerate(strides):
         hit = np.flatnonzero(step == stride)
         hit = hit[simple[axis][lo[hit]]]
         is_simple[hit] = True
-        lower = lo[hit]
-        if lower.size > 1 and not (lower[1:] > lower[:-1]).all():  # the engine's order is ascending
-            order = np.argsort(lower, kind="stable")
-            hit, lower = hit[order], lower[order]
-        faces.append((lower, f[hit]))
-    return is_simple, faces
+        found.append((lo[hit], f[hit]))
+    rest = ~is_simple
+    return found, (f[rest], a[rest], b[rest], ga[rest], gb[rest])
 
 
 def _faces_of_pairs(g: IntArray, lower: IntArray, faces: IntArray) -> IntArray:
