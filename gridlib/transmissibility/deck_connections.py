@@ -141,7 +141,7 @@ def deck_transmissibility(
         deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
     )
     _check_finite(deck, trans, pairs, glob)
-    return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes)
+    return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes, ordered=True)
 
 
 def _blocks(parts: list[RawConnections], count: int) -> list[tuple[RawConnections, slice, slice]]:
