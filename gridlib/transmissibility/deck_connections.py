@@ -33,7 +33,7 @@ from ..cornerpoint.pore_volume import with_flow_activity
 from ..cornerpoint.process import CornerPointGrid, process_grdecl
 from ..errors import InputError
 from ..grid import B, E, N, S, T, W
-from ..petrophysics.ranges import check_rock_values
+from ..petrophysics.ranges import FRACTIONS, check_rock_values
 from ..threads import concurrently
 from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
@@ -59,14 +59,22 @@ def rock_arrays(deck: Deck, notes: list[str] | None = None) -> tuple[np.ndarray,
         raise InputError(f"{deck.source}: PERMX: the deck gives no permeability (PERMX is missing)")
     perm = np.stack([data.get(key, data["PERMX"]) for key in ("PERMX", "PERMY", "PERMZ")], axis=1)
     ntg = data.get("NTG", np.ones(deck.num_cells))
+    given = [key for key in ("PERMX", "PERMY", "PERMZ", "NTG") if key in data]
+    if all(_plainly_valid(key, data[key]) for key in given):
+        return perm, ntg  # every cell's values pass: so do the active cells', without a note
     active = np.flatnonzero(deck.active)
-    values = {key: perm[active, d] for d, key in enumerate(("PERMX", "PERMY", "PERMZ")) if key in data}
-    if "NTG" in data:
-        values["NTG"] = ntg[active]
+    values = {key: data[key][active] for key in given}
     found = check_rock_values(values, deck.source, lambda pos: cell_names(pos, active, deck.cart_dims))
     if notes is not None:
         notes.extend(found)
     return perm, ntg
+
+
+def _plainly_valid(key: str, values: np.ndarray) -> bool:
+    """Whether every value of ``values`` (all cells) is finite, >= 0 and, for NTG, at most 1:
+    :func:`check_rock_values` would find nothing (two reductions, no temporaries)."""
+    low, high = values.min(initial=np.inf), values.max(initial=0.0)  # NaN: neither comparison holds
+    return bool(low >= 0.0 and (high <= 1.0 if key in FRACTIONS else high < np.inf))
 
 
 def deck_transmissibility(
