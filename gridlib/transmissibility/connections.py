@@ -83,18 +83,29 @@ def assemble(
     index_map: IntArray | None,
     units: UnitSystem,
     notes: list[str] | tuple[str, ...] = (),
-    ordered: bool = False,
 ) -> Connections:
     """Connections from one entry per face or pair: pairs ordered (first < second), entries of
     the same pair added (their faces are parallel paths; the smallest kind and the first
-    entry's face kept), zero transmissibilities dropped, sorted by pair. ``ordered``: every
-    row of ``cells`` is already (first <= second). Elementwise steps run in blocks on the
-    threads (the same bits for any number of threads)."""
+    entry's face kept), zero transmissibilities dropped, sorted by pair."""
     cells = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
-    if ordered:
-        lo, hi = cells[:, 0], cells[:, 1]
-    else:
-        lo, hi = np.minimum(cells[:, 0], cells[:, 1]), np.maximum(cells[:, 0], cells[:, 1])
+    lo, hi = np.minimum(cells[:, 0], cells[:, 1]), np.maximum(cells[:, 0], cells[:, 1])
+    return assemble_ordered(lo, hi, trans, kind, face, index_map=index_map, units=units, notes=notes)
+
+
+def assemble_ordered(
+    lo: IntArray,
+    hi: IntArray,
+    trans: FloatArray,
+    kind: np.ndarray,
+    face: IntArray,
+    *,
+    index_map: IntArray | None,
+    units: UnitSystem,
+    notes: list[str] | tuple[str, ...] = (),
+) -> Connections:
+    """:func:`assemble` of entries between cells ``lo`` <= ``hi``. Its elementwise steps run
+    in blocks on the threads (the same bits for any number of threads)."""
+    lo, hi = np.asarray(lo, dtype=np.int64), np.asarray(hi, dtype=np.int64)
     trans = np.asarray(trans, dtype=np.float64)
     kind = np.asarray(kind, dtype=np.int8)
     face = np.asarray(face, dtype=np.int64)
@@ -140,16 +151,16 @@ def assemble(
 
     def gathered(rows: slice) -> None:
         p = pick[rows]
-        pairs[rows, 0] = lo[p]
-        pairs[rows, 1] = hi[p]
-        if glob is not None:
-            glob[rows] = index_map[pairs[rows]]
+        for side, cell in enumerate((lo[p], hi[p])):
+            pairs[rows, side] = cell
+            if glob is not None:
+                glob[rows, side] = index_map[cell]
         if total is None:
             picked[0][rows] = trans[p]
             picked[1][rows] = kind[p]
         out_face[rows] = face[p]
 
-    in_slices(gathered, m)
+    in_slices(gathered, m, _BLOCKS * 4)
     return Connections(pairs, glob, picked[0], picked[1], out_face, units, tuple(notes))
 
 

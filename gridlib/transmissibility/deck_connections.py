@@ -36,7 +36,7 @@ from ..grid import B, E, N, S, T, W
 from ..petrophysics.ranges import FRACTIONS, check_rock_values
 from ..threads import concurrently
 from ..units import unit_system
-from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble
+from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble_ordered
 from .edits import apply_deck_edits, logical_neighbors
 from .multipliers import directional_multipliers, side_multipliers
 from .newtran import RawConnections, newtran_connections
@@ -109,7 +109,7 @@ def deck_transmissibility(
     smallest_multz = pinch_active and deck.pinch_options[2] == "ALL"
     regions = bool(deck.multregt)
     n = sum(part.trans.size for part in parts)
-    pairs = np.empty((n, 2), dtype=np.int64)
+    lo, hi = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
     trans = np.empty(n)
     kind = np.empty(n, dtype=np.int8)
     f = np.empty(n, dtype=np.int64)
@@ -133,8 +133,8 @@ def deck_transmissibility(
         k[...] = FAULT
         k[column] = PINCH
         k[logical_neighbors(g1, g2, dims)] = NEIGHBOR
-        np.minimum(a, b, out=pairs[out, 0])  # ordered as the connection list is (first < second)
-        np.maximum(a, b, out=pairs[out, 1])
+        np.minimum(a, b, out=lo[out])  # ordered as the connection list is (first < second)
+        np.maximum(a, b, out=hi[out])
         f[out] = part.face[rows]
         if regions:
             ga[out], gb[out], axis[out] = g1, g2, ta // 2  # tag // 2 = axis
@@ -145,11 +145,11 @@ def deck_transmissibility(
         trans *= region_multipliers(deck, ga, gb, axis, notes)  # MULTREGT
         del ga, gb, axis
     # EDIT TRANX/Y/Z, EDITNNC, NNC keyword, small non-neighbours (.edits)
-    pairs, trans, kind, f = apply_deck_edits(
-        deck, pairs, trans, kind, f, glob, notes, units.transmissibility_label
+    lo, hi, trans, kind, f = apply_deck_edits(
+        deck, lo, hi, trans, kind, f, glob, notes, units.transmissibility_label
     )
-    _check_finite(deck, trans, pairs, glob)
-    return assemble(pairs, trans, kind, f, index_map=glob, units=units, notes=notes, ordered=True)
+    _check_finite(deck, trans, lo, hi, glob)
+    return assemble_ordered(lo, hi, trans, kind, f, index_map=glob, units=units, notes=notes)
 
 
 def _blocks(parts: list[RawConnections], count: int) -> list[tuple[RawConnections, slice, slice]]:
@@ -167,12 +167,12 @@ def _blocks(parts: list[RawConnections], count: int) -> list[tuple[RawConnection
     return blocks
 
 
-def _check_finite(deck: Deck, trans: np.ndarray, pairs: np.ndarray, glob: np.ndarray) -> None:
+def _check_finite(deck: Deck, trans: np.ndarray, lo: np.ndarray, hi: np.ndarray, glob: np.ndarray) -> None:
     """Transmissibilities beyond float64 (a PERMX or multiplier of 1e300) are the deck's doing:
-    one InputError naming the deck and the first connection's cells (``glob`` of ``pairs``)."""
+    one InputError naming the deck and the first connection's cells (``glob`` of ``lo``, ``hi``)."""
     bad = np.flatnonzero(~np.isfinite(trans))
     if bad.size:
-        a, b = (ijk_text(int(g), deck.cart_dims) for g in glob[pairs[bad[0]]])
+        a, b = (ijk_text(int(glob[c[bad[0]]]), deck.cart_dims) for c in (lo, hi))
         raise InputError(
             f"{deck.source}: {bad.size} transmissibilities are beyond any float (first between cells "
             f"{a} and {b}): check the permeabilities and multipliers there"
