@@ -119,9 +119,13 @@ def deck_transmissibility(
         """Rows ``rows`` of ``part`` into rows ``out`` of the connection list: the ordered
         pair, the transmissibility with the directional multipliers, the kind, the face."""
         a, b, ta, tb = part.a[rows], part.b[rows], part.ta[rows], part.tb[rows]
-        column, t = part.column[rows], part.trans[rows]
-        g1, g2 = glob[a], glob[b]
-        if mult is not None:
+        column, t, g1, g2 = part.column[rows], part.trans[rows], part.ga[rows], part.gb[rows]
+        if mult is not None and part.neighbours and not smallest_multz:
+            for tags, g in ((ta, g1), (tb, g2)):  # one tag per side in this part
+                m = mult.get(int(tags[0])) if tags.size else None
+                if m is not None:  # a side without a multiplier is x 1: skipped
+                    t = t * m[g]
+        elif mult is not None:
             ma, mb = side_multipliers(mult, ta, g1), side_multipliers(mult, tb, g2)
             if smallest_multz:
                 smallest = _smallest_multz(mult, g1, g2, ta, column, layer)
@@ -129,12 +133,16 @@ def deck_transmissibility(
                 mb = np.where(column & (tb == B), smallest, mb)
             t = t * ma * mb
         trans[out] = t
-        k = kind[out]
-        k[...] = FAULT
-        k[column] = PINCH
-        k[logical_neighbors(g1, g2, dims)] = NEIGHBOR
-        np.minimum(a, b, out=lo[out])  # ordered as the connection list is (first < second)
-        np.maximum(a, b, out=hi[out])
+        if part.neighbours:
+            kind[out] = NEIGHBOR
+            lo[out], hi[out] = a, b
+        else:
+            k = kind[out]
+            k[...] = FAULT
+            k[column] = PINCH
+            k[logical_neighbors(g1, g2, dims)] = NEIGHBOR
+            np.minimum(a, b, out=lo[out])  # ordered as the connection list is (first < second)
+            np.maximum(a, b, out=hi[out])
         f[out] = part.face[rows]
         if regions:
             ga[out], gb[out], axis[out] = g1, g2, ta // 2  # tag // 2 = axis

@@ -369,8 +369,10 @@ def gathered_half_data(
 class RawConnections:
     """Connections before multipliers: grid cells a, b; their logical face tags ta, tb (the
     side of the connection each is on); the face (-1 for none); whether the two cells are
-    one above the other (``column``); the NEWTRAN transmissibility in deck units. One part
-    of the connection list (:func:`newtran_connections`)."""
+    one above the other (``column``); the NEWTRAN transmissibility in deck units; the linear
+    ijk indices ga, gb of a, b; whether every pair is a cell and its +i, +j or +k neighbour
+    (``neighbours``: a < b, one ta and one tb for all). One part of the connection list
+    (:func:`newtran_connections`)."""
 
     a: IntArray
     b: IntArray
@@ -379,6 +381,9 @@ class RawConnections:
     face: IntArray
     column: np.ndarray
     trans: FloatArray
+    ga: IntArray
+    gb: IntArray
+    neighbours: bool
 
 
 def newtran_connections(
@@ -423,11 +428,12 @@ def newtran_connections(
         stride = strides[axis]
         plus, minus = 2 * axis + 1, 2 * axis  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
         g = np.flatnonzero(simple[axis])
-        t = combine(halves[plus, g], halves[minus, g + stride], units)
+        g_plus = g + stride
+        t = combine(halves[plus, g], halves[minus, g_plus], units)
         n = g.size
         tags = (np.full(n, plus, dtype=np.int8), np.full(n, minus, dtype=np.int8))
         face = _faces_of_pairs(g, *faces)
-        return cell_of[g], cell_of[g + stride], *tags, face, np.full(n, axis == 2), t
+        return cell_of[g], cell_of[g_plus], *tags, face, np.full(n, axis == 2), t, g, g_plus, True
 
     ta, tb = logical_sides(ga, gb, deck.cart_dims)
     column = (ta >= T) & (tb >= T)
@@ -454,7 +460,7 @@ def newtran_connections(
             half_transmissibilities(area, d[:, tb, ib], kdd[tb, ib]),
             units,
         )
-        return a, b, ta, tb, f, column, t
+        return a, b, ta, tb, f, column, t, ga, gb, False
 
     tasks = [partial(simple_pairs, axis, halves, faces_of[axis]) for axis in range(3)]
     tasks.append(partial(other_pairs, f, a, ta, b, tb, column))
