@@ -16,7 +16,6 @@ FAULT = 1  # a face across non-matching cells (fault throw): not logical neighbo
 PINCH = 2  # across removed or inactive thin layers, no face (PINCH, MINPV)
 OTHER = 3  # any other pair: unstructured grids, explicit NNC keywords
 KIND_NAMES = ("neighbor", "fault", "pinch", "other")
-_BLOCKS = 8  # blocks of connections sorted out side by side on the threads
 
 
 @dataclass(frozen=True, eq=False)
@@ -110,28 +109,11 @@ def assemble_ordered(
     kind = np.asarray(kind, dtype=np.int8)
     face = np.asarray(face, dtype=np.int64)
     n = trans.size
-    width = int(hi.max(initial=0)) + 1
-    key = np.empty(n, dtype=np.int64)
-
-    def keys(rows: slice) -> None:
-        np.multiply(lo[rows], width, out=key[rows])
-        key[rows] += hi[rows]
-
-    in_slices(keys, n)
-    order = np.argsort(key, kind="stable")  # entries of one pair keep their given order
-    repeated = np.zeros(n, dtype=bool)  # an entry of the same pair as the one before it
-    kept: list[IntArray | None] = [None] * _BLOCKS
-
-    def sorted_rows(rows: slice) -> None:
-        before = order[max(rows.start - 1, 0) : rows.stop]
-        k = key[before]
-        np.equal(k[1:], k[:-1], out=repeated[rows.start + (rows.start == 0) : rows.stop])
-        mine = before[rows.start > 0 :]
-        kept[rows.start // max(1, -(-n // _BLOCKS))] = mine[trans[mine] > 0.0]
-
-    in_slices(sorted_rows, n, _BLOCKS)
+    key = _pair_keys(lo, hi)
+    order, repeated, positive = _sorted_entries(key, trans)
+    del key
     if not repeated.any():  # one entry per pair: nothing to add up
-        pick = np.concatenate([k for k in kept if k is not None]) if n else order
+        pick = order[positive]
         total = None
     else:
         first = ~repeated
@@ -142,6 +124,7 @@ def assemble_ordered(
         keep = total > 0.0
         pick = order[starts[keep]]
         total, kmin = total[keep], kmin[keep]
+    del order, repeated, positive
     m = pick.size
     pairs = np.empty((m, 2), dtype=np.int64)
     glob = None if index_map is None else np.empty((m, 2), dtype=np.int64)
@@ -160,8 +143,40 @@ def assemble_ordered(
             picked[1][rows] = kind[p]
         out_face[rows] = face[p]
 
-    in_slices(gathered, m, _BLOCKS * 4)
+    in_slices(gathered, m, 32)  # blocks of a few MB, in the CPU's cache
     return Connections(pairs, glob, picked[0], picked[1], out_face, units, tuple(notes))
+
+
+def _pair_keys(lo: IntArray, hi: IntArray) -> IntArray:
+    """lo (max(hi) + 1) + hi: one integer per pair, ordered as the pairs (lo, hi) are."""
+    width = int(hi.max(initial=0)) + 1
+    key = np.empty(lo.size, dtype=np.int64)
+
+    def keys(rows: slice) -> None:
+        np.multiply(lo[rows], width, out=key[rows])
+        key[rows] += hi[rows]
+
+    in_slices(keys, lo.size)
+    return key
+
+
+def _sorted_entries(key: IntArray, trans: FloatArray) -> tuple[IntArray, np.ndarray, np.ndarray]:
+    """The entries in the order of ``key`` (stable: entries of one pair keep their given
+    order), whether each sorted entry repeats the pair before it, and whether its
+    transmissibility is positive."""
+    order = np.argsort(key, kind="stable")
+    n = key.size
+    repeated = np.zeros(n, dtype=bool)
+    positive = np.empty(n, dtype=bool)
+
+    def sorted_rows(rows: slice) -> None:
+        before = order[max(rows.start - 1, 0) : rows.stop]
+        k = key[before]
+        np.equal(k[1:], k[:-1], out=repeated[rows.start + (rows.start == 0) : rows.stop])
+        np.greater(trans[before[rows.start > 0 :]], 0.0, out=positive[rows])
+
+    in_slices(sorted_rows, n)
+    return order, repeated, positive
 
 
 def face_connections(neighbors: np.ndarray, cells: np.ndarray) -> np.ndarray:
