@@ -54,11 +54,17 @@ def rock_arrays(deck: Deck, notes: list[str] | None = None) -> tuple[np.ndarray,
     file, keyword and cells (i, j, k): PERMX missing, a negative or non-finite permeability or
     NTG. NTG above 1 is used as Flow uses it, with a note (appended to ``notes``).
     """
+    perm, ntg = rock_columns(deck, notes)
+    return np.stack(perm, axis=1), ntg
+
+
+def rock_columns(deck: Deck, notes: list[str] | None = None) -> tuple[list[np.ndarray], np.ndarray]:
+    """:func:`rock_arrays` with PERMX, PERMY, PERMZ as three (nc,) arrays (the deck's own)."""
     data = deck.cell_data
     if "PERMX" not in data:
         raise InputError(f"{deck.source}: PERMX: the deck gives no permeability (PERMX is missing)")
-    perm = np.stack([data.get(key, data["PERMX"]) for key in ("PERMX", "PERMY", "PERMZ")], axis=1)
-    ntg = data.get("NTG", np.ones(deck.num_cells))
+    perm = [np.asarray(data.get(key, data["PERMX"]), dtype=np.float64) for key in ("PERMX", "PERMY", "PERMZ")]
+    ntg = np.asarray(data["NTG"], dtype=np.float64) if "NTG" in data else np.ones(deck.num_cells)
     given = [key for key in ("PERMX", "PERMY", "PERMZ", "NTG") if key in data]
     if all(_plainly_valid(key, data[key]) for key in given):
         return perm, ntg  # every cell's values pass: so do the active cells', without a note
@@ -99,7 +105,7 @@ def deck_transmissibility(
     grid = cp.grid
     glob = grid.cells.index_map
     notes: list[str] = []
-    perm, ntg = rock_arrays(deck, notes)
+    perm, ntg = rock_columns(deck, notes)
     dims = deck.cart_dims
     layer = dims[0] * dims[1]
 

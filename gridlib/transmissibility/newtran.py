@@ -21,6 +21,7 @@ deck's transmissibility unit (:mod:`gridlib.units`).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import partial
 
@@ -146,7 +147,9 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
 # -------------------------------------------------------------------------- every cell at once
 
 
-def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray, sign: int | None = None) -> FloatArray:
+def structured_halves(
+    deck: Deck, perm: Sequence[FloatArray], ntg: FloatArray, sign: int | None = None
+) -> FloatArray:
     """The half-transmissibility K |A . d| / (d . d) (mD x deck length) of every logical
     face W, E, S, N, T, B (rows) of every cell of the deck (linear ijk order, columns),
     with A the area vector of the cell's own quadrilateral face (:data:`AREA_DIAGONALS`):
@@ -175,7 +178,7 @@ def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray, sign: int |
             for start in range(0, layer, block):
                 here = slice(start, min(start + block, layer))
                 cells = slice(k * layer + here.start, k * layer + here.stop)
-                k_face = _face_permeability(perm[cells], ntg[cells])
+                k_face = _face_permeability([k[cells] for k in perm], ntg[cells])
                 if columns is not None:
                     columns.halves(z[:, :, here], here, k_face, halves[:, cells])
                     continue
@@ -309,14 +312,15 @@ class _VerticalColumns:
             dot *= kdd[f]
 
 
-def _face_permeability(perm: FloatArray, ntg: FloatArray) -> FloatArray:
-    """(6, nc): the permeability each logical face's half uses; NTG on W, E, S, N."""
-    k_face = np.empty((6, perm.shape[0]))
+def _face_permeability(perm: Sequence[FloatArray], ntg: FloatArray) -> FloatArray:
+    """(6, nc): the permeability each logical face's half uses, from PERMX, PERMY, PERMZ
+    (``perm``) and NTG (on W, E, S, N)."""
+    k_face = np.empty((6, ntg.size))
     for f, axis in enumerate(_AXIS_OF_FACE):
         if f < 4:
-            np.multiply(perm[:, axis], ntg, out=k_face[f])
+            np.multiply(perm[axis], ntg, out=k_face[f])
         else:
-            k_face[f] = perm[:, axis]
+            k_face[f] = perm[axis]
     return k_face
 
 
@@ -353,14 +357,14 @@ def face_area(p: FloatArray, f: int) -> FloatArray:
 
 
 def gathered_half_data(
-    deck: Deck, cells: IntArray, perm: FloatArray, ntg: FloatArray, sign: int | None = None
+    deck: Deck, cells: IntArray, perm: Sequence[FloatArray], ntg: FloatArray, sign: int | None = None
 ):
     """For ``cells`` (linear ijk indices): d (3, 6, m), K / (d . d) (6, m) and the area
     vector of the bottom face (3, m), from their corners gathered one by one
     (:func:`~gridlib.cornerpoint.corners.corner_points`: the same bits as the layers of
     :func:`structured_halves`)."""
     p = np.ascontiguousarray(corner_points(deck, cells, sign).transpose(2, 1, 0))
-    k_face = _face_permeability(perm[cells], ntg[cells])
+    k_face = _face_permeability([k[cells] for k in perm], ntg[cells])
     d, kdd = centre_to_faces(p, k_face)
     return d, kdd, face_area(p, B)
 
@@ -389,7 +393,7 @@ class RawConnections:
 def newtran_connections(
     deck: Deck,
     grid: Grid,
-    perm: FloatArray,
+    perm: Sequence[FloatArray],
     ntg: FloatArray,
     units: UnitSystem,
     pinch_active: bool,
