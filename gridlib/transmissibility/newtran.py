@@ -48,6 +48,7 @@ _LAYER_TASKS = 4  # blocks of layers of structured_halves, shared out among the 
 _CELL_BLOCK = 1 << 13  # cells of a layer worked on at once by structured_halves (the cache)
 _FACE_BLOCK = 1 << 18  # faces sorted out at once by _sorted_faces
 _FACE_THREADS = 2  # at most: _sorted_faces runs beside structured_halves
+_BOUNDED = 1e150  # coordinates at most this big: differences and their products are finite
 _AXIS_OF_FACE = np.array([0, 0, 1, 1, 2, 2])  # W, E -> x; S, N -> y; T, B -> z
 
 
@@ -242,13 +243,21 @@ class _VerticalColumns:
     :class:`_LayerCorners` puts a corner at x = t (x_bottom - x_top) + x_top, which is x_top
     exactly when the pillar is vertical, t finite (|span| >= 1 or a flat pillar, finite
     depths) and x_top not -0; each quantity below is then computed by the very operations
-    of :func:`centre_to_faces` and :func:`face_area` on the same numbers."""
+    of :func:`centre_to_faces` and :func:`face_area` on the same numbers.
+
+    ``vanishing[f]``: which of the three terms A_x d_x, A_y d_y, A_z d_z of face f's A . d are
+    0 in every column whatever the depths (a factor exactly 0 in every column: d_x, or both
+    u_y and v_y for A_x = ½ (u_y v_z - u_z v_y), ...; on a rectilinear grid, all but one
+    term of each face). Where the coordinates are at most ``_BOUNDED`` in magnitude, every
+    other factor is finite, so such a term is ±0 and adds nothing: :meth:`halves` leaves it
+    out, and A . d is the same up to the sign of a zero, which its absolute value drops."""
 
     sign: int
     d_xy: FloatArray  # (2, 6, m)
     dd_xy: FloatArray  # (6, m)
     uv_xy: FloatArray  # (6, 4, m): u_x, u_y, v_x, v_y
     area_z: FloatArray  # (6, m)
+    vanishing: tuple[tuple[bool, bool, bool], ...]  # (6 faces, x y z terms)
 
     @classmethod
     def of(cls, corners: _LayerCorners) -> _VerticalColumns | None:
@@ -266,7 +275,16 @@ class _VerticalColumns:
         a, b, c, e = AREA_DIAGONALS.T
         uv_xy = np.stack([p[0, a] - p[0, b], p[1, a] - p[1, b], p[0, c] - p[0, e], p[1, c] - p[1, e]], axis=1)
         area_z = 0.5 * (uv_xy[:, 0] * uv_xy[:, 3] - uv_xy[:, 1] * uv_xy[:, 2])
-        return cls(corners.sign, d_xy, dd_xy, uv_xy, area_z)
+        bounded = bool(np.abs(top_xy).max(initial=0.0) <= _BOUNDED)
+        vanishing = tuple(
+            (
+                bounded and bool((d_xy[0, f] == 0.0).all() or ((uv[1] == 0.0) & (uv[3] == 0.0)).all()),
+                bounded and bool((d_xy[1, f] == 0.0).all() or ((uv[0] == 0.0) & (uv[2] == 0.0)).all()),
+                bounded and bool((area_z[f] == 0.0).all()),
+            )
+            for f, uv in enumerate(uv_xy)
+        )
+        return cls(corners.sign, d_xy, dd_xy, uv_xy, area_z, vanishing)
 
     def halves(self, z: FloatArray, here: slice, k_face: FloatArray, out: FloatArray) -> None:
         """The six halves (6, m) of the cells ``here`` of a layer with corner depths z
@@ -293,23 +311,41 @@ class _VerticalColumns:
         kdd[~(dd > 0.0)] = 0.0
         d_x, d_y = self.d_xy[0, :, here], self.d_xy[1, :, here]
         uv = self.uv_xy[:, :, here]
+        bounded = pz.max(initial=0.0) <= _BOUNDED and pz.min(initial=0.0) >= -_BOUNDED  # NaN: not
         for f, (a, b, c, e) in enumerate(AREA_DIAGONALS):
-            u_z, v_z = pz[a] - pz[b], pz[c] - pz[e]
-            u_x, u_y, v_x, v_y = uv[f]
-            area_x = u_y * v_z
-            area_x -= u_z * v_y
-            area_x *= 0.5
-            area_y = u_z * v_x
-            area_y -= u_x * v_z
-            area_y *= 0.5
+            zero_x, zero_y, zero_z = self.vanishing[f] if bounded else (False, False, False)
             dot = out[f]
-            np.multiply(area_x, d_x[f], out=dot)
-            area_y *= d_y[f]
-            dot += area_y
-            area_x = self.area_z[f, here] * d_z[f]
-            dot += area_x
+            terms = 0  # terms added to dot so far
+            if not (zero_x and zero_y):
+                u_z, v_z = pz[a] - pz[b], pz[c] - pz[e]
+                u_x, u_y, v_x, v_y = uv[f]
+            if not zero_x:
+                area_x = u_y * v_z
+                area_x -= u_z * v_y
+                area_x *= 0.5
+                np.multiply(area_x, d_x[f], out=dot)
+                terms += 1
+            if not zero_y:
+                area_y = u_z * v_x
+                area_y -= u_x * v_z
+                area_y *= 0.5
+                area_y *= d_y[f]
+                terms += _add_term(dot, area_y, terms)
+            if not zero_z:
+                terms += _add_term(dot, self.area_z[f, here] * d_z[f], terms)
+            if not terms:
+                dot[...] = 0.0
             np.abs(dot, out=dot)
             dot *= kdd[f]
+
+
+def _add_term(dot: FloatArray, term: FloatArray, terms: int) -> int:
+    """dot += term, or dot = term when it holds no term yet: 1 (a term added)."""
+    if terms:
+        dot += term
+    else:
+        dot[...] = term
+    return 1
 
 
 def _face_permeability(perm: Sequence[FloatArray], ntg: FloatArray) -> FloatArray:
