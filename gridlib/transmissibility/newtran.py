@@ -531,8 +531,10 @@ def _sorted_faces(
     ascending, faces); and the other interior faces f with their cells a, b
     (``neighbors[f]``) and those cells' linear ijk indices ga, gb. A block of faces at a
     time, on the threads (small temporaries, each block's results kept in block order)."""
+    # a boundary face's missing cell (-1) gets an index no stride away from any cell's
+    padded = np.append(grid.cells.index_map, -(1 << 62) // 2)
     blocks = [(s, min(s + _FACE_BLOCK, grid.num_faces)) for s in range(0, grid.num_faces, _FACE_BLOCK)]
-    found = list(in_order(partial(_sort_face_block, grid, simple, strides), blocks, _FACE_THREADS))
+    found = list(in_order(partial(_sort_face_block, grid, padded, simple, strides), blocks, _FACE_THREADS))
     faces = []
     for axis in range(3):
         lower, face = (np.concatenate([block[0][axis][k] for block in found]) for k in (0, 1))
@@ -545,29 +547,34 @@ def _sorted_faces(
 
 
 def _sort_face_block(
-    grid: Grid, simple: list[np.ndarray], strides: tuple[int, int, int], start: int, stop: int
+    grid: Grid,
+    padded: IntArray,
+    simple: list[np.ndarray],
+    strides: tuple[int, int, int],
+    start: int,
+    stop: int,
 ):
-    """:func:`_sorted_faces` of the faces start..stop-1. ``simple[axis]`` is False on the last
-    row along the axis, so a lower cell g marked there has g + stride as its +axis neighbour,
-    and the face of the two cells is the one on that side."""
+    """:func:`_sorted_faces` of the faces start..stop-1 (``padded``: the grid's index map and
+    one far-off index for -1). ``simple[axis]`` is False on the last row along the axis, so
+    a lower cell g marked there has g + stride as its +axis neighbour, and the face of the
+    two cells is the one on that side."""
     nb = grid.faces.neighbors[start:stop]
-    inner = np.flatnonzero((nb[:, 0] >= 0) & (nb[:, 1] >= 0))
-    a, b = nb[inner, 0], nb[inner, 1]
-    glob = grid.cells.index_map
-    ga, gb = glob[a], glob[b]
-    f = inner + start
+    a, b = nb[:, 0], nb[:, 1]
+    ga, gb = padded[a], padded[b]
     lo = np.minimum(ga, gb)
     step = gb - ga
     np.abs(step, out=step)
-    is_simple = np.zeros(f.size, dtype=bool)
+    is_simple = np.zeros(stop - start, dtype=bool)
     found = []
     for axis, stride in enumerate(strides):
         hit = np.flatnonzero(step == stride)
         hit = hit[simple[axis][lo[hit]]]
         is_simple[hit] = True
-        found.append((lo[hit], f[hit]))
-    rest = ~is_simple
-    return found, (f[rest], a[rest], b[rest], ga[rest], gb[rest])
+        found.append((lo[hit], hit + start))
+    is_simple |= a < 0
+    is_simple |= b < 0  # boundary faces: not among the rest either
+    rest = np.flatnonzero(~is_simple)
+    return found, (rest + start, a[rest], b[rest], ga[rest], gb[rest])
 
 
 def _faces_of_pairs(g: IntArray, lower: IntArray, faces: IntArray) -> IntArray:
