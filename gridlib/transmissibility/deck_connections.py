@@ -43,7 +43,7 @@ from .newtran import RawConnections, newtran_connections
 from .region_multipliers import region_multipliers
 
 assert (W, E, S, N, T, B) == (0, 1, 2, 3, 4, 5)
-_BLOCKS = 8  # blocks of connections finished side by side on the threads (each writes its own rows)
+_BLOCKS = 32  # blocks of connections finished side by side on the threads (each writes its own rows)
 
 
 def rock_arrays(deck: Deck, notes: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
