@@ -39,7 +39,7 @@ from ..units import unit_system
 from .connections import FAULT, NEIGHBOR, PINCH, Connections, assemble_ordered
 from .edits import apply_deck_edits, logical_neighbors
 from .multipliers import directional_multipliers, side_multipliers
-from .newtran import RawConnections, newtran_connections
+from .newtran import NeighbourPairs, RawConnections, newtran_connections
 from .region_multipliers import region_multipliers
 
 assert (W, E, S, N, T, B) == (0, 1, 2, 3, 4, 5)
@@ -121,14 +121,28 @@ def deck_transmissibility(
     f = np.empty(n, dtype=np.int64)
     ga, gb, axis = (np.empty(n, dtype=np.int64) for _ in range(3)) if regions else (None, None, None)
 
-    def finish(part: RawConnections, rows: slice, out: slice) -> None:
+    def finish(part: NeighbourPairs | RawConnections, rows: slice, out: slice) -> None:
         """Rows ``rows`` of ``part`` into rows ``out`` of the connection list: the ordered
         pair, the transmissibility with the directional multipliers, the kind, the face."""
-        a, b, ta, tb = part.a[rows], part.b[rows], part.ta[rows], part.tb[rows]
-        column, t, g1, g2 = part.column[rows], part.trans[rows], part.ga[rows], part.gb[rows]
-        if mult is not None and part.neighbours and not smallest_multz:
-            for tags, g in ((ta, g1), (tb, g2)):  # one tag per side in this part
-                m = mult.get(int(tags[0])) if tags.size else None
+        a, b = part.cells(rows)
+        t = part.trans[rows]
+        neighbours = isinstance(part, NeighbourPairs)
+        if neighbours:
+            g1 = part.lower[rows]
+            g2 = g1 + part.stride
+            n, plus = g1.size, 2 * part.axis + 1  # the lower cell's side: E, N or B
+            ta, tb = np.full(n, plus, dtype=np.int8), np.full(n, plus - 1, dtype=np.int8)
+            column = np.full(n, part.axis == 2)
+        else:
+            g1, g2, ta, tb, column = (
+                part.ga[rows],
+                part.gb[rows],
+                part.ta[rows],
+                part.tb[rows],
+                part.column[rows],
+            )
+        if mult is not None and neighbours and not smallest_multz:
+            for m, g in ((mult.get(plus), g1), (mult.get(plus - 1), g2)):
                 if m is not None:  # a side without a multiplier is x 1: skipped
                     t = t * m[g]
         elif mult is not None:
@@ -139,9 +153,9 @@ def deck_transmissibility(
                 mb = np.where(column & (tb == B), smallest, mb)
             t = t * ma * mb
         trans[out] = t
-        if part.neighbours:
+        if neighbours:
             kind[out] = NEIGHBOR
-            lo[out], hi[out] = a, b
+            lo[out], hi[out] = a, b  # a < b: the grid numbers cells in linear index order
         else:
             k = kind[out]
             k[...] = FAULT
@@ -166,7 +180,9 @@ def deck_transmissibility(
     return assemble_ordered(lo, hi, trans, kind, f, index_map=glob, units=units, notes=notes)
 
 
-def _blocks(parts: list[RawConnections], count: int) -> list[tuple[RawConnections, slice, slice]]:
+def _blocks(
+    parts: list[NeighbourPairs | RawConnections], count: int
+) -> list[tuple[NeighbourPairs | RawConnections, slice, slice]]:
     """The rows of ``parts`` in about ``count`` blocks of similar size: (part, its rows, their
     rows in the parts one after the other)."""
     total = sum(part.trans.size for part in parts)

@@ -410,9 +410,7 @@ class RawConnections:
     """Connections before multipliers: grid cells a, b; their logical face tags ta, tb (the
     side of the connection each is on); the face (-1 for none); whether the two cells are
     one above the other (``column``); the NEWTRAN transmissibility in deck units; the linear
-    ijk indices ga, gb of a, b; whether every pair is a cell and its +i, +j or +k neighbour
-    (``neighbours``: a < b, one ta and one tb for all). One part of the connection list
-    (:func:`newtran_connections`)."""
+    ijk indices ga, gb of a, b. One part of the connection list (:func:`newtran_connections`)."""
 
     a: IntArray
     b: IntArray
@@ -423,7 +421,29 @@ class RawConnections:
     trans: FloatArray
     ga: IntArray
     gb: IntArray
-    neighbours: bool
+
+    def cells(self, rows: slice = slice(None)) -> tuple[IntArray, IntArray]:
+        return self.a[rows], self.b[rows]
+
+
+@dataclass(frozen=True, eq=False)
+class NeighbourPairs:
+    """Connections between cells g (``lower``: linear ijk indices, ascending) and their +axis
+    neighbours g + stride whose shared corners coincide: their face, their NEWTRAN
+    transmissibility in deck units. The lower cell is on its side 2 axis + 1 (E, N, B), the
+    other on 2 axis (W, S, T); ``cell_of`` gives the grid cell of each linear index. One part
+    of the connection list (:func:`newtran_connections`), without cell-sized copies."""
+
+    axis: int
+    stride: int
+    lower: IntArray
+    face: IntArray
+    trans: FloatArray
+    cell_of: IntArray
+
+    def cells(self, rows: slice = slice(None)) -> tuple[IntArray, IntArray]:
+        g = self.lower[rows]
+        return self.cell_of[g], self.cell_of[g + self.stride]
 
 
 def newtran_connections(
@@ -434,7 +454,7 @@ def newtran_connections(
     units: UnitSystem,
     pinch_active: bool,
     notes: list[str],
-) -> list[RawConnections]:
+) -> list[NeighbourPairs | RawConnections]:
     """Every connection of a processed deck with its NEWTRAN transmissibility (no multipliers),
     in parts: the matching +i, +j and +k neighbour pairs (each in ascending order of the
     lower cell), the pairs from the grid's other faces, then the MINPV connections if any.
@@ -466,14 +486,9 @@ def newtran_connections(
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
         half from its own cell's face (the same quadrilateral, the same bits)."""
         stride = strides[axis]
-        plus, minus = 2 * axis + 1, 2 * axis  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
         g = np.flatnonzero(simple[axis])
-        g_plus = g + stride
-        t = combine(halves[plus, g], halves[minus, g_plus], units)
-        n = g.size
-        tags = (np.full(n, plus, dtype=np.int8), np.full(n, minus, dtype=np.int8))
-        face = _faces_of_pairs(g, *faces)
-        return cell_of[g], cell_of[g_plus], *tags, face, np.full(n, axis == 2), t, g, g_plus, True
+        t = combine(halves[2 * axis + 1, g], halves[2 * axis, g + stride], units)  # E|W, N|S, B|T
+        return NeighbourPairs(axis, stride, g, _faces_of_pairs(g, *faces), t, cell_of)
 
     ta, tb = logical_sides(ga, gb, deck.cart_dims)
     column = (ta >= T) & (tb >= T)
@@ -500,7 +515,7 @@ def newtran_connections(
             half_transmissibilities(area, d[:, tb, ib], kdd[tb, ib]),
             units,
         )
-        return a, b, ta, tb, f, column, t, ga, gb, False
+        return RawConnections(a, b, ta, tb, f, column, t, ga, gb)
 
     tasks = [partial(simple_pairs, axis, halves, faces_of[axis]) for axis in range(3)]
     tasks.append(partial(other_pairs, f, a, ta, b, tb, column))
@@ -520,7 +535,7 @@ def newtran_connections(
                 np.ones(n, dtype=bool),
             )
         )
-    return [RawConnections(*part) for part in parts]
+    return parts
 
 
 def _sorted_faces(
@@ -626,7 +641,7 @@ def _minpv_pairs(deck: Deck, cell_of: IntArray, parts, notes: list[str]):
     if pairs.size == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     n_cells = int(cell_of.max()) + 1
-    existing = np.concatenate([np.minimum(p[0], p[1]) * n_cells + np.maximum(p[0], p[1]) for p in parts])
+    existing = np.concatenate([np.minimum(*p.cells()) * n_cells + np.maximum(*p.cells()) for p in parts])
     up, low = cell_of[pairs[:, 0]], cell_of[pairs[:, 1]]
     ok = (up >= 0) & (low >= 0)
     key = np.minimum(up, low) * n_cells + np.maximum(up, low)
