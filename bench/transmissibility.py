@@ -47,9 +47,10 @@ with GRIDLIB_NUM_THREADS=1, side by side with main 6270751 on the 2-core VM):
 * Removed since: the halves leave out the terms of A . d that vanish in every column (two of
   three per face on a rectilinear grid; the same bits); the face scan reads the cells through
   an index map padded for -1, in blocks of 65,536 faces; the faces of matching pairs come
-  from the engine's ascending face order; multipliers, kinds and ordered pairs are written
-  part by part in blocks on the threads (no joined copies, no per-tag scans on neighbour
-  parts); no (nc, 3) permeability copy, the rock checked by two reductions per keyword;
+  from the engine's ascending face order, and those pairs are kept as lower cell, face and
+  T only; multipliers, kinds and ordered pairs are written part by part in blocks on the
+  threads (no joined copies, no per-tag scans on neighbour parts); no (nc, 3) permeability
+  copy, the rock checked by two reductions per keyword;
   ``assemble`` drops its keys before gathering the result in blocks on the threads. A warm
   call is about 0.35-0.4 s CPU, peak memory 281 -> 225 MiB, and a first call adds little
   sys time beyond the result's own pages.
