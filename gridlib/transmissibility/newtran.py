@@ -150,9 +150,10 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
 
 def structured_halves(
     deck: Deck, perm: Sequence[FloatArray], ntg: FloatArray, sign: int | None = None
-) -> FloatArray:
+) -> list[FloatArray]:
     """The half-transmissibility K |A . d| / (d . d) (mD x deck length) of every logical
-    face W, E, S, N, T, B (rows) of every cell of the deck (linear ijk order, columns),
+    face W, E, S, N, T, B (six arrays, of a few MB each rather than one) of every cell of
+    the deck (linear ijk order),
     with A the area vector of the cell's own quadrilateral face (:data:`AREA_DIAGONALS`):
     what a connection between two cells needs where their shared face is that whole
     quadrilateral. Computed on the (k, c, j, b, i, a) layout of ZCORN layer by layer,
@@ -167,7 +168,7 @@ def structured_halves(
     layer = nx * ny
     corners = _LayerCorners(deck, sign)
     columns = _VerticalColumns.of(corners)
-    halves = np.empty((6, nx * ny * nz))
+    halves = [np.empty(nx * ny * nz) for _ in range(6)]
     block = max(1, min(layer, _CELL_BLOCK))
 
     def layers(ks: range) -> None:
@@ -181,11 +182,11 @@ def structured_halves(
                 cells = slice(k * layer + here.start, k * layer + here.stop)
                 k_face = _face_permeability([k[cells] for k in perm], ntg[cells])
                 if columns is not None:
-                    columns.halves(z[:, :, here], here, k_face, halves[:, cells])
+                    columns.halves(z[:, :, here], here, k_face, [h[cells] for h in halves])
                     continue
                 d, kdd = centre_to_faces(p[:, :, here], k_face)
                 for f in range(6):
-                    halves[f, cells] = half_transmissibilities(face_area(p[:, :, here], f), d[:, f], kdd[f])
+                    halves[f][cells] = half_transmissibilities(face_area(p[:, :, here], f), d[:, f], kdd[f])
 
     chunks = [c for c in np.array_split(np.arange(nz), min(nz, _LAYER_TASKS)) if c.size]
     concurrently(*(lambda ks=range(c[0], c[-1] + 1): layers(ks) for c in chunks))
@@ -286,7 +287,7 @@ class _VerticalColumns:
         )
         return cls(corners.sign, d_xy, dd_xy, uv_xy, area_z, vanishing)
 
-    def halves(self, z: FloatArray, here: slice, k_face: FloatArray, out: FloatArray) -> None:
+    def halves(self, z: FloatArray, here: slice, k_face: FloatArray, out: Sequence[FloatArray]) -> None:
         """The six halves (6, m) of the cells ``here`` of a layer with corner depths z
         (2, 4, m) into ``out``: :func:`centre_to_faces`, :func:`face_area` and
         :func:`half_transmissibilities` on the z parts only."""
@@ -482,12 +483,12 @@ def newtran_connections(
         partial(_sorted_faces, grid, simple, strides),
     )
 
-    def simple_pairs(axis: int, halves: FloatArray, faces: tuple[IntArray, IntArray]):
+    def simple_pairs(axis: int, halves: list[FloatArray], faces: tuple[IntArray, IntArray]):
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
         half from its own cell's face (the same quadrilateral, the same bits)."""
         stride = strides[axis]
         g = np.flatnonzero(simple[axis])
-        t = combine(halves[2 * axis + 1, g], halves[2 * axis, g + stride], units)  # E|W, N|S, B|T
+        t = combine(halves[2 * axis + 1][g], halves[2 * axis][g + stride], units)  # E|W, N|S, B|T
         return NeighbourPairs(axis, stride, g, _faces_of_pairs(g, *faces), t, cell_of)
 
     ta, tb = logical_sides(ga, gb, deck.cart_dims)
