@@ -33,6 +33,7 @@ from ..cornerpoint.pore_volume import with_flow_activity
 from ..cornerpoint.process import CornerPointGrid, process_grdecl
 from ..errors import InputError
 from ..grid import B, E, N, S, T, W
+from ..pages import without_huge_pages
 from ..petrophysics.ranges import FRACTIONS, check_rock_values
 from ..threads import concurrently
 from ..units import unit_system
@@ -100,6 +101,12 @@ def deck_transmissibility(
     deck = with_flow_activity(deck)  # cells of zero pore volume are inactive, as ACTNUM 0
     if cp is None:
         cp = process_grdecl(deck)
+    with without_huge_pages():  # hundreds of MB of fresh temporaries (gridlib.pages)
+        return _connections(deck, cp, pinch)
+
+
+def _connections(deck: Deck, cp: CornerPointGrid, pinch: bool | None) -> Connections:
+    """:func:`deck_transmissibility` of a deck whose zero pore volume cells are inactive."""
     pinch_active = deck.pinch is not None if pinch is None else bool(pinch)
     units = unit_system(deck.units)
     grid = cp.grid
