@@ -52,11 +52,13 @@ with GRIDLIB_NUM_THREADS=1, side by side with main 6270751 on the 2-core VM):
   threads (no joined copies, no per-tag scans on neighbour parts); no (nc, 3) permeability
   copy, the rock checked by two reductions per keyword;
   ``assemble`` drops its keys before gathering the result in blocks on the threads. A warm
-  call is about 0.35-0.4 s of user CPU, peak traced memory 300 -> 225 MiB. The sys time
-  still follows the host: in this bench's interpreter (after the deck's reading and
-  xtgeo's), 0.05-0.57 s per call for the same 0.40 s of user time, most on the first call;
-  arrays of 32 MiB and more (the halves, the result's cell pairs) are fresh pages on every
-  call (glibc maps them anew), smaller ones only on the first.
+  call is about 0.35-0.4 s of user CPU, peak traced memory 300 -> 225 MiB.
+* The system time then still followed the host: in this bench's interpreter (after the
+  deck's reading and xtgeo's), 0.74-0.80 s on the first call and 0.05-0.4 s on the next,
+  for the same 0.40 s of user time. Arrays of 32 MiB and more are fresh pages on every call
+  (glibc maps them anew: the halves are now six arrays of 8 MB), smaller ones on the first.
+  ``deck_transmissibility`` now runs with numpy's huge-page advice off
+  (:mod:`gridlib.pages`): 0.18-0.23 s on the first call, 0.05-0.13 s on the next.
 * The floor: the result is 2.4e6 connections x 49 bytes = 118 MB written into fresh pages
   (the first touch above), after reading ZCORN (64 MB), the faces' cells (40 MB) and the
   rock (32 MB); at this VM's ~9 GB/s, 30-40 ms of memory traffic. What is left is numpy
