@@ -28,6 +28,42 @@ the same way (grid and geometry not timed).
 
 Targets (not asserted): deck_transmissibility <= 0.5 s and >= 3x faster than xtgeo, median
 and first call (issue 30); PEBI <= 1 s; peak extra memory <= 1 GiB.
+
+Where deck_transmissibility's time goes (issue 30; ``--profile`` and CPU times of each step
+with GRIDLIB_NUM_THREADS=1, side by side with main 6270751 on the 2-core VM):
+
+* 6270751, a warm call about 0.5 s CPU: the six halves of every cell 0.12-0.15 s; the scan
+  of the 2.5e6 faces plus three cell-sized lookup tables for the faces of matching pairs
+  0.10 s; sort and gathers of the result (``assemble``) 0.08-0.10 s; ZCORN matching 0.05 s;
+  joining the parts and the serial passes over them (global indices, side multipliers,
+  kinds, ``column_stack``) 0.07 s; the rock's (nc, 3) copy and checks 0.03 s; depth sign
+  0.02 s.
+* The first call imports nothing of weight (``concurrent.futures`` on first use); it adds
+  fresh memory. A page a process touches for the first time is a page fault, and numpy asks
+  for transparent huge pages on large arrays (madvise; THP defrag "madvise" here), so a
+  fault may first compact memory: allocating and touching 118 MiB in a fresh interpreter
+  took 30-250 ms (sys 20-220 ms), the second time 18 ms. A new thread's heap is fresh memory
+  too. On 6270751 this was 0.1-0.5 s of sys time, varying with the state of the host.
+* Removed since: the halves leave out the terms of A . d that vanish in every column (two of
+  three per face on a rectilinear grid; the same bits); the face scan reads the cells through
+  an index map padded for -1, in blocks of 65,536 faces; the faces of matching pairs come
+  from the engine's ascending face order, and those pairs are kept as lower cell, face and
+  T only; multipliers, kinds and ordered pairs are written part by part in blocks on the
+  threads (no joined copies, no per-tag scans on neighbour parts); no (nc, 3) permeability
+  copy, the rock checked by two reductions per keyword;
+  ``assemble`` drops its keys before gathering the result in blocks on the threads. A warm
+  call is about 0.35-0.4 s of user CPU, peak traced memory 300 -> 225 MiB.
+* The system time then still followed the host: in this bench's interpreter (after the
+  deck's reading and xtgeo's), 0.74-0.80 s on the first call and 0.05-0.4 s on the next,
+  for the same 0.40 s of user time. Arrays of 32 MiB and more are fresh pages on every call
+  (glibc maps them anew: the halves are now six arrays of 8 MB), smaller ones on the first.
+  ``deck_transmissibility`` now runs with numpy's huge-page advice off
+  (:mod:`gridlib.pages`): 0.18-0.23 s on the first call, 0.05-0.13 s on the next.
+* The floor: the result is 2.4e6 connections x 49 bytes = 118 MB written into fresh pages
+  (the first touch above), after reading ZCORN (64 MB), the faces' cells (40 MB) and the
+  rock (32 MB); at this VM's ~9 GB/s, 30-40 ms of memory traffic. What is left is numpy
+  passes (each bit for bit as before: no reordered arithmetic), so on a loaded machine,
+  where our threads find no free core, the wall time follows the CPU time.
 """
 
 from __future__ import annotations

@@ -65,6 +65,20 @@ def concurrently(*calls: Callable[[], T]) -> list[T]:
         return [future.result() for future in futures]
 
 
+def in_slices(fn: Callable[[slice], object], n: int, count: int = 8) -> None:
+    """``fn(rows)`` for ``count`` consecutive slices ``rows`` covering ``range(n)``, on up to
+    :func:`num_threads` threads: elementwise work that writes rows ``rows`` of its outputs,
+    the same bits for any number of threads.
+
+    >>> out = [0] * 5
+    >>> in_slices(lambda rows: out.__setitem__(rows, [2 * i for i in range(5)][rows]), 5, 2)
+    >>> out
+    [0, 2, 4, 6, 8]
+    """
+    size = max(1, -(-n // count))
+    concurrently(*(lambda s=s: fn(slice(s, min(s + size, n))) for s in range(0, n, size)))
+
+
 def in_order(fn: Callable[..., T], blocks: Iterable[tuple], max_threads: int) -> Iterator[T]:
     """``fn(*b)`` for every ``b`` of ``blocks``, yielded in the blocks' order; computed on up
     to ``num_threads(max_threads)`` threads, a few blocks ahead of the consumer, so that

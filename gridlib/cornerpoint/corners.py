@@ -127,19 +127,29 @@ def _check_finite(zc: FloatArray, active: np.ndarray, src: str) -> None:
 def _depth_sign(zc: FloatArray, active: np.ndarray, src: str) -> int:
     """-1 if z grows upwards (most active cells have bottom above top), else 1.
 
-    Raises if an active cell still has a top corner below its bottom corner.
+    Raises if an active cell still has a top corner below its bottom corner. A few layers
+    at a time (small temporaries).
     """
     nz, ny, nx = active.shape
-    act = np.repeat(active, 2, axis=2)[:, :, None, :]  # (k, j, 1, ic)
-    with np.errstate(invalid="ignore", over="ignore"):  # inactive corners may be junk
-        dz = (zc[1::2] - zc[0::2]).reshape(nz, ny, 2, 2 * nx)  # bottom minus top, per corner
-        down, up = dz > 0, dz < 0
-    down &= act
-    up &= act
-    sign = -1 if np.count_nonzero(up) > np.count_nonzero(down) else 1
-    inverted = down if sign < 0 else up
-    if inverted.any():
-        kc, jc, ic = np.unravel_index(int(np.flatnonzero(inverted)[0]), (nz, 2 * ny, 2 * nx))
+    per_layer = 4 * nx * ny  # corners of a layer: (2 ny, 2 nx)
+    step = max(1, _BLOCK // per_layer)
+    count, first = [0, 0], [-1, -1]  # cell corners going up, down: how many, the first (flat index)
+    for k0 in range(0, nz, step):
+        k1 = min(k0 + step, nz)
+        act = np.repeat(active[k0:k1], 2, axis=2)[:, :, None, :]  # (k, j, 1, ic)
+        with np.errstate(invalid="ignore", over="ignore"):  # inactive corners may be junk
+            dz = (zc[2 * k0 + 1 : 2 * k1 : 2] - zc[2 * k0 : 2 * k1 : 2]).reshape(k1 - k0, ny, 2, 2 * nx)
+            moves = (dz < 0, dz > 0)  # bottom minus top, per corner
+        for way, moved in enumerate(moves):
+            moved &= act
+            n = np.count_nonzero(moved)
+            if n and first[way] < 0:
+                first[way] = k0 * per_layer + int(np.flatnonzero(moved)[0])
+            count[way] += n
+    sign = -1 if count[0] > count[1] else 1
+    inverted = first[1] if sign < 0 else first[0]
+    if inverted >= 0:
+        kc, jc, ic = np.unravel_index(inverted, (nz, 2 * ny, 2 * nx))
         raise InputError(
             f"{src}: ZCORN: cell ({ic // 2 + 1}, {jc // 2 + 1}, {kc + 1}) has a top corner "
             "below its bottom corner"

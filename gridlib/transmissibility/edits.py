@@ -150,22 +150,27 @@ def nnc_keyword_values(deck: Deck, notes: list[str]) -> tuple[IntArray, FloatArr
 
 def apply_deck_edits(
     deck: Deck,
-    cells: IntArray,
+    lo: IntArray,
+    hi: IntArray,
     trans: FloatArray,
     kind: np.ndarray,
     face: IntArray,
     index_map: IntArray,
     notes: list[str],
     unit_label: str = "",
-) -> tuple[IntArray, FloatArray, np.ndarray, IntArray]:
-    """Steps 1-5 above on the grid's connections: ``cells`` (n, 2) of the processed grid
+) -> tuple[IntArray, IntArray, FloatArray, np.ndarray, IntArray]:
+    """Steps 1-5 above on the grid's connections: cells ``lo`` < ``hi`` of the processed grid
     (linear indices ``index_map``), one entry per face or pair. Returns the entries
-    (per pair and sorted if the deck has NNC, EDITNNC or TRAN edits)."""
+    (per pair and sorted if the deck has NNC, EDITNNC or TRAN edits), cells still ordered."""
     trans = np.asarray(trans, dtype=np.float64)
     index_map = np.asarray(index_map, dtype=np.int64)
     if deck.nnc_keyword is not None or deck.editnnc is not None or deck.tran_edits:
-        cells, trans, kind, face = _edited(deck, cells, trans, kind, face, index_map, notes)
-    return _drop_small(deck, cells, trans, kind, face, index_map, notes, unit_label)
+        cells, trans, kind, face = _edited(
+            deck, np.column_stack([lo, hi]), trans, kind, face, index_map, notes
+        )
+        lo, hi = cells[:, 0].copy(), cells[:, 1].copy()
+    trans = _drop_small(deck, lo, hi, trans, kind, index_map, notes, unit_label)
+    return lo, hi, trans, kind, face
 
 
 def _edited(deck, cells, trans, kind, face, index_map, notes):
@@ -218,14 +223,12 @@ def _edited(deck, cells, trans, kind, face, index_map, notes):
     return cells, trans, kind, face
 
 
-def _drop_small(deck, cells, trans, kind, face, index_map, notes, unit_label):
+def _drop_small(deck, lo, hi, trans, kind, index_map, notes, unit_label):
     """Step 5: non-neighbour pairs whose total is below the threshold set to 0."""
     far = np.flatnonzero(kind != NEIGHBOR)  # NEIGHBOR entries are logical neighbours
-    g = index_map[cells[far]]
-    far = far[~logical_neighbors(g[:, 0], g[:, 1], deck.cart_dims)]
+    far = far[~logical_neighbors(index_map[lo[far]], index_map[hi[far]], deck.cart_dims)]
     if far.size:
-        sub = np.sort(cells[far], axis=1)
-        _, group = np.unique(_keys(sub[:, 0], sub[:, 1], index_map.size), return_inverse=True)
+        _, group = np.unique(_keys(lo[far], hi[far], index_map.size), return_inverse=True)
         total = np.bincount(group, trans[far])[group]  # per pair: its faces added
         small = far[(total < NNC_THRESHOLD) & (total != 0.0)]
         if small.size:
@@ -238,7 +241,7 @@ def _drop_small(deck, cells, trans, kind, face, index_map, notes, unit_label):
             trans[small] = 0.0
     if (trans < 0).any():
         notes.append(f"{int((trans < 0).sum())} connections with a negative transmissibility left out")
-    return cells, trans, kind, face
+    return trans
 
 
 _AXIS_OF_KEYWORD = {"TRANX": 0, "TRANY": 1, "TRANZ": 2}

@@ -21,6 +21,7 @@ deck's transmissibility unit (:mod:`gridlib.units`).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import partial
 
@@ -30,7 +31,7 @@ from ..cornerpoint.corners import corner_points, depth_sign
 from ..cornerpoint.deck import Deck
 from ..geometry import cross
 from ..grid import B, E, FloatArray, Grid, IntArray, N, S, T, W
-from ..threads import concurrently
+from ..threads import concurrently, in_order
 from ..units import MILLIDARCY, UnitSystem
 from .pinch import minpv_connections
 
@@ -45,6 +46,9 @@ HALF_MINIMUM = 1e-30  # m3: below this a half-transmissibility makes the connect
 _BLOCK = 1 << 16  # faces per block of vector_areas
 _LAYER_TASKS = 4  # blocks of layers of structured_halves, shared out among the threads
 _CELL_BLOCK = 1 << 13  # cells of a layer worked on at once by structured_halves (the cache)
+_FACE_BLOCK = 1 << 16  # faces sorted out at once by _sorted_faces (temporaries of about 0.5 MB)
+_FACE_THREADS = 2  # at most: _sorted_faces runs beside structured_halves
+_BOUNDED = 1e150  # coordinates at most this big: differences and their products are finite
 _AXIS_OF_FACE = np.array([0, 0, 1, 1, 2, 2])  # W, E -> x; S, N -> y; T, B -> z
 
 
@@ -144,9 +148,12 @@ def combine(ta: FloatArray, tb: FloatArray, units: UnitSystem) -> FloatArray:
 # -------------------------------------------------------------------------- every cell at once
 
 
-def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray, sign: int | None = None) -> FloatArray:
+def structured_halves(
+    deck: Deck, perm: Sequence[FloatArray], ntg: FloatArray, sign: int | None = None
+) -> list[FloatArray]:
     """The half-transmissibility K |A . d| / (d . d) (mD x deck length) of every logical
-    face W, E, S, N, T, B (rows) of every cell of the deck (linear ijk order, columns),
+    face W, E, S, N, T, B (six arrays, of a few MB each rather than one) of every cell of
+    the deck (linear ijk order),
     with A the area vector of the cell's own quadrilateral face (:data:`AREA_DIAGONALS`):
     what a connection between two cells needs where their shared face is that whole
     quadrilateral. Computed on the (k, c, j, b, i, a) layout of ZCORN layer by layer,
@@ -161,7 +168,7 @@ def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray, sign: int |
     layer = nx * ny
     corners = _LayerCorners(deck, sign)
     columns = _VerticalColumns.of(corners)
-    halves = np.empty((6, nx * ny * nz))
+    halves = [np.empty(nx * ny * nz) for _ in range(6)]
     block = max(1, min(layer, _CELL_BLOCK))
 
     def layers(ks: range) -> None:
@@ -173,13 +180,13 @@ def structured_halves(deck: Deck, perm: FloatArray, ntg: FloatArray, sign: int |
             for start in range(0, layer, block):
                 here = slice(start, min(start + block, layer))
                 cells = slice(k * layer + here.start, k * layer + here.stop)
-                k_face = _face_permeability(perm[cells], ntg[cells])
+                k_face = _face_permeability([k[cells] for k in perm], ntg[cells])
                 if columns is not None:
-                    columns.halves(z[:, :, here], here, k_face, halves[:, cells])
+                    columns.halves(z[:, :, here], here, k_face, [h[cells] for h in halves])
                     continue
                 d, kdd = centre_to_faces(p[:, :, here], k_face)
                 for f in range(6):
-                    halves[f, cells] = half_transmissibilities(face_area(p[:, :, here], f), d[:, f], kdd[f])
+                    halves[f][cells] = half_transmissibilities(face_area(p[:, :, here], f), d[:, f], kdd[f])
 
     chunks = [c for c in np.array_split(np.arange(nz), min(nz, _LAYER_TASKS)) if c.size]
     concurrently(*(lambda ks=range(c[0], c[-1] + 1): layers(ks) for c in chunks))
@@ -237,13 +244,21 @@ class _VerticalColumns:
     :class:`_LayerCorners` puts a corner at x = t (x_bottom - x_top) + x_top, which is x_top
     exactly when the pillar is vertical, t finite (|span| >= 1 or a flat pillar, finite
     depths) and x_top not -0; each quantity below is then computed by the very operations
-    of :func:`centre_to_faces` and :func:`face_area` on the same numbers."""
+    of :func:`centre_to_faces` and :func:`face_area` on the same numbers.
+
+    ``vanishing[f]``: which of the three terms A_x d_x, A_y d_y, A_z d_z of face f's A . d are
+    0 in every column whatever the depths (a factor exactly 0 in every column: d_x, or both
+    u_y and v_y for A_x = ½ (u_y v_z - u_z v_y), ...; on a rectilinear grid, all but one
+    term of each face). Where the coordinates are at most ``_BOUNDED`` in magnitude, every
+    other factor is finite, so such a term is ±0 and adds nothing: :meth:`halves` leaves it
+    out, and A . d is the same up to the sign of a zero, which its absolute value drops."""
 
     sign: int
     d_xy: FloatArray  # (2, 6, m)
     dd_xy: FloatArray  # (6, m)
     uv_xy: FloatArray  # (6, 4, m): u_x, u_y, v_x, v_y
     area_z: FloatArray  # (6, m)
+    vanishing: tuple[tuple[bool, bool, bool], ...]  # (6 faces, x y z terms)
 
     @classmethod
     def of(cls, corners: _LayerCorners) -> _VerticalColumns | None:
@@ -261,9 +276,18 @@ class _VerticalColumns:
         a, b, c, e = AREA_DIAGONALS.T
         uv_xy = np.stack([p[0, a] - p[0, b], p[1, a] - p[1, b], p[0, c] - p[0, e], p[1, c] - p[1, e]], axis=1)
         area_z = 0.5 * (uv_xy[:, 0] * uv_xy[:, 3] - uv_xy[:, 1] * uv_xy[:, 2])
-        return cls(corners.sign, d_xy, dd_xy, uv_xy, area_z)
+        bounded = bool(np.abs(top_xy).max(initial=0.0) <= _BOUNDED)
+        vanishing = tuple(
+            (
+                bounded and bool((d_xy[0, f] == 0.0).all() or ((uv[1] == 0.0) & (uv[3] == 0.0)).all()),
+                bounded and bool((d_xy[1, f] == 0.0).all() or ((uv[0] == 0.0) & (uv[2] == 0.0)).all()),
+                bounded and bool((area_z[f] == 0.0).all()),
+            )
+            for f, uv in enumerate(uv_xy)
+        )
+        return cls(corners.sign, d_xy, dd_xy, uv_xy, area_z, vanishing)
 
-    def halves(self, z: FloatArray, here: slice, k_face: FloatArray, out: FloatArray) -> None:
+    def halves(self, z: FloatArray, here: slice, k_face: FloatArray, out: Sequence[FloatArray]) -> None:
         """The six halves (6, m) of the cells ``here`` of a layer with corner depths z
         (2, 4, m) into ``out``: :func:`centre_to_faces`, :func:`face_area` and
         :func:`half_transmissibilities` on the z parts only."""
@@ -288,33 +312,52 @@ class _VerticalColumns:
         kdd[~(dd > 0.0)] = 0.0
         d_x, d_y = self.d_xy[0, :, here], self.d_xy[1, :, here]
         uv = self.uv_xy[:, :, here]
+        bounded = pz.max(initial=0.0) <= _BOUNDED and pz.min(initial=0.0) >= -_BOUNDED  # NaN: not
         for f, (a, b, c, e) in enumerate(AREA_DIAGONALS):
-            u_z, v_z = pz[a] - pz[b], pz[c] - pz[e]
-            u_x, u_y, v_x, v_y = uv[f]
-            area_x = u_y * v_z
-            area_x -= u_z * v_y
-            area_x *= 0.5
-            area_y = u_z * v_x
-            area_y -= u_x * v_z
-            area_y *= 0.5
+            zero_x, zero_y, zero_z = self.vanishing[f] if bounded else (False, False, False)
             dot = out[f]
-            np.multiply(area_x, d_x[f], out=dot)
-            area_y *= d_y[f]
-            dot += area_y
-            area_x = self.area_z[f, here] * d_z[f]
-            dot += area_x
+            terms = 0  # terms added to dot so far
+            if not (zero_x and zero_y):
+                u_z, v_z = pz[a] - pz[b], pz[c] - pz[e]
+                u_x, u_y, v_x, v_y = uv[f]
+            if not zero_x:
+                area_x = u_y * v_z
+                area_x -= u_z * v_y
+                area_x *= 0.5
+                np.multiply(area_x, d_x[f], out=dot)
+                terms += 1
+            if not zero_y:
+                area_y = u_z * v_x
+                area_y -= u_x * v_z
+                area_y *= 0.5
+                area_y *= d_y[f]
+                terms += _add_term(dot, area_y, terms)
+            if not zero_z:
+                terms += _add_term(dot, self.area_z[f, here] * d_z[f], terms)
+            if not terms:
+                dot[...] = 0.0
             np.abs(dot, out=dot)
             dot *= kdd[f]
 
 
-def _face_permeability(perm: FloatArray, ntg: FloatArray) -> FloatArray:
-    """(6, nc): the permeability each logical face's half uses; NTG on W, E, S, N."""
-    k_face = np.empty((6, perm.shape[0]))
+def _add_term(dot: FloatArray, term: FloatArray, terms: int) -> int:
+    """dot += term, or dot = term when it holds no term yet: 1 (a term added)."""
+    if terms:
+        dot += term
+    else:
+        dot[...] = term
+    return 1
+
+
+def _face_permeability(perm: Sequence[FloatArray], ntg: FloatArray) -> FloatArray:
+    """(6, nc): the permeability each logical face's half uses, from PERMX, PERMY, PERMZ
+    (``perm``) and NTG (on W, E, S, N)."""
+    k_face = np.empty((6, ntg.size))
     for f, axis in enumerate(_AXIS_OF_FACE):
         if f < 4:
-            np.multiply(perm[:, axis], ntg, out=k_face[f])
+            np.multiply(perm[axis], ntg, out=k_face[f])
         else:
-            k_face[f] = perm[:, axis]
+            k_face[f] = perm[axis]
     return k_face
 
 
@@ -351,14 +394,14 @@ def face_area(p: FloatArray, f: int) -> FloatArray:
 
 
 def gathered_half_data(
-    deck: Deck, cells: IntArray, perm: FloatArray, ntg: FloatArray, sign: int | None = None
+    deck: Deck, cells: IntArray, perm: Sequence[FloatArray], ntg: FloatArray, sign: int | None = None
 ):
     """For ``cells`` (linear ijk indices): d (3, 6, m), K / (d . d) (6, m) and the area
     vector of the bottom face (3, m), from their corners gathered one by one
     (:func:`~gridlib.cornerpoint.corners.corner_points`: the same bits as the layers of
     :func:`structured_halves`)."""
     p = np.ascontiguousarray(corner_points(deck, cells, sign).transpose(2, 1, 0))
-    k_face = _face_permeability(perm[cells], ntg[cells])
+    k_face = _face_permeability([k[cells] for k in perm], ntg[cells])
     d, kdd = centre_to_faces(p, k_face)
     return d, kdd, face_area(p, B)
 
@@ -367,7 +410,8 @@ def gathered_half_data(
 class RawConnections:
     """Connections before multipliers: grid cells a, b; their logical face tags ta, tb (the
     side of the connection each is on); the face (-1 for none); whether the two cells are
-    one above the other (``column``); the NEWTRAN transmissibility in deck units."""
+    one above the other (``column``); the NEWTRAN transmissibility in deck units; the linear
+    ijk indices ga, gb of a, b. One part of the connection list (:func:`newtran_connections`)."""
 
     a: IntArray
     b: IntArray
@@ -376,18 +420,45 @@ class RawConnections:
     face: IntArray
     column: np.ndarray
     trans: FloatArray
+    ga: IntArray
+    gb: IntArray
+
+    def cells(self, rows: slice = slice(None)) -> tuple[IntArray, IntArray]:
+        return self.a[rows], self.b[rows]
+
+
+@dataclass(frozen=True, eq=False)
+class NeighbourPairs:
+    """Connections between cells g (``lower``: linear ijk indices, ascending) and their +axis
+    neighbours g + stride whose shared corners coincide: their face, their NEWTRAN
+    transmissibility in deck units. The lower cell is on its side 2 axis + 1 (E, N, B), the
+    other on 2 axis (W, S, T); ``cell_of`` gives the grid cell of each linear index. One part
+    of the connection list (:func:`newtran_connections`), without cell-sized copies."""
+
+    axis: int
+    stride: int
+    lower: IntArray
+    face: IntArray
+    trans: FloatArray
+    cell_of: IntArray
+
+    def cells(self, rows: slice = slice(None)) -> tuple[IntArray, IntArray]:
+        g = self.lower[rows]
+        return self.cell_of[g], self.cell_of[g + self.stride]
 
 
 def newtran_connections(
     deck: Deck,
     grid: Grid,
-    perm: FloatArray,
+    perm: Sequence[FloatArray],
     ntg: FloatArray,
     units: UnitSystem,
     pinch_active: bool,
     notes: list[str],
-) -> RawConnections:
-    """Every connection of a processed deck with its NEWTRAN transmissibility (no multipliers).
+) -> list[NeighbourPairs | RawConnections]:
+    """Every connection of a processed deck with its NEWTRAN transmissibility (no multipliers),
+    in parts: the matching +i, +j and +k neighbour pairs (each in ascending order of the
+    lower cell), the pairs from the grid's other faces, then the MINPV connections if any.
 
     Pairs of logical neighbours whose shared corners coincide (the full quadrilateral is
     their face: most of any deck) are computed from the per-cell data alone; the rest
@@ -403,29 +474,23 @@ def newtran_connections(
     strides = (1, nx, layer)
 
     in_grid = cell_of >= 0
-    (f, a, b, ga, gb), sign, *simple = concurrently(
-        lambda: _interior_faces(grid),
+    sign, *simple = concurrently(
         lambda: depth_sign(deck),
         *(lambda axis=axis: _matched(deck, in_grid, axis).ravel() for axis in range(3)),
     )
-    halves, (is_simple, face_of) = concurrently(  # independent: side by side on the threads
+    halves, (faces_of, (f, a, b, ga, gb)) = concurrently(  # independent: side by side on the threads
         lambda: structured_halves(deck, perm, ntg, sign),
-        partial(_simple_faces, f, ga, gb, simple, strides, nc),
+        partial(_sorted_faces, grid, simple, strides),
     )
 
-    def simple_pairs(axis: int, halves: FloatArray, face_of: list[IntArray]):
+    def simple_pairs(axis: int, halves: list[FloatArray], faces: tuple[IntArray, IntArray]):
         """The pairs of cells and their +axis neighbours whose shared corners coincide: each
         half from its own cell's face (the same quadrilateral, the same bits)."""
         stride = strides[axis]
-        plus, minus = 2 * axis + 1, 2 * axis  # W|E, S|N, T|B: tags 2 axis and 2 axis + 1
         g = np.flatnonzero(simple[axis])
-        t = combine(halves[plus, g], halves[minus, g + stride], units)
-        n = g.size
-        tags = (np.full(n, plus, dtype=np.int8), np.full(n, minus, dtype=np.int8))
-        return cell_of[g], cell_of[g + stride], *tags, face_of[axis][g], np.full(n, axis == 2), t
+        t = combine(halves[2 * axis + 1][g], halves[2 * axis][g + stride], units)  # E|W, N|S, B|T
+        return NeighbourPairs(axis, stride, g, _faces_of_pairs(g, *faces), t, cell_of)
 
-    rest = ~is_simple
-    f, a, b, ga, gb = (x[rest] for x in (f, a, b, ga, gb))
     ta, tb = logical_sides(ga, gb, deck.cart_dims)
     column = (ta >= T) & (tb >= T)
     across = column & (np.abs(gb - ga) > layer)  # across collapsed cells (PINCH)
@@ -451,11 +516,11 @@ def newtran_connections(
             half_transmissibilities(area, d[:, tb, ib], kdd[tb, ib]),
             units,
         )
-        return a, b, ta, tb, f, column, t
+        return RawConnections(a, b, ta, tb, f, column, t, ga, gb)
 
-    tasks = [partial(simple_pairs, axis, halves, face_of) for axis in range(3)]
+    tasks = [partial(simple_pairs, axis, halves, faces_of[axis]) for axis in range(3)]
     tasks.append(partial(other_pairs, f, a, ta, b, tb, column))
-    del halves, face_of, f, a, ta, b, tb, ga, gb, column  # the tasks hold what they need
+    del halves, faces_of, f, a, ta, b, tb, ga, gb, column  # the tasks hold what they need
     parts = concurrently(*tasks)
     del tasks
     up, low = _minpv_pairs(deck, cell_of, parts, notes)
@@ -471,46 +536,72 @@ def newtran_connections(
                 np.ones(n, dtype=bool),
             )
         )
-    return RawConnections(*_joined_fields(parts))
+    return parts
 
 
-def _simple_faces(
-    f: IntArray,
-    ga: IntArray,
-    gb: IntArray,
+def _sorted_faces(
+    grid: Grid, simple: list[np.ndarray], strides: tuple[int, int, int]
+) -> tuple[list[tuple[IntArray, IntArray]], tuple[IntArray, IntArray, IntArray, IntArray, IntArray]]:
+    """The interior faces of ``grid`` sorted out: per axis, the faces joining +axis neighbours
+    whose shared corners coincide (``simple[axis]`` of the lower cell), as (lower cells
+    ascending, faces); and the other interior faces f with their cells a, b
+    (``neighbors[f]``) and those cells' linear ijk indices ga, gb. A block of faces at a
+    time, on the threads (small temporaries, each block's results kept in block order)."""
+    # a boundary face's missing cell (-1) gets an index no stride away from any cell's
+    padded = np.append(grid.cells.index_map, -(1 << 62) // 2)
+    blocks = [(s, min(s + _FACE_BLOCK, grid.num_faces)) for s in range(0, grid.num_faces, _FACE_BLOCK)]
+    found = list(in_order(partial(_sort_face_block, grid, padded, simple, strides), blocks, _FACE_THREADS))
+    faces = []
+    for axis in range(3):
+        lower, face = (np.concatenate([block[0][axis][k] for block in found]) for k in (0, 1))
+        if lower.size > 1 and not (lower[1:] > lower[:-1]).all():  # the engine's order is ascending
+            order = np.argsort(lower, kind="stable")
+            lower, face = lower[order], face[order]
+        faces.append((lower, face))
+    rest = tuple(np.concatenate([block[1][k] for block in found]) for k in range(5))
+    return faces, rest
+
+
+def _sort_face_block(
+    grid: Grid,
+    padded: IntArray,
     simple: list[np.ndarray],
     strides: tuple[int, int, int],
-    nc: int,
-) -> tuple[np.ndarray, list[IntArray]]:
-    """Which of the interior faces ``f`` (between global cells ``ga`` and ``gb``) join +axis
-    neighbours whose shared corners coincide (``simple[axis]`` of the lower cell); and per
-    axis, the face of each such pair by its lower cell (-1: none). ``simple[axis]`` is False
-    on the last row along the axis, so a lower cell g marked there has g + stride as its
-    +axis neighbour, and the face of the two cells is the one on that side."""
+    start: int,
+    stop: int,
+):
+    """:func:`_sorted_faces` of the faces start..stop-1 (``padded``: the grid's index map and
+    one far-off index for -1). ``simple[axis]`` is False on the last row along the axis, so
+    a lower cell g marked there has g + stride as its +axis neighbour, and the face of the
+    two cells is the one on that side."""
+    nb = grid.faces.neighbors[start:stop]
+    a, b = nb[:, 0], nb[:, 1]
+    ga, gb = padded[a], padded[b]
     lo = np.minimum(ga, gb)
     step = gb - ga
     np.abs(step, out=step)
-    is_simple = np.zeros(f.size, dtype=bool)
-    face_of = []
+    is_simple = np.zeros(stop - start, dtype=bool)
+    found = []
     for axis, stride in enumerate(strides):
         hit = np.flatnonzero(step == stride)
         hit = hit[simple[axis][lo[hit]]]
         is_simple[hit] = True
-        lookup = np.full(nc, -1, dtype=np.int64)
-        lookup[lo[hit]] = f[hit]
-        face_of.append(lookup)
-    return is_simple, face_of
+        found.append((lo[hit], hit + start))
+    is_simple |= a < 0
+    is_simple |= b < 0  # boundary faces: not among the rest either
+    rest = np.flatnonzero(~is_simple)
+    return found, (rest + start, a[rest], b[rest], ga[rest], gb[rest])
 
 
-def _joined_fields(parts: list[tuple]) -> list[np.ndarray]:
-    """Each field of the tuples ``parts`` concatenated; the list is emptied field by field as
-    it goes (in place, so the caller's reference frees them too: the peak is one field's copy
-    on top of the parts, not all of them twice)."""
-    columns = []
-    for field in range(len(parts[0])):
-        columns.append(np.concatenate([part[field] for part in parts]))
-        parts[:] = [(*part[:field], None, *part[field + 1 :]) for part in parts]
-    return columns
+def _faces_of_pairs(g: IntArray, lower: IntArray, faces: IntArray) -> IntArray:
+    """The face of each pair of lower cell ``g`` (ascending) from the ascending ``lower`` cells
+    of ``faces`` (the last one of a cell that has several), -1 where ``g`` has none."""
+    if lower.size == g.size and (lower.size < 2 or (lower[1:] > lower[:-1]).all()):
+        return faces  # one face per pair, every pair found (lower is a subset of g): the same cells
+    at = np.searchsorted(lower, g, side="right") - 1
+    found = at >= 0
+    found[found] = lower[at[found]] == g[found]
+    return np.where(found, faces[np.maximum(at, 0)] if faces.size else -1, -1)
 
 
 def _matched(deck: Deck, in_grid: np.ndarray, axis: int) -> np.ndarray:
@@ -551,7 +642,7 @@ def _minpv_pairs(deck: Deck, cell_of: IntArray, parts, notes: list[str]):
     if pairs.size == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     n_cells = int(cell_of.max()) + 1
-    existing = np.concatenate([np.minimum(p[0], p[1]) * n_cells + np.maximum(p[0], p[1]) for p in parts])
+    existing = np.concatenate([np.minimum(*p.cells()) * n_cells + np.maximum(*p.cells()) for p in parts])
     up, low = cell_of[pairs[:, 0]], cell_of[pairs[:, 1]]
     ok = (up >= 0) & (low >= 0)
     key = np.minimum(up, low) * n_cells + np.maximum(up, low)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import gridlib as gl
+from gridlib.cornerpoint import corners
 from gridlib.cornerpoint.deck import Deck, FaultSegment
 from gridlib.cornerpoint.generators import cut_grdecl, make_model3, simple_grdecl
 from gridlib.cornerpoint.process import FAULT, PINCH, process_grdecl
@@ -154,6 +155,27 @@ def test_non_finite_active_corner_is_a_clear_error():
         gl.InputError, match=rf"active cell \({i + 1}, {j + 1}, {k + 1}\) has a non-finite corner"
     ):
         process_grdecl(dataclasses.replace(deck, zcorn=z))
+
+
+@pytest.mark.parametrize("block", [1 << 18, 2400])  # all layers at once; one layer (4 nx ny corners)
+@pytest.mark.parametrize("up", [False, True])
+def test_inverted_corner_is_named_whatever_the_blocks(block, up, monkeypatch):
+    """depth_sign reads ZCORN a few layers at a time: the deck's sign and the first cell with a
+    top corner below its bottom corner are those of the whole deck, z down or z up."""
+    monkeypatch.setattr(corners, "_BLOCK", block)
+    deck = make_model3([30, 20, 6])
+    nx, ny = 30, 20
+    z = np.array(deck.zcorn).reshape(12, 40, 60)
+    active = np.flatnonzero(deck.active)
+    first, later = int(active[active // (nx * ny) == 2][7]), int(active[active // (nx * ny) == 4][0])
+    for g in (later, first):
+        i, j, k = g % nx, (g // nx) % ny, g // (nx * ny)
+        z[2 * k, 2 * j + 1, 2 * i + 1] = z[2 * k + 1, 2 * j + 1, 2 * i + 1] + 1.0  # top below bottom
+    sign = -1 if up else 1
+    i, j, k = first % nx, (first // nx) % ny, first // (nx * ny)
+    with pytest.raises(gl.InputError, match=rf"cell \({i + 1}, {j + 1}, {k + 1}\) has a top corner below"):
+        corners.depth_sign(dataclasses.replace(deck, zcorn=(sign * z).ravel()))
+    assert corners.depth_sign(dataclasses.replace(deck, zcorn=sign * np.array(deck.zcorn))) == sign
 
 
 def test_non_finite_pillar_of_an_active_cell_is_named():

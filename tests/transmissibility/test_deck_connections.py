@@ -562,3 +562,23 @@ def test_write_grdecl_keeps_multregt_and_nnc(tmp_path):
     np.testing.assert_array_equal(back.editnnc.cells, [[0, 11]])
     assert back.editnnc.values.tolist() == [2.0]
     assert read_grdecl(write_grdecl(tmp_path / "grid_only.grdecl", deck, edit=False)).editnnc is None
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_same_bits_for_every_thread_count(seed, tmp_path, monkeypatch):
+    """The connections are computed in blocks on the threads (faces, halves, multipliers, the
+    sort's gathers): every array is the same, bit for bit, whatever the number of threads."""
+    path, _ = random_case(tmp_path / "deck", seed)
+    deck = read_grdecl(path)
+    results = []
+    for threads in ("1", "2", "3"):
+        monkeypatch.setenv("GRIDLIB_NUM_THREADS", threads)
+        for pinch in (False, True):
+            c = deck_transmissibility(deck, pinch=pinch)
+            results.append((threads, pinch, c))
+    for threads, pinch, c in results[2:]:
+        ref = results[pinch][2]  # one thread, the same PINCH
+        assert c.notes == ref.notes, threads
+        for name in ("cells", "global_cells", "trans", "kind", "face"):
+            assert getattr(c, name).tobytes() == getattr(ref, name).tobytes(), (threads, pinch, name)
+    assert results[0][2].num > 100
