@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import atexit
 import os
+import shutil
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +19,14 @@ from seed_points import honeycomb_points
 # for every process the tests start, Snakemake's jobs included; other MPIs ignore these names.
 os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
 os.environ.setdefault("OMPI_MCA_pml", "ob1")
+# Every isolated singleton is job family 0: its session directory is always
+# <tmpdir>/ompi.<host>.<uid>/jf.0/1, which each run creates at start and removes at its end. Two
+# Flow runs at once (one per pytest-xdist worker) then race on that one directory, and a run now
+# and then stops in MPI_Init ("unable to create the desired directory ... jf.0/1"). Each test
+# process gets a session base of its own (its Flow runs are one after the other); assigned, not
+# defaulted, since the workers inherit the controller's environment.
+os.environ["OMPI_MCA_orte_tmpdir_base"] = tempfile.mkdtemp(prefix="ompi-session-")
+atexit.register(shutil.rmtree, os.environ["OMPI_MCA_orte_tmpdir_base"], ignore_errors=True)
 
 # The longest test modules (their fixtures run the workflow), first in this order, so that under
 # pytest-xdist (make test: -n auto --dist loadfile) they start at once on their workers and the
