@@ -89,7 +89,9 @@ def read_quality(path: str | os.PathLike) -> tuple[dict[str, np.ndarray], list[d
     return values, _checked(path, {name: v.shape for name, v in values.items()}, text)
 
 
-def deferred_quality(path: str | os.PathLike) -> tuple[dict[str, np.ndarray | Deferred], list[dict[str, Any]]]:
+def deferred_quality(
+    path: str | os.PathLike,
+) -> tuple[dict[str, np.ndarray | Deferred], list[dict[str, Any]]]:
     """:func:`read_quality` with each measure a :class:`~gridlib.io.deferred.Deferred` float64
     array, read from ``path`` each time it is used (a writer holds one at a time), unless the
     measures are small enough to be read at once (:func:`~gridlib.io.deferred.deferring`);
