@@ -25,7 +25,13 @@ the deck included) and a Flow job (one thread), ``snakemake --cores 2`` with
 workflow/profiles/default (as ``make run``). It prints the wall time of the whole run and, per
 variant, the grid job's and the Flow job's wall time (Snakemake's benchmark files
 ``results/benchmarks/<study>/<variant>.tsv`` and ``<variant>.simulation.tsv``) and Flow's own
-(``Total time`` in its PRT file), with the machine's load average before and after.
+(``Total time`` in its PRT file), with the machine's load average before and after, and the
+CPU time of the run (Snakemake, its warm workers and Flow) per variant.
+
+Side by side (the machine's speed varies): ``--checkout DIR`` (repeatable) runs the study with
+DIR's Snakefile and gridlib (``PYTHONPATH``), e.g. the previous commit's worktree, and
+``DIR:no-pictures`` the same with the study's ``pictures: false`` (no PNG of the variants'
+own); ``--repeat N`` runs the list N times, alternating, then prints each one's runs.
 """
 
 from __future__ import annotations
@@ -51,10 +57,12 @@ SIMULATED_BASE = ROOT / "config" / "cases" / "waterflood_pebi.yaml"
 SIMULATED_CELL_SIZES = [24, 26, 28, 30]  # m: about 6,200, 5,300, 4,600 and 4,000 cells
 
 
-def _snakemake(work: Path, *args: str) -> float:
-    command = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(work)]
+def _snakemake(work: Path, *args: str, checkout: Path = ROOT) -> float:
+    command = [sys.executable, "-m", "snakemake", "-s", str(checkout / "Snakefile"), "--directory", str(work)]
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(checkout), env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
     t0 = time.perf_counter()
-    run = subprocess.run([*command, *args, "--quiet"], capture_output=True, text=True)
+    run = subprocess.run([*command, *args, "--quiet"], capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
     if run.returncode != 0:
         sys.exit(f"snakemake failed:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
@@ -72,9 +80,36 @@ def main() -> None:
     parser.add_argument("--modes", default=",".join(MODES), help="comma-separated, of " + ", ".join(MODES))
     parser.add_argument("--keep", type=Path, help="run in this folder and keep the results")
     parser.add_argument("--simulate", action="store_true", help="the 24-variant simulated study")
+    parser.add_argument(
+        "--checkout",
+        action="append",
+        help="--simulate: a checkout to run (repeatable; DIR:no-pictures with pictures: false)",
+    )
+    parser.add_argument("--repeat", type=int, default=1, help="--simulate: runs of each checkout")
     args = parser.parse_args()
     if args.simulate:
-        simulated((args.base or SIMULATED_BASE).resolve(), args.cores, args.keep)
+        runs = [_run_spec(text) for text in args.checkout or [str(ROOT)]]
+        base = (args.base or SIMULATED_BASE).resolve()
+        results: dict[str, list[dict]] = {}
+        for repeat in range(args.repeat):
+            for label, checkout, pictures in runs:
+                keep = (
+                    args.keep / f"{repeat}_{len(results.get(label, []))}_{checkout.name}"
+                    if args.keep
+                    else None
+                )
+                print(f"== {label} (run {repeat + 1})", flush=True)
+                results.setdefault(label, []).append(simulated(base, args.cores, keep, checkout, pictures))
+        if len(runs) > 1 or args.repeat > 1:
+            print("== side by side (wall per variant; CPU per variant; load average before the run)")
+            for label, figures in results.items():
+                print(
+                    f"{label:40s} "
+                    + ", ".join(
+                        f"{f['per_variant']:.2f} s ({f['cpu'] / f['n']:.2f} s CPU, load {f['load']:.1f})"
+                        for f in figures
+                    )
+                )
         return
     base = (args.base or ROOT / "config" / "cases" / "faulted_pebi.yaml").resolve()
     data = yaml.safe_load(base.read_text())
@@ -127,8 +162,23 @@ def main() -> None:
             print(f"study vs separate case files: {walls['cases'] / walls['study']:.1f}x faster")
 
 
-def simulated(base: Path, cores: int, keep: Path | None) -> None:
-    """The simulated study (the module's docstring): whole run, grid and Flow time per variant."""
+def _run_spec(text: str) -> tuple[str, Path, bool]:
+    """``DIR`` or ``DIR:no-pictures``: its label, the checkout and whether the variants draw pictures."""
+    folder, _, option = text.partition(":")
+    if option not in ("", "no-pictures"):
+        sys.exit(f"--checkout {text}: the option after ':' is no-pictures or nothing")
+    checkout = Path(folder).resolve()
+    if not (checkout / "Snakefile").is_file():
+        sys.exit(f"--checkout {text}: no Snakefile in {checkout}")
+    return text, checkout, option != "no-pictures"
+
+
+def simulated(
+    base: Path, cores: int, keep: Path | None, checkout: Path = ROOT, pictures: bool = True
+) -> dict:
+    """The simulated study (the module's docstring) with ``checkout``'s workflow and gridlib
+    (``pictures``: the study's key): prints the whole run and the grid and Flow time per
+    variant; returns the run's figures."""
     throw = yaml.safe_load(base.read_text())["faults"][0]["throw"]
     study = {
         "name": "bench_simulated",
@@ -138,6 +188,8 @@ def simulated(base: Path, cores: int, keep: Path | None) -> None:
         "seed": 1,
         "simulate": True,
     }
+    if not pictures:
+        study["pictures"] = False
     with tempfile.TemporaryDirectory() as tmp:
         top = keep.resolve() if keep else Path(tmp)
         work = top / "simulated"
@@ -147,12 +199,13 @@ def simulated(base: Path, cores: int, keep: Path | None) -> None:
         study_file.write_text(yaml.safe_dump(study, sort_keys=False))
         load = os.getloadavg()[0]
         config = ["--config", "cases=[]", f"studies={study_file}"]
-        profile = ["--workflow-profile", str(ROOT / "workflow" / "profiles" / "default")]  # as make run
+        profile = ["--workflow-profile", str(checkout / "workflow" / "profiles" / "default")]  # as make run
         cpu = _children_cpu()
-        wall = _snakemake(work, "--cores", str(cores), *profile, *config)
+        wall = _snakemake(work, "--cores", str(cores), *profile, *config, checkout=checkout)
         cpu = _children_cpu() - cpu
         rows = _simulated_rows(work / "results", study["name"])
         after = os.getloadavg()[0]
+        print(f"{checkout} (pictures: {str(pictures).lower()})")
         print(f"load average {load:.1f} before, {after:.1f} after (1 min; {os.cpu_count()} cores)")
         print(f"{'variant':34s} {'cells':>6s} {'grid job':>9s} {'Flow job':>9s} {'Flow':>7s} status")
         for r in rows:
@@ -172,8 +225,10 @@ def simulated(base: Path, cores: int, keep: Path | None) -> None:
             f"simulated study: {n} variants ({min(cells):,d} to {max(cells):,d} cells, mean "
             f"{statistics.fmean(cells):,.0f}), --cores {cores}: {wall:6.1f} s wall, "
             f"{wall / n:5.2f} s per variant; {cpu:6.1f} s CPU (Snakemake, its workers and Flow), "
-            f"{cpu / n:5.2f} s per variant"
+            f"{cpu / n:5.2f} s per variant",
+            flush=True,
         )
+        return {"n": n, "wall": wall, "per_variant": wall / n, "cpu": cpu, "load": load}
 
 
 def _children_cpu() -> float:
