@@ -32,6 +32,13 @@ Side by side (the machine's speed varies): ``--checkout DIR`` (repeatable) runs 
 DIR's Snakefile and gridlib (``PYTHONPATH``), e.g. the previous commit's worktree, and
 ``DIR:no-pictures`` the same with the study's ``pictures: false`` (no PNG of the variants'
 own); ``--repeat N`` runs the list N times, alternating, then prints each one's runs.
+
+``--simulate --cpu``: where the CPU of a variant goes, robust to a loaded machine: per checkout
+(``--checkout``, alternating, ``--repeat`` times), one warm Python process (the workers'
+imports done) builds every third variant of the simulated study (8 of 24: each cell size and
+throw, realisation 0) with ``gridlib.stages.run_case``, after one warm-up variant, and runs its
+deck in OPM Flow; it prints the median CPU seconds of each stage, of run_case and of Flow (its
+process's user + system time).
 """
 
 from __future__ import annotations
@@ -86,7 +93,16 @@ def main() -> None:
         help="--simulate: a checkout to run (repeatable; DIR:no-pictures with pictures: false)",
     )
     parser.add_argument("--repeat", type=int, default=1, help="--simulate: runs of each checkout")
+    parser.add_argument("--cpu", action="store_true", help="--simulate: CPU per variant and stage")
+    parser.add_argument("--in-process", nargs=2, help=argparse.SUPPRESS)  # --cpu's worker
     args = parser.parse_args()
+    if args.in_process:
+        _cpu_in_process(Path(args.in_process[0]), args.in_process[1] == "pictures")
+        return
+    if args.simulate and args.cpu:
+        runs = [_run_spec(text) for text in args.checkout or [str(ROOT)]]
+        cpu_study((args.base or SIMULATED_BASE).resolve(), runs, args.repeat)
+        return
     if args.simulate:
         runs = [_run_spec(text) for text in args.checkout or [str(ROOT)]]
         base = (args.base or SIMULATED_BASE).resolve()
@@ -229,6 +245,103 @@ def simulated(
             flush=True,
         )
         return {"n": n, "wall": wall, "per_variant": wall / n, "cpu": cpu, "load": load}
+
+
+def cpu_study(base: Path, runs: list[tuple[str, Path, bool]], repeat: int) -> None:
+    """``--simulate --cpu`` (the module's docstring): each of ``runs`` in a process of its own,
+    alternating, ``repeat`` times."""
+    throw = yaml.safe_load(base.read_text())["faults"][0]["throw"]
+    with tempfile.TemporaryDirectory() as tmp:
+        study_file = Path(tmp) / "bench_simulated.yaml"
+        study = {
+            "name": "bench_simulated",
+            "base": str(base),
+            "vary": {"grid.cell_size": SIMULATED_CELL_SIZES, "faults.0.throw": [throw, 2 * throw]},
+            "realisations": 3,
+            "seed": 1,
+            "simulate": True,
+        }
+        study_file.write_text(yaml.safe_dump(study, sort_keys=False))
+        for r in range(repeat):
+            for label, checkout, pictures in runs:
+                env = dict(os.environ)
+                env["PYTHONPATH"] = os.pathsep.join([str(checkout), env.get("PYTHONPATH", "")]).rstrip(
+                    os.pathsep
+                )
+                load = os.getloadavg()[0]
+                command = [sys.executable, str(Path(__file__).resolve()), "--in-process", str(study_file)]
+                command.append("pictures" if pictures else "no-pictures")
+                run = subprocess.run(command, capture_output=True, text=True, env=env, cwd=tmp)
+                if run.returncode != 0:
+                    sys.exit(f"{label}: failed:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
+                print(f"== {label} (run {r + 1}; load average {load:.1f} before)\n{run.stdout}", flush=True)
+
+
+def _cpu_in_process(study_file: Path, pictures: bool) -> None:
+    """``--cpu``'s worker: this process's gridlib (PYTHONPATH) builds and simulates every third
+    variant of ``study_file`` (its case files written under ./results), warm; prints medians."""
+    import importlib
+
+    import gridlib.stages.pipeline as pipeline
+    from gridlib.stages.workers import PRELOAD
+    from gridlib.study import load_study, materialise
+
+    for module in PRELOAD:
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            pass
+    study = load_study(study_file, "results")
+    materialise(study, "results")
+    stages: dict[str, list[float]] = {}
+    call = pipeline._call
+
+    def timed(stage, case, paths):
+        start = time.process_time()
+        try:
+            return call(stage, case, paths)
+        finally:
+            stages.setdefault(stage.name, []).append(time.process_time() - start)
+
+    pipeline._call = timed
+    variants = study.variants[::3]
+    totals, flows = [], []
+    for k, variant in enumerate([variants[-1], *variants]):  # the first: warm-up, not counted
+        case_file = study.case_file("results", variant.name)
+        if not pictures:
+            data = yaml.safe_load(case_file.read_text())
+            data["outputs"] = {**data.get("outputs", {}), "pictures": False}
+            case_file.write_text(yaml.safe_dump(data, sort_keys=False))
+        folder = Path("results") / f"run{k}" / variant.name
+        start = time.process_time()
+        pipeline.run_case(case_file, folder)
+        if k == 0:
+            stages.clear()
+            continue
+        totals.append(time.process_time() - start)
+        deck = next((folder / "flow").glob("*.DATA"))
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        subprocess.run(
+            [
+                "flow",
+                "--threads-per-process=1",
+                "--enable-async-ecl-output=false",
+                f"--output-dir={folder / 'sim'}",
+                deck.name,
+            ],
+            cwd=deck.parent,
+            capture_output=True,
+            check=True,
+        )
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        flows.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+    n = len(totals)
+    print(f"{n} variants, pictures: {str(pictures).lower()}; median CPU seconds per variant:")
+    for name, values in stages.items():
+        print(f"  {name:18s} {statistics.median(values):6.3f}")
+    grid, flow = statistics.median(totals), statistics.median(flows)
+    for name, value in (("run_case", grid), ("OPM Flow", flow), ("variant", grid + flow)):
+        print(f"  {name:18s} {value:6.3f}")
 
 
 def _children_cpu() -> float:
