@@ -26,7 +26,7 @@ workflow/profiles/default (as ``make run``). It prints the wall time of the whol
 variant, the grid job's and the Flow job's wall time (Snakemake's benchmark files
 ``results/benchmarks/<study>/<variant>.tsv`` and ``<variant>.simulation.tsv``) and Flow's own
 (``Total time`` in its PRT file), with the machine's load average before and after, and the
-CPU time of the run (Snakemake, its warm workers and Flow) per variant.
+CPU time of Snakemake and Flow per variant (not that of the warm workers: ``--cpu``).
 
 Side by side (the machine's speed varies): ``--checkout DIR`` (repeatable) runs the study with
 DIR's Snakefile and gridlib (``PYTHONPATH``), e.g. the previous commit's worktree, and
@@ -240,7 +240,7 @@ def simulated(
         print(
             f"simulated study: {n} variants ({min(cells):,d} to {max(cells):,d} cells, mean "
             f"{statistics.fmean(cells):,.0f}), --cores {cores}: {wall:6.1f} s wall, "
-            f"{wall / n:5.2f} s per variant; {cpu:6.1f} s CPU (Snakemake, its workers and Flow), "
+            f"{wall / n:5.2f} s per variant; {cpu:6.1f} s CPU (Snakemake and Flow; not the warm workers), "
             f"{cpu / n:5.2f} s per variant",
             flush=True,
         )
@@ -345,7 +345,8 @@ def _cpu_in_process(study_file: Path, pictures: bool) -> None:
 
 
 def _children_cpu() -> float:
-    """CPU seconds of the processes this one has waited for (Snakemake and what it waited for)."""
+    """CPU seconds of the processes this one has waited for (Snakemake and what it waited for:
+    Flow, not the warm workers, whose fork server nobody waits for; ``--cpu`` counts those)."""
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     return usage.ru_utime + usage.ru_stime
 
