@@ -190,7 +190,12 @@ STAGES: tuple[Stage, ...] = (
         ("grid", "grdecl", "geometry", "petrophysics"),
         (
             Artifact("quality", "quality.nc", temporary=drops_stage_files),
-            Artifact("quality_png", "{case}_quality.png", report=Report("quality.rst", PICTURES)),
+            Artifact(
+                "quality_png",
+                "{case}_quality.png",
+                when=lambda case: case.writes_pictures,
+                report=Report("quality.rst", PICTURES),
+            ),
         ),
         doc="Cell-quality measures (xtgeo's set on hexahedra, orientation errors, aspect ratio, face "
         "non-planarity), their histograms, and the case's qc rules checked.",
@@ -238,9 +243,10 @@ STAGES: tuple[Stage, ...] = (
                 report=Report("residuals.rst", PICTURES),
             ),
         ),
+        when=lambda case: case.writes_pictures,
         mem_mb=2000,
         doc="The pictures of a QC slide: the grid in 3-D, its histograms, plan view and cross-section, "
-        "and the horizon-pick residuals.",
+        "and the horizon-pick residuals (unless ``outputs.pictures: false``).",
     ),
     Stage(
         "exchange",

@@ -40,6 +40,10 @@ not from the noise). ``seed`` defaults to the base case's.
 variant's OPM Flow deck (the base case needs its ``simulation`` section); ``responses.times``
 (report days of the base case) and ``responses.water_cut`` say what the table adds of each run,
 ``on_failure`` whether a failed run is reported (``report``) or an error (``stop``).
+
+**Pictures**: ``pictures: false`` gives every variant ``outputs.pictures: false`` (no PNG of
+its own, every other file the same: half of a small variant's build); default true, a
+variant's pictures being how one looks at the variant that stands out in the table.
 """
 
 from __future__ import annotations
@@ -374,6 +378,7 @@ def load_study(
     else:
         combos = list(itertools.product(*lists))
     realisations = int(spec.get("realisations", 1))
+    pictures = bool(spec.get("pictures", True))
     seed = int(spec["seed"]) if "seed" in spec else int(base_data.get("seed", 0))
     labels = _labels(keys)
     results_dir = Path(results) / spec["name"]
@@ -394,6 +399,8 @@ def load_study(
             data = copy.deepcopy(base_data)
             data["name"] = name
             data["seed"] = seed + SEED_STEP * r
+            if not pictures:
+                data["outputs"] = {**data.get("outputs", {}), "pictures": False}
             _set_values(data, {key: value for key, (_, value) in values.items()})
             folder = results_dir / name
             _relocate_files(data, base.parent, folder)

@@ -119,6 +119,48 @@ def test_deferred_cell_data_write_the_same_vtu_and_netcdf(twisted, tmp_path):
             assert repr(a[name].attrs) == repr(b[name].attrs), name
 
 
+def test_small_files_are_read_at_once_large_ones_deferred_with_the_same_values(tmp_path, monkeypatch):
+    """The export's quality measures and connection variables: read in one opening of their
+    file below EAGER_BYTES (a small case), Deferred above it (a 1e7-cell one), the same values
+    and attributes either way."""
+    from gridlib.io import deferred
+    from gridlib.io.netcdf import write_dataset
+    from gridlib.io.quality_file import deferred_quality, write_quality
+    from gridlib.io.transmissibility_file import connections_dataset, deferred_connection_variables
+    from gridlib.transmissibility import Connections
+    from gridlib.units import METRIC
+
+    n = 40
+    rng = np.random.default_rng(3)
+    measures = {"orientation_error": rng.uniform(0.0, 30.0, n), "aspect_ratio": rng.uniform(1.0, 5.0, n)}
+    write_quality(tmp_path / "quality.nc", measures, {"case": "q"}, [{"quantity": "aspect_ratio"}])
+    cells = np.column_stack([np.arange(n - 1), np.arange(1, n)])
+    conn = Connections(cells, None, rng.uniform(0.1, 9.0, n - 1), np.zeros(n - 1), np.arange(n - 1))
+    ds = connections_dataset(conn, rng.uniform(1.0, 2.0, n), np.arange(n), (n, 1, 1), METRIC)
+    write_dataset(tmp_path / "transmissibility.nc", ds)
+
+    def read():
+        return deferred_quality(tmp_path / "quality.nc"), deferred_connection_variables(
+            tmp_path / "transmissibility.nc"
+        )
+
+    (eager, eager_qc), eager_vars = read()
+    monkeypatch.setattr(deferred, "EAGER_BYTES", 0)
+    (lazy, lazy_qc), lazy_vars = read()
+    assert all(type(v) is np.ndarray for v in eager.values())
+    assert all(isinstance(v, Deferred) for v in lazy.values())
+    assert eager_qc == lazy_qc == [{"quantity": "aspect_ratio"}]
+    assert list(eager) == list(lazy) == ["orientation_error", "aspect_ratio"]  # MEASURES' order
+    for name, values in measures.items():
+        assert np.asarray(eager[name]).tobytes() == np.asarray(lazy[name]).tobytes() == values.tobytes()
+    assert list(eager_vars) == list(lazy_vars)
+    for name, var in eager_vars.items():
+        assert var._in_memory and not lazy_vars[name]._in_memory, name
+        assert var.values.tobytes() == lazy_vars[name].values.tobytes(), name
+        assert var.dims == lazy_vars[name].dims and repr(var.attrs) == repr(lazy_vars[name].attrs), name
+    assert eager_vars["trans"].values.tobytes() == conn.trans.tobytes()
+
+
 def test_a_deferred_array_read_with_another_shape_is_refused(twisted, tmp_path):
     grid, _ = twisted
     wrong = Deferred((grid.num_cells,), np.dtype(np.float64), lambda: np.zeros(3), "quality.nc: twist")

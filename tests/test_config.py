@@ -58,8 +58,13 @@ def test_defaults_fill_absent_sections_and_the_items_of_lists(tmp_path):
     ]
     text = CARTESIAN + "faults:\n" + "\n".join(faults) + "\n"
     case = load_case(_write(tmp_path, "c", text))
-    assert case.data["outputs"] == {"stage_files": True, "vtu": True, "roff_format": "binary"}
-    assert case.keeps_stage_files and case.writes_vtu
+    assert case.data["outputs"] == {
+        "stage_files": True,
+        "vtu": True,
+        "pictures": True,
+        "roff_format": "binary",
+    }
+    assert case.keeps_stage_files and case.writes_vtu and case.writes_pictures
     first, second = case.data["faults"]
     assert (first["throw"], first["side"]) == (0, "right")
     assert (second["throw"], second["side"]) == (3, "left")

@@ -109,6 +109,12 @@ class Case:
         return bool(self.data["outputs"]["vtu"])
 
     @property
+    def writes_pictures(self) -> bool:
+        """``outputs.pictures``: the pictures stage runs and the quality stage draws its
+        histograms."""
+        return bool(self.data["outputs"]["pictures"])
+
+    @property
     def is_3d(self) -> bool:
         """The grid has depth: every type but 2-D cartesian and tensor grids."""
         grid = self.data["grid"]

@@ -108,6 +108,41 @@ def new_figure(kind: str, ncols: int = 1):
     return plt.subplots(1, ncols, figsize=(width, height), layout="constrained")
 
 
+# The margins of a grid of histogram panels (inches): room for tick labels of up to 6
+# characters and one line of axis label at FONT_SIZE beside and below each panel, and the title
+# above all. Fixed, where tight or constrained layout measure every text of the figure (0.2 to
+# 0.35 s of CPU for a histogram picture that draws in 0.2 s).
+PANEL_MARGINS = {"left": 0.8, "right": 0.3, "bottom": 0.65, "top": 0.55, "across": 0.85, "down": 0.8}
+
+
+def panel_layout(fig, rows: int, cols: int) -> None:
+    """Place the ``rows`` x ``cols`` axes of ``fig`` (made by ``plt.subplots`` without a layout
+    engine) by :data:`PANEL_MARGINS`: the same place whatever the panels' texts, none of which
+    overlap for labels within the margins."""
+    width, height = fig.get_size_inches()
+    m = PANEL_MARGINS
+    panel_width = (width - m["left"] - m["right"] - (cols - 1) * m["across"]) / cols
+    panel_height = (height - m["bottom"] - m["top"] - (rows - 1) * m["down"]) / rows
+    fig.subplots_adjust(
+        left=m["left"] / width,
+        right=1.0 - m["right"] / width,
+        bottom=m["bottom"] / height,
+        top=1.0 - m["top"] / height,
+        wspace=m["across"] / panel_width,
+        hspace=m["down"] / panel_height,
+    )
+
+
+def logarithmic(ax, which: Literal["x", "y"]) -> None:
+    """Make the axis ``which`` of ``ax`` logarithmic with minor ticks at 2 and 5 times each
+    power of ten (matplotlib's default of 2 to 9 makes four times the tick objects of a
+    histogram panel, a third of its drawing time)."""
+    from matplotlib.ticker import LogLocator
+
+    (ax.set_xscale if which == "x" else ax.set_yscale)("log")
+    (ax.xaxis if which == "x" else ax.yaxis).set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+
+
 def colour_map(kind: Kind):
     """The matplotlib colour map of a kind of quantity (:data:`COLOUR_MAPS`)."""
     import matplotlib

@@ -14,6 +14,7 @@ from ..reproducible import log10
 from ..units import UnitSystem
 from .atomic import write_keeping_suffix
 from .grid_view import depth_window, grid_polydata, grid_scene, render_grid
+from .picture_style import logarithmic, panel_layout
 from .quantities import picture_label
 
 __all__ = [
@@ -78,11 +79,12 @@ def histogram_figure(
     for ax, (label, values) in zip(np.atleast_1d(axes), panels, strict=True):
         plain = label.startswith(linear)
         v = values if plain else values[np.isfinite(values) & (values > 0)]
+        # the bars as one filled outline (ax.stairs), not a rectangle per bin (ax.hist)
         if v.size and not plain and v.max() > 100 * v.min():
-            ax.hist(v, bins=np.geomspace(v.min(), v.max(), 50))
-            ax.set_xscale("log")
+            ax.stairs(*np.histogram(v, bins=np.geomspace(v.min(), v.max(), 50)), fill=True)
+            logarithmic(ax, "x")
         elif v.size and np.ptp(v) > 1e-9 * np.abs(v).max():
-            ax.hist(v, bins=50)
+            ax.stairs(*np.histogram(v, bins=50), fill=True)
         else:  # one value (a regular grid): one bar
             ax.bar(
                 [float(v[0]) if v.size else 0.0],
@@ -92,5 +94,5 @@ def histogram_figure(
         ax.set_xlabel(label)
         ax.set_ylabel("count")
     fig.suptitle(title)
-    fig.tight_layout()
+    panel_layout(fig, 1, len(panels))
     return fig

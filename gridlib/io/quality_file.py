@@ -24,7 +24,7 @@ import xarray as xr
 from ..quality import MEASURE, MEASURES, Measure
 from ..units import METRIC
 from .datasets import damaged, open_artifact, read_variable
-from .deferred import Deferred
+from .deferred import Deferred, deferring
 from .netcdf import write_dataset
 from .quantities import FLAG_NAMES
 
@@ -89,14 +89,20 @@ def read_quality(path: str | os.PathLike) -> tuple[dict[str, np.ndarray], list[d
     return values, _checked(path, {name: v.shape for name, v in values.items()}, text)
 
 
-def deferred_quality(path: str | os.PathLike) -> tuple[dict[str, Deferred], list[dict[str, Any]]]:
+def deferred_quality(
+    path: str | os.PathLike,
+) -> tuple[dict[str, np.ndarray | Deferred], list[dict[str, Any]]]:
     """:func:`read_quality` with each measure a :class:`~gridlib.io.deferred.Deferred` float64
-    array, read from ``path`` each time it is used (a writer holds one at a time); the same
-    errors, raised here (or by a read of a measure whose data turns out damaged)."""
+    array, read from ``path`` each time it is used (a writer holds one at a time), unless the
+    measures are small enough to be read at once (:func:`~gridlib.io.deferred.deferring`);
+    the same errors, raised here (or by a read of a measure whose data turns out damaged)."""
     with open_artifact(path) as ds:
         shapes = {m.name: ds[m.name].shape for m in MEASURES if m.name in ds.variables}
         text = str(ds.attrs.get("qc", "[]"))
-    qc = _checked(path, shapes, text)
+        qc = _checked(path, shapes, text)
+        float64 = np.dtype(np.float64).itemsize
+        if not deferring(sum(int(np.prod(shape)) for shape in shapes.values()) * float64):
+            return {name: _measure(ds, name) for name in shapes}, qc
     values = {
         name: Deferred(shape, np.dtype(np.float64), partial(_read_measure, path, name), f"{path}: {name}")
         for name, shape in shapes.items()
@@ -106,7 +112,11 @@ def deferred_quality(path: str | os.PathLike) -> tuple[dict[str, Deferred], list
 
 def _read_measure(path: str | os.PathLike, name: str) -> np.ndarray:
     with open_artifact(path) as ds:
-        return np.asarray(read_variable(ds, name, "f", 1), dtype=np.float64)
+        return _measure(ds, name)
+
+
+def _measure(ds: xr.Dataset, name: str) -> np.ndarray:
+    return np.asarray(read_variable(ds, name, "f", 1), dtype=np.float64)
 
 
 def _checked(path: str | os.PathLike, shapes: Mapping[str, tuple[int, ...]], qc: str) -> list[dict[str, Any]]:

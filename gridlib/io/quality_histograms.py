@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..quality import MEASURES
-from .picture_style import DPI, FIGURE_SIZES, picture_style, quantity_label
+from .picture_style import DPI, FIGURE_SIZES, logarithmic, panel_layout, picture_style, quantity_label
 from .pictures import save_figure
 from .quality_file import FLAGS, measure_units
 
@@ -82,9 +82,8 @@ def _figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]]
         return fig
     rows = -(-len(names) // COLUMNS)
     cols = min(COLUMNS, len(names))
-    fig, axes = plt.subplots(
-        rows, cols, figsize=(width * cols, height * rows), squeeze=False, layout="constrained"
-    )
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    panel_layout(fig, rows, cols)
     for ax in axes.ravel()[len(names) :]:
         ax.remove()
     for ax, name in zip(axes.ravel(), names, strict=False):
@@ -121,7 +120,7 @@ def _flag_panel(ax, v: np.ndarray, label: str) -> None:
     ax.set_xlim(-0.5, top + 0.5)
     nonzero = counts[counts > 0]
     if nonzero.size and nonzero.max() > 100 * nonzero.min():
-        ax.set_yscale("log")
+        logarithmic(ax, "y")
     ax.set_xlabel(label)
     ax.set_ylabel("cells")
 
@@ -138,7 +137,7 @@ def _panel(ax, v: np.ndarray, label: str) -> None:
         ax.bar([float(v[0])], [v.size], width=width, color="tab:blue")
     nonzero = counts[counts > 0]
     if nonzero.size and nonzero.max() > 100 * nonzero.min():
-        ax.set_yscale("log")
+        logarithmic(ax, "y")
     ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 4), useOffset=False)  # 1e-3 as x 1e-3
     ax.set_xlabel(label)
     ax.set_ylabel("cells")

@@ -21,7 +21,7 @@ import xarray as xr
 from ..transmissibility import KIND_NAMES, Connections
 from ..units import UnitSystem
 from .datasets import damaged, open_artifact, read_variable
-from .deferred import Deferred
+from .deferred import Deferred, deferring
 from .netcdf import deferred_data
 from .quantities import label_units
 
@@ -103,11 +103,20 @@ def deferred_connection_variables(path: str | os.PathLike) -> dict[str, xr.Varia
     """The :data:`CONNECTION_VARS` of ``transmissibility.nc`` as :func:`read_transmissibility`
     gives them (dimensions, attributes, encoding), each read from ``path`` only when it is
     written (:func:`~gridlib.io.netcdf.deferred_data`): a 1e7-cell grid's 3e7 connections,
-    one variable in memory at a time."""
+    one variable in memory at a time; read at once where they are small
+    (:func:`~gridlib.io.deferred.deferring`)."""
     with open_artifact(path) as ds:
         missing = [n for n in CONNECTION_VARS + CELL_VARS if n not in ds.variables]
         if missing:
             raise damaged(path, f"not a transmissibility file: {', '.join(missing)} missing")
+        nbytes = sum(ds[name].size * ds[name].dtype.itemsize for name in CONNECTION_VARS)
+        if not deferring(nbytes):
+            return {
+                name: xr.Variable(
+                    ds[name].dims, read_variable(ds, name), dict(ds[name].attrs), dict(ds[name].encoding)
+                )
+                for name in CONNECTION_VARS
+            }
         return {
             name: xr.Variable(
                 ds[name].dims,

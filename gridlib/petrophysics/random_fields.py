@@ -3,8 +3,10 @@ depositional coordinates by factorising the modes into column and layer terms.""
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -20,7 +22,11 @@ from .variogram import Variogram
 
 __all__ = ["gaussian_field"]
 
-_CHUNK = 2048  # columns per block of the factorised summation: (2048, modes) temporaries
+_CHUNK = 2048  # columns per block of the factorised summation on a lattice (_CHUNK // 32 x values)
+# Columns per block of the factorised summation elsewhere: (128, 2 modes) temporaries stay in the
+# CPU's caches, and the exact products (gridlib.reproducible.matmul) of such a block cost a third
+# of those of 2048 columns, per column; a row's bits do not depend on the block it is in.
+_COLUMNS = 128
 _MAX_THREADS = 8  # blocks are summed by at most this many threads (each block alone: same result)
 
 
@@ -56,12 +62,12 @@ def gaussian_field(
         raise InputError(f"mode_no: expected a positive integer, got {mode_no!r}")
     mean = finite_number(mean, "mean")
     if isinstance(where, Depositional):
-        model = variogram.covmodel(3)
-        srf = gs.SRF(model, mode_no=int(mode_no), seed=int(seed))
+        modes = _modes(variogram, int(mode_no), int(seed))
         if where.num_cells == 0:
             return np.zeros(0)
-        values = _factorised(srf, model, where)
+        values = None if modes is None else _factorised(modes, where)
         if values is None:  # gstools changed its internals: sum the plain way
+            srf = gs.SRF(variogram.covmodel(3), mode_no=int(mode_no), seed=int(seed))
             values = srf(where.points.T, mesh_type="unstructured")
         return mean + np.asarray(values, dtype=np.float64)
     try:
@@ -85,7 +91,41 @@ def gaussian_field(
     return mean + np.asarray(srf(pts.T, mesh_type="unstructured"), dtype=np.float64)
 
 
-def _factorised(srf: Any, model: Any, u: Depositional) -> FloatArray | None:
+@dataclass(frozen=True, eq=False)
+class _Modes:
+    """gstools' randomisation modes of a 3-D field: its covariance model, the wave vectors
+    ``k`` (3, modes) and the normal weights ``z1``, ``z2`` (modes,), read-only."""
+
+    model: Any
+    k: FloatArray
+    z1: FloatArray
+    z2: FloatArray
+
+
+@functools.lru_cache(maxsize=32)
+def _modes(variogram: Variogram, mode_no: int, seed: int) -> _Modes | None:
+    """The modes of gstools' 3-D field of ``variogram`` for ``seed`` (None where gstools keeps
+    them elsewhere, or for a model with a nugget). Kept for the next field of the same
+    variogram and seed (a study's variants share a few seeds): gstools draws the wave vectors
+    of most models by Markov-chain sampling, 0.1 s for 1000 modes, more than the sum itself."""
+    import gstools as gs
+
+    model = variogram.covmodel(3)
+    gen = gs.SRF(model, mode_no=mode_no, seed=seed).generator
+    try:
+        k, z1, z2 = gen._cov_sample, gen._z_1, gen._z_2  # gstools.field.generator.RandMeth's modes
+        n_modes = gen.mode_no
+    except AttributeError:
+        return None
+    if getattr(model, "nugget", 0.0) or k is None or np.shape(k) != (3, n_modes):
+        return None
+    arrays = [np.array(a, dtype=np.float64) for a in (k, z1, z2)]
+    for a in arrays:
+        a.flags.writeable = False
+    return _Modes(model, *arrays)
+
+
+def _factorised(modes: _Modes, u: Depositional) -> FloatArray:
     """gstools' randomisation-method sum at columns x layers, by the cos(a + b) identity.
 
     The field is sqrt(var / N) sum_m z1_m cos(k_m . T u) + z2_m sin(k_m . T u),
@@ -95,16 +135,10 @@ def _factorised(srf: Any, model: Any, u: Depositional) -> FloatArray | None:
     b_ml = K_w,m w_l: matrix products, by :func:`gridlib.reproducible.matmul` so that
     the field has the same bits for any BLAS, CPU and thread count.
     """
-    gen = srf.generator
-    try:
-        k, z1, z2 = gen._cov_sample, gen._z_1, gen._z_2  # gstools.field.generator.RandMeth's modes
-        n_modes = gen.mode_no
-    except AttributeError:
-        return None
-    if getattr(model, "nugget", 0.0) or k is None or np.shape(k) != (3, n_modes):
-        return None
+    model, k, z1, z2 = modes.model, modes.k, modes.z1, modes.z2
+    n_modes = k.shape[1]
     T = _isometrization(model)
-    K = matmul(T.T, np.asarray(k, dtype=np.float64))  # (3, modes): phase = K . u
+    K = matmul(T.T, k)  # (3, modes): phase = K . u
     used, col_pos = np.unique(u.column, return_inverse=True)
     xy = u.column_xy[used]
     b = np.outer(u.layer_w, K[2])  # (layers, modes)
@@ -136,10 +170,10 @@ def _factorised(srf: Any, model: Any, u: Depositional) -> FloatArray | None:
         PQ = np.vstack([P, Q])
 
         def block(s: int) -> None:
-            a = matmul(xy[s : s + _CHUNK], K[:2])  # (chunk, modes)
-            F[s : s + _CHUNK] = matmul(np.hstack([np.cos(a), np.sin(a)]), PQ)
+            a = matmul(xy[s : s + _COLUMNS], K[:2])  # (columns, modes)
+            F[s : s + _COLUMNS] = matmul(np.hstack([np.cos(a), np.sin(a)]), PQ)
 
-        _parallel(block, range(0, used.size, _CHUNK))
+        _parallel(block, range(0, used.size, _COLUMNS))
     return math.sqrt(model.var / n_modes) * F[col_pos.ravel(), u.layer]
 
 

@@ -149,7 +149,7 @@ def stage_quality(
     grid: str | os.PathLike,
     geometry: str | os.PathLike,
     quality: str | os.PathLike,
-    quality_png: str | os.PathLike,
+    quality_png: str | os.PathLike | None = None,
     petrophysics: str | os.PathLike | None = None,
     grdecl: str | os.PathLike | None = None,
 ) -> None:
@@ -179,8 +179,8 @@ def stage_quality(
             log.info("note: %s: qc[%d]: %s is defined on no cell of this grid", case.path, r.index, name)
     qc = [rule_summary(mesh, r) for r in results]
     write_quality(quality, values, {**case.provenance(), "unit_system": system.name}, qc)
-    title = f"{case.name}: {mesh.num_cells:,d} cells"
-    plot_quality(quality_png, values, rules, title)
+    if quality_png is not None:
+        plot_quality(quality_png, values, rules, f"{case.name}: {mesh.num_cells:,d} cells")
     log.info("wrote %s: %s", quality, _medians(values))
 
 
