@@ -5,14 +5,15 @@ Building a case without its pictures, for tests that read only those files."""
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import json
 from pathlib import Path
 
 import numpy as np
-import pytest
 import xarray as xr
 
-from gridlib.config import Case
+from gridlib.config import Case, load_case
 
 COMPARED_SUFFIXES = (".nc", ".grdecl", ".vtu", ".vtp", ".json", ".roff")
 DECK_SUFFIXES = (".DATA", ".INC")
@@ -81,14 +82,14 @@ def assert_same_files(first: Path, second: Path, provenance: bool = True) -> lis
 
 
 def run_case_without_pictures(case: Case | str | Path, folder: str | Path) -> None:
-    """gridlib.stages.run_case of ``case`` (loaded, or its file) into ``folder``, with the
-    pictures stage and the quality stage's histograms drawing nothing: every other artifact,
-    each of the compared files above included, is written as run_case writes it (no stage
-    reads a PNG). The drawing is most of a small case's time, and these PNGs are checked by
-    the tests of the pictures (tests/stages/test_pictures.py, test_workflow.py) instead."""
+    """gridlib.stages.run_case of ``case`` (loaded, or its file) into ``folder`` with
+    ``outputs.pictures: false``: every other artifact, each of the compared files above
+    included, is written as with the pictures (tests/stages/test_optional_pictures.py). The
+    drawing is most of a small case's time, and the PNGs are checked by the tests of the
+    pictures (tests/stages/test_pictures.py, test_workflow.py) instead."""
     from gridlib.stages import run_case
 
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr("gridlib.stages.pictures.stage_pictures", lambda *args, **kwargs: None)
-        patch.setattr("gridlib.stages.quality.plot_quality", lambda *args: None)
-        run_case(case, folder)
+    loaded = case if isinstance(case, Case) else load_case(case)
+    data = copy.deepcopy(loaded.data)
+    data["outputs"]["pictures"] = False
+    run_case(dataclasses.replace(loaded, data=data), folder)
