@@ -189,12 +189,9 @@ def _run_spec(text: str) -> tuple[str, Path, bool]:
     return text, checkout, option != "no-pictures"
 
 
-def simulated(
-    base: Path, cores: int, keep: Path | None, checkout: Path = ROOT, pictures: bool = True
-) -> dict:
-    """The simulated study (the module's docstring) with ``checkout``'s workflow and gridlib
-    (``pictures``: the study's key): prints the whole run and the grid and Flow time per
-    variant; returns the run's figures."""
+def simulated_study(base: Path, pictures: bool = True) -> dict:
+    """The simulated study's file (the module's docstring): ``base``'s cell sizes
+    :data:`SIMULATED_CELL_SIZES` and its first fault's throw and twice it, 3 realisations."""
     throw = yaml.safe_load(base.read_text())["faults"][0]["throw"]
     study = {
         "name": "bench_simulated",
@@ -206,6 +203,16 @@ def simulated(
     }
     if not pictures:
         study["pictures"] = False
+    return study
+
+
+def simulated(
+    base: Path, cores: int, keep: Path | None, checkout: Path = ROOT, pictures: bool = True
+) -> dict:
+    """The simulated study (the module's docstring) with ``checkout``'s workflow and gridlib
+    (``pictures``: the study's key): prints the whole run and the grid and Flow time per
+    variant; returns the run's figures."""
+    study = simulated_study(base, pictures)
     with tempfile.TemporaryDirectory() as tmp:
         top = keep.resolve() if keep else Path(tmp)
         work = top / "simulated"
@@ -250,17 +257,9 @@ def simulated(
 def cpu_study(base: Path, runs: list[tuple[str, Path, bool]], repeat: int) -> None:
     """``--simulate --cpu`` (the module's docstring): each of ``runs`` in a process of its own,
     alternating, ``repeat`` times."""
-    throw = yaml.safe_load(base.read_text())["faults"][0]["throw"]
     with tempfile.TemporaryDirectory() as tmp:
         study_file = Path(tmp) / "bench_simulated.yaml"
-        study = {
-            "name": "bench_simulated",
-            "base": str(base),
-            "vary": {"grid.cell_size": SIMULATED_CELL_SIZES, "faults.0.throw": [throw, 2 * throw]},
-            "realisations": 3,
-            "seed": 1,
-            "simulate": True,
-        }
+        study = simulated_study(base)
         study_file.write_text(yaml.safe_dump(study, sort_keys=False))
         for r in range(repeat):
             for label, checkout, pictures in runs:
