@@ -74,6 +74,10 @@ STUDY = {
     "combine": "product",
     "realisations": 3,
     "seed": 5,
+    # The variants' own pictures are read by no test here (the sample grid_choice study of
+    # test_workflow.py draws them; tests/stages/test_optional_pictures.py compares the two):
+    # this run also checks that a study without them builds through Snakemake.
+    "pictures": False,
 }
 
 

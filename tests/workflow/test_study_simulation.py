@@ -43,12 +43,14 @@ FLOOD = {
     "vary": {"faults.0.throw": [0, 15], "simulation.wells.0.rate": [300, 600]},
     "simulate": True,
     "responses": {"times": [200], "water_cut": 0.01},
+    "pictures": False,  # the variants' own pictures: read by no test here (test_study.py)
 }
 BROKEN = {
     "name": "broken_flood",
     "base": "../cases/tiny_flood.yaml",
     "vary": {"simulation.initial.pressure": [210, 20000]},
     "simulate": True,
+    "pictures": False,
 }
 FAILING = "pressure-20000_r0"
 WATER_CUT = 0.01
