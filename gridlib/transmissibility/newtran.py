@@ -85,25 +85,6 @@ def vector_areas(grid: Grid, faces: IntArray) -> FloatArray:
     return out
 
 
-def interior_logical_faces(grid: Grid, dims: tuple[int, int, int]):
-    """The interior faces f of a processed corner-point grid, their two cells a, b
-    (``neighbors[f]``) and the logical side W, E, S, N, T, B each cell sees the face on:
-    (f, a, tag_a, b, tag_b) (:func:`logical_sides`)."""
-    f, a, b, ga, gb = _interior_faces(grid)
-    ta, tb = logical_sides(ga, gb, dims)
-    return f, a, ta, b, tb
-
-
-def _interior_faces(grid: Grid) -> tuple[IntArray, IntArray, IntArray, IntArray, IntArray]:
-    """The interior faces f, their cells a, b (``neighbors[f]``) and those cells' linear
-    ijk indices ga, gb."""
-    nb = grid.faces.neighbors
-    f = np.flatnonzero((nb[:, 0] >= 0) & (nb[:, 1] >= 0))
-    a, b = nb[f, 0], nb[f, 1]
-    glob = grid.cells.index_map
-    return f, a, b, glob[a], glob[b]
-
-
 def logical_sides(ga: IntArray, gb: IntArray, dims: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
     """The logical side W, E, S, N, T, B on which cells ga see their face with cells gb
     (linear ijk indices), and the side gb sees it on. Read off the two cells' (i, j)
