@@ -279,17 +279,16 @@ def cpu_study(base: Path, runs: list[tuple[str, Path, bool]], repeat: int) -> No
 def _cpu_in_process(study_file: Path, pictures: bool) -> None:
     """``--cpu``'s worker: this process's gridlib (PYTHONPATH) builds and simulates every third
     variant of ``study_file`` (its case files written under ./results), warm; prints medians."""
+    import contextlib
     import importlib
 
     import gridlib.stages.pipeline as pipeline
     from gridlib.stages.workers import PRELOAD
     from gridlib.study import load_study, materialise
 
-    for module in PRELOAD:
-        try:
+    for module in PRELOAD:  # the warm workers' imports; the absent ones skipped, as they do
+        with contextlib.suppress(ImportError):
             importlib.import_module(module)
-        except ImportError:
-            pass
     study = load_study(study_file, "results")
     materialise(study, "results")
     stages: dict[str, list[float]] = {}
