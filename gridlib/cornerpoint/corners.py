@@ -14,13 +14,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..connectivity import offsets
+from ..connectivity import offsets, ragged_arange
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
-from ..pillars.pillar_points import PillarPoints, points_on_pillars, unique_points_rows
+from ..pillars.pillar_points import PillarPoints, points_on_pillars, sorted_points_rows, unique_points_rows
 from .deck import Deck
 
 _BLOCK = 1 << 18  # candidate depths numbered per block of pillar rows
+_LOWEST, _HIGHEST = np.iinfo(np.int64).min, np.iinfo(np.int64).max  # bit patterns: no corner
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,6 +45,7 @@ class CornerNodes:
     lines: FloatArray  # (n_pillars, 2, 3) pillars with z as depth
     left_handed: bool
     notes: tuple[str, ...]
+    layered: bool  # every pillar layered (no throw anywhere): see _layer_interfaces
 
     def without(self, drop: np.ndarray) -> CornerNodes:
         """The same nodes with the kept cells ``drop`` (a mask in kept-cell order) removed."""
@@ -94,7 +96,7 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     if tolerance < 0:
         raise InputError(f"process_grdecl: tolerance must be >= 0, got {tolerance}")
 
-    table, points = _number_corners(zc, active, sign, tolerance)
+    table, points, layered = _number_corners(zc, active, sign, tolerance)
     inner = table[:, :, 1:-1, 1:-1]
     kept = active & ~(inner[:4] == inner[4:]).all(axis=0)
     inner[:, ~kept] = -1
@@ -105,7 +107,7 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     left = _left_handed(lines, active, nx, ny)
     if left:
         notes.append("the deck is left-handed in plan view: every face was reversed")
-    return CornerNodes(table, kept, cells, points, xyz, lines, left, tuple(notes))
+    return CornerNodes(table, kept, cells, points, xyz, lines, left, tuple(notes), layered)
 
 
 def _check_finite(zc: FloatArray, active: np.ndarray, src: str) -> None:
@@ -159,12 +161,15 @@ def _depth_sign(zc: FloatArray, active: np.ndarray, src: str) -> int:
 
 def _number_corners(
     zc: FloatArray, active: np.ndarray, sign: int, tolerance: float
-) -> tuple[IntArray, PillarPoints]:
-    """Node ids of all corners (the padded table of :class:`CornerNodes`) and the points.
+) -> tuple[IntArray, PillarPoints, bool]:
+    """Node ids of all corners (the padded table of :class:`CornerNodes`), the points, and
+    whether every pillar is layered (:func:`_layer_interfaces`).
 
     Each pillar's candidate depths form one row of four runs, one per adjacent
     column, each in layer order (so already sorted in a valid deck); rows are
-    numbered a block of pillar rows at a time.
+    numbered a block of pillar rows at a time. Layered pillars are numbered from
+    their layer interfaces without a sort, the others row by row; both give the
+    same ids and depths (:func:`~gridlib.pillars.pillar_points.sorted_points_rows`).
     """
     nz, ny, nx = active.shape
     table = np.full((8, nz, ny + 2, nx + 2), -1, dtype=np.int64)
@@ -172,17 +177,93 @@ def _number_corners(
     step = max(1, _BLOCK // ((nx + 1) * per_row))
     counts, depths = [], []
     next_id = 0
+    all_layered = True
     for j0 in range(0, ny + 1, step):
         j1 = min(j0 + step, ny + 1)
         rows = _pillar_rows(zc, active, sign, j0, j1)
-        ids, count, z = unique_points_rows(rows.reshape(-1, per_row), tolerance, next_id)
+        if tolerance > 0:
+            rows = np.round(rows / tolerance) * tolerance
+        ids, count, z, layered = _number_rows(rows.reshape(-1, 4, nz, 2), next_id)
+        all_layered &= layered
         _scatter_ids(table, ids.reshape(rows.shape), j0, j1)
         counts.append(count)
         depths.append(z)
         next_id += z.size
     count = np.concatenate(counts)
     pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
-    return table, PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, np.concatenate(depths))
+    points = PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, np.concatenate(depths))
+    return table, points, all_layered
+
+
+def _number_rows(rows: FloatArray, first_id: int) -> tuple[IntArray, IntArray, FloatArray, bool]:
+    """:func:`~gridlib.pillars.pillar_points.unique_points_rows` of the candidate depths
+    ``rows`` (pillars, 4 columns, nz, top/bottom), layered pillars without a sort; and
+    whether all of them are layered."""
+    n_rows, _, nz, _ = rows.shape
+    interfaces, layered = _layer_interfaces(rows)
+    if not layered.any():
+        ids, count, z = unique_points_rows(rows.reshape(n_rows, -1), 0.0, first_id)
+        return ids, count, z, False
+    interface_of = np.arange(nz)[:, None] + np.arange(2)  # (k, c) -> interface k + c
+    if layered.all():
+        ids, count, z = sorted_points_rows(interfaces, first_id)
+        corner_ids = np.where(np.isnan(rows), -1, ids[:, None, interface_of])
+        return corner_ids.reshape(n_rows, -1), count, z, True
+
+    fast, slow = np.flatnonzero(layered), np.flatnonzero(~layered)
+    f_ids, f_count, f_z = sorted_points_rows(interfaces[fast])
+    s_ids, s_count, s_z = unique_points_rows(rows[slow].reshape(slow.size, -1))
+    count = np.empty(n_rows, dtype=np.int64)
+    count[fast], count[slow] = f_count, s_count
+    start = offsets(count)[:-1]
+    z = np.empty(int(count.sum()))
+    z[ragged_arange(start[fast], f_count)] = f_z
+    z[ragged_arange(start[slow], s_count)] = s_z
+    ids = np.empty((n_rows, rows[0].size), dtype=np.int64)
+    f_shift = (first_id + start[fast] - offsets(f_count)[:-1])[:, None]
+    f_corner = np.where(np.isnan(rows[fast]), -1, _ids_shifted(f_ids, f_shift)[:, None, interface_of])
+    ids[fast] = f_corner.reshape(fast.size, -1)
+    ids[slow] = _ids_shifted(s_ids, (first_id + start[slow] - offsets(s_count)[:-1])[:, None])
+    return ids, count, z, False
+
+
+def _ids_shifted(ids: IntArray, shift: IntArray) -> IntArray:
+    """``ids + shift``, keeping -1 (no point) as it is."""
+    return np.where(ids >= 0, ids + shift, -1)
+
+
+def _layer_interfaces(rows: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """Each pillar's depth at every layer interface (NaN: no active cell there) and whether
+    the pillar is *layered*: at every interface, the corners of the (up to eight) active
+    cells meeting there have the same depth, bit for bit, and the depths do not decrease
+    down the interfaces.
+
+    On a layered pillar no throw and no gap between layers exist, so its points are its
+    interface depths: a deck whose pillars are all layered has no fault (every pillar pair
+    is a plain quad per layer, :func:`~.faces.structured_lateral`). A pillar holding
+    both 0.0 and -0.0 is not called layered (a sort may keep either as the point).
+    """
+    n_rows, _, nz, _ = rows.shape
+    bits = rows.view(np.int64)
+    present = ~np.isnan(rows)
+    hi = np.full((n_rows, nz + 1), _LOWEST)
+    lo = np.full((n_rows, nz + 1), _HIGHEST)
+    for c in (0, 1):  # tops of layer L and bottoms of layer L - 1 lie on interface L
+        at = slice(c, nz + c)
+        np.maximum(hi[:, at], np.where(present[..., c], bits[..., c], _LOWEST).max(axis=1), out=hi[:, at])
+        np.minimum(lo[:, at], np.where(present[..., c], bits[..., c], _HIGHEST).min(axis=1), out=lo[:, at])
+    some = lo <= hi  # at least one corner on the interface
+    coincide = (hi == lo) | ~some
+    interfaces = np.where(some, hi.view(np.float64), np.nan)
+    last = np.maximum.accumulate(np.where(some, np.arange(nz + 1), -1), axis=1)
+    previous = interfaces[np.arange(n_rows)[:, None], np.maximum(last[:, :-1], 0)]
+    with np.errstate(invalid="ignore"):
+        grows = ~(interfaces[:, 1:] < previous)  # NaN on either side: nothing to compare
+    zero = interfaces == 0.0
+    negative_zero = zero & np.signbit(interfaces)
+    both_zeros = negative_zero.any(axis=1) & (zero & ~negative_zero).any(axis=1)
+    layered = coincide.all(axis=1) & grows.all(axis=1) & ~both_zeros
+    return interfaces, layered
 
 
 def _row_range(j0: int, j1: int, b: int, ny: int) -> tuple[int, int]:
