@@ -170,8 +170,13 @@ def _number_corners(
     numbered a block of pillar rows at a time. Layered pillars are numbered from
     their layer interfaces without a sort, the others row by row; both give the
     same ids and depths (:func:`~gridlib.pillars.pillar_points.sorted_points_rows`).
+    A deck whose pillars are all layered is numbered at once from its interfaces
+    (:func:`_deck_interfaces`), without the rows.
     """
     nz, ny, nx = active.shape
+    interfaces = _deck_interfaces(zc, active, sign, tolerance)
+    if interfaces is not None:
+        return (*_number_interfaces(interfaces, active), True)
     table = np.full((8, nz, ny + 2, nx + 2), -1, dtype=np.int64)
     per_row = 8 * nz
     step = max(1, _BLOCK // ((nx + 1) * per_row))
@@ -193,6 +198,66 @@ def _number_corners(
     pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
     points = PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, np.concatenate(depths))
     return table, points, all_layered
+
+
+def _deck_interfaces(zc: FloatArray, active: np.ndarray, sign: int, tolerance: float) -> FloatArray | None:
+    """The depth (nz + 1, ny + 1, nx + 1) of every layer interface on every pillar (NaN: no
+    active cell there) if every pillar is layered (:func:`_layer_interfaces`'s test), else
+    None, found at the first interface where a pillar is not (a faulted deck: at once).
+
+    An interface at a time, from the corners of the active cells above and below it, as
+    :func:`_pillar_rows` makes them (depth sign, tolerance).
+    """
+    nz, ny, nx = active.shape
+    interfaces = np.empty((nz + 1, ny + 1, nx + 1))
+    last = np.full((ny + 1, nx + 1), -np.inf)  # the deepest interface so far (all of them grow)
+    zeros = np.zeros((2, ny + 1, nx + 1), dtype=bool)  # pillars with a 0.0, a -0.0
+    hi, lo = np.empty((2, ny + 1, nx + 1), dtype=np.int64)
+    for level in range(nz + 1):
+        hi.fill(_LOWEST)
+        lo.fill(_HIGHEST)
+        for k, c in ((level, 0), (level - 1, 1)):  # tops of layer L, bottoms of layer L - 1
+            if not 0 <= k < nz:
+                continue
+            z = zc[2 * k + c]
+            if sign < 0:
+                z = -z
+            if tolerance > 0:
+                z = np.round(z / tolerance) * tolerance
+            bits = z.view(np.int64)
+            for b in (0, 1):
+                for a in (0, 1):
+                    corner = bits[b::2, a::2]
+                    at = (slice(b, b + ny), slice(a, a + nx))
+                    np.maximum(hi[at], np.where(active[k], corner, _LOWEST), out=hi[at])
+                    np.minimum(lo[at], np.where(active[k], corner, _HIGHEST), out=lo[at])
+        some = lo <= hi
+        if (hi != lo)[some].any():
+            return None
+        depth = np.where(some, hi.view(np.float64), np.nan)
+        with np.errstate(invalid="ignore"):
+            if (depth < last).any():
+                return None
+        np.copyto(last, depth, where=some)
+        zero = depth == 0.0
+        zeros[0] |= zero & np.signbit(depth)
+        zeros[1] |= zero & ~np.signbit(depth)
+        interfaces[level] = depth
+    return None if (zeros[0] & zeros[1]).any() else interfaces
+
+
+def _number_interfaces(interfaces: FloatArray, active: np.ndarray) -> tuple[IntArray, PillarPoints]:
+    """:func:`_number_corners`'s table and points from the interface depths of a deck whose
+    pillars are all layered."""
+    nz, ny, nx = active.shape
+    ids, count, z = sorted_points_rows(np.ascontiguousarray(interfaces.reshape(nz + 1, -1).T))
+    level_ids = np.ascontiguousarray(ids.T).reshape(nz + 1, ny + 1, nx + 1)
+    table = np.full((8, nz, ny + 2, nx + 2), -1, dtype=np.int64)
+    for slot in range(8):
+        a, b, c = slot & 1, (slot >> 1) & 1, slot >> 2
+        np.copyto(table[slot, :, 1:-1, 1:-1], level_ids[c : c + nz, b : b + ny, a : a + nx], where=active)
+    pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
+    return table, PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, z)
 
 
 def _number_rows(rows: FloatArray, first_id: int) -> tuple[IntArray, IntArray, FloatArray, bool]:

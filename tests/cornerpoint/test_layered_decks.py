@@ -24,15 +24,34 @@ from gridlib.cornerpoint.process import FAULT, process_grdecl
 from gridlib.io.grdecl import read_grdecl
 
 
+def _by_rows(monkeypatch: pytest.MonkeyPatch):
+    """No deck numbered at once from its interfaces: a block of pillar rows at a time."""
+    monkeypatch.setattr(corners, "_deck_interfaces", lambda *args: None)
+
+
 def _generic(monkeypatch: pytest.MonkeyPatch):
-    """The layer test reporting no layered pillar: every deck takes the generic path."""
+    """The layer tests reporting no layered pillar: every deck takes the generic path."""
     real = corners._layer_interfaces
 
     def nothing_layered(rows):
         interfaces, layered = real(rows)
         return interfaces, np.zeros_like(layered)
 
+    _by_rows(monkeypatch)
     monkeypatch.setattr(corners, "_layer_interfaces", nothing_layered)
+
+
+def _assert_layered(deck: Deck, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Both layer tests find every pillar of ``deck`` layered."""
+    found = []
+    real = corners._deck_interfaces
+    with monkeypatch.context() as m:
+        m.setattr(corners, "_deck_interfaces", lambda *args: found.append(real(*args)) or found[-1])
+        assert corner_nodes(deck).layered
+    assert found[0] is not None  # numbered at once from its interfaces
+    with monkeypatch.context() as m:
+        _by_rows(m)
+        assert corner_nodes(deck).layered
 
 
 def _assert_same(fast, generic) -> None:
@@ -96,17 +115,23 @@ def _lattice_deck(seed: int, dims=(6, 5, 7)) -> Deck:
 
 
 def _both(deck: Deck, monkeypatch: pytest.MonkeyPatch, **options):
+    """``deck`` processed as it comes and by the generic path; also by pillar rows (layered
+    pillars without a sort, the others with it), which must give the same as both."""
     fast = process_grdecl(deck, **options)
+    with monkeypatch.context() as m:
+        _by_rows(m)
+        by_rows = process_grdecl(deck, **options)
     with monkeypatch.context() as m:
         _generic(m)
         generic = process_grdecl(deck, **options)
+    _assert_same(by_rows, generic)
     return fast, generic
 
 
 @pytest.mark.parametrize("seed", range(12))
 def test_lattice_decks_match_the_generic_path(seed, monkeypatch):
     deck = _lattice_deck(seed)
-    assert corner_nodes(deck).layered
+    _assert_layered(deck, monkeypatch)
     fast, generic = _both(deck, monkeypatch)
     _assert_same(fast, generic)
     assert not (fast.nnc.kind == FAULT).any() and not (fast.grid.faces.tag > 0).any()  # no throw
@@ -130,7 +155,7 @@ def test_z_up_deck_matches_the_generic_path(monkeypatch):
     coord = deck.coord.reshape(-1, 6).copy()
     coord[:, [2, 5]] *= -1.0
     up = dataclasses.replace(deck, coord=coord.ravel(), zcorn=-deck.zcorn)
-    assert corner_nodes(up).layered
+    _assert_layered(up, monkeypatch)
     fast, generic = _both(up, monkeypatch)
     _assert_same(fast, generic)
     assert "z up" in fast.notes[0]
@@ -167,7 +192,9 @@ def test_partly_layered_decks_match_the_generic_path(case, monkeypatch):
         shares.append(layered.mean())
         return interfaces, layered
 
+    assert not corner_nodes(deck).layered
     with monkeypatch.context() as m:
+        _by_rows(m)
         m.setattr(corners, "_layer_interfaces", spy)
         assert not corner_nodes(deck).layered
     assert 0.0 < np.mean(shares) < 1.0  # both kinds of pillars
@@ -202,7 +229,7 @@ def test_dx_dy_dz_decks_match_the_generic_path(seed, tmp_path, monkeypatch):
     path = tmp_path / "box.grdecl"
     path.write_text(_dxdydz_text(seed))
     deck = read_grdecl(path)
-    assert corner_nodes(deck).layered
+    _assert_layered(deck, monkeypatch)
     fast, generic = _both(deck, monkeypatch, pinch=True)
     _assert_same(fast, generic)
     assert fast.grid.num_cells > 0
