@@ -85,7 +85,7 @@ def _assert_same(fast, generic) -> None:
     assert fast.notes == generic.notes
 
 
-def _lattice_deck(seed: int, dims=(6, 5, 7)) -> Deck:
+def _lattice_deck(seed: int, dims=(6, 5, 7), vertical: bool = False) -> Deck:
     """A deck without throws: skewed pillars, per pillar and layer a random thickness (zero on
     about a fifth of them, so some cells are pinched on a pillar and some collapsed), ACTNUM 0
     and PORO 0 cells; inactive cells' corners are junk (NaN, -1e20)."""
@@ -97,7 +97,7 @@ def _lattice_deck(seed: int, dims=(6, 5, 7)) -> Deck:
     Z = np.concatenate([np.full((nx + 1, ny + 1, 1), 2000.0), 2000.0 + np.cumsum(thickness, axis=2)], axis=2)
     x = np.linspace(0.0, 300.0, nx + 1)[:, None] + rng.uniform(-5, 5, (nx + 1, ny + 1))
     y = np.linspace(0.0, 200.0, ny + 1)[None, :] + rng.uniform(-5, 5, (nx + 1, ny + 1))
-    lean = rng.uniform(-0.05, 0.05, (nx + 1, ny + 1, 2))  # inclined pillars
+    lean = rng.uniform(-0.05, 0.05, (nx + 1, ny + 1, 2)) * (not vertical)  # inclined pillars
     top_z, bottom_z = Z[..., 0] - 10.0, Z[..., -1] + 10.0
     coord = np.stack(
         [x, y, top_z, x + lean[..., 0] * (bottom_z - top_z), y + lean[..., 1] * (bottom_z - top_z), bottom_z],
@@ -135,6 +135,20 @@ def test_lattice_decks_match_the_generic_path(seed, monkeypatch):
     fast, generic = _both(deck, monkeypatch)
     _assert_same(fast, generic)
     assert not (fast.nnc.kind == FAULT).any() and not (fast.grid.faces.tag > 0).any()  # no throw
+
+
+def test_coincident_pillars_match_the_generic_path(monkeypatch):
+    """Columns of zero width (the pillars i = 4 on the lines of the pillars i = 3): the faces of
+    zero area they make are removed alike."""
+    deck = _lattice_deck(23, vertical=True)
+    nx = deck.cart_dims[0]
+    coord = deck.coord.reshape(-1, nx + 1, 6).copy()
+    coord[:, 4] = coord[:, 3]
+    deck = dataclasses.replace(deck, coord=coord.ravel())
+    _assert_layered(deck, monkeypatch)
+    fast, generic = _both(deck, monkeypatch)
+    _assert_same(fast, generic)
+    assert any("zero area" in note for note in fast.notes)
 
 
 @pytest.mark.parametrize(
