@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..connectivity import offsets, ragged_arange
+from ..connectivity import offsets
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
 from ..pillars.pillar_points import PillarPoints, points_on_pillars, sorted_points_rows, unique_points_rows
@@ -45,7 +45,7 @@ class CornerNodes:
     lines: FloatArray  # (n_pillars, 2, 3) pillars with z as depth
     left_handed: bool
     notes: tuple[str, ...]
-    layered: bool  # every pillar layered (no throw anywhere): see _layer_interfaces
+    layered: bool  # every pillar layered (no throw anywhere): see _deck_interfaces
 
     def without(self, drop: np.ndarray) -> CornerNodes:
         """The same nodes with the kept cells ``drop`` (a mask in kept-cell order) removed."""
@@ -163,15 +163,14 @@ def _number_corners(
     zc: FloatArray, active: np.ndarray, sign: int, tolerance: float
 ) -> tuple[IntArray, PillarPoints, bool]:
     """Node ids of all corners (the padded table of :class:`CornerNodes`), the points, and
-    whether every pillar is layered (:func:`_layer_interfaces`).
+    whether every pillar is layered (:func:`_deck_interfaces`).
 
-    Each pillar's candidate depths form one row of four runs, one per adjacent
-    column, each in layer order (so already sorted in a valid deck); rows are
-    numbered a block of pillar rows at a time. Layered pillars are numbered from
-    their layer interfaces without a sort, the others row by row; both give the
-    same ids and depths (:func:`~gridlib.pillars.pillar_points.sorted_points_rows`).
-    A deck whose pillars are all layered is numbered at once from its interfaces
-    (:func:`_deck_interfaces`), without the rows.
+    A deck whose pillars are all layered is numbered at once from its interface
+    depths, without a sort (:func:`_number_interfaces`). Otherwise each pillar's
+    candidate depths form one row of four runs, one per adjacent column, each in
+    layer order (so already sorted in a valid deck); rows are sorted and numbered a
+    block of pillar rows at a time. Both give the same ids and depths
+    (:func:`~gridlib.pillars.pillar_points.sorted_points_rows`).
     """
     nz, ny, nx = active.shape
     interfaces = _deck_interfaces(zc, active, sign, tolerance)
@@ -182,14 +181,10 @@ def _number_corners(
     step = max(1, _BLOCK // ((nx + 1) * per_row))
     counts, depths = [], []
     next_id = 0
-    all_layered = True
     for j0 in range(0, ny + 1, step):
         j1 = min(j0 + step, ny + 1)
         rows = _pillar_rows(zc, active, sign, j0, j1)
-        if tolerance > 0:
-            rows = np.round(rows / tolerance) * tolerance
-        ids, count, z, layered = _number_rows(rows.reshape(-1, 4, nz, 2), next_id)
-        all_layered &= layered
+        ids, count, z = unique_points_rows(rows.reshape(-1, per_row), tolerance, next_id)
         _scatter_ids(table, ids.reshape(rows.shape), j0, j1)
         counts.append(count)
         depths.append(z)
@@ -197,16 +192,23 @@ def _number_corners(
     count = np.concatenate(counts)
     pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
     points = PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, np.concatenate(depths))
-    return table, points, all_layered
+    return table, points, False
 
 
 def _deck_interfaces(zc: FloatArray, active: np.ndarray, sign: int, tolerance: float) -> FloatArray | None:
     """The depth (nz + 1, ny + 1, nx + 1) of every layer interface on every pillar (NaN: no
-    active cell there) if every pillar is layered (:func:`_layer_interfaces`'s test), else
-    None, found at the first interface where a pillar is not (a faulted deck: at once).
+    active cell there) if every pillar is *layered*, else None (found at the first
+    interface where a pillar is not: a faulted deck is told at once).
 
-    An interface at a time, from the corners of the active cells above and below it, as
-    :func:`_pillar_rows` makes them (depth sign, tolerance).
+    A pillar is layered when, at every interface, the corners of the (up to eight) active
+    cells meeting there have the same depth, bit for bit, and these depths do not decrease
+    down the interfaces. Then the pillar has no throw and no gap between layers, and its
+    points are its interface depths; a deck whose pillars are all layered has no fault
+    (every pillar pair is a plain quad per layer: :func:`~.faces.structured_lateral`). A
+    pillar holding both 0.0 and -0.0 is not called layered (a sort may keep either as the
+    point). Corners are taken as :func:`_pillar_rows` gives them to the sort (depth sign)
+    and rounded as :func:`~gridlib.pillars.pillar_points.unique_points_rows` rounds them
+    (``tolerance``), an interface at a time (small temporaries).
     """
     nz, ny, nx = active.shape
     interfaces = np.empty((nz + 1, ny + 1, nx + 1))
@@ -258,77 +260,6 @@ def _number_interfaces(interfaces: FloatArray, active: np.ndarray) -> tuple[IntA
         np.copyto(table[slot, :, 1:-1, 1:-1], level_ids[c : c + nz, b : b + ny, a : a + nx], where=active)
     pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
     return table, PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, z)
-
-
-def _number_rows(rows: FloatArray, first_id: int) -> tuple[IntArray, IntArray, FloatArray, bool]:
-    """:func:`~gridlib.pillars.pillar_points.unique_points_rows` of the candidate depths
-    ``rows`` (pillars, 4 columns, nz, top/bottom), layered pillars without a sort; and
-    whether all of them are layered."""
-    n_rows, _, nz, _ = rows.shape
-    interfaces, layered = _layer_interfaces(rows)
-    if not layered.any():
-        ids, count, z = unique_points_rows(rows.reshape(n_rows, -1), 0.0, first_id)
-        return ids, count, z, False
-    interface_of = np.arange(nz)[:, None] + np.arange(2)  # (k, c) -> interface k + c
-    if layered.all():
-        ids, count, z = sorted_points_rows(interfaces, first_id)
-        corner_ids = np.where(np.isnan(rows), -1, ids[:, None, interface_of])
-        return corner_ids.reshape(n_rows, -1), count, z, True
-
-    fast, slow = np.flatnonzero(layered), np.flatnonzero(~layered)
-    f_ids, f_count, f_z = sorted_points_rows(interfaces[fast])
-    s_ids, s_count, s_z = unique_points_rows(rows[slow].reshape(slow.size, -1))
-    count = np.empty(n_rows, dtype=np.int64)
-    count[fast], count[slow] = f_count, s_count
-    start = offsets(count)[:-1]
-    z = np.empty(int(count.sum()))
-    z[ragged_arange(start[fast], f_count)] = f_z
-    z[ragged_arange(start[slow], s_count)] = s_z
-    ids = np.empty((n_rows, rows[0].size), dtype=np.int64)
-    f_shift = (first_id + start[fast] - offsets(f_count)[:-1])[:, None]
-    f_corner = np.where(np.isnan(rows[fast]), -1, _ids_shifted(f_ids, f_shift)[:, None, interface_of])
-    ids[fast] = f_corner.reshape(fast.size, -1)
-    ids[slow] = _ids_shifted(s_ids, (first_id + start[slow] - offsets(s_count)[:-1])[:, None])
-    return ids, count, z, False
-
-
-def _ids_shifted(ids: IntArray, shift: IntArray) -> IntArray:
-    """``ids + shift``, keeping -1 (no point) as it is."""
-    return np.where(ids >= 0, ids + shift, -1)
-
-
-def _layer_interfaces(rows: FloatArray) -> tuple[FloatArray, np.ndarray]:
-    """Each pillar's depth at every layer interface (NaN: no active cell there) and whether
-    the pillar is *layered*: at every interface, the corners of the (up to eight) active
-    cells meeting there have the same depth, bit for bit, and the depths do not decrease
-    down the interfaces.
-
-    On a layered pillar no throw and no gap between layers exist, so its points are its
-    interface depths: a deck whose pillars are all layered has no fault (every pillar pair
-    is a plain quad per layer, :func:`~.faces.structured_lateral`). A pillar holding
-    both 0.0 and -0.0 is not called layered (a sort may keep either as the point).
-    """
-    n_rows, _, nz, _ = rows.shape
-    bits = rows.view(np.int64)
-    present = ~np.isnan(rows)
-    hi = np.full((n_rows, nz + 1), _LOWEST)
-    lo = np.full((n_rows, nz + 1), _HIGHEST)
-    for c in (0, 1):  # tops of layer L and bottoms of layer L - 1 lie on interface L
-        at = slice(c, nz + c)
-        np.maximum(hi[:, at], np.where(present[..., c], bits[..., c], _LOWEST).max(axis=1), out=hi[:, at])
-        np.minimum(lo[:, at], np.where(present[..., c], bits[..., c], _HIGHEST).min(axis=1), out=lo[:, at])
-    some = lo <= hi  # at least one corner on the interface
-    coincide = (hi == lo) | ~some
-    interfaces = np.where(some, hi.view(np.float64), np.nan)
-    last = np.maximum.accumulate(np.where(some, np.arange(nz + 1), -1), axis=1)
-    previous = interfaces[np.arange(n_rows)[:, None], np.maximum(last[:, :-1], 0)]
-    with np.errstate(invalid="ignore"):
-        grows = ~(interfaces[:, 1:] < previous)  # NaN on either side: nothing to compare
-    zero = interfaces == 0.0
-    negative_zero = zero & np.signbit(interfaces)
-    both_zeros = negative_zero.any(axis=1) & (zero & ~negative_zero).any(axis=1)
-    layered = coincide.all(axis=1) & grows.all(axis=1) & ~both_zeros
-    return interfaces, layered
 
 
 def _row_range(j0: int, j1: int, b: int, ny: int) -> tuple[int, int]:
