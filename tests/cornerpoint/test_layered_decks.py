@@ -185,7 +185,7 @@ def test_decks_with_a_pillar_not_layered_take_the_generic_path(case):
 
 def _dxdydz_text(seed: int) -> str:
     """A DX/DY/DZ/TOPS deck (top layer TOPS, DZ constant per layer with zero layers), with
-    ACTNUM 0 and PORO 0 cells and a MINPV."""
+    ACTNUM 0 and PORO 0 cells, a MINPV and two FAULTS lines (faults without a throw)."""
     nx, ny, nz = 7, 4, 6
     n = nx * ny * nz
     rng = np.random.default_rng(seed)
@@ -200,6 +200,7 @@ def _dxdydz_text(seed: int) -> str:
     for key, values in (("DX", dx), ("DY", dy), ("DZ", dz), ("PORO", poro), ("ACTNUM", actnum)):
         text.append(f"{key}\n" + " ".join(f"{v:g}" for v in values) + "\n/\n")
     text.append(f"TOPS\n {nx * ny}*1500 /\n")
+    text.append("FAULTS\n 'F1' 3 3 1 4 1 6 'X' /\n 'F2' 1 7 2 2 2 3 'Y' /\n/\n")  # named, no throw
     return "".join(text)
 
 
@@ -211,4 +212,4 @@ def test_dx_dy_dz_decks_match_the_generic_path(seed, tmp_path, monkeypatch):
     _assert_layered(deck, monkeypatch)
     fast, generic = _both(deck, monkeypatch, pinch=True)
     _assert_same(fast, generic)
-    assert fast.grid.num_cells > 0
+    assert fast.fault_names == ("F1", "F2") and {1, 2} <= set(fast.grid.faces.tag.tolist())
