@@ -21,6 +21,7 @@ from gridlib.cornerpoint import corners
 from gridlib.cornerpoint.corners import corner_nodes
 from gridlib.cornerpoint.deck import Deck
 from gridlib.cornerpoint.process import FAULT, process_grdecl
+from gridlib.errors import InputError
 from gridlib.io.grdecl import read_grdecl
 
 
@@ -70,7 +71,7 @@ def _assert_same(fast, generic) -> None:
     assert fast.notes == generic.notes
 
 
-def _lattice_deck(seed: int, dims=(6, 5, 7), vertical: bool = False) -> Deck:
+def _lattice_deck(seed: int, dims=(6, 5, 7), vertical: bool = False, inactive: float = 0.15) -> Deck:
     """A deck without throws: skewed pillars, per pillar and layer a random thickness (zero on
     about a fifth of them, so some cells are pinched on a pillar and some collapsed), ACTNUM 0
     and PORO 0 cells; inactive cells' corners are junk (NaN, -1e20)."""
@@ -91,7 +92,7 @@ def _lattice_deck(seed: int, dims=(6, 5, 7), vertical: bool = False) -> Deck:
     corner = np.arange(1, 2 * max(dims) + 1) // 2
     zcorn = Z[np.ix_(corner[: 2 * nx], corner[: 2 * ny], corner[: 2 * nz])].transpose(2, 1, 0).copy()
     n = nx * ny * nz
-    actnum = (rng.random(n) > 0.15).astype(np.int32)
+    actnum = (rng.random(n) >= inactive).astype(np.int32)
     junk = np.repeat(np.repeat(np.repeat((actnum == 0).reshape(nz, ny, nx), 2, 0), 2, 1), 2, 2)
     zcorn[junk] = np.where(rng.random(int(junk.sum())) < 0.5, np.nan, -1e20)
     poro = np.round(rng.uniform(0.05, 0.3, n), 3)
@@ -213,3 +214,21 @@ def test_dx_dy_dz_decks_match_the_generic_path(seed, tmp_path, monkeypatch):
     fast, generic = _both(deck, monkeypatch, pinch=True)
     _assert_same(fast, generic)
     assert fast.fault_names == ("F1", "F2") and {1, 2} <= set(fast.grid.faces.tag.tolist())
+
+
+def test_layers_overlapping_across_an_inactive_layer_are_refused_as_before():
+    """Interfaces that rise down a pillar (layer 4 starting above the bottom of layer 2, layer
+    3 inactive between them, every corner matching its neighbours') are not layered: the
+    generic path refuses the overlap, naming the cells."""
+    deck = _lattice_deck(24, inactive=0.0)
+    nx, ny, nz = deck.cart_dims
+    zc = deck.zcorn.reshape(2 * nz, 2 * ny, 2 * nx).copy()
+    zc[2 * 2 + 1] = zc[2 * 2] + 5.0  # layer 2 is 5 thick
+    zc[2 * 4] = zc[2 * 2] + 1.0  # layer 4 starts 1 below the top of layer 2 ...
+    zc[2 * 4 + 1 :] += 10.0  # ... and ends deeper than it did, as the layers below
+    actnum = np.ones((nz, ny, nx), dtype=np.int32)
+    actnum[3] = 0
+    deck = dataclasses.replace(deck, zcorn=zc.ravel(), actnum=actnum.ravel())
+    assert not corner_nodes(deck).layered
+    with pytest.raises(InputError, match=r"overlapping layers"):
+        process_grdecl(deck)
