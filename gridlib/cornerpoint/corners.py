@@ -231,8 +231,8 @@ def _deck_interfaces(zc: FloatArray, active: np.ndarray, sign: int, tolerance: f
                 for a in (0, 1):
                     corner = bits[b::2, a::2]
                     at = (slice(b, b + ny), slice(a, a + nx))
-                    np.maximum(hi[at], np.where(active[k], corner, _LOWEST), out=hi[at])
-                    np.minimum(lo[at], np.where(active[k], corner, _HIGHEST), out=lo[at])
+                    np.maximum(hi[at], corner, out=hi[at], where=active[k])
+                    np.minimum(lo[at], corner, out=lo[at], where=active[k])
         some = lo <= hi
         if (hi != lo)[some].any():
             return None
