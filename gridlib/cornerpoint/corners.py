@@ -17,10 +17,11 @@ import numpy as np
 from ..connectivity import offsets
 from ..errors import InputError
 from ..grid import FloatArray, IntArray
-from ..pillars.pillar_points import PillarPoints, points_on_pillars, unique_points_rows
+from ..pillars.pillar_points import PillarPoints, points_on_pillars, sorted_points_rows, unique_points_rows
 from .deck import Deck
 
 _BLOCK = 1 << 18  # candidate depths numbered per block of pillar rows
+_LOWEST, _HIGHEST = np.iinfo(np.int64).min, np.iinfo(np.int64).max  # bit patterns: no corner
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,6 +45,7 @@ class CornerNodes:
     lines: FloatArray  # (n_pillars, 2, 3) pillars with z as depth
     left_handed: bool
     notes: tuple[str, ...]
+    layered: bool  # every pillar layered (no throw anywhere): see _deck_interfaces
 
     def without(self, drop: np.ndarray) -> CornerNodes:
         """The same nodes with the kept cells ``drop`` (a mask in kept-cell order) removed."""
@@ -94,7 +96,7 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     if tolerance < 0:
         raise InputError(f"process_grdecl: tolerance must be >= 0, got {tolerance}")
 
-    table, points = _number_corners(zc, active, sign, tolerance)
+    table, points, layered = _number_corners(zc, active, sign, tolerance)
     inner = table[:, :, 1:-1, 1:-1]
     kept = active & ~(inner[:4] == inner[4:]).all(axis=0)
     inner[:, ~kept] = -1
@@ -105,7 +107,7 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     left = _left_handed(lines, active, nx, ny)
     if left:
         notes.append("the deck is left-handed in plan view: every face was reversed")
-    return CornerNodes(table, kept, cells, points, xyz, lines, left, tuple(notes))
+    return CornerNodes(table, kept, cells, points, xyz, lines, left, tuple(notes), layered)
 
 
 def _check_finite(zc: FloatArray, active: np.ndarray, src: str) -> None:
@@ -159,14 +161,21 @@ def _depth_sign(zc: FloatArray, active: np.ndarray, src: str) -> int:
 
 def _number_corners(
     zc: FloatArray, active: np.ndarray, sign: int, tolerance: float
-) -> tuple[IntArray, PillarPoints]:
-    """Node ids of all corners (the padded table of :class:`CornerNodes`) and the points.
+) -> tuple[IntArray, PillarPoints, bool]:
+    """Node ids of all corners (the padded table of :class:`CornerNodes`), the points, and
+    whether every pillar is layered (:func:`_deck_interfaces`).
 
-    Each pillar's candidate depths form one row of four runs, one per adjacent
-    column, each in layer order (so already sorted in a valid deck); rows are
-    numbered a block of pillar rows at a time.
+    A deck whose pillars are all layered is numbered at once from its interface
+    depths, without a sort (:func:`_number_interfaces`). Otherwise each pillar's
+    candidate depths form one row of four runs, one per adjacent column, each in
+    layer order (so already sorted in a valid deck); rows are sorted and numbered a
+    block of pillar rows at a time. Both give the same ids and depths
+    (:func:`~gridlib.pillars.pillar_points.sorted_points_rows`).
     """
     nz, ny, nx = active.shape
+    interfaces = _deck_interfaces(zc, active, sign, tolerance)
+    if interfaces is not None:
+        return (*_number_interfaces(interfaces, active), True)
     table = np.full((8, nz, ny + 2, nx + 2), -1, dtype=np.int64)
     per_row = 8 * nz
     step = max(1, _BLOCK // ((nx + 1) * per_row))
@@ -182,7 +191,75 @@ def _number_corners(
         next_id += z.size
     count = np.concatenate(counts)
     pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
-    return table, PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, np.concatenate(depths))
+    points = PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, np.concatenate(depths))
+    return table, points, False
+
+
+def _deck_interfaces(zc: FloatArray, active: np.ndarray, sign: int, tolerance: float) -> FloatArray | None:
+    """The depth (nz + 1, ny + 1, nx + 1) of every layer interface on every pillar (NaN: no
+    active cell there) if every pillar is *layered*, else None (found at the first
+    interface where a pillar is not: a faulted deck is told at once).
+
+    A pillar is layered when, at every interface, the corners of the (up to eight) active
+    cells meeting there have the same depth, bit for bit, and these depths do not decrease
+    down the interfaces. Then the pillar has no throw and no gap between layers, and its
+    points are its interface depths; a deck whose pillars are all layered has no fault
+    (every pillar pair is a plain quad per layer: :func:`~.faces.structured_lateral`). A
+    pillar holding both 0.0 and -0.0 is not called layered (a sort may keep either as the
+    point). Corners are taken as :func:`_pillar_rows` gives them to the sort (depth sign)
+    and rounded as :func:`~gridlib.pillars.pillar_points.unique_points_rows` rounds them
+    (``tolerance``), an interface at a time (small temporaries).
+    """
+    nz, ny, nx = active.shape
+    interfaces = np.empty((nz + 1, ny + 1, nx + 1))
+    last = np.full((ny + 1, nx + 1), -np.inf)  # the deepest interface so far (all of them grow)
+    zeros = np.zeros((2, ny + 1, nx + 1), dtype=bool)  # pillars with a 0.0, a -0.0
+    hi, lo = np.empty((2, ny + 1, nx + 1), dtype=np.int64)
+    for level in range(nz + 1):
+        hi.fill(_LOWEST)
+        lo.fill(_HIGHEST)
+        for k, c in ((level, 0), (level - 1, 1)):  # tops of layer L, bottoms of layer L - 1
+            if not 0 <= k < nz:
+                continue
+            z = zc[2 * k + c]
+            if sign < 0:
+                z = -z
+            if tolerance > 0:
+                z = np.round(z / tolerance) * tolerance
+            bits = z.view(np.int64)
+            for b in (0, 1):
+                for a in (0, 1):
+                    corner = bits[b::2, a::2]
+                    at = (slice(b, b + ny), slice(a, a + nx))
+                    np.maximum(hi[at], corner, out=hi[at], where=active[k])
+                    np.minimum(lo[at], corner, out=lo[at], where=active[k])
+        some = lo <= hi
+        if (hi != lo)[some].any():
+            return None
+        depth = np.where(some, hi.view(np.float64), np.nan)
+        with np.errstate(invalid="ignore"):
+            if (depth < last).any():
+                return None
+        np.copyto(last, depth, where=some)
+        zero = depth == 0.0
+        zeros[0] |= zero & np.signbit(depth)
+        zeros[1] |= zero & ~np.signbit(depth)
+        interfaces[level] = depth
+    return None if (zeros[0] & zeros[1]).any() else interfaces
+
+
+def _number_interfaces(interfaces: FloatArray, active: np.ndarray) -> tuple[IntArray, PillarPoints]:
+    """:func:`_number_corners`'s table and points from the interface depths of a deck whose
+    pillars are all layered."""
+    nz, ny, nx = active.shape
+    ids, count, z = sorted_points_rows(np.ascontiguousarray(interfaces.reshape(nz + 1, -1).T))
+    level_ids = np.ascontiguousarray(ids.T).reshape(nz + 1, ny + 1, nx + 1)
+    table = np.full((8, nz, ny + 2, nx + 2), -1, dtype=np.int64)
+    for slot in range(8):
+        a, b, c = slot & 1, (slot >> 1) & 1, slot >> 2
+        np.copyto(table[slot, :, 1:-1, 1:-1], level_ids[c : c + nz, b : b + ny, a : a + nx], where=active)
+    pillar = np.repeat(np.arange(count.size, dtype=np.int64), count)
+    return table, PillarPoints(np.zeros(0, np.int64), offsets(count), pillar, z)
 
 
 def _row_range(j0: int, j1: int, b: int, ny: int) -> tuple[int, int]:

@@ -82,11 +82,18 @@ class StructuredLateral:
     faulted: np.ndarray  # per pair: a layer where both sides differ
 
 
-def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_base: int) -> StructuredLateral:
+def structured_lateral(
+    table: IntArray, cells: IntArray, along_j: bool, pair_base: int, layered: bool = False
+) -> StructuredLateral:
     """One orientation of lateral faces: i-pairs (``along_j`` False) or j-pairs.
 
     ``table`` and ``cells`` are :class:`~gridlib.cornerpoint.corners.CornerNodes`'s
-    padded node table and cell numbering.
+    padded node table and cell numbering. ``layered``: every pillar is layered
+    (:attr:`~gridlib.cornerpoint.corners.CornerNodes.layered`), so every pair is simple and
+    none faulted, and the tests that would find it are skipped: two kept cells of one layer
+    on a pair have the same corners there, and a cell facing a removed one is alone (the
+    cells above and below it on the other side end at its top and start at its bottom, node
+    ids growing down the interfaces).
     """
     nxp = table.shape[3]
     if along_j:  # pair (i, j) lies between cells (i, j - 1) and (i, j)
@@ -102,17 +109,20 @@ def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_bas
             1,
         )
     sa, sb = _J_PAIR if along_j else _I_PAIR
-    at1, at2, ab1, ab2 = (table[s][side_a] for s in sa)
-    bt1, bt2, bb1, bb2 = (table[s][side_b] for s in sb)
-    ex_a = (at1 >= 0) & ((at1 < ab1) | (at2 < ab2))  # kept and not pinched on this pair
-    ex_b = (bt1 >= 0) & ((bt1 < bb1) | (bt2 < bb2))
-    same_corners = (at1 == bt1) & (at2 == bt2) & (ab1 == bb1) & (ab2 == bb2)
-    lone_a = _alone(ex_a, ex_b, (at1, at2, ab1, ab2), (bt1, bt2, bb1, bb2))
-    lone_b = _alone(ex_b, ex_a, (bt1, bt2, bb1, bb2), (at1, at2, ab1, ab2))
-    regular = (((ex_a == ex_b) & (~ex_a | same_corners)) | lone_a | lone_b).all(axis=0)
-    one_side = ~ex_a.any(axis=0) | ~ex_b.any(axis=0)
-    simple = regular | one_side
-    faulted = (ex_a & ex_b & ~same_corners).any(axis=0)
+    ex_a, ex_b = (_has_face(table, slots, side) for slots, side in ((sa, side_a), (sb, side_b)))
+    if layered:
+        simple = np.ones(ex_a.shape[1:], dtype=bool)
+        faulted = np.zeros(ex_a.shape[1:], dtype=bool)
+    else:
+        at1, at2, ab1, ab2 = (table[s][side_a] for s in sa)
+        bt1, bt2, bb1, bb2 = (table[s][side_b] for s in sb)
+        same_corners = (at1 == bt1) & (at2 == bt2) & (ab1 == bb1) & (ab2 == bb2)
+        lone_a = _alone(ex_a, ex_b, (at1, at2, ab1, ab2), (bt1, bt2, bb1, bb2))
+        lone_b = _alone(ex_b, ex_a, (bt1, bt2, bb1, bb2), (at1, at2, ab1, ab2))
+        regular = (((ex_a == ex_b) & (~ex_a | same_corners)) | lone_a | lone_b).all(axis=0)
+        one_side = ~ex_a.any(axis=0) | ~ex_b.any(axis=0)
+        simple = regular | one_side
+        faulted = (ex_a & ex_b & ~same_corners).any(axis=0)
     pairs_per_layer = ex_a[0].size
     position_a = np.arange(cells.size).reshape(cells.shape)[side_a]  # table position of the A cell
 
@@ -133,6 +143,10 @@ def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_bas
         pairs_per_layer,
         pair_base,
     )
+
+    if layered:
+        no_cells = np.zeros(0, dtype=np.int64)
+        return StructuredLateral(quads, SideCells(*[no_cells] * 8), faulted.ravel())
 
     # Cells on both sides of the other pairs, for the general engine.
     general = ~simple
@@ -157,6 +171,13 @@ def structured_lateral(table: IntArray, cells: IntArray, along_j: bool, pair_bas
         )
     side_cells = SideCells(*(np.concatenate([f[n] for f in fields]).astype(np.int64) for n in range(8)))
     return StructuredLateral(quads, side_cells, faulted.ravel())
+
+
+def _has_face(table: IntArray, slots: tuple[int, ...], side: tuple[slice, ...]) -> np.ndarray:
+    """(nz, pairs): the cells of one side are kept and not pinched on the pair (a thickness on
+    one of its pillars at least)."""
+    t1, t2, b1, b2 = (table[s][side] for s in slots)
+    return (t1 >= 0) & ((t1 < b1) | (t2 < b2))
 
 
 def _alone(ex: np.ndarray, ex_other: np.ndarray, corners: tuple, other: tuple) -> np.ndarray:

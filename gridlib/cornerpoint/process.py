@@ -222,8 +222,8 @@ def _faces(deck: Deck, cn, pinch_threshold: float | None, notes: list[str]):
     """
     nx, ny, _ = deck.cart_dims
     pairs = _PillarPairs.of(nx, ny)
-    lat_i = structured_lateral(cn.table, cn.cells, False, 0)
-    lat_j = structured_lateral(cn.table, cn.cells, True, (nx + 1) * ny)
+    lat_i = structured_lateral(cn.table, cn.cells, False, 0, cn.layered)
+    lat_j = structured_lateral(cn.table, cn.cells, True, (nx + 1) * ny, cn.layered)
     side = _ranked_side_cells(lat_i.side_cells, lat_j.side_cells, cn.points.offset, pairs)
     general = general_pieces(side, pairs.num, pairs.p1, pairs.p2, pairs.is_j, cn.points, cn.xyz)
     faulted_pair = np.concatenate([lat_i.faulted, lat_j.faulted])

@@ -7,6 +7,7 @@ import numpy as np
 from gridlib.pillars.pillar_points import (
     depth_resolution,
     points_on_pillars,
+    sorted_points_rows,
     unique_points,
     unique_points_rows,
 )
@@ -54,6 +55,23 @@ def test_unique_points_rows_numbers_a_table_row_by_row_from_first_id():
     assert z.tolist() == [0.30000000000000004, 1.0, 3.0, 2.0]
     ids, count, z = unique_points_rows(np.array([[1.04, 0.96, 1.5]]), tol=0.1)
     assert (ids.tolist(), count.tolist(), z.tolist()) == ([[0, 0, 1]], [2], [1.0, 1.5])
+
+
+def test_sorted_points_rows_equals_unique_points_rows_on_growing_rows():
+    """Rows that grow (with NaN gaps, repeated depths, depths within the resolution of the one
+    before, a row without depths): the ids, counts and depths of the sorting twin, exactly."""
+    rng = np.random.default_rng(5)
+    steps = rng.choice([0.0, 1e-12, 3e-11, 0.25, 1.5], size=(40, 30))
+    rows = 2500.0 + np.cumsum(steps, axis=1)
+    rows[rng.random(rows.shape) < 0.3] = np.nan
+    rows[7] = np.nan
+    ids, count, z = sorted_points_rows(rows, first_id=3)
+    ids_sorted, count_sorted, z_sorted = unique_points_rows(rows, first_id=3)
+    np.testing.assert_array_equal(ids, ids_sorted)
+    np.testing.assert_array_equal(count, count_sorted)
+    np.testing.assert_array_equal(z, z_sorted)
+    assert count[7] == 0 and (ids[7] == -1).all()
+    assert 0 < count.sum() < np.isfinite(rows).sum()  # some depths merged
 
 
 def test_points_on_pillars_inclined_and_nearly_flat():
