@@ -38,7 +38,8 @@ EXAGGERATION = "vertical exaggeration"
 FAULT_NAME = style.FAULT_NAME
 WELL_NAME = "well name"
 OUTLINED_POLYGONS = 20000  # polygons drawn with their edges up to this many
-SIDE_ROOM, HEIGHT_ROOM = 2.4, 2.0  # inches of a section's figure beside and above/below its axes
+MARGINS = style.SECTION_MARGINS  # inches of a section's figure beside and above/below its axes
+SIDE_ROOM, HEIGHT_ROOM = MARGINS["left"] + MARGINS["right"], MARGINS["bottom"] + MARGINS["top"]
 MAX_HEIGHT = 8.0  # inches
 
 
@@ -157,6 +158,7 @@ def section_figure(
     ve = exaggeration(cut.vertices[-1], z_hi - z_lo + 2 * pad)
     ax.set_aspect(ve, adjustable="box")
     _fit_height(fig, ax, ve)
+    style.panel_layout(fig, 1, 1, MARGINS)
     _mark_vertices(ax, cut.vertices)
     text = ax.annotate(  # below the axes' right end, clear of the data and of the axis label
         f"vertical exaggeration {ve:g}x",
