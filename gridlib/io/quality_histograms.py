@@ -82,11 +82,10 @@ def _figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]]
         return fig
     rows = -(-len(names) // COLUMNS)
     cols = min(COLUMNS, len(names))
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    fig = plt.figure(figsize=(width * cols, height * rows))
+    axes = [fig.add_subplot(rows, cols, k + 1) for k in range(len(names))]  # not the empty cells'
     panel_layout(fig, rows, cols)
-    for ax in axes.ravel()[len(names) :]:
-        ax.remove()
-    for ax, name in zip(axes.ravel(), names, strict=False):
+    for ax, name in zip(axes, names, strict=True):
         v = values[name]
         v = v[np.isfinite(v)]
         label = quantity_label(name, units[name])
