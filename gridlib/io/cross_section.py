@@ -39,7 +39,6 @@ FAULT_NAME = style.FAULT_NAME
 WELL_NAME = "well name"
 OUTLINED_POLYGONS = 20000  # polygons drawn with their edges up to this many
 MARGINS = style.SECTION_MARGINS  # inches of a section's figure beside and above/below its axes
-SIDE_ROOM, HEIGHT_ROOM = MARGINS["left"] + MARGINS["right"], MARGINS["bottom"] + MARGINS["top"]
 MAX_HEIGHT = 8.0  # inches
 
 
@@ -158,7 +157,6 @@ def section_figure(
     ve = exaggeration(cut.vertices[-1], z_hi - z_lo + 2 * pad)
     ax.set_aspect(ve, adjustable="box")
     _fit_height(fig, ax, ve)
-    style.panel_layout(fig, 1, 1, MARGINS)
     _mark_vertices(ax, cut.vertices)
     text = ax.annotate(  # below the axes' right end, clear of the data and of the axis label
         f"vertical exaggeration {ve:g}x",
@@ -178,17 +176,13 @@ def section_figure(
 
 
 def _fit_height(fig, ax, exaggeration: float) -> None:
-    """The figure's height fitted to the exaggerated section (its width kept): the axes' box
-    as tall as its aspect makes it, plus room for the title, the ends' letters and the labels
-    (a fixed height would leave a long flat section a strip, and crop a steep one)."""
-    width, _ = fig.get_size_inches()
+    """The figure's height fitted to the exaggerated section (:func:`picture_style.fit_figure`:
+    a fixed height would leave a long flat section a strip, and crop a steep one), its axes
+    placed by :data:`MARGINS`."""
     x0, x1 = ax.get_xlim()
     bottom, top = ax.get_ylim()
     ratio = exaggeration * abs(bottom - top) / max(abs(x1 - x0), np.finfo(float).tiny)
-    height = ratio * (width - SIDE_ROOM) + HEIGHT_ROOM
-    if height > MAX_HEIGHT:  # a steep section (a thick model): narrower, not cropped
-        width, height = (MAX_HEIGHT - HEIGHT_ROOM) / ratio + SIDE_ROOM, MAX_HEIGHT
-    fig.set_size_inches(width, max(height, 3.0))
+    style.fit_figure(fig, ratio, MARGINS, MAX_HEIGHT)
 
 
 def _colours(values: np.ndarray, categorical: bool, kind: style.Kind = "property"):

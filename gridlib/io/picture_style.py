@@ -148,6 +148,20 @@ def panel_layout(fig, rows: int, cols: int, margins: dict[str, float] = PANEL_MA
     )
 
 
+def fit_figure(fig, ratio: float, margins: dict[str, float], max_height: float, min_height: float = 3.0):
+    """Fit the height of ``fig`` (one axes) to an axes box of height over width ``ratio`` (its
+    data's aspect) within ``margins`` (inches, :data:`MARGINS`), its width kept; where that is
+    taller than ``max_height``, narrower instead (not cropped); at least ``min_height``. Then
+    place its axes by the margins (:func:`panel_layout`)."""
+    width = fig.get_size_inches()[0]
+    side, room = margins["left"] + margins["right"], margins["bottom"] + margins["top"]
+    height = ratio * (width - side) + room
+    if height > max_height:
+        width, height = (max_height - room) / ratio + side, max_height
+    fig.set_size_inches(width, max(height, min_height))
+    panel_layout(fig, 1, 1, margins)
+
+
 _SUPERSCRIPTS = str.maketrans(
     "-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
 )
@@ -294,6 +308,17 @@ def _beside(ax):
         )
 
     return locate
+
+
+def segment_lines(ax, segments: np.ndarray, **kwargs: Any):
+    """The line segments ``segments`` ((n, 2, 2) data coordinates) drawn on ``ax`` in one
+    style (``kwargs`` of ``Line2D``) as one line broken by NaNs: one path, where a
+    ``LineCollection`` builds a path per segment (0.06 s of CPU for 14,000 outlines). Returns
+    the line."""
+    gaps = np.full((segments.shape[0], 1, 2), np.nan)
+    xy = np.concatenate([segments, gaps], axis=1).reshape(-1, 2)
+    (line,) = ax.plot(xy[:, 0], xy[:, 1], **kwargs)
+    return line
 
 
 def nice_length(length: float) -> float:
