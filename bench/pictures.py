@@ -20,8 +20,8 @@ every case's pictures once (warm-up: fonts, colour maps, VTK's first window) and
 * ``quality``: the quality stage's histograms built and saved;
 * ``stage``: the whole ``pictures`` stage (``run_stage``), for comparison with the sum.
 
-It prints the median CPU seconds per step, case and checkout, with the load average before and
-after. ``--profile CASE``: a cProfile of 3 warm runs of CASE's pictures stage (and quality
+It prints the median (and the least) CPU seconds per step, case and checkout, with the load
+average before and after. ``--profile CASE``: a cProfile of 3 warm runs of CASE's pictures stage (and quality
 picture) in this process, by phase: figure build, layout, draw, text layout, PNG encoding, VTK
 render (cumulative seconds of the functions that mark each phase).
 """
@@ -228,14 +228,16 @@ def main() -> None:
             )
             results[checkout].append(json.loads(out.stdout.strip().splitlines()[-1]))
     print(f"load average after: {os.getloadavg()}")
-    print("median CPU seconds per step (" + " | ".join(str(c) for c in checkouts) + ")")
+    print("CPU seconds per step, median (min) (" + " | ".join(str(c) for c in checkouts) + ")")
     for name in cases:
         print(f"\n{name}")
         for step in STEPS:
             cells = []
             for checkout in checkouts:
                 seconds = [s for run in results[checkout] for s in run[name].get(step, [])]
-                cells.append(f"{statistics.median(seconds):8.3f}" if seconds else "       -")
+                cells.append(
+                    f"{statistics.median(seconds):6.3f} ({min(seconds):.3f})" if seconds else " " * 14
+                )
             print(f"  {step:>20}: " + " | ".join(cells))
 
 
