@@ -148,7 +148,9 @@ def panel_layout(fig, rows: int, cols: int, margins: dict[str, float] = PANEL_MA
     )
 
 
-def fit_figure(fig, ratio: float, margins: dict[str, float], max_height: float, min_height: float = 3.0):
+def fit_figure(
+    fig, ratio: float, margins: dict[str, float], max_height: float, min_height: float = 3.0
+) -> None:
     """Fit the height of ``fig`` (one axes) to an axes box of height over width ``ratio`` (its
     data's aspect) within ``margins`` (inches, :data:`MARGINS`), its width kept; where that is
     taller than ``max_height``, narrower instead (not cropped); at least ``min_height``. Then

@@ -75,7 +75,7 @@ def _figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]]
     units = {m.name: measure_units(m) for m in MEASURES}
     width, height = FIGURE_SIZES["histograms"]
     if not names:
-        fig, ax = plt.subplots(figsize=(width, 0.5 * height), layout="constrained")
+        fig, ax = plt.subplots(figsize=(width, 0.5 * height))
         ax.axis("off")
         ax.text(0.5, 0.5, "no quality measure varies over this grid", ha="center", va="center")
         fig.suptitle(title)

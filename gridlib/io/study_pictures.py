@@ -23,8 +23,8 @@ variant are drawn (its grid was built).
 Axes: a key's label is ``key [unit]`` as study.csv's header, a figure's its name and unit
 (``fraction`` for a unit of 1, as :func:`gridlib.io.quantities.picture_quantity`). Values are
 written in full, never with a floating offset ("1e7" above a panel): where they are large or
-small, the power of ten is in the axis label (``pore volume [10⁶ m3]``, in plain text) and the ticks are
-scaled, the plotted data stay the table's values. Artists carry a ``gid``
+small, the power of ten is in the axis label in plain text (``pore volume [10⁶ m3]``) and the
+ticks are scaled, the plotted data stay the table's values. Artists carry a ``gid``
 (:data:`MEAN`, :data:`REALISATIONS`, :data:`SPREAD`, :data:`FAILED`, :data:`TORNADO_LOW`,
 :data:`TORNADO_HIGH`, :data:`BASE`) for tests and readers.
 """

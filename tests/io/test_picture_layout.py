@@ -84,7 +84,7 @@ def _inside_the_figure(fig) -> None:
 def _beside(fig, ax, bar_ax) -> None:
     """The colour bar's box: COLOUR_BAR's gap right of the axes' drawn box, its width, a fixed
     fraction of the axes' height and centred on it; within the figure."""
-    width, height = fig.get_size_inches()
+    width = fig.get_size_inches()[0]
     box, bar = ax.get_position(), bar_ax.get_position()
     assert (bar.x0 - box.x1) * width == pytest.approx(style.COLOUR_BAR["pad"], abs=1e-9)
     assert bar.width * width == pytest.approx(style.COLOUR_BAR["width"], abs=1e-9)
@@ -105,9 +105,11 @@ def test_the_plan_view_fits_its_map_and_is_not_cropped(box):
     width, height = fig.get_size_inches()
     assert width == style.FIGURE_SIZES["plan"][0]
     drawn = width - m["left"] - m["right"]
-    assert height == pytest.approx(drawn * (400.0 + 48.0) / (600.0 + 48.0) + m["bottom"] + m["top"], rel=1e-12)
+    room = m["bottom"] + m["top"]
+    assert height == pytest.approx(drawn * (400.0 + 48.0) / (600.0 + 48.0) + room, rel=1e-12)
     position = ax.get_position()
-    assert position.x0 * width == pytest.approx(m["left"]) and position.y0 * height == pytest.approx(m["bottom"])
+    assert position.x0 * width == pytest.approx(m["left"])
+    assert position.y0 * height == pytest.approx(m["bottom"])
     assert position.width * width == pytest.approx(drawn, rel=1e-9)
     plt.close(fig)
 
