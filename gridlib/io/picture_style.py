@@ -193,19 +193,46 @@ def _power_of_ten_formatter(minor: bool):
     return PowerOfTenFormatter(10.0, labelOnlyBase=not minor)
 
 
+# A logarithmic axis spanning more than this ratio gets no minor ticks: its powers of ten are
+# close enough to read between, and each tick is a dozen artists (a panel's drawing is nearly
+# all ticks).
+MINOR_TICKS_SPAN = 1e4
+# At most this many intervals between the labelled ticks of a histogram's linear axes (matplotlib
+# puts up to 10 on a panel 4 inches wide).
+HISTOGRAM_TICKS = 5
+
+
 def logarithmic(ax, which: Literal["x", "y"]) -> None:
     """Make the axis ``which`` of ``ax`` logarithmic with minor ticks at 2 and 5 times each
     power of ten (matplotlib's default of 2 to 9 makes four times the tick objects of a
-    histogram panel, a third of its drawing time), labelled in plain text
-    (:func:`power_of_ten_label`: matplotlib's own labels are mathtext, whose parser took about
-    0.2 s of a small case's pictures)."""
+    histogram panel, a third of its drawing time), none where it spans more than
+    :data:`MINOR_TICKS_SPAN`, labelled in plain text (:func:`power_of_ten_label`: matplotlib's
+    own labels are mathtext, whose parser took about 0.2 s of a small case's pictures)."""
     from matplotlib.ticker import LogLocator
+
+    class FewMinorTicks(LogLocator):
+        def tick_values(self, vmin, vmax):
+            lo, hi = sorted((vmin, vmax))
+            if lo > 0 and hi > MINOR_TICKS_SPAN * lo:
+                return np.array([])
+            return super().tick_values(vmin, vmax)
 
     (ax.set_xscale if which == "x" else ax.set_yscale)("log")
     axis = ax.xaxis if which == "x" else ax.yaxis
-    axis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+    axis.set_minor_locator(FewMinorTicks(subs=(2.0, 5.0)))
     axis.set_major_formatter(_power_of_ten_formatter(minor=False))
     axis.set_minor_formatter(_power_of_ten_formatter(minor=True))
+
+
+def few_ticks(ax) -> None:
+    """At most :data:`HISTOGRAM_TICKS` intervals of 1, 2 or 5 x 10^k between the labelled ticks
+    of the axes of ``ax`` that matplotlib's default locator places (not logarithmic axes, nor
+    ticks set by hand): a histogram panel's drawing is nearly all its ticks' artists."""
+    from matplotlib.ticker import AutoLocator, MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis):
+        if type(axis.get_major_locator()) is AutoLocator:
+            axis.set_major_locator(MaxNLocator(nbins=HISTOGRAM_TICKS, steps=[1, 2, 5, 10]))
 
 
 def colour_map(kind: Kind):

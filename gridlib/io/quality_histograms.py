@@ -21,7 +21,15 @@ from typing import Any
 import numpy as np
 
 from ..quality import MEASURES
-from .picture_style import DPI, FIGURE_SIZES, logarithmic, panel_layout, picture_style, quantity_label
+from .picture_style import (
+    DPI,
+    FIGURE_SIZES,
+    few_ticks,
+    logarithmic,
+    panel_layout,
+    picture_style,
+    quantity_label,
+)
 from .pictures import save_figure
 from .quality_file import FLAGS, measure_units
 
@@ -90,6 +98,7 @@ def _figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]]
         v = v[np.isfinite(v)]
         label = quantity_label(name, units[name])
         (_flag_panel if name in FLAGS else _panel)(ax, v, label)
+        few_ticks(ax)
         for rule in rules:
             if rule["quantity"] != name:
                 continue
