@@ -38,7 +38,7 @@ EXAGGERATION = "vertical exaggeration"
 FAULT_NAME = style.FAULT_NAME
 WELL_NAME = "well name"
 OUTLINED_POLYGONS = 20000  # polygons drawn with their edges up to this many
-SIDE_ROOM, HEIGHT_ROOM = 2.4, 2.0  # inches of a section's figure beside and above/below its axes
+MARGINS = style.SECTION_MARGINS  # inches of a section's figure beside and above/below its axes
 MAX_HEIGHT = 8.0  # inches
 
 
@@ -176,17 +176,13 @@ def section_figure(
 
 
 def _fit_height(fig, ax, exaggeration: float) -> None:
-    """The figure's height fitted to the exaggerated section (its width kept): the axes' box
-    as tall as its aspect makes it, plus room for the title, the ends' letters and the labels
-    (a fixed height would leave a long flat section a strip, and crop a steep one)."""
-    width, _ = fig.get_size_inches()
+    """The figure's height fitted to the exaggerated section (:func:`picture_style.fit_figure`:
+    a fixed height would leave a long flat section a strip, and crop a steep one), its axes
+    placed by :data:`MARGINS`."""
     x0, x1 = ax.get_xlim()
     bottom, top = ax.get_ylim()
     ratio = exaggeration * abs(bottom - top) / max(abs(x1 - x0), np.finfo(float).tiny)
-    height = ratio * (width - SIDE_ROOM) + HEIGHT_ROOM
-    if height > MAX_HEIGHT:  # a steep section (a thick model): narrower, not cropped
-        width, height = (MAX_HEIGHT - HEIGHT_ROOM) / ratio + SIDE_ROOM, MAX_HEIGHT
-    fig.set_size_inches(width, max(height, 3.0))
+    style.fit_figure(fig, ratio, MARGINS, MAX_HEIGHT)
 
 
 def _colours(values: np.ndarray, categorical: bool, kind: style.Kind = "property"):

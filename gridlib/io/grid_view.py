@@ -155,6 +155,10 @@ def grid_scene(
     exaggeration = 1.0 if flat else _exaggeration(mesh)
     scale = np.array([1.0, 1.0, -exaggeration])  # depth to exaggerated elevation
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    # No multisample anti-aliasing: VTK renders off screen in software (Mesa's llvmpipe), where
+    # pyvista's default of 8 samples took a third of the picture's CPU (0.12 of 0.37 s for 1,300
+    # cells) for edges a pixel smoother at 1400 x 900; the lines drawn are 3 to 4 pixels wide.
+    plotter.disable_anti_aliasing()
     plotter.set_background("white")
     bar_title = bar_title or scalar
     plotter.add_mesh(

@@ -22,10 +22,12 @@ __all__ = ["plot_pick_residuals", "read_pick_residuals", "residuals_figure"]
 from .horizon_files import read_pick_residuals
 from .picture_style import (
     FIGURE_SIZES,
+    MAP_MARGINS,
     colour_bar,
     colour_map,
     fault_colour,
     north_arrow,
+    panel_layout,
     picture_style,
     quantity_label,
     scale_bar,
@@ -33,6 +35,9 @@ from .picture_style import (
 from .pictures import save_figure
 
 ROW_HEIGHT = 4.2  # inches per horizon
+# Inches: a map's (MAP_MARGINS) at the left and below, its colour bar and the histogram's
+# count labels between the two columns; the figure's title and a row's titles above each row.
+MARGINS = {**MAP_MARGINS, "right": 0.55, "top": 0.75, "across": MAP_MARGINS["right"] + 0.8, "down": 1.0}
 
 
 def residuals_figure(
@@ -67,10 +72,10 @@ def residuals_figure(
             horizons.size,
             2,
             figsize=(width, ROW_HEIGHT * horizons.size),
-            layout="constrained",
             squeeze=False,
-            gridspec_kw={"width_ratios": (1.5, 1.0)},
+            gridspec_kw={"width_ratios": (1.3, 1.0)},
         )
+        panel_layout(fig, horizons.size, 2, MARGINS)
         for row, k in enumerate(horizons):
             mine = residuals.horizon == k
             name = str(names[k])

@@ -98,29 +98,44 @@ def picture_style() -> Iterator[None]:
 
 def new_figure(kind: str, ncols: int = 1):
     """A figure of the size of ``kind`` (a key of :data:`FIGURE_SIZES`; its width per panel
-    times ``ncols``) and its axes, laid out by matplotlib's constrained layout (no overlaps of
-    labels, titles and colour bars)."""
+    times ``ncols``) and its axes, placed by the kind's fixed margins (:data:`MARGINS`,
+    :func:`panel_layout`)."""
     import matplotlib.pyplot as plt
 
     width, height = FIGURE_SIZES[kind]
     if kind == "histograms":
         width *= ncols
-    return plt.subplots(1, ncols, figsize=(width, height), layout="constrained")
+    fig, axes = plt.subplots(1, ncols, figsize=(width, height))
+    panel_layout(fig, 1, ncols, MARGINS[kind])
+    return fig, axes
 
 
-# The margins of a grid of histogram panels (inches): room for tick labels of up to 6
-# characters and one line of axis label at FONT_SIZE beside and below each panel, and the title
-# above all. Fixed, where tight or constrained layout measure every text of the figure (0.2 to
-# 0.35 s of CPU for a histogram picture that draws in 0.2 s).
+# The margins of a picture's axes (inches): fixed, where tight or constrained layout measure
+# every text of the figure (0.2 to 0.35 s of CPU for a histogram picture that draws in 0.2 s,
+# and a second draw of the whole figure when it is saved).
+# Histograms: room for tick labels of up to 6 characters and one line of axis label at
+# FONT_SIZE beside and below each panel, and the title above all.
 PANEL_MARGINS = {"left": 0.8, "right": 0.3, "bottom": 0.65, "top": 0.55, "across": 0.85, "down": 0.8}
+# A map (plan view, residuals): y tick labels of up to 7 characters and the axis label at the
+# left; the colour bar (:func:`colour_bar`), its tick labels of up to 6 characters and its
+# title at the right; a line of tick labels and the axis label below, the title above.
+MAP_MARGINS = {"left": 1.0, "right": 1.45, "bottom": 0.7, "top": 0.5, "across": 0.0, "down": 0.0}
+# A section: as a map, and below the axes label the vertical exaggeration's line; above, the
+# ends' letters (A, A') beside the title.
+SECTION_MARGINS = {**MAP_MARGINS, "left": 0.95, "bottom": 1.0, "top": 0.6}
+MARGINS = {"histograms": PANEL_MARGINS, "plan": MAP_MARGINS, "section": SECTION_MARGINS}
+# A colour bar beside its axes (inches; its length a fraction of the axes' height).
+COLOUR_BAR = {"pad": 0.15, "width": 0.22, "length": 0.85}
 
 
-def panel_layout(fig, rows: int, cols: int) -> None:
+def panel_layout(fig, rows: int, cols: int, margins: dict[str, float] = PANEL_MARGINS) -> None:
     """Place the ``rows`` x ``cols`` axes of ``fig`` (made by ``plt.subplots`` without a layout
-    engine) by :data:`PANEL_MARGINS`: the same place whatever the panels' texts, none of which
-    overlap for labels within the margins."""
+    engine) by ``margins`` (inches: ``left``, ``right``, ``bottom``, ``top`` of the figure,
+    ``across`` and ``down`` between panels; :data:`MARGINS`): the same place whatever the
+    panels' texts, none of which overlap for labels within the margins. Call it again after
+    the figure is resized (the margins are kept in inches)."""
     width, height = fig.get_size_inches()
-    m = PANEL_MARGINS
+    m = margins
     panel_width = (width - m["left"] - m["right"] - (cols - 1) * m["across"]) / cols
     panel_height = (height - m["bottom"] - m["top"] - (rows - 1) * m["down"]) / rows
     fig.subplots_adjust(
@@ -131,6 +146,22 @@ def panel_layout(fig, rows: int, cols: int) -> None:
         wspace=m["across"] / panel_width,
         hspace=m["down"] / panel_height,
     )
+
+
+def fit_figure(
+    fig, ratio: float, margins: dict[str, float], max_height: float, min_height: float = 3.0
+) -> None:
+    """Fit the height of ``fig`` (one axes) to an axes box of height over width ``ratio`` (its
+    data's aspect) within ``margins`` (inches, :data:`MARGINS`), its width kept; where that is
+    taller than ``max_height``, narrower instead (not cropped); at least ``min_height``. Then
+    place its axes by the margins (:func:`panel_layout`)."""
+    width = fig.get_size_inches()[0]
+    side, room = margins["left"] + margins["right"], margins["bottom"] + margins["top"]
+    height = ratio * (width - side) + room
+    if height > max_height:
+        width, height = (max_height - room) / ratio + side, max_height
+    fig.set_size_inches(width, max(height, min_height))
+    panel_layout(fig, 1, 1, margins)
 
 
 _SUPERSCRIPTS = str.maketrans(
@@ -162,19 +193,46 @@ def _power_of_ten_formatter(minor: bool):
     return PowerOfTenFormatter(10.0, labelOnlyBase=not minor)
 
 
+# A logarithmic axis spanning more than this ratio gets no minor ticks: its powers of ten are
+# close enough to read between, and each tick is a dozen artists (a panel's drawing is nearly
+# all ticks).
+MINOR_TICKS_SPAN = 1e4
+# At most this many intervals between the labelled ticks of a histogram's linear axes (matplotlib
+# puts up to 10 on a panel 4 inches wide).
+HISTOGRAM_TICKS = 5
+
+
 def logarithmic(ax, which: Literal["x", "y"]) -> None:
     """Make the axis ``which`` of ``ax`` logarithmic with minor ticks at 2 and 5 times each
     power of ten (matplotlib's default of 2 to 9 makes four times the tick objects of a
-    histogram panel, a third of its drawing time), labelled in plain text
-    (:func:`power_of_ten_label`: matplotlib's own labels are mathtext, whose parser took about
-    0.2 s of a small case's pictures)."""
+    histogram panel, a third of its drawing time), none where it spans more than
+    :data:`MINOR_TICKS_SPAN`, labelled in plain text (:func:`power_of_ten_label`: matplotlib's
+    own labels are mathtext, whose parser took about 0.2 s of a small case's pictures)."""
     from matplotlib.ticker import LogLocator
+
+    class FewMinorTicks(LogLocator):
+        def tick_values(self, vmin, vmax):
+            lo, hi = sorted((vmin, vmax))
+            if lo > 0 and hi > MINOR_TICKS_SPAN * lo:
+                return np.array([])
+            return super().tick_values(vmin, vmax)
 
     (ax.set_xscale if which == "x" else ax.set_yscale)("log")
     axis = ax.xaxis if which == "x" else ax.yaxis
-    axis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+    axis.set_minor_locator(FewMinorTicks(subs=(2.0, 5.0)))
     axis.set_major_formatter(_power_of_ten_formatter(minor=False))
     axis.set_minor_formatter(_power_of_ten_formatter(minor=True))
+
+
+def few_ticks(ax) -> None:
+    """At most :data:`HISTOGRAM_TICKS` intervals of 1, 2 or 5 x 10^k between the labelled ticks
+    of the axes of ``ax`` that matplotlib's default locator places (not logarithmic axes, nor
+    ticks set by hand): a histogram panel's drawing is nearly all its ticks' artists."""
+    from matplotlib.ticker import AutoLocator, MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis):
+        if type(axis.get_major_locator()) is AutoLocator:
+            axis.set_major_locator(MaxNLocator(nbins=HISTOGRAM_TICKS, steps=[1, 2, 5, 10]))
 
 
 def colour_map(kind: Kind):
@@ -241,14 +299,17 @@ def quantity_label(quantity: str, unit: str | None) -> str:
 def colour_bar(
     fig, ax, mappable, quantity: str, unit: str | None, *, ticks: Any = None, downward: bool = False
 ):
-    """A vertical colour bar beside ``ax`` titled ``quantity [unit]`` along its long side,
-    beyond its tick labels (matplotlib places the label outside them: they never overlap);
-    at most 8 ticks (or ``ticks``), none crowded, written in full (no offset); ``downward``
-    (depths): its values increase downwards, shallow at the top as on a section. Returns the
-    colour bar."""
+    """A vertical colour bar beside ``ax`` (:data:`COLOUR_BAR`: a fixed gap and width in inches,
+    centred on the axes' box as drawn, after its aspect; in the axes' right margin, which
+    :data:`MARGINS` leave for it) titled ``quantity [unit]`` along its long side, beyond its
+    tick labels (matplotlib places the label outside them: they never overlap); at most 8
+    ticks (or ``ticks``), none crowded, written in full (no offset); ``downward`` (depths): its
+    values increase downwards, shallow at the top as on a section. Returns the colour bar."""
     from matplotlib.ticker import MaxNLocator, ScalarFormatter
 
-    bar = fig.colorbar(mappable, ax=ax, shrink=0.85, pad=0.02, ticks=ticks)
+    cax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
+    cax.set_axes_locator(_beside(ax))
+    bar = fig.colorbar(mappable, cax=cax, ticks=ticks)
     if ticks is None:
         bar.locator = MaxNLocator(nbins=8)
     bar.formatter = ScalarFormatter(useOffset=False)  # whole depths, not "+1.5e3" above the bar
@@ -257,6 +318,36 @@ def colour_bar(
     if downward:
         bar.ax.invert_yaxis()
     return bar
+
+
+def _beside(ax):
+    """An axes locator: the box of a colour bar right of ``ax``'s box as drawn (its aspect
+    applied), :data:`COLOUR_BAR`'s gap and width, centred on it vertically."""
+    from matplotlib.transforms import Bbox
+
+    def locate(cax, renderer):
+        box = ax.get_position()  # the active box: the axes' aspect applied
+        width = ax.figure.get_size_inches()[0]
+        length = COLOUR_BAR["length"] * box.height
+        return Bbox.from_bounds(
+            box.x1 + COLOUR_BAR["pad"] / width,
+            box.y0 + 0.5 * (box.height - length),
+            COLOUR_BAR["width"] / width,
+            length,
+        )
+
+    return locate
+
+
+def segment_lines(ax, segments: np.ndarray, **kwargs: Any):
+    """The line segments ``segments`` ((n, 2, 2) data coordinates) drawn on ``ax`` in one
+    style (``kwargs`` of ``Line2D``) as one line broken by NaNs: one path, where a
+    ``LineCollection`` builds a path per segment (0.06 s of CPU for 14,000 outlines). Returns
+    the line."""
+    gaps = np.full((segments.shape[0], 1, 2), np.nan)
+    xy = np.concatenate([segments, gaps], axis=1).reshape(-1, 2)
+    (line,) = ax.plot(xy[:, 0], xy[:, 1], **kwargs)
+    return line
 
 
 def nice_length(length: float) -> float:

@@ -14,7 +14,7 @@ from ..reproducible import log10
 from ..units import UnitSystem
 from .atomic import write_keeping_suffix
 from .grid_view import depth_window, grid_polydata, grid_scene, render_grid
-from .picture_style import logarithmic, panel_layout
+from .picture_style import few_ticks, logarithmic, panel_layout
 from .quantities import picture_label
 
 __all__ = [
@@ -91,6 +91,7 @@ def histogram_figure(
                 [v.size],
                 width=1.0 if not v.size else 0.1 * abs(float(v[0])) or 1.0,
             )
+        few_ticks(ax)
         ax.set_xlabel(label)
         ax.set_ylabel("count")
     fig.suptitle(title)

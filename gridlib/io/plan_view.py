@@ -72,6 +72,10 @@ def plan_figure(
     ax.set_xlim(lo[0] - margin, hi[0] + margin)
     ax.set_ylim(lo[1] - margin, hi[1] + margin)
     ax.set_aspect("equal")
+    # the figure as tall as the map needs (up to its kind's height): no bands of white above
+    # and below a wide map
+    ratio = (hi[1] - lo[1] + 2 * margin) / (hi[0] - lo[0] + 2 * margin)
+    style.fit_figure(fig, float(ratio), style.MAP_MARGINS, style.FIGURE_SIZES["plan"][1])
     draw_faults(ax, segments, ids, fault_names)
     draw_wells(ax, wells, window)
     if section is not None:
@@ -102,7 +106,6 @@ def _depth_map(ax, top: TopSurface):
     """Filled contours of the top's depth with labelled lines (one colour where flat), and the
     top faces' outlines where few; returns the mappable of the colour bar and its ticks (the
     one depth of a flat top, else None)."""
-    from matplotlib.collections import LineCollection
     from matplotlib.tri import Triangulation
 
     x, y, z = top.points.T
@@ -126,9 +129,7 @@ def _depth_map(ax, top: TopSurface):
             ax.clabel(lines, fmt="%g", fontsize=style.LABEL_SIZE)
     if top.faces.size <= OUTLINED_FACES:
         edges = top.triangles[:, 1:]  # each fan triangle's outer edge: the face's edge
-        ax.add_collection(
-            LineCollection(top.points[edges][:, :, :2], colors="white", linewidths=0.3, alpha=0.5)
-        )
+        style.segment_lines(ax, top.points[edges][:, :, :2], color="white", linewidth=0.3, alpha=0.5)
     return mappable, ticks
 
 

@@ -21,7 +21,15 @@ from typing import Any
 import numpy as np
 
 from ..quality import MEASURES
-from .picture_style import DPI, FIGURE_SIZES, logarithmic, panel_layout, picture_style, quantity_label
+from .picture_style import (
+    DPI,
+    FIGURE_SIZES,
+    few_ticks,
+    logarithmic,
+    panel_layout,
+    picture_style,
+    quantity_label,
+)
 from .pictures import save_figure
 from .quality_file import FLAGS, measure_units
 
@@ -75,22 +83,22 @@ def _figure(values: Mapping[str, np.ndarray], rules: Sequence[Mapping[str, Any]]
     units = {m.name: measure_units(m) for m in MEASURES}
     width, height = FIGURE_SIZES["histograms"]
     if not names:
-        fig, ax = plt.subplots(figsize=(width, 0.5 * height), layout="constrained")
+        fig, ax = plt.subplots(figsize=(width, 0.5 * height))
         ax.axis("off")
         ax.text(0.5, 0.5, "no quality measure varies over this grid", ha="center", va="center")
         fig.suptitle(title)
         return fig
     rows = -(-len(names) // COLUMNS)
     cols = min(COLUMNS, len(names))
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    fig = plt.figure(figsize=(width * cols, height * rows))
+    axes = [fig.add_subplot(rows, cols, k + 1) for k in range(len(names))]  # not the empty cells'
     panel_layout(fig, rows, cols)
-    for ax in axes.ravel()[len(names) :]:
-        ax.remove()
-    for ax, name in zip(axes.ravel(), names, strict=False):
+    for ax, name in zip(axes, names, strict=True):
         v = values[name]
         v = v[np.isfinite(v)]
         label = quantity_label(name, units[name])
         (_flag_panel if name in FLAGS else _panel)(ax, v, label)
+        few_ticks(ax)
         for rule in rules:
             if rule["quantity"] != name:
                 continue

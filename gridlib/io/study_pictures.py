@@ -23,8 +23,8 @@ variant are drawn (its grid was built).
 Axes: a key's label is ``key [unit]`` as study.csv's header, a figure's its name and unit
 (``fraction`` for a unit of 1, as :func:`gridlib.io.quantities.picture_quantity`). Values are
 written in full, never with a floating offset ("1e7" above a panel): where they are large or
-small, the power of ten is in the axis label (``pore volume [10^6 m3]``) and the ticks are
-scaled, the plotted data stay the table's values. Artists carry a ``gid``
+small, the power of ten is in the axis label in plain text (``pore volume [10⁶ m3]``) and the
+ticks are scaled, the plotted data stay the table's values. Artists carry a ``gid``
 (:data:`MEAN`, :data:`REALISATIONS`, :data:`SPREAD`, :data:`FAILED`, :data:`TORNADO_LOW`,
 :data:`TORNADO_HIGH`, :data:`BASE`) for tests and readers.
 """
@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from .picture_style import LABEL_SIZE, colour_map, picture_style
+from .picture_style import LABEL_SIZE, colour_map, picture_style, power_of_ten_label
 
 # The figures study.png draws against every varied key, those the study has: its simulated
 # responses (and each well's water breakthrough day WBT:<well>) when it simulates, else the grid's.
@@ -180,7 +180,7 @@ def label_axis(axis, title: str, unit: str | None, values: np.ndarray) -> None:
     k = power_of_ten(np.asarray(values, dtype=float))
     scale = float(f"1e{k}")
     axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v / scale:g}"))
-    power = f"$10^{{{k}}}$" if k else ""
+    power = power_of_ten_label(scale) if k else ""  # plain text: no mathtext parsed per figure
     unit_part = " ".join(p for p in (power, unit) if p)
     axis.set_label_text(f"{title} [{unit_part}]" if unit_part else title)
 

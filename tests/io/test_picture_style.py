@@ -69,3 +69,34 @@ def test_the_ticks_matplotlib_labels_in_plain_text(limits, major, minor):
     assert [[label for _, label in ticks] for ticks in ours] == [major, minor]
     assert [[x for x, _ in ticks] for ticks in ours] == [[x for x, _ in ticks] for ticks in theirs]
     assert all(label.startswith("$") for ticks in theirs for _, label in ticks)  # mathtext, which ours avoid
+
+
+def test_few_ticks_on_histogram_axes():
+    """A log axis over more than MINOR_TICKS_SPAN has no minor ticks (its powers of ten are
+    close enough), a narrower one keeps them; few_ticks leaves at most HISTOGRAM_TICKS round
+    intervals on a default linear axis and keeps ticks set by hand."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gridlib.io.picture_style import HISTOGRAM_TICKS, few_ticks
+
+    fig, (wide, narrow, linear) = plt.subplots(1, 3, figsize=(15.0, 3.6))
+    for ax, limits in ((wide, (1e-3, 1e3)), (narrow, (15.0, 300.0))):
+        ax.plot(limits, [0.0, 1.0])
+        logarithmic(ax, "x")
+        ax.set_xlim(*limits)
+    linear.plot([0.12, 0.28], [0.0, 535.0])
+    linear.set_xticks([0.12, 0.2, 0.28])
+    for ax in (wide, narrow, linear):
+        few_ticks(ax)
+    fig.canvas.draw()
+    assert wide.xaxis.get_minorticklocs().size == 0
+    minor = narrow.xaxis.get_minorticklocs()
+    assert minor[(minor >= 15.0) & (minor <= 300.0)].tolist() == pytest.approx([20.0, 50.0, 200.0])
+    assert linear.get_xticks().tolist() == [0.12, 0.2, 0.28]  # set by hand: kept
+    counts = linear.get_yticks()
+    shown = counts[(counts >= 0.0) & (counts <= linear.get_ylim()[1])]
+    assert shown.size - 1 <= HISTOGRAM_TICKS and shown.tolist() == [0.0, 200.0, 400.0]
+    plt.close(fig)

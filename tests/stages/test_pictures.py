@@ -105,3 +105,16 @@ def test_a_section_line_is_checked_when_the_case_is_read(section, grid, message)
     data = {"name": "x", "grid": grid, "pictures": {"section": section}}
     with pytest.raises(InputError, match=message):
         check_case_data(data, Path("x.yaml"), "x.yaml")
+
+
+def test_the_pictures_are_the_same_bytes_when_drawn_again(built, tmp_path):
+    """Deterministic pictures (the 3-D view's rendering, matplotlib's PNG and its metadata):
+    drawn again from the same stage files, every PNG is byte for byte the first."""
+    path, folder = built
+    out = case_outputs("faulted_pebi", folder)
+    again = case_outputs("faulted_pebi", tmp_path)
+    inputs = {k: out[k] for k in ("grid", "geometry", "faults", "petrophysics", "transmissibility")}
+    drawn = ("png", "histograms", "plan", "section")
+    stage_pictures(load_case(path), **inputs, **{k: again[k] for k in drawn})
+    for key in drawn:
+        assert again[key].read_bytes() == out[key].read_bytes(), key

@@ -109,8 +109,8 @@ def test_study_png_lines_are_study_csv_per_combination(study):
     figures = ["oil_recovery", "FOPT", "FWPT", "FPR", "WBT:PROD"]
     assert [a.get_ylabel() for a in axes[::2]] == [
         "oil recovery [fraction]",
-        "FOPT [$10^{6}$ sm3]",
-        "FWPT [$10^{3}$ sm3]",
+        "FOPT [10⁶ sm3]",
+        "FWPT [10³ sm3]",
         "FPR [bar]",
         "WBT:PROD [day]",
     ]

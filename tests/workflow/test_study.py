@@ -186,7 +186,7 @@ def test_study_png_draws_a_line_per_cell_size_whose_bars_span_its_realisations_o
         fig = study_pictures.study_figure(ds.load())
     try:
         (ax,) = [
-            a for a in fig.axes if a.get_ylabel() == "pore volume [$10^{6}$ m3]" and "throw" in a.get_xlabel()
+            a for a in fig.axes if a.get_ylabel() == "pore volume [10⁶ m3]" and "throw" in a.get_xlabel()
         ]
         means = [line for line in ax.lines if line.get_gid() == study_pictures.MEAN]
         bars = [c for c in ax.collections if c.get_gid() == study_pictures.SPREAD]
