@@ -16,6 +16,8 @@ run by slurmd) are not counted. ``CPUTIME_OUT`` receives {"modules": {path: [cpu
 "tests": {nodeid: [cpu, wall]}} in seconds; under pytest-xdist each worker writes
 ``CPUTIME_OUT.<worker id>`` (e.g. cpu.json.gw0) with the modules it ran and the time each
 started (``"starts"``: seconds since the epoch), from which the critical path can be read.
+``"collection"`` is [cpu, wall] of the process's collection (imports of every test module and,
+for the doctests, of every gridlib module): under xdist each worker collects the whole suite.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ PR_SET_CHILD_SUBREAPER = 36
 _modules: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0])
 _tests: dict[str, list[float]] = {}
 _starts: dict[str, float] = {}
+_collection: list[float] = []  # CPU and wall seconds of this process's collection
 
 
 def _reap_orphans() -> None:
@@ -62,6 +65,14 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 @pytest.hookimpl(hookwrapper=True)
+def pytest_collection(session: pytest.Session):
+    cpu, wall = _cpu(), time.perf_counter()
+    yield
+    if session.items:  # not pytest-xdist's controller, which leaves collection to its workers
+        _collection[:] = [_cpu() - cpu, time.perf_counter() - wall]
+
+
+@pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None):
     cpu, wall = _cpu(), time.perf_counter()
     yield
@@ -78,11 +89,14 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
     if out and _tests:  # under xdist only the workers run tests: each writes its own file
         worker = os.environ.get("PYTEST_XDIST_WORKER")
         with open(f"{out}.{worker}" if worker else out, "w") as f:
-            json.dump({"modules": dict(_modules), "tests": _tests, "starts": _starts}, f, indent=1)
+            record = {"modules": dict(_modules), "tests": _tests, "starts": _starts}
+            json.dump(record | {"collection": _collection}, f, indent=1)
 
 
 def pytest_terminal_summary(terminalreporter) -> None:
     total = sum(cpu for cpu, _ in _modules.values())
     terminalreporter.write_sep("=", f"CPU time per module (self + subprocesses): {total:.1f} s in all")
+    if _collection:  # under xdist the workers collect: their figures are in their files
+        terminalreporter.write_line(f"{_collection[0]:8.1f} s CPU {_collection[1]:8.1f} s wall  (collection)")
     for module, (cpu, wall) in sorted(_modules.items(), key=lambda kv: -kv[1][0])[:40]:
         terminalreporter.write_line(f"{cpu:8.1f} s CPU {wall:8.1f} s wall  {module}")
