@@ -9,6 +9,11 @@ BIN    := $(VENV)/bin
 CORES  ?= all
 # make bench PEER_PYTHON=/path/to/venv/bin/python: peers (resdata, xtgeo) timed from that interpreter
 PEER_PYTHON ?=
+# gridlib is installed editable, so pip compiled none of its modules: Python writes their
+# bytecode to __pycache__ on first import unless the environment sets PYTHONDONTWRITEBYTECODE
+# (some CI images and containers do), and then every Snakemake job and test interpreter
+# compiles gridlib from source again (about 0.2 s of CPU each). An empty value lets it write.
+export PYTHONDONTWRITEBYTECODE :=
 
 .PHONY: run simulate test system-tools opm-flow lint bench golden clean
 
