@@ -60,6 +60,8 @@ STAGES = artifacts.STAGES
 
 
 onstart:
+    if workflow.is_main_process and workflow.local_exec:
+        quiet_benchmark_sampling()
     start_job_server()
 
 
@@ -96,16 +98,16 @@ def start_job_server():
             file=sys.stderr,
         )
         return
-    quiet_benchmark_sampling()
 
 
 def quiet_benchmark_sampling():
-    """Sample a job's memory and CPU for its benchmark file every 30 s from its start instead
-    of every 0.5 s for its first 15 s. A `run:` job's benchmark samples this process and every
+    """Sample a local run's job for its benchmark file every 30 s from its start instead of
+    every 0.5 s for its first 15 s. A `run:` job's benchmark samples this process and every
     process under it (the job server and its children, a study's workers, OPM Flow), each
     sample reading their memory maps (about 10 ms per 600 MB process): 0.2 s of CPU per job on
-    the sample workflow, more than many stages; and its memory and CPU columns are not the
-    stage's anyway (docs/stages.md). The `s` column, the job's wall time, is unchanged.
+    the sample workflow, 0.3 s per job of a simulated study, more than many stages; and its
+    memory and CPU columns are not the stage's anyway (docs/stages.md). The `s` column, the
+    job's wall time, is unchanged.
     """
     import snakemake.benchmark
 
