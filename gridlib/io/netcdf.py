@@ -48,7 +48,7 @@ from ..units import UnitSystem, unit_system
 from .datasets import open_artifact, read_variable, save_dataset
 from .deferred import Deferred
 from .quantities import label_units
-from .shared_reads import read_once
+from .shared_reads import read_once, shared
 
 _AXES = ("x", "y", "z")
 
@@ -504,6 +504,7 @@ def write_geometry_netcdf(
     return save_dataset(path, xr.Dataset(variables, attrs={**user, **summary}))
 
 
+@read_once(shared)
 def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:
     """Read a file written by :func:`write_geometry_netcdf` (one InputError naming the file if
     it is missing, damaged or incomplete)."""

@@ -20,6 +20,8 @@ from collections.abc import Callable, Iterator
 from contextvars import ContextVar
 from typing import Any, TypeVar
 
+import numpy as np
+
 _Result = TypeVar("_Result")
 
 _cache: ContextVar[dict[tuple[Any, ...], Any] | None] = ContextVar("gridlib_shared_reads", default=None)
@@ -62,3 +64,14 @@ def read_once(
         return reader
 
     return wrap
+
+
+def shared(result: _Result) -> _Result:
+    """The ``private`` of a reader whose result no caller can change (read-only arrays in a
+    frozen dataclass)."""
+    return result
+
+
+def own_arrays(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The ``private`` of a reader of arrays by name: a copy of each."""
+    return {name: values.copy() for name, values in arrays.items()}
