@@ -371,6 +371,23 @@ def build_variant(case_file, summary, log_file):
         run_in_process(case_file, folder, log_file)
 
 
+def study_table_job(input, output, log_file):
+    """A study's table job (rules study_table, study_table_simulated): its table and pictures
+    (gridlib.stages.study.stage_study) in the warm workers, as build_variant builds a variant:
+    where the variants are built there (run: jobs in this process's threads), else here.
+    """
+    from gridlib.stages.workers import study_table
+
+    study_table(
+        input.manifest,
+        list(input.summaries),
+        dict(output.items()),
+        list(input.get("simulations", [])),
+        log_file,
+        workers=(workflow.cores or 1) if workflow.is_main_process else None,
+    )
+
+
 def study_rules(name):
     """The rules of study ``name``'s variants: (rule name, artifact keys, variants), one per
     group of variants that keep the same artifacts (gridlib.study.artifact_groups): study_<name>,
