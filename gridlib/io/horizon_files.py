@@ -11,6 +11,7 @@ depth, positive downwards, unless a reader is told ``elevation=True``.
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 from collections.abc import Mapping, Sequence
@@ -29,6 +30,7 @@ from ..horizons.residuals import PickResiduals
 from ..horizons.surface import Surface, regular_increment
 from .datasets import damaged, load_artifact, load_dataset, save_dataset
 from .registry import read
+from .shared_reads import read_once
 from .text_table import check_widths, data_rows, read_lines, strip_comment, to_numbers
 
 __all__ = [
@@ -321,6 +323,7 @@ def write_horizons(path: str | os.PathLike, ds: xr.Dataset) -> Path:
     return save_dataset(path, ds, encoding)
 
 
+@read_once(copy.deepcopy)
 def read_horizons(path: str | os.PathLike) -> xr.Dataset:
     """Read a ``horizons.nc`` written by :func:`write_horizons` (checked: depth (horizon, y, x))."""
     p = Path(path)

@@ -28,10 +28,11 @@ a cell is missing). ``Conventions = "CF-1.11 UGRID-1.0"`` is set then.
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -47,6 +48,7 @@ from ..units import UnitSystem, unit_system
 from .datasets import open_artifact, read_variable, save_dataset
 from .deferred import Deferred
 from .quantities import label_units
+from .shared_reads import read_once, shared
 
 _AXES = ("x", "y", "z")
 
@@ -378,9 +380,22 @@ _RESERVED = {
 }  # fmt: skip
 
 
+def _private(stored: GridDataset) -> GridDataset:
+    """``stored`` with its own copies of what a caller may change (its data and attributes;
+    the grid's and the geometry's arrays are read-only)."""
+    return replace(
+        stored,
+        cell_data={name: values.copy() for name, values in stored.cell_data.items()},
+        face_data={name: values.copy() for name, values in stored.face_data.items()},
+        attrs=copy.deepcopy(stored.attrs),
+    )
+
+
+@read_once(_private)
 def read_netcdf(path: str | os.PathLike) -> GridDataset:
     """Read a file written by :func:`write_netcdf` back into grid, geometry and data; any error
-    reading it is one InputError naming the file (:func:`~gridlib.io.datasets.damaged`)."""
+    reading it is one InputError naming the file (:func:`~gridlib.io.datasets.damaged`). Read
+    once per run of a case's stages (:mod:`gridlib.io.shared_reads`)."""
     with open_artifact(path) as ds:
         return _grid_dataset(ds)
 
@@ -489,6 +504,7 @@ def write_geometry_netcdf(
     return save_dataset(path, xr.Dataset(variables, attrs={**user, **summary}))
 
 
+@read_once(shared)
 def read_geometry_netcdf(path: str | os.PathLike) -> Geometry:
     """Read a file written by :func:`write_geometry_netcdf` (one InputError naming the file if
     it is missing, damaged or incomplete)."""

@@ -3,6 +3,7 @@ global attributes; and the check that stage files read together describe the sam
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 from typing import Any
@@ -12,6 +13,7 @@ import numpy as np
 from ..errors import InputError
 from ..units import UnitSystem, unit_system
 from .datasets import damaged, open_artifact, read_variable
+from .shared_reads import read_once
 
 
 def read_extra(path: str | os.PathLike, names: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -41,6 +43,7 @@ def check_same_cells(grid_nc: str | os.PathLike, num_cells: int, counts: dict[An
             )
 
 
+@read_once(copy.deepcopy)
 def read_attrs(path: str | os.PathLike) -> dict[str, Any]:
     """Global attributes of a netCDF file, JSON lists decoded."""
     with open_artifact(path) as ds:

@@ -17,6 +17,7 @@ from ..units import METRIC
 from .datasets import damaged, open_artifact, read_variable
 from .netcdf import write_dataset
 from .quantities import quantity_of
+from .shared_reads import own_arrays, read_once
 
 PROPERTIES = ("poro", "permx", "permy", "permz", "ntg")
 # Fractions and mD in every unit system (gridlib.units), so the file needs none.
@@ -39,6 +40,7 @@ def write_rock(
     write_dataset(path, xr.Dataset(data, attrs={**attrs, "title": "gridlib petrophysics"}))
 
 
+@read_once(own_arrays)
 def read_rock(path: str | os.PathLike) -> dict[str, np.ndarray]:
     """The rock arrays of ``petrophysics.nc`` by name (:data:`PROPERTIES`), one value per cell
     each; one InputError naming the file if it is damaged or incomplete, or holds a value the

@@ -15,6 +15,7 @@ from typing import Any
 from .. import artifacts
 from ..config import Case, load_case
 from ..errors import GridError, InputError
+from ..io.shared_reads import shared_reads
 
 _BEFORE = ".before-run"  # the suffix of the hard links that keep an output as it was before a run
 _NUMPY_SCALAR = re.compile(r"np\.(?:float|int|uint|bool|complex)\w*\(([^()]*)\)")
@@ -33,7 +34,8 @@ def run_case(case: Case | str | os.PathLike, folder: str | os.PathLike, simulate
 
     A failing stage raises its error (an InputError or GridError naming the case file and the
     stage) and leaves ``folder`` as it was before the run: the files it held put back, those
-    the run wrote removed."""
+    the run wrote removed. A file one stage wrote is read once by the later stages that read
+    it (:mod:`gridlib.io.shared_reads`)."""
     if not isinstance(case, Case):
         case = load_case(case)
     paths = artifacts.case_paths(case.name, folder)
@@ -42,7 +44,7 @@ def run_case(case: Case | str | os.PathLike, folder: str | os.PathLike, simulate
     folder.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
     try:
-        with restored_on_failure(_results(folder, paths), sweep=folder):
+        with restored_on_failure(_results(folder, paths), sweep=folder), shared_reads():
             for stage in artifacts.STAGES:
                 if not stage.when(case) or (stage.on_request and not simulate):
                     continue

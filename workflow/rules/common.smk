@@ -60,6 +60,8 @@ STAGES = artifacts.STAGES
 
 
 onstart:
+    if workflow.is_main_process and workflow.local_exec:
+        quiet_benchmark_sampling()
     start_job_server()
 
 
@@ -96,16 +98,16 @@ def start_job_server():
             file=sys.stderr,
         )
         return
-    quiet_benchmark_sampling()
 
 
 def quiet_benchmark_sampling():
-    """Sample a job's memory and CPU for its benchmark file every 30 s from its start instead
-    of every 0.5 s for its first 15 s. A `run:` job's benchmark samples this process and every
+    """Sample a local run's job for its benchmark file every 30 s from its start instead of
+    every 0.5 s for its first 15 s. A `run:` job's benchmark samples this process and every
     process under it (the job server and its children, a study's workers, OPM Flow), each
     sample reading their memory maps (about 10 ms per 600 MB process): 0.2 s of CPU per job on
-    the sample workflow, more than many stages; and its memory and CPU columns are not the
-    stage's anyway (docs/stages.md). The `s` column, the job's wall time, is unchanged.
+    the sample workflow, 0.3 s per job of a simulated study, more than many stages; and its
+    memory and CPU columns are not the stage's anyway (docs/stages.md). The `s` column, the
+    job's wall time, is unchanged.
     """
     import snakemake.benchmark
 
@@ -367,6 +369,23 @@ def build_variant(case_file, summary, log_file):
         run_in_worker(case_file, folder, log_file, workflow.cores or 1)
     else:
         run_in_process(case_file, folder, log_file)
+
+
+def study_table_job(input, output, log_file):
+    """A study's table job (rules study_table, study_table_simulated): its table and pictures
+    (gridlib.stages.study.stage_study) in the warm workers, as build_variant builds a variant:
+    where the variants are built there (run: jobs in this process's threads), else here.
+    """
+    from gridlib.stages.workers import study_table
+
+    study_table(
+        input.manifest,
+        list(input.summaries),
+        dict(output.items()),
+        list(input.get("simulations", [])),
+        log_file,
+        workers=(workflow.cores or 1) if workflow.is_main_process else None,
+    )
 
 
 def study_rules(name):

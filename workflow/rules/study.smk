@@ -81,7 +81,8 @@ for _name, _study in sorted(STUDIES.items()):
 # A study's table: one job over its variants' summaries (and simulations), writing study.csv,
 # study.nc and its pictures (study.png; for a simulated study also study_profiles.png and
 # study_tornado.png). Two rules of one body, their outputs differing: study_table for the
-# studies that do not simulate, study_table_simulated for those that do.
+# studies that do not simulate, study_table_simulated for those that do. A `run:` job, in the
+# warm workers of the variants where they run (study_table_job).
 for _simulated in (False, True):
 
     rule:
@@ -98,10 +99,8 @@ for _simulated in (False, True):
             f"{RESULTS}/benchmarks/{{study}}/study.tsv"
         wildcard_constraints:
             study=study_names(_simulated),
-        conda:
-            "../envs/gridlib.yaml"
         threads: 1
         resources:
             mem_mb=2000,
-        script:
-            "../scripts/study_table.py"
+        run:
+            study_table_job(input, output, log[0])
