@@ -42,20 +42,17 @@ def _assert_layered(deck: Deck, monkeypatch: pytest.MonkeyPatch) -> None:
 
 def _assert_same(fast, generic) -> None:
     g, h = fast.grid, generic.grid
-    pairs = {
-        "cells.face_pos": (g.cells.face_pos, h.cells.face_pos),
-        "cells.faces": (g.cells.faces, h.cells.faces),
-        "cells.face_tag": (g.cells.face_tag, h.cells.face_tag),
-        "cells.index_map": (g.cells.index_map, h.cells.index_map),
-        "faces.node_pos": (g.faces.node_pos, h.faces.node_pos),
-        "faces.nodes": (g.faces.nodes, h.faces.nodes),
-        "faces.neighbors": (g.faces.neighbors, h.faces.neighbors),
-        "faces.tag": (g.faces.tag, h.faces.tag),
-        "nnc.cells": (fast.nnc.cells, generic.nnc.cells),
-        "nnc.global_cells": (fast.nnc.global_cells, generic.nnc.global_cells),
-        "nnc.kind": (fast.nnc.kind, generic.nnc.kind),
-        "nnc.face": (fast.nnc.face, generic.nnc.face),
+    fields = {
+        "cells": ("face_pos", "faces", "face_tag", "index_map"),
+        "faces": ("node_pos", "nodes", "neighbors", "tag"),
     }
+    pairs = {
+        f"{part}.{field}": (getattr(getattr(g, part), field), getattr(getattr(h, part), field))
+        for part, names in fields.items()
+        for field in names
+    }
+    for field in ("cells", "global_cells", "kind", "face"):
+        pairs[f"nnc.{field}"] = (getattr(fast.nnc, field), getattr(generic.nnc, field))
     for name, (a, b) in pairs.items():
         assert a.dtype == b.dtype, name
         np.testing.assert_array_equal(a, b, err_msg=name)
