@@ -16,7 +16,8 @@ from seed_points import honeycomb_points
 # and probes the network transports before Flow reads the deck: 0.3 s of waiting per run, most of
 # a small deck's dry run. Isolated and with the ob1 messaging layer it starts in 0.07 s (measured
 # with Flow 2022.10 and Open MPI 4.1.4); the results are the same (one rank, no messages). Set
-# for every process the tests start, Snakemake's jobs included; other MPIs ignore these names.
+# for the tests' own Flow runs (gridlib's run_flow sets the same for its runs, each with a
+# session base of its own: gridlib.stages.simulate.flow_environment); other MPIs ignore these.
 os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
 os.environ.setdefault("OMPI_MCA_pml", "ob1")
 # Every isolated singleton is job family 0: its session directory is always

@@ -379,4 +379,9 @@ def test_flow_runs_as_a_process_of_its_own_even_inside_a_slurm_job():
     from gridlib.stages.simulate import flow_environment
 
     job = {"PATH": "/usr/bin", "SLURM_JOB_ID": "7", "SLURM_STEP_ID": "0", "PMI_RANK": "0", "OMPI_MCA_x": "1"}
-    assert flow_environment(job) == {"PATH": "/usr/bin"}
+    assert flow_environment("/tmp/session", job) == {
+        "PATH": "/usr/bin",
+        "OMPI_MCA_ess_singleton_isolated": "1",
+        "OMPI_MCA_pml": "ob1",
+        "OMPI_MCA_orte_tmpdir_base": "/tmp/session",
+    }
