@@ -286,7 +286,7 @@ def _cpu_in_process(study_file: Path, pictures: bool) -> None:
     from gridlib.stages.workers import PRELOAD
     from gridlib.study import load_study, materialise
 
-    for module in PRELOAD:  # the warm workers' imports; the absent ones skipped, as they do
+    for module in PRELOAD:  # the warm workers' imports (an older checkout's list may name absent ones)
         with contextlib.suppress(ImportError):
             importlib.import_module(module)
     study = load_study(study_file, "results")

@@ -5,7 +5,8 @@ gridlib, xarray, gstools, VTK and matplotlib takes 3-6 s of CPU, building a 400-
 variant about 1 s. :func:`run_in_worker` builds a case in a pool of worker processes that
 live as long as the calling process (the Snakemake process that parsed the workflow), so
 that each worker pays for the imports once: the workers are forked from a fork server that
-has imported them already (:data:`PRELOAD`). Every case still runs all its stages through
+has imported them already (:data:`PRELOAD`, :mod:`gridlib.stages.worker_imports`: every
+stage's modules and libraries and the study table's). Every case still runs all its stages through
 :func:`gridlib.stages.run_case`, writing the same staged artifacts (each atomically), with
 its log in its own file. A study's table (:func:`study_table`) runs there too: its pictures
 need matplotlib, which the workers have imported.
@@ -22,8 +23,9 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
-# What the fork server imports before it forks the workers (absent ones are skipped).
-PRELOAD = ("gridlib.stages", "gstools", "pyvista", "matplotlib.pyplot", "pymetis", "shapely", "pandas")
+# What the fork server imports before it forks the workers: one module, whose import imports
+# the rest (the fork server's preload takes module names only).
+PRELOAD = ("gridlib.stages.worker_imports",)
 
 _lock = threading.Lock()
 _pool: ProcessPoolExecutor | None = None

@@ -1,0 +1,37 @@
+"""What the warm workers of a study (:mod:`gridlib.stages.workers`) start with.
+
+The workers are forked from a fork server that imports this module before it forks the
+first of them (``multiprocessing``'s forkserver preload takes module names only): importing
+it defers xarray's dask import (:func:`~gridlib.io.dask_on_demand.defer_dask_import`, as
+the stage jobs' entry points do) and imports what a variant's stages and a study's table use
+(:func:`~gridlib.stages.job_server.preload_modules` of every stage, then
+:data:`STUDY_TABLE`; absent ones skipped). Each worker then starts with them, instead of
+importing them in its first job, which on this project's 2-core VM cost each worker about
+1 s of CPU over a warm job (horizons 0.4 s, pictures 0.35 s, quality 0.12 s, ...).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from importlib import import_module
+
+from ..io.dask_on_demand import defer_dask_import
+from .job_server import preload_modules
+
+__all__ = ["STUDY_TABLE", "import_worker_modules"]
+
+# A study's table job (gridlib.stages.study.stage_study) beyond the stages' modules.
+STUDY_TABLE = ("pandas", "gridlib.stages.study")
+
+
+def import_worker_modules() -> list[str]:
+    """Import what the workers use (the module's docstring); returns the names tried."""
+    defer_dask_import()
+    names = list(dict.fromkeys([*preload_modules(None), *STUDY_TABLE]))
+    for name in names:
+        with contextlib.suppress(ImportError):
+            import_module(name)
+    return names
+
+
+import_worker_modules()
