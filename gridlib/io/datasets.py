@@ -56,6 +56,7 @@ import xarray as xr
 
 from ..errors import InputError
 from .atomic import atomic_path
+from .shared_reads import kept_open
 
 
 def _compression() -> dict[str, Any]:
@@ -74,6 +75,9 @@ DIGEST = "gridlib_digest"  # global attribute: SHA-256 of what Fletcher32 leaves
 # default, 64 MiB a variable, kept up to 64 MiB of every variable written or read until the file
 # closed: 2 GiB more memory for writing a 4e6-cell {case}.nc, no faster.
 CHUNK_CACHE_BYTES = 4 * CHUNK_BYTES
+# Files up to this size stay open for the rest of a run of a case's stages once opened
+# (shared_reads.kept_open): what their handles may keep (HDF5's chunk caches) stays small.
+KEPT_OPEN_BYTES = 8 << 20
 
 
 @contextlib.contextmanager
@@ -231,21 +235,37 @@ def _verify_digest(nc: Any) -> None:
         raise _Unreadable("digest mismatch: an attribute, a scalar or a string variable changed")
 
 
-@contextlib.contextmanager
-def _verified_dataset(path: Path) -> Iterator[xr.Dataset]:
+def _open_verified(path: str | os.PathLike, cache: bool | None = None) -> xr.Dataset:
     """The file at ``path`` opened once: its digest verified on the netCDF4 handle, which xarray
     then reads from (a second opening of the file for the digest cost as much as the check:
-    3 ms a file, 30 openings per small case)."""
+    3 ms a file, 30 openings per small case); ``cache``: xarray's (keep what is read)."""
     import netCDF4
 
     nc = netCDF4.Dataset(path, "r")
     try:
         _verify_digest(nc)
-        ds = xr.open_dataset(xr.backends.NetCDF4DataStore(nc))
+        return xr.open_dataset(xr.backends.NetCDF4DataStore(nc), cache=cache)
     except BaseException:
         nc.close()
         raise
-    with ds:  # closing the Dataset closes the file
+
+
+def _open_kept(path: str | os.PathLike) -> xr.Dataset:
+    """:func:`_open_verified` for a handle that several readers share: without xarray's cache,
+    so that each read gives its reader values of its own."""
+    return _open_verified(path, cache=False)
+
+
+@contextlib.contextmanager
+def _verified_dataset(path: Path) -> Iterator[xr.Dataset]:
+    """The file at ``path`` opened and verified (:func:`_open_verified`) for the block; inside
+    :func:`~gridlib.io.shared_reads.shared_reads` a file of at most :data:`KEPT_OPEN_BYTES`
+    is opened once and kept open for the later readers (each gets a shallow copy)."""
+    kept = kept_open(path, _open_kept, xr.Dataset.close, KEPT_OPEN_BYTES)
+    if kept is not None:
+        yield kept.copy(deep=False)
+        return
+    with _open_verified(path) as ds:  # closing the Dataset closes the file
         yield ds
 
 
