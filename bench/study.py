@@ -36,9 +36,10 @@ own); ``--repeat N`` runs the list N times, alternating, then prints each one's 
 ``--simulate --cpu``: where the CPU of a variant goes, robust to a loaded machine: per checkout
 (``--checkout``, alternating, ``--repeat`` times), one warm Python process (the workers'
 imports done) builds every third variant of the simulated study (8 of 24: each cell size and
-throw, realisation 0) with ``gridlib.stages.run_case``, after one warm-up variant, and runs its
-deck in OPM Flow; it prints the median CPU seconds of each stage, of run_case and of Flow (its
-process's user + system time).
+throw, realisation 0) with ``gridlib.stages.run_case`` on one thread (``GRIDLIB_NUM_THREADS=1``,
+as the workers build a variant), after one warm-up variant, and runs its deck in OPM Flow; it
+prints the median CPU seconds of each stage, of run_case and of Flow (its process's user +
+system time).
 """
 
 from __future__ import annotations
@@ -289,6 +290,7 @@ def _cpu_in_process(study_file: Path, pictures: bool) -> None:
     for module in PRELOAD:  # the warm workers' imports (an older checkout's list may name absent ones)
         with contextlib.suppress(ImportError):
             importlib.import_module(module)
+    os.environ["GRIDLIB_NUM_THREADS"] = "1"  # as a worker runs a variant (run_logged, threads=1)
     study = load_study(study_file, "results")
     materialise(study, "results")
     stages: dict[str, list[float]] = {}

@@ -35,6 +35,30 @@ def test_matmul_is_exact_split_and_accurate():
         rp.matmul(np.ones((2, 3)), np.ones((2, 3)))
 
 
+def test_right_factor_gives_matmul_bits_block_after_block():
+    """One right factor, blocks of rows of varying sizes in two threads (each reusing its
+    workspace): every block's product has the bits of matmul's."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=(700, 1500)) * rng.uniform(0.1, 1e3, (700, 1))
+    for k, n in [(1500, 3), (5, 4)]:
+        b = rng.normal(size=(k, n))
+        product = rp.RightFactor(b)
+        starts = [0, 128, 256, 300, 301, 500]
+        blocks = [a[s:e, :k] for s, e in zip(starts, [*starts[1:], 700], strict=True)]
+        with ThreadPoolExecutor(2) as pool:
+            got = list(pool.map(product.times, blocks * 2))
+        for block, product_bits in zip(blocks * 2, got, strict=True):
+            assert np.array_equal(product_bits, rp.matmul(block, b))
+    with pytest.raises(ValueError, match="finite"):
+        rp.RightFactor(np.ones((20, 2))).times(np.full((2, 20), np.inf))
+    with pytest.raises(ValueError, match="finite"):
+        rp.RightFactor(np.full((20, 2), np.nan))
+    with pytest.raises(ValueError, match="shapes"):
+        rp.RightFactor(np.ones((20, 2))).times(np.ones((2, 19)))
+
+
 def test_solve_small_large_and_batched():
     rng = np.random.default_rng(5)
     for shape in [(1, 1), (4, 4), (30, 12, 12), (1, 67, 67), (700, 700)]:
@@ -106,6 +130,12 @@ out = {
     "bincount": np.bincount((p * 10).astype(int) % 100, weights=x), "norm": np.linalg.norm(a, axis=1),
     "cross": np.cross(x.reshape(-1, 4)[:, :3], p.reshape(-1, 4)[:, 1:]), "square": x**2,
 }
+# the random fields' sums: one right factor for many products, cos | sin written into row halves
+out["right_factor"] = rp.RightFactor(b).times(a[:, :2000])
+halves = np.empty((100, 2000))
+np.cos(x.reshape(100, 1000), out=halves[:, :1000])
+np.sin(x.reshape(100, 1000), out=halves[:, 1000:])
+out["cos_sin_halves"] = halves
 for k, v in out.items():
     print(k, hashlib.sha256(np.ascontiguousarray(v).tobytes()).hexdigest())
 """

@@ -32,11 +32,12 @@ unverified. Every read of a gridlib file goes through :func:`open_artifact`, whi
 failure into one :func:`damaged` error naming the file.
 
 Cost, measured on the project's 2-core VM (shared, so times are rough): Fletcher32 adds 4
-bytes a chunk plus its filter message, the digest one attribute and a second opening of the
-file after it is written. The sample cases' 63 netCDF files: 21.08 MB become 21.11 MB
-(+0.17 %, 0 to 2.4 kB a file), written in 2.2 s instead of 1.8 s (the reopening, about 5 ms a
-file). A 1e6-cell grid with its geometry (464 MiB raw, 38 MiB on disk): +6 kB, the write
-time unchanged within the noise (7.4 s), ``read_netcdf`` 3.4 s instead of 3.1 s.
+bytes a chunk plus its filter message, the digest one attribute. The sample cases' 63 netCDF
+files: 21.08 MB become 21.11 MB (+0.17 %, 0 to 2.4 kB a file), written in 2.2 s instead of
+1.8 s (then with a second opening of each file for its digest, about 5 ms a file; the digest
+is now written on the handle that wrote the file, before it closes). A 1e6-cell grid with
+its geometry (464 MiB raw, 38 MiB on disk): +6 kB, the write time unchanged within the noise
+(7.4 s), ``read_netcdf`` 3.4 s instead of 3.1 s.
 """
 
 from __future__ import annotations
@@ -53,9 +54,11 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+from xarray.backends.common import ArrayWriter
 
 from ..errors import InputError
 from .atomic import atomic_path
+from .shared_reads import kept_open
 
 
 def _compression() -> dict[str, Any]:
@@ -74,6 +77,9 @@ DIGEST = "gridlib_digest"  # global attribute: SHA-256 of what Fletcher32 leaves
 # default, 64 MiB a variable, kept up to 64 MiB of every variable written or read until the file
 # closed: 2 GiB more memory for writing a 4e6-cell {case}.nc, no faster.
 CHUNK_CACHE_BYTES = 4 * CHUNK_BYTES
+# Files up to this size stay open for the rest of a run of a case's stages once opened
+# (shared_reads.kept_open): what their handles may keep (HDF5's chunk caches) stays small.
+KEPT_OPEN_BYTES = 8 << 20
 
 
 @contextlib.contextmanager
@@ -128,6 +134,17 @@ def _reason(exc: BaseException) -> str:
 
 
 _STDERR_SWAP = threading.Lock()  # file descriptor 2 is redirected by one thread at a time
+_held: tuple[int, Any] | None = None  # (process id, its temporary file) of _filters_quiet
+
+
+def _held_file() -> Any:
+    """This process's temporary file for :func:`_filters_quiet`, empty, made once (a forked
+    child makes its own: a file shared with the parent would share its offset); call it under
+    ``_STDERR_SWAP``."""
+    global _held
+    if _held is None or _held[0] != os.getpid():
+        _held = (os.getpid(), tempfile.TemporaryFile())
+    return _held[1]
 
 
 @contextlib.contextmanager
@@ -137,8 +154,10 @@ def _filters_quiet() -> Iterator[None]:
     on a damaged chunk, which is then told once, by :func:`damaged`. (File descriptor 2 is the
     process's: what another thread writes meanwhile comes out after the read; reads in threads
     of one process take turns, as HDF5 has them do anyway, so that no thread restores another
-    thread's redirection.)"""
-    with _STDERR_SWAP, tempfile.TemporaryFile() as held:
+    thread's redirection.) The text is held in one temporary file per process, emptied after
+    each read (a new file per variable read cost 30 us, 220 reads per small case)."""
+    with _STDERR_SWAP:
+        held = _held_file()
         sys.stderr.flush()
         saved = os.dup(2)
         os.dup2(held.fileno(), 2)
@@ -147,8 +166,10 @@ def _filters_quiet() -> Iterator[None]:
         finally:
             os.dup2(saved, 2)
             os.close(saved)
-        held.seek(0)
-        text = held.read()
+            held.seek(0)
+            text = held.read()
+            held.seek(0)
+            held.truncate()
     if text:
         sys.stderr.write(text.decode(errors="replace"))
 
@@ -217,13 +238,6 @@ def uncovered_digest(nc: Any) -> str:
     return sha.hexdigest()
 
 
-def _write_digest(path: Path) -> None:
-    import netCDF4
-
-    with netCDF4.Dataset(path, "a") as nc:
-        nc.setncattr(DIGEST, uncovered_digest(nc))
-
-
 def _verify_digest(nc: Any) -> None:
     """Raise if the open ``netCDF4.Dataset`` ``nc``'s :data:`DIGEST` disagrees with its
     contents (none: older gridlib, nothing to verify)."""
@@ -231,21 +245,37 @@ def _verify_digest(nc: Any) -> None:
         raise _Unreadable("digest mismatch: an attribute, a scalar or a string variable changed")
 
 
-@contextlib.contextmanager
-def _verified_dataset(path: Path) -> Iterator[xr.Dataset]:
+def _open_verified(path: str | os.PathLike, cache: bool | None = None) -> xr.Dataset:
     """The file at ``path`` opened once: its digest verified on the netCDF4 handle, which xarray
     then reads from (a second opening of the file for the digest cost as much as the check:
-    3 ms a file, 30 openings per small case)."""
+    3 ms a file, 30 openings per small case); ``cache``: xarray's (keep what is read)."""
     import netCDF4
 
     nc = netCDF4.Dataset(path, "r")
     try:
         _verify_digest(nc)
-        ds = xr.open_dataset(xr.backends.NetCDF4DataStore(nc))
+        return xr.open_dataset(xr.backends.NetCDF4DataStore(nc), cache=cache)
     except BaseException:
         nc.close()
         raise
-    with ds:  # closing the Dataset closes the file
+
+
+def _open_kept(path: str | os.PathLike) -> xr.Dataset:
+    """:func:`_open_verified` for a handle that several readers share: without xarray's cache,
+    so that each read gives its reader values of its own."""
+    return _open_verified(path, cache=False)
+
+
+@contextlib.contextmanager
+def _verified_dataset(path: Path) -> Iterator[xr.Dataset]:
+    """The file at ``path`` opened and verified (:func:`_open_verified`) for the block; inside
+    :func:`~gridlib.io.shared_reads.shared_reads` a file of at most :data:`KEPT_OPEN_BYTES`
+    is opened once and kept open for the later readers (each gets a shallow copy)."""
+    kept = kept_open(path, _open_kept, xr.Dataset.close, KEPT_OPEN_BYTES)
+    if kept is not None:
+        yield kept.copy(deep=False)
+        return
+    with _open_verified(path) as ds:  # closing the Dataset closes the file
         yield ds
 
 
@@ -327,16 +357,24 @@ def save_dataset(
     # on, the variables are appended one at a time, each read as it is written and let go
     first = next((i for i, name in enumerate(names) if not ds.variables[name]._in_memory), len(names))
     head = ds.drop_vars(names[first:])
+    parts = [head, *(xr.Dataset({name: ds.variables[name]}) for name in names[first:])]
     with atomic_path(path) as tmp, small_chunk_cache():
-        head.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=compressed_encoding(head, encoding))
-        for name in names[first:]:
-            part = xr.Dataset({name: ds.variables[name]})
-            part.to_netcdf(
-                tmp,
-                mode="a",
-                engine="netcdf4",
-                format="NETCDF4",
-                encoding=compressed_encoding(part, encoding),
-            )
-        _write_digest(tmp)
+        # One handle for the whole file, the digest written before it closes: reopening a
+        # file of 30 to 90 variables to add the digest cost 10 to 20 ms (netCDF-C rewrites
+        # every variable's metadata as it closes a file opened for writing), its digest 1 ms.
+        store = xr.backends.NetCDF4DataStore.open(tmp, mode="w", format="NETCDF4")
+        try:
+            unlimited = ds.encoding.get("unlimited_dims")  # as to_netcdf: a file's, read back
+            for k, part in enumerate(parts):
+                writer = ArrayWriter()
+                part.dump_to_store(
+                    store,
+                    writer=writer,
+                    encoding=compressed_encoding(part, encoding),
+                    unlimited_dims=unlimited if k == 0 else None,
+                )
+                writer.sync()  # chunked (dask) arrays are written here
+            store.ds.setncattr(DIGEST, uncovered_digest(store.ds))
+        finally:
+            store.close()
     return Path(path)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import functools
 import math
 import numbers
+import threading
 from dataclasses import dataclass
 from typing import Any
 
@@ -14,7 +15,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..grid import FloatArray
-from ..reproducible import matmul
+from ..reproducible import RightFactor, matmul
 from ..threads import num_threads
 from .depositional import Depositional
 from .numbers import finite_number
@@ -167,11 +168,18 @@ def _factorised(modes: _Modes, u: Depositional) -> FloatArray:
         F = G[ix.ravel(), iy.ravel()]
     else:
         F = np.empty((used.size, u.num_layers))
-        PQ = np.vstack([P, Q])
+        phases, sums = RightFactor(K[:2]), RightFactor(np.vstack([P, Q]))
+        local = threading.local()  # each thread's (columns, 2 modes) cos|sin, kept between blocks
 
         def block(s: int) -> None:
-            a = matmul(xy[s : s + _COLUMNS], K[:2])  # (columns, modes)
-            F[s : s + _COLUMNS] = matmul(np.hstack([np.cos(a), np.sin(a)]), PQ)
+            a = phases.times(xy[s : s + _COLUMNS])  # (columns, modes)
+            cs = getattr(local, "cs", None)
+            if cs is None:
+                cs = local.cs = np.empty((_COLUMNS, 2 * n_modes))
+            cs = cs[: a.shape[0]]
+            np.cos(a, out=cs[:, :n_modes])
+            np.sin(a, out=cs[:, n_modes:])
+            F[s : s + _COLUMNS] = sums.times(cs)
 
         _parallel(block, range(0, used.size, _COLUMNS))
     return math.sqrt(model.var / n_modes) * F[col_pos.ravel(), u.layer]

@@ -198,10 +198,11 @@ def stage_pictures(
     ``wells`` and ``horizons``): ``png`` ({case}.png, the 3-D view), ``histograms``, ``plan``,
     ``section`` (3-D grids) and ``residuals`` (horizons given by picks)."""
     scene = read_scene(case, grid, geometry, petrophysics, transmissibility, wells)
-    figures = case_figures(case, scene, with_section=section is not None)  # first: checks the line
+    tracks = scene.well_tracks(case)  # once for the figures and the 3-D view
+    figures = case_figures(case, scene, with_section=section is not None, tracks=tracks)  # checks the line
     if residuals is not None and horizons is not None:
         figures["residuals"] = pick_residuals_figure(case, horizons)
-    render_grid(Path(png), **view_arguments(case, scene, faults))
+    render_grid(Path(png), **view_arguments(case, scene, faults, tracks))
     poro = None if scene.rock is None else scene.rock["poro"]
     plot_histograms(
         Path(histograms), scene.geo, poro, scene.grid.griddim, scene.title, scene.units, scene.trans
@@ -212,11 +213,14 @@ def stage_pictures(
     log.info("drew the pictures of %s (%d cells)", case.name, scene.grid.num_cells)
 
 
-def view_arguments(case: Case, scene: Scene, faults: str | os.PathLike) -> dict[str, Any]:
+def view_arguments(
+    case: Case, scene: Scene, faults: str | os.PathLike, tracks: tuple[WellTrack, ...] | None = None
+) -> dict[str, Any]:
     """The arguments of the 3-D view (:func:`gridlib.io.grid_view.grid_scene`, or
     :func:`~gridlib.io.pictures.render_grid` with a path): the grid coloured as
     :meth:`Scene.colouring` says, its colour bar titled ``quantity [unit]``, the case's length
-    unit on the axes, the fault faces ``faults`` (``{case}_faults.vtp``) and every well."""
+    unit on the axes, the fault faces ``faults`` (``{case}_faults.vtp``) and every well
+    (``tracks``: :meth:`Scene.well_tracks`, computed where not given)."""
     scalar, values = scene.colouring()
     bar_title = scene.label(scalar)
     return {
@@ -227,7 +231,7 @@ def view_arguments(case: Case, scene: Scene, faults: str | os.PathLike) -> dict[
         "title": scene.title,
         "bar_title": bar_title,
         "length_unit": scene.units.length_label,
-        "wells": scene.well_tracks(case),
+        "wells": scene.well_tracks(case) if tracks is None else tracks,
     }
 
 
@@ -283,11 +287,14 @@ def section_colouring(scene: Scene) -> tuple[np.ndarray, tuple[str, str | None],
     return scene.geo.cell_centroids[:, 2], ("depth", scene.units.length_label), False
 
 
-def case_figures(case: Case, scene: Scene, *, with_section: bool = True) -> dict[str, Any]:
+def case_figures(
+    case: Case, scene: Scene, *, with_section: bool = True, tracks: tuple[WellTrack, ...] | None = None
+) -> dict[str, Any]:
     """The matplotlib figures of the case's plan view (``plan``) and, ``with_section`` (3-D
     grids), its cross-section (``section``), in the pictures' style; an InputError naming
-    ``pictures.section`` where the case's line cuts no cell."""
-    tracks = scene.well_tracks(case)
+    ``pictures.section`` where the case's line cuts no cell. ``tracks``: the wells
+    (:meth:`Scene.well_tracks`, computed where not given)."""
+    tracks = scene.well_tracks(case) if tracks is None else tracks
     line, cut = section_cut(case, scene, tracks) if with_section else (None, None)
     figures = {}
     with picture_style():

@@ -8,6 +8,7 @@ deck) is built once in-process; each test damages one copy of one of its files."
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -314,3 +315,19 @@ def test_a_damaged_study_manifest_is_one_error_naming_it(built, tmp_path, damage
     assert str(caught.value).startswith(f"{manifest}: damaged or incomplete (")
     assert str(caught.value).endswith(ADVICE) and "\n" not in str(caught.value)
     assert not any(path.exists() for path in outputs.values())
+
+
+def test_what_a_failed_read_writes_to_stderr_is_dropped_and_a_good_reads_passed_on(capfd):
+    """_filters_quiet holds back the C library's standard error during a read: dropped when the
+    read fails (its one error tells it), passed on when it succeeds; nothing held is left over
+    for the next read (one file per process holds it)."""
+    from gridlib.io.datasets import _filters_quiet
+
+    with pytest.raises(RuntimeError), _filters_quiet():
+        os.write(2, b"zstd: Data corruption detected\n")
+        raise RuntimeError("HDF error")
+    with _filters_quiet():
+        os.write(2, b"a note from C\n")
+    with _filters_quiet():
+        pass
+    assert capfd.readouterr().err == "a note from C\n"
