@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import gc
 import json
 import os
 import selectors
@@ -410,7 +411,7 @@ def preload_modules(stages: Iterable[str] | None = None, preload: Sequence[str] 
 
 def _preload(preload: Sequence[str], plugins: Sequence[str], stages: Sequence[str] | None) -> None:
     """Import what the jobs will use: the plugins, then :func:`preload_modules` (absent ones
-    skipped)."""
+    skipped); then :func:`freeze_imports`."""
     from ..io.dask_on_demand import defer_dask_import
 
     defer_dask_import()
@@ -419,6 +420,17 @@ def _preload(preload: Sequence[str], plugins: Sequence[str], stages: Sequence[st
     for name in preload_modules(stages, preload):
         with contextlib.suppress(ImportError):
             import_module(name)
+    freeze_imports()
+
+
+def freeze_imports() -> None:
+    """Move every object the imports made out of the garbage collector's reach (``gc.freeze``),
+    in a process that forks workers after its imports: a forked child's full collections then
+    scan only what its job makes, not the roughly 360,000 objects of gridlib, xarray, VTK and
+    matplotlib's modules (0.04 s of a 5,000-cell variant's pictures), and do not touch (copy)
+    the parent's pages. Nothing is lost: module objects live as long as the process anyway."""
+    gc.collect()
+    gc.freeze()
 
 
 def _accept(listener: socket.socket) -> None:
