@@ -417,10 +417,16 @@ def _preload(preload: Sequence[str], plugins: Sequence[str], stages: Sequence[st
     defer_dask_import()
     for name in plugins:
         import_module(name)
-    for name in preload_modules(stages, preload):
+    import_present(preload_modules(stages, preload))
+    freeze_imports()
+
+
+def import_present(names: Iterable[str]) -> None:
+    """Import the modules ``names`` in order, skipping those not installed (a warm-up: a
+    module left out is imported by each job that needs it)."""
+    for name in names:
         with contextlib.suppress(ImportError):
             import_module(name)
-    freeze_imports()
 
 
 def freeze_imports() -> None:

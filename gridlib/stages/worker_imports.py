@@ -13,11 +13,8 @@ importing them in its first job, which on this project's 2-core VM cost each wor
 
 from __future__ import annotations
 
-import contextlib
-from importlib import import_module
-
 from ..io.dask_on_demand import defer_dask_import
-from .job_server import freeze_imports, preload_modules
+from .job_server import freeze_imports, import_present, preload_modules
 
 __all__ = ["STUDY_TABLE", "import_worker_modules"]
 
@@ -29,9 +26,7 @@ def import_worker_modules() -> list[str]:
     """Import what the workers use (the module's docstring); returns the names tried."""
     defer_dask_import()
     names = list(dict.fromkeys([*preload_modules(None), *STUDY_TABLE]))
-    for name in names:
-        with contextlib.suppress(ImportError):
-            import_module(name)
+    import_present(names)
     freeze_imports()
     return names
 
