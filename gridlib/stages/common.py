@@ -18,6 +18,7 @@ from typing import Any
 
 from ..errors import GridError, InputError
 from ..threads import ENV
+from .job_usage import JobUsage, Meter
 
 log = logging.getLogger("gridlib.stages")
 
@@ -56,9 +57,10 @@ def run_logged(
     root.setLevel(logging.INFO)
     propagate, root.propagate = root.propagate, False  # a host's own handlers (Snakemake's) print none twice
     start = time.perf_counter()
+    meter = Meter()
     try:
         stage(*args)
-        _log_costs(root, name, time.perf_counter() - start, outputs)
+        _log_costs(root, name, time.perf_counter() - start, meter.stop(), outputs)
     except (InputError, GridError) as exc:  # the user's input: one message, no traceback
         root.error("%s failed: %s", name, exc)
         print(f"gridlib: {exc}", file=sys.stderr)
@@ -118,12 +120,13 @@ def _size(path: Path) -> int:
     return path.stat().st_size
 
 
-def _log_costs(log: logging.Logger, name: str, seconds: float, outputs: Iterable[str | os.PathLike]) -> None:
-    """What a stage cost: wall time, peak resident memory, and the bytes it wrote."""
-    import resource
-
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: kibibytes
+def _log_costs(
+    log: logging.Logger, name: str, seconds: float, usage: JobUsage, outputs: Iterable[str | os.PathLike]
+) -> None:
+    """What a stage cost: wall time, CPU time, peak resident memory (of this process while the
+    stage ran: :mod:`gridlib.stages.job_usage`), and the bytes it wrote."""
     sizes = [(Path(p), _size(Path(p))) for p in outputs if Path(p).exists()]
-    log.info("%s: %.1f s, peak memory %.0f MiB", name, seconds, peak / 2**20)
+    peak = "" if usage.max_rss_mib is None else f", peak memory {usage.max_rss_mib:.0f} MiB"
+    log.info("%s: %.1f s, %.1f s of CPU%s", name, seconds, usage.cpu_seconds, peak)
     for path, size in sizes:
         log.info("  %s: %.1f MiB", path.name, size / 2**20)

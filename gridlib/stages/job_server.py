@@ -19,10 +19,11 @@ Unix socket in a private temporary folder, and is named to the jobs by the envir
 output and error (file descriptors, ``SCM_RIGHTS``); the server forks a child, a warm copy of
 itself, which takes them over and runs the stage (:func:`run_here`: the plugins, then
 :func:`~gridlib.stages.common.run_logged` of :func:`~gridlib.stages.pipeline.run_stage`), sends
-the exit status back and ends. No Python process starts for the job. What Snakemake sees of a
-job is what a job of its own process gives: its outputs, its log, its console lines, its exit
-status, the same files bit for bit. Its benchmark's ``s`` column is the stage's wall time, its
-CPU and memory columns are not the stage's (the rule's log has its wall time and peak memory).
+the exit status and what the child used (:mod:`gridlib.stages.job_usage`) back and ends. No
+Python process starts for the job. What Snakemake sees of a job is what a job of its own process
+gives: its outputs, its log, its console lines, its exit status, the same files bit for bit; its
+benchmark file has the stage's wall time and the child's CPU time, peak memory and bytes read
+and written (:class:`JobEnd`; ``stage_job`` in ``workflow/rules/common.smk`` records them).
 
 The job's thread stays in charge: if Snakemake's process ends (a run stopped), the connection
 closes and the child kills its own process group (itself and what it started, e.g. OPM Flow).
@@ -42,6 +43,7 @@ import atexit
 import contextlib
 import gc
 import json
+import math
 import os
 import selectors
 import shutil
@@ -56,7 +58,9 @@ from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
 from importlib import import_module
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
+
+from .job_usage import JobUsage, Meter, usage_of_process
 
 # The environment variables naming the server to the jobs: its socket, and its Python (a job
 # run by another interpreter, e.g. a conda environment's, runs in its own process).
@@ -86,7 +90,8 @@ JOB_THREAD_VARIABLES = (
 # Set to 1 in the server's environment unless given (see start_server).
 BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 _HEADER = struct.Struct("!I")  # the length of the request that follows the descriptors
-_STATUS = struct.Struct("!i")  # the job's exit status
+# The job's exit status and what its process used: CPU s, peak MiB, MiB read, MiB written (NaN: unknown)
+_STATUS = struct.Struct("!i4d")
 
 
 @dataclass(frozen=True)
@@ -107,12 +112,20 @@ class StageJob:
     plugins: tuple[str, ...] = ()
 
 
+class JobEnd(NamedTuple):
+    """How a stage job ended: its exit status (0: done; 1: failed, the one-line message on
+    stderr and the traceback of a bug in the rule's log) and what its process used (None where
+    it is not known: the process was killed)."""
+
+    status: int
+    usage: JobUsage | None
+
+
 def run_job(job: StageJob) -> int:
     """Run ``job`` in the run's job server if the environment names one that this Python can
-    use and that answers, else in this process; the job's exit status (0: done; 1: failed,
-    the one-line message on stderr and the traceback of a bug in the rule's log)."""
-    status = _run_in_server(job)
-    return run_here(job) if status is None else status
+    use and that answers, else in this process; the job's exit status (as :class:`JobEnd`)."""
+    end = _run_in_server(job)
+    return run_here(job) if end is None else end.status
 
 
 def job_environment(threads: int, tmpdir: str | None = None) -> dict[str, str]:
@@ -126,20 +139,20 @@ def job_environment(threads: int, tmpdir: str | None = None) -> dict[str, str]:
     return env
 
 
-def run_stage_job(job: StageJob, env: dict[str, str] | None = None) -> int:
+def run_stage_job(job: StageJob, env: dict[str, str] | None = None) -> JobEnd:
     """Run a stage rule's job from a Snakemake process (a ``run:`` job, which runs in one of its
     threads) with the environment ``env`` (default: this process's; see
     :func:`job_environment`): in the run's job server if the environment names one that
     answers, else in a new Python process (:func:`run_in_new_process`), never in the calling
-    process, whose threads run other jobs. The job's exit status, as :func:`run_job`."""
-    status = _run_in_server(job, env)
-    return run_in_new_process(job, env) if status is None else status
+    process, whose threads run other jobs. How it ended and what its process used."""
+    end = _run_in_server(job, env)
+    return run_in_new_process(job, env) if end is None else end
 
 
-def _run_in_server(job: StageJob, env: dict[str, str] | None = None) -> int | None:
-    """The exit status of ``job`` run in the job server the environment names, with the
-    environment ``env`` (default: this process's); None where none is named, its Python is not
-    this one (a conda or container job) or it does not answer (its run ended early)."""
+def _run_in_server(job: StageJob, env: dict[str, str] | None = None) -> JobEnd | None:
+    """How ``job`` ended, run in the job server the environment names, with the environment
+    ``env`` (default: this process's); None where none is named, its Python is not this one (a
+    conda or container job) or it does not answer (its run ended early)."""
     path = os.environ.get(SERVER_ENV)
     if not path or os.environ.get(PYTHON_ENV) != sys.executable:
         return None
@@ -169,15 +182,17 @@ def _run_in_server(job: StageJob, env: dict[str, str] | None = None) -> int | No
             f"status (killed?); see {job.log}",
             file=sys.stderr,
         )
-        return 1
-    return _STATUS.unpack(answer)[0]
+        return JobEnd(1, None)
+    status, *figures = _STATUS.unpack(answer)
+    cpu, peak, read, written = (None if figure != figure else figure for figure in figures)  # NaN: unknown
+    return JobEnd(status, None if cpu is None else JobUsage(cpu, peak, read, written))
 
 
-def run_in_new_process(job: StageJob, env: dict[str, str] | None = None) -> int:
+def run_in_new_process(job: StageJob, env: dict[str, str] | None = None) -> JobEnd:
     """Run ``job`` in a new Python process (this interpreter, this gridlib) with the
     environment ``env`` (default: this process's): its standard output and error are this
-    process's; it ends when this process does (it watches a pipe from it). The job's exit
-    status."""
+    process's; it ends when this process does (it watches a pipe from it). How it ended and
+    what the process used (its CPU and peak memory, from :func:`os.wait4`)."""
     package_root = str(Path(__file__).resolve().parents[2])
     code = (
         f"import sys; sys.path.insert(0, {package_root!r}); "
@@ -192,7 +207,9 @@ def run_in_new_process(job: StageJob, env: dict[str, str] | None = None) -> int:
         env=env,
     )
     try:
-        return process.wait()
+        _, wait_status, rusage = os.wait4(process.pid, 0)
+        process.returncode = os.waitstatus_to_exitcode(wait_status)
+        return JobEnd(process.returncode, usage_of_process(rusage))
     except BaseException:  # the run is stopping: so does the job, and what it started
         with contextlib.suppress(OSError):
             os.killpg(process.pid, signal.SIGKILL)
@@ -464,8 +481,9 @@ def _accept(listener: socket.socket) -> None:
 
 def _child(conn: socket.socket, fds: list[int], request: dict) -> None:
     """In the forked child: become the job's process (its streams, working directory,
-    environment, ``sys.path``), run the stage, send the exit status, end."""
+    environment, ``sys.path``), run the stage, send the exit status and what it used, end."""
     code = 1
+    meter = Meter()
     try:
         signal.signal(signal.SIGINT, signal.SIG_DFL)
         os.setpgid(0, 0)  # a group of its own, killed as a whole if the job's process goes
@@ -478,14 +496,17 @@ def _child(conn: socket.socket, fds: list[int], request: dict) -> None:
         sys.path[:0] = [p for p in request["path"] if p not in sys.path]
         threading.Thread(target=_end_with_the_job_process, args=(conn,), daemon=True).start()
         job = request["job"] | {key: tuple(request["job"][key]) for key in ("outputs", "plugins")}
-        code = run_here(StageJob(**job), server=True)
+        with meter:
+            code = run_here(StageJob(**job), server=True)
     except BaseException as exc:  # a child must never return into the server's loop
         print(f"gridlib: job server: {type(exc).__name__}: {exc}", file=sys.stderr)
     finally:
+        usage = meter.usage or meter.stop()
+        figures = (usage.cpu_seconds, usage.max_rss_mib, usage.read_mib, usage.written_mib)
         with contextlib.suppress(OSError, ValueError):
             sys.stdout.flush()
             sys.stderr.flush()
-            conn.sendall(_STATUS.pack(code))
+            conn.sendall(_STATUS.pack(code, *(math.nan if f is None else f for f in figures)))
         os._exit(code)
 
 

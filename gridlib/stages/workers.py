@@ -23,6 +23,8 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
+from .job_usage import JobUsage, Meter
+
 # What the fork server imports before it forks the workers: one module, whose import imports
 # the rest (the fork server's preload takes module names only).
 PRELOAD = ("gridlib.stages.worker_imports",)
@@ -41,44 +43,48 @@ def _executor(workers: int) -> ProcessPoolExecutor:
         return _pool
 
 
-def _build(case_file: str, folder: str, log_file: str) -> None:
+def _build(case_file: str, folder: str, log_file: str) -> JobUsage:
     from .common import run_logged
     from .pipeline import run_case
 
     try:
-        run_logged(log_file, run_case, case_file, folder, threads=1, label=Path(case_file).stem)
+        with Meter() as meter:
+            run_logged(log_file, run_case, case_file, folder, threads=1, label=Path(case_file).stem)
     except SystemExit:  # run_logged's exit for a failure: one line on stderr, the rest in the log
         raise RuntimeError(f"{case_file} failed (log: {log_file})") from None
+    return meter.usage
 
 
 def _table(
     manifest: str, summaries: list[str], outputs: dict[str, str], simulations: list[str], log_file: str
-) -> None:
+) -> JobUsage:
     from .common import run_logged
     from .study import stage_study
 
     try:
-        run_logged(
-            log_file,
-            stage_study,
-            manifest,
-            summaries,
-            outputs,
-            simulations,
-            threads=1,
-            outputs=list(outputs.values()),
-        )
+        with Meter() as meter:
+            run_logged(
+                log_file,
+                stage_study,
+                manifest,
+                summaries,
+                outputs,
+                simulations,
+                threads=1,
+                outputs=list(outputs.values()),
+            )
     except SystemExit:  # as in _build
         raise RuntimeError(f"{manifest}: the study's table failed (log: {log_file})") from None
+    return meter.usage
 
 
-def _in_worker(workers: int, job: Callable[..., None], *args: Any) -> None:
-    """``job(*args)`` in one of ``workers`` warm worker processes; waits for it. A pool whose
-    worker died is replaced for the next job."""
+def _in_worker(workers: int, job: Callable[..., JobUsage], *args: Any) -> JobUsage:
+    """``job(*args)`` in one of ``workers`` warm worker processes; waits for it; what the job
+    used of its worker. A pool whose worker died is replaced for the next job."""
     global _pool
     pool = _executor(workers)
     try:
-        pool.submit(job, *args).result()
+        return pool.submit(job, *args).result()
     except BrokenProcessPool:
         with _lock:
             if _pool is pool:
@@ -88,17 +94,19 @@ def _in_worker(workers: int, job: Callable[..., None], *args: Any) -> None:
 
 def run_in_worker(
     case_file: str | os.PathLike, folder: str | os.PathLike, log_file: str | os.PathLike, workers: int
-) -> None:
+) -> JobUsage:
     """Build the case ``case_file`` into ``folder`` (all stages, as ``gridlib build``) in one
-    of ``workers`` warm worker processes, logging to ``log_file``; waits for it."""
-    _in_worker(workers, _build, str(case_file), str(folder), str(log_file))
+    of ``workers`` warm worker processes, logging to ``log_file``; waits for it. What the build
+    used of its worker process (:mod:`gridlib.stages.job_usage`: its CPU, its peak memory from
+    its start, the bytes it read and wrote)."""
+    return _in_worker(workers, _build, str(case_file), str(folder), str(log_file))
 
 
 def run_in_process(
     case_file: str | os.PathLike, folder: str | os.PathLike, log_file: str | os.PathLike
-) -> None:
+) -> JobUsage:
     """As :func:`run_in_worker`, in this process (when no pool is wanted, e.g. inside a job)."""
-    _build(str(case_file), str(folder), str(log_file))
+    return _build(str(case_file), str(folder), str(log_file))
 
 
 def study_table(
@@ -108,12 +116,12 @@ def study_table(
     simulations: Sequence[str | os.PathLike],
     log_file: str | os.PathLike,
     workers: int | None = None,
-) -> None:
+) -> JobUsage:
     """A study's table and pictures (:func:`gridlib.stages.study.stage_study` of the study's
     manifest, its variants' ``summaries`` and ``simulations``, into ``outputs`` by name),
     logging to ``log_file``: in one of ``workers`` warm worker processes (which have imported
     matplotlib and pandas already: 1.5 s of a 3 s job in a process of its own), or in this
-    process where ``workers`` is None."""
+    process where ``workers`` is None. What the job used of the process it ran in."""
     args = (
         str(manifest),
         [str(s) for s in summaries],
@@ -122,6 +130,5 @@ def study_table(
         str(log_file),
     )
     if workers is None:
-        _table(*args)
-    else:
-        _in_worker(workers, _table, *args)
+        return _table(*args)
+    return _in_worker(workers, _table, *args)

@@ -91,8 +91,18 @@ def _job(folder: Path, case: Path, stage: str, **paths: str) -> StageJob:
     )
 
 
-# A stage rule's job as Snakemake runs it (a thread of its process: here a script calling it).
-RULE_SCRIPT = SCRIPT.replace("run_job", "run_stage_job")
+# A stage rule's job as Snakemake runs it (a thread of its process: here a script calling it),
+# then what its process used (the figures of its benchmark file), as JSON.
+RULE_SCRIPT = textwrap.dedent(
+    """
+    import dataclasses, json, sys
+    from gridlib.stages.job_server import StageJob, run_stage_job
+    end = run_stage_job(StageJob(**json.loads(sys.argv[1])))
+    print("imported the stages:", "gridlib.stages.pipeline" in sys.modules)
+    print(json.dumps(end.usage and dataclasses.asdict(end.usage)))
+    sys.exit(end.status)
+    """
+)
 
 
 def _script(
@@ -212,7 +222,7 @@ def test_a_rule_job_without_a_server_runs_in_a_new_process_and_stops_with_its_ca
         (tmp_path / folder).mkdir()
         for stage in ("grid", "geometry"):
             code, out, err = _run(_job(tmp_path / folder, case, stage), env, plugins, RULE_SCRIPT)
-            assert code == 0 and out.strip() == "imported the stages: False", (folder, stage, err)
+            assert code == 0 and out.splitlines()[0] == "imported the stages: False", (folder, stage, err)
     assert "run in the job server" not in (tmp_path / "new" / "grid.log").read_text()
     assert assert_same_files(tmp_path / "new", tmp_path / "served") == ["geometry.nc", "grid.nc"]
     failed = _run(
@@ -224,3 +234,29 @@ def test_a_rule_job_without_a_server_runs_in_a_new_process_and_stops_with_its_ca
     script = _script(_job(tmp_path, case, "nap"), {}, plugins, RULE_SCRIPT)
     pids = tmp_path / "nap.txt.pids"
     _kill_and_see_the_stage_end(script, pids, tmp_path / "nap.txt")
+
+
+def test_a_rule_job_reports_what_its_process_used(server, case, tmp_path):
+    """The figures of a stage job's benchmark file are its own process's: in the server's child,
+    its CPU time and peak memory as its log gives them, and the bytes it wrote; in a new
+    process, the process's (from os.wait4: its imports too, bytes not known)."""
+    import json
+    import re
+
+    started, plugins = server
+    for folder, env in (("served", started.environment()), ("new", {})):
+        (tmp_path / folder).mkdir()
+        code, out, err = _run(_job(tmp_path / folder, case, "grid"), env, plugins, RULE_SCRIPT)
+        assert code == 0, err
+        usage = json.loads(out.splitlines()[1])
+        log = (tmp_path / folder / "grid.log").read_text()
+        cpu, peak = (
+            float(x) for x in re.search(r"s, ([\d.]+) s of CPU, peak memory (\d+) MiB", log).groups()
+        )
+        assert usage["cpu_seconds"] >= cpu - 0.06, (folder, usage, log)
+        assert usage["max_rss_mib"] >= peak - 0.51, (folder, usage, log)
+        if folder == "served":
+            assert usage["cpu_seconds"] < cpu + 0.5 and usage["max_rss_mib"] < peak + 2, (usage, log)
+            assert usage["written_mib"] * 2**20 >= (tmp_path / folder / "grid.nc").stat().st_size
+        else:
+            assert usage["cpu_seconds"] > cpu and usage["written_mib"] is None, (usage, log)

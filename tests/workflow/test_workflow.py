@@ -35,6 +35,7 @@ from gridlib.io import read_netcdf
 
 ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]
+GREEDY = ["--scheduler", "greedy"]  # as workflow/profiles/default (make run)
 GOLDEN = ROOT / "tests" / "regression"
 CASES = sorted(p.stem for p in (ROOT / "config" / "cases").glob("*.yaml"))
 SAMPLES = {c: load_case(ROOT / "config" / "cases" / f"{c}.yaml") for c in CASES}
@@ -46,8 +47,9 @@ RTOL = 1e-9
 def _snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
         # --force-use-threads as workflow/profiles/default (make run): the sample study's variants
-        # (config/studies/) run in warm worker processes.
-        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", "--force-use-threads", *args],
+        # (config/studies/) run in warm worker processes; its greedy scheduler too (Snakemake's
+        # default solves an integer program in a CBC process for each choice of jobs).
+        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", "--force-use-threads", *GREEDY, *args],
         capture_output=True,
         text=True,
         timeout=900,
@@ -97,8 +99,27 @@ def test_every_case_has_checked_artifacts_that_open(workflow_run, case):
     for picture in pictures:
         assert (folder / f"{case}{picture}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     for rule in ("grid", "geometry", "export"):
-        assert (workflow_run / "results" / "logs" / case / f"{rule}.log").is_file()
-        assert (workflow_run / "results" / "benchmarks" / case / f"{rule}.tsv").is_file()
+        log = (workflow_run / "results" / "logs" / case / f"{rule}.log").read_text()
+        benchmark = _benchmark(workflow_run / "results" / "benchmarks" / case / f"{rule}.tsv")
+        _assert_benchmark_is_the_logged_stage(benchmark, log)
+
+
+def _benchmark(path: Path) -> dict[str, str]:
+    """A benchmark file's one record (Snakemake's tab-separated header and values)."""
+    header, values = path.read_text().splitlines()
+    return dict(zip(header.split("\t"), values.split("\t"), strict=True))
+
+
+def _assert_benchmark_is_the_logged_stage(benchmark: dict[str, str], log: str) -> None:
+    """A `run:` job's benchmark record holds what its own process used (the workflow records it,
+    gridlib.stages.job_usage), not samples of Snakemake's processes: its peak memory and CPU
+    time are those the stage's log gives (to their rounding, plus what the job's process did
+    around the stage), its wall time at least the stage's."""
+    seconds, cpu, peak = re.findall(r": ([\d.]+) s, ([\d.]+) s of CPU, peak memory (\d+) MiB", log)[-1]
+    assert float(benchmark["s"]) >= float(seconds) - 0.06, (benchmark, log)
+    assert float(peak) - 0.51 <= float(benchmark["max_rss"]) < float(peak) + 2, (benchmark, log)
+    assert float(cpu) - 0.06 <= float(benchmark["cpu_time"]) < float(cpu) + 0.5, (benchmark, log)
+    assert float(benchmark["io_out"]) > 0 and benchmark["max_vms"] == "-", benchmark
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -286,6 +307,12 @@ def test_the_grid_choice_study_is_built_and_simulated(workflow_run):
         rows = list(csv.DictReader(f))
     labels = [f"{g}-{s}m" for g in ("pillars", "stairs", "pebi") for s in (80, 40)]
     assert [r["variant"] for r in rows] == [f"grid-{lab}_r{k}" for lab in labels for k in (0, 1)]
+    for r in rows:  # a variant's job in a warm worker: its own figures, not the worker's so far
+        log = (workflow_run / "results" / "logs" / "grid_choice" / f"{r['variant']}.log").read_text()
+        benchmark = _benchmark(
+            workflow_run / "results" / "benchmarks" / "grid_choice" / f"{r['variant']}.tsv"
+        )
+        _assert_benchmark_is_the_logged_stage(benchmark, log)
     assert [r["grid"] for r in rows] == [lab for lab in labels for _ in (0, 1)]
     assert {r["simulation"] for r in rows} == {"ok"}
     assert [r["grid_type"] for r in rows] == ["cornerpoint"] * 8 + ["pebi"] * 4

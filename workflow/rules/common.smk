@@ -60,8 +60,6 @@ STAGES = artifacts.STAGES
 
 
 onstart:
-    if workflow.is_main_process and workflow.local_exec:
-        quiet_benchmark_sampling()
     start_job_server()
 
 
@@ -100,23 +98,75 @@ def start_job_server():
         return
 
 
-def quiet_benchmark_sampling():
-    """Sample a local run's job for its benchmark file every 30 s from its start instead of
-    every 0.5 s for its first 15 s. A `run:` job's benchmark samples this process and every
-    process under it (the job server and its children, a study's workers, OPM Flow), each
-    sample reading their memory maps (about 10 ms per 600 MB process): 0.2 s of CPU per job on
-    the sample workflow, 0.3 s per job of a simulated study, more than many stages; and its
-    memory and CPU columns are not the stage's anyway (docs/stages.md). The `s` column, the
-    job's wall time, is unchanged.
+def job_benchmarks():
+    """A `run:` job's benchmark file gets what the job's own process used, which the job
+    records (record_usage), instead of samples of this Snakemake process and every process
+    under it. Snakemake samples a `run:` job as this process's tree: the job server and all
+    its children, a study's workers and every OPM Flow run, whatever job they work for. Each
+    sample reads their memory maps (smaps_rollup: about 10 ms per 600 MB process, in the
+    kernel): on the sample workflow 9 of its 100 s of CPU, for figures that were not the job's.
+    A `run:` job's `s` column (its wall time) is measured as before; its other columns are the
+    job's own CPU time, peak memory and bytes read and written where it records them (the
+    stage jobs, a study's variants and tables), else NA (a study's Flow job). A `shell:` or
+    `script:` job (the summary table) is a process of its own, sampled as Snakemake does, every
+    30 s from its start instead of every 0.5 s in its first 15 s. Set when the workflow is
+    parsed, in every Snakemake process that runs jobs (a local run's, a cluster job's).
     """
-    import snakemake.benchmark
+    import contextlib
+    import time
 
-    snakemake.benchmark.BENCHMARK_INTERVAL_SHORT = (
-        snakemake.benchmark.BENCHMARK_INTERVAL
-    )
+    import snakemake.benchmark as benchmark
+
+    if getattr(
+        benchmark.benchmarked, "records_jobs", False
+    ):  # parsed twice in one process
+        return
+    sampled = benchmark.benchmarked
+
+    @contextlib.contextmanager
+    def benchmarked(
+        pid=None, benchmark_record=None, interval=benchmark.BENCHMARK_INTERVAL
+    ):
+        if pid is not None:  # a shell: or script: job's process
+            with sampled(pid, benchmark_record, interval) as record:
+                yield record
+            return
+        record = benchmark_record or benchmark.BenchmarkRecord()
+        record.process_gone = True  # no sample: NA unless the job records its usage
+        start = time.time()
+        try:
+            yield record
+        finally:
+            record.running_time = time.time() - start
+
+    benchmarked.records_jobs = True
+    benchmark.benchmarked = benchmarked
+    benchmark.BENCHMARK_INTERVAL_SHORT = benchmark.BENCHMARK_INTERVAL
 
 
-def stage_job(stage, input, output, threads, resources, log_file, wildcards):
+job_benchmarks()
+
+
+def record_usage(bench_record, usage):
+    """Put what a `run:` job's process used (gridlib.stages.job_usage.JobUsage, or None: not
+    known) into the job's benchmark record (None: no benchmark file): max_rss in MiB,
+    io_in and io_out in MiB, cpu_time in s, mean_load in % of a core; max_vms, max_uss and
+    max_pss are not measured ("-")."""
+    if bench_record is None or usage is None:
+        return
+    bench_record.data_collected = True
+    bench_record.max_rss = usage.max_rss_mib
+    bench_record.io_in = usage.read_mib
+    bench_record.io_out = usage.written_mib
+    bench_record.cpu_time = usage.cpu_seconds
+    bench_record.cpu_usage = (
+        100 * usage.cpu_seconds
+    )  # mean_load: this over the wall time
+
+
+def stage_job(
+    stage, input, output, threads, resources, log_file, wildcards, bench_record
+):
     """A stage rule's job (workflow/rules/stages.smk): the stage ``stage`` of the job's case
     with the rule's inputs and outputs (keyword arguments named after the artifacts' keys)
     and the environment Snakemake gives a script job of ``threads`` and ``resources``,
@@ -124,7 +174,8 @@ def stage_job(stage, input, output, threads, resources, log_file, wildcards):
     else in a new Python process (a cluster job, a conda or container job, job_server:
     false). Its notes reach the console once, prefixed with the case and the stage; a failure
     is one line there (gridlib.stages.run_logged), the traceback of an unexpected one in the
-    rule's log, and fails the job."""
+    rule's log, and fails the job. What the job's process used goes into ``bench_record``.
+    """
     from gridlib.stages.job_server import StageJob, job_environment, run_stage_job
 
     paths = {key: str(path) for key, path in input.items() if key != "case"}
@@ -142,7 +193,9 @@ def stage_job(stage, input, output, threads, resources, log_file, wildcards):
     )
     # the environment Snakemake gives a script job (thread counts, TMPDIR)
     env = job_environment(threads, resources.get("tmpdir"))
-    if run_stage_job(job, env) != 0:
+    end = run_stage_job(job, env)
+    record_usage(bench_record, end.usage)
+    if end.status != 0:
         # The reason is the one gridlib: line above (the traceback of an unexpected error is in
         # the log). Fail as a script job fails, through Snakemake's shell: Snakemake reports an
         # exception raised here with the rule's Python frames, a traceback on the console.
@@ -357,28 +410,30 @@ def variant_out(name):
     return f"{RESULTS}/{{study}}/{{variant}}/{path}"
 
 
-def build_variant(case_file, summary, log_file):
+def build_variant(case_file, summary, log_file, bench_record):
     """Build a variant (every stage, gridlib.stages.run_case) into the folder of ``summary``:
     in the Snakemake process that parsed the workflow (run: jobs in its threads), in a pool
     of warm worker processes, one per core; in a job's own process (a spawned or cluster
-    job) right there."""
+    job) right there. What it used of that process goes into ``bench_record``."""
     from gridlib.stages.workers import run_in_process, run_in_worker
 
     folder = Path(summary).parent
     if workflow.is_main_process:
-        run_in_worker(case_file, folder, log_file, workflow.cores or 1)
+        usage = run_in_worker(case_file, folder, log_file, workflow.cores or 1)
     else:
-        run_in_process(case_file, folder, log_file)
+        usage = run_in_process(case_file, folder, log_file)
+    record_usage(bench_record, usage)
 
 
-def study_table_job(input, output, log_file):
+def study_table_job(input, output, log_file, bench_record):
     """A study's table job (rules study_table, study_table_simulated): its table and pictures
     (gridlib.stages.study.stage_study) in the warm workers, as build_variant builds a variant:
     where the variants are built there (run: jobs in this process's threads), else here.
+    What it used of that process goes into ``bench_record``.
     """
     from gridlib.stages.workers import study_table
 
-    study_table(
+    usage = study_table(
         input.manifest,
         list(input.summaries),
         dict(output.items()),
@@ -386,6 +441,7 @@ def study_table_job(input, output, log_file):
         log_file,
         workers=(workflow.cores or 1) if workflow.is_main_process else None,
     )
+    record_usage(bench_record, usage)
 
 
 def study_rules(name):

@@ -42,6 +42,7 @@ for _stage in STAGES:
                     resources,
                     log[0],
                     wildcards,
+                    bench_record,
                 )
 
 

@@ -33,7 +33,7 @@ for _name in sorted(STUDIES):
             resources:
                 mem_mb=4000,
             run:
-                build_variant(input.case, output.summary, log[0])
+                build_variant(input.case, output.summary, log[0], bench_record)
 
 
 # A simulated study (simulate: true): each variant's OPM Flow deck (its flow/ folder, from the
@@ -103,4 +103,4 @@ for _simulated in (False, True):
         resources:
             mem_mb=2000,
         run:
-            study_table_job(input, output, log[0])
+            study_table_job(input, output, log[0], bench_record)
