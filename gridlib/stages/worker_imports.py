@@ -9,12 +9,19 @@ the stage jobs' entry points do) and imports what a variant's stages and a study
 (:func:`~gridlib.stages.job_server.freeze_imports`). Each worker then starts with them, instead of
 importing them in its first job, which on this project's 2-core VM cost each worker about
 1 s of CPU over a warm job (horizons 0.4 s, pictures 0.35 s, quality 0.12 s, ...).
+
+A worker builds a variant on one thread (a study's variant job has one), so the BLAS and
+OpenMP libraries get one thread too, unless the environment sets their counts
+(:data:`~gridlib.stages.job_server.BLAS_THREADS`, as the stage jobs' job server does): their
+counts are fixed when numpy is imported, and a pool of BLAS threads that spin while they wait
+for work cost each worker of the sample study about 1 s of CPU.
 """
 
 from __future__ import annotations
 
-from ..io.dask_on_demand import defer_dask_import
-from .job_server import freeze_imports, import_present, preload_modules
+import os
+
+from .job_server import BLAS_THREADS, freeze_imports, import_present, preload_modules
 
 __all__ = ["STUDY_TABLE", "import_worker_modules"]
 
@@ -23,7 +30,12 @@ STUDY_TABLE = ("pandas", "gridlib.stages.study")
 
 
 def import_worker_modules() -> list[str]:
-    """Import what the workers use (the module's docstring); returns the names tried."""
+    """Import what the workers use (the module's docstring), BLAS on one thread unless the
+    environment says otherwise; returns the names tried."""
+    for name in BLAS_THREADS:
+        os.environ.setdefault(name, "1")
+    from ..io.dask_on_demand import defer_dask_import  # numpy's first import: after the counts
+
     defer_dask_import()
     names = list(dict.fromkeys([*preload_modules(None), *STUDY_TABLE]))
     import_present(names)
