@@ -75,7 +75,7 @@ def runs(slurm_cluster, tmp_path_factory):
     (base / "studies" / "flood.yaml").write_text(yaml.safe_dump(STUDY, sort_keys=False))
     (base / "bases").mkdir()  # the study's base case, not one of the run's cases
     (base / "bases" / "tiny_flood.yaml").write_text(yaml.safe_dump(BASE, sort_keys=False))
-    local = _snakemake(base / "local", cases, "--cores", "2", "--force-use-threads")
+    local = _snakemake(base / "local", cases, "--cores", "2", "--force-use-threads", "--scheduler", "greedy")
     on_slurm = _snakemake(base / "slurm", cases, "--workflow-profile", str(PROFILE), env=slurm_cluster.env)
     return local, on_slurm
 

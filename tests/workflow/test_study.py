@@ -30,6 +30,7 @@ from gridlib.study import SEED_STEP, load_study
 
 ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]
+GREEDY = ["--scheduler", "greedy"]  # as workflow/profiles/default (make run)
 
 # A small version of config/cases/faulted_pebi.yaml: 1 x 0.75 km, 100 m thick in 2 layers (170 and
 # 300 cells): the largest throw (40 m) is less than a layer, so that it adds connections.
@@ -89,7 +90,7 @@ def _write(path: Path, data: dict) -> Path:
 
 def _snakemake(workdir: Path, study: Path, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", "--force-use-threads"]
+        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", "--force-use-threads", *GREEDY]
         + ["--config", "cases=[]", f"studies={study}", *args],
         capture_output=True,
         text=True,

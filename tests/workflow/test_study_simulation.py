@@ -36,6 +36,7 @@ from gridlib.study import load_study
 
 ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile")]
+GREEDY = ["--scheduler", "greedy"]  # as workflow/profiles/default (make run)
 
 FLOOD = {
     "name": "flood",
@@ -64,7 +65,7 @@ def _write(path: Path, data: dict) -> Path:
 
 def _snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", "--force-use-threads", *args]
+        [*SNAKEMAKE, "--directory", str(workdir), "--cores", "2", "--force-use-threads", *GREEDY, *args]
         + ["--config", "cases=[]", f"studies={workdir / 'config' / 'studies'}/*.yaml"],
         capture_output=True,
         text=True,
