@@ -70,12 +70,31 @@ PYTHON_ENV = "GRIDLIB_JOB_SERVER_PYTHON"
 # job uses, then the modules of the run's stages and what each of them imports only inside its
 # functions (a performance hint: a module left out is imported by each job that needs it).
 PRELOAD = ("numpy", "xarray", "netCDF4", "gridlib.stages.common", "gridlib.stages.pipeline")
+# PIL's image formats beyond PNG, which it imports at its first save (Image.preinit).
+_PIL_FORMATS = ("PIL.BmpImagePlugin", "PIL.GifImagePlugin", "PIL.JpegImagePlugin", "PIL.PpmImagePlugin")
 STAGE_LIBRARIES: dict[str, tuple[str, ...]] = {
     "horizons": ("scipy.interpolate", "scipy.spatial", "shapely"),
     "grid": ("scipy.interpolate", "shapely"),
     "petrophysics": ("gstools",),
     "coarsen": ("pymetis",),
-    "export": ("pyvista", "pyvista.plotting", "matplotlib.pyplot"),
+    "quality": ("matplotlib.pyplot", *_PIL_FORMATS),
+    "export": ("pyvista", "pyvista.plotting", "matplotlib.pyplot", "vtkmodules.vtkIOXML"),
+    "exchange": ("roffio",),
+    # read with a case's trajectory and survey wells (gridlib.config.well_paths), by every stage
+    "wells": ("gridlib.io.well_paths", "gridlib.wells.survey"),
+    # pyvista imports VTK's interaction and 2-D view modules when a plotter is made (0.15 s)
+    "pictures": (
+        "pyvista",
+        "pyvista.plotting",
+        "vtkmodules.vtkInteractionWidgets",
+        "vtkmodules.vtkViewsContext2D",
+        "matplotlib.pyplot",
+        "matplotlib.tri",
+        "matplotlib._tri",
+        "matplotlib._qhull",
+        "mpl_toolkits.axes_grid1.anchored_artists",
+        *_PIL_FORMATS,
+    ),
     "simulate": ("matplotlib.pyplot",),
 }
 # What Snakemake sets to a shell or script job's threads (its shell's environment for a job).
