@@ -108,6 +108,12 @@ JOB_THREAD_VARIABLES = (
 )
 # Set to 1 in the server's environment unless given (see start_server).
 BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+# The environment a warm process (the job server, the study workers' fork server) starts with
+# where not set: BLAS threads fixed to one when numpy is imported, as Snakemake gives a job of one
+# thread (gridlib's own threads follow each job's rule; results do not depend on either); and
+# pyvista told that it may plot, since gridlib renders off screen only: otherwise each forked
+# job's first plotter asks (an ``xset`` process, then a trial OpenGL context: 0.08 s a job).
+WARM_DEFAULTS = dict.fromkeys(BLAS_THREADS, "1") | {"ALLOW_PLOTTING": "true"}
 _HEADER = struct.Struct("!I")  # the length of the request that follows the descriptors
 # The job's exit status and what its process used: CPU s, peak MiB, MiB read, MiB written (NaN: unknown)
 _STATUS = struct.Struct("!i4d")
@@ -354,9 +360,7 @@ def start_server(
     code = f"import sys; sys.path.insert(0, {package_root!r}); from {__name__} import serve; serve()"
     names = None if stages is None else sorted(set(stages))
     settings = json.dumps({"path": path, "plugins": list(plugins), "stages": names, "preload": list(preload)})
-    # BLAS threads are fixed when numpy is imported: one, as Snakemake gives a job of one thread
-    # (gridlib's own threads follow each job's rule; results do not depend on either).
-    env = dict.fromkeys(BLAS_THREADS, "1") | os.environ
+    env = WARM_DEFAULTS | os.environ
     process = subprocess.Popen(
         [sys.executable, "-c", code, settings], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env
     )

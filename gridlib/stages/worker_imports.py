@@ -12,16 +12,16 @@ importing them in its first job, which on this project's 2-core VM cost each wor
 
 A worker builds a variant on one thread (a study's variant job has one), so the BLAS and
 OpenMP libraries get one thread too, unless the environment sets their counts
-(:data:`~gridlib.stages.job_server.BLAS_THREADS`, as the stage jobs' job server does): their
-counts are fixed when numpy is imported, and a pool of BLAS threads that spin while they wait
-for work cost each worker of the sample study about 1 s of CPU.
+(:data:`~gridlib.stages.job_server.WARM_DEFAULTS`, as the stage jobs' job server has them):
+their counts are fixed when numpy is imported, and a pool of BLAS threads that spin while they
+wait for work cost each worker of the sample study about 1 s of CPU.
 """
 
 from __future__ import annotations
 
 import os
 
-from .job_server import BLAS_THREADS, freeze_imports, import_present, preload_modules
+from .job_server import WARM_DEFAULTS, freeze_imports, import_present, preload_modules
 
 __all__ = ["STUDY_TABLE", "import_worker_modules"]
 
@@ -32,8 +32,8 @@ STUDY_TABLE = ("pandas", "gridlib.stages.study")
 def import_worker_modules() -> list[str]:
     """Import what the workers use (the module's docstring), BLAS on one thread unless the
     environment says otherwise; returns the names tried."""
-    for name in BLAS_THREADS:
-        os.environ.setdefault(name, "1")
+    for name, value in WARM_DEFAULTS.items():
+        os.environ.setdefault(name, value)
     from ..io.dask_on_demand import defer_dask_import  # numpy's first import: after the counts
 
     defer_dask_import()

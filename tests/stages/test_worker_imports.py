@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from gridlib import artifacts
-from gridlib.stages.job_server import BLAS_THREADS, STAGE_LIBRARIES
+from gridlib.stages.job_server import STAGE_LIBRARIES, WARM_DEFAULTS
 from gridlib.stages.worker_imports import STUDY_TABLE
 from gridlib.stages.workers import PRELOAD
 
@@ -40,7 +40,8 @@ def test_the_fork_server_preloads_what_a_variant_and_a_study_table_use():
 
 def test_the_workers_blas_has_one_thread_unless_the_environment_says():
     """A variant's job has one thread: the fork server's BLAS starts without a thread pool of
-    its own (which spins while it waits for work), unless the environment sets a count."""
+    its own (which spins while it waits for work), unless the environment sets a count; pyvista
+    is told it may plot (off screen), so that no job asks again."""
     import os
 
     probe = (
@@ -48,9 +49,10 @@ def test_the_workers_blas_has_one_thread_unless_the_environment_says():
         f"sys.path.insert(0, {str(ROOT)!r})\n"
         f"for name in {list(PRELOAD)!r}:\n"
         "    __import__(name)\n"
-        "print(json.dumps([os.environ.get('OPENBLAS_NUM_THREADS'), len(os.listdir('/proc/self/task'))]))\n"
+        "print(json.dumps([os.environ.get('OPENBLAS_NUM_THREADS'), len(os.listdir('/proc/self/task')),"
+        " os.environ.get('ALLOW_PLOTTING')]))\n"
     )
-    env = {k: v for k, v in os.environ.items() if k not in BLAS_THREADS}
+    env = {k: v for k, v in os.environ.items() if k not in WARM_DEFAULTS}
     runs = {
         given: json.loads(
             subprocess.run(
@@ -65,3 +67,4 @@ def test_the_workers_blas_has_one_thread_unless_the_environment_says():
     }
     assert runs[None][0] == "1" and runs["2"][0] == "2", runs
     assert runs[None][1] < runs["2"][1], runs  # no BLAS thread of its own beside the main thread
+    assert runs[None][2] == "true", runs
