@@ -94,7 +94,9 @@ def make_run(checkout: Path, work: Path, cores: int) -> tuple[float, int, float,
         "--quiet",
     ]
     t0, cpu0 = time.perf_counter(), _children_cpu()
-    run = subprocess.run(command, capture_output=True, text=True, env=_environment(checkout))
+    # cwd: `python -m` puts the working directory first on sys.path, before PYTHONPATH: run from a
+    # checkout's root, every checkout's Snakemake would import that checkout's gridlib
+    run = subprocess.run(command, capture_output=True, text=True, env=_environment(checkout), cwd=work)
     wall, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
     if run.returncode != 0:
         sys.exit(f"{checkout}: snakemake failed:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")

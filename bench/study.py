@@ -70,7 +70,9 @@ def _snakemake(work: Path, *args: str, checkout: Path = ROOT) -> float:
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(checkout), env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
     t0 = time.perf_counter()
-    run = subprocess.run([*command, *args, "--quiet"], capture_output=True, text=True, env=env)
+    # cwd: `python -m` puts the working directory first on sys.path, before PYTHONPATH: run from a
+    # checkout's root, every checkout's Snakemake would import that checkout's gridlib
+    run = subprocess.run([*command, *args, "--quiet"], capture_output=True, text=True, env=env, cwd=work)
     wall = time.perf_counter() - t0
     if run.returncode != 0:
         sys.exit(f"snakemake failed:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
