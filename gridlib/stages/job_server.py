@@ -30,11 +30,12 @@ closes and the child kills its own process group (itself and what it started, e.
 Each child is forked from the server, which runs no stage itself, so jobs share no state. A job
 runs in a new Python process of its own (:func:`run_in_new_process`) where no server is named,
 where the server cannot be reached, or where the job's Python is not the server's (a conda or
-container job): on other systems than Linux, on a cluster node (the SLURM profile), for a run
-of a single stage job, with ``--no-hooks``, with ``--software-deployment-method``, or with the
-configuration's ``job_server: false``. :func:`run_job` does the same from a process that runs
-one job (a script), falling back to that process. The server ends when the Snakemake process
-that started it does (it watches a pipe from it).
+container job): on other systems than Linux, for a run of a single stage job, with
+``--no-hooks``, with ``--software-deployment-method``, or with the configuration's
+``job_server: false``. A cluster job of several stages (the SLURM profile's job of a case)
+starts a server of its own on its node, at its first stage job (``stage_job``). :func:`run_job`
+does the same from a process that runs one job (a script), falling back to that process. The
+server ends when the Snakemake process that started it does (it watches a pipe from it).
 """
 
 from __future__ import annotations
@@ -371,24 +372,29 @@ def start_server(
     return server
 
 
+_serving = threading.Lock()
+
+
 def serve_this_run(plugins: Sequence[str] = (), stages: Iterable[str] | None = None) -> bool:
-    """Start a job server (:func:`start_server`) for the jobs this process (a local Snakemake
-    run) starts: named in this process's environment, which the jobs inherit, and stopped when
-    this process exits. False if it could not start."""
-    if os.environ.get(SERVER_ENV):
+    """Start a job server (:func:`start_server`) for the jobs this process (a Snakemake process
+    that runs jobs) starts, unless one is named already: named in this process's environment,
+    which the jobs inherit, and stopped when this process exits. False if it could not start.
+    Threads may call it at once: one server starts."""
+    with _serving:
+        if os.environ.get(SERVER_ENV):
+            return True
+        server = start_server(plugins, stages)
+        if server is None:
+            return False
+
+        def stop() -> None:
+            server.stop()
+            for name in server.environment():
+                os.environ.pop(name, None)
+
+        atexit.register(stop)
+        os.environ.update(server.environment())
         return True
-    server = start_server(plugins, stages)
-    if server is None:
-        return False
-
-    def stop() -> None:
-        server.stop()
-        for name in server.environment():
-            os.environ.pop(name, None)
-
-    atexit.register(stop)
-    os.environ.update(server.environment())
-    return True
 
 
 def serve() -> None:

@@ -68,14 +68,16 @@ STAGE_RULES = {}
 
 
 def start_job_server():
-    """A local run's stage jobs hand their stages to one warm process (gridlib/stages/
+    """The stage jobs this process runs hand their stages to one warm process (gridlib/stages/
     job_server.py) that imports what their stages use, started when two or more stage jobs
-    are about to run (one runs as fast in its own process); jobs run in their own processes
-    on a cluster (this process submits them), in a conda environment or container, and where
-    the configuration's job_server is false."""
+    are about to run here (one runs as fast in its own process): those of a local run (from
+    onstart) and those of a cluster job of several stages (the SLURM profile's job of a case:
+    the Snakemake process the job starts on its node runs them without hooks, so its first
+    stage job starts the server, stage_job). Jobs run in their own processes where this
+    process submits them to a cluster, in a conda environment or container, and where the
+    configuration's job_server is false."""
     if not (
         config.get("job_server", True)
-        and workflow.is_main_process
         and workflow.local_exec
         and not workflow.deployment_settings.deployment_method
     ):
@@ -147,6 +149,30 @@ def job_benchmarks():
 job_benchmarks()
 
 
+def cluster_jobs_in_threads():
+    """A cluster job's Snakemake (--mode remote, on the node: the SLURM profile's job of a
+    case's stages, of a study's variant or of its Flow run) runs its `run:` jobs in its own
+    threads, as a local run with --force-use-threads (the default profile) does. Otherwise it
+    starts another Snakemake process for each `run:` job, which imports Snakemake and parses
+    the workflow again (about 2 s of CPU a stage): the cluster executor plugins do not pass
+    --force-use-threads on to the job. Its stage jobs then hand their stages to one job server
+    on the node (stage_job); a variant's or table's job runs in the job's own thread, as it ran
+    in its own Snakemake process before. Set when the workflow is parsed, before Snakemake
+    makes the run's execution settings: on them, when the run starts."""
+    if not (workflow.remote_exec and workflow.local_exec):
+        return
+    execute = workflow.execute
+
+    def execute_in_threads(*args, **kwargs):
+        workflow.execution_settings.use_threads = True
+        return execute(*args, **kwargs)
+
+    workflow.execute = execute_in_threads
+
+
+cluster_jobs_in_threads()
+
+
 def record_usage(bench_record, usage):
     """Put what a `run:` job's process used (gridlib.stages.job_usage.JobUsage, or None: not
     known) into the job's benchmark record (None: no benchmark file): max_rss in MiB,
@@ -191,6 +217,9 @@ def stage_job(
         label=f"{wildcards.get('case', input.case)}: {stage}",
         plugins=tuple(config.get("plugins", [])),
     )
+    # a cluster job's Snakemake runs without hooks (no onstart): its first stage job starts it
+    if not workflow.is_main_process:
+        start_job_server()
     # the environment Snakemake gives a script job (thread counts, TMPDIR)
     env = job_environment(threads, resources.get("tmpdir"))
     end = run_stage_job(job, env)
