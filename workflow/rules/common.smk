@@ -156,8 +156,7 @@ def cluster_jobs_in_threads():
     starts another Snakemake process for each `run:` job, which imports Snakemake and parses
     the workflow again (about 2 s of CPU a stage): the cluster executor plugins do not pass
     --force-use-threads on to the job. Its stage jobs then hand their stages to one job server
-    on the node (stage_job); a variant's or table's job runs in the job's own thread, as it ran
-    in its own Snakemake process before. Set when the workflow is parsed, before Snakemake
+    on the node (stage_job), its variants and tables to warm workers (build_variant). Set when the workflow is parsed, before Snakemake
     makes the run's execution settings: on them, when the run starts."""
     if not (workflow.remote_exec and workflow.local_exec):
         return
@@ -441,16 +440,18 @@ def variant_out(name):
 
 def build_variant(case_file, summary, log_file, bench_record):
     """Build a variant (every stage, gridlib.stages.run_case) into the folder of ``summary``:
-    in the Snakemake process that parsed the workflow (run: jobs in its threads), in a pool
-    of warm worker processes, one per core; in a job's own process (a spawned or cluster
-    job) right there. What it used of that process goes into ``bench_record``."""
+    from a thread of a Snakemake process, which may run other jobs in its other threads (a
+    local run's with --force-use-threads, a cluster job's: cluster_jobs_in_threads), in a pool
+    of warm worker processes, one per core (a variant's log and threads are its process's); in
+    a job's own Snakemake process (a spawned job) right there. What it used of that process
+    goes into ``bench_record``."""
     from gridlib.stages.workers import run_in_process, run_in_worker
 
     folder = Path(summary).parent
-    if workflow.is_main_process:
-        usage = run_in_worker(case_file, folder, log_file, workflow.cores or 1)
-    else:
+    if workflow.subprocess_exec:
         usage = run_in_process(case_file, folder, log_file)
+    else:
+        usage = run_in_worker(case_file, folder, log_file, workflow.cores or 1)
     record_usage(bench_record, usage)
 
 
@@ -468,7 +469,7 @@ def study_table_job(input, output, log_file, bench_record):
         dict(output.items()),
         list(input.get("simulations", [])),
         log_file,
-        workers=(workflow.cores or 1) if workflow.is_main_process else None,
+        workers=None if workflow.subprocess_exec else (workflow.cores or 1),
     )
     record_usage(bench_record, usage)
 
