@@ -82,8 +82,12 @@ def test_a_stage_added_through_the_table_runs_in_snakemake(toy, tmp_path):
     env = {**os.environ, "PYTHONPATH": f"{tmp_path}:{ROOT}"}
     command = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "--directory", str(tmp_path)]
     config = ["--config", f"cases=[{toy}]", "studies=[]", "plugins=[toy_stage]"]
-    result = subprocess.run(
-        [*command, "--cores", "1", *config], capture_output=True, text=True, timeout=300, env=env
+    result = subprocess.run(  # run: jobs in Snakemake's threads, as make run's profile has them
+        [*command, "--cores", "1", "--force-use-threads", *config],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=env,
     )
     assert result.returncode == 0, result.stderr[-3000:]
     assert (tmp_path / "results" / "toy" / "cell_count.txt").read_text() == "toy: 24 cells\n"
