@@ -5,9 +5,9 @@ Run:  .venv/bin/python bench/workflow.py [--case bench/cases/million.yaml] [--ke
 Runs ``snakemake --cores 2`` on the case in a scratch directory (the same
 Snakefile and rules as ``make run``), then prints the wall time of the whole run
 and every rule's ``benchmark:`` record (results/benchmarks/<case>/<rule>.tsv:
-seconds, and the peak resident memory in MiB: the process's own maximum as the stage's log
-records it (getrusage), Snakemake's sampled ``max_rss`` where a log has none), and the sizes of the
-artifacts. The default case is a faulted anticline, 200 x 200 x 25 corner-point
+seconds, and the peak resident memory in MiB: the stage's process's high-water mark during the
+stage as its log records it, else the record's ``max_rss``, the job's process's own peak), and
+the sizes of the artifacts. The default case is a faulted anticline, 200 x 200 x 25 corner-point
 cells, with random porosity and permeability fields and 1000 METIS blocks.
 """
 
@@ -77,9 +77,9 @@ def run_workflow(case: Path, work: Path, cores: int = 2) -> WorkflowRun:
 
 
 def _logged_peak(log: Path) -> float | None:
-    """The peak resident memory (MiB) the stage's log ends with (the process's own maximum,
-    getrusage's ru_maxrss); Snakemake's benchmark max_rss samples the memory now and then and
-    misses short peaks, so it is only the fallback."""
+    """The peak resident memory (MiB) the stage's log ends with (its process's high-water mark
+    while the stage ran, gridlib.stages.job_usage); the benchmark record's max_rss (the job's
+    whole process) is the fallback."""
     if not log.is_file():
         return None
     found = re.findall(r"peak memory (\d+) MiB", log.read_text())
