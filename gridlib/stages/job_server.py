@@ -210,7 +210,7 @@ def _run_in_server(job: StageJob, env: dict[str, str] | None = None) -> JobEnd |
         )
         return JobEnd(1, None)
     status, *figures = _STATUS.unpack(answer)
-    cpu, peak, read, written = (None if figure != figure else figure for figure in figures)  # NaN: unknown
+    cpu, peak, read, written = (None if math.isnan(figure) else figure for figure in figures)
     return JobEnd(status, None if cpu is None else JobUsage(cpu, peak, read, written))
 
 

@@ -24,6 +24,14 @@ def _touch(mib: int) -> np.ndarray:
     return block
 
 
+def _burn(seconds: float) -> int:
+    """Spend ``seconds`` of this process's CPU time summing integers; the sum."""
+    total, end = 0, time.process_time() + seconds
+    while time.process_time() < end:
+        total += sum(range(1000))
+    return total
+
+
 def _rss_mib() -> float:
     for line in Path("/proc/self/status").read_text().splitlines():
         if line.startswith("VmRSS:"):
@@ -34,8 +42,7 @@ def _rss_mib() -> float:
 def test_cpu_seconds_are_this_processs_user_and_system_time():
     with Meter() as meter:
         before = time.process_time()
-        while time.process_time() < before + 0.2:
-            pass
+        _burn(0.2)
         spent = time.process_time() - before
     assert spent >= 0.2
     assert meter.usage.cpu_seconds == pytest.approx(spent, abs=0.02)
@@ -86,9 +93,7 @@ def test_an_ended_processs_cpu_and_peak_come_from_wait4():
     if pid == 0:  # the child: 64 MiB touched, 0.2 s of CPU
         try:
             block = _touch(64)
-            end = time.process_time() + 0.2
-            while time.process_time() < end:
-                pass
+            _burn(0.2)
             del block
         finally:
             os._exit(0)
