@@ -63,14 +63,13 @@ def run_logged(
         _log_costs(root, name, time.perf_counter() - start, meter.stop(), outputs)
     except (InputError, GridError) as exc:  # the user's input: one message, no traceback
         root.error("%s failed: %s", name, exc)
-        print(f"gridlib: {exc}", file=sys.stderr)
+        _console_line(f"gridlib: {exc}")
         raise SystemExit(1) from None
     except Exception as exc:  # a bug: the traceback in the log, one line on the console
         root.error("%s failed: %s", name, exc, exc_info=True)
-        print(
+        _console_line(
             f"gridlib: {label or name} failed: {type(exc).__name__}: {exc} (an error in gridlib; "
-            f"the traceback is in {log_file})",
-            file=sys.stderr,
+            f"the traceback is in {log_file})"
         )
         raise SystemExit(1) from None
     finally:
@@ -82,6 +81,15 @@ def run_logged(
             os.environ.pop(ENV, None)
         else:
             os.environ[ENV] = previous
+
+
+def _console_line(text: str) -> None:
+    """``text`` and its line end on stderr in one write: a message of several lines printed
+    with ``print`` reaches a line-buffered stderr as two writes (its lines, then the last line
+    end), and a line another process writes to the same console in between would end up on
+    the message's last line."""
+    sys.stderr.write(text + "\n")
+    sys.stderr.flush()
 
 
 def notes_on_console(label: str) -> logging.Handler:

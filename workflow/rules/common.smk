@@ -149,6 +149,32 @@ def job_benchmarks():
 job_benchmarks()
 
 
+def whole_console_lines():
+    """Each message Snakemake prints reaches the console in one write. Its console handler
+    writes a message, then its line end, with two writes: the message's lines are flushed at
+    once (stderr is line-buffered), the line end after them. A job's own line (a note, a
+    failure) written by another process in between (the job server's child, another job's
+    process, a cluster job's Snakemake) then ends Snakemake's message and starts a line that
+    is neither's: "...non-zero exit status 1.gridlib: noted: grid: note: ...". The handler
+    writes the line end with its message instead. Set when the workflow is parsed, in every
+    Snakemake process that prints (its handlers are made after the parse)."""
+    from snakemake.logging import ColorizingTextHandler
+
+    if getattr(ColorizingTextHandler, "whole_lines", False):  # parsed twice in one process
+        return
+    decorate = ColorizingTextHandler.decorate
+
+    def decorate_line(self, record, message):
+        return decorate(self, record, message) + "\n"
+
+    ColorizingTextHandler.decorate = decorate_line
+    ColorizingTextHandler.terminator = ""
+    ColorizingTextHandler.whole_lines = True
+
+
+whole_console_lines()
+
+
 def cluster_jobs_in_threads():
     """A cluster job's Snakemake (--mode remote, on the node: the SLURM profile's job of a
     case's stages, of a study's variant or of its Flow run) runs its `run:` jobs in its own
