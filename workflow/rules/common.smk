@@ -160,7 +160,9 @@ def whole_console_lines():
     Snakemake process that prints (its handlers are made after the parse)."""
     from snakemake.logging import ColorizingTextHandler
 
-    if getattr(ColorizingTextHandler, "whole_lines", False):  # parsed twice in one process
+    if getattr(
+        ColorizingTextHandler, "whole_lines", False
+    ):  # parsed twice in one process
         return
     decorate = ColorizingTextHandler.decorate
 
