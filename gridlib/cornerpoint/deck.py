@@ -47,6 +47,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from .connection_keywords import CellPairs, GridOptions, MultregtRecord, TranEdit
+from .map_axes import MapAxes
 
 FAULT_FACES = ("X", "X-", "Y", "Y-", "Z", "Z-")
 # PINCH items 2, 4 and 5, ECLIPSE's defaults: the gap mode (GAP: a pinch-out may join cells
@@ -176,6 +177,10 @@ class Deck:
             m = np.asarray(self.mapaxes, dtype=np.float64).ravel()
             if m.size != 6:
                 raise InputError(f"{self.source}: MAPAXES has {m.size} values, expected 6")
+            try:
+                MapAxes.of(m)
+            except ValueError as exc:
+                raise InputError(f"{self.source}: {exc}") from None
             object.__setattr__(self, "mapaxes", m)
 
     def _check_connection_keywords(self, nc: int) -> None:
@@ -190,6 +195,11 @@ class Deck:
         for edit in self.tran_edits:
             if any(edit.box[2 * a + 1] >= self.cart_dims[a] for a in range(3)):
                 raise InputError(f"{self.source}: {edit.keyword}: box {edit.box} is not inside the grid")
+
+    @property
+    def map_axes(self) -> MapAxes | None:
+        """Where the grid lies on the map (its MAPAXES; None: the grid's frame is the map's)."""
+        return None if self.mapaxes is None else MapAxes.of(self.mapaxes)
 
     @property
     def num_cells(self) -> int:

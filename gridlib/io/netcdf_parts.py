@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cornerpoint.map_axes import MapAxes
 from ..errors import InputError
 from ..units import UnitSystem, unit_system
 from .datasets import damaged, open_artifact, read_variable
@@ -60,6 +61,17 @@ def stored_unit_system(path: str | os.PathLike, attrs: dict[str, Any]) -> UnitSy
         return unit_system(str(attrs["unit_system"]))
     except InputError as exc:
         raise InputError(f"{path}: unit_system: {exc}") from None
+
+
+def stored_map_axes(path: str | os.PathLike, attrs: dict[str, Any]) -> MapAxes | None:
+    """Where the grid of a stage file lies on the map, from its attributes ``attrs`` (its
+    ``map_axes``, a deck's MAPAXES; None: the grid's frame is the map's)."""
+    if "map_axes" not in attrs:
+        return None
+    try:
+        return MapAxes.of(attrs["map_axes"])
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{path}: map_axes: {exc}") from None
 
 
 def _json_or_text(value: Any) -> Any:

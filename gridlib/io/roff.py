@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.map_axes import MapAxes
 from ..errors import InputError
 
 # The neighbour slot of a node value: v (0 below, 1 above) * 4 + s/n (0 south, 1 north) * 2
@@ -120,12 +121,8 @@ def map_coordinates(deck: Deck) -> Deck:
     them, make it a translation, one rounding per value. Depths are unchanged."""
     if deck.mapaxes is None:
         return deck
-    y_point, origin, x_point = deck.mapaxes.reshape(3, 2)
-    ex, ey = x_point - origin, y_point - origin
-    ex, ey = ex / np.hypot(*ex), ey / np.hypot(*ey)
     coord = deck.coord.reshape(-1, 3).copy()
-    x, y = coord[:, :1], coord[:, 1:2]
-    coord[:, :2] = origin + (x * ex + y * ey)
+    coord[:, :2] = MapAxes.of(deck.mapaxes).to_map(coord[:, :2])
     return replace(deck, coord=coord.ravel(), mapaxes=None)
 
 

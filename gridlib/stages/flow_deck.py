@@ -239,7 +239,10 @@ def _vertical_well(case: Case, w: SimulatedWell, model: _Model, form: str) -> Fl
     factors in the connection form (Flow computes them in the native form)."""
     grid, geo, rock, deck, system = model.grid, model.geo, model.rock, model.deck, model.system
     key = f"{case.path}: {w.key}"
-    cells = vertical_well_cells(grid, geo, w.point)
+    axes = None if deck is None else deck.map_axes  # the point is on the map, the grid in its own frame
+    cells = vertical_well_cells(
+        grid, geo, w.point if axes is None else tuple(axes.to_grid(np.array(w.point)))
+    )
     if cells.size == 0:
         raise InputError(
             f"{key}.name: well '{w.name}' at ({w.point[0]:g}, {w.point[1]:g}) lies outside every "

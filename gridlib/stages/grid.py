@@ -89,6 +89,9 @@ def stage_grid(
         "well_names": list(built.well_names),
         "unit_system": grid_unit_system(built).name,
     }
+    if built.deck is not None and built.deck.mapaxes is not None:
+        # where the grid's own x, y lie on the map: a case's map coordinates (its wells) meet it
+        attrs["map_axes"] = [float(v) for v in built.deck.mapaxes]
     write_netcdf(grid, built.grid, cell_data=built.cell_data, extra=nnc_variables(built.nnc), attrs=attrs)
     log.info("wrote %s: %r", grid, built.grid)
     deck = built.deck

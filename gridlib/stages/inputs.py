@@ -9,22 +9,25 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..cornerpoint.map_axes import MapAxes
 from ..geometry import Geometry
 from ..io.netcdf import GridDataset, read_geometry_netcdf, read_netcdf
-from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.netcdf_parts import check_same_cells, read_attrs, stored_map_axes, stored_unit_system
 from ..io.rock_file import read_rock
 from ..units import UnitSystem
 
 
 @dataclass(frozen=True)
 class GridInputs:
-    """A case's grid file as stored, its geometry, its rock (None without ``petrophysics``)
-    and the unit system of its files."""
+    """A case's grid file as stored, its geometry, its rock (None without ``petrophysics``),
+    the unit system of its files and where the grid lies on the map (a deck's MAPAXES; None:
+    the grid's frame is the map's)."""
 
     stored: GridDataset
     geometry: Geometry
     rock: dict[str, np.ndarray] | None
     units: UnitSystem
+    map_axes: MapAxes | None = None
 
 
 def read_grid_inputs(
@@ -40,4 +43,5 @@ def read_grid_inputs(
         rock = read_rock(petrophysics)
         counts[petrophysics] = rock["poro"].size
     check_same_cells(grid, stored.grid.num_cells, counts)
-    return GridInputs(stored, geo, rock, stored_unit_system(grid, read_attrs(grid)))
+    attrs = read_attrs(grid)
+    return GridInputs(stored, geo, rock, stored_unit_system(grid, attrs), stored_map_axes(grid, attrs))

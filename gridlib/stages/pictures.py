@@ -35,13 +35,14 @@ import numpy as np
 from ..completions import vertical_well_cells
 from ..config import Case
 from ..connectivity import ragged_arange, repeat_ids
+from ..cornerpoint.map_axes import MapAxes
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
 from ..io.cross_section import default_section, section_figure, well_heads
 from ..io.horizon_files import read_pick_residuals
 from ..io.netcdf import read_cell_geometry, read_netcdf
-from ..io.netcdf_parts import check_same_cells, read_attrs, stored_unit_system
+from ..io.netcdf_parts import check_same_cells, read_attrs, stored_map_axes, stored_unit_system
 from ..io.pick_residuals import residuals_figure
 from ..io.picture_style import DPI, picture_style, quantity_label
 from ..io.pictures import plot_histograms, render_grid, save_figure
@@ -72,6 +73,7 @@ class Scene:
     cell_data: dict[str, np.ndarray]
     trans: np.ndarray | None
     wells: tuple[WellRecord, ...]
+    map_axes: MapAxes | None = None  # where the grid lies on the map (a deck's MAPAXES)
 
     @property
     def title(self) -> str:
@@ -97,10 +99,11 @@ class Scene:
         tracks = []
         located = self._locatable() if self.grid.dim == 3 else None
         for well in case.data.get("wells", []):
-            if "point" in well:
-                tracks.append(
-                    vertical_track(well["name"], well["point"], self._crossed(located, well["point"], depths))
+            if "point" in well:  # on the map; drawn in the grid's frame
+                point = (
+                    well["point"] if self.map_axes is None else self.map_axes.to_grid(np.array(well["point"]))
                 )
+                tracks.append(vertical_track(well["name"], point, self._crossed(located, point, depths)))
             elif "path" in well:
                 tracks.append(plan_track(well["name"], np.asarray(well["path"], dtype=float), depths[0]))
         return (*tracks, *record_tracks(self.wells))
@@ -174,6 +177,7 @@ def read_scene(
         dict(stored.cell_data),
         trans,
         read_wells(wells) if wells is not None else (),
+        stored_map_axes(grid, attrs),
     )
 
 

@@ -21,6 +21,11 @@ A case without rock gets the paths and the cells they cross, without factors (Na
 A well none of whose open intervals crosses an active cell is an InputError naming the well
 (its path misses the grid, or its perforations lie where the grid has no cell); an interval
 that crosses none while others do is named in a note.
+
+A deck grid with MAPAXES lies on the map as its MAPAXES place it (:mod:`gridlib.cornerpoint.map_axes`),
+while the grid and every stage file stay in the deck's own x, y: the wells' paths, given on the
+map as RMS, xtgeo and OPM Flow's well trajectories give them, are moved into the grid's frame
+before they are followed, and wells.nc holds them there (with the grid they are drawn on).
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ import numpy as np
 
 from ..case.wells import WELL_RADIUS, CaseWellPath, case_well_paths
 from ..config import Case
+from ..cornerpoint.map_axes import MapAxes
 from ..errors import InputError
 from ..geometry import Geometry
 from ..grid import Grid
@@ -41,6 +47,7 @@ from ..transmissibility.peaceman import deck_cell_extents
 from ..units import UnitSystem
 from ..wells.connections import WellConnections, merge_connections, well_connections
 from ..wells.intersect import CellIndex, PathCells, cell_index, path_cells
+from ..wells.path import WellPath
 from .common import log
 from .inputs import read_grid_inputs
 
@@ -61,6 +68,13 @@ def stage_wells(
     mesh, geo, rock, units = inputs.stored.grid, inputs.geometry, inputs.rock, inputs.units
     index = cell_index(mesh, geo)
     well_list = case_well_paths(case)
+    if inputs.map_axes is not None and not inputs.map_axes.is_identity and well_list:
+        log.info(
+            "note: the deck's MAPAXES places its grid on the map: the wells' paths, given on the map, "
+            "are followed (and written) in the grid's own x, y (origin (%s, %s) on the map)",
+            *(f"{v:.10g}" for v in inputs.map_axes.origin),
+        )
+        well_list = tuple(_in_grid_frame(w, inputs.map_axes) for w in well_list)
     pieces = [_pieces(case, well, mesh, geo, index) for well in well_list]
     extents = None
     if grdecl is not None and mesh.cells.index_map is not None:  # Flow's, of the cells the wells cross
@@ -86,6 +100,13 @@ def stage_wells(
         log.info("%s: %d connections", r.name, r.connections.cell.size)
     log.info("wrote %s (%d wells)", wells, len(records))
     return records
+
+
+def _in_grid_frame(well: CaseWellPath, axes: MapAxes) -> CaseWellPath:
+    """``well`` with its paths' x, y moved from the map into the grid's frame (MD and depths
+    unchanged)."""
+    moved = [WellPath(axes.xyz_to_grid(p.xyz), p.md, p.name) for p in well.paths]
+    return replace(well, path=moved[0], branches=tuple(moved[1:]))
 
 
 @dataclass(frozen=True, eq=False)
