@@ -145,3 +145,48 @@ def test_xtgeo_finds_no_cell_of_the_well_that_gridlib_misses(reek):
     found = frame[frame["ICELL"].notna() & (frame["ICELL"] > 0)][["ICELL", "JCELL", "KCELL"]].astype(int)
     theirs = set(map(tuple, found.to_numpy().tolist()))
     assert theirs and theirs <= ours, sorted(theirs - ours)
+
+
+def test_a_vertical_well_at_a_map_point_is_completed_where_its_line_crosses_the_grid_on_the_map(tmp_path):
+    """A vertical well at OP_1's head (a map point) in the Reek deck's OPM Flow deck: COMPDAT
+    completes the cells a vertical line there crosses in the grid moved onto the map."""
+    from gridlib.completions import vertical_well_cells
+
+    head = (461809.590, 5932990.360)
+    shutil.copyfile(DATA / "decks" / "reek" / "REEK.EGRID", tmp_path / "REEK.EGRID")
+    data = {
+        "name": "reek_v",
+        "grid": {"type": "deck", "file": "REEK.EGRID"},
+        "petrophysics": {"porosity": {"constant": 0.2}, "permeability": {"constant": 100}},
+        "wells": [{"name": "V1", "point": list(head)}],
+        "simulation": {
+            "fluid": "water",
+            "wells": [{"name": "V1", "type": "producer", "bhp": 150}],
+            "report_days": [1],
+        },
+    }
+    (tmp_path / "reek_v.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    case = load_case(tmp_path / "reek_v.yaml")
+    paths = case_outputs(case.name, tmp_path / "out")
+    (tmp_path / "out").mkdir()
+    for stage in ("grid", "geometry", "petrophysics", "transmissibility", "flow_deck"):
+        run_stage(stage, case, paths)
+    text = Path(paths["flow_deck"]).read_text()
+    records = [
+        line
+        for line in text.split("COMPDAT", 1)[1].split("\n/", 1)[0].splitlines()
+        if line.startswith(" 'V1'")
+    ]
+    completed = [tuple(int(v) for v in line.split()[1:4]) for line in records]
+
+    on_map = process_grdecl(map_coordinates(read_egrid(tmp_path / "REEK.EGRID"))).grid
+    cells = np.asarray(on_map.cells.index_map)[vertical_well_cells(on_map, compute_geometry(on_map), head)]
+    expected = list(
+        zip(
+            (cells % 40 + 1).tolist(),
+            (cells // 40 % 64 + 1).tolist(),
+            (cells // 2560 + 1).tolist(),
+            strict=True,
+        )
+    )
+    assert len(expected) == 14 and completed == expected
