@@ -53,6 +53,13 @@ def read_egrid(path: str | os.PathLike) -> Deck:
     for needed in ("GRIDHEAD", "COORD", "ZCORN"):
         if needed not in kw:
             raise DeckError(f"{path}: {needed} is missing (not a corner-point EGRID?)")
+    dual = int(kw["FILEHEAD"][5]) if "FILEHEAD" in kw and kw["FILEHEAD"].size > 5 else 0
+    if dual in (1, 2) or ("ACTNUM" in kw and int(kw["ACTNUM"].max(initial=0)) > 1):
+        kind = {1: "DUALPORO", 2: "DUALPERM"}.get(dual, "ACTNUM values 2 and 3")
+        raise DeckError(
+            f"{path}: a dual-porosity grid ({kind}: matrix and fracture cells) is not read: gridlib "
+            "reads single-porosity grids"
+        )
     head = kw["GRIDHEAD"]
     if int(head[0]) != 1:
         raise DeckError(f"{path}: GRIDHEAD type {int(head[0])} is not a corner-point grid")

@@ -75,8 +75,15 @@ BUILTIN_FORMATS = (
         _IO + "grdecl:read_grdecl",
         _IO + "grdecl:write_grdecl",
     ),
+    Format("bgrdecl", "deck", (".bgrdecl",), _IO + "grdecl:read_grdecl"),  # binary: read_grdecl tells
     Format("egrid", "deck", (".egrid", ".fegrid"), _IO + "egrid:read_egrid"),
-    Format("roff", "deck", (".roff", ".roffasc"), _IO + "roff:read_roff_deck", _IO + "roff:write_roff_grid"),
+    Format(
+        "roff",
+        "deck",
+        (".roff", ".roffasc", ".roffbin", ".roff_asc"),  # roff.ROFF_SUFFIXES
+        _IO + "roff:read_roff_deck",
+        _IO + "roff:write_roff_grid",
+    ),
     Format("netcdf", "surface", (".nc",), _IO + "horizon_files:read_surface_netcdf"),
     Format(
         "irap_binary",

@@ -112,6 +112,11 @@ def _splits(nodes: NDArray[np.float64]) -> tuple[NDArray[np.uint8], NDArray[np.f
     return split, n[keep]
 
 
+# A ROFF file's suffixes (RMS and xtgeo's), and those of its ASCII form.
+ROFF_SUFFIXES = (".roff", ".roffasc", ".roffbin", ".roff_asc")
+ROFF_ASCII_SUFFIXES = (".roffasc", ".roff_asc")
+
+
 def map_coordinates(deck: Deck) -> Deck:
     """``deck`` with its COORD in map coordinates where it has MAPAXES (then dropped), as RMS
     exports a ROFF grid: ``origin + x ex + y ey``, the MAPAXES origin (its second point) and
@@ -185,7 +190,7 @@ def write_roff_grid(
 
 def _write(path: str | os.PathLike, tags: Any, binary: bool | None) -> None:
     """Write ``tags`` (a dict, or (tag, dict) pairs: a tag given more than once) with roffio
-    (``binary`` None: ASCII if the suffix is ``.roffasc``); in ASCII, bool array values
+    (``binary`` None: ASCII if the suffix is ``.roffasc`` or ``.roff_asc``); in ASCII, bool array values
     become 1/0 (roffio 1.1 writes numpy bools as True/False, which no ROFF reader, roffio's
     included, accepts)."""
     import io
@@ -193,7 +198,7 @@ def _write(path: str | os.PathLike, tags: Any, binary: bool | None) -> None:
     import roffio
 
     if binary is None:
-        binary = Path(path).suffix.lower() != ".roffasc"
+        binary = Path(path).suffix.lower() not in ROFF_ASCII_SUFFIXES
     tags = list(tags.items()) if hasattr(tags, "items") else list(tags)
     tags.insert(0, ("filedata", {"creationDate": _creation_date()}))
     if binary:

@@ -42,7 +42,7 @@ from ..io.horizon_files import read_horizons, read_surface_netcdf
 from ..io.irap_binary import write_irap_binary
 from ..io.polygons import write_polygons
 from ..io.rock_file import read_rock
-from ..io.roff import layer_gaps, map_coordinates, read_roff_subgrids, write_roff_grid
+from ..io.roff import ROFF_SUFFIXES, layer_gaps, map_coordinates, read_roff_subgrids, write_roff_grid
 from ..pillars.horizon_maps import depth_function
 from .common import log
 
@@ -59,7 +59,7 @@ def zone_layers(case: Case, nz: int) -> list[int] | None:
         layers = spec["layers"]
         counts = list(layers) if isinstance(layers, list) else [int(layers)] * (nz // int(layers))
         return counts if sum(counts) == nz else None
-    if case.grid_type == "deck" and Path(spec["file"]).suffix.lower() in (".roff", ".roffasc"):
+    if case.grid_type == "deck" and Path(spec["file"]).suffix.lower() in ROFF_SUFFIXES:
         from ..case.deck import deck_path
 
         subgrids = read_roff_subgrids(deck_path(case))

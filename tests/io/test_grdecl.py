@@ -356,7 +356,7 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         (CUBE + "PORO\n 4*0.1\n", r"x.grdecl:9: PORO: the data has no terminating '/'"),
         (CUBE + "PORO\n 99999999999999*0.1 /\n", r"x.grdecl:9: PORO: has 99999999999999 values, expected 4"),
         (CUBE + "PORO\n 4*0.1 /\n 0.3\n", r"x.grdecl:11: expected a keyword, found '0.3'"),
-        (CUBE + "IMPORT\n 'x.bin' /\n", r"x.grdecl:10: IMPORT: keywords imported from 'x.bin' \(a binary"),
+        (CUBE + "IMPORT\n 'x.bin' /\n", r"x.grdecl:10: IMPORT: file 'x.bin' not found"),
         (CUBE + "INCLUDE\n 'nothere.inc' /\n", r"x.grdecl:10: INCLUDE: file 'nothere.inc' not found"),
         ("PORO\n 1 /\n", r"x.grdecl:1: PORO: the grid dimensions are not known yet"),
         ("SPECGRID\n 2 0 1 1 F /\n", r"x.grdecl:2: SPECGRID: needs three positive integers"),
@@ -477,3 +477,39 @@ def test_numpy_scalars_are_written_as_numbers(tmp_path):
     assert " 'F' 0.5 /" in text and "PINCH\n 0.25 GAP 1e+20 TOPBOT TOP /" in text and "MINPV\n 3.0 /" in text
     back = read_grdecl(tmp_path / "n.grdecl")
     assert back.multflt == {"F": 0.5} and back.pinch == (0.25, 1e20) and back.minpv == 3.0
+
+
+@pytest.mark.parametrize("keyword", ["DUALPORO", "DUALPERM"])
+def test_a_dual_porosity_deck_is_refused_not_read_as_one_grid(tmp_path, keyword):
+    """DUALPORO/DUALPERM make the lower half of the layers fracture cells: read as one grid they
+    would be layers below the matrix."""
+    p = write(tmp_path / "x.DATA", f"RUNSPEC\nDIMENS\n 2 2 1 /\n{keyword}\nGRID\n" + CUBE)
+    with pytest.raises(DeckError, match=rf"x.DATA:4: {keyword}: a dual-porosity deck .* is not read"):
+        read_grdecl(p)
+
+
+@pytest.mark.parametrize(
+    ("filehead", "actnum", "kind"), [(1, 1, "DUALPORO"), (2, 1, "DUALPERM"), (0, 3, "ACTNUM")]
+)
+def test_a_dual_porosity_egrid_is_refused(tmp_path, filehead, actnum, kind):
+    """ECLIPSE's EGRID of a dual-porosity run (FILEHEAD item 6; ACTNUM 2 and 3 for fracture cells)."""
+    import resfo
+
+    deck = simple_grdecl([2, 1, 1])
+    head = np.zeros(100, np.int32)
+    head[5] = filehead
+    grid = np.zeros(100, np.int32)
+    grid[:4] = (1, 2, 1, 1)
+    resfo.write(
+        tmp_path / "D.EGRID",
+        [
+            ("FILEHEAD", head),
+            ("GRIDHEAD", grid),
+            ("COORD   ", deck.coord.astype(np.float32)),
+            ("ZCORN   ", deck.zcorn.astype(np.float32)),
+            ("ACTNUM  ", np.array([1, actnum], np.int32)),
+            ("ENDGRID ", np.zeros(0, np.int32)),
+        ],
+    )
+    with pytest.raises(DeckError, match=rf"D.EGRID: a dual-porosity grid \({kind}.*\) is not read"):
+        read_egrid(tmp_path / "D.EGRID")

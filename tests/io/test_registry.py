@@ -110,7 +110,7 @@ def test_unknown_suffix_is_one_error_naming_the_file(tmp_path):
         io.read(tmp_path / "a.xyz", kind="deck")
     assert str(err.value) == (
         f"{tmp_path / 'a.xyz'}: unknown file type: cannot read '.xyz' files as deck "
-        "(known: .data, .egrid, .fegrid, .grd, .grdecl, .inc, .roff, .roffasc)"
+        "(known: .bgrdecl, .data, .egrid, .fegrid, .grd, .grdecl, .inc, .roff, .roff_asc, .roffasc, .roffbin)"
     )
     with pytest.raises(gl.InputError, match=r"a\.vtu: unknown file type: cannot read '\.vtu' files as grid"):
         io.read(tmp_path / "a.vtu")  # VTU is written, not read

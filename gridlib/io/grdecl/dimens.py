@@ -33,6 +33,8 @@ def deck_dimensions(path: Path) -> tuple[int, int, int] | None:
     """
     if path.suffix.lower() in EGRID_SUFFIXES:
         return _egrid_dimensions(path)
+    if path.is_file() and _is_binary(path):  # a binary GRDECL: its SPECGRID record
+        return _binary_dimensions(path)
     try:
         tokens = _tokens_after_keyword(path, path.parent, 0)
     except (OSError, UnicodeError):
@@ -94,6 +96,28 @@ def _record(lines: Iterator[str]) -> list[str]:
         if len(tokens) > 64:
             break
     return tokens
+
+
+def _is_binary(path: Path) -> bool:
+    from .binary import is_binary_keyword_file
+
+    try:
+        return is_binary_keyword_file(path)
+    except OSError:
+        return False
+
+
+def _binary_dimensions(path: Path) -> tuple[int, int, int] | None:
+    import resfo
+
+    try:
+        for entry in resfo.lazy_read(str(path)):
+            if entry.read_keyword().strip() in DIMENSION_KEYWORDS:
+                dims = entry.read_array()
+                return int(dims[0]), int(dims[1]), int(dims[2])
+    except Exception:
+        return None
+    return None
 
 
 def _egrid_dimensions(path: Path) -> tuple[int, int, int] | None:

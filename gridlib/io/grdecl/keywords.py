@@ -173,7 +173,7 @@ def _other_keyword(state: ReaderState, src: Source, pos: int, info: KeywordInfo)
         except DeckError:
             numbers = None
         if numbers is not None and numbers.values.size == _box_size(state, state.box):
-            _store(state, src, pos, name, numbers, state.box, numbers.values.size)
+            store(state, src, pos, name, numbers, state.box, numbers.values.size)
             state.notes.append(f"{where}: {name} read as a cell keyword (one value per cell)")
             return end
     if info.shape.kind != "none":
@@ -224,7 +224,7 @@ def _coord(state, src, pos, name, depth):
     nx, ny, _ = _need_dims(state, src, pos, name)
     numbers, end = read_numbers(src, pos, name, expected=6 * (nx + 1) * (ny + 1))
     _no_defaults(src, end, name, numbers)
-    _finite_geometry(
+    finite_geometry(
         src, pos, name, numbers.values, 6, lambda p: f"pillar ({p % (nx + 1) + 1}, {p // (nx + 1) + 1})"
     )
     state.coord = numbers.values
@@ -235,17 +235,23 @@ def _zcorn(state, src, pos, name, depth):
     nx, ny, _ = _need_dims(state, src, pos, name)
     numbers, end = read_numbers(src, pos, name, expected=8 * state.num_cells)
     _no_defaults(src, end, name, numbers)
-
-    def corner_of(n: int) -> str:  # ZCORN is (2nz, 2ny, 2nx), i fastest: the cell owning entry n
-        i2, j2, k2 = n % (2 * nx), n // (2 * nx) % (2 * ny), n // (4 * nx * ny)
-        return f"a corner of cell ({i2 // 2 + 1}, {j2 // 2 + 1}, {k2 // 2 + 1})"
-
-    _finite_geometry(src, pos, name, numbers.values, 1, corner_of)
+    finite_geometry(src, pos, name, numbers.values, 1, zcorn_corner_name(nx, ny))
     state.zcorn = numbers.values
     return end
 
 
-def _finite_geometry(src, pos, name, values, per_item, item_name) -> None:
+def zcorn_corner_name(nx: int, ny: int):
+    """The name of ZCORN's entry n in messages: a corner of the cell owning it (ZCORN is
+    (2nz, 2ny, 2nx), i fastest)."""
+
+    def corner_of(n: int) -> str:
+        i2, j2, k2 = n % (2 * nx), n // (2 * nx) % (2 * ny), n // (4 * nx * ny)
+        return f"a corner of cell ({i2 // 2 + 1}, {j2 // 2 + 1}, {k2 // 2 + 1})"
+
+    return corner_of
+
+
+def finite_geometry(src, pos, name, values, per_item, item_name) -> None:
     """COORD and ZCORN must be finite numbers of at most MAX_LENGTH in size; the first bad one
     named by ``item_name(index)``."""
     bad = np.flatnonzero(~(np.abs(values) <= MAX_LENGTH))
@@ -327,7 +333,7 @@ def _cell_array(state, src, pos, name, depth=0):
             return end
         _start_porv(state)
     multiply = state.section == "EDIT" and name in _MULTIPLIER_KEYWORDS  # as OPM Flow: cumulative
-    _store(state, src, pos, name, numbers, box, expected, multiply)
+    store(state, src, pos, name, numbers, box, expected, multiply)
     if name in _FROM_TOP_LAYER and state.section != "EDIT":
         _fill_from_top_layer(state, src, pos, name, box)
     return end
@@ -386,7 +392,7 @@ def _porv_operation(state, src, at, name, value, cells) -> None:
         porv[cells] = np.minimum(porv[cells], value)
 
 
-def _store(state, src, at, name, numbers, box, expected, multiply=False):
+def store(state, src, at, name, numbers, box, expected, multiply=False):
     """Keyword ``name``'s ``numbers`` into the cells of ``box`` (or the first ``expected`` cells),
     checked (:func:`~gridlib.io.grdecl.values.check_cell_values`) before they are stored."""
     target = _array(state, name)
@@ -520,7 +526,7 @@ def _operator(state, src, pos, name, depth):
             )
         target = items[0].upper()
         for keyword in (target, items[1].upper()) if name == "COPY" else (target,):
-            if not _is_cell_keyword(keyword):
+            if not is_cell_keyword(keyword):
                 raise src.error(
                     at,
                     name,
@@ -572,7 +578,7 @@ def _operand(src: Source, at: int, name: str, item: Item, target: str) -> float:
     return value
 
 
-def _is_cell_keyword(name: str) -> bool:
+def is_cell_keyword(name: str) -> bool:
     """Does ``name`` have one value per cell (what EQUALS, ADD, COPY, ... may act on)?"""
     if name in _CELL_KEYWORDS or name in _DEFAULTS or name in TRAN_KEYWORDS:
         return True
@@ -742,10 +748,27 @@ def _skip_block(end_keyword: str, what: str):
 
 
 def _import(state, src, pos, name, depth):
-    """IMPORT: keywords from a binary file; refused rather than silently missing."""
-    items, _, at = read_record(src, pos, name)
-    shown = repr(items[0]) if items and items[0] else "a file"
-    raise src.error(at, name, f"keywords imported from {shown} (a binary file) are not read: INCLUDE text")
+    """IMPORT: the keywords of a binary GRDECL file (:mod:`~gridlib.io.grdecl.binary`; item 2
+    says formatted or not, which the reader tells from the file itself)."""
+    from .binary import read_binary_file  # the binary reader uses this module's checks
+
+    items, pos, at = read_record(src, pos, name)
+    if not items or items[0] is None:
+        raise src.error(at, name, "needs a file name")
+    read_binary_file(state, _resolve(state, src, at, name, items[0]))
+    return pos
+
+
+def _dual_porosity(state, src, pos, name, depth):
+    """DUALPORO, DUALPERM: the deck's layers are two grids (the upper half of NZ the matrix, the
+    lower half the fractures, joined cell by cell); refused rather than read as one grid whose
+    fractures are layers below the matrix."""
+    raise src.error(
+        pos,
+        name,
+        "a dual-porosity deck (matrix and fracture cells, the lower half of the layers the fractures) "
+        "is not read: gridlib reads single-porosity grids",
+    )
 
 
 def _single_record_note(state, src, pos, name, depth):
@@ -789,6 +812,8 @@ _HANDLERS = {
     "RADFIN4": _skip_block("ENDFIN", "local grid refinement"),
     "GDORIENT": _single_record_note,
     "IMPORT": _import,
+    "DUALPORO": _dual_porosity,
+    "DUALPERM": _dual_porosity,
     "COORDSYS": _single_record_note,
     "NNC": _cell_pairs,
     "EDITNNC": _cell_pairs,

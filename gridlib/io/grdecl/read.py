@@ -18,6 +18,7 @@ from ...cornerpoint.cartesian import cartesian_to_cornerpoint
 from ...cornerpoint.connection_keywords import CellPairs
 from ...cornerpoint.deck import Deck
 from ..eclipse_text import DeckError
+from .binary import is_binary_keyword_file, read_binary_file
 from .keywords import UNKNOWN_KEYWORDS, open_source, read_file
 from .state import ReaderState
 from .values import normalised_actnum
@@ -28,7 +29,8 @@ _GEOMETRY_KEYWORDS = ("DX", "DY", "DZ", "TOPS")
 
 
 def read_grdecl(path: str | os.PathLike, *, unknown_keywords: str = "error") -> Deck:
-    """Read the grid of an ECLIPSE deck (GRDECL or DATA file).
+    """Read the grid of an ECLIPSE deck (GRDECL or DATA file, or a binary GRDECL:
+    :mod:`~gridlib.io.grdecl.binary`).
 
     A keyword that neither ECLIPSE nor OPM Flow knows (outside the
     :mod:`~gridlib.io.grdecl.vocabulary`, e.g. a misspelt ``ACTNUMX``) stops the read with
@@ -51,7 +53,10 @@ def read_grdecl(path: str | os.PathLike, *, unknown_keywords: str = "error") -> 
             f"{main}: unknown_keywords must be one of {UNKNOWN_KEYWORDS}, not {unknown_keywords!r}"
         )
     state = ReaderState(main, unknown_keywords)
-    read_file(state, open_source(main), 0)
+    if is_binary_keyword_file(main):
+        read_binary_file(state, main)
+    else:
+        read_file(state, open_source(main), 0)
     return _deck(state)
 
 
