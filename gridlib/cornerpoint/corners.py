@@ -99,6 +99,12 @@ def corner_nodes(deck: Deck, tolerance: float = 0.0) -> CornerNodes:
     table, points, layered = _number_corners(zc, active, sign, tolerance)
     inner = table[:, :, 1:-1, 1:-1]
     kept = active & ~(inner[:4] == inner[4:]).all(axis=0)
+    collapsed = int(np.count_nonzero(active & ~kept))
+    if collapsed:  # as ECLIPSE and Flow: no volume, no cell
+        notes.append(
+            f"{collapsed} ACTNUM-active cells of zero thickness (top and bottom corners the same on all "
+            "four pillars) were removed"
+        )
     inner[:, ~kept] = -1
     cells = np.full(table.shape[1:], -1, dtype=np.int64)
     cells[:, 1:-1, 1:-1][kept] = np.arange(int(np.count_nonzero(kept)))  # (k, j, i) order

@@ -202,6 +202,10 @@ def test_collapsed_cells_are_removed_and_their_neighbours_touch():
     r = process_grdecl(dataclasses.replace(deck, zcorn=z.ravel()))
     g = r.grid
     assert g.num_cells == 12 and set(g.cells.index_map // 6) == {0, 2}
+    assert (
+        "6 ACTNUM-active cells of zero thickness (top and bottom corners the same on all four pillars) "
+        "were removed" in r.notes
+    )
     gl.check_grid(g)
     # Layers 0 and 2 now share faces: vertical non-neighbour connections of PINCH kind.
     assert r.nnc.num == 6 and np.all(r.nnc.kind == PINCH)
