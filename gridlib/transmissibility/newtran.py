@@ -627,9 +627,10 @@ def _minpv_pairs(deck: Deck, cell_of: IntArray, parts, notes: list[str]):
     up, low = cell_of[pairs[:, 0]], cell_of[pairs[:, 1]]
     ok = (up >= 0) & (low >= 0)
     key = np.minimum(up, low) * n_cells + np.maximum(up, low)
-    existing.sort()
-    at = np.minimum(np.searchsorted(existing, key), existing.size - 1)
-    ok &= existing[at] != key
+    if existing.size:  # a column of one cell per layer has no face connections to exclude
+        existing.sort()
+        at = np.minimum(np.searchsorted(existing, key), existing.size - 1)
+        ok &= existing[at] != key
     up, low = up[ok], low[ok]
     if up.size:
         notes.append(f"{up.size} connections across cells removed by MINPV (as OPM Flow makes them)")

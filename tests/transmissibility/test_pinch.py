@@ -97,3 +97,17 @@ def test_opm_five_cell_pinch_decks(tmp_path, name):
     deck = tmp_path / f"{name}.DATA"
     deck.write_text(text + "\nEQUALS\n 'PERMX' 100 /\n 'PERMY' 100 /\n 'PERMZ' 100 /\n/\n" + REST)
     assert_same_as_flow(deck, tmp_path / "out")
+
+
+def test_minpv_joins_the_cells_of_a_single_column(tmp_path):
+    """A 1 x 1 x 3 column whose middle cell (0.1 m) is below MINPV: Flow joins the two others
+    across it, and there is no face connection at all to compare with (gridlib used to fail
+    with an IndexError there)."""
+    deck = tmp_path / "COLUMN.DATA"
+    deck.write_text(
+        f"RUNSPEC\n{RUNSPEC}DIMENS\n 1 1 3 /\nGRID\nINIT\nDX\n 3*100 /\nDY\n 3*100 /\nDZ\n 2 0.1 2 /\n"
+        "TOPS\n 2000 /\nPORO\n 3*0.25 /\nPERMX\n 3*100 /\nPERMY\n 3*100 /\nPERMZ\n 3*10 /\nMINPV\n 300 /\n"
+        + REST
+    )
+    ours = assert_same_as_flow(deck, tmp_path / "out")
+    assert list(ours) == [(0, 2)]
