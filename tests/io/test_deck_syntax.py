@@ -219,6 +219,33 @@ def test_mapaxes_and_gridunit(tmp_path):
     assert deck.gridunit == "METRES" == egrid["GRIDUNIT"][0].decode().strip()
 
 
+@pytest.mark.parametrize(
+    ("units", "gridunit", "factor"),
+    [
+        ("METRIC", "FEET", 0.3048),
+        ("METRIC", "CM", 0.01),
+        ("FIELD", "METRES", 1 / 0.3048),
+        ("FIELD", "FEET", 1.0),
+    ],
+)
+def test_a_grid_in_another_length_unit_is_converted_as_flow_converts_it(tmp_path, units, gridunit, factor):
+    """GRIDUNIT gives the grid's length unit: where it is not the deck's, COORD and ZCORN (here
+    built from DX/DY/DZ/TOPS) are scaled to the deck's, as Flow does (before, the grid was read
+    as if in the deck's unit: pore volumes and T of another size)."""
+    runspec = RUNSPEC.replace("METRIC", units)
+    plain = read_grdecl(write_deck(tmp_path / "plain", PORO, runspec))
+    deck, _ = same_grid_as_flow(
+        write_deck(tmp_path / "scaled", PORO + f"GRIDUNIT\n {gridunit} /\n", runspec), tmp_path / "flow"
+    )
+    np.testing.assert_array_equal(deck.zcorn, plain.zcorn * factor if factor != 1.0 else plain.zcorn)
+    assert any(n.startswith(f"GRIDUNIT {gridunit} in a {units} deck") for n in deck.notes) == (factor != 1.0)
+
+
+def test_an_unknown_gridunit_is_named(tmp_path):
+    with pytest.raises(DeckError, match=r"CASE.DATA: GRIDUNIT: unknown length unit 'YARDS'"):
+        read_grdecl(write_deck(tmp_path, PORO + "GRIDUNIT\n YARDS /\n"))
+
+
 def test_commas_separate_items(tmp_path):
     grid = "PORO\n 12*0.1,\n/\nEQUALS\n 'PORO',0.2,1,1,1,1,1,1 /\n/\n"
     deck, _ = same_grid_as_flow(write_deck(tmp_path, grid), tmp_path / "flow")

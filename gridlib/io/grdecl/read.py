@@ -17,6 +17,7 @@ import numpy as np
 from ...cornerpoint.cartesian import cartesian_to_cornerpoint
 from ...cornerpoint.connection_keywords import CellPairs
 from ...cornerpoint.deck import Deck
+from ...units import unit_system
 from ..eclipse_text import DeckError
 from .binary import is_binary_keyword_file, read_binary_file
 from .keywords import UNKNOWN_KEYWORDS, open_source, read_file
@@ -82,6 +83,7 @@ def _deck(state: ReaderState) -> Deck:
         else:
             coord, zcorn = _cartesian_geometry(state, arrays, where)
             notes.append("COORD and ZCORN built from the Cartesian keywords (DX, DY, DZ, TOPS)")
+    coord, zcorn = _in_deck_lengths(coord, zcorn, state, notes, where)
     for name in _GEOMETRY_KEYWORDS:
         arrays.pop(name, None)
     actnum = arrays.pop("ACTNUM", None)
@@ -132,6 +134,30 @@ def _deck(state: ReaderState) -> Deck:
         gridopts=state.gridopts,
         tran_edits=tuple(state.tran_edits),
     )
+
+
+# GRIDUNIT's length units in metres
+_GRID_UNIT_METRES = {"METRES": 1.0, "FEET": 0.3048, "CM": 0.01}
+
+
+def _in_deck_lengths(coord, zcorn, state: ReaderState, notes: list[str], where: str):
+    """COORD and ZCORN in the deck's length unit where GRIDUNIT gives the grid in another one
+    (a METRIC deck's grid in FEET, say): scaled by the ratio of the two, as OPM Flow does
+    (whatever GRIDUNIT's second item says); an unknown GRIDUNIT is an error."""
+    if state.gridunit is None:
+        return coord, zcorn
+    name = state.gridunit.strip().upper()
+    if name not in _GRID_UNIT_METRES:
+        raise DeckError(f"{where}: GRIDUNIT: unknown length unit {state.gridunit!r} (METRES, FEET or CM)")
+    system = unit_system(state.units)
+    factor = _GRID_UNIT_METRES[name] / system.length
+    if factor == 1.0:
+        return coord, zcorn
+    notes.append(
+        f"GRIDUNIT {name} in a {system.name} deck: COORD and ZCORN converted to {system.unit('length')} "
+        f"(x {factor:.10g}), as OPM Flow does"
+    )
+    return coord * factor, zcorn * factor
 
 
 def _cartesian_geometry(state: ReaderState, arrays: dict, where: str) -> tuple[np.ndarray, np.ndarray]:
