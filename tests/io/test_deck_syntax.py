@@ -306,3 +306,46 @@ def test_deck_case_option_and_arrays(tmp_path):
     assert {"PORO", "FLUXNUM"} <= set(deck.cell_data) and "SATNUM" not in deck.cell_data
     assert any("PROPS/REGIONS arrays not used by the case: SATNUM" in n for n in deck.notes)
     assert "SATNUM" in read_grdecl(deck_path, unknown_keywords="skip").cell_data
+
+
+REGIONS = """MULTNUM
+ 1 2 1 2 1 2 1 2 1 2 1 2 /
+FLUXNUM
+ 1 1 2 2 3 3 1 1 2 2 3 3 /
+OPERNUM
+ 2 2 2 1 1 1 2 2 2 1 1 1 /
+"""
+
+
+@pytest.mark.parametrize(
+    "edits",
+    [
+        "EQUALREG\n PERMY 55 2 /\n PERMZ 7 3 F /\n/\n",
+        "MULTIREG\n PERMX 3 1 M /\n PORO 1.5 2 O /\n/\nADDREG\n PERMY 10 1 F /\n/\n",
+        "COPYREG\n PERMX PERMZ 2 M /\n/\n",
+        "OPERATE\n NTG 1 3 1 1 1 1 MULTA PORO 2 0.1 /\n PERMX 1 3 2 2 2 2 MAXLIM PERMX 50 /\n/\n",
+        "OPERATER\n PERMZ 1 MULTX PERMY 0.1 /\n PERMY 2 COPY PERMX 1* 1* FLUXNUM /\n/\n",
+        "MULTREGP\n 1 0.5 F /\n 2 3.0 /\n 2 2.0 /\n/\n",
+        "EDIT\nPORV\n 12*30 /\nOPERATE\n PORV 2 2 1 1 1 1 MULTX PORV 2.0 /\n/\n",
+    ],
+    ids=["equalreg", "multireg-addreg", "copyreg", "operate", "operater", "multregp", "operate-porv"],
+)
+def test_region_and_operate_edits_change_the_grid_as_flow_changes_it(tmp_path, edits):
+    """EQUALREG, MULTIREG, ADDREG, COPYREG (region sets M, the default, F and O all different
+    here), OPERATE, OPERATER and MULTREGP: Flow applies them to the arrays the grid's pore volumes
+    and T come from; gridlib skipped them as keywords 'not needed for the grid' (T and pore
+    volumes silently different)."""
+    deck, _ = same_grid_as_flow(write_deck(tmp_path, PORO + REGIONS + edits), tmp_path / "flow")
+    skipped = " ".join(note for note in deck.notes if "skipped keywords" in note)
+    assert not any(k in skipped for k in ("REG", "OPERATE")), skipped
+
+
+def test_operater_operates_in_the_decks_units(tmp_path):
+    """OPERATER's POLY, PERMY + 2 PERMX^0.5 on FLUXNUM region 2, in mD as the manuals define it
+    and OPM Flow does since 2023 (Flow 2022.10 applied OPERATER, not OPERATE, to its SI values:
+    a permeability of 3.5e8 mD for 30 mD; the linear operations agree, the test above)."""
+    edits = "OPERATER\n PERMY 2 POLY PERMX 2 0.5 FLUXNUM /\n/\n"
+    deck = read_grdecl(write_deck(tmp_path, PORO + REGIONS + edits))
+    permx = np.arange(10.0, 130.0, 10.0)
+    expected = np.where(np.isin(np.arange(12), [2, 3, 8, 9]), 100.0 + 2.0 * np.sqrt(permx), 100.0)
+    np.testing.assert_array_equal(deck.cell_data["PERMY"], expected)

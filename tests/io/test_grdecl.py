@@ -372,6 +372,11 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         ),
         (CUBE.replace("16*0 16*1", "16*0 15*1"), r"x.grdecl:7: ZCORN: has 31 values, expected 32"),
         (CUBE + "MAPUNITS\n 'METRES /\n", r"x.grdecl:10: MAPUNITS: a quoted string is not closed"),
+        (CUBE + "EQUALREG\n PORO 0.2 1 X /\n/\n", r"x.grdecl:10: EQUALREG: region set 'X' is not M, F or O"),
+        (CUBE + "MULTIREG\n PERMX 2 1 /\n/\n", r"x.grdecl:10: MULTIREG: PERMX is not defined in every cell"),
+        (CUBE + "OPERATE\n PORO 1 1 1 1 1 1 SQRT PORO /\n/\n", r"OPERATE: unknown operation 'SQRT'"),
+        (CUBE + "OPERATER\n TRANX 1 MULTX PORO 2 /\n/\n", r"OPERATER: TRANX cannot be changed by OPERATER"),
+        (CUBE + "COPYREG\n NOPE PORO 1 /\n/\n", r"COPYREG: 'NOPE' is not a keyword with one value per cell"),
     ],
 )
 def test_bad_decks_name_file_line_and_keyword(tmp_path, text, message):

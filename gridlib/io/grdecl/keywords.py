@@ -570,6 +570,175 @@ def _operator(state, src, pos, name, depth):
     return pos
 
 
+# The region sets of EQUALREG, ADDREG, MULTIREG, COPYREG and MULTREGP (their item's first letter)
+_REGION_SETS = {"M": "MULTNUM", "F": "FLUXNUM", "O": "OPERNUM"}
+# OPERATE's and OPERATER's operations: the new value from the target's ``r``, the source's ``x``
+# and the record's alpha ``a`` and beta ``b`` (as OPM Flow defines them, in the deck's units)
+_OPERATIONS = {
+    "MULTA": lambda r, x, a, b: a * x + b,
+    "POLY": lambda r, x, a, b: r + a * np.power(x, b),
+    "SLOG": lambda r, x, a, b: np.power(10.0, a + b * x),
+    "LOG10": lambda r, x, a, b: np.log10(x),
+    "LOGE": lambda r, x, a, b: np.log(x),
+    "INV": lambda r, x, a, b: 1.0 / x,
+    "MULTX": lambda r, x, a, b: a * x,
+    "ADDX": lambda r, x, a, b: a + x,
+    "COPY": lambda r, x, a, b: x,
+    "MAXLIM": lambda r, x, a, b: np.minimum(a, x),
+    "MINLIM": lambda r, x, a, b: np.maximum(a, x),
+    "MULTP": lambda r, x, a, b: a * np.power(x, b),
+    "ABS": lambda r, x, a, b: np.abs(x),
+    "MULTIPLY": lambda r, x, a, b: r * x,
+}
+
+
+def _region_operator(state, src, pos, name, depth):
+    """EQUALREG, ADDREG, MULTIREG (array value region set) and COPYREG (from to region set): as
+    EQUALS, ADD, MULTIPLY and COPY on the cells of one region of a region set (M: MULTNUM; F:
+    FLUXNUM; O: OPERNUM; defaulted: :func:`_default_region_set`; a region array the deck does
+    not give is 1 everywhere)."""
+    _need_dims(state, src, pos, name)
+    records, pos = read_records(src, pos, name)
+    for items, at in records:
+        if len(items) < 3 or items[0] is None or (name == "COPYREG" and items[1] is None):
+            raise src.error(at, name, "a record needs an array, a value (or target) and a region number")
+        target, second = items[0].upper(), items[1]
+        arrays = (target, second.upper()) if name == "COPYREG" else (target,)
+        _operated_arrays(src, at, name, arrays)
+        cells = _region_cells(state, src, at, name, items[2], items[3] if len(items) > 3 else None)
+        if name == "COPYREG":
+            dest = second.upper()
+            _defined(state, src, at, name, target, cells)
+            if dest == "PORV":
+                _start_porv(state)
+            _array(state, dest)[cells] = state.arrays[target][cells]
+            continue
+        value = 0.0 if second is None else _operand(src, at, name, second, target)  # Flow's default 0
+        if target == "PORV":
+            _start_porv(state)
+            if name != "EQUALREG":
+                _porv_operation(state, src, at, "ADD" if name == "ADDREG" else "MULTIPLY", value, cells)
+                continue
+        if name == "EQUALREG":
+            _array(state, target)[cells] = value
+        else:
+            _defined(state, src, at, name, target, cells)
+            arr = state.arrays[target]
+            arr[cells] = arr[cells] + value if name == "ADDREG" else arr[cells] * value
+        values = _array(state, target)[cells]
+        check_cell_values(state, src, at, target, values, cells, ~np.isnan(values), name)
+    return pos
+
+
+def _operate(state, src, pos, name, depth):
+    """OPERATE (target box operation source alpha beta) and OPERATER (target region operation
+    source alpha beta region-array, OPERNUM by default): the target's cells of the box or region
+    set to the operation (:data:`_OPERATIONS`) of the source's values."""
+    _need_dims(state, src, pos, name)
+    records, pos = read_records(src, pos, name)
+    operate = name == "OPERATE"
+    for items, at in records:
+        n_items = 11 if operate else 7
+        items = items + [None] * (n_items - len(items))
+        head = (items[0], items[7], items[8]) if operate else (items[0], items[1], items[2], items[3])
+        if any(item is None for item in head):
+            raise src.error(
+                at,
+                name,
+                "a record needs a target, "
+                + ("a box, " if operate else "a region, ")
+                + "an operation and a source array",
+            )
+        target = items[0].upper()
+        operation, source = (items[7], items[8]) if operate else (items[2], items[3])
+        operation, source = operation.upper(), source.upper()
+        if operation not in _OPERATIONS:
+            raise src.error(at, name, f"unknown operation {operation!r} (one of {', '.join(_OPERATIONS)})")
+        _operated_arrays(src, at, name, (target, source))
+        alpha, beta = (
+            float_item(src, at, name, item, "parameter") or 0.0  # defaulted: 0
+            for item in ((items[9], items[10]) if operate else (items[4], items[5]))
+        )
+        if operate:
+            cells = _box_cells(state, _read_box(state, src, at, name, items[1:7], state.box))
+            cells = np.arange(state.num_cells)[cells]
+        else:
+            region = items[6].upper() if items[6] else "OPERNUM"
+            cells = _region_cells(state, src, at, name, items[1], None, region)
+        _defined(state, src, at, name, source, cells)
+        if operation in ("MULTIPLY", "POLY"):
+            _defined(state, src, at, name, target, cells)
+        if target == "PORV":
+            _start_porv(state)
+        with np.errstate(all="ignore"):
+            values = _OPERATIONS[operation](
+                _array(state, target)[cells], state.arrays[source][cells], alpha, beta
+            )
+        check_cell_values(state, src, at, target, values, cells, None, name)
+        _array(state, target)[cells] = values
+    return pos
+
+
+def _operated_arrays(src: Source, at: int, name: str, arrays) -> None:
+    for keyword in arrays:
+        if keyword in TRAN_KEYWORDS:
+            raise src.error(at, name, f"{keyword} cannot be changed by {name} (OPM Flow refuses it too)")
+        if not is_cell_keyword(keyword):
+            raise src.error(at, name, f"{keyword!r} is not a keyword with one value per cell")
+
+
+def _region_cells(state, src, at, name, number_item, set_item, region: str | None = None) -> np.ndarray:
+    """The cells of region ``number_item`` of a region set: ``region`` (an array's name), else the
+    set ``set_item`` names (M, F or O; M where defaulted)."""
+    number = int_item(src, at, name, number_item, "region number")
+    if number is None:
+        raise src.error(at, name, "the region number cannot be defaulted")
+    if region is None and set_item is None:
+        region = _default_region_set(state)
+    elif region is None:
+        letter = set_item.strip().upper()[:1]
+        if letter not in _REGION_SETS:
+            raise src.error(at, name, f"region set {set_item!r} is not M, F or O (MULTNUM, FLUXNUM, OPERNUM)")
+        region = _REGION_SETS[letter]
+    values = state.arrays.get(region)
+    if values is None:
+        return np.arange(state.num_cells) if number == 1 else np.zeros(0, np.int64)
+    return np.flatnonzero(values == number)
+
+
+def _default_region_set(state: ReaderState) -> str:
+    """The region set of a record that names none: FLUXNUM, or MULTNUM where GRIDOPTS gives a
+    number of MULTNUM regions (OPM Flow's rule; the manuals do not say)."""
+    return "MULTNUM" if state.gridopts is not None and state.gridopts.nrmult > 0 else "FLUXNUM"
+
+
+def _defined(state, src, at, name, keyword, cells) -> None:
+    values = state.arrays.get(keyword)
+    if values is None and keyword in _DEFAULTS:
+        values = _array(state, keyword)
+    if values is None or np.isnan(values[cells]).any():
+        raise src.error(at, name, f"{keyword} is not defined in every cell it operates on")
+
+
+def _multregp(state, src, pos, name, depth):
+    """MULTREGP (region multiplier set): the pore volumes of a region's cells multiplied (the last
+    record of a region counts, a region number of 0 or less is ignored, as Flow does)."""
+    records, pos = read_records(src, pos, name)
+    for items, at in records:
+        number = int_item(src, at, name, items[0] if items else None, "region number")
+        multiplier = float_item(src, at, name, items[1] if len(items) > 1 else None, "multiplier")
+        if number is None or multiplier is None:
+            raise src.error(at, name, "a record needs a region number and a multiplier")
+        check_finite(src, at, name, multiplier, "multiplier")
+        if number <= 0:
+            continue
+        letter = (items[2] if len(items) > 2 and items[2] else "M").strip().upper()[:1]
+        if letter not in _REGION_SETS:
+            raise src.error(at, name, f"region set {items[2]!r} is not M, F or O (MULTNUM, FLUXNUM, OPERNUM)")
+        state.multregp[number] = (_REGION_SETS[letter], multiplier, f"{src.path.name}:{src.line(at)}")
+    return pos
+
+
 def _operand(src: Source, at: int, name: str, item: Item, target: str) -> float:
     value = float_item(src, at, name, item, target)
     if value is None:
@@ -813,6 +982,13 @@ _HANDLERS = {
     "GDORIENT": _single_record_note,
     "IMPORT": _import,
     "DUALPORO": _dual_porosity,
+    "EQUALREG": _region_operator,
+    "ADDREG": _region_operator,
+    "MULTIREG": _region_operator,
+    "COPYREG": _region_operator,
+    "OPERATE": _operate,
+    "OPERATER": _operate,
+    "MULTREGP": _multregp,
     "DUALPERM": _dual_porosity,
     "COORDSYS": _single_record_note,
     "NNC": _cell_pairs,

@@ -91,6 +91,7 @@ def _deck(state: ReaderState) -> Deck:
         actnum = normalised_actnum(actnum)  # the values were checked as they were read (.values)
     if state.porv_multpv is not None:  # what multiplies the pore volumes Flow computes
         arrays["MULTPV"] = state.porv_multpv
+    _apply_multregp(state, arrays, notes, where)
     for name, values in arrays.items():
         n_undefined = int(np.isnan(values).sum())
         if n_undefined and name == "PORV":
@@ -134,6 +135,28 @@ def _deck(state: ReaderState) -> Deck:
         gridopts=state.gridopts,
         tran_edits=tuple(state.tran_edits),
     )
+
+
+def _apply_multregp(state: ReaderState, arrays: dict, notes: list[str], where: str) -> None:
+    """MULTREGP's multipliers on the pore volumes of their regions' cells (the region arrays as
+    the deck leaves them), through MULTPV."""
+    if not state.multregp:
+        return
+    if "PORV" in arrays:
+        first = next(iter(state.multregp.values()))[2]
+        raise DeckError(f"{first}: MULTREGP: with PORV given (EDIT), not supported")
+    multpv = arrays.setdefault("MULTPV", np.ones(state.num_cells))
+    for number, (region, multiplier, at) in state.multregp.items():
+        values = arrays.get(region)
+        cells = (
+            np.flatnonzero(values == number)
+            if values is not None
+            else np.arange(state.num_cells * (number == 1))
+        )
+        multpv[cells] *= multiplier
+        notes.append(
+            f"{at}: MULTREGP: pore volumes of {cells.size} cells ({region} {number}) x {multiplier:g}"
+        )
 
 
 # GRIDUNIT's length units in metres

@@ -40,6 +40,9 @@ class ReaderState:
     tran_edits: list[TranEdit] = field(default_factory=list)
     cell_pairs: dict[str, list[tuple[int, int, float, str]]] = field(default_factory=dict)  # NNC, EDITNNC
     multflt_sources: dict[str, str] = field(default_factory=dict)  # fault -> where its MULTFLT was set
+    multregp: dict[int, tuple[str, float, str]] = field(
+        default_factory=dict
+    )  # region -> (set, multiplier, where)
     gdfile: Deck | None = None
     paths: dict[str, str] = field(default_factory=dict)
     section: str | None = None
