@@ -61,7 +61,8 @@ def vector_areas(grid: Grid, faces: IntArray) -> FloatArray:
     """½ sum p_k x p_k+1 over the node cycle of each of ``faces``: (m, 3) area vectors.
 
     Quadrilaterals (most faces) by the cross product of their diagonals, in blocks; the
-    other polygons by the sum over their edges."""
+    other polygons by the sum over their edges, relative to their first node (translation
+    invariant, as the diagonals are)."""
     pos = grid.faces.node_pos
     counts = pos[faces + 1] - pos[faces]
     out = np.empty((faces.size, 3))
@@ -78,8 +79,11 @@ def vector_areas(grid: Grid, faces: IntArray) -> FloatArray:
         owner = np.repeat(np.arange(other.size), cnt)
         idx = np.arange(int(cnt.sum())) - np.repeat(np.cumsum(cnt) - cnt, cnt)
         start = np.repeat(pos[f], cnt)
-        p = coords[grid.faces.nodes[start + idx]]
-        q = coords[grid.faces.nodes[start + (idx + 1) % np.repeat(cnt, cnt)]]
+        # relative to each polygon's first node: in map coordinates (x ~ 5e5 m) the sum of the
+        # edges' cross products cancels to a sliver's area, and rounding left 2e-6 of it
+        origin = coords[grid.faces.nodes[start]]
+        p = coords[grid.faces.nodes[start + idx]] - origin
+        q = coords[grid.faces.nodes[start + (idx + 1) % np.repeat(cnt, cnt)]] - origin
         c = cross(p.T, q.T)  # (3, entries)
         out[other] = np.stack([np.bincount(owner, c[k], other.size) for k in range(3)], axis=1) * 0.5
     return out
