@@ -14,10 +14,12 @@ Two formats:
 * ``rms``: the RMS well format (as xtgeo reads and writes it): line 1 a version (``1.0``),
   line 2 a free text (the well type), line 3 ``name x y [rkb]`` (the well head; the name may
   hold spaces), line 4 the number of logs, then one line per log (``name type ...``: ``DISC``
-  with code/name pairs, or ``CONT``/``UNK`` with a scale such as ``lin``), then one row per
-  point, ``x y z`` and a value per log; -999 is an undefined value. The MD is the log named
-  ``MD``, ``MDEPTH`` or ``M_DEPTH`` if there is one (an undefined MD counts on from the point
-  before, see below); the well's name is line 3's.
+  with code/name pairs, or ``CONT``/``UNK`` with a scale such as ``lin``; a name alone is a log
+  without a type, as xtgeo reads it), then one row per point, ``x y z`` and a value per log;
+  -999 is an undefined value. The MD is the log named ``MD``, ``MDEPTH`` or ``M_DEPTH`` if there
+  is one (an undefined MD counts on from the point before; above the first defined one, back
+  from it; :func:`~gridlib.wells.path.fill_md`); the well's name is line 3's. A file of several
+  wells (xtgeo's stacked files) is an error naming the line where the second starts.
 
 ``columns`` maps any of ``x``, ``y``, ``z``, ``md`` to a column's name or 0-based position
 (for an ``rms`` file the names are ``X_UTME``, ``Y_UTMN``, ``Z_TVDSS`` and the logs'). Without
@@ -198,18 +200,36 @@ def _rms_table(p: Path, lines: list[str]) -> tuple[str, TextTable]:
     names = list(_RMS_COORDINATES)
     for number in range(5, 5 + logs):
         fields = lines[number - 1].split()
-        if len(fields) < 2:
+        if not fields:  # a name alone is a log without a type (xtgeo reads it as UNK lin)
             raise InputError(f"{p}: line {number}: expected a log 'name type ...', got {lines[number - 1]!r}")
         names.append(fields[0])
     rows, numbers = [], []
     for number in range(5 + logs, len(lines) + 1):
         fields = lines[number - 1].split()
+        if len(fields) == 1 and number < len(lines) and _is_head_line(lines[number]):
+            raise InputError(
+                f"{p}: line {number}: a second well starts here (a version line, then "
+                f"'{lines[number].strip()}'): an RMS well file holds one well (xtgeo's stacked files "
+                "hold several: split them)"
+            )
         if fields:
             rows.append(fields)
             numbers.append(number)
     if not rows:
         raise InputError(f"{p}: no data lines after the {logs} logs (expected x y z and the logs per line)")
     return well, TextTable(names, 4, rows, numbers)
+
+
+def _is_head_line(line: str) -> bool:
+    """Does ``line`` start with a word that is not a number (a well type, after a version line)?"""
+    fields = line.split()
+    if not fields:
+        return False
+    try:
+        float(fields[0])
+    except ValueError:
+        return True
+    return False
 
 
 def _columns(

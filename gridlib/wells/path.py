@@ -94,27 +94,34 @@ def check_path(
     return xyz, md
 
 
-def fill_md(xyz: FloatArray, md: FloatArray | None, start_md: float = 0.0) -> FloatArray:
+def fill_md(xyz: FloatArray, md: FloatArray | None, start_md: float | None = None) -> FloatArray:
     """Measured depths for the points ``xyz`` (n, 3) where ``md`` (n,) is NaN or not given: the
-    MD of the point before plus the straight distance between them (for the first point:
-    ``start_md``). A new array; the given MDs are kept as they are.
+    MD of the point before plus the straight distance between them; the first point's
+    ``start_md`` where given, else before the first given MD that MD less the straight distance
+    to it (a file whose MD log starts below its first points), and 0 with no MD given. A new
+    array; the given MDs are kept as they are.
 
     >>> fill_md(np.array([(0, 0, 0), (0, 0, 10), (0, 3, 14)], float), np.array([5, np.nan, 40])).tolist()
     [5.0, 15.0, 40.0]
+    >>> fill_md(np.array([(0, 0, 0), (0, 0, 10), (0, 3, 14)], float), np.array([np.nan, 50, np.nan])).tolist()
+    [40.0, 50.0, 55.0]
     """
     chord = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
     run = np.concatenate(([0.0], np.cumsum(chord)))  # the straight length up to each point
     if md is None:
-        return start_md + run
+        return (start_md or 0.0) + run
     md = np.array(md, dtype=np.float64)
+    if start_md is not None and np.isnan(md[0]):
+        md[0] = start_md
     missing = np.isnan(md)
+    if missing.all():
+        return run
     if missing.any():
-        # each missing MD counts from the last given one (or from start_md before any)
+        # each missing MD counts from the last given one; before any, back from the first
         given = np.where(missing, -1, np.arange(md.size))
         last = np.maximum.accumulate(given)
-        anchor_md = np.where(last >= 0, md[np.maximum(last, 0)], start_md)
-        anchor_run = np.where(last >= 0, run[np.maximum(last, 0)], 0.0)
-        md[missing] = (anchor_md + (run - anchor_run))[missing]
+        last = np.where(last >= 0, last, int(np.flatnonzero(~missing)[0]))
+        md[missing] = (md[last] + (run - run[last]))[missing]
     return md
 
 
@@ -149,13 +156,14 @@ class WellPath:
         md: ArrayLike | None = None,
         *,
         name: str = "",
-        start_md: float = 0.0,
+        start_md: float | None = None,
         source: str = "",
     ) -> WellPath:
         """The path through ``xyz`` (n, 3). ``md`` (n,) may be omitted, or NaN at some points:
         a point without MD gets the MD of the point before it plus the straight distance between
-        them (the first point: ``start_md``). ``source`` starts the error messages (e.g. the
-        file and key); the well's ``name`` does otherwise.
+        them (the first point: ``start_md``, else counted back from the first given MD, else 0;
+        :func:`fill_md`). ``source`` starts the error messages (e.g. the file and key); the
+        well's ``name`` does otherwise.
 
         >>> WellPath.from_points([(0, 0, 0), (0, 0, 10), (0, 3, 14)], [5, float("nan"), 40]).md.tolist()
         [5.0, 15.0, 40.0]

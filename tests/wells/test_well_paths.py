@@ -128,7 +128,7 @@ def test_md_short_of_the_straight_line_by_rounding_is_lengthened(tmp_path):
         ("a.w", "1.0\nx\nW\n0\n", "line 3: expected the well head 'name x y .rkb.', got 'W'"),
         ("a.w", "1.0\nx\nW 1 2\ntwo\n", "line 4: expected the number of logs, got 'two'"),
         ("a.w", "1.0\nx\nW 1 2\n2\nMD UNK lin\n", "2 logs declared on line 4, but the file ends at line 5"),
-        ("a.w", "1.0\nx\nW 1 2\n1\nMD\n0 0 0 0\n", "line 5: expected a log 'name type ...', got 'MD'"),
+        ("a.w", "1.0\nx\nW 1 2\n1\n \n0 0 0 0\n", "line 5: expected a log 'name type ...', got ' '"),
         ("a.w", "1.0\nx\nW 1 2\n1\nMD UNK lin\n0 0 0 0\n0 0 5\n", "line 7: expected 4 fields, found 3"),
         (  # down and back up the same hole: its cells would be completed twice
             "a.xyz",
@@ -207,3 +207,25 @@ def test_semicolon_separated_files_have_decimal_commas(tmp_path):
     assert path.md.tolist() == [1000.0, 1100.25]
     survey = write(tmp_path, "p.dev", "MD;INC;AZI\n1000;0;0\n1100,5;10,25;45\n")
     assert read_survey_stations(survey).tolist() == [[1000.0, 0.0, 0.0], [1100.5, 10.25, 45.0]]
+
+
+RMS_HEAD = "1.0\nUnknown\nW1 100.0 200.0 25.0\n2\nMDepth UNK lin\nPerm\n"
+
+
+def test_md_undefined_at_the_top_counts_back_from_the_first_given_one(tmp_path):
+    """An MD log that starts below the file's first points (-999 above: a log measured from the
+    reservoir down, as RMS exports some): those points' MDs are the first given MD less the
+    straight distance to it, not a count from 0 (a 49.5 m MD step over 0.5 m of hole). A log
+    given by its name alone ('Perm', no type) is read, as xtgeo reads it."""
+    rows = "".join(
+        f"100.0 200.0 {z:.1f} {md} 1\n" for z, md in [(0, -999), (0.5, -999), (1.0, 54.0), (1.5, -999)]
+    )
+    path = read_well_path(write(tmp_path, "w1.w", RMS_HEAD + rows))
+    np.testing.assert_array_equal(path.md, [53.0, 53.5, 54.0, 54.5])
+
+
+def test_a_file_of_several_wells_is_named_so(tmp_path):
+    second = "1.0\nUnknown\nW2 300.0 400.0\n0\n300.0 400.0 0.0\n300.0 400.0 10.0\n"
+    rows = "100.0 200.0 0.0 0.0 1\n100.0 200.0 10.0 10.0 1\n"
+    with pytest.raises(InputError, match=r"w.w: line 9: a second well starts here .* one well"):
+        read_well_path(write(tmp_path, "w.w", RMS_HEAD + rows + second))
