@@ -76,6 +76,8 @@ def run_stage(name: str, case: Case | str | os.PathLike, paths: Mapping[str, str
     stage = next((s for s in artifacts.STAGES if s.name == name), None)
     if stage is None:
         raise ValueError(f"no stage {name!r} (stages: {', '.join(s.name for s in artifacts.STAGES)})")
+    if not stage.when(case):
+        raise ValueError(f"{case.path}: the case has no {name} stage (its sections do not ask for it)")
     outputs = tuple(a.key for a in stage.outputs_of(case))
     keys = artifacts.stage_inputs(stage, case) + outputs
     with restored_on_failure([Path(paths[key]) for key in outputs if key in paths]):

@@ -56,3 +56,18 @@ def test_the_anticline_vtu_is_the_right_way_up(tmp_path):
     assert volumes.min() > 0
     # warped faces: VTK triangulates them its own way, up to half a per cent from our volumes
     np.testing.assert_allclose(volumes, geo.cell_volumes, rtol=1e-2)
+
+
+def test_a_stage_the_case_does_not_have_is_named(tmp_path):
+    """run_stage of a stage the case's sections do not ask for (here coarsen, wells) is one
+    error naming the case and the stage, not a missing-argument TypeError from the stage."""
+    import pytest
+
+    from gridlib.config import load_case
+    from gridlib.stages import run_stage
+
+    case = load_case(Path(__file__).parents[2] / "config" / "cases" / "twisted.yaml")
+    paths = case_outputs(case.name, tmp_path)
+    for name in ("coarsen", "wells"):
+        with pytest.raises(ValueError, match=rf"twisted.yaml: the case has no {name} stage"):
+            run_stage(name, case, paths)
