@@ -164,7 +164,8 @@ def read_record(src: Source, pos: int, keyword: str) -> tuple[list[Item], int, i
     A record runs over lines up to its ``/``; the rest of the line after the ``/`` is ignored
     (a comment, as in ECLIPSE and OPM Flow: a second record on the same line is not read).
     Items are separated by blanks or commas; ``'...'`` quotes a string (blanks, ``/`` and
-    ``--`` inside it are kept); ``n*`` expands to n defaulted items and ``n*v`` to n copies of v.
+    ``--`` inside it are kept); ``n*`` expands to n defaulted items and ``n*v`` to n copies of v;
+    a lone ``*`` is one defaulted item.
     """
     data = src.data
     items: list[Item] = []
@@ -183,7 +184,9 @@ def read_record(src: Source, pos: int, keyword: str) -> tuple[list[Item], int, i
             items.append(quoted.decode("latin-1").strip())
         elif word is not None:
             rep = _REPEAT.fullmatch(word)
-            if rep:
+            if word == b"*":  # a lone '*' is one defaulted item, as '1*' (OPM Flow reads it so)
+                items.append(None)
+            elif rep:
                 n = int(rep.group(1))
                 if n < 1 or n > _MAX_RECORD_REPEAT:
                     raise src.error(m.start(), keyword, f"repeat count {n} in {show(word)} is out of range")

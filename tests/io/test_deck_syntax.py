@@ -349,3 +349,10 @@ def test_operater_operates_in_the_decks_units(tmp_path):
     permx = np.arange(10.0, 130.0, 10.0)
     expected = np.where(np.isin(np.arange(12), [2, 3, 8, 9]), 100.0 + 2.0 * np.sqrt(permx), 100.0)
     np.testing.assert_array_equal(deck.cell_data["PERMY"], expected)
+
+
+def test_a_lone_star_is_one_defaulted_item(tmp_path):
+    """'*' alone in a record is '1*' (Flow reads it so; gridlib took it for a value)."""
+    grid = PORO + "EQUALS\n PERMX 50 2 2 * * 1 1 /\n/\nPINCH\n 0.5 * * TOPBOT /\n"
+    deck, _ = same_grid_as_flow(write_deck(tmp_path, grid), tmp_path / "flow")
+    np.testing.assert_array_equal(deck.cell_data["PERMX"][:6], [10, 50, 30, 40, 50, 60])

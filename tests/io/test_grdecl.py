@@ -518,3 +518,14 @@ def test_a_dual_porosity_egrid_is_refused(tmp_path, filehead, actnum, kind):
     )
     with pytest.raises(DeckError, match=rf"D.EGRID: a dual-porosity grid \({kind}.*\) is not read"):
         read_egrid(tmp_path / "D.EGRID")
+
+
+def test_a_numerical_aquifer_is_named_as_not_built(tmp_path):
+    """AQUNUM/AQUCON: Flow makes the aquifer's cells active and joins them to the reservoir;
+    gridlib's grid does not, and says so (it listed them among keywords 'not needed for the
+    grid')."""
+    text = CUBE + "AQUNUM\n 1 1 1 1 1.0E5 1000 0.25 400 1* 1* 1 1 /\n/\nAQUCON\n 1 2 2 1 1 1 1 I- /\n/\n"
+    deck = read_grdecl(write(tmp_path / "a.grdecl", text))
+    aquifer = [n for n in deck.notes if "numerical aquifer is not built" in n]
+    assert len(aquifer) == 1 and aquifer[0].startswith("a.grdecl:9: AQUNUM:")
+    assert not any("AQU" in n for n in deck.notes if "not needed for the grid" in n)

@@ -940,6 +940,22 @@ def _dual_porosity(state, src, pos, name, depth):
     )
 
 
+def _numerical_aquifer(state, src, pos, name, depth):
+    """AQUNUM, AQUCON: a numerical aquifer, which OPM Flow builds as cells of its own (each
+    AQUNUM cell made active, with the pore volume of the aquifer's area x length x porosity,
+    chained to the next and joined to the reservoir faces AQUCON names). gridlib's grid leaves
+    them as the deck's ACTNUM has them: read past, with a note saying so (not among the keywords
+    'not needed for the grid')."""
+    where = f"{src.path.name}:{src.line(pos)}"
+    if not any("the numerical aquifer is not built" in note for note in state.notes):
+        state.notes.append(
+            f"{where}: {name}: the numerical aquifer is not built (OPM Flow makes its AQUNUM cells "
+            "active and joins them to the reservoir by AQUCON): its cells and connections are not "
+            "in this grid"
+        )
+    return skip_data(state, src, pos, vocabulary().get(name))
+
+
 def _single_record_note(state, src, pos, name, depth):
     items, pos, at = read_record(src, pos, name)
     state.notes.append(f"{src.path.name}:{src.line(at)}: {name} {' '.join(i or '*' for i in items)} ignored")
@@ -989,6 +1005,8 @@ _HANDLERS = {
     "OPERATE": _operate,
     "OPERATER": _operate,
     "MULTREGP": _multregp,
+    "AQUNUM": _numerical_aquifer,
+    "AQUCON": _numerical_aquifer,
     "DUALPERM": _dual_porosity,
     "COORDSYS": _single_record_note,
     "NNC": _cell_pairs,
