@@ -173,6 +173,8 @@ def check_connections(c: Comparison) -> None:
 
 def check_transmissibilities(c: Comparison) -> None:
     ours, flow = c.gridlib(), c.flow
+    if ours.trans.size == flow.trans.size == 0:  # no connection at all (a column of one cell)
+        return
     common, ia, ib = np.intersect1d(
         c.keys(ours.pairs), c.keys(flow.pairs), assume_unique=True, return_indices=True
     )
