@@ -262,6 +262,8 @@ def section_cut(case: Case, scene: Scene, tracks: tuple[WellTrack, ...]) -> tupl
     given = case.data.get("pictures", {}).get("section")
     if given is not None:
         line = np.asarray(given, dtype=np.float64)[:, :2]
+        if scene.map_axes is not None:  # given on the map, as the wells; the grid in its own frame
+            line = scene.map_axes.to_grid(line)
         cut = cut_grid(scene.grid, line)
         if cut.cells.size == 0:
             raise InputError(f"{case.path}: pictures.section: the line cuts no cell of the grid")

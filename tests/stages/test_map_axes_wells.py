@@ -190,3 +190,23 @@ def test_a_vertical_well_at_a_map_point_is_completed_where_its_line_crosses_the_
         )
     )
     assert len(expected) == 14 and completed == expected
+
+
+def test_a_section_line_given_on_the_map_cuts_the_grid_where_it_lies_on_the_map(reek):
+    """pictures.section of the Reek deck case, a west-east line through OP_1's head on the map:
+    the section cuts the grid along that line moved into the grid's frame (on the map's
+    coordinates themselves it cut no cell)."""
+    from gridlib.stages.pictures import read_scene, section_cut
+
+    folder, case, paths = reek
+    data = yaml.safe_load(case.path.read_text())
+    data["pictures"] = {"section": [[460000.0, 5932990.36], [464000.0, 5932990.36]]}
+    (folder / "sec").mkdir(exist_ok=True)
+    shutil.copyfile(folder / "REEK.EGRID", folder / "sec" / "REEK.EGRID")
+    shutil.copyfile(folder / "OP_1.w", folder / "sec" / "OP_1.w")
+    (folder / "sec" / "reek_op1.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    sectioned = load_case(folder / "sec" / "reek_op1.yaml")
+    scene = read_scene(sectioned, paths["grid"], paths["geometry"])
+    line, cut = section_cut(sectioned, scene, ())
+    np.testing.assert_array_equal(line, scene.map_axes.to_grid(np.array(data["pictures"]["section"])))
+    assert cut.cells.size > 0
