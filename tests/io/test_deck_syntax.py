@@ -356,3 +356,42 @@ def test_a_lone_star_is_one_defaulted_item(tmp_path):
     grid = PORO + "EQUALS\n PERMX 50 2 2 * * 1 1 /\n/\nPINCH\n 0.5 * * TOPBOT /\n"
     deck, _ = same_grid_as_flow(write_deck(tmp_path, grid), tmp_path / "flow")
     np.testing.assert_array_equal(deck.cell_data["PERMX"][:6], [10, 50, 30, 40, 50, 60])
+
+
+ROCK = "PERMX\n 12*100 /\nPERMY\n 12*100 /\nPERMZ\n 12*10 /\n" + PORO
+
+
+def _box_deck(folder: Path, geometry: str) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    deck = folder / "CASE.DATA"
+    deck.write_text(RUNSPEC + geometry + ROCK + rest_of_deck(1000.0, 1010.0))
+    return deck
+
+
+@pytest.mark.parametrize(
+    "geometry",
+    [
+        "DX\n 6*100 /\nDY\n 6*50 /\nDZ\n 6*2 /\nTOPS\n 6*1000 /\n",  # the top layer only
+        "DX\n 6*100 /\nDY\n 6*50 /\nDZ\n 6*2 3 /\nTOPS\n 6*1000 1002 1002 /\n",  # and part of the next
+        "DX\n 12*100 /\nDY\n 12*50 /\nDZ\n 12*2 /\nTOPS\n 6*1000 1002.0000003 1001.9999998 4*1002 /\n",
+    ],
+    ids=["top-layer", "part-of-the-second", "tops-off-by-3e-7"],
+)
+def test_cartesian_keywords_for_the_upper_cells_only_and_rounded_tops(tmp_path, geometry):
+    """DX/DY/DZ given for the top layer (or more) only: the cells below take the value of the cell
+    above; TOPS: the bottom of the cell above; a TOPS within 1e-6 m of the bottom above is that
+    bottom (printed TOPS rounded left a gap of 3e-7, which gridlib refused as overlapping
+    layers, and Flow closes). As Flow does; gridlib refused the first two ("has 6 values")."""
+    deck, _ = same_grid_as_flow(_box_deck(tmp_path, geometry), tmp_path / "flow")
+    assert deck.cart_dims == (3, 2, 2)
+
+
+def test_partial_tops_are_used_where_given(tmp_path):
+    """TOPS for the top layer and one cell below, off the bottom of the cell above: that cell's
+    top is the given one, as ECLIPSE (and OPM Flow since 2023) take it; Flow 2022.10 ignores
+    TOPS below the top layer when it does not give all cells."""
+    geometry = "DX\n 12*100 /\nDY\n 12*50 /\nDZ\n 12*2 /\nTOPS\n 6*1000 1005 /\n"
+    deck = read_grdecl(_box_deck(tmp_path, geometry))
+    top = deck.zcorn.reshape(4, 4, 6)[2]  # the second layer's top corners
+    np.testing.assert_array_equal(top[:2, :2], 1005.0)  # cell (1, 1, 2), given
+    np.testing.assert_array_equal(top[:2, 2:], 1002.0)  # cell (2, 1, 2), the bottom above

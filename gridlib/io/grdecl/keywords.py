@@ -25,6 +25,7 @@ from ..eclipse_text import (
     MAX_KEYWORD_LENGTH,
     DeckError,
     Item,
+    Numbers,
     Source,
     float_item,
     int_item,
@@ -85,6 +86,8 @@ def open_source(path: Path) -> Source:
     return Source.open(path, KNOWN_KEYWORDS)
 
 
+# Cartesian geometry keywords that may give the top layer only, or the upper layers (OPM Flow)
+_TOP_DOWN_KEYWORDS = frozenset({"DX", "DY", "DZ", "TOPS"})
 # GRID keywords whose cells left undefined take the value of their column's top cell (OPM Flow)
 _FROM_TOP_LAYER = frozenset({"PORO", "PERMX", "PERMY", "PERMZ"})
 
@@ -313,13 +316,30 @@ def _cell_array(state, src, pos, name, depth=0):
     nx, ny, _ = _need_dims(state, src, pos, name)
     box = state.box
     expected = _box_size(state, box)
-    if name == "TOPS" and box is None:
+    if name in _TOP_DOWN_KEYWORDS and box is None:
+        # as OPM Flow: the top layer at least; the cells below take DX/DY/DZ of the cell above
+        # (filled here), TOPS the bottom of the cell above (filled with the geometry)
         numbers, end = read_numbers(src, pos, name, at_most=state.num_cells)
-        if numbers.values.size not in (nx * ny, state.num_cells):
+        given = numbers.values.size
+        if given < nx * ny:
             raise src.error(
                 skip_blank(src.data, pos),
                 name,
-                f"has {numbers.values.size} values, expected {nx * ny} (top layer) or {state.num_cells}",
+                f"has {given} values, expected {state.num_cells} (or at least the top layer's {nx * ny})",
+            )
+        if given < state.num_cells and name != "TOPS":
+            area = nx * ny
+            full = np.resize(numbers.values, state.num_cells)  # repeats the given values...
+            for start in range(given, state.num_cells, area):  # ...then each layer from the one above
+                stop = min(start + area, state.num_cells)
+                full[start:stop] = full[start - area : stop - area]
+            defaulted = numbers.defaulted
+            if defaulted is not None:  # the filled cells are given (the values above them)
+                defaulted = np.concatenate([defaulted, np.zeros(full.size - given, bool)])
+            numbers = Numbers(full, defaulted)
+            state.notes.append(
+                f"{src.path.name}:{src.line(pos)}: {name}: {given} values for {state.num_cells} cells: the "
+                "cells below take the value of the cell above (as OPM Flow)"
             )
         expected = numbers.values.size
     else:

@@ -183,6 +183,22 @@ def _in_deck_lengths(coord, zcorn, state: ReaderState, notes: list[str], where: 
     return coord * factor, zcorn * factor
 
 
+_TOPS_SNAP_METRES = 1e-6  # OPM Flow's tolerance
+
+
+def _snapped_tops(tops: np.ndarray, dz: np.ndarray, units: str | None) -> np.ndarray:
+    """TOPS (nz, ny, nx) as OPM Flow takes them: a top within 1e-6 m of the bottom of the cell
+    above (TOPS + DZ there) is that bottom, so that the two cells touch (a deck's printed TOPS
+    rounded otherwise leaves a gap of 1e-7 between them); layer by layer, from the top."""
+    tops = tops.copy()
+    tolerance = _TOPS_SNAP_METRES / unit_system(units).length
+    for k in range(1, tops.shape[0]):
+        bottom = tops[k - 1] + dz[k - 1]
+        close = np.abs(tops[k] - bottom) < tolerance
+        tops[k][close] = bottom[close]
+    return tops
+
+
 def _cartesian_geometry(state: ReaderState, arrays: dict, where: str) -> tuple[np.ndarray, np.ndarray]:
     """COORD/ZCORN of a block-centred grid from DX/DY/DZ (or DXV/DYV/DZV) and TOPS (or DEPTHZ).
 
@@ -210,7 +226,7 @@ def _cartesian_geometry(state: ReaderState, arrays: dict, where: str) -> tuple[n
             raise DeckError(f"{where}: {name} has negative values")
     top = np.full((nz, ny, nx, 2, 2), np.nan)  # per cell: the depths of its 4 top corners
     if "TOPS" in arrays:
-        tops = arrays["TOPS"].reshape(shape)
+        tops = _snapped_tops(arrays["TOPS"].reshape(shape), sizes["DZ"], state.units)
         top[:] = tops[..., None, None]
     elif "DEPTHZ" in state.vectors:
         d = state.vectors["DEPTHZ"].reshape(ny + 1, nx + 1)
