@@ -9,15 +9,19 @@ of its line, the rest of a keyword's line ignored, ``--`` comments, quotes, comm
 any case):
 
 * dimensions: DIMENS, SPECGRID; units: METRIC, FIELD, LAB, PVT-M; MAPAXES,
-  MAPUNITS, GRIDUNIT;
+  MAPUNITS, GRIDUNIT (a grid in another length unit converted to the deck's);
 * geometry: COORD + ZCORN, or the Cartesian keywords DX/DY/DZ (or DXV/DYV/DZV)
-  with TOPS (or DEPTHZ), turned into COORD/ZCORN, or GDFILE (an EGRID);
+  with TOPS (or DEPTHZ), turned into COORD/ZCORN (DX/DY/DZ/TOPS may give the upper
+  cells only, TOPS within 1e-6 m of the bottom above are snapped to it, as Flow
+  does), or GDFILE (an EGRID); a binary GRDECL (:mod:`~gridlib.io.grdecl.binary`)
+  read as a whole, or IMPORTed;
 * ACTNUM, PORO, NTG, PERMX/Y/Z and any other array of one value per cell (or per
   cell of the current BOX) in GRID, EDIT, PROPS or REGIONS (SATNUM, FIPNUM, ...);
 * FAULTS, MULTFLT, PINCH, MINPV;
 * INCLUDE (relative to the DATA file's directory, as ECLIPSE and Flow; PATHS
   aliases), BOX/ENDBOX, and
-  EQUALS, COPY, ADD, MULTIPLY, MINVALUE, MAXVALUE;
+  EQUALS, COPY, ADD, MULTIPLY, MINVALUE, MAXVALUE; the region operators EQUALREG,
+  ADDREG, MULTIREG, COPYREG and MULTREGP, OPERATE and OPERATER;
 * what modifies connections, kept as records to be replayed in the simulator's
   order (:mod:`gridlib.cornerpoint.connection_keywords`): MULTREGT (GRID and EDIT,
   deck order), GRIDOPTS, NNC, EDITNNC, and the EDIT section's TRANX/TRANY/TRANZ (the

@@ -615,8 +615,8 @@ _OPERATIONS = {
 def _region_operator(state, src, pos, name, depth):
     """EQUALREG, ADDREG, MULTIREG (array value region set) and COPYREG (from to region set): as
     EQUALS, ADD, MULTIPLY and COPY on the cells of one region of a region set (M: MULTNUM; F:
-    FLUXNUM; O: OPERNUM; defaulted: :func:`_default_region_set`; a region array the deck does
-    not give is 1 everywhere)."""
+    FLUXNUM; O: OPERNUM; defaulted: :func:`_default_region_set`; MULTNUM is 1 where the deck
+    does not give it, FLUXNUM and OPERNUM must be given)."""
     _need_dims(state, src, pos, name)
     records, pos = read_records(src, pos, name)
     for items, at in records:
@@ -721,6 +721,8 @@ def _region_cells(state, src, at, name, number_item, set_item, region: str | Non
             raise src.error(at, name, f"region set {set_item!r} is not M, F or O (MULTNUM, FLUXNUM, OPERNUM)")
         region = _REGION_SETS[letter]
     values = state.arrays.get(region)
+    if values is None and region != "MULTNUM":  # MULTNUM is 1 where not given; the others are not
+        raise src.error(at, name, f"{region} is not defined (OPM Flow stops too)")
     if values is None:
         return np.arange(state.num_cells) if number == 1 else np.zeros(0, np.int64)
     return np.flatnonzero(values == number)

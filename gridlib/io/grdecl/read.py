@@ -148,11 +148,11 @@ def _apply_multregp(state: ReaderState, arrays: dict, notes: list[str], where: s
     multpv = arrays.setdefault("MULTPV", np.ones(state.num_cells))
     for number, (region, multiplier, at) in state.multregp.items():
         values = arrays.get(region)
-        cells = (
-            np.flatnonzero(values == number)
-            if values is not None
-            else np.arange(state.num_cells * (number == 1))
-        )
+        if values is None and region != "MULTNUM":  # MULTNUM is 1 where not given
+            raise DeckError(f"{at}: MULTREGP: {region} is not defined (OPM Flow stops too)")
+        if values is None:
+            values = np.ones(state.num_cells)
+        cells = np.flatnonzero(values == number)
         multpv[cells] *= multiplier
         notes.append(
             f"{at}: MULTREGP: pore volumes of {cells.size} cells ({region} {number}) x {multiplier:g}"
