@@ -395,3 +395,14 @@ def test_partial_tops_are_used_where_given(tmp_path):
     top = deck.zcorn.reshape(4, 4, 6)[2]  # the second layer's top corners
     np.testing.assert_array_equal(top[:2, :2], 1005.0)  # cell (1, 1, 2), given
     np.testing.assert_array_equal(top[:2, 2:], 1002.0)  # cell (2, 1, 2), the bottom above
+
+
+def test_mapaxes_with_a_seventh_value_reads_the_first_six(tmp_path):
+    """Flow reads the first six values of a MAPAXES that has more (an OPM test deck has seven)."""
+    grid = PORO + "MAPAXES\n 0.0 100.0 0.0 0.0 100.0 0.0 5.0 /\n"
+    deck, _ = same_grid_as_flow(write_deck(tmp_path, grid), tmp_path / "flow")
+    egrid = read_keywords(tmp_path / "flow" / "CASE.EGRID")
+    np.testing.assert_array_equal(deck.mapaxes, egrid["MAPAXES"])
+    assert any("MAPAXES: 7 values, the first 6 read" in n for n in deck.notes)
+    with pytest.raises(DeckError, match=r"CASE.DATA:\d+: MAPAXES: has 5 values, expected 6"):
+        read_grdecl(write_deck(tmp_path / "five", PORO + "MAPAXES\n 0 100 0 0 100 /\n"))

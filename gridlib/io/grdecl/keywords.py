@@ -865,10 +865,19 @@ def _multflt(state, src, pos, name, depth):
 
 
 def _mapaxes(state, src, pos, name, depth):
-    numbers, end = read_numbers(src, pos, name, expected=6)
-    if not np.isfinite(numbers.values).all():
+    """MAPAXES: six numbers; more are ignored with a note, as OPM Flow reads them."""
+    numbers, end = read_numbers(src, pos, name, at_most=64)
+    values = numbers.values
+    if values.size < 6:
+        raise src.error(pos, name, f"has {values.size} values, expected 6")
+    if values.size > 6:
+        state.notes.append(
+            f"{src.path.name}:{src.line(pos)}: MAPAXES: {values.size} values, the first 6 read (as OPM Flow)"
+        )
+        values = values[:6]
+    if not np.isfinite(values).all():
         raise src.error(pos, name, "needs six finite numbers (defaults or nan/inf given)")
-    state.mapaxes = numbers.values
+    state.mapaxes = values
     return end
 
 
