@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ... import reproducible
 from ...cornerpoint.connection_keywords import TRAN_KEYWORDS, TranEdit
 from ...cornerpoint.deck import FAULT_FACES, PINCH_DEFAULTS, FaultSegment
 from ...memory import count_text, memory_shortfall
@@ -594,19 +595,20 @@ def _operator(state, src, pos, name, depth):
 _REGION_SETS = {"M": "MULTNUM", "F": "FLUXNUM", "O": "OPERNUM"}
 # OPERATE's and OPERATER's operations: the new value from the target's ``r``, the source's ``x``
 # and the record's alpha ``a`` and beta ``b`` (as OPM Flow defines them, in the deck's units)
+# (the transcendental ones from gridlib.reproducible: the same bits on every machine)
 _OPERATIONS = {
     "MULTA": lambda r, x, a, b: a * x + b,
-    "POLY": lambda r, x, a, b: r + a * np.power(x, b),
-    "SLOG": lambda r, x, a, b: np.power(10.0, a + b * x),
-    "LOG10": lambda r, x, a, b: np.log10(x),
-    "LOGE": lambda r, x, a, b: np.log(x),
+    "POLY": lambda r, x, a, b: r + a * reproducible.power(x, np.full_like(x, b)),
+    "SLOG": lambda r, x, a, b: reproducible.power(np.full_like(x, 10.0), a + b * x),
+    "LOG10": lambda r, x, a, b: reproducible.log10(x),
+    "LOGE": lambda r, x, a, b: reproducible.log(x),
     "INV": lambda r, x, a, b: 1.0 / x,
     "MULTX": lambda r, x, a, b: a * x,
     "ADDX": lambda r, x, a, b: a + x,
     "COPY": lambda r, x, a, b: x,
     "MAXLIM": lambda r, x, a, b: np.minimum(a, x),
     "MINLIM": lambda r, x, a, b: np.maximum(a, x),
-    "MULTP": lambda r, x, a, b: a * np.power(x, b),
+    "MULTP": lambda r, x, a, b: a * reproducible.power(x, np.full_like(x, b)),
     "ABS": lambda r, x, a, b: np.abs(x),
     "MULTIPLY": lambda r, x, a, b: r * x,
 }
