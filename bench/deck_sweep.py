@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 import real_decks as rd  # noqa: E402  (the tests' harness: Flow's dry run and the comparisons)
 
-CHECKS = (rd.check_active_cells, rd.check_connections, rd.check_transmissibilities, rd.check_pore_volumes)
+CHECKS = rd.CHECKS_ALL
 
 
 def decks(paths: list[str]) -> list[Path]:

@@ -199,3 +199,7 @@ def check_pore_volumes(c: Comparison) -> None:
         f"{c.name}: {int((rel > REL).sum()):,d} of {common.size:,d} pore volumes differ by more "
         f"than {REL:g}; worst {c.ijk(common[worst])}: gridlib {a[worst]!r}, Flow {b[worst]!r}"
     )
+
+
+# the four comparisons, in the order a failure is easiest to read
+CHECKS_ALL = (check_active_cells, check_connections, check_transmissibilities, check_pore_volumes)

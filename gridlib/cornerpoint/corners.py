@@ -138,6 +138,21 @@ def _depth_sign(zc: FloatArray, active: np.ndarray, src: str) -> int:
     Raises if an active cell still has a top corner below its bottom corner. A few layers
     at a time (small temporaries).
     """
+    sign, inverted = majority_depth_sign(zc, active)
+    nz, ny, nx = active.shape
+    if inverted >= 0:
+        kc, jc, ic = np.unravel_index(inverted, (nz, 2 * ny, 2 * nx))
+        raise InputError(
+            f"{src}: ZCORN: cell ({ic // 2 + 1}, {jc // 2 + 1}, {kc + 1}) has a top corner "
+            "below its bottom corner"
+        )
+    return sign
+
+
+def majority_depth_sign(zc: FloatArray, active: np.ndarray) -> tuple[int, int]:
+    """The depth sign of ZCORN ``zc`` (-1 if most active cells' corners have their bottom above
+    their top: z up; else 1) and the flat index in ``zc``'s (nz, 2ny, 2nx) top corners of the
+    first active corner going the other way (-1: none). A few layers at a time."""
     nz, ny, nx = active.shape
     per_layer = 4 * nx * ny  # corners of a layer: (2 ny, 2 nx)
     step = max(1, _BLOCK // per_layer)
@@ -155,14 +170,7 @@ def _depth_sign(zc: FloatArray, active: np.ndarray, src: str) -> int:
                 first[way] = k0 * per_layer + int(np.flatnonzero(moved)[0])
             count[way] += n
     sign = -1 if count[0] > count[1] else 1
-    inverted = first[1] if sign < 0 else first[0]
-    if inverted >= 0:
-        kc, jc, ic = np.unravel_index(inverted, (nz, 2 * ny, 2 * nx))
-        raise InputError(
-            f"{src}: ZCORN: cell ({ic // 2 + 1}, {jc // 2 + 1}, {kc + 1}) has a top corner "
-            "below its bottom corner"
-        )
-    return sign
+    return sign, (first[1] if sign < 0 else first[0])
 
 
 def _number_corners(

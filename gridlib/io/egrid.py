@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.layer_overlaps import without_layer_overlaps
 from .eclipse_text import DeckError
 
 _UNIT_NAMES = {1: "METRIC", 2: "FIELD", 3: "LAB", 4: "PVT-M"}
@@ -84,4 +85,4 @@ def read_egrid(path: str | os.PathLike) -> Deck:
         notes=tuple(notes),
         nnc=nnc,
     )
-    return deck
+    return without_layer_overlaps(deck)

@@ -12,6 +12,7 @@ import pytest
 import gridlib as gl
 from gridlib.cornerpoint.deck import Deck, FaultSegment
 from gridlib.cornerpoint.generators import make_model3, simple_grdecl
+from gridlib.cornerpoint.layer_overlaps import without_layer_overlaps
 from gridlib.cornerpoint.process import process_grdecl
 from gridlib.io.egrid import read_egrid
 from gridlib.io.grdecl import DeckError, read_grdecl, write_grdecl
@@ -230,6 +231,9 @@ def test_write_then_read_is_bit_identical(tmp_path):
         faults=(FaultSegment("A", 1, 3, 0, 8, 0, 3, "X"),),
         multflt={"A": 0.25},
     )
+    # the noise makes layers overlap by 1e-9 where they touch, which the reader removes as
+    # Flow does (test_layer_overlaps): the round trip is exact for a deck without overlaps
+    deck = without_layer_overlaps(deck)
     back = read_grdecl(write_grdecl(tmp_path / "out.grdecl", deck))
     _assert_same_deck(deck, back)
     text = (tmp_path / "out.grdecl").read_text()
@@ -375,7 +379,10 @@ def test_read_egrid_of_eclipse_and_the_grdecl_agree(reek_dir):
         (CUBE + "EQUALREG\n PORO 0.2 1 X /\n/\n", r"x.grdecl:10: EQUALREG: region set 'X' is not M, F or O"),
         (CUBE + "EQUALREG\n PORO 0.2 1 /\n/\n", r"x.grdecl:10: EQUALREG: FLUXNUM is not defined"),
         (CUBE + "MULTREGP\n 1 0.5 O /\n/\n", r"x.grdecl:10: MULTREGP: OPERNUM is not defined"),
-        (CUBE + "MULTIREG\n PERMX 2 1 M /\n/\n", r"x.grdecl:10: MULTIREG: PERMX is not defined in every cell"),
+        (
+            CUBE + "MULTIREG\n PERMX 2 1 M /\n/\n",
+            r"x.grdecl:10: MULTIREG: PERMX is not defined in every cell",
+        ),
         (CUBE + "OPERATE\n PORO 1 1 1 1 1 1 SQRT PORO /\n/\n", r"OPERATE: unknown operation 'SQRT'"),
         (CUBE + "OPERATER\n TRANX 1 MULTX PORO 2 /\n/\n", r"OPERATER: TRANX cannot be changed by OPERATER"),
         (CUBE + "COPYREG\n NOPE PORO 1 /\n/\n", r"COPYREG: 'NOPE' is not a keyword with one value per cell"),

@@ -17,6 +17,7 @@ import numpy as np
 from ...cornerpoint.cartesian import cartesian_to_cornerpoint
 from ...cornerpoint.connection_keywords import CellPairs
 from ...cornerpoint.deck import Deck
+from ...cornerpoint.layer_overlaps import without_layer_overlaps
 from ...units import unit_system
 from ..eclipse_text import DeckError
 from .binary import is_binary_keyword_file, read_binary_file
@@ -112,7 +113,7 @@ def _deck(state: ReaderState) -> Deck:
     for keyword, rows in state.cell_pairs.items():
         g1, g2, values, sources = zip(*rows, strict=True) if rows else ((), (), (), ())
         pairs[keyword] = CellPairs(np.column_stack([g1, g2]).reshape(-1, 2), values, sources)
-    return Deck(
+    deck = Deck(
         (nx, ny, nz),
         coord,
         zcorn,
@@ -135,6 +136,7 @@ def _deck(state: ReaderState) -> Deck:
         gridopts=state.gridopts,
         tran_edits=tuple(state.tran_edits),
     )
+    return without_layer_overlaps(deck)
 
 
 def _apply_multregp(state: ReaderState, arrays: dict, notes: list[str], where: str) -> None:
