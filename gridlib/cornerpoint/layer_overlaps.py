@@ -5,7 +5,8 @@ non-decreasing: a cell's top corner above the bottom corner of the cell above is
 it, and a cell's bottom corner above its own top corner is moved down to the top (a corner of no
 thickness). Exports from geomodelling tools carry such overlaps (rounding of the layers' depths,
 or a zone cut by an erosion surface), and Flow runs those decks; gridlib's readers of ECLIPSE
-files (GRDECL, binary GRDECL, EGRID) apply the same rule with a note, and
+files (GRDECL, binary GRDECL, EGRID) and ``read_roff_deck`` (a deck case's ROFF grid, whose
+GRDECL Flow reads) apply the same rule with a note, and
 :func:`~gridlib.cornerpoint.process.process_grdecl` then finds a consistent deck (a deck built
 in memory with overlaps stays an error there, naming the cells).
 

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cornerpoint.deck import Deck
+from ..cornerpoint.layer_overlaps import without_layer_overlaps
 from ..cornerpoint.map_axes import MapAxes
 from ..errors import InputError
 
@@ -354,9 +355,11 @@ def read_roff_subgrids(path: str | os.PathLike) -> NDArray[np.int64] | None:
 def read_roff_deck(path: str | os.PathLike) -> Deck:
     """The :class:`Deck` of a ROFF grid file (the registry's reader): its parameters named as
     GRID-section keywords (PORO, PERMX, PERMY, PERMZ, NTG, MULTX, FLUXNUM, ...; any case) are
-    the deck's cell arrays (:func:`with_parameters`); subgrids dropped."""
+    the deck's cell arrays (:func:`with_parameters`); subgrids dropped. Layers that overlap on
+    a pillar are moved apart as OPM Flow reads the deck the case writes from it
+    (:func:`~gridlib.cornerpoint.layer_overlaps.without_layer_overlaps`, noted)."""
     grid = read_roff_grid(path)
-    return with_parameters(grid.deck, grid.parameters, str(path))
+    return without_layer_overlaps(with_parameters(grid.deck, grid.parameters, str(path)))
 
 
 def with_parameters(deck: Deck, parameters: Mapping[str, np.ndarray], source: str) -> Deck:

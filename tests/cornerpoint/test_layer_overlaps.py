@@ -76,3 +76,20 @@ def test_the_rule_ignores_inactive_cells_and_counts_what_moved():
     assert moved == 4 + 4  # four top corners in each column
     same, none = flow_zcorn(fixed, active, 1)
     assert none == 0 and same is fixed
+
+
+def test_a_roff_grid_with_overlapping_layers_reads_as_its_grdecl_does(tmp_path):
+    """The deck case of a ROFF grid writes a GRDECL for Flow, which Flow reads with the rule:
+    read_roff_deck applies it too (read_roff_grid gives the file as it is)."""
+    from gridlib.io.roff import read_roff_deck, read_roff_grid, write_roff_grid
+
+    deck = simple_grdecl([3, 2, 3], 0.0, flat=True, phys_dims=(300.0, 200.0, 30.0))
+    z = np.array(deck.zcorn).reshape(6, 4, 6)
+    z[2] -= 0.25  # exact in float32, as ROFF stores it
+    overlapping = dataclasses.replace(deck, zcorn=z.ravel())
+    write_roff_grid(tmp_path / "g.roff", overlapping)
+    np.testing.assert_array_equal(read_roff_grid(tmp_path / "g.roff").deck.zcorn, overlapping.zcorn)
+    read_in = read_roff_deck(tmp_path / "g.roff")
+    write_grdecl(tmp_path / "g.grdecl", overlapping)
+    np.testing.assert_array_equal(read_in.zcorn, read_grdecl(tmp_path / "g.grdecl").zcorn)
+    assert read_in.notes[-1].startswith("24 corner depths of active cells moved down")

@@ -35,7 +35,7 @@ class Recorder:
         if text:  # an empty write writes nothing
             self.writes.append(text)
     def flush(self):
-        pass
+        return None
 
 handler = ColorizingTextHandler(nocolor=True, stream=Recorder())
 handler.setFormatter(logging.Formatter("%(message)s"))
