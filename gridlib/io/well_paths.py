@@ -206,7 +206,7 @@ def _rms_table(p: Path, lines: list[str]) -> tuple[str, TextTable]:
     rows, numbers = [], []
     for number in range(5 + logs, len(lines) + 1):
         fields = lines[number - 1].split()
-        if len(fields) == 1 and number < len(lines) and _is_head_line(lines[number]):
+        if len(fields) == 1 and number < len(lines) and _starts_with_text(lines[number]):
             raise InputError(
                 f"{p}: line {number}: a second well starts here (a version line, then "
                 f"'{lines[number].strip()}'): an RMS well file holds one well (xtgeo's stacked files "
@@ -220,16 +220,10 @@ def _rms_table(p: Path, lines: list[str]) -> tuple[str, TextTable]:
     return well, TextTable(names, 4, rows, numbers)
 
 
-def _is_head_line(line: str) -> bool:
+def _starts_with_text(line: str) -> bool:
     """Does ``line`` start with a word that is not a number (a well type, after a version line)?"""
     fields = line.split()
-    if not fields:
-        return False
-    try:
-        float(fields[0])
-    except ValueError:
-        return True
-    return False
+    return bool(fields) and not is_number(fields[0])
 
 
 def _columns(

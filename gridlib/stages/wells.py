@@ -71,8 +71,9 @@ def stage_wells(
     if inputs.map_axes is not None and not inputs.map_axes.is_identity and well_list:
         log.info(
             "note: the deck's MAPAXES places its grid on the map: the wells' paths, given on the map, "
-            "are followed (and written) in the grid's own x, y (origin (%s, %s) on the map)",
+            "are followed (and written) in the grid's own x, y (origin (%s, %s) %s on the map)",
             *(f"{v:.10g}" for v in inputs.map_axes.origin),
+            units.unit("length"),
         )
         well_list = tuple(_in_grid_frame(w, inputs.map_axes) for w in well_list)
     pieces = [_pieces(case, well, mesh, geo, index) for well in well_list]

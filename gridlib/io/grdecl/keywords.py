@@ -329,11 +329,13 @@ def _cell_array(state, src, pos, name, depth=0):
                 f"has {given} values, expected {state.num_cells} (or at least the top layer's {nx * ny})",
             )
         if given < state.num_cells and name != "TOPS":
+            # each cell below the given ones takes the value of the given cell above it in its
+            # column: the nearest one a whole number of layers up
             area = nx * ny
-            full = np.resize(numbers.values, state.num_cells)  # repeats the given values...
-            for start in range(given, state.num_cells, area):  # ...then each layer from the one above
-                stop = min(start + area, state.num_cells)
-                full[start:stop] = full[start - area : stop - area]
+            below = np.arange(given, state.num_cells)
+            full = np.concatenate(
+                [numbers.values, numbers.values[below - area * ((below - given) // area + 1)]]
+            )
             defaulted = numbers.defaulted
             if defaulted is not None:  # the filled cells are given (the values above them)
                 defaulted = np.concatenate([defaulted, np.zeros(full.size - given, bool)])
@@ -711,23 +713,33 @@ def _operated_arrays(src: Source, at: int, name: str, arrays) -> None:
 
 def _region_cells(state, src, at, name, number_item, set_item, region: str | None = None) -> np.ndarray:
     """The cells of region ``number_item`` of a region set: ``region`` (an array's name), else the
-    set ``set_item`` names (M, F or O; M where defaulted)."""
+    set ``set_item`` names (M, F or O; defaulted: :func:`_default_region_set`)."""
     number = int_item(src, at, name, number_item, "region number")
     if number is None:
         raise src.error(at, name, "the region number cannot be defaulted")
-    if region is None and set_item is None:
-        region = _default_region_set(state)
-    elif region is None:
-        letter = set_item.strip().upper()[:1]
-        if letter not in _REGION_SETS:
-            raise src.error(at, name, f"region set {set_item!r} is not M, F or O (MULTNUM, FLUXNUM, OPERNUM)")
-        region = _REGION_SETS[letter]
-    values = state.arrays.get(region)
-    if values is None and region != "MULTNUM":  # MULTNUM is 1 where not given; the others are not
-        raise src.error(at, name, f"{region} is not defined (OPM Flow stops too)")
+    if region is None:
+        region = _default_region_set(state) if set_item is None else _region_set(src, at, name, set_item)
+    values = region_values(state.arrays, region, state.num_cells)
     if values is None:
-        return np.arange(state.num_cells) if number == 1 else np.zeros(0, np.int64)
+        raise src.error(at, name, f"{region} is not defined (OPM Flow stops too)")
     return np.flatnonzero(values == number)
+
+
+def _region_set(src: Source, at: int, name: str, item: str) -> str:
+    """The region array a record's region set item names (its first letter: M, F or O)."""
+    letter = item.strip().upper()[:1]
+    if letter not in _REGION_SETS:
+        raise src.error(at, name, f"region set {item!r} is not M, F or O (MULTNUM, FLUXNUM, OPERNUM)")
+    return _REGION_SETS[letter]
+
+
+def region_values(arrays: dict[str, np.ndarray], region: str, num_cells: int) -> np.ndarray | None:
+    """The region array ``region`` of the deck's ``arrays``: MULTNUM is 1 where the deck does not
+    give it; FLUXNUM and OPERNUM are None then (OPM Flow stops on a region of them)."""
+    values = arrays.get(region)
+    if values is None and region == "MULTNUM":
+        return np.ones(num_cells)
+    return values
 
 
 def _default_region_set(state: ReaderState) -> str:
@@ -756,10 +768,8 @@ def _multregp(state, src, pos, name, depth):
         check_finite(src, at, name, multiplier, "multiplier")
         if number <= 0:
             continue
-        letter = (items[2] if len(items) > 2 and items[2] else "M").strip().upper()[:1]
-        if letter not in _REGION_SETS:
-            raise src.error(at, name, f"region set {items[2]!r} is not M, F or O (MULTNUM, FLUXNUM, OPERNUM)")
-        state.multregp[number] = (_REGION_SETS[letter], multiplier, f"{src.path.name}:{src.line(at)}")
+        region = _region_set(src, at, name, items[2] if len(items) > 2 and items[2] else "M")
+        state.multregp[number] = (region, multiplier, f"{src.path.name}:{src.line(at)}")
     return pos
 
 

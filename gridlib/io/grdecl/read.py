@@ -21,7 +21,7 @@ from ...cornerpoint.layer_overlaps import without_layer_overlaps
 from ...units import unit_system
 from ..eclipse_text import DeckError
 from .binary import is_binary_keyword_file, read_binary_file
-from .keywords import UNKNOWN_KEYWORDS, open_source, read_file
+from .keywords import UNKNOWN_KEYWORDS, open_source, read_file, region_values
 from .state import ReaderState
 from .values import normalised_actnum
 
@@ -149,11 +149,9 @@ def _apply_multregp(state: ReaderState, arrays: dict, notes: list[str], where: s
         raise DeckError(f"{first}: MULTREGP: with PORV given (EDIT), not supported")
     multpv = arrays.setdefault("MULTPV", np.ones(state.num_cells))
     for number, (region, multiplier, at) in state.multregp.items():
-        values = arrays.get(region)
-        if values is None and region != "MULTNUM":  # MULTNUM is 1 where not given
-            raise DeckError(f"{at}: MULTREGP: {region} is not defined (OPM Flow stops too)")
+        values = region_values(arrays, region, state.num_cells)
         if values is None:
-            values = np.ones(state.num_cells)
+            raise DeckError(f"{at}: MULTREGP: {region} is not defined (OPM Flow stops too)")
         cells = np.flatnonzero(values == number)
         multpv[cells] *= multiplier
         notes.append(
